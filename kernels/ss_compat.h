@@ -1,0 +1,40 @@
+/* Lets one header be compiled both as OpenCL C (the kernels/ .cl files) and as C11 (the
+ * host reference), so the kernels and their C twin cannot drift apart.
+ * Only the few spellings that differ between the two languages live here. */
+#ifndef SS_COMPAT_H
+#define SS_COMPAT_H
+
+#ifdef __OPENCL_VERSION__
+#define SS_GLOBAL __global
+#define SS_FN inline
+typedef long ss_i64;
+#define SS_SQRT(x) sqrt(x)
+#define SS_ATAN(x) atan(x)
+#define SS_ATAN2(y, x) atan2((y), (x))
+#define SS_SIN(x) sin(x)
+#define SS_COS(x) cos(x)
+#define SS_FMAX(a, b) fmax((a), (b))
+#define SS_FMIN(a, b) fmin((a), (b))
+#define SS_ISFINITE(x) isfinite(x)
+#else
+#include <math.h>
+#include <stdint.h>
+#define SS_GLOBAL
+#define SS_FN static inline
+typedef int64_t ss_i64;
+#define SS_SQRT(x) sqrtf(x)
+#define SS_ATAN(x) atanf(x)
+#define SS_ATAN2(y, x) atan2f((y), (x))
+#define SS_SIN(x) sinf(x)
+#define SS_COS(x) cosf(x)
+#define SS_FMAX(a, b) fmaxf((a), (b))
+#define SS_FMIN(a, b) fminf((a), (b))
+#define SS_ISFINITE(x) isfinite(x)
+#endif
+
+#define SS_PI_F 3.14159265358979323846f
+#define SS_DEG_PER_RAD_F 57.295779513082320876f
+/* Value written where the input is nodata (DESIGN.md: outputs use -9999). */
+#define SS_NODATA_OUT (-9999.0f)
+
+#endif

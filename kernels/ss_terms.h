@@ -1,0 +1,80 @@
+/* Per-cell maths shared by kernels and C: what a product makes of one
+ * cell's horizon in one direction. Formulas and sources:
+ * ../doc/model.md and reference/physics.md sec. 2. */
+#ifndef SS_TERMS_H
+#define SS_TERMS_H
+
+#include "ss_compat.h"
+
+/* SVF definitions (the values are part of the kernel interface). */
+#define SS_SVF_GEOMETRIC 0  /* Zaksek et al. 2011 / RVT: 1 - mean sin h+ */
+#define SS_SVF_HORIZONTAL 1 /* radiative, horizontal surface: mean cos^2 h+ */
+#define SS_SVF_TILTED 2     /* radiative, tilted cell: Dozier & Frew 1990 eq. 7b */
+
+/* Horizon elevation in degrees; -90 when nothing lies ahead (d = 0). */
+SS_FN float ss_horizon_deg(float d, float dz)
+{
+    return SS_ATAN2(dz, d) * SS_DEG_PER_RAD_F;
+}
+
+/* sin of the horizon elevation clipped at 0: one direction's share of the
+ * geometric (solid-angle) obstruction. */
+SS_FN float ss_svf_geometric_term(float d, float dz)
+{
+    return dz > 0.0f ? dz / SS_SQRT(dz * dz + d * d) : 0.0f;
+}
+
+/* cos^2 of the horizon elevation clipped at 0: one direction's share of
+ * the cosine-weighted sky seen by a horizontal surface. */
+SS_FN float ss_svf_horizontal_term(float d, float dz)
+{
+    return dz > 0.0f ? d * d / (dz * dz + d * d) : 1.0f;
+}
+
+/* One direction's share of the sky seen by the tilted cell surface,
+ * isotropic radiance, cosine-weighted (Dozier & Frew 1990 eq. 7b written
+ * with elevations as in HORAYZON's topo_param.pyx). The horizon is clipped
+ * at the horizontal (physics.md convention A, so an open tilted plane gives
+ * (1 + cos S)/2) and at the cell's own tangent plane (Dozier 2022), so no
+ * sky behind the surface is counted. dz_de, dz_dn: surface gradient. */
+SS_FN float ss_svf_tilted_term(float d, float dz, float sin_az, float cos_az, float dz_de,
+                               float dz_dn)
+{
+    float rise = dz_de * sin_az + dz_dn * cos_az; /* tan of the tangent plane's elevation */
+    float h = SS_FMAX(SS_ATAN2(dz, d), SS_FMAX(0.0f, SS_ATAN(rise)));
+    float sh = SS_SIN(h), ch = SS_COS(h);
+    float t = ch * ch - rise * (0.5f * SS_PI_F - h - sh * ch);
+    return t / SS_SQRT(1.0f + dz_de * dz_de + dz_dn * dz_dn);
+}
+
+/* Height of a neighbour for the gradient: the centre's own height where
+ * the neighbour is outside the grid or nodata, so edges and holes give a
+ * one-sided slope instead of none. */
+SS_FN float ss_z_or(SS_GLOBAL const float *z, int width, int height, int col, int row,
+                    float fallback)
+{
+    if (col < 0 || row < 0 || col >= width || row >= height)
+        return fallback;
+    float v = z[row * width + col];
+    return SS_ISFINITE(v) ? v : fallback;
+}
+
+/* Surface gradient by Horn's (1981) 3x3 formula, as gdaldem uses;
+ * rows run north to south. */
+SS_FN void ss_gradient_horn(SS_GLOBAL const float *z, int width, int height, int col, int row,
+                            float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
+{
+    float c = z[row * width + col];
+    float nw = ss_z_or(z, width, height, col - 1, row - 1, c);
+    float n = ss_z_or(z, width, height, col, row - 1, c);
+    float ne = ss_z_or(z, width, height, col + 1, row - 1, c);
+    float w = ss_z_or(z, width, height, col - 1, row, c);
+    float e = ss_z_or(z, width, height, col + 1, row, c);
+    float sw = ss_z_or(z, width, height, col - 1, row + 1, c);
+    float s = ss_z_or(z, width, height, col, row + 1, c);
+    float se = ss_z_or(z, width, height, col + 1, row + 1, c);
+    *dz_de = ((ne + 2.0f * e + se) - (nw + 2.0f * w + sw)) / (8.0f * cell_x_m);
+    *dz_dn = ((nw + 2.0f * n + ne) - (sw + 2.0f * s + se)) / (8.0f * cell_y_m);
+}
+
+#endif

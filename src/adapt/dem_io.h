@@ -1,0 +1,52 @@
+/* GDAL adapter: DEMs in (any single-band raster GDAL reads, tiles mosaicked
+ * in memory) and georeferenced rasters out (written to a temporary name and
+ * renamed into place when complete). The only files that include GDAL. */
+#ifndef SS_DEM_IO_H
+#define SS_DEM_IO_H
+
+#include "skysweep.h"
+
+typedef struct {
+    ss_grid grid;
+    double geotransform[6];
+    char *crs_wkt;         /* NULL for a plain heightmap */
+    size_t nodata_cells;   /* cells without a height: nodata value or NaN */
+    size_t rejected_cells; /* heights beyond +-1e7 m, taken as nodata */
+    char description[600]; /* what was read, for summaries */
+} ss_dem;
+
+typedef struct {
+    /* > 0: accept a raster without georeferencing as a heightmap whose cells
+     * are this many metres wide (also for rasters in a geographic CRS until
+     * geodesy handles them). */
+    double heightmap_cell_m;
+} ss_dem_read_options;
+
+/* Registers GDAL's drivers once. */
+void ss_gdal_init(void);
+
+ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
+                      const ss_dem_read_options *opt, ss_dem *dem);
+void ss_dem_free(ss_dem *dem);
+
+typedef struct ss_raster_writer ss_raster_writer;
+
+/* Creates OUTPUT's temporary twin with the DEM's size, CRS and geotransform.
+ * format NULL means GTiff; creation_options are KEY=VALUE strings (NULL-ended)
+ * that override the defaults (tiled, DEFLATE, floating-point predictor). */
+ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
+                         const char *format, const char *const *creation_options,
+                         ss_raster_writer **writer);
+/* Writes band (1-based): SS_NODATA marks nodata; NaN or Inf is refused. */
+ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
+                         const char *description, const char *unit);
+ss_status ss_writer_metadata(ss_raster_writer *w, const char *key, const char *value);
+/* Flushes, closes and renames the file into place. */
+ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *user);
+/* Removes the temporary file; the output path is left as it was. */
+void ss_writer_abort(ss_raster_writer *w);
+
+/* Nonzero when two paths name the same existing file. */
+int ss_same_file(const char *a, const char *b);
+
+#endif

@@ -1,0 +1,260 @@
+/* Writes georeferenced float rasters through GDAL. The file is built under a
+ * hidden temporary name next to the output and renamed over it only when
+ * complete, so a failed or interrupted run never leaves a half-written file
+ * and never replaces an existing one. */
+#include "config.h"
+
+#include <errno.h>
+#include <libgen.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal.h>
+
+#include "ctx_internal.h"
+#include "dem_io.h"
+
+struct ss_raster_writer {
+    ss_ctx *ctx;
+    GDALDatasetH ds;      /* the temporary file, or a MEM copy for CreateCopy-only drivers */
+    GDALDriverH driver;   /* the output format */
+    char **create_opts;
+    char *path, *tmp_path;
+    int bands;
+};
+
+int ss_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+static const char *gdal_message(void)
+{
+    const char *m = CPLGetLastErrorMsg();
+    return m && *m ? m : "no details from GDAL";
+}
+
+/* "dir/name.tif" -> "dir/.name.tif.<pid>.tmp": same folder, so the final
+ * rename is atomic, hidden so that nobody picks it up half-written. */
+static char *temporary_name(const char *path)
+{
+    char *dir_copy = strdup(path), *base_copy = strdup(path);
+    char *out = NULL;
+    if (dir_copy && base_copy) {
+        const char *dir = dirname(dir_copy), *base = basename(base_copy);
+        size_t n = strlen(dir) + strlen(base) + 40;
+        out = malloc(n);
+        if (out)
+            snprintf(out, n, "%s/.%s.%ld.tmp", dir, base, (long)getpid());
+    }
+    free(dir_copy);
+    free(base_copy);
+    return out;
+}
+
+static ss_status check_output_folder(ss_ctx *ctx, const char *path)
+{
+    char *copy = strdup(path);
+    if (!copy)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+    const char *dir = dirname(copy);
+    struct stat st;
+    ss_status status = SS_OK;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        status = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' does not exist",
+                         path, dir);
+    else if (access(dir, W_OK | X_OK) != 0)
+        status = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' is not writable",
+                         path, dir);
+    free(copy);
+    return status;
+}
+
+static char **default_options(GDALDriverH driver, int bands, const char *const *user)
+{
+    char **opts = NULL;
+    if (strcmp(GDALGetDriverShortName(driver), "GTiff") == 0) {
+        opts = CSLSetNameValue(opts, "TILED", "YES");
+        opts = CSLSetNameValue(opts, "COMPRESS", "DEFLATE");
+        opts = CSLSetNameValue(opts, "PREDICTOR", "3");
+        opts = CSLSetNameValue(opts, "BIGTIFF", "IF_SAFER");
+        if (bands > 1)
+            opts = CSLSetNameValue(opts, "INTERLEAVE", "BAND");
+    }
+    for (int i = 0; user && user[i]; ++i) {
+        char *key = NULL;
+        const char *value = CPLParseNameValue(user[i], &key);
+        if (key && value)
+            opts = CSLSetNameValue(opts, key, value);
+        CPLFree(key);
+    }
+    return opts;
+}
+
+ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
+                         const char *format, const char *const *creation_options,
+                         ss_raster_writer **writer)
+{
+    *writer = NULL;
+    ss_gdal_init();
+    for (int i = 0; creation_options && creation_options[i]; ++i)
+        if (!strchr(creation_options[i], '='))
+            return ss_fail(ctx, SS_ERR_ARGUMENT, "-co expects KEY=VALUE, not '%s'",
+                           creation_options[i]);
+    GDALDriverH driver = GDALGetDriverByName(format ? format : "GTiff");
+    if (!driver)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown output format '%s' (-of)", format);
+    char **meta = GDALGetMetadata(driver, NULL);
+    int can_create = CSLFetchBoolean(meta, GDAL_DCAP_CREATE, FALSE);
+    int can_copy = CSLFetchBoolean(meta, GDAL_DCAP_CREATECOPY, FALSE);
+    if (!can_create && !can_copy)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "GDAL cannot write the '%s' format", format);
+    ss_status st = check_output_folder(ctx, path);
+    if (st != SS_OK)
+        return st;
+
+    ss_raster_writer *w = calloc(1, sizeof *w);
+    if (!w)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+    w->ctx = ctx;
+    w->driver = driver;
+    w->bands = bands;
+    w->path = strdup(path);
+    w->tmp_path = temporary_name(path);
+    w->create_opts = default_options(driver, bands, creation_options);
+    if (!w->path || !w->tmp_path) {
+        ss_writer_abort(w);
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+    }
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLErrorReset();
+    const ss_grid *g = &like->grid;
+    if (can_create)
+        w->ds = GDALCreate(driver, w->tmp_path, g->width, g->height, bands, GDT_Float32,
+                           w->create_opts);
+    else
+        w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", g->width, g->height, bands,
+                           GDT_Float32, NULL);
+    CPLPopErrorHandler();
+    if (!w->ds) {
+        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path, gdal_message());
+        ss_writer_abort(w);
+        return st;
+    }
+    GDALSetGeoTransform(w->ds, (double *)like->geotransform);
+    if (like->crs_wkt)
+        GDALSetProjection(w->ds, like->crs_wkt);
+    for (int b = 1; b <= bands; ++b)
+        GDALSetRasterNoDataValue(GDALGetRasterBand(w->ds, b), SS_NODATA);
+    *writer = w;
+    return SS_OK;
+}
+
+ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
+                         const char *description, const char *unit)
+{
+    size_t n = (size_t)GDALGetRasterXSize(w->ds) * (size_t)GDALGetRasterYSize(w->ds);
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(data[i]))
+            return ss_fail(w->ctx, SS_ERR_INTERNAL,
+                           "refusing to write a non-finite value into band %d of '%s' "
+                           "(a bug: please report it)",
+                           band, w->path);
+    GDALRasterBandH b = GDALGetRasterBand(w->ds, band);
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLErrorReset();
+    CPLErr err = GDALRasterIO(b, GF_Write, 0, 0, GDALGetRasterXSize(w->ds),
+                              GDALGetRasterYSize(w->ds), (void *)data, GDALGetRasterXSize(w->ds),
+                              GDALGetRasterYSize(w->ds), GDT_Float32, 0, 0);
+    CPLPopErrorHandler();
+    if (err != CE_None)
+        return ss_fail(w->ctx, SS_ERR_OUTPUT, "cannot write band %d of '%s': %s", band, w->path,
+                       gdal_message());
+    if (description)
+        GDALSetDescription(b, description);
+    if (unit)
+        GDALSetRasterUnitType(b, unit);
+    return SS_OK;
+}
+
+ss_status ss_writer_metadata(ss_raster_writer *w, const char *key, const char *value)
+{
+    GDALSetMetadataItem(w->ds, key, value, NULL);
+    return SS_OK;
+}
+
+ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *user)
+{
+    ss_ctx *ctx = w->ctx;
+    ss_status st = SS_OK;
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLErrorReset();
+    if (!CSLFetchBoolean(GDALGetMetadata(w->driver, NULL), GDAL_DCAP_CREATE, FALSE)) {
+        GDALDatasetH copy = GDALCreateCopy(w->driver, w->tmp_path, w->ds, FALSE, w->create_opts,
+                                           progress, user);
+        if (copy)
+            GDALClose(copy);
+        if (!copy || CPLGetLastErrorType() >= CE_Failure)
+            st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", w->path, gdal_message());
+    }
+    /* GDALClose flushes the file; an error here (disk full) loses the output. */
+    GDALClose(w->ds);
+    w->ds = NULL;
+    if (st == SS_OK && CPLGetLastErrorType() >= CE_Failure)
+        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': %s", w->path,
+                     gdal_message());
+    CPLPopErrorHandler();
+    if (st == SS_OK && progress && !progress(1.0, "", user))
+        st = ss_fail(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
+    if (st == SS_OK && rename(w->tmp_path, w->path) != 0)
+        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
+                     strerror(errno));
+    if (st == SS_OK) {
+        /* Side-car metadata some formats keep next to the file follows it. */
+        size_t n = strlen(w->tmp_path) + 10;
+        char *aux_tmp = malloc(n), *aux = malloc(strlen(w->path) + 10);
+        if (aux_tmp && aux) {
+            snprintf(aux_tmp, n, "%s.aux.xml", w->tmp_path);
+            snprintf(aux, strlen(w->path) + 10, "%s.aux.xml", w->path);
+            if (access(aux_tmp, F_OK) == 0)
+                rename(aux_tmp, aux);
+        }
+        free(aux_tmp);
+        free(aux);
+        free(w->tmp_path);
+        w->tmp_path = NULL;
+    }
+    ss_writer_abort(w);
+    return st;
+}
+
+void ss_writer_abort(ss_raster_writer *w)
+{
+    if (!w)
+        return;
+    if (w->ds)
+        GDALClose(w->ds);
+    if (w->tmp_path) {
+        unlink(w->tmp_path);
+        size_t n = strlen(w->tmp_path) + 10;
+        char *aux = malloc(n);
+        if (aux) {
+            snprintf(aux, n, "%s.aux.xml", w->tmp_path);
+            unlink(aux);
+        }
+        free(aux);
+    }
+    CSLDestroy(w->create_opts);
+    free(w->path);
+    free(w->tmp_path);
+    free(w);
+}

@@ -1,0 +1,20 @@
+/* The CLI's commands and the helpers they share. */
+#ifndef SS_CLI_COMMANDS_H
+#define SS_CLI_COMMANDS_H
+
+#include "run.h"
+
+#define COMMAND_MAX_INPUTS 256
+
+int cmd_svf(int argc, char **argv);
+int cmd_horizon(int argc, char **argv);
+int cmd_info(int argc, char **argv);
+
+/* Prints the OpenCL devices; returns the exit code. */
+int command_list_devices(void);
+/* One summary line about the sweep: directions, device, speed. */
+void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width, int height);
+/* Records an out-of-memory failure in the context; returns its status. */
+ss_status command_out_of_memory(run_state *run);
+
+#endif

@@ -1,0 +1,185 @@
+/* Table-driven option parsing on top of getopt_long_only. */
+#include "config.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "options.h"
+
+static int n_specs(const opt_spec *const *tables)
+{
+    int n = 0;
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s)
+            n++;
+    return n;
+}
+
+static const opt_spec *spec_at(const opt_spec *const *tables, int index)
+{
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s)
+            if (index-- == 0)
+                return s;
+    return NULL;
+}
+
+/* Index of `word` among the '|'-separated choices, or -1. */
+static int choice_index(const char *choices, const char *word)
+{
+    int i = 0;
+    size_t n = strlen(word);
+    for (const char *p = choices; *p; ++i) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (len == n && strncmp(p, word, n) == 0)
+            return i;
+        if (!bar)
+            break;
+        p = bar + 1;
+    }
+    return -1;
+}
+
+static int set_value(const opt_spec *s, void *settings, const char *text, char *err,
+                     size_t err_size)
+{
+    char *field = (char *)settings + s->offset;
+    char *end = NULL;
+    errno = 0;
+    switch (s->type) {
+    case OPT_INT: {
+        long v = strtol(text, &end, 10);
+        if (!*text || *end || errno || v < s->min || v > s->max) {
+            snprintf(err, err_size, "--%s expects an integer from %.0f to %.0f, not '%s'",
+                     s->name, s->min, s->max, text);
+            return -1;
+        }
+        *(int *)field = (int)v;
+        return 0;
+    }
+    case OPT_DOUBLE: {
+        double v = strtod(text, &end);
+        if (!*text || *end || errno || !isfinite(v) || v < s->min || v > s->max) {
+            snprintf(err, err_size, "--%s expects a number from %g to %g, not '%s'", s->name,
+                     s->min, s->max, text);
+            return -1;
+        }
+        *(double *)field = v;
+        return 0;
+    }
+    case OPT_STRING:
+        *(const char **)field = text;
+        return 0;
+    case OPT_CHOICE: {
+        int i = choice_index(s->choices, text);
+        if (i < 0) {
+            snprintf(err, err_size, "--%s expects one of %s, not '%s'", s->name, s->choices,
+                     text);
+            return -1;
+        }
+        *(int *)field = i;
+        return 0;
+    }
+    case OPT_FLAG:
+        *(int *)field = 1;
+        return 0;
+    case OPT_LIST: {
+        opt_list *l = (opt_list *)field;
+        if (l->count >= OPT_LIST_MAX) {
+            snprintf(err, err_size, "--%s given more than %d times", s->name, OPT_LIST_MAX);
+            return -1;
+        }
+        l->items[l->count++] = text;
+        l->items[l->count] = NULL;
+        return 0;
+    }
+    }
+    return -1;
+}
+
+int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **argv,
+              const char **positional, int *n_positional, int max_positional, char *err,
+              size_t err_size)
+{
+    int n = n_specs(tables);
+    struct option *longopts = calloc((size_t)n + 2, sizeof *longopts);
+    if (!longopts) {
+        snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    for (int i = 0; i < n; ++i) {
+        const opt_spec *s = spec_at(tables, i);
+        longopts[i].name = s->name;
+        longopts[i].has_arg = s->type == OPT_FLAG ? no_argument : required_argument;
+        longopts[i].val = 1000 + i;
+        if (s->default_text && set_value(s, settings, s->default_text, err, err_size) != 0) {
+            free(longopts);
+            return -1;
+        }
+    }
+    longopts[n].name = "help";
+    longopts[n].val = 'h';
+
+    int result = 0;
+    *n_positional = 0;
+    opterr = 0;
+    optind = 1;
+    /* '-' in front: positionals come back in order as value 1. */
+    for (;;) {
+        int prev = optind;
+        int c = getopt_long_only(argc, argv, "-:h", longopts, NULL);
+        if (c == -1)
+            break;
+        if (c == 'h') {
+            result = 1;
+            break;
+        }
+        if (c == 1) {
+            if (*n_positional >= max_positional) {
+                snprintf(err, err_size, "unexpected extra argument '%s'", optarg);
+                result = -1;
+                break;
+            }
+            positional[(*n_positional)++] = optarg;
+            continue;
+        }
+        if (c == '?' || c == ':') {
+            const char *word = prev < argc ? argv[prev] : "?";
+            snprintf(err, err_size,
+                     c == ':' ? "option '%s' needs a value" : "unknown option '%s'", word);
+            result = -1;
+            break;
+        }
+        const opt_spec *s = spec_at(tables, c - 1000);
+        if (set_value(s, settings, optarg, err, err_size) != 0) {
+            result = -1;
+            break;
+        }
+    }
+    free(longopts);
+    return result;
+}
+
+void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary)
+{
+    printf("Usage: %s\n\n%s\n\nOptions:\n", usage, summary);
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s) {
+            char left[64];
+            if (s->type == OPT_FLAG)
+                snprintf(left, sizeof left, "-%s", s->name);
+            else
+                snprintf(left, sizeof left, "-%s %s", s->name,
+                         s->type == OPT_CHOICE ? s->choices : s->metavar);
+            printf("  %-34s %s", left, s->help);
+            if (s->default_text && s->type != OPT_FLAG)
+                printf(" (default %s)", s->default_text);
+            printf("\n");
+        }
+    printf("  %-34s %s\n", "-help", "show this help");
+}

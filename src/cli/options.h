@@ -1,0 +1,48 @@
+/* Declared option tables: each command lists its options once (name, type,
+ * default, range, help) and the parser, --help and docs come from the
+ * table (the libvips habit, STYLE.md sec. 1). Parsing uses getopt_long_only,
+ * so both GDAL-style -co and --directions spellings work. */
+#ifndef SS_CLI_OPTIONS_H
+#define SS_CLI_OPTIONS_H
+
+#include <stddef.h>
+
+typedef enum {
+    OPT_INT,    /* int, within [min, max] */
+    OPT_DOUBLE, /* double, finite, within [min, max] */
+    OPT_STRING, /* const char * */
+    OPT_CHOICE, /* int: index into the '|'-separated choices */
+    OPT_FLAG,   /* int: set to 1 when given */
+    OPT_LIST    /* opt_list: repeatable, e.g. -co KEY=VALUE */
+} opt_type;
+
+#define OPT_LIST_MAX 32
+typedef struct {
+    const char *items[OPT_LIST_MAX + 1]; /* NULL-terminated */
+    int count;
+} opt_list;
+
+typedef struct {
+    const char *name; /* long name; given as -name or --name */
+    opt_type type;
+    size_t offset;    /* where the value goes in the command's settings */
+    const char *metavar;
+    const char *default_text; /* NULL: no default (optional or required by the command) */
+    double min, max;
+    const char *choices;
+    const char *help;
+} opt_spec;
+
+#define OPT_END {NULL, OPT_FLAG, 0, NULL, NULL, 0, 0, NULL, NULL}
+
+/* Sets defaults, then parses argv (after the command word). Positional
+ * arguments are returned in order. On error writes one line into err and
+ * returns -1; returns 1 if --help was asked for, else 0. */
+int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **argv,
+              const char **positional, int *n_positional, int max_positional, char *err,
+              size_t err_size);
+
+/* Prints the options of the tables as a --help text. */
+void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary);
+
+#endif

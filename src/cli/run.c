@@ -1,0 +1,198 @@
+/* Shared CLI runtime (see run.h). */
+#include "config.h"
+
+#include <math.h>
+#include <signal.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include <gdal.h>
+
+#include "run.h"
+
+#define COMMON(field) offsetof(common_settings, field)
+const opt_spec common_options[] = {
+    {"directions", OPT_INT, COMMON(directions), "N", "32", 1, 1000000, NULL,
+     "number of azimuth directions, evenly spaced"},
+    {"offset", OPT_DOUBLE, COMMON(offset_deg), "DEG", "0", -360, 360, NULL,
+     "azimuth of the first direction, degrees clockwise from grid north"},
+    {"device", OPT_STRING, COMMON(device), "NAME", NULL, 0, 0, NULL,
+     "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin)"},
+    {"q", OPT_FLAG, COMMON(quiet), NULL, NULL, 0, 0, NULL, "quiet: no progress, no summary"},
+    {"of", OPT_STRING, COMMON(format), "FORMAT", "GTiff", 0, 0, NULL, "GDAL output format"},
+    {"co", OPT_LIST, COMMON(creation_options), "KEY=VALUE", NULL, 0, 0, NULL,
+     "GDAL creation option (repeatable); defaults: TILED=YES COMPRESS=DEFLATE PREDICTOR=3"},
+    {"cell-size", OPT_DOUBLE, COMMON(cell_size_m), "METRES", NULL, 1e-6, 1e7, NULL,
+     "treat an input without georeferencing as a heightmap with this cell size"},
+    {"curvature", OPT_CHOICE, COMMON(curvature), NULL, "off", 0, 0, "off|on",
+     "earth curvature with terrestrial refraction"},
+    {"refraction", OPT_DOUBLE, COMMON(refraction_k), "K", "0.13", 0, 0.99, NULL,
+     "terrestrial refraction coefficient k (R_eff = R / (1 - k))"},
+    {"earth-radius", OPT_DOUBLE, COMMON(earth_radius_m), "METRES", "6371000", 1e3, 1e9, NULL,
+     "earth radius for curvature"},
+    OPT_END};
+
+static volatile sig_atomic_t interrupted_by = 0;
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void on_signal(int sig)
+{
+    interrupted_by = sig;
+}
+
+/* GDAL's term progress, shown only once a run has lasted a second, and the
+ * place where a pending SIGINT/SIGTERM cancels the run. */
+static int progress(double complete, const char *message, void *user)
+{
+    (void)message;
+    run_state *run = user;
+    if (interrupted_by)
+        return 0;
+    if (run->quiet)
+        return 1;
+    if (!run->progress_shown && now() - run->started < 1.0)
+        return 1;
+    run->progress_shown = 1;
+    return GDALTermProgress(complete, NULL, NULL);
+}
+
+int run_begin(run_state *run, const char *command, const common_settings *common)
+{
+    memset(run, 0, sizeof *run);
+    run->command = command;
+    run->quiet = common ? common->quiet : 0;
+    run->started = now();
+    run->ctx = ss_ctx_new();
+    if (!run->ctx) {
+        fprintf(stderr, "skysweep %s: out of memory\n", command);
+        return SS_ERR_MEMORY;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    ss_ctx_set_progress(run->ctx, progress, run);
+    if (common && common->device)
+        ss_ctx_use_device(run->ctx, common->device);
+    return 0;
+}
+
+int run_fail(run_state *run, ss_status status)
+{
+    if (interrupted_by) {
+        fprintf(stderr, "skysweep %s: interrupted by signal %d; no output written\n",
+                run->command, (int)interrupted_by);
+        return 128 + (int)interrupted_by;
+    }
+    if (run->progress_shown)
+        fputc('\n', stderr);
+    fprintf(stderr, "skysweep %s: %s\n", run->command, ss_ctx_message(run->ctx));
+    return (int)status;
+}
+
+int run_usage_error(const char *command, const char *message)
+{
+    fprintf(stderr, "skysweep %s: %s (see skysweep %s --help)\n", command, message, command);
+    return SS_ERR_ARGUMENT;
+}
+
+void run_end(run_state *run)
+{
+    ss_ctx_free(run->ctx);
+    run->ctx = NULL;
+}
+
+ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
+                       const common_settings *common, ss_dem *dem)
+{
+    ss_dem_read_options ro = {common->cell_size_m};
+    ss_status st = ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
+    if (st == SS_OK && dem->rejected_cells && !run->quiet)
+        fprintf(stderr,
+                "skysweep %s: warning: %zu heights beyond +-1e7 m were taken as nodata\n",
+                run->command, dem->rejected_cells);
+    return st;
+}
+
+void run_sweep_options(const common_settings *common, ss_sweep_options *opt)
+{
+    ss_sweep_options_default(opt);
+    opt->directions = common->directions;
+    opt->offset_deg = common->offset_deg;
+    opt->earth_radius_m = common->curvature ? common->earth_radius_m : 0.0;
+    opt->refraction_k = common->curvature ? common->refraction_k : 0.0;
+}
+
+ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
+                           int n_inputs)
+{
+    for (int i = 0; i < n_inputs; ++i)
+        if (strcmp(output, inputs[i]) == 0 || ss_same_file(output, inputs[i])) {
+            fprintf(stderr, "skysweep %s: output '%s' is also an input; choose another name\n",
+                    run->command, output);
+            return SS_ERR_ARGUMENT;
+        }
+    return SS_OK;
+}
+
+void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt)
+{
+    char buf[128];
+    ss_writer_metadata(w, "SKYSWEEP_VERSION", ss_version());
+    ss_writer_metadata(w, "SKYSWEEP_COMMAND", run->command);
+    snprintf(buf, sizeof buf, "%d", opt->directions);
+    ss_writer_metadata(w, "DIRECTIONS", buf);
+    snprintf(buf, sizeof buf, "%.17g", opt->offset_deg);
+    ss_writer_metadata(w, "DIRECTION_OFFSET_DEG", buf);
+    ss_writer_metadata(w, "AZIMUTH_CONVENTION",
+                       "degrees clockwise from grid north (0 = up the grid's columns)");
+    ss_writer_metadata(w, "LINE_MODEL",
+                       "digital lines through cell centres, distance projected on the azimuth");
+    if (opt->earth_radius_m > 0)
+        snprintf(buf, sizeof buf, "on: R = %.0f m, refraction k = %.3f", opt->earth_radius_m,
+                 opt->refraction_k);
+    else
+        snprintf(buf, sizeof buf, "off");
+    ss_writer_metadata(w, "EARTH_CURVATURE", buf);
+    ss_writer_metadata(w, "DEVICE", ss_ctx_device_name(run->ctx));
+}
+
+ss_status run_commit(run_state *run, ss_raster_writer *w)
+{
+    return ss_writer_commit(w, progress, run);
+}
+
+void run_stats(const float *v, size_t n, double *min, double *mean, double *max)
+{
+    double lo = INFINITY, hi = -INFINITY, sum = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (v[i] == SS_NODATA)
+            continue;
+        lo = v[i] < lo ? v[i] : lo;
+        hi = v[i] > hi ? v[i] : hi;
+        sum += v[i];
+        count++;
+    }
+    *min = count ? lo : 0;
+    *max = count ? hi : 0;
+    *mean = count ? sum / (double)count : 0;
+}
+
+void run_print_dem(run_state *run, const ss_dem *dem)
+{
+    if (run->quiet)
+        return;
+    const ss_grid *g = &dem->grid;
+    printf("input   %s: %d x %d cells of %.6g x %.6g m, %zu nodata\n", dem->description,
+           g->width, g->height, g->cell_x_m, g->cell_y_m, dem->nodata_cells + dem->rejected_cells);
+}

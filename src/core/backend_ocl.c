@@ -1,0 +1,474 @@
+/* The OpenCL backend: finds and opens a device, builds kernels/sweep.cl
+ * (embedded at build time, so an installed binary needs no kernel files),
+ * and runs one work-item per line. Grids shared with the host use
+ * CL_MEM_USE_HOST_PTR, which PoCL serves without copies. */
+#include "config.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include "session.h"
+
+extern const char ss_kernel_source[];
+
+struct ss_ocl {
+    cl_device_id device;
+    cl_context context;
+    cl_command_queue queue;
+    cl_program program;
+    cl_kernel k_svf, k_horizon, k_bare;
+    size_t work_group;
+};
+
+typedef struct {
+    cl_mem z, stack, out[SS_SESSION_MAX_OUTPUTS];
+    float *host[SS_SESSION_MAX_OUTPUTS];
+    int mapped[SS_SESSION_MAX_OUTPUTS];
+} ocl_session;
+
+static const char *cl_error_name(cl_int err)
+{
+    switch (err) {
+    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_COMPILER_NOT_AVAILABLE: return "CL_COMPILER_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
+    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
+    default: return "OpenCL error";
+    }
+}
+
+static ss_status cl_fail(ss_ctx *ctx, cl_int err, const char *what)
+{
+    ss_status st = (err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_HOST_MEMORY ||
+                    err == CL_INVALID_BUFFER_SIZE)
+                       ? SS_ERR_MEMORY
+                       : SS_ERR_DEVICE;
+    return ss_fail(ctx, st, "OpenCL: %s failed: %s (%d)", what, cl_error_name(err), (int)err);
+}
+
+/* ---- device discovery ---------------------------------------------------- */
+
+typedef struct {
+    cl_platform_id platform;
+    cl_device_id device;
+    int platform_index, device_index;
+    char platform_name[256], device_name[256], version[64];
+    cl_device_type type;
+} ocl_device_info;
+
+/* Calls fn for every device of every platform until it returns nonzero. */
+static int for_each_device(int (*fn)(const ocl_device_info *, void *), void *user)
+{
+    cl_uint n_platforms = 0;
+    if (clGetPlatformIDs(0, NULL, &n_platforms) != CL_SUCCESS || n_platforms == 0)
+        return 0;
+    cl_platform_id *platforms = calloc(n_platforms, sizeof *platforms);
+    if (!platforms || clGetPlatformIDs(n_platforms, platforms, NULL) != CL_SUCCESS) {
+        free(platforms);
+        return 0;
+    }
+    int stop = 0;
+    for (cl_uint p = 0; p < n_platforms && !stop; ++p) {
+        cl_uint n_devices = 0;
+        if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &n_devices) != CL_SUCCESS)
+            continue;
+        cl_device_id *devices = calloc(n_devices, sizeof *devices);
+        if (!devices)
+            break;
+        if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, n_devices, devices, NULL) ==
+            CL_SUCCESS) {
+            for (cl_uint d = 0; d < n_devices && !stop; ++d) {
+                ocl_device_info info = {0};
+                info.platform = platforms[p];
+                info.device = devices[d];
+                info.platform_index = (int)p;
+                info.device_index = (int)d;
+                clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof info.platform_name - 1,
+                                  info.platform_name, NULL);
+                clGetDeviceInfo(devices[d], CL_DEVICE_NAME, sizeof info.device_name - 1,
+                                info.device_name, NULL);
+                clGetDeviceInfo(devices[d], CL_DEVICE_OPENCL_C_VERSION, sizeof info.version - 1,
+                                info.version, NULL);
+                clGetDeviceInfo(devices[d], CL_DEVICE_TYPE, sizeof info.type, &info.type, NULL);
+                stop = fn(&info, user);
+            }
+        }
+        free(devices);
+    }
+    free(platforms);
+    return stop;
+}
+
+typedef struct {
+    char *buf;
+    size_t size, used;
+    int count;
+} list_state;
+
+static int list_one(const ocl_device_info *info, void *user)
+{
+    list_state *ls = user;
+    ls->count++;
+    if (ls->buf && ls->used < ls->size) {
+        int n = snprintf(ls->buf + ls->used, ls->size - ls->used, "%d:%d %s: %s (%s)\n",
+                         info->platform_index, info->device_index, info->platform_name,
+                         info->device_name, info->version);
+        if (n > 0)
+            ls->used += (size_t)n;
+    }
+    return 0;
+}
+
+int ss_list_devices(ss_ctx *ctx, char *buf, size_t buf_size)
+{
+    (void)ctx;
+    list_state ls = {buf, buf_size, 0, 0};
+    if (buf && buf_size)
+        buf[0] = '\0';
+    for_each_device(list_one, &ls);
+    return ls.count;
+}
+
+typedef struct {
+    const char *spec;
+    int want_p, want_d; /* from "P:D", else -1 */
+    ocl_device_info found;
+    int have;
+} pick_state;
+
+static int is_pocl_cpu(const ocl_device_info *info)
+{
+    return strstr(info->platform_name, "Portable Computing Language") != NULL &&
+           (info->type & CL_DEVICE_TYPE_CPU);
+}
+
+static int pick_one(const ocl_device_info *info, void *user)
+{
+    pick_state *ps = user;
+    if (ps->want_p >= 0) {
+        if (info->platform_index == ps->want_p && info->device_index == ps->want_d) {
+            ps->found = *info;
+            ps->have = 1;
+            return 1;
+        }
+        return 0;
+    }
+    if (ps->spec[0]) {
+        char full[600];
+        snprintf(full, sizeof full, "%s: %s", info->platform_name, info->device_name);
+        size_t n = strlen(ps->spec);
+        for (const char *p = full; *p; ++p)
+            if (strncasecmp(p, ps->spec, n) == 0) {
+                ps->found = *info;
+                ps->have = 1;
+                return 1;
+            }
+        return 0;
+    }
+    /* Default: PoCL's CPU device; otherwise remember the first device. */
+    if (is_pocl_cpu(info)) {
+        ps->found = *info;
+        ps->have = 1;
+        return 1;
+    }
+    if (!ps->have) {
+        ps->found = *info;
+        ps->have = 2; /* a fallback, keep looking for PoCL */
+    }
+    return 0;
+}
+
+ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
+{
+    ss_ocl_release(ctx->ocl);
+    ctx->ocl = NULL;
+    ctx->device_name[0] = '\0';
+    snprintf(ctx->device_spec, sizeof ctx->device_spec, "%s", spec ? spec : "");
+    ctx->use_reference = spec && strcasecmp(spec, "reference") == 0;
+    if (ctx->use_reference)
+        snprintf(ctx->device_name, sizeof ctx->device_name, "C reference (host, OpenMP)");
+    return SS_OK;
+}
+
+static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
+{
+    cl_int err;
+    const char *src = ss_kernel_source;
+    o->program = clCreateProgramWithSource(o->context, 1, &src, NULL, &err);
+    if (err != CL_SUCCESS)
+        return cl_fail(ctx, err, "clCreateProgramWithSource");
+    double t0 = ss_seconds_now();
+    err = clBuildProgram(o->program, 1, &o->device, "-cl-std=CL1.2", NULL, NULL);
+    ctx->counters.build_seconds += ss_seconds_now() - t0;
+    if (err != CL_SUCCESS) {
+        size_t log_size = 0;
+        clGetProgramBuildInfo(o->program, o->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &log_size);
+        char *log = calloc(1, log_size + 1);
+        if (log)
+            clGetProgramBuildInfo(o->program, o->device, CL_PROGRAM_BUILD_LOG, log_size, log,
+                                  NULL);
+        ss_status st = ss_fail(ctx, SS_ERR_DEVICE,
+                               "OpenCL kernels failed to build on %s (use --device reference "
+                               "to run the C reference): %.1500s",
+                               ctx->device_name, log ? log : "(no build log)");
+        free(log);
+        return st;
+    }
+    struct {
+        cl_kernel *k;
+        const char *name;
+    } kernels[] = {{&o->k_svf, "sweep_svf"}, {&o->k_horizon, "sweep_horizon"},
+                   {&o->k_bare, "sweep_bare"}};
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i) {
+        *kernels[i].k = clCreateKernel(o->program, kernels[i].name, &err);
+        if (err != CL_SUCCESS)
+            return cl_fail(ctx, err, kernels[i].name);
+    }
+    size_t max_wg = 64;
+    clGetKernelWorkGroupInfo(o->k_svf, o->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max_wg,
+                             &max_wg, NULL);
+    o->work_group = max_wg < 64 ? max_wg : 64;
+    return SS_OK;
+}
+
+/* Opens the chosen device and builds the kernels, once per context. */
+static ss_status ocl_acquire(ss_ctx *ctx)
+{
+    if (ctx->ocl)
+        return SS_OK;
+    pick_state ps = {ctx->device_spec, -1, -1, {0}, 0};
+    int p, d;
+    char tail;
+    if (sscanf(ctx->device_spec, "%d:%d%c", &p, &d, &tail) == 2) {
+        ps.want_p = p;
+        ps.want_d = d;
+    }
+    for_each_device(pick_one, &ps);
+    if (!ps.have) {
+        if (ctx->device_spec[0])
+            return ss_fail(ctx, SS_ERR_DEVICE,
+                           "no OpenCL device matches '%s' (see --device list)", ctx->device_spec);
+        return ss_fail(ctx, SS_ERR_DEVICE,
+                       "no OpenCL platform found: install pocl-opencl-icd, or run the C "
+                       "reference with --device reference");
+    }
+    struct ss_ocl *o = calloc(1, sizeof *o);
+    if (!o)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory opening OpenCL");
+    ctx->ocl = o;
+    o->device = ps.found.device;
+    snprintf(ctx->device_name, sizeof ctx->device_name, "%s: %s", ps.found.platform_name,
+             ps.found.device_name);
+    cl_int err;
+    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)ps.found.platform,
+                                     0};
+    o->context = clCreateContext(props, 1, &o->device, NULL, NULL, &err);
+    if (err != CL_SUCCESS)
+        return cl_fail(ctx, err, "clCreateContext");
+    o->queue = clCreateCommandQueue(o->context, o->device, 0, &err);
+    if (err != CL_SUCCESS)
+        return cl_fail(ctx, err, "clCreateCommandQueue");
+    return build_program(ctx, o);
+}
+
+const char *ss_ctx_device_name(ss_ctx *ctx)
+{
+    if (!ctx->use_reference && !ctx->ocl && ocl_acquire(ctx) != SS_OK)
+        return "(no device)";
+    return ctx->device_name;
+}
+
+void ss_ocl_release(struct ss_ocl *o)
+{
+    if (!o)
+        return;
+    if (o->k_svf)
+        clReleaseKernel(o->k_svf);
+    if (o->k_horizon)
+        clReleaseKernel(o->k_horizon);
+    if (o->k_bare)
+        clReleaseKernel(o->k_bare);
+    if (o->program)
+        clReleaseProgram(o->program);
+    if (o->queue)
+        clReleaseCommandQueue(o->queue);
+    if (o->context)
+        clReleaseContext(o->context);
+    free(o);
+}
+
+/* ---- sessions ------------------------------------------------------------ */
+
+static ss_status unmap_all(ss_session *s)
+{
+    ocl_session *q = s->impl;
+    for (int i = 0; i < s->n_outputs; ++i) {
+        if (!q->mapped[i])
+            continue;
+        cl_int err = clEnqueueUnmapMemObject(s->ctx->ocl->queue, q->out[i], q->host[i], 0, NULL,
+                                             NULL);
+        q->mapped[i] = 0;
+        if (err != CL_SUCCESS)
+            return cl_fail(s->ctx, err, "clEnqueueUnmapMemObject");
+    }
+    return SS_OK;
+}
+
+static size_t grid_cells(const ss_session *s)
+{
+    return (size_t)s->grid->width * (size_t)s->grid->height;
+}
+
+static ss_status ocl_clear(ss_session *s, int output)
+{
+    ocl_session *q = s->impl;
+    ss_status st = unmap_all(s);
+    if (st != SS_OK)
+        return st;
+    float zero = 0.0f;
+    cl_int err = clEnqueueFillBuffer(s->ctx->ocl->queue, q->out[output], &zero, sizeof zero, 0,
+                                     grid_cells(s) * sizeof(float), 0, NULL, NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, "clEnqueueFillBuffer");
+}
+
+/* Sets kernel arguments in order from a list of (size, pointer) pairs. */
+typedef struct {
+    size_t size;
+    const void *value;
+} kernel_arg;
+
+static ss_status launch(ss_session *s, cl_kernel k, const kernel_arg *args, int n_args,
+                        int n_lines, const char *what)
+{
+    struct ss_ocl *o = s->ctx->ocl;
+    ss_status st = unmap_all(s);
+    if (st != SS_OK)
+        return st;
+    for (int i = 0; i < n_args; ++i) {
+        cl_int err = clSetKernelArg(k, (cl_uint)i, args[i].size, args[i].value);
+        if (err != CL_SUCCESS)
+            return cl_fail(s->ctx, err, what);
+    }
+    size_t local = o->work_group;
+    size_t global = ((size_t)n_lines + local - 1) / local * local;
+    cl_int err = clEnqueueNDRangeKernel(o->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, what);
+}
+
+static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
+                         float sin_az, float cos_az)
+{
+    ocl_session *q = s->impl;
+    float cx = (float)s->grid->cell_x_m, cy = (float)s->grid->cell_y_m;
+    int height = s->grid->height;
+    kernel_arg args[] = {{sizeof *ls, ls},          {sizeof definition, &definition},
+                         {sizeof curv_k, &curv_k},  {sizeof sin_az, &sin_az},
+                         {sizeof cos_az, &cos_az},  {sizeof cx, &cx},
+                         {sizeof cy, &cy},          {sizeof height, &height},
+                         {sizeof(cl_mem), &q->z},   {sizeof(cl_mem), &q->stack},
+                         {sizeof(cl_mem), &q->out[0]}};
+    return launch(s, s->ctx->ocl->k_svf, args, 11, ls->n_lines, "the SVF kernel");
+}
+
+static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist)
+{
+    ocl_session *q = s->impl;
+    cl_mem dist = want_dist ? q->out[1] : q->out[0];
+    kernel_arg args[] = {{sizeof *ls, ls},           {sizeof curv_k, &curv_k},
+                         {sizeof(cl_mem), &q->z},    {sizeof(cl_mem), &q->stack},
+                         {sizeof(cl_mem), &q->out[0]}, {sizeof(cl_mem), &dist},
+                         {sizeof want_dist, &want_dist}};
+    return launch(s, s->ctx->ocl->k_horizon, args, 7, ls->n_lines, "the horizon kernel");
+}
+
+static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)
+{
+    ocl_session *q = s->impl;
+    kernel_arg args[] = {
+        {sizeof *ls, ls}, {sizeof(cl_mem), &q->z}, {sizeof(cl_mem), &q->out[0]}};
+    return launch(s, s->ctx->ocl->k_bare, args, 3, ls->n_lines, "the bare-pass kernel");
+}
+
+static ss_status ocl_view(ss_session *s, int output, const float **host)
+{
+    ocl_session *q = s->impl;
+    if (!q->mapped[output]) {
+        cl_int err;
+        void *p = clEnqueueMapBuffer(s->ctx->ocl->queue, q->out[output], CL_TRUE, CL_MAP_READ, 0,
+                                     grid_cells(s) * sizeof(float), 0, NULL, NULL, &err);
+        if (err != CL_SUCCESS)
+            return cl_fail(s->ctx, err, "clEnqueueMapBuffer");
+        q->host[output] = p;
+        q->mapped[output] = 1;
+    }
+    *host = q->host[output];
+    return SS_OK;
+}
+
+static void ocl_close(ss_session *s)
+{
+    ocl_session *q = s->impl;
+    if (!q)
+        return;
+    if (s->ctx->ocl) {
+        unmap_all(s);
+        clFinish(s->ctx->ocl->queue);
+    }
+    if (q->z)
+        clReleaseMemObject(q->z);
+    if (q->stack)
+        clReleaseMemObject(q->stack);
+    for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
+        if (q->out[i])
+            clReleaseMemObject(q->out[i]);
+    free(q);
+}
+
+static const ss_backend ocl_backend = {ocl_clear, ocl_svf, ocl_horizon,
+                                       ocl_bare,  ocl_view, ocl_close};
+
+ss_status ss_backend_ocl_open(ss_session *s)
+{
+    ss_status st = ocl_acquire(s->ctx);
+    if (st != SS_OK)
+        return st;
+    struct ss_ocl *o = s->ctx->ocl;
+    ocl_session *q = calloc(1, sizeof *q);
+    if (!q)
+        return ss_fail(s->ctx, SS_ERR_MEMORY, "out of memory opening a session");
+    s->impl = q;
+    s->backend = &ocl_backend;
+    size_t bytes = grid_cells(s) * sizeof(float);
+    cl_int err;
+    q->z = clCreateBuffer(o->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes,
+                          s->grid->z, &err);
+    if (err == CL_SUCCESS)
+        q->stack = clCreateBuffer(o->context, CL_MEM_READ_WRITE, grid_cells(s) * sizeof(int),
+                                  NULL, &err);
+    for (int i = 0; i < s->n_outputs && err == CL_SUCCESS; ++i)
+        q->out[i] = clCreateBuffer(o->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
+    if (err != CL_SUCCESS) {
+        ocl_close(s);
+        s->impl = NULL;
+        return cl_fail(s->ctx, err, "allocating device buffers");
+    }
+    for (int i = 0; i < s->n_outputs; ++i)
+        if ((st = ocl_clear(s, i)) != SS_OK) {
+            ocl_close(s);
+            s->impl = NULL;
+            return st;
+        }
+    return SS_OK;
+}

@@ -1,0 +1,101 @@
+/* The C twin: runs the kernels' own per-line code (kernels/ss_passes.h) on
+ * the host, lines in parallel with OpenMP. It is what --device reference
+ * selects and what the OpenCL path is tested against alongside the
+ * brute-force reference of the tests. */
+#include "config.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "session.h"
+#include "ss_passes.h"
+
+typedef struct {
+    int *stack;
+    float *out[SS_SESSION_MAX_OUTPUTS];
+} ref_session;
+
+static ss_status ref_clear(ss_session *s, int output)
+{
+    ref_session *r = s->impl;
+    memset(r->out[output], 0, sizeof(float) * (size_t)s->grid->width * s->grid->height);
+    return SS_OK;
+}
+
+static ss_status ref_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
+                         float sin_az, float cos_az)
+{
+    ref_session *r = s->impl;
+    const ss_grid *g = s->grid;
+    float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
+#pragma omp parallel for schedule(dynamic, 16)
+    for (int line = 0; line < ls->n_lines; ++line)
+        ss_pass_svf(ls, line, definition, curv_k, sin_az, cos_az, cx, cy, g->height, g->z,
+                    r->stack, r->out[0]);
+    return SS_OK;
+}
+
+static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist)
+{
+    ref_session *r = s->impl;
+    float *dist = want_dist ? r->out[1] : r->out[0];
+#pragma omp parallel for schedule(dynamic, 16)
+    for (int line = 0; line < ls->n_lines; ++line)
+        ss_pass_horizon(ls, line, curv_k, s->grid->z, r->stack, r->out[0], dist, want_dist);
+    return SS_OK;
+}
+
+static ss_status ref_bare(ss_session *s, const ss_line_set *ls)
+{
+    ref_session *r = s->impl;
+#pragma omp parallel for schedule(dynamic, 16)
+    for (int line = 0; line < ls->n_lines; ++line)
+        ss_pass_bare(ls, line, s->grid->z, r->out[0]);
+    return SS_OK;
+}
+
+static ss_status ref_view(ss_session *s, int output, const float **host)
+{
+    ref_session *r = s->impl;
+    *host = r->out[output];
+    return SS_OK;
+}
+
+static void ref_close(ss_session *s)
+{
+    ref_session *r = s->impl;
+    if (!r)
+        return;
+    free(r->stack);
+    for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
+        free(r->out[i]);
+    free(r);
+}
+
+static const ss_backend ref_backend = {ref_clear, ref_svf, ref_horizon,
+                                       ref_bare,  ref_view, ref_close};
+
+ss_status ss_backend_ref_open(ss_session *s)
+{
+    size_t n = (size_t)s->grid->width * (size_t)s->grid->height;
+    ref_session *r = calloc(1, sizeof *r);
+    s->impl = r;
+    s->backend = &ref_backend;
+    if (!r)
+        return ss_fail(s->ctx, SS_ERR_MEMORY, "out of memory opening the C reference");
+    r->stack = ss_alloc_grid(n * sizeof(int));
+    int ok = r->stack != NULL;
+    for (int i = 0; i < s->n_outputs; ++i) {
+        r->out[i] = ss_alloc_grid(n * sizeof(float));
+        ok = ok && r->out[i];
+    }
+    if (!ok) {
+        ref_close(s);
+        s->impl = NULL;
+        return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of sweep buffers",
+                       (n * sizeof(float) * (size_t)(1 + s->n_outputs)) >> 20);
+    }
+    for (int i = 0; i < s->n_outputs; ++i)
+        memset(r->out[i], 0, n * sizeof(float));
+    return SS_OK;
+}

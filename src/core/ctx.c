@@ -1,0 +1,78 @@
+/* The context: last error message, progress callback, device choice and
+ * work counters. */
+#include "config.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "ctx_internal.h"
+
+ss_ctx *ss_ctx_new(void)
+{
+    return calloc(1, sizeof(ss_ctx));
+}
+
+void ss_ctx_free(ss_ctx *ctx)
+{
+    if (!ctx)
+        return;
+    ss_ocl_release(ctx->ocl);
+    free(ctx);
+}
+
+const char *ss_ctx_message(const ss_ctx *ctx)
+{
+    return ctx->message;
+}
+
+void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user)
+{
+    ctx->progress = fn;
+    ctx->progress_user = user;
+}
+
+const char *ss_version(void)
+{
+    return PACKAGE_VERSION;
+}
+
+ss_counters ss_ctx_counters(const ss_ctx *ctx)
+{
+    return ctx->counters;
+}
+
+ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(ctx->message, sizeof ctx->message, fmt, ap);
+    va_end(ap);
+    for (char *p = ctx->message; *p; ++p)
+        if (*p == '\n' || *p == '\r')
+            *p = ' ';
+    return status;
+}
+
+ss_status ss_progress(ss_ctx *ctx, double complete, const char *what)
+{
+    if (ctx->progress && !ctx->progress(complete, what, ctx->progress_user))
+        return ss_fail(ctx, SS_ERR_CANCELLED, "cancelled during %s", what ? what : "the run");
+    return SS_OK;
+}
+
+double ss_seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void *ss_alloc_grid(size_t bytes)
+{
+    const size_t align = 4096;
+    size_t rounded = (bytes + align - 1) / align * align;
+    return aligned_alloc(align, rounded ? rounded : align);
+}

@@ -1,0 +1,35 @@
+/* What the library keeps per context, and the helpers every core file uses
+ * to fail with a message, report progress and count work. */
+#ifndef SS_CTX_INTERNAL_H
+#define SS_CTX_INTERNAL_H
+
+#include "skysweep.h"
+
+struct ss_ocl; /* backend_ocl.c: the opened OpenCL device, context and kernels */
+void ss_ocl_release(struct ss_ocl *ocl);
+
+struct ss_ctx {
+    char message[2048];
+    ss_progress_fn progress;
+    void *progress_user;
+    char device_spec[256];
+    int use_reference; /* run the C twin instead of OpenCL */
+    struct ss_ocl *ocl;
+    char device_name[600];
+    ss_counters counters;
+};
+
+/* Records a one-line message (newlines become spaces) and returns status. */
+ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Reports progress; returns SS_ERR_CANCELLED (with a message) if the
+ * callback asks to stop. */
+ss_status ss_progress(ss_ctx *ctx, double complete, const char *what);
+
+double ss_seconds_now(void);
+
+/* Aligned allocation for grids shared with OpenCL (zero-copy on PoCL). */
+void *ss_alloc_grid(size_t bytes);
+
+#endif

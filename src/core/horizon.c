@@ -1,0 +1,58 @@
+/* Horizon angles: one sweep per direction, each direction's grid handed to
+ * the caller's sink at once, so only one direction is held in memory. */
+#include "config.h"
+
+#include <math.h>
+
+#include "products_internal.h"
+
+ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                     int want_distance, ss_horizon_sink sink, void *user)
+{
+    ss_session *s;
+    ss_status st = ss_product_begin(ctx, grid, opt, want_distance ? 2 : 1, &s);
+    if (st != SS_OK)
+        return st;
+    float curv_k = ss_curvature_k(opt);
+    for (int i = 0; i < opt->directions && st == SS_OK; ++i) {
+        ss_line_set ls;
+        double t0 = ss_seconds_now();
+        ss_product_lines(grid, opt, i, &ls);
+        st = ss_session_horizon(s, &ls, curv_k, want_distance);
+        const float *angle = NULL, *dist = NULL;
+        if (st == SS_OK)
+            st = ss_session_view(s, 0, &angle);
+        if (st == SS_OK && want_distance)
+            st = ss_session_view(s, 1, &dist);
+        ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+        if (st == SS_OK && !sink(i, ss_direction_azimuth(opt, i), angle, dist, user))
+            st = ss_fail(ctx, SS_ERR_CANCELLED, "stopped while storing direction %d", i);
+        if (st == SS_OK)
+            st = ss_progress(ctx, (double)(i + 1) / opt->directions, "horizon");
+    }
+    ss_session_close(s);
+    return st;
+}
+
+ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg, float *out)
+{
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = 1;
+    opt.offset_deg = isfinite(azimuth_deg) ? fmod(azimuth_deg, 360.0) : azimuth_deg;
+    ss_session *s;
+    ss_status st = ss_product_begin(ctx, grid, &opt, 1, &s);
+    if (st != SS_OK)
+        return st;
+    ss_line_set ls;
+    ss_product_lines(grid, &opt, 0, &ls);
+    const float *host = NULL;
+    st = ss_session_bare(s, &ls);
+    if (st == SS_OK)
+        st = ss_session_view(s, 0, &host);
+    if (st == SS_OK)
+        for (size_t c = 0; c < (size_t)grid->width * (size_t)grid->height; ++c)
+            out[c] += host[c];
+    ss_session_close(s);
+    return st;
+}

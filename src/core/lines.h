@@ -1,0 +1,12 @@
+/* Host side of the digital-line model (kernels/ss_lines.h). */
+#ifndef SS_LINES_HOST_H
+#define SS_LINES_HOST_H
+
+#include "ss_lines.h"
+
+/* The family of parallel lines that sweeps a width x height grid for a
+ * direction looking toward azimuth_deg (clockwise from the grid's north). */
+void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell_x_m,
+                             double cell_y_m, double azimuth_deg);
+
+#endif

@@ -1,0 +1,35 @@
+/* What every sweep product does before its first direction. */
+#include "config.h"
+
+#include <math.h>
+
+#include "lines.h"
+#include "products_internal.h"
+
+float ss_curvature_k(const ss_sweep_options *opt)
+{
+    if (opt->earth_radius_m <= 0.0)
+        return 0.0f;
+    double r_eff = opt->earth_radius_m / (1.0 - opt->refraction_k);
+    return (float)(0.5 / r_eff);
+}
+
+ss_status ss_product_begin(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                           int n_outputs, ss_session **session)
+{
+    ss_status st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK)
+        st = ss_grid_check(ctx, grid, NULL);
+    if (st == SS_OK)
+        st = ss_session_open(ctx, grid, n_outputs, session);
+    return st;
+}
+
+double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
+                        ss_line_set *ls)
+{
+    double az_deg = ss_direction_azimuth(opt, i);
+    ss_line_set_for_azimuth(ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
+                            az_deg);
+    return az_deg * (M_PI / 180.0);
+}

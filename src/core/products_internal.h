@@ -1,0 +1,18 @@
+/* Helpers shared by the sweep products. */
+#ifndef SS_PRODUCTS_INTERNAL_H
+#define SS_PRODUCTS_INTERNAL_H
+
+#include "session.h"
+
+/* curv_k = 1 / (2 R_eff), R_eff = R / (1 - k); 0 when curvature is off. */
+float ss_curvature_k(const ss_sweep_options *opt);
+
+/* Validates grid and options and opens a session with n_outputs grids. */
+ss_status ss_product_begin(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                           int n_outputs, ss_session **session);
+
+/* Line set of direction i, and its azimuth in radians. */
+double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
+                        ss_line_set *ls);
+
+#endif

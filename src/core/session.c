@@ -1,0 +1,71 @@
+/* Dispatches session calls to the backend the context selected, and counts
+ * the sweeps run. */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "session.h"
+
+ss_status ss_session_open(ss_ctx *ctx, const ss_grid *grid, int n_outputs, ss_session **out)
+{
+    *out = NULL;
+    if (n_outputs < 1 || n_outputs > SS_SESSION_MAX_OUTPUTS)
+        return ss_fail(ctx, SS_ERR_INTERNAL, "session with %d outputs", n_outputs);
+    ss_session *s = calloc(1, sizeof *s);
+    if (!s)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory opening a sweep session");
+    s->ctx = ctx;
+    s->grid = grid;
+    s->n_outputs = n_outputs;
+    ss_status st = ctx->use_reference ? ss_backend_ref_open(s) : ss_backend_ocl_open(s);
+    if (st != SS_OK) {
+        free(s);
+        return st;
+    }
+    *out = s;
+    return SS_OK;
+}
+
+void ss_session_close(ss_session *s)
+{
+    if (!s)
+        return;
+    s->backend->close(s);
+    free(s);
+}
+
+ss_status ss_session_clear(ss_session *s, int output)
+{
+    return s->backend->clear(s, output);
+}
+
+static void count_sweep(ss_session *s)
+{
+    s->ctx->counters.sweeps++;
+    s->ctx->counters.cells_swept += (uint64_t)s->grid->width * (uint64_t)s->grid->height;
+}
+
+ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
+                         double azimuth_rad)
+{
+    count_sweep(s);
+    return s->backend->svf(s, ls, definition, curv_k, (float)sin(azimuth_rad),
+                           (float)cos(azimuth_rad));
+}
+
+ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist)
+{
+    count_sweep(s);
+    return s->backend->horizon(s, ls, curv_k, want_dist);
+}
+
+ss_status ss_session_bare(ss_session *s, const ss_line_set *ls)
+{
+    return s->backend->bare(s, ls);
+}
+
+ss_status ss_session_view(ss_session *s, int output, const float **host)
+{
+    return s->backend->view(s, output, host);
+}

@@ -1,0 +1,49 @@
+/* A sweep session: one grid on one device (OpenCL or the C twin), a hull
+ * stack grid, and up to two float output grids that passes write into.
+ * Products queue passes direction by direction and read outputs back. */
+#ifndef SS_SESSION_H
+#define SS_SESSION_H
+
+#include "ctx_internal.h"
+#include "ss_lines.h"
+
+#define SS_SESSION_MAX_OUTPUTS 2
+
+typedef struct ss_session ss_session;
+
+typedef struct {
+    ss_status (*clear)(ss_session *s, int output);
+    ss_status (*svf)(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
+                     float sin_az, float cos_az);
+    ss_status (*horizon)(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist);
+    ss_status (*bare)(ss_session *s, const ss_line_set *ls);
+    ss_status (*view)(ss_session *s, int output, const float **host);
+    void (*close)(ss_session *s);
+} ss_backend;
+
+struct ss_session {
+    ss_ctx *ctx;
+    const ss_grid *grid;
+    int n_outputs;
+    const ss_backend *backend;
+    void *impl;
+};
+
+ss_status ss_session_open(ss_ctx *ctx, const ss_grid *grid, int n_outputs, ss_session **out);
+void ss_session_close(ss_session *s);
+ss_status ss_session_clear(ss_session *s, int output);
+/* Adds one direction's SVF term into output 0. */
+ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
+                         double azimuth_rad);
+/* Writes horizon angles (degrees) to output 0 and distances to output 1. */
+ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist);
+/* out0[c] += z[c] along the lines. */
+ss_status ss_session_bare(ss_session *s, const ss_line_set *ls);
+/* Waits for queued passes; *host stays valid until the next call. */
+ss_status ss_session_view(ss_session *s, int output, const float **host);
+
+/* Backends. */
+ss_status ss_backend_ref_open(ss_session *s);
+ss_status ss_backend_ocl_open(ss_session *s);
+
+#endif

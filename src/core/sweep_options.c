@@ -1,0 +1,43 @@
+/* Sweep options: defaults, validation, and the azimuth of each direction. */
+#include "config.h"
+
+#include <math.h>
+
+#include "ctx_internal.h"
+
+/* A million directions is far beyond any accuracy need (0.00036 degrees
+ * apart) and keeps run times finite; see doc/accuracy.md for real needs. */
+#define SS_DIRECTIONS_MAX 1000000
+
+void ss_sweep_options_default(ss_sweep_options *opt)
+{
+    opt->directions = 32;
+    opt->offset_deg = 0.0;
+    opt->earth_radius_m = 0.0;
+    opt->refraction_k = 0.0;
+}
+
+ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
+{
+    if (opt->directions < 1 || opt->directions > SS_DIRECTIONS_MAX)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "--directions must be 1 to %d, not %d",
+                       SS_DIRECTIONS_MAX, opt->directions);
+    if (!isfinite(opt->offset_deg) || fabs(opt->offset_deg) > 360.0)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "--offset must be within -360..360 degrees, not %g",
+                       opt->offset_deg);
+    if (!(opt->earth_radius_m == 0.0 ||
+          (opt->earth_radius_m >= 1e3 && opt->earth_radius_m <= 1e9)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "earth radius must be 0 (no curvature) or 1e3..1e9 m, not %g",
+                       opt->earth_radius_m);
+    if (!(opt->refraction_k >= 0.0 && opt->refraction_k < 1.0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "refraction coefficient must be in [0, 1), not %g",
+                       opt->refraction_k);
+    return SS_OK;
+}
+
+double ss_direction_azimuth(const ss_sweep_options *opt, int i)
+{
+    double az = fmod(opt->offset_deg + 360.0 * (double)i / (double)opt->directions, 360.0);
+    return az < 0.0 ? az + 360.0 : az;
+}

@@ -1,0 +1,124 @@
+/* skysweep: exact terrain horizons, sky-view factor and their products.
+ *
+ * The library does the work and never prints or exits: every call returns an
+ * ss_status, and the one-line message of the last failure is kept in the
+ * context the caller owns (ss_ctx_message). Conventions used throughout:
+ *   - rows run north to south, columns west to east, cell (0,0) is north-west;
+ *   - azimuths are degrees clockwise from north (0 = N, 90 = E); in this
+ *     version north means grid north (the grid's row direction);
+ *   - horizon elevation angles are degrees above the local horizontal and may
+ *     be negative; -90 means no terrain lies ahead inside the grid;
+ *   - distances are metres along the azimuth;
+ *   - outputs hold SS_NODATA where the input is nodata, and never NaN or Inf.
+ */
+#ifndef SKYSWEEP_H
+#define SKYSWEEP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SS_NODATA (-9999.0f)
+
+/* Status codes double as the CLI's exit codes (doc/cli.md). */
+typedef enum {
+    SS_OK = 0,
+    SS_ERR_ARGUMENT = 2,  /* an option or parameter is out of range */
+    SS_ERR_INPUT = 3,     /* the input cannot be read or is not a usable DEM */
+    SS_ERR_OUTPUT = 4,    /* an output cannot be written */
+    SS_ERR_DEVICE = 5,    /* no usable OpenCL device, or the kernels failed to build */
+    SS_ERR_MEMORY = 6,    /* an allocation failed or would exceed a limit */
+    SS_ERR_CANCELLED = 7, /* the progress callback asked to stop */
+    SS_ERR_INTERNAL = 8   /* a bug: please report it */
+} ss_status;
+
+typedef struct ss_ctx ss_ctx;
+
+/* Same shape as GDALProgressFunc: return 0 to cancel the run. */
+typedef int (*ss_progress_fn)(double complete, const char *message, void *user);
+
+ss_ctx *ss_ctx_new(void);
+void ss_ctx_free(ss_ctx *ctx);
+const char *ss_ctx_message(const ss_ctx *ctx);
+void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user);
+const char *ss_version(void);
+
+/* Devices. spec NULL or "" picks the default (the first CPU device of a PoCL
+ * platform, else the first device found); "reference" runs the plain C
+ * twin of the kernels; anything else is "P:D" (platform and device numbers)
+ * or a case-insensitive part of "platform name: device name". */
+ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec);
+/* Human-readable name of the selected device, opening it if needed. */
+const char *ss_ctx_device_name(ss_ctx *ctx);
+/* Lists the OpenCL devices, one "P:D platform: device (OpenCL C x.y)" line
+ * each, into buf. Returns the number of devices (0 when none). */
+int ss_list_devices(ss_ctx *ctx, char *buf, size_t buf_size);
+
+/* Work counters since the context was made: products report what they did,
+ * and tests check that work planned away really was skipped. */
+typedef struct {
+    uint64_t sweeps;      /* directions swept */
+    uint64_t cells_swept; /* cells x directions */
+    double sweep_seconds; /* wall time inside sweeps, kernel build excluded */
+    double build_seconds; /* kernel program build (cached or not) */
+} ss_counters;
+ss_counters ss_ctx_counters(const ss_ctx *ctx);
+
+/* A DEM in memory. Heights are float32 relative to z_origin_m so that large
+ * offsets (a plateau at 1e5 m) keep their float precision. */
+typedef struct {
+    int width, height;
+    double cell_x_m, cell_y_m; /* cell size east-west and north-south, metres */
+    double z_origin_m;         /* height of the stored zero, metres */
+    float *z;                  /* width*height heights, NAN = nodata */
+} ss_grid;
+
+/* Allocates z (filled with NAN) for a width x height grid. */
+ss_status ss_grid_alloc(ss_ctx *ctx, ss_grid *grid, int width, int height, double cell_x_m,
+                        double cell_y_m);
+void ss_grid_free(ss_grid *grid);
+/* Checks that a grid can be swept: sizes, cell sizes, at least one valid
+ * height; a 1x1 grid has no horizon and is refused. *valid_cells may be NULL. */
+ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells);
+
+typedef struct {
+    int directions;        /* D >= 1, evenly spaced */
+    double offset_deg;     /* azimuth of the first direction */
+    double earth_radius_m; /* for earth curvature; 0 switches curvature off */
+    double refraction_k;   /* terrestrial refraction coefficient, 0 <= k < 1 */
+} ss_sweep_options;
+
+void ss_sweep_options_default(ss_sweep_options *opt);
+ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt);
+/* Azimuth of direction i, degrees in [0, 360). */
+double ss_direction_azimuth(const ss_sweep_options *opt, int i);
+
+typedef enum {
+    SS_SVF_DEF_GEOMETRIC = 0,  /* 1 - mean sin h+ (Zaksek et al. 2011, RVT) */
+    SS_SVF_DEF_HORIZONTAL = 1, /* mean cos^2 h+: radiative, horizontal surface */
+    SS_SVF_DEF_TILTED = 2      /* Dozier & Frew 1990: radiative, the cell's own slope */
+} ss_svf_definition;
+
+/* Sky-view factor of every cell into out (width*height, SS_NODATA at nodata). */
+ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                 ss_svf_definition definition, float *out);
+
+/* Receives the horizon of every cell for one direction; dist_m is NULL unless
+ * asked for. Return 0 to stop the run (it then ends with SS_ERR_CANCELLED). */
+typedef int (*ss_horizon_sink)(int index, double azimuth_deg, const float *angle_deg,
+                               const float *dist_m, void *user);
+ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                     int want_distance, ss_horizon_sink sink, void *user);
+
+/* The bare pass along the lines of one azimuth: out[c] += z[c] for every
+ * cell, no hull. The yardstick of the sweep's cost, and with z = 1 it counts
+ * visits. out must be width*height floats. */
+ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg, float *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,128 @@
+/* The digital lines of every direction cover the grid with every cell
+ * exactly once, walk monotonically away from the azimuth, and are
+ * 8-connected; and both backends visit each cell exactly once. */
+#include "config.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "lines.h"
+#include "tap.h"
+#include "testlib.h"
+
+/* Checks the line set of one azimuth cell by cell; returns a description of
+ * the first violation, or NULL. */
+static const char *check_geometry(int w, int h, double cx, double cy, double az_deg)
+{
+    static char why[200];
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, w, h, cx, cy, az_deg);
+    int *visits = calloc((size_t)w * h, sizeof *visits);
+    double a = az_deg * M_PI / 180.0;
+    why[0] = '\0';
+    for (int line = 0; line < ls.n_lines && !why[0]; ++line) {
+        int first, n = ss_line_extent(&ls, line, &first);
+        if (n == 0)
+            snprintf(why, sizeof why, "line %d is empty", line);
+        double prev_ahead = INFINITY;
+        int prev_minor = 0;
+        for (int s = 0; s < n && !why[0]; ++s) {
+            int major = ss_line_major_at(&ls, first, n, s);
+            int minor = ss_line_minor(&ls, ls.line_min + line, major);
+            int col = ls.major_is_row ? minor : major, row = ls.major_is_row ? major : minor;
+            if (col < 0 || row < 0 || col >= w || row >= h) {
+                snprintf(why, sizeof why, "line %d leaves the grid at (%d,%d)", line, col, row);
+                break;
+            }
+            visits[(size_t)row * w + col]++;
+            /* Position toward the azimuth must fall strictly as we walk. */
+            double ahead = col * cx * sin(a) - row * cy * cos(a);
+            if (!(ahead < prev_ahead))
+                snprintf(why, sizeof why, "line %d does not walk away from the azimuth at step %d",
+                         line, s);
+            if (s > 0 && abs(minor - prev_minor) > 1)
+                snprintf(why, sizeof why, "line %d jumps %d cells at step %d", line,
+                         minor - prev_minor, s);
+            prev_ahead = ahead;
+            prev_minor = minor;
+        }
+    }
+    for (size_t i = 0; i < (size_t)w * h && !why[0]; ++i)
+        if (visits[i] != 1)
+            snprintf(why, sizeof why, "cell (%zu,%zu) visited %d times", i % (size_t)w,
+                     i / (size_t)w, visits[i]);
+    free(visits);
+    return why[0] ? why : NULL;
+}
+
+/* Both backends' bare pass over z = 1 must leave exactly 1 in every cell. */
+static const char *check_visits(const char *device, int w, int h, double cx, double cy,
+                                double az_deg)
+{
+    static char why[600];
+    ss_grid g = test_grid(w, h, cx, cy);
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        g.z[i] = 1.0f;
+    float *out = calloc((size_t)w * h, sizeof *out);
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, device);
+    why[0] = '\0';
+    if (ss_bare_pass(ctx, &g, az_deg, out) != SS_OK)
+        snprintf(why, sizeof why, "%s", ss_ctx_message(ctx));
+    for (size_t i = 0; i < (size_t)w * h && !why[0]; ++i)
+        if (out[i] != 1.0f)
+            snprintf(why, sizeof why, "cell (%zu,%zu) visited %g times", i % (size_t)w,
+                     i / (size_t)w, out[i]);
+    ss_ctx_free(ctx);
+    free(out);
+    ss_grid_free(&g);
+    return why[0] ? why : NULL;
+}
+
+int main(void)
+{
+    const struct {
+        int w, h;
+        double cx, cy;
+    } grids[] = {{37, 37, 1, 1},  {53, 17, 1, 1}, {17, 53, 1, 1}, {1, 40, 1, 1},
+                 {40, 1, 1, 1},   {2, 2, 1, 1},   {31, 23, 30, 10}, {4099, 3, 1, 1}};
+    double angles[12 * 3 + 50];
+    int n_angles = 0;
+    const double axes[] = {0, 45, 90, 135, 180, 225, 270, 315, 360, -45, 30, 60};
+    for (int i = 0; i < 12; ++i) {
+        angles[n_angles++] = axes[i];
+        angles[n_angles++] = axes[i] + 1e-9;
+        angles[n_angles++] = axes[i] - 1e-9;
+    }
+    unsigned s = 12345;
+    for (int i = 0; i < 50; ++i) {
+        s = s * 1103515245u + 12345u;
+        angles[n_angles++] = (s >> 8) % 3600000 / 10000.0;
+    }
+    for (size_t gi = 0; gi < sizeof grids / sizeof grids[0]; ++gi) {
+        const char *bad = NULL;
+        double bad_az = 0;
+        for (int ai = 0; ai < n_angles && !bad; ++ai)
+            if ((bad = check_geometry(grids[gi].w, grids[gi].h, grids[gi].cx, grids[gi].cy,
+                                      angles[ai])))
+                bad_az = angles[ai];
+        tap_ok(!bad, "digital lines on %dx%d (cells %gx%g m), %d azimuths: every cell once, "
+                     "monotone, 8-connected%s%s (azimuth %.10g)",
+               grids[gi].w, grids[gi].h, grids[gi].cx, grids[gi].cy, n_angles, bad ? ": " : "",
+               bad ? bad : "", bad_az);
+    }
+    const char *devices[] = {NULL, "reference"};
+    for (int d = 0; d < 2; ++d)
+        for (size_t gi = 0; gi < sizeof grids / sizeof grids[0]; ++gi) {
+            const char *bad = NULL;
+            double bad_az = 0;
+            for (int ai = 0; ai < n_angles && !bad; ai += (gi == 7 ? 7 : 1))
+                if ((bad = check_visits(devices[d], grids[gi].w, grids[gi].h, grids[gi].cx,
+                                        grids[gi].cy, angles[ai])))
+                    bad_az = angles[ai];
+            tap_ok(!bad, "%s bare pass on %dx%d visits every cell exactly once%s%s (az %.10g)",
+                   devices[d] ? devices[d] : "OpenCL", grids[gi].w, grids[gi].h,
+                   bad ? ": " : "", bad ? bad : "", bad_az);
+        }
+    return tap_done();
+}
