@@ -1,28 +1,42 @@
-/* The digital-line model of one sweep direction (shared by kernels and C).
+/* The line models of one sweep direction (shared by kernels and C).
  *
- * For an azimuth, the grid is cut into parallel "digital lines": along the
- * major axis (columns when the direction is closer to east-west, rows
- * otherwise) a line has exactly one cell per major index, at minor index
- *     minor = b + floor(major * slope + 1/2)
- * where b is the line's intercept and |slope| <= 1 is the minor cells per
- * major step. For every major index the map b -> minor is a shift, so the
- * lines partition the grid: every cell belongs to exactly one line, whatever
- * the slope. The floor is computed in 32.32 fixed point with integers only,
- * so the host, PoCL and a GPU assign every cell identically.
+ * For an azimuth, parallel lines cross the grid. Along the major axis
+ * (columns when the direction is closer to east-west, rows otherwise) a
+ * line with integer intercept b sits, at major index c, at minor position
+ *     y = b + c * slope            (|slope| <= 1)
+ * computed in fixed point with integers only, so the host, PoCL and a GPU
+ * place every sample identically. Two models use these lines:
+ *
+ * - interpolated (default): the line is sampled at every major index
+ *   exactly at y; the sample's height interpolates linearly between the two
+ *   cells that bracket y across the line, and the sample's horizon goes
+ *   back to those two cells with the same weights. Every cell receives
+ *   weights summing to exactly 1 (weights have 16 fractional bits, so 1-t
+ *   and t are exact in float). Exact on planes; converges to the continuous
+ *   surface as directions grow (doc/model.md).
+ * - digital: the line takes the cell nearest to y (y rounded) at every major
+ *   index, so the lines partition the grid and every cell is one sample at
+ *   its own centre; a cell's horizon is the exact maximum over cell centres,
+ *   but cells sit up to half a cell beside the exact line, which biases
+ *   short-range horizons on slopes.
  *
  * Lines are walked from the far end in the azimuth's direction back toward
- * the opposite edge, so when a cell is reached, every cell of its line that
- * lies ahead of it in the azimuth has already been seen. A cell's position
- * along the walk is the projection of its centre on the azimuth (doc/model.md).
+ * the opposite edge, so when a sample is reached, every sample of its line
+ * that lies ahead of it in the azimuth has been seen.
  */
 #ifndef SS_LINES_H
 #define SS_LINES_H
 
 #include "ss_compat.h"
 
+#define SS_LINE_MODEL_INTERPOLATED 0
+#define SS_LINE_MODEL_DIGITAL 1
+
 /* Layout shared with the host: members ordered by size, no implicit padding. */
 typedef struct {
     ss_i64 slope_fx;        /* minor cells per major step, 32.32 fixed point */
+    ss_i64 round_fx;        /* 2^31 for digital lines (round to nearest), else 0 */
+    int model;              /* SS_LINE_MODEL_INTERPOLATED or SS_LINE_MODEL_DIGITAL */
     int major_len;          /* cells along the major axis */
     int minor_len;          /* cells along the minor axis */
     int major_is_row;       /* 1: major index is the row, 0: the column */
@@ -31,29 +45,49 @@ typedef struct {
     int n_lines;            /* lines needed to cover the grid */
     int width;              /* grid row length, to form cell indices */
     float along_per_step_m; /* distance walked per major step (> 0) */
-    float along_per_minor_m;/* distance walked per +1 of the minor index */
-    int reserved;
+    float along_per_minor_m;/* distance walked per +1 of the minor index (digital only) */
 } ss_line_set;
 
-/* Minor index of line b at a major index in [0, major_len). The 2^56 bias
- * keeps the shifted value non-negative, so the shift is a floor everywhere. */
-SS_FN int ss_line_minor(const ss_line_set *ls, int b, int major)
+/* floor(x / 65536) for any sign, without relying on signed shifts. */
+SS_FN ss_i64 ss_floor16(ss_i64 x)
 {
-    ss_i64 biased = (ss_i64)major * ls->slope_fx + ((ss_i64)1 << 31) + ((ss_i64)1 << 56);
-    return b + (int)((biased >> 32) - ((ss_i64)1 << 24));
+    return x >= 0 ? x / 65536 : -((-x + 65535) / 65536);
 }
 
-/* First major index at which line b reaches `target` on the minor axis
- * (from below when the slope rises, from above when it falls); major_len if
- * it never does. The minor index is monotone in the major index. */
-SS_FN int ss_line_first_reaching(const ss_line_set *ls, int b, int target)
+/* Minor position of line b at a major index in [0, major_len), 16.16 fixed
+ * point. The 2^56 bias keeps the shifted product non-negative, so the
+ * division is a floor on every compiler. */
+SS_FN ss_i64 ss_line_y16(const ss_line_set *ls, int b, int major)
+{
+    ss_i64 biased = (ss_i64)major * ls->slope_fx + ls->round_fx + ((ss_i64)1 << 56);
+    return biased / 65536 - ((ss_i64)1 << 40) + (ss_i64)b * 65536;
+}
+
+/* Minor index of the cell at or below the line (the nearest cell for digital lines). */
+SS_FN int ss_line_minor(const ss_line_set *ls, int b, int major)
+{
+    return (int)ss_floor16(ss_line_y16(ls, b, major));
+}
+
+/* Lowest 16.16 position that still yields a sample: a digital line must
+ * land on a cell; an interpolated sample needs y > -1 (a positive weight on
+ * cell 0). Positions must stay below minor_len. */
+SS_FN ss_i64 ss_line_y16_low(const ss_line_set *ls)
+{
+    return ls->model == SS_LINE_MODEL_DIGITAL ? 0 : -65535;
+}
+
+/* First major index at which line b's position is on the far side of
+ * `target` (>= target when the slope rises, <= target when it falls);
+ * major_len if never. The position is monotone in the major index. */
+SS_FN int ss_line_first_reaching(const ss_line_set *ls, int b, ss_i64 target)
 {
     int lo = 0, hi = ls->major_len;
     int rising = ls->slope_fx >= 0;
     while (lo < hi) {
         int mid = lo + (hi - lo) / 2;
-        int m = ss_line_minor(ls, b, mid);
-        int reached = rising ? m >= target : m <= target;
+        ss_i64 y = ss_line_y16(ls, b, mid);
+        int reached = rising ? y >= target : y <= target;
         if (reached)
             hi = mid;
         else
@@ -62,19 +96,20 @@ SS_FN int ss_line_first_reaching(const ss_line_set *ls, int b, int target)
     return lo;
 }
 
-/* Cells of line number `line` inside the grid: they occupy the major
- * indices [*first, *first + count). Returns count (0 for an empty line). */
+/* Samples of line number `line` inside the grid: major indices
+ * [*first, *first + count). Returns count (0 for an empty line). */
 SS_FN int ss_line_extent(const ss_line_set *ls, int line, int *first)
 {
     int b = ls->line_min + line;
+    ss_i64 low = ss_line_y16_low(ls), high = (ss_i64)ls->minor_len * 65536 - 1;
     int rising = ls->slope_fx >= 0;
-    int lo = ss_line_first_reaching(ls, b, rising ? 0 : ls->minor_len - 1);
-    int end = ss_line_first_reaching(ls, b, rising ? ls->minor_len : -1);
+    int lo = ss_line_first_reaching(ls, b, rising ? low : high);
+    int end = ss_line_first_reaching(ls, b, rising ? high + 1 : low - 1);
     *first = lo;
     return end > lo ? end - lo : 0;
 }
 
-/* Major index of the s-th cell in walk order of a line starting at `first`. */
+/* Major index of the s-th sample in walk order of a line starting at `first`. */
 SS_FN int ss_line_major_at(const ss_line_set *ls, int first, int count, int s)
 {
     return ls->step > 0 ? first + s : first + count - 1 - s;
@@ -83,6 +118,27 @@ SS_FN int ss_line_major_at(const ss_line_set *ls, int first, int count, int s)
 SS_FN int ss_line_cell(const ss_line_set *ls, int major, int minor)
 {
     return ls->major_is_row ? major * ls->width + minor : minor * ls->width + major;
+}
+
+/* One sample of a line: its height source and where its result goes. */
+typedef struct {
+    int major;
+    int minor0;  /* cell at or below the line (may be -1 for interpolated lines) */
+    int home;    /* a grid cell owned by this line alone among lines of the same
+                    parity (digital: all lines), where its hull stack slot lives */
+    float w1;    /* weight of cell minor0 + 1; cell minor0 has 1 - w1 */
+} ss_line_sample;
+
+SS_FN ss_line_sample ss_line_sample_at(const ss_line_set *ls, int b, int major)
+{
+    ss_line_sample p;
+    ss_i64 y = ss_line_y16(ls, b, major);
+    ss_i64 floor_y = ss_floor16(y);
+    p.major = major;
+    p.minor0 = (int)floor_y;
+    p.w1 = ls->model == SS_LINE_MODEL_DIGITAL ? 0.0f : (float)(y - floor_y * 65536) / 65536.0f;
+    p.home = ss_line_cell(ls, major, p.minor0 >= 0 ? p.minor0 : 0);
+    return p;
 }
 
 #endif

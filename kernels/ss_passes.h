@@ -1,15 +1,36 @@
 /* What one work-item does: walk one line of one direction and hand each
- * cell's horizon to a product. Shared by kernels/sweep.cl (one work-item
- * per line) and the C twin (src/core/backend_ref.c), so both run the same
- * code. A product is a few lines here; the walk and the hull are never
- * written again. */
+ * sample's horizon to a product, which adds it into the receiving cells
+ * with their weights. Shared by kernels/sweep.cl (one work-item per line)
+ * and the C twin (src/core/backend_ref.c), so both run the same code. A
+ * product is a few lines here; the walk and the hull are never written
+ * again.
+ *
+ * Interpolated lines feed two cells per sample, and adjacent lines feed the
+ * same cells, so lines run in two rounds (even, then odd intercepts); lines
+ * of one round never touch the same cell. */
 #ifndef SS_PASSES_H
 #define SS_PASSES_H
 
 #include "ss_sweep.h"
 #include "ss_terms.h"
 
-/* Adds one direction's SVF term to acc for every valid cell of the line. */
+/* One direction's term of an SVF definition for a receiving cell. */
+SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, int minor,
+                            float d, float dz, float sin_az, float cos_az, float cell_x_m,
+                            float cell_y_m, int height, SS_GLOBAL const float *z)
+{
+    if (definition == SS_SVF_GEOMETRIC)
+        return ss_svf_geometric_term(d, dz);
+    if (definition == SS_SVF_HORIZONTAL)
+        return ss_svf_horizontal_term(d, dz);
+    int col = ls->major_is_row ? minor : major, row = ls->major_is_row ? major : minor;
+    float dz_de = 0.0f, dz_dn = 0.0f;
+    if (SS_ISFINITE(z[row * ls->width + col]))
+        ss_gradient_horn(z, ls->width, height, col, row, cell_x_m, cell_y_m, &dz_de, &dz_dn);
+    return ss_svf_tilted_term(d, dz, sin_az, cos_az, dz_de, dz_dn);
+}
+
+/* Adds one direction's SVF term to acc for the cells the line feeds. */
 SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float curv_k,
                        float sin_az, float cos_az, float cell_x_m, float cell_y_m, int height,
                        SS_GLOBAL const float *z, SS_GLOBAL int *stack, SS_GLOBAL float *acc)
@@ -17,26 +38,23 @@ SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float cu
     ss_walker w;
     int n = ss_walker_begin(&w, ls, line);
     for (int i = 0; i < n; ++i) {
-        ss_cell_horizon h = ss_walker_step(&w, ls, z, stack, curv_k);
+        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k);
         if (!h.valid)
             continue;
-        float term;
-        if (definition == SS_SVF_GEOMETRIC) {
-            term = ss_svf_geometric_term(h.d, h.dz);
-        } else if (definition == SS_SVF_HORIZONTAL) {
-            term = ss_svf_horizontal_term(h.d, h.dz);
-        } else {
-            float dz_de, dz_dn;
-            ss_gradient_horn(z, ls->width, height, h.col, h.row, cell_x_m, cell_y_m, &dz_de,
-                             &dz_dn);
-            term = ss_svf_tilted_term(h.d, h.dz, sin_az, cos_az, dz_de, dz_dn);
-        }
-        acc[h.cell] += term;
+        if (h.cell0 >= 0)
+            acc[h.cell0] += h.w0 * ss_svf_term_for(definition, ls, h.major, h.minor0, h.d, h.dz,
+                                                   sin_az, cos_az, cell_x_m, cell_y_m, height, z);
+        if (h.cell1 >= 0)
+            acc[h.cell1] += h.w1 * ss_svf_term_for(definition, ls, h.major, h.minor0 + 1, h.d,
+                                                   h.dz, sin_az, cos_az, cell_x_m, cell_y_m,
+                                                   height, z);
     }
 }
 
-/* Writes the horizon angle (degrees) and, if want_dist, the distance to the
- * casting cell (metres, 0 when nothing lies ahead) of every cell of the line. */
+/* Adds the weighted horizon angle (degrees) into angle_deg and, if
+ * want_dist, gives each cell the distance (metres, 0 when nothing lies
+ * ahead) of the sample nearest to it. Both grids start at 0; cells without
+ * a height are set to nodata afterwards by the host. */
 SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
                            SS_GLOBAL const float *z, SS_GLOBAL int *stack,
                            SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m, int want_dist)
@@ -44,16 +62,28 @@ SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
     ss_walker w;
     int n = ss_walker_begin(&w, ls, line);
     for (int i = 0; i < n; ++i) {
-        ss_cell_horizon h = ss_walker_step(&w, ls, z, stack, curv_k);
-        angle_deg[h.cell] = h.valid ? ss_horizon_deg(h.d, h.dz) : SS_NODATA_OUT;
-        if (want_dist)
-            dist_m[h.cell] = h.valid ? h.d : SS_NODATA_OUT;
+        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k);
+        if (!h.valid)
+            continue;
+        float angle = ss_horizon_deg(h.d, h.dz);
+        if (h.cell0 >= 0)
+            angle_deg[h.cell0] += h.w0 * angle;
+        if (h.cell1 >= 0)
+            angle_deg[h.cell1] += h.w1 * angle;
+        if (want_dist) {
+            /* The nearer cell takes the distance; a tie goes to cell0, and
+             * the neighbouring line then gives its cell1 to nobody. */
+            if (h.cell0 >= 0 && h.w1 <= 0.5f)
+                dist_m[h.cell0] = h.d;
+            if (h.cell1 >= 0 && h.w1 > 0.5f)
+                dist_m[h.cell1] = h.d;
+        }
     }
 }
 
-/* The bare pass: the same lines, each cell read and written once, no hull.
- * It is the yardstick for the sweep's cost (DESIGN.md, speed) and, with
- * z = 1, counts how often each cell is visited. */
+/* The bare pass: the same samples read and their cells written, no hull.
+ * The yardstick of the sweep's cost (DESIGN.md, speed) and, with z = 1, a
+ * count of the weight each cell receives. */
 SS_FN void ss_pass_bare(const ss_line_set *ls, int line, SS_GLOBAL const float *z,
                         SS_GLOBAL float *out)
 {
@@ -61,10 +91,30 @@ SS_FN void ss_pass_bare(const ss_line_set *ls, int line, SS_GLOBAL const float *
     int n = ss_line_extent(ls, line, &first);
     int b = ls->line_min + line;
     for (int s = 0; s < n; ++s) {
-        int major = ss_line_major_at(ls, first, n, s);
-        int cell = ss_line_cell(ls, major, ss_line_minor(ls, b, major));
-        out[cell] += z[cell];
+        float base, offset;
+        ss_sample_horizon h =
+            ss_sample_cells(ls, ss_line_sample_at(ls, b, ss_line_major_at(ls, first, n, s)), z,
+                            &base, &offset);
+        if (!h.valid)
+            continue;
+        float v = base + offset;
+        if (h.cell0 >= 0)
+            out[h.cell0] += h.w0 * v;
+        if (h.cell1 >= 0)
+            out[h.cell1] += h.w1 * v;
     }
+}
+
+/* Lines of one round: all lines for digital lines, else every other one. */
+SS_FN int ss_round_lines(const ss_line_set *ls, int round)
+{
+    return ls->model == SS_LINE_MODEL_DIGITAL ? (round == 0 ? ls->n_lines : 0)
+                                         : (ls->n_lines - round + 1) / 2;
+}
+
+SS_FN int ss_round_line(const ss_line_set *ls, int round, int index)
+{
+    return ls->model == SS_LINE_MODEL_DIGITAL ? index : 2 * index + round;
 }
 
 #endif

@@ -15,52 +15,82 @@
  * raw height difference. curv_k = k; 0 switches curvature off.
  *
  * The hull stack needs no storage of its own: stack slot i of a line is
- * kept in the stack grid at the cell of the line's i-th step, which belongs
- * to that line alone and has already been walked. Each slot holds the step
- * index of a hull vertex; the two top vertices are cached in registers.
+ * kept in the stack grid at the home cell of the line's i-th sample, which
+ * no line running at the same time shares, and which has already been
+ * walked. Each slot holds the step index of a hull vertex; the two top
+ * vertices are cached in registers.
  */
 #ifndef SS_SWEEP_H
 #define SS_SWEEP_H
 
 #include "ss_lines.h"
 
+/* A sample's height is kept as base + offset (a cell's height and the
+ * interpolated step toward its neighbour), so that differences between
+ * samples are formed from differences of cell heights and keep the float
+ * precision of the local relief, not of the heights' magnitude. */
 typedef struct {
-    int s;     /* step index along the line, in walk order */
-    int minor; /* minor index of that cell */
-    float x;   /* position along the walk, metres from the line's origin cell */
-    float z;   /* height relative to the grid origin */
+    int s;       /* step index along the line, in walk order */
+    int minor;   /* minor index of the sample's cell (digital lines) */
+    float x;     /* position along the walk, metres from the line's origin sample */
+    float z;     /* height of the sample's base cell, relative to the grid origin */
+    float z_off; /* interpolated offset from the base cell's height */
 } ss_hull_point;
 
 typedef struct {
     int b;           /* line intercept */
     int first;       /* lowest major index of the line */
-    int count;       /* cells on the line */
+    int count;       /* samples on the line */
     int next;        /* next step to take */
-    int origin_s;    /* step whose cell centre is position 0 (mid-line keeps */
+    int origin_s;    /* step whose sample is position 0 (mid-line keeps */
     int origin_minor;/* positions, and so the curvature terms, small) */
     int depth;       /* vertices on the hull stack */
     ss_hull_point top, second; /* cached copies of the two top stack slots */
 } ss_walker;
 
-/* The horizon of one cell as a vector in the vertical plane of the azimuth:
- * d > 0 is the distance along the azimuth to the casting cell and dz its
- * height above the viewer after curvature. With nothing ahead (the first
- * cell of a line) it is (0, -1): straight down, i.e. -90 degrees. */
+/* What one sample hands to a product: its horizon as a vector in the
+ * vertical plane of the azimuth (d > 0: distance along the azimuth to the
+ * casting sample, dz: its height above this one after curvature; (0, -1)
+ * when nothing lies ahead, i.e. -90 degrees) and the cells that receive it,
+ * with weights. */
 typedef struct {
-    int cell;  /* grid index of the cell just walked */
-    int col, row;
-    int valid; /* 0: nodata cell; it neither gets a horizon nor occludes */
+    int valid;        /* 0: no height here: no horizon, not an occluder */
+    int cell0, cell1; /* receiving cells, -1 when absent */
+    float w0, w1;     /* their weights */
+    int major;        /* the cells' major index; minors are minor0, minor0 + 1 */
+    int minor0;
     float d, dz;
-} ss_cell_horizon;
+} ss_sample_horizon;
 
-SS_FN int ss_walker_cell_at(const ss_line_set *ls, const ss_walker *w, int s, int *minor)
+/* Height of a sample (base + offset, see ss_hull_point) and the cells it
+ * feeds. A sample has a height when at least one cell with a positive weight
+ * has one; nodata cells and cells outside the grid drop out of the
+ * interpolation. */
+SS_FN ss_sample_horizon ss_sample_cells(const ss_line_set *ls, ss_line_sample p,
+                                        SS_GLOBAL const float *z, float *base, float *offset)
 {
-    int major = ss_line_major_at(ls, w->first, w->count, s);
-    *minor = ss_line_minor(ls, w->b, major);
-    return ss_line_cell(ls, major, *minor);
+    ss_sample_horizon h;
+    h.major = p.major;
+    h.minor0 = p.minor0;
+    h.d = 0.0f;
+    h.dz = -1.0f;
+    h.w1 = p.w1;
+    h.w0 = 1.0f - p.w1;
+    h.cell0 = p.minor0 >= 0 && h.w0 > 0.0f ? ss_line_cell(ls, p.major, p.minor0) : -1;
+    h.cell1 = p.minor0 + 1 < ls->minor_len && h.w1 > 0.0f
+                  ? ss_line_cell(ls, p.major, p.minor0 + 1)
+                  : -1;
+    float z0 = h.cell0 >= 0 ? z[h.cell0] : 0.0f;
+    float z1 = h.cell1 >= 0 ? z[h.cell1] : 0.0f;
+    int ok0 = h.cell0 >= 0 && SS_ISFINITE(z0);
+    int ok1 = h.cell1 >= 0 && SS_ISFINITE(z1);
+    h.valid = ok0 || ok1;
+    *base = ok0 ? z0 : z1;
+    *offset = ok0 && ok1 ? h.w1 * (z1 - z0) : 0.0f;
+    return h;
 }
 
-/* Starts line number `line`; returns its number of cells. */
+/* Starts line number `line`; returns its number of samples. */
 SS_FN int ss_walker_begin(ss_walker *w, const ss_line_set *ls, int line)
 {
     w->b = ls->line_min + line;
@@ -68,13 +98,12 @@ SS_FN int ss_walker_begin(ss_walker *w, const ss_line_set *ls, int line)
     w->next = 0;
     w->depth = 0;
     w->origin_s = w->count / 2;
-    w->origin_minor = 0;
-    if (w->count > 0)
-        ss_walker_cell_at(ls, w, w->origin_s, &w->origin_minor);
+    w->origin_minor =
+        ss_line_minor(ls, w->b, ss_line_major_at(ls, w->first, w->count, w->origin_s));
     return w->count;
 }
 
-/* Position of a cell along the walk, metres from the origin cell. */
+/* Position of a sample along the walk, metres from the origin sample. */
 SS_FN float ss_walker_along(const ss_line_set *ls, const ss_walker *w, int s, int minor)
 {
     return (float)(s - w->origin_s) * ls->along_per_step_m +
@@ -89,49 +118,52 @@ SS_FN float ss_hull_dist(const ss_line_set *ls, ss_hull_point v, ss_hull_point t
            (float)(v.minor - t.minor) * ls->along_per_minor_m;
 }
 
+/* Height of hull point t above v. */
+SS_FN float ss_hull_height_above(ss_hull_point v, ss_hull_point t)
+{
+    return (t.z - v.z) + (t.z_off - v.z_off);
+}
+
 /* Bent-height difference z~_t - z~_v of hull point t over v at distance d. */
 SS_FN float ss_hull_rise(ss_hull_point v, ss_hull_point t, float d, float curv_k)
 {
-    return (t.z - v.z) + curv_k * d * (t.x + v.x);
+    return ss_hull_height_above(v, t) + curv_k * d * (t.x + v.x);
 }
 
+SS_FN ss_line_sample ss_walker_sample(const ss_line_set *ls, const ss_walker *w, int s)
+{
+    return ss_line_sample_at(ls, w->b, ss_line_major_at(ls, w->first, w->count, s));
+}
+
+/* The hull vertex kept in stack slot `slot`: the slot (at the home cell of
+ * the line's slot-th sample) holds the vertex's step index. */
 SS_FN ss_hull_point ss_walker_load(const ss_line_set *ls, const ss_walker *w,
                                    SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
                                    int slot)
 {
-    int slot_minor;
     ss_hull_point p;
-    p.s = stack[ss_walker_cell_at(ls, w, slot, &slot_minor)];
-    int cell = ss_walker_cell_at(ls, w, p.s, &p.minor);
+    p.s = stack[ss_walker_sample(ls, w, slot).home];
+    ss_line_sample q = ss_walker_sample(ls, w, p.s);
+    ss_sample_cells(ls, q, z, &p.z, &p.z_off);
+    p.minor = q.minor0;
     p.x = ss_walker_along(ls, w, p.s, p.minor);
-    p.z = z[cell];
     return p;
 }
 
-/* Walks the next cell of the line and returns its horizon. */
-SS_FN ss_cell_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls, SS_GLOBAL const float *z,
-                                SS_GLOBAL int *stack, float curv_k)
+/* Walks the next sample of the line and returns its horizon. */
+SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
+                                       SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                       float curv_k)
 {
-    ss_cell_horizon h;
     int s = w->next++;
-    int minor;
-    int major = ss_line_major_at(ls, w->first, w->count, s);
-    minor = ss_line_minor(ls, w->b, major);
-    h.cell = ss_line_cell(ls, major, minor);
-    h.col = ls->major_is_row ? minor : major;
-    h.row = ls->major_is_row ? major : minor;
-    h.d = 0.0f;
-    h.dz = -1.0f;
-    float zv = z[h.cell];
-    h.valid = SS_ISFINITE(zv) ? 1 : 0;
+    ss_line_sample q = ss_walker_sample(ls, w, s);
+    ss_hull_point v;
+    ss_sample_horizon h = ss_sample_cells(ls, q, z, &v.z, &v.z_off);
     if (!h.valid)
         return h;
-
-    ss_hull_point v;
     v.s = s;
-    v.minor = minor;
-    v.x = ss_walker_along(ls, w, s, minor);
-    v.z = zv;
+    v.minor = q.minor0;
+    v.x = ss_walker_along(ls, w, s, v.minor);
     if (w->depth > 0) {
         float d1 = ss_hull_dist(ls, v, w->top);
         float dz1 = ss_hull_rise(v, w->top, d1, curv_k);
@@ -151,10 +183,9 @@ SS_FN ss_cell_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls, SS_GLO
                 w->second = ss_walker_load(ls, w, z, stack, w->depth - 2);
         }
         h.d = d1;
-        h.dz = (w->top.z - v.z) - curv_k * d1 * d1;
+        h.dz = ss_hull_height_above(v, w->top) - curv_k * d1 * d1;
     }
-    int slot_minor;
-    stack[ss_walker_cell_at(ls, w, w->depth, &slot_minor)] = s;
+    stack[ss_walker_sample(ls, w, w->depth).home] = s;
     w->second = w->top;
     w->top = v;
     w->depth++;

@@ -84,11 +84,19 @@ void ss_grid_free(ss_grid *grid);
  * height; a 1x1 grid has no horizon and is refused. *valid_cells may be NULL. */
 ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells);
 
+/* How lines sample the grid (doc/model.md). The values are part of the
+ * kernel interface (kernels/ss_lines.h). */
+typedef enum {
+    SS_LINES_INTERPOLATED = 0,  /* samples on exact lines, interpolated across them (default) */
+    SS_LINES_DIGITAL = 1   /* digital lines through cell centres */
+} ss_line_model;
+
 typedef struct {
     int directions;        /* D >= 1, evenly spaced */
     double offset_deg;     /* azimuth of the first direction */
     double earth_radius_m; /* for earth curvature; 0 switches curvature off */
     double refraction_k;   /* terrestrial refraction coefficient, 0 <= k < 1 */
+    ss_line_model lines;
 } ss_sweep_options;
 
 void ss_sweep_options_default(ss_sweep_options *opt);
@@ -113,10 +121,12 @@ typedef int (*ss_horizon_sink)(int index, double azimuth_deg, const float *angle
 ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                      int want_distance, ss_horizon_sink sink, void *user);
 
-/* The bare pass along the lines of one azimuth: out[c] += z[c] for every
- * cell, no hull. The yardstick of the sweep's cost, and with z = 1 it counts
- * visits. out must be width*height floats. */
-ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg, float *out);
+/* The bare pass along the lines of one azimuth: every sample read and its
+ * cells written (out[c] += weight * height), no hull. The yardstick of the
+ * sweep's cost, and with z = 1 it adds up the weight each cell receives
+ * (exactly 1). out must be width*height floats. */
+ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
+                       ss_line_model lines, float *out);
 
 #ifdef __cplusplus
 }

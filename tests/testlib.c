@@ -82,57 +82,90 @@ void test_holes(ss_grid *g, unsigned seed, int n_holes, int max_size)
     }
 }
 
-void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k,
-                        const float *claimed_dist, double *angle_rad, double *dist_m,
+void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
+                        const float *claimed_dist, double *angle_deg, double *near_angle_rad,
                         double *claimed_angle_rad)
 {
     ss_line_set ls;
-    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, azimuth_deg);
+    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, azimuth_deg,
+                            model);
     double az = azimuth_deg * M_PI / 180.0;
-    /* Distance along the azimuth between cell centres, in double. */
+    /* Distance along the azimuth per column and per row, in double. */
     double per_col = -sin(az) * g->cell_x_m, per_row = cos(az) * g->cell_y_m;
+    double per_major = ls.major_is_row ? per_row : per_col;
+    double per_minor = ls.major_is_row ? per_col : per_row;
+    size_t n_cells = (size_t)g->width * g->height;
+    for (size_t c = 0; c < n_cells; ++c) {
+        angle_deg[c] = 0.0;
+        near_angle_rad[c] = claimed_angle_rad[c] = NAN;
+    }
     int max_len = g->width > g->height ? g->width : g->height;
-    int *cols = malloc(sizeof(int) * max_len), *rows = malloc(sizeof(int) * max_len);
+    double *pos = malloc(sizeof(double) * max_len), *height = malloc(sizeof(double) * max_len);
+    int *valid = malloc(sizeof(int) * max_len);
+    ss_line_sample *smp = malloc(sizeof(ss_line_sample) * max_len);
     for (int line = 0; line < ls.n_lines; ++line) {
-        int first, n = ss_line_extent(&ls, line, &first);
+        int b = ls.line_min + line, first, n = ss_line_extent(&ls, line, &first);
         for (int s = 0; s < n; ++s) {
-            int major = ss_line_major_at(&ls, first, n, s);
-            int minor = ss_line_minor(&ls, ls.line_min + line, major);
-            cols[s] = ls.major_is_row ? minor : major;
-            rows[s] = ls.major_is_row ? major : minor;
+            ss_line_sample p = ss_line_sample_at(&ls, b, ss_line_major_at(&ls, first, n, s));
+            smp[s] = p;
+            /* Exact minor position of the sample: the cell itself on digital
+             * lines, the point between two cells on interpolated ones. */
+            double minor = model == SS_LINE_MODEL_DIGITAL ? p.minor0 : p.minor0 + (double)p.w1;
+            pos[s] = p.major * per_major + minor * per_minor;
+            double z0 = NAN, z1 = NAN;
+            if (p.minor0 >= 0 && p.w1 < 1)
+                z0 = g->z[ss_line_cell(&ls, p.major, p.minor0)];
+            if (p.minor0 + 1 < ls.minor_len && p.w1 > 0)
+                z1 = g->z[ss_line_cell(&ls, p.major, p.minor0 + 1)];
+            valid[s] = isfinite(z0) || isfinite(z1);
+            height[s] = isfinite(z0) && isfinite(z1) ? (1 - p.w1) * z0 + p.w1 * z1
+                                                     : (isfinite(z0) ? z0 : z1);
         }
         for (int v = 0; v < n; ++v) {
-            size_t cv = (size_t)rows[v] * g->width + cols[v];
-            double zv = g->z[cv];
-            angle_rad[cv] = dist_m[cv] = NAN;
-            if (claimed_angle_rad)
-                claimed_angle_rad[cv] = NAN;
-            if (!isfinite(zv))
+            if (!valid[v])
                 continue;
             /* Slopes rank like angles and cost a division, not an atan2. */
             double best = -INFINITY, best_d = 0;
+            int nearest_cell = smp[v].w1 <= 0.5f ? smp[v].minor0 : smp[v].minor0 + 1;
+            size_t near_idx = (size_t)ss_line_cell(&ls, smp[v].major, nearest_cell);
+            int nearest_in = nearest_cell >= 0 && nearest_cell < ls.minor_len;
+            double claimed = nearest_in && claimed_dist ? claimed_dist[near_idx] : NAN;
+            double claimed_angle = NAN;
             for (int t = 0; t < v; ++t) {
-                double zt = g->z[(size_t)rows[t] * g->width + cols[t]];
-                if (!isfinite(zt))
+                if (!valid[t])
                     continue;
-                double d = (cols[v] - cols[t]) * per_col + (rows[v] - rows[t]) * per_row;
-                double slope = (zt - zv - d * d * curv_k) / d;
+                double d = pos[v] - pos[t];
+                double slope = (height[t] - height[v] - d * d * curv_k) / d;
                 if (slope > best || (slope == best && d > best_d)) {
                     best = slope;
                     best_d = d;
                 }
-                if (claimed_angle_rad && claimed_dist &&
-                    fabs(d - claimed_dist[cv]) <= 1e-4 * (1.0 + d))
-                    claimed_angle_rad[cv] = atan(slope);
+                if (fabs(d - claimed) <= 1e-4 * (1.0 + d))
+                    claimed_angle = atan(slope);
             }
-            angle_rad[cv] = best == -INFINITY ? -M_PI / 2 : atan(best);
-            dist_m[cv] = best_d;
-            if (claimed_angle_rad && claimed_dist && claimed_dist[cv] == 0.0f && best == -INFINITY)
-                claimed_angle_rad[cv] = -M_PI / 2;
+            double angle = best == -INFINITY ? -M_PI / 2 : atan(best);
+            if (best == -INFINITY && claimed == 0.0)
+                claimed_angle = -M_PI / 2;
+            double w1 = smp[v].w1, w0 = 1.0 - w1;
+            if (smp[v].minor0 >= 0 && w0 > 0)
+                angle_deg[ss_line_cell(&ls, smp[v].major, smp[v].minor0)] +=
+                    w0 * angle * 180.0 / M_PI;
+            if (smp[v].minor0 + 1 < ls.minor_len && w1 > 0)
+                angle_deg[ss_line_cell(&ls, smp[v].major, smp[v].minor0 + 1)] +=
+                    w1 * angle * 180.0 / M_PI;
+            if (nearest_in) {
+                near_angle_rad[near_idx] = angle;
+                claimed_angle_rad[near_idx] = claimed_angle;
+            }
         }
     }
-    free(cols);
-    free(rows);
+    for (size_t c = 0; c < n_cells; ++c)
+        if (!isfinite(g->z[c]))
+            angle_deg[c] = NAN;
+    free(pos);
+    free(height);
+    free(valid);
+    free(smp);
 }
 
 typedef struct {
@@ -152,8 +185,8 @@ static int copy_sink(int index, double az, const float *angle, const float *dist
 }
 
 ss_status test_lib_horizon(const char *device, const ss_grid *g, double azimuth_deg,
-                           double earth_radius_m, double refraction_k, float *angle_deg,
-                           float *dist_m, char *err, size_t err_size)
+                           double earth_radius_m, double refraction_k, int model,
+                           float *angle_deg, float *dist_m, char *err, size_t err_size)
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, device);
@@ -163,6 +196,7 @@ ss_status test_lib_horizon(const char *device, const ss_grid *g, double azimuth_
     opt.offset_deg = azimuth_deg;
     opt.earth_radius_m = earth_radius_m;
     opt.refraction_k = refraction_k;
+    opt.lines = (ss_line_model)model;
     sink_copy sc = {angle_deg, dist_m, (size_t)g->width * g->height};
     ss_status st = ss_horizon(ctx, g, &opt, dist_m != NULL, copy_sink, &sc);
     if (st != SS_OK && err)

@@ -32,6 +32,9 @@ const opt_spec common_options[] = {
      "terrestrial refraction coefficient k (R_eff = R / (1 - k))"},
     {"earth-radius", OPT_DOUBLE, COMMON(earth_radius_m), "METRES", "6371000", 1e3, 1e9, NULL,
      "earth radius for curvature"},
+    {"lines", OPT_CHOICE, COMMON(lines), NULL, "interpolated", 0, 0, "interpolated|digital",
+     "interpolated: samples on exact lines, heights interpolated across them; digital: lines "
+     "through cell centres (doc/model.md)"},
     OPT_END};
 
 static volatile sig_atomic_t interrupted_by = 0;
@@ -130,6 +133,7 @@ void run_sweep_options(const common_settings *common, ss_sweep_options *opt)
     opt->offset_deg = common->offset_deg;
     opt->earth_radius_m = common->curvature ? common->earth_radius_m : 0.0;
     opt->refraction_k = common->curvature ? common->refraction_k : 0.0;
+    opt->lines = common->lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
 }
 
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
@@ -156,7 +160,11 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     ss_writer_metadata(w, "AZIMUTH_CONVENTION",
                        "degrees clockwise from grid north (0 = up the grid's columns)");
     ss_writer_metadata(w, "LINE_MODEL",
-                       "digital lines through cell centres, distance projected on the azimuth");
+                       opt->lines == SS_LINES_DIGITAL
+                           ? "digital: lines through cell centres, distance projected on the "
+                             "azimuth"
+                           : "interpolated: samples on exact lines, heights and horizons "
+                             "interpolated linearly across lines");
     if (opt->earth_radius_m > 0)
         snprintf(buf, sizeof buf, "on: R = %.0f m, refraction k = %.3f", opt->earth_radius_m,
                  opt->refraction_k);

@@ -19,6 +19,7 @@ typedef struct {
     int curvature; /* 0 off, 1 on */
     double refraction_k;
     double earth_radius_m;
+    int lines; /* index into "interpolated|digital" */
 } common_settings;
 
 /* The options every sweeping command takes; offsets are relative to a

@@ -13,6 +13,7 @@
 #include <CL/cl.h>
 
 #include "session.h"
+#include "ss_passes.h"
 
 extern const char ss_kernel_source[];
 
@@ -349,22 +350,33 @@ typedef struct {
     const void *value;
 } kernel_arg;
 
-static ss_status launch(ss_session *s, cl_kernel k, const kernel_arg *args, int n_args,
-                        int n_lines, const char *what)
+/* Runs kernel k over the lines of a direction, one round after the other;
+ * args[1] is the round number, set here. */
+static ss_status launch(ss_session *s, cl_kernel k, kernel_arg *args, int n_args,
+                        const ss_line_set *ls, const char *what)
 {
     struct ss_ocl *o = s->ctx->ocl;
     ss_status st = unmap_all(s);
     if (st != SS_OK)
         return st;
-    for (int i = 0; i < n_args; ++i) {
-        cl_int err = clSetKernelArg(k, (cl_uint)i, args[i].size, args[i].value);
+    for (int round = 0; round < 2; ++round) {
+        int n_lines = ss_round_lines(ls, round);
+        if (n_lines == 0)
+            continue;
+        args[1].size = sizeof round;
+        args[1].value = &round;
+        for (int i = 0; i < n_args; ++i) {
+            cl_int err = clSetKernelArg(k, (cl_uint)i, args[i].size, args[i].value);
+            if (err != CL_SUCCESS)
+                return cl_fail(s->ctx, err, what);
+        }
+        size_t local = o->work_group;
+        size_t global = ((size_t)n_lines + local - 1) / local * local;
+        cl_int err = clEnqueueNDRangeKernel(o->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
         if (err != CL_SUCCESS)
             return cl_fail(s->ctx, err, what);
     }
-    size_t local = o->work_group;
-    size_t global = ((size_t)n_lines + local - 1) / local * local;
-    cl_int err = clEnqueueNDRangeKernel(o->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
-    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, what);
+    return SS_OK;
 }
 
 static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
@@ -373,40 +385,42 @@ static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, f
     ocl_session *q = s->impl;
     float cx = (float)s->grid->cell_x_m, cy = (float)s->grid->cell_y_m;
     int height = s->grid->height;
-    kernel_arg args[] = {{sizeof *ls, ls},          {sizeof definition, &definition},
+    kernel_arg args[] = {{sizeof *ls, ls},          {0, NULL},
+                         {sizeof definition, &definition},
                          {sizeof curv_k, &curv_k},  {sizeof sin_az, &sin_az},
                          {sizeof cos_az, &cos_az},  {sizeof cx, &cx},
                          {sizeof cy, &cy},          {sizeof height, &height},
                          {sizeof(cl_mem), &q->z},   {sizeof(cl_mem), &q->stack},
                          {sizeof(cl_mem), &q->out[0]}};
-    return launch(s, s->ctx->ocl->k_svf, args, 11, ls->n_lines, "the SVF kernel");
+    return launch(s, s->ctx->ocl->k_svf, args, 12, ls, "the SVF kernel");
 }
 
 static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist)
 {
     ocl_session *q = s->impl;
     cl_mem dist = want_dist ? q->out[1] : q->out[0];
-    kernel_arg args[] = {{sizeof *ls, ls},           {sizeof curv_k, &curv_k},
+    kernel_arg args[] = {{sizeof *ls, ls},           {0, NULL},
+                         {sizeof curv_k, &curv_k},
                          {sizeof(cl_mem), &q->z},    {sizeof(cl_mem), &q->stack},
                          {sizeof(cl_mem), &q->out[0]}, {sizeof(cl_mem), &dist},
                          {sizeof want_dist, &want_dist}};
-    return launch(s, s->ctx->ocl->k_horizon, args, 7, ls->n_lines, "the horizon kernel");
+    return launch(s, s->ctx->ocl->k_horizon, args, 8, ls, "the horizon kernel");
 }
 
 static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)
 {
     ocl_session *q = s->impl;
     kernel_arg args[] = {
-        {sizeof *ls, ls}, {sizeof(cl_mem), &q->z}, {sizeof(cl_mem), &q->out[0]}};
-    return launch(s, s->ctx->ocl->k_bare, args, 3, ls->n_lines, "the bare-pass kernel");
+        {sizeof *ls, ls}, {0, NULL}, {sizeof(cl_mem), &q->z}, {sizeof(cl_mem), &q->out[0]}};
+    return launch(s, s->ctx->ocl->k_bare, args, 4, ls, "the bare-pass kernel");
 }
 
-static ss_status ocl_view(ss_session *s, int output, const float **host)
+static ss_status ocl_view(ss_session *s, int output, float **host)
 {
     ocl_session *q = s->impl;
     if (!q->mapped[output]) {
         cl_int err;
-        void *p = clEnqueueMapBuffer(s->ctx->ocl->queue, q->out[output], CL_TRUE, CL_MAP_READ, 0,
+        void *p = clEnqueueMapBuffer(s->ctx->ocl->queue, q->out[output], CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0,
                                      grid_cells(s) * sizeof(float), 0, NULL, NULL, &err);
         if (err != CL_SUCCESS)
             return cl_fail(s->ctx, err, "clEnqueueMapBuffer");

@@ -28,10 +28,13 @@ static ss_status ref_svf(ss_session *s, const ss_line_set *ls, int definition, f
     ref_session *r = s->impl;
     const ss_grid *g = s->grid;
     float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
+    for (int round = 0; round < 2; ++round) {
+        int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
-    for (int line = 0; line < ls->n_lines; ++line)
-        ss_pass_svf(ls, line, definition, curv_k, sin_az, cos_az, cx, cy, g->height, g->z,
-                    r->stack, r->out[0]);
+        for (int i = 0; i < n; ++i)
+            ss_pass_svf(ls, ss_round_line(ls, round, i), definition, curv_k, sin_az, cos_az, cx,
+                        cy, g->height, g->z, r->stack, r->out[0]);
+    }
     return SS_OK;
 }
 
@@ -39,22 +42,29 @@ static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k,
 {
     ref_session *r = s->impl;
     float *dist = want_dist ? r->out[1] : r->out[0];
+    for (int round = 0; round < 2; ++round) {
+        int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
-    for (int line = 0; line < ls->n_lines; ++line)
-        ss_pass_horizon(ls, line, curv_k, s->grid->z, r->stack, r->out[0], dist, want_dist);
+        for (int i = 0; i < n; ++i)
+            ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, s->grid->z, r->stack,
+                            r->out[0], dist, want_dist);
+    }
     return SS_OK;
 }
 
 static ss_status ref_bare(ss_session *s, const ss_line_set *ls)
 {
     ref_session *r = s->impl;
+    for (int round = 0; round < 2; ++round) {
+        int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
-    for (int line = 0; line < ls->n_lines; ++line)
-        ss_pass_bare(ls, line, s->grid->z, r->out[0]);
+        for (int i = 0; i < n; ++i)
+            ss_pass_bare(ls, ss_round_line(ls, round, i), s->grid->z, r->out[0]);
+    }
     return SS_OK;
 }
 
-static ss_status ref_view(ss_session *s, int output, const float **host)
+static ss_status ref_view(ss_session *s, int output, float **host)
 {
     ref_session *r = s->impl;
     *host = r->out[output];

@@ -18,13 +18,23 @@ ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *o
         ss_line_set ls;
         double t0 = ss_seconds_now();
         ss_product_lines(grid, opt, i, &ls);
-        st = ss_session_horizon(s, &ls, curv_k, want_distance);
-        const float *angle = NULL, *dist = NULL;
+        for (int out = 0; out < (want_distance ? 2 : 1) && st == SS_OK; ++out)
+            st = ss_session_clear(s, out);
+        if (st == SS_OK)
+            st = ss_session_horizon(s, &ls, curv_k, want_distance);
+        float *angle = NULL, *dist = NULL;
         if (st == SS_OK)
             st = ss_session_view(s, 0, &angle);
         if (st == SS_OK && want_distance)
             st = ss_session_view(s, 1, &dist);
         ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+        if (st == SS_OK)
+            for (size_t c = 0; c < (size_t)grid->width * (size_t)grid->height; ++c)
+                if (!isfinite(grid->z[c])) {
+                    angle[c] = SS_NODATA;
+                    if (dist)
+                        dist[c] = SS_NODATA;
+                }
         if (st == SS_OK && !sink(i, ss_direction_azimuth(opt, i), angle, dist, user))
             st = ss_fail(ctx, SS_ERR_CANCELLED, "stopped while storing direction %d", i);
         if (st == SS_OK)
@@ -34,10 +44,12 @@ ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *o
     return st;
 }
 
-ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg, float *out)
+ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
+                       ss_line_model lines, float *out)
 {
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
+    opt.lines = lines;
     opt.directions = 1;
     opt.offset_deg = isfinite(azimuth_deg) ? fmod(azimuth_deg, 360.0) : azimuth_deg;
     ss_session *s;
@@ -46,7 +58,7 @@ ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg, flo
         return st;
     ss_line_set ls;
     ss_product_lines(grid, &opt, 0, &ls);
-    const float *host = NULL;
+    float *host = NULL;
     st = ss_session_bare(s, &ls);
     if (st == SS_OK)
         st = ss_session_view(s, 0, &host);

@@ -5,8 +5,9 @@
 #include "ss_lines.h"
 
 /* The family of parallel lines that sweeps a width x height grid for a
- * direction looking toward azimuth_deg (clockwise from the grid's north). */
+ * direction looking toward azimuth_deg (clockwise from the grid's north),
+ * with model SS_LINE_MODEL_INTERPOLATED or SS_LINE_MODEL_DIGITAL. */
 void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell_x_m,
-                             double cell_y_m, double azimuth_deg);
+                             double cell_y_m, double azimuth_deg, int model);
 
 #endif

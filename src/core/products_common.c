@@ -6,6 +6,10 @@
 #include "lines.h"
 #include "products_internal.h"
 
+/* The public enum and the kernels' constants must agree. */
+_Static_assert((int)SS_LINES_INTERPOLATED == SS_LINE_MODEL_INTERPOLATED, "line model values");
+_Static_assert((int)SS_LINES_DIGITAL == SS_LINE_MODEL_DIGITAL, "line model values");
+
 float ss_curvature_k(const ss_sweep_options *opt)
 {
     if (opt->earth_radius_m <= 0.0)
@@ -30,6 +34,6 @@ double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
 {
     double az_deg = ss_direction_azimuth(opt, i);
     ss_line_set_for_azimuth(ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
-                            az_deg);
+                            az_deg, (int)opt->lines);
     return az_deg * (M_PI / 180.0);
 }

@@ -65,7 +65,7 @@ ss_status ss_session_bare(ss_session *s, const ss_line_set *ls)
     return s->backend->bare(s, ls);
 }
 
-ss_status ss_session_view(ss_session *s, int output, const float **host)
+ss_status ss_session_view(ss_session *s, int output, float **host)
 {
     return s->backend->view(s, output, host);
 }

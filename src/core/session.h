@@ -17,7 +17,7 @@ typedef struct {
                      float sin_az, float cos_az);
     ss_status (*horizon)(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist);
     ss_status (*bare)(ss_session *s, const ss_line_set *ls);
-    ss_status (*view)(ss_session *s, int output, const float **host);
+    ss_status (*view)(ss_session *s, int output, float **host);
     void (*close)(ss_session *s);
 } ss_backend;
 
@@ -35,12 +35,14 @@ ss_status ss_session_clear(ss_session *s, int output);
 /* Adds one direction's SVF term into output 0. */
 ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
                          double azimuth_rad);
-/* Writes horizon angles (degrees) to output 0 and distances to output 1. */
+/* Adds weighted horizon angles (degrees) into output 0 and sets distances
+ * in output 1; clear both first. */
 ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist);
 /* out0[c] += z[c] along the lines. */
 ss_status ss_session_bare(ss_session *s, const ss_line_set *ls);
-/* Waits for queued passes; *host stays valid until the next call. */
-ss_status ss_session_view(ss_session *s, int output, const float **host);
+/* Waits for queued passes; *host (readable and writable) stays valid until
+ * the next call. */
+ss_status ss_session_view(ss_session *s, int output, float **host);
 
 /* Backends. */
 ss_status ss_backend_ref_open(ss_session *s);

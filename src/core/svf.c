@@ -3,6 +3,7 @@
  * directions is turned into the chosen definition (doc/model.md). */
 #include "config.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "products_internal.h"
@@ -27,7 +28,7 @@ ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
         if (st == SS_OK)
             st = ss_progress(ctx, (double)(i + 1) / opt->directions, "sky-view factor");
     }
-    const float *acc = NULL;
+    float *acc = NULL;
     if (st == SS_OK)
         st = ss_session_view(s, 0, &acc);
     ctx->counters.sweep_seconds += ss_seconds_now() - t0;

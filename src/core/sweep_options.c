@@ -15,6 +15,7 @@ void ss_sweep_options_default(ss_sweep_options *opt)
     opt->offset_deg = 0.0;
     opt->earth_radius_m = 0.0;
     opt->refraction_k = 0.0;
+    opt->lines = SS_LINES_INTERPOLATED;
 }
 
 ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
@@ -33,6 +34,8 @@ ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
     if (!(opt->refraction_k >= 0.0 && opt->refraction_k < 1.0))
         return ss_fail(ctx, SS_ERR_ARGUMENT, "refraction coefficient must be in [0, 1), not %g",
                        opt->refraction_k);
+    if (opt->lines != SS_LINES_INTERPOLATED && opt->lines != SS_LINES_DIGITAL)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown line model %d", (int)opt->lines);
     return SS_OK;
 }
 
