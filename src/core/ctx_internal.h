@@ -5,6 +5,10 @@
 
 #include "skysweep.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 struct ss_ocl; /* backend_ocl.c: the opened OpenCL device, context and kernels */
 void ss_ocl_release(struct ss_ocl *ocl);
 
@@ -32,4 +36,7 @@ double ss_seconds_now(void);
 /* Aligned allocation for grids shared with OpenCL (zero-copy on PoCL). */
 void *ss_alloc_grid(size_t bytes);
 
+#ifdef __cplusplus
+}
+#endif
 #endif
