@@ -55,6 +55,7 @@ typedef struct {
  * with weights. */
 typedef struct {
     int valid;        /* 0: no height here: no horizon, not an occluder */
+    int occludes;     /* 1: a true interpolation, so it may cast horizons */
     int cell0, cell1; /* receiving cells, -1 when absent */
     float w0, w1;     /* their weights */
     int major;        /* the cells' major index; minors are minor0, minor0 + 1 */
@@ -65,7 +66,11 @@ typedef struct {
 /* Height of a sample (base + offset, see ss_hull_point) and the cells it
  * feeds. A sample has a height when at least one cell with a positive weight
  * has one; nodata cells and cells outside the grid drop out of the
- * interpolation. */
+ * interpolation. Only a sample whose every positive-weight cell has a height
+ * occludes: one that leans on a single cell across a grid edge or a nodata
+ * hole sits beside its true surface, and taken as an occluder it would cast
+ * false horizons along the whole line. It still gets a horizon, for the
+ * cells it feeds. */
 SS_FN ss_sample_horizon ss_sample_cells(const ss_line_set *ls, ss_line_sample p,
                                         SS_GLOBAL const float *z, float *base, float *offset)
 {
@@ -85,6 +90,7 @@ SS_FN ss_sample_horizon ss_sample_cells(const ss_line_set *ls, ss_line_sample p,
     int ok0 = h.cell0 >= 0 && SS_ISFINITE(z0);
     int ok1 = h.cell1 >= 0 && SS_ISFINITE(z1);
     h.valid = ok0 || ok1;
+    h.occludes = (ok0 || h.w0 == 0.0f) && (ok1 || h.w1 == 0.0f);
     *base = ok0 ? z0 : z1;
     *offset = ok0 && ok1 ? h.w1 * (z1 - z0) : 0.0f;
     return h;
@@ -136,7 +142,8 @@ SS_FN ss_line_sample ss_walker_sample(const ss_line_set *ls, const ss_walker *w,
 }
 
 /* The hull vertex kept in stack slot `slot`: the slot (at the home cell of
- * the line's slot-th sample) holds the vertex's step index. */
+ * the line's slot-th sample) holds the vertex's step index. Only occluding
+ * samples are pushed, so the vertex is a full interpolation. */
 SS_FN ss_hull_point ss_walker_load(const ss_line_set *ls, const ss_walker *w,
                                    SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
                                    int slot)
@@ -164,7 +171,7 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
     v.s = s;
     v.minor = q.minor0;
     v.x = ss_walker_along(ls, w, s, v.minor);
-    if (w->depth > 0) {
+    if (w->depth > 0 && h.occludes) {
         float d1 = ss_hull_dist(ls, v, w->top);
         float dz1 = ss_hull_rise(v, w->top, d1, curv_k);
         while (w->depth >= 2) {
@@ -184,7 +191,29 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
         }
         h.d = d1;
         h.dz = ss_hull_height_above(v, w->top) - curv_k * d1 * d1;
+    } else if (w->depth > 0) {
+        /* v will not join the hull, so the hull must stay as it is: walk
+         * down from the top while the tangent still rises (the slopes from
+         * v along a convex hull rise to the tangent vertex, then fall). */
+        ss_hull_point best = w->top;
+        float d1 = ss_hull_dist(ls, v, best);
+        float dz1 = ss_hull_rise(v, best, d1, curv_k);
+        for (int slot = w->depth - 2; slot >= 0; --slot) {
+            ss_hull_point t = slot == w->depth - 2 ? w->second
+                                                   : ss_walker_load(ls, w, z, stack, slot);
+            float d2 = ss_hull_dist(ls, v, t);
+            float dz2 = ss_hull_rise(v, t, d2, curv_k);
+            if (dz2 * d1 < dz1 * d2)
+                break;
+            best = t;
+            d1 = d2;
+            dz1 = dz2;
+        }
+        h.d = d1;
+        h.dz = ss_hull_height_above(v, best) - curv_k * d1 * d1;
     }
+    if (!h.occludes)
+        return h;
     stack[ss_walker_sample(ls, w, w->depth).home] = s;
     w->second = w->top;
     w->top = v;

@@ -101,7 +101,7 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
     }
     int max_len = g->width > g->height ? g->width : g->height;
     double *pos = malloc(sizeof(double) * max_len), *height = malloc(sizeof(double) * max_len);
-    int *valid = malloc(sizeof(int) * max_len);
+    int *valid = malloc(sizeof(int) * max_len), *occludes = malloc(sizeof(int) * max_len);
     ss_line_sample *smp = malloc(sizeof(ss_line_sample) * max_len);
     for (int line = 0; line < ls.n_lines; ++line) {
         int b = ls.line_min + line, first, n = ss_line_extent(&ls, line, &first);
@@ -118,6 +118,8 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
             if (p.minor0 + 1 < ls.minor_len && p.w1 > 0)
                 z1 = g->z[ss_line_cell(&ls, p.major, p.minor0 + 1)];
             valid[s] = isfinite(z0) || isfinite(z1);
+            /* Only full interpolations occlude (ss_sample_cells explains why). */
+            occludes[s] = (isfinite(z0) || p.w1 == 1) && (isfinite(z1) || p.w1 == 0);
             height[s] = isfinite(z0) && isfinite(z1) ? (1 - p.w1) * z0 + p.w1 * z1
                                                      : (isfinite(z0) ? z0 : z1);
         }
@@ -132,7 +134,7 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
             double claimed = nearest_in && claimed_dist ? claimed_dist[near_idx] : NAN;
             double claimed_angle = NAN;
             for (int t = 0; t < v; ++t) {
-                if (!valid[t])
+                if (!occludes[t])
                     continue;
                 double d = pos[v] - pos[t];
                 double slope = (height[t] - height[v] - d * d * curv_k) / d;
@@ -165,6 +167,7 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
     free(pos);
     free(height);
     free(valid);
+    free(occludes);
     free(smp);
 }
 
