@@ -1,0 +1,129 @@
+#!/bin/bash
+# The command line as a user meets it: the main jobs on a small DEM give
+# outputs GDAL reads with the input's georeferencing, and every bad input or
+# option in the catalogue gives one line on stderr, the documented exit code
+# (doc/cli.md), no signal, and no output file or temporary left behind; an
+# existing output is never replaced by a failed run.
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+SKYSWEEP=${SKYSWEEP:-./skysweep}
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-cli.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+# A 60 x 50 DEM in UTM 5N with a hill and one nodata cell, written as an
+# ASCII grid by awk (no Python needed) and converted by GDAL.
+dem=$work/dem.tif
+awk 'BEGIN {
+    print "ncols 60"; print "nrows 50"; print "xllcorner 254325"; print "yllcorner 2152155"
+    print "cellsize 30"; print "NODATA_value -9999"
+    for (r = 0; r < 50; r++) {
+        line = ""
+        for (c = 0; c < 60; c++) {
+            v = (r == 0 && c == 0) ? -9999 : 100 + 300 * exp(-((c - 30) ^ 2 + (r - 25) ^ 2) / 80)
+            line = line sprintf("%.3f ", v)
+        }
+        print line
+    }
+}' >"$work/dem.asc"
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/dem.asc" "$dem"
+
+run() { # runs skysweep, capturing stdout/stderr and the exit code in $rc
+    "$SKYSWEEP" "$@" >"$work/stdout" 2>"$work/stderr"
+    rc=$?
+}
+
+# ---- the main jobs -----------------------------------------------------------
+run svf --directions 16 "$dem" "$work/svf.tif"
+tap_ok $rc "svf on a small DEM exits 0 ($(head -c 200 "$work/stderr"))"
+info=$(gdalinfo -stats "$work/svf.tif" 2>&1)
+echo "$info" | grep -q 'ID\["EPSG",32605\]'
+tap_ok $? "svf output keeps the CRS (EPSG:32605)"
+echo "$info" | grep -q 'Origin = (254325.000000000000000,2153655.000000000000000)'
+tap_ok $? "svf output keeps the geotransform origin"
+echo "$info" | grep -q 'NoData Value=-9999'
+tap_ok $? "svf output declares nodata -9999"
+echo "$info" | grep -q 'Description = sky-view factor'
+tap_ok $? "svf band is described"
+min=$(echo "$info" | sed -n 's/.*STATISTICS_MINIMUM=//p')
+max=$(echo "$info" | sed -n 's/.*STATISTICS_MAXIMUM=//p')
+awk -v a="$min" -v b="$max" 'BEGIN { exit !(a > 0.5 && a < 1 && b <= 1) }'
+tap_ok $? "svf values lie in (0.5, 1] on a gentle hill (min $min, max $max)"
+grep -q '^svf .*min' "$work/stdout"
+tap_ok $? "svf prints a summary"
+
+run horizon --directions 8 --distance "$work/dist.tif" "$dem" "$work/h.tif"
+tap_ok $rc "horizon with --distance exits 0"
+bands=$(gdalinfo "$work/h.tif" | grep -c '^Band ')
+[ "$bands" -eq 8 ]
+tap_ok $? "horizon writes one band per direction ($bands)"
+gdalinfo "$work/h.tif" | grep -q 'Description = azimuth 135'
+tap_ok $? "horizon bands are described by azimuth"
+gdalinfo "$work/dist.tif" | grep -q 'Unit Type: m'
+tap_ok $? "distance bands carry the unit m"
+
+run svf -q --directions 8 "$dem" "$work/quiet.tif"
+[ $rc -eq 0 ] && [ ! -s "$work/stdout" ] && [ ! -s "$work/stderr" ]
+tap_ok $? "-q prints nothing"
+
+run svf --device reference --directions 8 "$dem" "$work/ref.tif"
+tap_ok $rc "--device reference runs the C twin"
+
+# ---- the catalogue of bad inputs ------------------------------------------------
+# expect_failure CODE DESCRIPTION -- ARGS...: the run must exit with CODE (not
+# a signal), print exactly one line on stderr, and leave no output and no
+# temporary file in $work/out.
+mkdir -p "$work/out"
+expect_failure() {
+    local code=$1 what=$2
+    shift 3
+    rm -f "$work/out/"* "$work/out/".*.tmp 2>/dev/null
+    run "$@"
+    local lines leftovers
+    lines=$(wc -l <"$work/stderr")
+    leftovers=$(ls -A "$work/out" | wc -l)
+    [ "$rc" -eq "$code" ] && [ "$lines" -eq 1 ] && [ "$leftovers" -eq 0 ]
+    tap_ok $? "$what: exit $rc (want $code), $lines stderr line(s), $leftovers file(s) left: $(head -c 160 "$work/stderr")"
+}
+
+expect_failure 3 "missing input" -- svf "$work/nope.tif" "$work/out/o.tif"
+: >"$work/empty.tif"
+expect_failure 3 "empty file" -- svf "$work/empty.tif" "$work/out/o.tif"
+head -c 700 "$dem" >"$work/truncated.tif"
+expect_failure 3 "truncated GeoTIFF" -- svf "$work/truncated.tif" "$work/out/o.tif"
+echo "not a raster" >"$work/text.tif"
+expect_failure 3 "text file" -- svf "$work/text.tif" "$work/out/o.tif"
+gdal_create -q -of GTiff -outsize 20 20 -bands 3 -ot Byte -a_srs EPSG:32605 \
+    -a_ullr 0 20 20 0 "$work/rgb.tif"
+expect_failure 3 "RGB image" -- svf "$work/rgb.tif" "$work/out/o.tif"
+gdal_create -q -of GTiff -outsize 20 20 -bands 1 -ot Float32 -burn -9999 -a_nodata -9999 \
+    -a_srs EPSG:32605 -a_ullr 0 20 20 0 "$work/allnodata.tif"
+expect_failure 3 "all-nodata DEM" -- svf "$work/allnodata.tif" "$work/out/o.tif"
+gdal_create -q -of GTiff -outsize 1 1 -bands 1 -ot Float32 -burn 5 -a_srs EPSG:32605 \
+    -a_ullr 0 1 1 0 "$work/one.tif"
+expect_failure 3 "1x1 grid" -- svf "$work/one.tif" "$work/out/o.tif"
+gdal_create -q -of GTiff -outsize 20 20 -bands 1 -ot Float32 -burn 5 "$work/plain.tif"
+expect_failure 3 "raster without georeferencing" -- svf "$work/plain.tif" "$work/out/o.tif"
+run svf --cell-size 2 "$work/plain.tif" "$work/plainsvf.tif"
+tap_ok $rc "the same raster as a heightmap with --cell-size"
+for bad in 0 -1 1e9 nan 3.5 ""; do
+    expect_failure 2 "--directions '$bad'" -- svf --directions "$bad" "$dem" "$work/out/o.tif"
+done
+expect_failure 2 "unknown option" -- svf --frobnicate 3 "$dem" "$work/out/o.tif"
+expect_failure 2 "unknown SVF definition" -- svf --definition fancy "$dem" "$work/out/o.tif"
+expect_failure 2 "missing output argument" -- svf "$dem"
+expect_failure 2 "unknown command" -- frobnicate "$dem" "$work/out/o.tif"
+expect_failure 2 "output equal to the input" -- svf "$dem" "$dem"
+expect_failure 4 "output in a missing folder" -- svf "$dem" "$work/out/missing/o.tif"
+expect_failure 4 "output under a file" -- svf "$dem" "$dem/o.tif"
+expect_failure 2 "bad creation option" -- svf -co NOEQUALS "$dem" "$work/out/o.tif"
+expect_failure 2 "unknown output format" -- svf -of NOSUCHFORMAT "$dem" "$work/out/o.tif"
+expect_failure 5 "device that does not exist" -- svf --device nosuchdevice "$dem" "$work/out/o.tif"
+
+# A failed run leaves an existing output untouched.
+echo "precious" >"$work/out/keep.tif"
+run svf "$work/allnodata.tif" "$work/out/keep.tif"
+[ "$rc" -eq 3 ] && [ "$(cat "$work/out/keep.tif")" = precious ] &&
+    [ "$(ls -A "$work/out" | wc -l)" -eq 1 ]
+tap_ok $? "a failed run does not replace an existing output"
+
+tap_done
