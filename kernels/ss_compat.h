@@ -6,7 +6,7 @@
 
 #ifdef __OPENCL_VERSION__
 #define SS_GLOBAL __global
-#define SS_FN inline
+#define SS_FN inline __attribute__((always_inline))
 typedef long ss_i64;
 #define SS_SQRT(x) sqrt(x)
 #define SS_ATAN(x) atan(x)
@@ -20,7 +20,7 @@ typedef long ss_i64;
 #include <math.h>
 #include <stdint.h>
 #define SS_GLOBAL
-#define SS_FN static inline
+#define SS_FN static inline __attribute__((always_inline))
 typedef int64_t ss_i64;
 #define SS_SQRT(x) sqrtf(x)
 #define SS_ATAN(x) atanf(x)

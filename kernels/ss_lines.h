@@ -44,14 +44,20 @@ typedef struct {
     int line_min;           /* intercept b of line number 0 */
     int n_lines;            /* lines needed to cover the grid */
     int width;              /* grid row length, to form cell indices */
+    int stride_major;       /* cell index change per +1 of the major index */
+    int stride_minor;       /* ... and per +1 of the minor index */
     float along_per_step_m; /* distance walked per major step (> 0) */
     float along_per_minor_m;/* distance walked per +1 of the minor index (digital only) */
+    float weight_per_frac;  /* interpolation weight per 1/65536 cell: 2^-16, or 0 for digital */
+    int reserved;
 } ss_line_set;
 
-/* floor(x / 65536) for any sign, without relying on signed shifts. */
+/* floor(x / 65536) for |x| < 2^48 (positions on grids below 2^24 cells a
+ * side): the bias makes the shifted value non-negative, so the shift is a
+ * floor on every compiler. */
 SS_FN ss_i64 ss_floor16(ss_i64 x)
 {
-    return x >= 0 ? x / 65536 : -((-x + 65535) / 65536);
+    return ((x + ((ss_i64)1 << 48)) >> 16) - ((ss_i64)1 << 32);
 }
 
 /* Minor position of line b at a major index in [0, major_len), 16.16 fixed
@@ -60,7 +66,7 @@ SS_FN ss_i64 ss_floor16(ss_i64 x)
 SS_FN ss_i64 ss_line_y16(const ss_line_set *ls, int b, int major)
 {
     ss_i64 biased = (ss_i64)major * ls->slope_fx + ls->round_fx + ((ss_i64)1 << 56);
-    return biased / 65536 - ((ss_i64)1 << 40) + (ss_i64)b * 65536;
+    return (biased >> 16) - ((ss_i64)1 << 40) + (ss_i64)b * 65536;
 }
 
 /* Minor index of the cell at or below the line (the nearest cell for digital lines). */
@@ -117,7 +123,7 @@ SS_FN int ss_line_major_at(const ss_line_set *ls, int first, int count, int s)
 
 SS_FN int ss_line_cell(const ss_line_set *ls, int major, int minor)
 {
-    return ls->major_is_row ? major * ls->width + minor : minor * ls->width + major;
+    return major * ls->stride_major + minor * ls->stride_minor;
 }
 
 /* One sample of a line: its height source and where its result goes. */
@@ -129,16 +135,21 @@ typedef struct {
     float w1;    /* weight of cell minor0 + 1; cell minor0 has 1 - w1 */
 } ss_line_sample;
 
-SS_FN ss_line_sample ss_line_sample_at(const ss_line_set *ls, int b, int major)
+/* The sample at a major index whose 16.16 position on the line is y. */
+SS_FN ss_line_sample ss_line_sample_y16(const ss_line_set *ls, int major, ss_i64 y)
 {
     ss_line_sample p;
-    ss_i64 y = ss_line_y16(ls, b, major);
     ss_i64 floor_y = ss_floor16(y);
     p.major = major;
     p.minor0 = (int)floor_y;
-    p.w1 = ls->model == SS_LINE_MODEL_DIGITAL ? 0.0f : (float)(y - floor_y * 65536) / 65536.0f;
+    p.w1 = (float)(int)(y - floor_y * 65536) * ls->weight_per_frac;
     p.home = ss_line_cell(ls, major, p.minor0 >= 0 ? p.minor0 : 0);
     return p;
+}
+
+SS_FN ss_line_sample ss_line_sample_at(const ss_line_set *ls, int b, int major)
+{
+    return ss_line_sample_y16(ls, major, ss_line_y16(ls, b, major));
 }
 
 #endif

@@ -31,23 +31,28 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
 }
 
 /* Adds one direction's SVF term to acc for the cells the line feeds. */
-SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float curv_k,
-                       float sin_az, float cos_az, float cell_x_m, float cell_y_m, int height,
-                       SS_GLOBAL const float *z, SS_GLOBAL int *stack, SS_GLOBAL float *acc)
+SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, float curv_k,
+                            float sin_az, float cos_az, float cell_x_m, float cell_y_m,
+                            int height, SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                            SS_GLOBAL float *acc, int flags)
 {
     ss_walker w;
     int n = ss_walker_begin(&w, ls, line);
     for (int i = 0; i < n; ++i) {
-        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k);
+        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k, i, flags);
         if (!h.valid)
             continue;
+        /* Only the radiative term depends on the receiving cell (its slope). */
+        float term0 = ss_svf_term_for(definition, ls, h.major, h.minor0, h.d, h.dz, sin_az,
+                                      cos_az, cell_x_m, cell_y_m, height, z);
+        float term1 = definition == SS_SVF_TILTED
+                          ? ss_svf_term_for(definition, ls, h.major, h.minor0 + 1, h.d, h.dz,
+                                            sin_az, cos_az, cell_x_m, cell_y_m, height, z)
+                          : term0;
         if (h.cell0 >= 0)
-            acc[h.cell0] += h.w0 * ss_svf_term_for(definition, ls, h.major, h.minor0, h.d, h.dz,
-                                                   sin_az, cos_az, cell_x_m, cell_y_m, height, z);
+            acc[h.cell0] += h.w0 * term0;
         if (h.cell1 >= 0)
-            acc[h.cell1] += h.w1 * ss_svf_term_for(definition, ls, h.major, h.minor0 + 1, h.d,
-                                                   h.dz, sin_az, cos_az, cell_x_m, cell_y_m,
-                                                   height, z);
+            acc[h.cell1] += h.w1 * term1;
     }
 }
 
@@ -55,14 +60,15 @@ SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float cu
  * want_dist, gives each cell the distance (metres, 0 when nothing lies
  * ahead) of the sample nearest to it. Both grids start at 0; cells without
  * a height are set to nodata afterwards by the host. */
-SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
-                           SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                           SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m, int want_dist)
+SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
+                                SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m,
+                                int want_dist, int flags)
 {
     ss_walker w;
     int n = ss_walker_begin(&w, ls, line);
     for (int i = 0; i < n; ++i) {
-        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k);
+        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k, i, flags);
         if (!h.valid)
             continue;
         float angle = ss_horizon_deg(h.d, h.dz);
@@ -81,20 +87,51 @@ SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
     }
 }
 
+/* The walks above, compiled once per kind of line so that each copy does
+ * only what its lines need (SS_WALK_DIGITAL, SS_WALK_CURVED). */
+SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float curv_k,
+                       float sin_az, float cos_az, float cell_x_m, float cell_y_m, int height,
+                       SS_GLOBAL const float *z, SS_GLOBAL int *stack, SS_GLOBAL float *acc)
+{
+    switch (ss_walk_flags(ls, curv_k)) {
+    case 0:
+        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
+                         height, z, stack, acc, 0);
+        break;
+    case SS_WALK_DIGITAL:
+        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
+                         height, z, stack, acc, SS_WALK_DIGITAL);
+        break;
+    case SS_WALK_CURVED:
+        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
+                         height, z, stack, acc, SS_WALK_CURVED);
+        break;
+    default:
+        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
+                         height, z, stack, acc, SS_WALK_DIGITAL | SS_WALK_CURVED);
+    }
+}
+
+SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
+                           SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                           SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m, int want_dist)
+{
+    /* Horizon grids are written once per direction: one general copy. */
+    ss_pass_horizon_walk(ls, line, curv_k, z, stack, angle_deg, dist_m, want_dist,
+                         ss_walk_flags(ls, curv_k));
+}
+
 /* The bare pass: the same samples read and their cells written, no hull.
  * The yardstick of the sweep's cost (DESIGN.md, speed) and, with z = 1, a
  * count of the weight each cell receives. */
 SS_FN void ss_pass_bare(const ss_line_set *ls, int line, SS_GLOBAL const float *z,
                         SS_GLOBAL float *out)
 {
-    int first;
-    int n = ss_line_extent(ls, line, &first);
-    int b = ls->line_min + line;
+    ss_walker w;
+    int n = ss_walker_begin(&w, ls, line);
     for (int s = 0; s < n; ++s) {
         float base, offset;
-        ss_sample_horizon h =
-            ss_sample_cells(ls, ss_line_sample_at(ls, b, ss_line_major_at(ls, first, n, s)), z,
-                            &base, &offset);
+        ss_sample_horizon h = ss_sample_cells(ls, ss_walker_sample(ls, &w, s), z, &base, &offset);
         if (!h.valid)
             continue;
         float v = base + offset;

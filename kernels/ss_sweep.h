@@ -17,8 +17,9 @@
  * The hull stack needs no storage of its own: stack slot i of a line is
  * kept in the stack grid at the home cell of the line's i-th sample, which
  * no line running at the same time shares, and which has already been
- * walked. Each slot holds the step index of a hull vertex; the two top
- * vertices are cached in registers.
+ * walked. Each slot holds the step index of a hull vertex; the top
+ * SS_RING vertices are also kept whole in private memory, so the pops that
+ * follow most pushes need no global reads.
  */
 #ifndef SS_SWEEP_H
 #define SS_SWEEP_H
@@ -30,22 +31,35 @@
  * samples are formed from differences of cell heights and keep the float
  * precision of the local relief, not of the heights' magnitude. */
 typedef struct {
-    int s;       /* step index along the line, in walk order */
-    int minor;   /* minor index of the sample's cell (digital lines) */
-    float x;     /* position along the walk, metres from the line's origin sample */
+    float u;     /* step index minus the origin step (exact in float) */
+    float m;     /* minor index minus the origin's (digital lines; else 0) */
     float z;     /* height of the sample's base cell, relative to the grid origin */
     float z_off; /* interpolated offset from the base cell's height */
 } ss_hull_point;
 
+/* What a walk must handle, fixed per line so that the compiler drops what
+ * a line does not need (digital lines have no offsets and no minor term;
+ * most runs have no curvature). */
+#define SS_WALK_DIGITAL 1
+#define SS_WALK_CURVED 2
+
+/* Hull vertices kept in private memory: the top SS_RING stack slots (a
+ * power of two). */
+#define SS_RING 8
+
 typedef struct {
-    int b;           /* line intercept */
-    int first;       /* lowest major index of the line */
-    int count;       /* samples on the line */
-    int next;        /* next step to take */
-    int origin_s;    /* step whose sample is position 0 (mid-line keeps */
-    int origin_minor;/* positions, and so the curvature terms, small) */
-    int depth;       /* vertices on the hull stack */
-    ss_hull_point top, second; /* cached copies of the two top stack slots */
+    int b;            /* line intercept */
+    int first;        /* lowest major index of the line */
+    int count;        /* samples on the line */
+    int major0;       /* major index of step 0, and its change per step */
+    int dmajor;
+    ss_i64 y0;        /* 16.16 position across the line at step 0, and per step */
+    ss_i64 dy;
+    int origin_s;     /* step whose sample is position 0 (mid-line keeps */
+    int origin_minor; /* positions, and so the curvature terms, small) */
+    int depth;        /* vertices on the hull stack */
+    int ring_low;     /* lowest stack slot whose copy in ring is valid */
+    ss_hull_point ring[SS_RING]; /* slot i at ring[i & (SS_RING - 1)] */
 } ss_walker;
 
 /* What one sample hands to a product: its horizon as a vector in the
@@ -80,20 +94,25 @@ SS_FN ss_sample_horizon ss_sample_cells(const ss_line_set *ls, ss_line_sample p,
     h.d = 0.0f;
     h.dz = -1.0f;
     h.w1 = p.w1;
-    h.w0 = 1.0f - p.w1;
-    h.cell0 = p.minor0 >= 0 && h.w0 > 0.0f ? ss_line_cell(ls, p.major, p.minor0) : -1;
-    h.cell1 = p.minor0 + 1 < ls->minor_len && h.w1 > 0.0f
-                  ? ss_line_cell(ls, p.major, p.minor0 + 1)
-                  : -1;
-    float z0 = h.cell0 >= 0 ? z[h.cell0] : 0.0f;
-    float z1 = h.cell1 >= 0 ? z[h.cell1] : 0.0f;
-    int ok0 = h.cell0 >= 0 && SS_ISFINITE(z0);
-    int ok1 = h.cell1 >= 0 && SS_ISFINITE(z1);
+    h.w0 = 1.0f - p.w1; /* > 0: the fraction is below 1 */
+    int cell = ss_line_cell(ls, p.major, p.minor0);
+    int in0 = p.minor0 >= 0, in1 = p.minor0 + 1 < ls->minor_len && p.w1 > 0.0f;
+    float z0 = in0 ? z[cell] : 0.0f;
+    float z1 = in1 ? z[cell + ls->stride_minor] : 0.0f;
+    int ok0 = in0 && SS_ISFINITE(z0), ok1 = in1 && SS_ISFINITE(z1);
+    h.cell0 = in0 ? cell : -1;
+    h.cell1 = in1 ? cell + ls->stride_minor : -1;
     h.valid = ok0 || ok1;
-    h.occludes = (ok0 || h.w0 == 0.0f) && (ok1 || h.w1 == 0.0f);
+    h.occludes = ok0 && (ok1 || p.w1 == 0.0f);
     *base = ok0 ? z0 : z1;
-    *offset = ok0 && ok1 ? h.w1 * (z1 - z0) : 0.0f;
+    *offset = ok0 && ok1 ? p.w1 * (z1 - z0) : 0.0f;
     return h;
+}
+
+/* The sample at step s of the walker's line. */
+SS_FN ss_line_sample ss_walker_sample(const ss_line_set *ls, const ss_walker *w, int s)
+{
+    return ss_line_sample_y16(ls, w->major0 + s * w->dmajor, w->y0 + (ss_i64)s * w->dy);
 }
 
 /* Starts line number `line`; returns its number of samples. */
@@ -101,108 +120,149 @@ SS_FN int ss_walker_begin(ss_walker *w, const ss_line_set *ls, int line)
 {
     w->b = ls->line_min + line;
     w->count = ss_line_extent(ls, line, &w->first);
-    w->next = 0;
+    w->dmajor = ls->step;
+    w->major0 = ls->step > 0 ? w->first : w->first + w->count - 1;
+    w->y0 = ss_line_y16(ls, w->b, w->major0);
+    /* Positions are linear in the major index: the slope has 16 fractional bits. */
+    w->dy = (ss_i64)w->dmajor * (ls->slope_fx / 65536);
     w->depth = 0;
+    w->ring_low = 0;
     w->origin_s = w->count / 2;
-    w->origin_minor =
-        ss_line_minor(ls, w->b, ss_line_major_at(ls, w->first, w->count, w->origin_s));
+    w->origin_minor = ss_walker_sample(ls, w, w->origin_s).minor0;
     return w->count;
 }
 
-/* Position of a sample along the walk, metres from the origin sample. */
-SS_FN float ss_walker_along(const ss_line_set *ls, const ss_walker *w, int s, int minor)
+/* Position of hull point p along the walk, metres from the origin sample. */
+SS_FN float ss_hull_x(const ss_line_set *ls, ss_hull_point p)
 {
-    return (float)(s - w->origin_s) * ls->along_per_step_m +
-           (float)(minor - w->origin_minor) * ls->along_per_minor_m;
+    return p.u * ls->along_per_step_m + p.m * ls->along_per_minor_m;
 }
 
-/* Distance from hull point t to the later point v, from integer index
- * differences so that it keeps full float precision on long lines. */
-SS_FN float ss_hull_dist(const ss_line_set *ls, ss_hull_point v, ss_hull_point t)
+/* Distance from hull point t to the later point v. u and m are integers
+ * held exactly in float, so the differences are exact and the distance
+ * keeps full float precision on long lines. */
+SS_FN float ss_hull_dist(const ss_line_set *ls, ss_hull_point v, ss_hull_point t, int flags)
 {
-    return (float)(v.s - t.s) * ls->along_per_step_m +
-           (float)(v.minor - t.minor) * ls->along_per_minor_m;
+    float d = (v.u - t.u) * ls->along_per_step_m;
+    if (flags & SS_WALK_DIGITAL)
+        d += (v.m - t.m) * ls->along_per_minor_m;
+    return d;
 }
 
-/* Height of hull point t above v. */
-SS_FN float ss_hull_height_above(ss_hull_point v, ss_hull_point t)
+/* Height of hull point t above v, from differences of like parts. */
+SS_FN float ss_hull_height_above(ss_hull_point v, ss_hull_point t, int flags)
 {
-    return (t.z - v.z) + (t.z_off - v.z_off);
+    float dz = t.z - v.z;
+    if (!(flags & SS_WALK_DIGITAL))
+        dz += t.z_off - v.z_off;
+    return dz;
 }
 
 /* Bent-height difference z~_t - z~_v of hull point t over v at distance d. */
-SS_FN float ss_hull_rise(ss_hull_point v, ss_hull_point t, float d, float curv_k)
+SS_FN float ss_hull_rise(const ss_line_set *ls, ss_hull_point v, ss_hull_point t, float d,
+                         float curv_k, int flags)
 {
-    return ss_hull_height_above(v, t) + curv_k * d * (t.x + v.x);
+    float dz = ss_hull_height_above(v, t, flags);
+    if (flags & SS_WALK_CURVED)
+        dz += curv_k * d * (ss_hull_x(ls, t) + ss_hull_x(ls, v));
+    return dz;
 }
 
-SS_FN ss_line_sample ss_walker_sample(const ss_line_set *ls, const ss_walker *w, int s)
+/* The hull point of the sample at step s. */
+SS_FN ss_hull_point ss_hull_point_at(const ss_walker *w, int s, ss_line_sample q, float base,
+                                     float offset)
 {
-    return ss_line_sample_at(ls, w->b, ss_line_major_at(ls, w->first, w->count, s));
+    ss_hull_point p;
+    p.u = (float)(s - w->origin_s);
+    p.m = (float)(q.minor0 - w->origin_minor);
+    p.z = base;
+    p.z_off = offset;
+    return p;
 }
 
-/* The hull vertex kept in stack slot `slot`: the slot (at the home cell of
- * the line's slot-th sample) holds the vertex's step index. Only occluding
- * samples are pushed, so the vertex is a full interpolation. */
+/* Rebuilds stack slot `slot` from the stack grid: the slot (at the home cell
+ * of the line's slot-th sample) holds the vertex's step index. Only
+ * occluding samples are pushed, so the vertex is a full interpolation. */
 SS_FN ss_hull_point ss_walker_load(const ss_line_set *ls, const ss_walker *w,
                                    SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
                                    int slot)
 {
-    ss_hull_point p;
-    p.s = stack[ss_walker_sample(ls, w, slot).home];
-    ss_line_sample q = ss_walker_sample(ls, w, p.s);
-    ss_sample_cells(ls, q, z, &p.z, &p.z_off);
-    p.minor = q.minor0;
-    p.x = ss_walker_along(ls, w, p.s, p.minor);
-    return p;
+    int s = stack[ss_walker_sample(ls, w, slot).home];
+    ss_line_sample q = ss_walker_sample(ls, w, s);
+    float base, offset;
+    ss_sample_cells(ls, q, z, &base, &offset);
+    return ss_hull_point_at(w, s, q, base, offset);
 }
 
-/* Walks the next sample of the line and returns its horizon. */
+/* Vertex in stack slot `slot` (below the top): from the ring, which is
+ * refilled downward from the stack grid when the hull shrinks below it
+ * (the ring positions it takes belong to slots above the top, no longer
+ * live). */
+SS_FN ss_hull_point ss_walker_vertex(ss_walker *w, const ss_line_set *ls,
+                                     SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
+                                     int slot)
+{
+    while (w->ring_low > slot) {
+        w->ring_low--;
+        w->ring[w->ring_low & (SS_RING - 1)] = ss_walker_load(ls, w, z, stack, w->ring_low);
+    }
+    return w->ring[slot & (SS_RING - 1)];
+}
+
+SS_FN void ss_walker_push(ss_walker *w, const ss_line_set *ls, SS_GLOBAL int *stack,
+                          ss_hull_point v, int s)
+{
+    int slot = w->depth++;
+    stack[ss_walker_sample(ls, w, slot).home] = s;
+    w->ring[slot & (SS_RING - 1)] = v;
+    if (slot - w->ring_low >= SS_RING)
+        w->ring_low = slot - SS_RING + 1;
+}
+
+/* Walks sample s (the next one) of the line and returns its horizon. */
 SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
                                        SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                       float curv_k)
+                                       float curv_k, int s, int flags)
 {
-    int s = w->next++;
     ss_line_sample q = ss_walker_sample(ls, w, s);
-    ss_hull_point v;
-    ss_sample_horizon h = ss_sample_cells(ls, q, z, &v.z, &v.z_off);
+    float base, offset;
+    ss_sample_horizon h = ss_sample_cells(ls, q, z, &base, &offset);
     if (!h.valid)
         return h;
-    v.s = s;
-    v.minor = q.minor0;
-    v.x = ss_walker_along(ls, w, s, v.minor);
+    ss_hull_point v = ss_hull_point_at(w, s, q, base, offset);
     if (w->depth > 0 && h.occludes) {
-        float d1 = ss_hull_dist(ls, v, w->top);
-        float dz1 = ss_hull_rise(v, w->top, d1, curv_k);
+        ss_hull_point top = w->ring[(w->depth - 1) & (SS_RING - 1)];
+        float d1 = ss_hull_dist(ls, v, top, flags);
+        float dz1 = ss_hull_rise(ls, v, top, d1, curv_k, flags);
         while (w->depth >= 2) {
-            float d2 = ss_hull_dist(ls, v, w->second);
-            float dz2 = ss_hull_rise(v, w->second, d2, curv_k);
+            ss_hull_point second = ss_walker_vertex(w, ls, z, stack, w->depth - 2);
+            float d2 = ss_hull_dist(ls, v, second, flags);
+            float dz2 = ss_hull_rise(ls, v, second, d2, curv_k, flags);
             if (dz2 * d1 < dz1 * d2)
                 break;
             /* The top lies on or under the chord from the second vertex to v,
              * so it can never again be anyone's horizon: pop it. Popping
              * collinear vertices too keeps the farthest of equal horizons. */
-            w->top = w->second;
+            top = second;
             d1 = d2;
             dz1 = dz2;
             w->depth--;
-            if (w->depth >= 2)
-                w->second = ss_walker_load(ls, w, z, stack, w->depth - 2);
         }
         h.d = d1;
-        h.dz = ss_hull_height_above(v, w->top) - curv_k * d1 * d1;
+        h.dz = ss_hull_height_above(v, top, flags) - curv_k * d1 * d1;
     } else if (w->depth > 0) {
         /* v will not join the hull, so the hull must stay as it is: walk
          * down from the top while the tangent still rises (the slopes from
-         * v along a convex hull rise to the tangent vertex, then fall). */
-        ss_hull_point best = w->top;
-        float d1 = ss_hull_dist(ls, v, best);
-        float dz1 = ss_hull_rise(v, best, d1, curv_k);
+         * v along a convex hull rise to the tangent vertex, then fall).
+         * Deep slots are read from the stack grid, leaving the ring alone. */
+        ss_hull_point best = w->ring[(w->depth - 1) & (SS_RING - 1)];
+        float d1 = ss_hull_dist(ls, v, best, flags);
+        float dz1 = ss_hull_rise(ls, v, best, d1, curv_k, flags);
         for (int slot = w->depth - 2; slot >= 0; --slot) {
-            ss_hull_point t = slot == w->depth - 2 ? w->second
-                                                   : ss_walker_load(ls, w, z, stack, slot);
-            float d2 = ss_hull_dist(ls, v, t);
-            float dz2 = ss_hull_rise(v, t, d2, curv_k);
+            ss_hull_point t = slot >= w->ring_low ? w->ring[slot & (SS_RING - 1)]
+                                                  : ss_walker_load(ls, w, z, stack, slot);
+            float d2 = ss_hull_dist(ls, v, t, flags);
+            float dz2 = ss_hull_rise(ls, v, t, d2, curv_k, flags);
             if (dz2 * d1 < dz1 * d2)
                 break;
             best = t;
@@ -210,15 +270,18 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
             dz1 = dz2;
         }
         h.d = d1;
-        h.dz = ss_hull_height_above(v, best) - curv_k * d1 * d1;
+        h.dz = ss_hull_height_above(v, best, flags) - curv_k * d1 * d1;
     }
-    if (!h.occludes)
-        return h;
-    stack[ss_walker_sample(ls, w, w->depth).home] = s;
-    w->second = w->top;
-    w->top = v;
-    w->depth++;
+    if (h.occludes)
+        ss_walker_push(w, ls, stack, v, s);
     return h;
+}
+
+/* The flags of a line set and curvature (see SS_WALK_DIGITAL). */
+SS_FN int ss_walk_flags(const ss_line_set *ls, float curv_k)
+{
+    return (ls->model == SS_LINE_MODEL_DIGITAL ? SS_WALK_DIGITAL : 0) |
+           (curv_k != 0.0f ? SS_WALK_CURVED : 0);
 }
 
 #endif

@@ -19,10 +19,14 @@ void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell
 
     ls->width = width;
     ls->model = model;
+    ls->reserved = 0;
+    ls->weight_per_frac = model == SS_LINE_MODEL_DIGITAL ? 0.0f : 1.0f / 65536.0f;
     ls->round_fx = model == SS_LINE_MODEL_DIGITAL ? ((ss_i64)1 << 31) : 0;
     double slope, along_major, along_minor;
     if (fabs(col_speed) >= fabs(row_speed)) {
         ls->major_is_row = 0;
+        ls->stride_major = 1;
+        ls->stride_minor = width;
         ls->major_len = width;
         ls->minor_len = height;
         ls->step = col_speed >= 0 ? 1 : -1;
@@ -31,6 +35,8 @@ void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell
         along_minor = along_per_row;
     } else {
         ls->major_is_row = 1;
+        ls->stride_major = width;
+        ls->stride_minor = 1;
         ls->major_len = height;
         ls->minor_len = width;
         ls->step = row_speed >= 0 ? 1 : -1;
