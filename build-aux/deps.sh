@@ -2,10 +2,12 @@
 # Installs the Debian 12 packages skysweep needs to build, test and run.
 # Why each one: README.md, "Dependencies".
 set -eu
-packages="build-essential autoconf automake libtool pkg-config
+packages="build-essential autoconf automake libtool pkg-config bc
   ocl-icd-opencl-dev opencl-c-headers pocl-opencl-icd clinfo
   libgdal-dev gdal-bin
-  libgeographiclib-dev"
+  libgeographiclib-dev
+  libopenimageio-dev openimageio-tools
+  libvtk9-dev xvfb xauth"
 missing=""
 for p in $packages; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
