@@ -4,8 +4,9 @@
  * ss_status, and the one-line message of the last failure is kept in the
  * context the caller owns (ss_ctx_message). Conventions used throughout:
  *   - rows run north to south, columns west to east, cell (0,0) is north-west;
- *   - azimuths are degrees clockwise from north (0 = N, 90 = E); in this
- *     version north means grid north (the grid's row direction);
+ *   - azimuths are degrees clockwise from north (0 = N, 90 = E): true north
+ *     when the caller gives grid_north_deg (ss_sweep_options), else grid
+ *     north (up the grid's columns);
  *   - horizon elevation angles are degrees above the local horizontal and may
  *     be negative; -90 means no terrain lies ahead inside the grid;
  *   - distances are metres along the azimuth;
@@ -97,11 +98,15 @@ typedef struct {
     double earth_radius_m; /* for earth curvature; 0 switches curvature off */
     double refraction_k;   /* terrestrial refraction coefficient, 0 <= k < 1 */
     ss_line_model lines;
+    /* True azimuth of the grid's north (meridian convergence): directions are
+     * given in true azimuths and swept at true - grid_north_deg. 0: the grid
+     * frame is taken as true. */
+    double grid_north_deg;
 } ss_sweep_options;
 
 void ss_sweep_options_default(ss_sweep_options *opt);
 ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt);
-/* Azimuth of direction i, degrees in [0, 360). */
+/* Azimuth of direction i (in the frame of the options), degrees in [0, 360). */
 double ss_direction_azimuth(const ss_sweep_options *opt, int i);
 
 typedef enum {

@@ -6,6 +6,8 @@
 
 #include "skysweep.h"
 
+/* A DEM read from files. For a geographic CRS the grid's cell sizes are NAN
+ * until ss_dem_frame (frame.h) sets them from geodesy. */
 typedef struct {
     ss_grid grid;
     double geotransform[6];
@@ -17,8 +19,7 @@ typedef struct {
 
 typedef struct {
     /* > 0: accept a raster without georeferencing as a heightmap whose cells
-     * are this many metres wide (also for rasters in a geographic CRS until
-     * geodesy handles them). */
+     * are this many metres wide. */
     double heightmap_cell_m;
 } ss_dem_read_options;
 

@@ -119,13 +119,9 @@ static ss_status cell_size_metres(ss_ctx *ctx, const char *path, GDALDatasetH ds
                        "give its cell size with --cell-size METRES)",
                        path, georeferenced ? "coordinate reference system" : "georeferencing");
     }
-    if (OSRIsGeographic(srs) && !(opt && opt->heightmap_cell_m > 0))
-        return ss_fail(ctx, SS_ERR_INPUT,
-                       "'%s' is in a geographic (lat/lon) CRS, which this version cannot sweep "
-                       "exactly yet: reproject it to a projected CRS in metres (gdalwarp -t_srs)",
-                       path);
     if (OSRIsGeographic(srs)) {
-        *cx = *cy = opt->heightmap_cell_m;
+        /* Degrees: the ground size comes from geodesy (src/adapt/frame.c). */
+        *cx = *cy = NAN;
     } else if (OSRIsProjected(srs) || OSRIsLocal(srs)) {
         double unit = OSRGetLinearUnits(srs, NULL);
         if (!(unit > 0))
@@ -133,7 +129,8 @@ static ss_status cell_size_metres(ss_ctx *ctx, const char *path, GDALDatasetH ds
         *cx = fabs(gt[1]) * unit;
         *cy = fabs(gt[5]) * unit;
     } else {
-        return ss_fail(ctx, SS_ERR_INPUT, "'%s': unsupported kind of CRS (not projected)", path);
+        return ss_fail(ctx, SS_ERR_INPUT,
+                       "'%s': unsupported kind of CRS (neither projected nor geographic)", path);
     }
     char *w = NULL;
     if (OSRExportToWkt(srs, &w) == OGRERR_NONE)

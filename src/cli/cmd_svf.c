@@ -4,7 +4,6 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "commands.h"
 #include "run.h"
@@ -32,78 +31,44 @@ int cmd_svf(int argc, char **argv)
     const opt_spec *tables[] = {svf_options, common_options, NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
-    char err[512];
-    int r = opt_parse(tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, err,
-                      sizeof err);
-    if (r < 0)
-        return run_usage_error("svf", err);
-    if (r > 0) {
-        opt_print_help(tables, "skysweep svf [options] DEM... OUTPUT",
+    int rc = run_parse("svf", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
+                       "skysweep svf [options] DEM... OUTPUT",
                        "Sky-view factor of every cell (0..1), from exact horizons in evenly "
-                       "spaced azimuths.\nSeveral DEM tiles are mosaicked first.");
-        return 0;
-    }
-    if (set.common.device && strcmp(set.common.device, "list") == 0)
-        return command_list_devices();
-    if (n_pos < 2)
-        return run_usage_error("svf", "needs an input DEM and an output file");
-
-    run_state run;
-    int rc = run_begin(&run, "svf", &set.common);
-    if (rc)
+                       "spaced azimuths.\nSeveral DEM tiles are mosaicked first.",
+                       set.common.device);
+    if (rc >= 0)
         return rc;
-    const char *output = pos[n_pos - 1];
-    int n_in = n_pos - 1;
-    ss_dem dem;
-    ss_sweep_options opt;
-    run_sweep_options(&set.common, &opt);
-    ss_svf_definition def = definition_of_choice[set.definition];
+    sweep_job job;
+    if ((rc = job_open(&job, "svf", &set.common, pos, n_pos)))
+        return rc;
+    const ss_grid *g = &job.dem.grid;
+    size_t n = (size_t)g->width * (size_t)g->height;
     ss_raster_writer *w = NULL;
-    float *svf = NULL;
-    ss_status st = run_check_output(&run, output, pos, n_in);
-    if (st != SS_OK) {
-        run_end(&run);
-        return st;
-    }
-    st = ss_sweep_options_check(run.ctx, &opt);
+    float *svf = malloc(n * sizeof *svf);
+    ss_status st = svf ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1, set.common.format,
+                                        set.common.creation_options.items, &w)
+                       : command_out_of_memory(&job.run);
     if (st == SS_OK)
-        st = run_read_dem(&run, pos, n_in, &set.common, &dem);
-    if (st != SS_OK) {
-        rc = run_fail(&run, st);
-        run_end(&run);
-        return rc;
-    }
-    st = ss_writer_open(run.ctx, output, &dem, 1, set.common.format,
-                        set.common.creation_options.items, &w);
-    size_t n = (size_t)dem.grid.width * (size_t)dem.grid.height;
+        st = ss_svf(job.run.ctx, g, &job.opt, definition_of_choice[set.definition], svf);
     if (st == SS_OK) {
-        svf = malloc(n * sizeof *svf);
-        if (!svf)
-            st = command_out_of_memory(&run);
-    }
-    if (st == SS_OK)
-        st = ss_svf(run.ctx, &dem.grid, &opt, def, svf);
-    if (st == SS_OK) {
-        run_common_metadata(&run, w, &opt);
+        run_common_metadata(&job.run, w, &job.opt, &job.frame);
         ss_writer_metadata(w, "SVF_DEFINITION", definition_names[set.definition]);
         st = ss_writer_band(w, 1, svf, "sky-view factor", "1");
     }
     if (st == SS_OK)
-        st = run_commit(&run, w);
+        st = run_commit(&job.run, w);
     else
         ss_writer_abort(w);
-    if (st != SS_OK) {
-        rc = run_fail(&run, st);
-    } else if (!run.quiet) {
+    rc = job_finish(&job, st);
+    if (st == SS_OK && !job.run.quiet) {
         double lo, mean, hi;
         run_stats(svf, n, &lo, &mean, &hi);
-        run_print_dem(&run, &dem);
-        command_print_sweep(&run, &opt, dem.grid.width, dem.grid.height);
+        run_print_dem(&job.run, &job.dem, &job.frame);
+        command_print_sweep(&job.run, &job.opt, g->width, g->height);
         printf("svf     %s, min %.4f mean %.4f max %.4f -> %s\n",
-               definition_names[set.definition], lo, mean, hi, output);
+               definition_names[set.definition], lo, mean, hi, job.output);
     }
     free(svf);
-    ss_dem_free(&dem);
-    run_end(&run);
+    job_close(&job);
     return rc;
 }

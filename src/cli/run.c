@@ -10,6 +10,7 @@
 
 #include <gdal.h>
 
+#include "commands.h"
 #include "run.h"
 
 #define COMMON(field) offsetof(common_settings, field)
@@ -17,7 +18,10 @@ const opt_spec common_options[] = {
     {"directions", OPT_INT, COMMON(directions), "N", "32", 1, 1000000, NULL,
      "number of azimuth directions, evenly spaced"},
     {"offset", OPT_DOUBLE, COMMON(offset_deg), "DEG", "0", -360, 360, NULL,
-     "azimuth of the first direction, degrees clockwise from grid north"},
+     "azimuth of the first direction, degrees clockwise from north"},
+    {"north", OPT_CHOICE, COMMON(north), NULL, "true", 0, 0, "true|grid",
+     "azimuths from true north (meridian convergence at the DEM's centre taken out), or from "
+     "the grid's north"},
     {"device", OPT_STRING, COMMON(device), "NAME", NULL, 0, 0, NULL,
      "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin)"},
     {"q", OPT_FLAG, COMMON(quiet), NULL, NULL, 0, 0, NULL, "quiet: no progress, no summary"},
@@ -30,8 +34,8 @@ const opt_spec common_options[] = {
      "earth curvature with terrestrial refraction"},
     {"refraction", OPT_DOUBLE, COMMON(refraction_k), "K", "0.13", 0, 0.99, NULL,
      "terrestrial refraction coefficient k (R_eff = R / (1 - k))"},
-    {"earth-radius", OPT_DOUBLE, COMMON(earth_radius_m), "METRES", "6371000", 1e3, 1e9, NULL,
-     "earth radius for curvature"},
+    {"earth-radius", OPT_DOUBLE, COMMON(earth_radius_m), "METRES", NULL, 1e3, 1e9, NULL,
+     "earth radius for curvature (default: the ellipsoid's mean radius at the DEM's centre)"},
     {"lines", OPT_CHOICE, COMMON(lines), NULL, "interpolated", 0, 0, "interpolated|digital",
      "interpolated: samples on exact lines, heights interpolated across them; digital: lines "
      "through cell centres (doc/model.md)"},
@@ -115,10 +119,15 @@ void run_end(run_state *run)
 }
 
 ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
-                       const common_settings *common, ss_dem *dem)
+                       const common_settings *common, ss_dem *dem, ss_dem_frame *frame)
 {
     ss_dem_read_options ro = {common->cell_size_m};
     ss_status st = ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
+    if (st == SS_OK) {
+        st = ss_dem_frame_open(run->ctx, dem, frame);
+        if (st != SS_OK)
+            ss_dem_free(dem);
+    }
     if (st == SS_OK && dem->rejected_cells && !run->quiet)
         fprintf(stderr,
                 "skysweep %s: warning: %zu heights beyond +-1e7 m were taken as nodata\n",
@@ -126,14 +135,17 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
     return st;
 }
 
-void run_sweep_options(const common_settings *common, ss_sweep_options *opt)
+void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
+                       ss_sweep_options *opt)
 {
     ss_sweep_options_default(opt);
     opt->directions = common->directions;
     opt->offset_deg = common->offset_deg;
-    opt->earth_radius_m = common->curvature ? common->earth_radius_m : 0.0;
+    double radius = common->earth_radius_m > 0 ? common->earth_radius_m : frame->earth_radius_m;
+    opt->earth_radius_m = common->curvature ? radius : 0.0;
     opt->refraction_k = common->curvature ? common->refraction_k : 0.0;
     opt->lines = common->lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
+    opt->grid_north_deg = common->north == 0 ? frame->grid_north_deg : 0.0;
 }
 
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
@@ -148,17 +160,35 @@ ss_status run_check_output(run_state *run, const char *output, const char *const
     return SS_OK;
 }
 
-void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt)
+void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
+                         const ss_dem_frame *frame)
 {
-    char buf[128];
+    char buf[256];
     ss_writer_metadata(w, "SKYSWEEP_VERSION", ss_version());
     ss_writer_metadata(w, "SKYSWEEP_COMMAND", run->command);
     snprintf(buf, sizeof buf, "%d", opt->directions);
     ss_writer_metadata(w, "DIRECTIONS", buf);
     snprintf(buf, sizeof buf, "%.17g", opt->offset_deg);
     ss_writer_metadata(w, "DIRECTION_OFFSET_DEG", buf);
-    ss_writer_metadata(w, "AZIMUTH_CONVENTION",
-                       "degrees clockwise from grid north (0 = up the grid's columns)");
+    if (frame->georeferenced && opt->grid_north_deg == 0.0 && frame->grid_north_deg != 0.0)
+        snprintf(buf, sizeof buf,
+                 "degrees clockwise from grid north (up the grid's columns; grid north is "
+                 "%.6f deg true at the centre)",
+                 frame->grid_north_deg);
+    else if (frame->georeferenced)
+        snprintf(buf, sizeof buf,
+                 "degrees clockwise from true north (grid north is %.6f deg true at the centre, "
+                 "%.6f to %.6f over the grid; lines are straight in the grid)",
+                 frame->grid_north_deg, frame->grid_north_min_deg, frame->grid_north_max_deg);
+    else
+        snprintf(buf, sizeof buf, "degrees clockwise from the grid's north (no CRS)");
+    ss_writer_metadata(w, "AZIMUTH_CONVENTION", buf);
+    snprintf(buf, sizeof buf,
+             "%.6f x %.6f m at the centre (%s), varying by up to %.2g relative over the grid",
+             frame->cell_x_m, frame->cell_y_m,
+             !frame->georeferenced ? "given" : frame->geographic ? "geodesic" : "projected / scale",
+             frame->cell_variation);
+    ss_writer_metadata(w, "CELL_SIZE_USED", buf);
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
                            ? "digital: lines through cell centres, distance projected on the "
@@ -196,11 +226,82 @@ void run_stats(const float *v, size_t n, double *min, double *mean, double *max)
     *mean = count ? sum / (double)count : 0;
 }
 
-void run_print_dem(run_state *run, const ss_dem *dem)
+void run_print_dem(run_state *run, const ss_dem *dem, const ss_dem_frame *frame)
 {
     if (run->quiet)
         return;
     const ss_grid *g = &dem->grid;
     printf("input   %s: %d x %d cells of %.6g x %.6g m, %zu nodata\n", dem->description,
            g->width, g->height, g->cell_x_m, g->cell_y_m, dem->nodata_cells + dem->rejected_cells);
+    if (frame->georeferenced)
+        printf("place   %.5f, %.5f (lon, lat); grid north %+.4f deg true; cell sizes vary by "
+               "%.2g over the grid\n",
+               frame->centre_lon_deg, frame->centre_lat_deg, frame->grid_north_deg,
+               frame->cell_variation);
+}
+
+int run_parse(const char *command, const opt_spec *const *tables, void *settings, int argc,
+              char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
+              const char *usage, const char *summary, const char *device_setting)
+{
+    char err[512];
+    int r = opt_parse(tables, settings, argc, argv, pos, n_pos, max_pos, err, sizeof err);
+    if (r < 0)
+        return run_usage_error(command, err);
+    if (r > 0) {
+        opt_print_help(tables, usage, summary);
+        return 0;
+    }
+    if (device_setting && strcmp(device_setting, "list") == 0)
+        return command_list_devices();
+    if (*n_pos < min_pos) {
+        snprintf(err, sizeof err, "needs %s", min_pos > 1 ? "an input DEM and an output file"
+                                                         : "an input");
+        return run_usage_error(command, err);
+    }
+    return -1;
+}
+
+int job_open(sweep_job *job, const char *command, const common_settings *common,
+             const char **pos, int n_pos)
+{
+    memset(job, 0, sizeof *job);
+    int rc = run_begin(&job->run, command, common);
+    if (rc)
+        return rc;
+    job->output = pos[n_pos - 1];
+    job->inputs = pos;
+    job->n_inputs = n_pos - 1;
+    ss_status st = run_check_output(&job->run, job->output, pos, job->n_inputs);
+    if (st != SS_OK) {
+        run_end(&job->run);
+        return st;
+    }
+    st = run_read_dem(&job->run, pos, job->n_inputs, common, &job->dem, &job->frame);
+    if (st == SS_OK) {
+        job->have_dem = 1;
+        run_sweep_options(common, &job->frame, &job->opt);
+        st = ss_sweep_options_check(job->run.ctx, &job->opt);
+    }
+    if (st != SS_OK) {
+        rc = job_finish(job, st);
+        job_close(job);
+        return rc;
+    }
+    return 0;
+}
+
+int job_finish(sweep_job *job, ss_status st)
+{
+    return st == SS_OK ? 0 : run_fail(&job->run, st);
+}
+
+void job_close(sweep_job *job)
+{
+    if (job->have_dem) {
+        ss_dem_frame_close(&job->frame);
+        ss_dem_free(&job->dem);
+        job->have_dem = 0;
+    }
+    run_end(&job->run);
 }

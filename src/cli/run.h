@@ -5,6 +5,7 @@
 #define SS_CLI_RUN_H
 
 #include "dem_io.h"
+#include "frame.h"
 #include "options.h"
 #include "skysweep.h"
 
@@ -18,8 +19,9 @@ typedef struct {
     double cell_size_m;
     int curvature; /* 0 off, 1 on */
     double refraction_k;
-    double earth_radius_m;
-    int lines; /* index into "interpolated|digital" */
+    double earth_radius_m; /* 0: the DEM's local radius */
+    int lines;             /* index into "interpolated|digital" */
+    int north;             /* index into "true|grid" */
 } common_settings;
 
 /* The options every sweeping command takes; offsets are relative to a
@@ -34,6 +36,12 @@ typedef struct {
     int progress_shown;
 } run_state;
 
+/* Parses a command's options and positionals; handles --help and
+ * --device list. Returns -1 to go on, else the exit code to return. */
+int run_parse(const char *command, const opt_spec *const *tables, void *settings, int argc,
+              char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
+              const char *usage, const char *summary, const char *device_setting);
+
 /* Creates the context, installs SIGINT/SIGTERM handlers and progress. */
 int run_begin(run_state *run, const char *command, const common_settings *common);
 /* Prints "skysweep COMMAND: message" on stderr and returns the exit code:
@@ -42,18 +50,43 @@ int run_fail(run_state *run, ss_status status);
 int run_usage_error(const char *command, const char *message);
 void run_end(run_state *run);
 
+/* Reads the DEM and opens its frame (ground cell sizes, true north). */
 ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
-                       const common_settings *common, ss_dem *dem);
-void run_sweep_options(const common_settings *common, ss_sweep_options *opt);
+                       const common_settings *common, ss_dem *dem, ss_dem_frame *frame);
+void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
+                       ss_sweep_options *opt);
 /* Refuses an output that is also an input. */
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
                            int n_inputs);
 /* Metadata every output carries: version, device, directions, conventions. */
-void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt);
+void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
+                         const ss_dem_frame *frame);
 ss_status run_commit(run_state *run, ss_raster_writer *w);
+
+/* A sweeping command's input side: the output named last, the DEM tiles
+ * before it, the DEM with its frame, and the sweep options. */
+typedef struct {
+    run_state run;
+    const char *output;
+    const char *const *inputs;
+    int n_inputs;
+    ss_dem dem;
+    ss_dem_frame frame;
+    ss_sweep_options opt;
+    int have_dem;
+} sweep_job;
+
+/* Starts the run, refuses an output that is an input, reads the DEM and its
+ * frame, and builds and checks the sweep options. Returns 0, or the exit
+ * code after printing the error (the job is then closed). */
+int job_open(sweep_job *job, const char *command, const common_settings *common,
+             const char **pos, int n_pos);
+/* Prints the failure (if st is not SS_OK) and returns the exit code. */
+int job_finish(sweep_job *job, ss_status st);
+void job_close(sweep_job *job);
 
 /* min, mean and max over valid cells (value != SS_NODATA). */
 void run_stats(const float *v, size_t n, double *min, double *mean, double *max);
-void run_print_dem(run_state *run, const ss_dem *dem);
+void run_print_dem(run_state *run, const ss_dem *dem, const ss_dem_frame *frame);
 
 #endif

@@ -29,11 +29,17 @@ ss_status ss_product_begin(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_opti
     return st;
 }
 
+double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
+                           double azimuth_deg, ss_line_set *ls)
+{
+    double grid_az_deg = azimuth_deg - opt->grid_north_deg;
+    ss_line_set_for_azimuth(ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
+                            grid_az_deg, (int)opt->lines);
+    return grid_az_deg * (M_PI / 180.0);
+}
+
 double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
                         ss_line_set *ls)
 {
-    double az_deg = ss_direction_azimuth(opt, i);
-    ss_line_set_for_azimuth(ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
-                            az_deg, (int)opt->lines);
-    return az_deg * (M_PI / 180.0);
+    return ss_product_lines_at(grid, opt, ss_direction_azimuth(opt, i), ls);
 }

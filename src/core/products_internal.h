@@ -11,8 +11,12 @@ float ss_curvature_k(const ss_sweep_options *opt);
 ss_status ss_product_begin(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                            int n_outputs, ss_session **session);
 
-/* Line set of direction i, and its azimuth in radians. */
+/* Line set of direction i; returns the direction's azimuth in the grid's
+ * frame, radians (the frame the sweep and cell slopes live in). */
 double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
                         ss_line_set *ls);
+/* The same for any azimuth (in the options' frame, degrees). */
+double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
+                           double azimuth_deg, ss_line_set *ls);
 
 #endif

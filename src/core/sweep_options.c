@@ -16,6 +16,7 @@ void ss_sweep_options_default(ss_sweep_options *opt)
     opt->earth_radius_m = 0.0;
     opt->refraction_k = 0.0;
     opt->lines = SS_LINES_INTERPOLATED;
+    opt->grid_north_deg = 0.0;
 }
 
 ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
@@ -34,6 +35,9 @@ ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
     if (!(opt->refraction_k >= 0.0 && opt->refraction_k < 1.0))
         return ss_fail(ctx, SS_ERR_ARGUMENT, "refraction coefficient must be in [0, 1), not %g",
                        opt->refraction_k);
+    if (!isfinite(opt->grid_north_deg) || fabs(opt->grid_north_deg) > 360.0)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "grid north must be within -360..360 degrees, not %g",
+                       opt->grid_north_deg);
     if (opt->lines != SS_LINES_INTERPOLATED && opt->lines != SS_LINES_DIGITAL)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown line model %d", (int)opt->lines);
     return SS_OK;
