@@ -23,6 +23,8 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
         return ss_svf_geometric_term(d, dz);
     if (definition == SS_SVF_HORIZONTAL)
         return ss_svf_horizontal_term(d, dz);
+    if (minor < 0 || minor >= ls->minor_len)
+        return 0.0f; /* no such cell: it receives nothing (and z must not be read there) */
     int col = ls->major_is_row ? minor : major, row = ls->major_is_row ? major : minor;
     float dz_de = 0.0f, dz_dn = 0.0f;
     if (SS_ISFINITE(z[row * ls->width + col]))
@@ -58,9 +60,11 @@ SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, flo
 
 /* Adds the weighted horizon angle (degrees) into angle_deg and, if
  * want_dist, gives each cell the distance (metres, 0 when nothing lies
- * ahead) of the sample nearest to it. Both grids start at 0; cells without
- * a height are set to nodata afterwards by the host. */
-SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
+ * ahead) of the sample nearest to it. Where nothing lies ahead the angle is
+ * none_deg (-90 for horizon products; shadows take the horizontal, 0).
+ * Both grids start at 0; cells without a height are set to nodata
+ * afterwards by the host. */
+SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k, float none_deg,
                                 SS_GLOBAL const float *z, SS_GLOBAL int *stack,
                                 SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m,
                                 int want_dist, int flags)
@@ -71,7 +75,7 @@ SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
         ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k, i, flags);
         if (!h.valid)
             continue;
-        float angle = ss_horizon_deg(h.d, h.dz);
+        float angle = h.d > 0.0f ? ss_horizon_deg(h.d, h.dz) : none_deg;
         if (h.cell0 >= 0)
             angle_deg[h.cell0] += h.w0 * angle;
         if (h.cell1 >= 0)
@@ -112,12 +116,12 @@ SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float cu
     }
 }
 
-SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
+SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k, float none_deg,
                            SS_GLOBAL const float *z, SS_GLOBAL int *stack,
                            SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m, int want_dist)
 {
     /* Horizon grids are written once per direction: one general copy. */
-    ss_pass_horizon_walk(ls, line, curv_k, z, stack, angle_deg, dist_m, want_dist,
+    ss_pass_horizon_walk(ls, line, curv_k, none_deg, z, stack, angle_deg, dist_m, want_dist,
                          ss_walk_flags(ls, curv_k));
 }
 

@@ -12,14 +12,14 @@ __kernel void sweep_svf(ss_line_set ls, int round, int definition, float curv_k,
                     cell_x_m, cell_y_m, height, z, stack, acc);
 }
 
-__kernel void sweep_horizon(ss_line_set ls, int round, float curv_k, __global const float *z,
-                            __global int *stack, __global float *angle_deg,
-                            __global float *dist_m, int want_dist)
+__kernel void sweep_horizon(ss_line_set ls, int round, float curv_k, float none_deg,
+                            __global const float *z, __global int *stack,
+                            __global float *angle_deg, __global float *dist_m, int want_dist)
 {
     int i = get_global_id(0);
     if (i < ss_round_lines(&ls, round))
-        ss_pass_horizon(&ls, ss_round_line(&ls, round, i), curv_k, z, stack, angle_deg, dist_m,
-                        want_dist);
+        ss_pass_horizon(&ls, ss_round_line(&ls, round, i), curv_k, none_deg, z, stack, angle_deg,
+                        dist_m, want_dist);
 }
 
 __kernel void sweep_bare(ss_line_set ls, int round, __global const float *z,

@@ -44,6 +44,10 @@ typedef int (*ss_progress_fn)(double complete, const char *message, void *user);
 ss_ctx *ss_ctx_new(void);
 void ss_ctx_free(ss_ctx *ctx);
 const char *ss_ctx_message(const ss_ctx *ctx);
+/* Records a failure of the caller's own in the context (one line, printf
+ * format) and returns status, so callers report theirs like the library's. */
+ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user);
 const char *ss_version(void);
 
@@ -125,6 +129,25 @@ typedef int (*ss_horizon_sink)(int index, double azimuth_deg, const float *angle
                                const float *dist_m, void *user);
 ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                      int want_distance, ss_horizon_sink sink, void *user);
+
+/* Cast shadows for one sun: a sweep along sun_azimuth_deg (the options'
+ * frame); a cell is sunlit (1) when its sun elevation, per cell or else the
+ * single value, is above its terrain horizon in that azimuth, else 0;
+ * SS_NODATA at nodata. Elevations are apparent (refracted) degrees. If
+ * horizon_deg is given it gets the terrain horizon in that azimuth (0 where
+ * no terrain lies ahead inside the grid). */
+ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                         double sun_azimuth_deg, double sun_elevation_deg,
+                         const float *sun_elevation_per_cell_deg, float *sunlit,
+                         float *horizon_deg);
+
+/* Cosine of the angle between the sun and each cell's surface normal (Horn's
+ * 3x3 gradient; cell azimuths in the grid's frame): <= 0 where the cell
+ * faces away from the sun (self-shadow). Per-cell sun arrays may be NULL
+ * for one sun. SS_NODATA at nodata. */
+ss_status ss_sun_incidence(ss_ctx *ctx, const ss_grid *grid, double grid_azimuth_deg,
+                           double elevation_deg, const float *grid_azimuth_per_cell_deg,
+                           const float *elevation_per_cell_deg, float *cos_incidence);
 
 /* The bare pass along the lines of one azimuth: every sample read and its
  * cells written (out[c] += weight * height), no hull. The yardstick of the

@@ -82,9 +82,9 @@ void test_holes(ss_grid *g, unsigned seed, int n_holes, int max_size)
     }
 }
 
-void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
-                        const float *claimed_dist, double *angle_deg, double *near_angle_rad,
-                        double *claimed_angle_rad)
+static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
+                          double none_deg, const float *claimed_dist, double *angle_deg,
+                          double *near_angle_rad, double *claimed_angle_rad)
 {
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, azimuth_deg,
@@ -145,7 +145,7 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
                 if (fabs(d - claimed) <= 1e-4 * (1.0 + d))
                     claimed_angle = atan(slope);
             }
-            double angle = best == -INFINITY ? -M_PI / 2 : atan(best);
+            double angle = best == -INFINITY ? none_deg * M_PI / 180 : atan(best);
             if (best == -INFINITY && claimed == 0.0)
                 claimed_angle = -M_PI / 2;
             double w1 = smp[v].w1, w0 = 1.0 - w1;
@@ -169,6 +169,21 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
     free(valid);
     free(occludes);
     free(smp);
+}
+
+void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
+                        const float *claimed_dist, double *angle_deg, double *near_angle_rad,
+                        double *claimed_angle_rad)
+{
+    brute_horizon(g, azimuth_deg, curv_k, model, -90.0, claimed_dist, angle_deg, near_angle_rad,
+                  claimed_angle_rad);
+}
+
+void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
+                             double *angle_deg, double *near_angle_rad, double *claimed_angle_rad)
+{
+    brute_horizon(g, azimuth_deg, 0.0, model, none_deg, NULL, angle_deg, near_angle_rad,
+                  claimed_angle_rad);
 }
 
 typedef struct {

@@ -33,6 +33,11 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
                         const float *claimed_dist, double *angle_deg, double *near_angle_rad,
                         double *claimed_angle_rad);
 
+/* The same without curvature, with none_deg (instead of -90) where nothing
+ * lies ahead, as shadows take it. */
+void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
+                             double *angle_deg, double *near_angle_rad, double *claimed_angle_rad);
+
 /* The library's horizon for one azimuth, on the device given ("reference"
  * or NULL for the default OpenCL device). Returns the status. */
 ss_status test_lib_horizon(const char *device, const ss_grid *g, double azimuth_deg,

@@ -29,7 +29,7 @@ static const char *const algorithm_names[] = {"spa", "psa"};
 static const ss_sun_algorithm algorithm_of_choice[] = {SS_SUN_SPA, SS_SUN_PSA};
 
 #define SET(field) offsetof(sun_settings, field)
-static const opt_spec sun_options[] = {
+static const opt_spec sun_table_options[] = {
     {"at", OPT_STRING, SET(at), "LON,LAT", NULL, 0, 0, NULL,
      "site longitude and latitude, degrees, east and north positive (required)"},
     {"time", OPT_STRING, SET(time), "ISO8601", NULL, 0, 0, NULL,
@@ -101,7 +101,7 @@ int cmd_sun(int argc, char **argv)
 {
     sun_settings set = {0};
     set.delta_t_s = set.pressure_hpa = set.altitude_m = NAN; /* NAN: not given */
-    const opt_spec *tables[] = {sun_options, NULL};
+    const opt_spec *tables[] = {sun_table_options, NULL};
     const char *pos[1];
     int n_pos = 0;
     char err[512];

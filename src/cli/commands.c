@@ -26,9 +26,10 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
 {
     ss_counters c = ss_ctx_counters(run->ctx);
     double rate = c.sweep_seconds > 0 ? (double)c.cells_swept / c.sweep_seconds / 1e6 : 0;
-    printf("sweep   %d directions from %g deg, curvature %s, %s\n", opt->directions,
-           opt->offset_deg, opt->earth_radius_m > 0 ? "on" : "off",
-           ss_ctx_device_name(run->ctx));
+    printf("sweep   %llu sweeps (%s lines), curvature %s, %s\n",
+           (unsigned long long)c.sweeps,
+           opt->lines == SS_LINES_DIGITAL ? "digital" : "interpolated",
+           opt->earth_radius_m > 0 ? "on" : "off", ss_ctx_device_name(run->ctx));
     printf("time    sweep %.3f s (%.0f M cell-directions/s over %d x %d cells), kernel build "
            "%.3f s\n",
            c.sweep_seconds, rate, width, height, c.build_seconds);

@@ -41,6 +41,39 @@ const opt_spec common_options[] = {
      "through cell centres (doc/model.md)"},
     OPT_END};
 
+const opt_spec sun_options[] = {
+    {"time", OPT_STRING, COMMON(time), "ISO8601", NULL, 0, 0, NULL,
+     "when: an instant with a zone, e.g. 2026-06-21T10:00Z (the sun from SPA at the DEM)"},
+    {"sun-azimuth", OPT_DOUBLE, COMMON(sun_azimuth_deg), "DEG", NULL, -360, 360, NULL,
+     "or the sun given directly: azimuth clockwise from north ..."},
+    {"sun-elevation", OPT_DOUBLE, COMMON(sun_elevation_deg), "DEG", NULL, -90, 90, NULL,
+     "... and apparent elevation above the horizontal"},
+    {"sun-per-cell", OPT_CHOICE, COMMON(sun_per_cell), NULL, "auto", 0, 0, "auto|on|off",
+     "the sun's position per cell (rotated into each cell's frame) or one for the DEM; auto: "
+     "per cell when they differ by more than 0.001 deg"},
+    {"delta-t", OPT_DOUBLE, COMMON(delta_t_s), "SECONDS", NULL, -8000, 8000, NULL,
+     "TT - UT1 (default: the Espenak-Meeus model)"},
+    {"pressure", OPT_DOUBLE, COMMON(pressure_hpa), "HPA", "1013.25", 0, 5000, NULL,
+     "air pressure for refraction"},
+    {"temperature", OPT_DOUBLE, COMMON(temperature_c), "C", "12", -273, 100, NULL,
+     "air temperature for refraction"},
+    OPT_END};
+
+void common_settings_init(common_settings *common)
+{
+    common->sun_azimuth_deg = NAN;
+    common->sun_elevation_deg = NAN;
+    common->delta_t_s = NAN;
+}
+
+void run_spa_params(const common_settings *common, ss_spa_params *p)
+{
+    ss_spa_params_default(p);
+    p->delta_t_s = common->delta_t_s;
+    p->pressure_hpa = common->pressure_hpa;
+    p->temperature_c = common->temperature_c;
+}
+
 static volatile sig_atomic_t interrupted_by = 0;
 
 static double now(void)

@@ -6,6 +6,8 @@
 
 #include "dem_io.h"
 #include "frame.h"
+#include "spa.h"
+#include "sun_field.h"
 #include "options.h"
 #include "skysweep.h"
 
@@ -22,11 +24,26 @@ typedef struct {
     double earth_radius_m; /* 0: the DEM's local radius */
     int lines;             /* index into "interpolated|digital" */
     int north;             /* index into "true|grid" */
+    /* The sun (commands that take sun_options): */
+    const char *time;      /* ISO 8601 instant or range */
+    double sun_azimuth_deg, sun_elevation_deg; /* given instead of a time; NAN if not */
+    double delta_t_s;                          /* NAN: the model */
+    double pressure_hpa, temperature_c;
+    int sun_per_cell;      /* index into "auto|on|off" */
 } common_settings;
+
+/* Marks the optional numbers as not given (NAN); call before parsing. */
+void common_settings_init(common_settings *common);
 
 /* The options every sweeping command takes; offsets are relative to a
  * common_settings placed at the start of the command's settings struct. */
 extern const opt_spec common_options[];
+/* The sun's position and the air that refracts it, for shadow, hillshade
+ * and insolation. */
+extern const opt_spec sun_options[];
+
+/* SPA parameters from the sun options. */
+void run_spa_params(const common_settings *common, ss_spa_params *p);
 
 typedef struct {
     const char *command;
@@ -81,6 +98,9 @@ typedef struct {
  * code after printing the error (the job is then closed). */
 int job_open(sweep_job *job, const char *command, const common_settings *common,
              const char **pos, int n_pos);
+/* The sun for the job (job_sun.c): given, or from --time by SPA at the DEM,
+ * for one instant; one sun for the DEM or per cell. */
+ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field);
 /* Prints the failure (if st is not SS_OK) and returns the exit code. */
 int job_finish(sweep_job *job, ss_status st);
 void job_close(sweep_job *job);

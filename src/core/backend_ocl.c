@@ -395,16 +395,17 @@ static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, f
     return launch(s, s->ctx->ocl->k_svf, args, 12, ls, "the SVF kernel");
 }
 
-static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist)
+static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
+                             int want_dist)
 {
     ocl_session *q = s->impl;
     cl_mem dist = want_dist ? q->out[1] : q->out[0];
     kernel_arg args[] = {{sizeof *ls, ls},           {0, NULL},
-                         {sizeof curv_k, &curv_k},
+                         {sizeof curv_k, &curv_k},   {sizeof none_deg, &none_deg},
                          {sizeof(cl_mem), &q->z},    {sizeof(cl_mem), &q->stack},
                          {sizeof(cl_mem), &q->out[0]}, {sizeof(cl_mem), &dist},
                          {sizeof want_dist, &want_dist}};
-    return launch(s, s->ctx->ocl->k_horizon, args, 8, ls, "the horizon kernel");
+    return launch(s, s->ctx->ocl->k_horizon, args, 9, ls, "the horizon kernel");
 }
 
 static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)

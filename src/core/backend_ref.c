@@ -38,7 +38,8 @@ static ss_status ref_svf(ss_session *s, const ss_line_set *ls, int definition, f
     return SS_OK;
 }
 
-static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist)
+static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
+                             int want_dist)
 {
     ref_session *r = s->impl;
     float *dist = want_dist ? r->out[1] : r->out[0];
@@ -46,8 +47,8 @@ static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k,
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
-            ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, s->grid->z, r->stack,
-                            r->out[0], dist, want_dist);
+            ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, none_deg, s->grid->z,
+                            r->stack, r->out[0], dist, want_dist);
     }
     return SS_OK;
 }

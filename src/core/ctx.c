@@ -56,6 +56,16 @@ ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)
     return status;
 }
 
+ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
+{
+    char line[sizeof ctx->message];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    return ss_fail(ctx, status, "%s", line);
+}
+
 ss_status ss_progress(ss_ctx *ctx, double complete, const char *what)
 {
     if (ctx->progress && !ctx->progress(complete, what, ctx->progress_user))

@@ -21,7 +21,7 @@ ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *o
         for (int out = 0; out < (want_distance ? 2 : 1) && st == SS_OK; ++out)
             st = ss_session_clear(s, out);
         if (st == SS_OK)
-            st = ss_session_horizon(s, &ls, curv_k, want_distance);
+            st = ss_session_horizon(s, &ls, curv_k, -90.0f, want_distance);
         float *angle = NULL, *dist = NULL;
         if (st == SS_OK)
             st = ss_session_view(s, 0, &angle);

@@ -19,4 +19,10 @@ double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
 double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
                            double azimuth_deg, ss_line_set *ls);
 
+/* Terrain horizon of every cell in one azimuth (options' frame), degrees,
+ * 0 where nothing lies ahead, into the session's output 0 (nodata cells
+ * hold garbage). */
+ss_status ss_sun_horizon(ss_session *s, const ss_grid *grid, const ss_sweep_options *opt,
+                         double azimuth_deg, float **horizon_deg);
+
 #endif

@@ -54,10 +54,11 @@ ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, f
                            (float)cos(azimuth_rad));
 }
 
-ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist)
+ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
+                             int want_dist)
 {
     count_sweep(s);
-    return s->backend->horizon(s, ls, curv_k, want_dist);
+    return s->backend->horizon(s, ls, curv_k, none_deg, want_dist);
 }
 
 ss_status ss_session_bare(ss_session *s, const ss_line_set *ls)

@@ -15,7 +15,8 @@ typedef struct {
     ss_status (*clear)(ss_session *s, int output);
     ss_status (*svf)(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
                      float sin_az, float cos_az);
-    ss_status (*horizon)(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist);
+    ss_status (*horizon)(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
+                         int want_dist);
     ss_status (*bare)(ss_session *s, const ss_line_set *ls);
     ss_status (*view)(ss_session *s, int output, float **host);
     void (*close)(ss_session *s);
@@ -35,9 +36,10 @@ ss_status ss_session_clear(ss_session *s, int output);
 /* Adds one direction's SVF term into output 0. */
 ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
                          double azimuth_rad);
-/* Adds weighted horizon angles (degrees) into output 0 and sets distances
- * in output 1; clear both first. */
-ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, int want_dist);
+/* Adds weighted horizon angles (degrees; none_deg where nothing lies
+ * ahead) into output 0 and sets distances in output 1; clear both first. */
+ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
+                             int want_dist);
 /* out0[c] += z[c] along the lines. */
 ss_status ss_session_bare(ss_session *s, const ss_line_set *ls);
 /* Waits for queued passes; *host (readable and writable) stays valid until

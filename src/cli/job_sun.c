@@ -1,0 +1,50 @@
+/* The sun for a sweeping command: given directly (--sun-azimuth,
+ * --sun-elevation) or as an instant (--time, SPA at the DEM), one for the
+ * whole DEM or one per cell (--sun-per-cell). */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "iso_time.h"
+#include "run.h"
+#include "sun_field.h"
+
+/* The sun directions of a DEM's cells differ by less than this: one sun. */
+#define SUN_SPREAD_ONE_DEG 0.001
+
+ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field)
+{
+    ss_ctx *ctx = job->run.ctx;
+    int given = isfinite(common->sun_azimuth_deg) || isfinite(common->sun_elevation_deg);
+    if (given && common->time)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                            "give the sun either as --time or as --sun-azimuth and "
+                            "--sun-elevation, not both");
+    if (given) {
+        if (!isfinite(common->sun_azimuth_deg) || !isfinite(common->sun_elevation_deg))
+            return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                                "--sun-azimuth and --sun-elevation go together");
+        double az = common->sun_azimuth_deg;
+        /* In the grid frame the sun is given in grid azimuths. */
+        if (common->north == 1)
+            az += job->frame.grid_north_deg;
+        ss_sun_field_fixed(&job->frame, job->dem.grid.width, job->dem.grid.height, az,
+                           common->sun_elevation_deg, field);
+        return SS_OK;
+    }
+    if (!common->time)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                            "no sun: give --time, or --sun-azimuth and --sun-elevation");
+    double unix_s;
+    ss_status st = ss_parse_instant(ctx, common->time, &unix_s);
+    if (st != SS_OK)
+        return st;
+    ss_spa_params p;
+    run_spa_params(common, &p);
+    int want = common->sun_per_cell; /* 0 auto, 1 on, 2 off */
+    st = ss_sun_field_compute(ctx, &job->dem, &job->frame, unix_s, &p, want != 2, field);
+    if (st == SS_OK && want == 0 && field->spread_deg <= SUN_SPREAD_ONE_DEG)
+        ss_sun_field_free(field); /* one sun serves every cell */
+    return st;
+}
