@@ -77,4 +77,18 @@ SS_FN void ss_gradient_horn(SS_GLOBAL const float *z, int width, int height, int
     *dz_dn = ((nw + 2.0f * n + ne) - (sw + 2.0f * s + se)) / (8.0f * cell_y_m);
 }
 
+/* Surface gradient by Zevenbergen & Thorne's (1987) central differences,
+ * gdaldem's -alg ZevenbergenThorne. */
+SS_FN void ss_gradient_zt(SS_GLOBAL const float *z, int width, int height, int col, int row,
+                          float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
+{
+    float c = z[row * width + col];
+    float n = ss_z_or(z, width, height, col, row - 1, c);
+    float w = ss_z_or(z, width, height, col - 1, row, c);
+    float e = ss_z_or(z, width, height, col + 1, row, c);
+    float s = ss_z_or(z, width, height, col, row + 1, c);
+    *dz_de = (e - w) / (2.0f * cell_x_m);
+    *dz_dn = (n - s) / (2.0f * cell_y_m);
+}
+
 #endif

@@ -149,6 +149,16 @@ ss_status ss_sun_incidence(ss_ctx *ctx, const ss_grid *grid, double grid_azimuth
                            double elevation_deg, const float *grid_azimuth_per_cell_deg,
                            const float *elevation_per_cell_deg, float *cos_incidence);
 
+/* Hillshade as gdaldem computes it: 1 + 254 cos(i) for a light at
+ * light_azimuth_deg (grid frame) and light_altitude_deg, 1 where the cell
+ * faces away; the z factor scales heights; Horn's gradient or (nonzero
+ * zevenbergen_thorne) Zevenbergen-Thorne's; multidirectional_light uses
+ * gdaldem's blend of four lights. Values 1..255 as floats, SS_NODATA at
+ * nodata; edges and holes get one-sided gradients. */
+ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_deg,
+                       double light_altitude_deg, double z_factor, int zevenbergen_thorne,
+                       int multidirectional_light, float *shade);
+
 /* The bare pass along the lines of one azimuth: every sample read and its
  * cells written (out[c] += weight * height), no hull. The yardstick of the
  * sweep's cost, and with z = 1 it adds up the weight each cell receives

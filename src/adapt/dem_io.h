@@ -38,6 +38,11 @@ typedef struct ss_raster_writer ss_raster_writer;
 ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
                          const char *format, const char *const *creation_options,
                          ss_raster_writer **writer);
+/* The same with Byte bands (gdaldem's style for shaded reliefs): values
+ * are rounded and clamped to 1..255, SS_NODATA becomes nodata 0. */
+ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
+                              const char *format, const char *const *creation_options,
+                              ss_raster_writer **writer);
 /* Writes band (1-based): SS_NODATA marks nodata; NaN or Inf is refused. */
 ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
                          const char *description, const char *unit);

@@ -23,6 +23,7 @@
 
 struct ss_raster_writer {
     ss_ctx *ctx;
+    int byte_pixels;      /* 1: Byte bands, values rounded, nodata 0 (gdaldem's style) */
     GDALDatasetH ds;      /* the temporary file, or a MEM copy for CreateCopy-only drivers */
     GDALDriverH driver;   /* the output format */
     char **create_opts;
@@ -79,13 +80,15 @@ static ss_status check_output_folder(ss_ctx *ctx, const char *path)
     return status;
 }
 
-static char **default_options(GDALDriverH driver, int bands, const char *const *user)
+static char **default_options(GDALDriverH driver, int bands, int byte_pixels,
+                              const char *const *user)
 {
     char **opts = NULL;
     if (strcmp(GDALGetDriverShortName(driver), "GTiff") == 0) {
         opts = CSLSetNameValue(opts, "TILED", "YES");
         opts = CSLSetNameValue(opts, "COMPRESS", "DEFLATE");
-        opts = CSLSetNameValue(opts, "PREDICTOR", "3");
+        /* Floating-point prediction for floats, horizontal differencing for bytes. */
+        opts = CSLSetNameValue(opts, "PREDICTOR", byte_pixels ? "2" : "3");
         opts = CSLSetNameValue(opts, "BIGTIFF", "IF_SAFER");
         if (bands > 1)
             opts = CSLSetNameValue(opts, "INTERLEAVE", "BAND");
@@ -100,9 +103,9 @@ static char **default_options(GDALDriverH driver, int bands, const char *const *
     return opts;
 }
 
-ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
-                         const char *format, const char *const *creation_options,
-                         ss_raster_writer **writer)
+static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
+                             const char *format, const char *const *creation_options,
+                             int byte_pixels, ss_raster_writer **writer)
 {
     *writer = NULL;
     ss_gdal_init();
@@ -126,11 +129,12 @@ ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int 
     if (!w)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
     w->ctx = ctx;
+    w->byte_pixels = byte_pixels;
     w->driver = driver;
     w->bands = bands;
     w->path = strdup(path);
     w->tmp_path = temporary_name(path);
-    w->create_opts = default_options(driver, bands, creation_options);
+    w->create_opts = default_options(driver, bands, byte_pixels, creation_options);
     if (!w->path || !w->tmp_path) {
         ss_writer_abort(w);
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
@@ -138,12 +142,12 @@ ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int 
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
     const ss_grid *g = &like->grid;
+    GDALDataType type = byte_pixels ? GDT_Byte : GDT_Float32;
     if (can_create)
-        w->ds = GDALCreate(driver, w->tmp_path, g->width, g->height, bands, GDT_Float32,
-                           w->create_opts);
+        w->ds = GDALCreate(driver, w->tmp_path, g->width, g->height, bands, type, w->create_opts);
     else
-        w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", g->width, g->height, bands,
-                           GDT_Float32, NULL);
+        w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", g->width, g->height, bands, type,
+                           NULL);
     CPLPopErrorHandler();
     if (!w->ds) {
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path, gdal_message());
@@ -154,9 +158,23 @@ ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int 
     if (like->crs_wkt)
         GDALSetProjection(w->ds, like->crs_wkt);
     for (int b = 1; b <= bands; ++b)
-        GDALSetRasterNoDataValue(GDALGetRasterBand(w->ds, b), SS_NODATA);
+        GDALSetRasterNoDataValue(GDALGetRasterBand(w->ds, b), byte_pixels ? 0 : SS_NODATA);
     *writer = w;
     return SS_OK;
+}
+
+ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
+                         const char *format, const char *const *creation_options,
+                         ss_raster_writer **writer)
+{
+    return writer_open(ctx, path, like, bands, format, creation_options, 0, writer);
+}
+
+ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
+                              const char *format, const char *const *creation_options,
+                              ss_raster_writer **writer)
+{
+    return writer_open(ctx, path, like, bands, format, creation_options, 1, writer);
 }
 
 ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
@@ -170,12 +188,24 @@ ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
                            "(a bug: please report it)",
                            band, w->path);
     GDALRasterBandH b = GDALGetRasterBand(w->ds, band);
+    unsigned char *bytes = NULL;
+    if (w->byte_pixels) {
+        /* Values 1..255 round to the nearest byte; nodata becomes 0. */
+        bytes = malloc(n);
+        if (!bytes)
+            return ss_fail(w->ctx, SS_ERR_MEMORY, "out of memory writing '%s'", w->path);
+        for (size_t i = 0; i < n; ++i)
+            bytes[i] = data[i] == SS_NODATA ? 0
+                                            : (unsigned char)fmin(255.0, fmax(1.0, nearbyint(data[i])));
+    }
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
     CPLErr err = GDALRasterIO(b, GF_Write, 0, 0, GDALGetRasterXSize(w->ds),
-                              GDALGetRasterYSize(w->ds), (void *)data, GDALGetRasterXSize(w->ds),
-                              GDALGetRasterYSize(w->ds), GDT_Float32, 0, 0);
+                              GDALGetRasterYSize(w->ds), bytes ? (void *)bytes : (void *)data,
+                              GDALGetRasterXSize(w->ds), GDALGetRasterYSize(w->ds),
+                              bytes ? GDT_Byte : GDT_Float32, 0, 0);
     CPLPopErrorHandler();
+    free(bytes);
     if (err != CE_None)
         return ss_fail(w->ctx, SS_ERR_OUTPUT, "cannot write band %d of '%s': %s", band, w->path,
                        gdal_message());

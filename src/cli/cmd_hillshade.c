@@ -1,0 +1,114 @@
+/* skysweep hillshade: gdaldem's hillshade (same formula, options and byte
+ * output), plus what a cartographer wants from the sweep: exact cast
+ * shadows of the light, and sky-view shading blended in. */
+#include "config.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "commands.h"
+#include "run.h"
+
+typedef struct {
+    common_settings common;
+    double azimuth_deg, altitude_deg, z_factor;
+    int alg, multidirectional, cast_shadows;
+    double sky_view;
+} hillshade_settings;
+
+#define SET(field) offsetof(hillshade_settings, field)
+static const opt_spec hillshade_options[] = {
+    {"az", OPT_DOUBLE, SET(azimuth_deg), "DEG", "315", -360, 360, NULL,
+     "light azimuth, degrees clockwise from the top of the raster (gdaldem's -az)"},
+    {"alt", OPT_DOUBLE, SET(altitude_deg), "DEG", "45", 0, 90, NULL,
+     "light altitude above the horizontal (gdaldem's -alt)"},
+    {"z", OPT_DOUBLE, SET(z_factor), "FACTOR", "1", 1e-6, 1e6, NULL,
+     "vertical exaggeration (gdaldem's -z; ground sizes come from the CRS, so gdaldem's -s "
+     "is not needed)"},
+    {"alg", OPT_CHOICE, SET(alg), NULL, "Horn", 0, 0, "Horn|ZevenbergenThorne",
+     "slope algorithm (gdaldem's -alg)"},
+    {"multidirectional", OPT_FLAG, SET(multidirectional), NULL, NULL, 0, 0, NULL,
+     "gdaldem's multidirectional shading (lights from 225, 270, 315, 360)"},
+    {"cast-shadows", OPT_FLAG, SET(cast_shadows), NULL, NULL, 0, 0, NULL,
+     "darken cells in the light's cast shadows (exact sweep along the light)"},
+    {"sky-view", OPT_DOUBLE, SET(sky_view), "WEIGHT", "0", 0, 1, NULL,
+     "blend in sky-view shading: (1 - W) hillshade + W (1 + 254 SVF), geometric SVF over "
+     "--directions"},
+    OPT_END};
+
+int cmd_hillshade(int argc, char **argv)
+{
+    hillshade_settings set = {0};
+    common_settings_init(&set.common);
+    const opt_spec *tables[] = {hillshade_options, common_options, NULL};
+    const char *pos[COMMAND_MAX_INPUTS + 1];
+    int n_pos = 0;
+    int rc = run_parse("hillshade", tables, &set, argc, argv, pos, &n_pos,
+                       COMMAND_MAX_INPUTS + 1, 2, "skysweep hillshade [options] DEM... OUTPUT",
+                       "Shaded relief as gdaldem hillshade computes it (Byte 1..255, 0 = "
+                       "nodata), optionally with\nexact cast shadows and sky-view shading.",
+                       set.common.device);
+    if (rc >= 0)
+        return rc;
+    sweep_job job;
+    if ((rc = job_open(&job, "hillshade", &set.common, pos, n_pos)))
+        return rc;
+    const ss_grid *g = &job.dem.grid;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    float *shade = malloc(n * sizeof(float));
+    float *extra = (set.cast_shadows || set.sky_view > 0) ? malloc(n * sizeof(float)) : NULL;
+    ss_raster_writer *w = NULL;
+    ss_status st = shade && (extra || !(set.cast_shadows || set.sky_view > 0))
+                       ? ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1,
+                                             set.common.format,
+                                             set.common.creation_options.items, &w)
+                       : command_out_of_memory(&job.run);
+    if (st == SS_OK)
+        st = ss_hillshade(job.run.ctx, g, set.azimuth_deg, set.altitude_deg, set.z_factor,
+                          set.alg == 1, set.multidirectional, shade);
+    /* The light's azimuth is in the raster's frame; the sweep takes the
+     * options' frame (true north unless --north grid). */
+    if (st == SS_OK && set.cast_shadows) {
+        double az = set.azimuth_deg + job.opt.grid_north_deg;
+        st = ss_cast_shadow(job.run.ctx, g, &job.opt, az, set.altitude_deg, NULL, extra, NULL);
+        for (size_t c = 0; st == SS_OK && c < n; ++c)
+            if (shade[c] != SS_NODATA && extra[c] == 0.0f)
+                shade[c] = 1.0f;
+    }
+    if (st == SS_OK && set.sky_view > 0) {
+        st = ss_svf(job.run.ctx, g, &job.opt, SS_SVF_DEF_GEOMETRIC, extra);
+        for (size_t c = 0; st == SS_OK && c < n; ++c)
+            if (shade[c] != SS_NODATA)
+                shade[c] = (float)((1 - set.sky_view) * shade[c] +
+                                   set.sky_view * (1.0 + 254.0 * extra[c]));
+    }
+    if (st == SS_OK) {
+        char buf[200];
+        run_common_metadata(&job.run, w, &job.opt, &job.frame);
+        snprintf(buf, sizeof buf,
+                 "gdaldem hillshade: az %g (raster frame), alt %g, z %g, %s%s%s; sky-view "
+                 "weight %g",
+                 set.azimuth_deg, set.altitude_deg, set.z_factor, set.alg ? "ZevenbergenThorne" : "Horn",
+                 set.multidirectional ? ", multidirectional" : "",
+                 set.cast_shadows ? ", cast shadows" : "", set.sky_view);
+        ss_writer_metadata(w, "HILLSHADE", buf);
+        st = ss_writer_band(w, 1, shade, "hillshade", NULL);
+    }
+    if (st == SS_OK)
+        st = run_commit(&job.run, w);
+    else
+        ss_writer_abort(w);
+    rc = job_finish(&job, st);
+    if (st == SS_OK && !job.run.quiet) {
+        run_print_dem(&job.run, &job.dem, &job.frame);
+        if (set.cast_shadows || set.sky_view > 0)
+            command_print_sweep(&job.run, &job.opt, g->width, g->height);
+        printf("shade   light %g/%g deg -> %s\n", set.azimuth_deg, set.altitude_deg, job.output);
+    }
+    free(shade);
+    free(extra);
+    job_close(&job);
+    return rc;
+}
