@@ -9,12 +9,15 @@
 #define SS_FN inline __attribute__((always_inline))
 typedef long ss_i64;
 #define SS_SQRT(x) sqrt(x)
+#define SS_FABS(x) fabs(x)
 #define SS_ATAN(x) atan(x)
 #define SS_ATAN2(y, x) atan2((y), (x))
 #define SS_SIN(x) sin(x)
 #define SS_COS(x) cos(x)
 #define SS_FMAX(a, b) fmax((a), (b))
 #define SS_FMIN(a, b) fmin((a), (b))
+#define SS_POW(x, y) pow((x), (y))
+#define SS_EXP(x) exp(x)
 #define SS_ISFINITE(x) isfinite(x)
 #else
 #include <math.h>
@@ -23,12 +26,15 @@ typedef long ss_i64;
 #define SS_FN static inline __attribute__((always_inline))
 typedef int64_t ss_i64;
 #define SS_SQRT(x) sqrtf(x)
+#define SS_FABS(x) fabsf(x)
 #define SS_ATAN(x) atanf(x)
 #define SS_ATAN2(y, x) atan2f((y), (x))
 #define SS_SIN(x) sinf(x)
 #define SS_COS(x) cosf(x)
 #define SS_FMAX(a, b) fmaxf((a), (b))
 #define SS_FMIN(a, b) fminf((a), (b))
+#define SS_POW(x, y) powf((x), (y))
+#define SS_EXP(x) expf(x)
 #define SS_ISFINITE(x) isfinite(x)
 #endif
 

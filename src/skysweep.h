@@ -69,6 +69,9 @@ typedef struct {
     uint64_t cells_swept; /* cells x directions */
     double sweep_seconds; /* wall time inside sweeps, kernel build excluded */
     double build_seconds; /* kernel program build (cached or not) */
+    uint64_t time_steps;            /* daylight time steps evaluated */
+    uint64_t night_steps_skipped;   /* steps with the sun below every cell's horizontal */
+    uint64_t shadow_sweeps_skipped; /* steps with the sun above every possible horizon */
 } ss_counters;
 ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
@@ -158,6 +161,52 @@ ss_status ss_sun_incidence(ss_ctx *ctx, const ss_grid *grid, double grid_azimuth
 ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_deg,
                        double light_altitude_deg, double z_factor, int zevenbergen_thorne,
                        int multidirectional_light, float *shade);
+
+/* ---- insolation --------------------------------------------------------- */
+
+typedef enum {
+    SS_SHADOW_EXACT = 0,       /* a sweep at every daylight step's sun azimuth */
+    SS_SHADOW_INTERPOLATED = 1 /* horizons stored at the sweep's directions, interpolated */
+} ss_shadow_mode;
+
+typedef struct {
+    double albedo;             /* ground reflectance for the reflected term, 0..1 */
+    ss_shadow_mode shadow_mode;
+} ss_insolation_options;
+
+/* The sun for one time step, supplied by the caller (who knows where the
+ * grid lies): at the grid's centre, plus per-cell fields where one sun does
+ * not serve every cell. */
+typedef struct {
+    double duration_h;             /* hours this step stands for */
+    double linke;                  /* Linke turbidity (air mass 2) */
+    double extraterrestrial_w_m2;  /* normal irradiance above the atmosphere */
+    double azimuth_deg;            /* in the sweep options' frame (the shadow sweep) */
+    double grid_azimuth_deg;       /* the same in the grid's frame (cell slopes) */
+    double elevation_deg;          /* true, airless */
+    double apparent_elevation_deg; /* with refraction, for shadows */
+    double spread_deg;             /* largest difference of any cell's sun from this one */
+    const float *grid_azimuth_per_cell, *elevation_per_cell, *apparent_per_cell; /* or NULL */
+} ss_sun_step;
+
+typedef ss_status (*ss_sun_step_fn)(ss_ctx *ctx, int index, ss_sun_step *step, void *user);
+/* Receives each step's global irradiation (Wh/m^2, SS_NODATA at nodata);
+ * return 0 to stop. */
+typedef int (*ss_step_sink)(int index, const float *global_wh_m2, void *user);
+
+typedef struct {
+    float *global, *beam, *diffuse, *reflected; /* Wh/m^2 over all steps */
+    float *sun_hours; /* hours the cell's surface received direct sun */
+} ss_insolation_out;
+
+/* Clear-sky irradiation (ESRA with Linke turbidity, as GRASS r.sun; sky
+ * diffuse scaled by the cell's radiative sky-view factor over the options'
+ * directions, reflected by albedo times the terrain the cell sees): beam,
+ * diffuse and reflected on each cell's slope, summed over n_steps. */
+ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                        const ss_insolation_options *io, int n_steps, ss_sun_step_fn sun_at,
+                        void *sun_user, ss_step_sink sink, void *sink_user,
+                        ss_insolation_out *out);
 
 /* The bare pass along the lines of one azimuth: every sample read and its
  * cells written (out[c] += weight * height), no hull. The yardstick of the

@@ -83,9 +83,10 @@ ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
     double *node_e0 = malloc(sizeof(double) * (size_t)nc * nr);
     size_t n = (size_t)g->width * g->height;
     field->grid_azimuth_deg = malloc(sizeof(float) * n);
+    field->elevation_deg = malloc(sizeof(float) * n);
     field->apparent_elevation_deg = malloc(sizeof(float) * n);
     if (!cols || !rows || !node_az || !node_e0 || !field->grid_azimuth_deg ||
-        !field->apparent_elevation_deg)
+        !field->elevation_deg || !field->apparent_elevation_deg)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
     /* Exact positions at the lattice nodes: the centre's geocentric sun
      * direction seen from each node, parallax included. */
@@ -128,6 +129,7 @@ ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
                                 ty * ((1 - tx) * node_e0[d] + tx * node_e0[e]);
                     size_t cell = (size_t)r * g->width + c;
                     field->grid_azimuth_deg[cell] = (float)az;
+                    field->elevation_deg[cell] = (float)e0;
                     field->apparent_elevation_deg[cell] =
                         (float)(e0 + ss_spa_refraction_deg(e0, p.pressure_hpa, p.temperature_c,
                                                            p.atmos_refract_deg));
@@ -145,6 +147,7 @@ ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
 void ss_sun_field_free(ss_sun_field *field)
 {
     free(field->grid_azimuth_deg);
+    free(field->elevation_deg);
     free(field->apparent_elevation_deg);
-    field->grid_azimuth_deg = field->apparent_elevation_deg = NULL;
+    field->grid_azimuth_deg = field->elevation_deg = field->apparent_elevation_deg = NULL;
 }

@@ -17,6 +17,7 @@ typedef struct {
     double centre_grid_azimuth_deg; /* the sun's azimuth in the grid frame at the centre */
     /* Per cell, or NULL when one sun serves the whole grid: */
     float *grid_azimuth_deg;     /* clockwise from the grid's north */
+    float *elevation_deg;        /* true (airless) */
     float *apparent_elevation_deg;
     double spread_deg;          /* largest angle between a cell's sun and the centre's */
 } ss_sun_field;

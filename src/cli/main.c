@@ -15,6 +15,7 @@ static const struct {
     {"horizon", cmd_horizon, "horizon elevation angle per azimuth (one band each)"},
     {"svf", cmd_svf, "sky-view factor (geometric, radiative or horizontal)"},
     {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view"},
+    {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun"},
     {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)"},
     {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range"},
     {"info", cmd_info, "version, dependencies, devices, kernel build status"},
