@@ -63,15 +63,19 @@ SS_FN float ss_muneer_slope_term(float slope)
  * r.sun): sky_view replaces r.sun's (1 + cos S)/2 (on an open plane they
  * agree), f_slope = ss_muneer_slope_term, kb the beam transmittance. A
  * sunlit cell adds the circumsolar part along the beam: cos_i / sin h0, or
- * near the horizon (h0 < 0.1) r.sun's form with sin S cos(A_N) =
- * side_sun, the cell's tilt toward the sun's azimuth. */
+ * on a slope near the horizon (h0 < 0.1) r.sun's form with sin S cos(A_N)
+ * = side_sun, the cell's tilt toward the sun's azimuth. A level cell keeps
+ * cos_i / sin h0 = 1 throughout, so on an open level cell this is exactly 1,
+ * as r.sun's plane case. */
 SS_FN float ss_muneer_diffuse_factor(float sky_view, float f_slope, float kb, int sunlit,
-                                     float cos_i, float sin_h0, float h0, float side_sun)
+                                     int level, float cos_i, float sin_h0, float h0,
+                                     float side_sun)
 {
     if (!sunlit)
         return sky_view + 0.252271f * f_slope;
     float iso = (sky_view + (0.00263f - kb * (0.712f + 0.6883f * kb)) * f_slope) * (1.0f - kb);
-    float circumsolar = h0 >= 0.1f ? kb * cos_i / sin_h0 : kb * side_sun / (0.1f - 0.008f * h0);
+    float circumsolar = h0 >= 0.1f || level ? kb * cos_i / sin_h0
+                                            : kb * side_sun / (0.1f - 0.008f * h0);
     return iso + circumsolar;
 }
 

@@ -231,9 +231,10 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                 float norm = sqrtf(1.0f + terms.dz_de[c] * terms.dz_de[c] +
                                    terms.dz_dn[c] * terms.dz_dn[c]);
                 float side = -(terms.dz_de[c] * sinf(az) + terms.dz_dn[c] * cosf(az)) / norm;
+                int level = terms.dz_de[c] == 0.0f && terms.dz_dn[c] == 0.0f;
                 float diffuse = diff_h * ss_muneer_diffuse_factor(terms.sky_view[c],
                                                                   terms.slope_term[c], kb, lit,
-                                                                  cos_i, sin_h0, h0, side);
+                                                                  level, cos_i, sin_h0, h0, side);
                 float reflected = albedo * (beam_h + diff_h) * (1.0f - terms.sky_view[c]);
                 out->beam[c] += beam * dt;
                 out->diffuse[c] += diffuse * dt;
