@@ -44,5 +44,8 @@ int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **ar
 
 /* Prints the options of the tables as a --help text. */
 void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary);
+/* ... and as a Markdown section for doc/cli.md (options_doc.c). */
+void opt_print_markdown(const opt_spec *const *tables, const char *command, const char *usage,
+                        const char *summary);
 
 #endif

@@ -277,6 +277,10 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
               char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
               const char *usage, const char *summary, const char *device_setting)
 {
+    if (argc == 2 && strcmp(argv[1], "--help-markdown") == 0) {
+        opt_print_markdown(tables, command, usage, summary);
+        return 0;
+    }
     char err[512];
     int r = opt_parse(tables, settings, argc, argv, pos, n_pos, max_pos, err, sizeof err);
     if (r < 0)
