@@ -162,6 +162,11 @@ ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_de
                        double light_altitude_deg, double z_factor, int zevenbergen_thorne,
                        int multidirectional_light, float *shade);
 
+/* An upper bound (degrees) on every terrain horizon the grid can cast in the
+ * line model, curvature or not: no cell is in a cast shadow when the sun is
+ * above it (doc/insolation.md gives the proof). */
+double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines);
+
 /* ---- insolation --------------------------------------------------------- */
 
 typedef enum {

@@ -72,38 +72,6 @@ static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_option
     return SS_OK;
 }
 
-/* Upper bound of any terrain horizon's tangent on the grid. Along a line,
- * each step rises at most Gmajor + |m| Gminor over a run of
- * sqrt(dmajor^2 + m^2 dminor^2) (G: the largest height difference between
- * neighbouring cells along each axis), which Cauchy-Schwarz bounds by
- * sqrt((Gx/cx)^2 + (Gy/cy)^2); digital lines take up to one cell sideways
- * per step, hence the wider bound. A horizon is an average of such steps,
- * and curvature only lowers it. Across nodata holes nothing bounds the
- * step, so there the relief over the smallest cell is used. */
-static double horizon_tan_bound(const ss_grid *g, int digital)
-{
-    double gx = 0, gy = 0, zmin = INFINITY, zmax = -INFINITY;
-    int holes = 0;
-    for (int r = 0; r < g->height; ++r)
-        for (int c = 0; c < g->width; ++c) {
-            float z = g->z[(size_t)r * g->width + c];
-            if (!isfinite(z)) {
-                holes = 1;
-                continue;
-            }
-            zmin = z < zmin ? z : zmin;
-            zmax = z > zmax ? z : zmax;
-            if (c + 1 < g->width && isfinite(g->z[(size_t)r * g->width + c + 1]))
-                gx = fmax(gx, fabs(g->z[(size_t)r * g->width + c + 1] - z));
-            if (r + 1 < g->height && isfinite(g->z[(size_t)(r + 1) * g->width + c]))
-                gy = fmax(gy, fabs(g->z[(size_t)(r + 1) * g->width + c] - z));
-        }
-    if (holes)
-        return (zmax - zmin) / fmin(g->cell_x_m, g->cell_y_m);
-    double sx = gx / g->cell_x_m, sy = gy / g->cell_y_m;
-    return digital ? M_SQRT2 * (sx + sy) : sqrt(sx * sx + sy * sy);
-}
-
 /* Horizons at the D stored directions, int16 hundredths of a degree. */
 static ss_status store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
                                 const ss_sweep_options *opt, int16_t **stored)
@@ -172,8 +140,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
         out->global[c] = out->beam[c] = out->diffuse[c] = out->reflected[c] = v;
         out->sun_hours[c] = v;
     }
-    double bound_deg =
-        atan(horizon_tan_bound(grid, opt->lines == SS_LINES_DIGITAL)) * 180.0 / M_PI;
+    double bound_deg = ss_horizon_bound_deg(grid, opt->lines);
     for (int k = 0; k < n_steps && st == SS_OK; ++k) {
         ss_sun_step sun;
         st = sun_at(ctx, k, &sun, sun_user);
