@@ -213,6 +213,67 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                         void *sun_user, ss_step_sink sink, void *sink_user,
                         ss_insolation_out *out);
 
+/* ---- the effects planner (doc/planner.md) -------------------------------- */
+
+typedef enum {
+    SS_PRODUCT_HORIZON,
+    SS_PRODUCT_SVF,
+    SS_PRODUCT_SHADOW,
+    SS_PRODUCT_HILLSHADE,
+    SS_PRODUCT_INSOLATION
+} ss_product;
+
+typedef enum { SS_AUTO = -1, SS_OFF = 0, SS_ON = 1 } ss_switch;
+
+/* Where the grid lies, from the DEM's CRS (the CLI's frame). */
+typedef struct {
+    int georeferenced, geographic;
+    double centre_lon_deg, centre_lat_deg;
+    double grid_north_deg, grid_north_min_deg, grid_north_max_deg;
+    double cell_variation; /* relative spread of ground cell sizes over the grid */
+    double diagonal_m;     /* the longest distance a horizon can span */
+    double earth_radius_m;
+} ss_place;
+
+typedef struct {
+    ss_product product;
+    double horizon_tolerance_deg; /* horizon angles, shadows, azimuths */
+    double svf_tolerance;         /* SVF (0..1 units) */
+    double sun_tolerance_deg;     /* the sun's direction per cell */
+    ss_switch curvature, true_north, sun_per_cell; /* SS_AUTO: the planner decides */
+    double refraction_k;
+    int directions; /* 0: the planner chooses */
+    ss_line_model lines;
+    ss_shadow_mode shadow_mode;
+    int n_steps;                /* time steps (shadow, insolation) ... */
+    const double *step_unix_s;  /* ... and the instants they are evaluated at */
+} ss_plan_request;
+
+#define SS_PLAN_MAX_ITEMS 12
+typedef struct {
+    char key[24];     /* curvature, true_north, cell_sizes, sun_per_cell, directions, ... */
+    int on;
+    char reason[400]; /* in the scene's own numbers */
+    double bound;     /* the error the decision allows (0: none) */
+    char unit[8];
+} ss_plan_item;
+
+typedef struct {
+    ss_plan_item items[SS_PLAN_MAX_ITEMS];
+    int n_items;
+    int curvature, true_north, sun_per_cell; /* the decisions */
+    int directions;
+    int steps_total, steps_night, steps_high_sun;
+    int sweeps;
+    double cells, estimated_seconds;
+} ss_plan;
+
+ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
+                       const ss_plan_request *request, ss_plan *plan);
+/* The plan as text lines ("effect ON/OFF reason [error allowed]") or JSON;
+ * returns the length needed, as snprintf. */
+size_t ss_plan_format(const ss_plan *plan, int json, char *buf, size_t size);
+
 /* The bare pass along the lines of one azimuth: every sample read and its
  * cells written (out[c] += weight * height), no hull. The yardstick of the
  * sweep's cost, and with z = 1 it adds up the weight each cell receives

@@ -55,6 +55,14 @@ int cmd_hillshade(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open(&job, "hillshade", &set.common, pos, n_pos)))
         return rc;
+    /* Plain hillshade reads no horizons; cast shadows and sky view do. */
+    ss_product product = set.cast_shadows   ? SS_PRODUCT_SHADOW
+                         : set.sky_view > 0 ? SS_PRODUCT_SVF
+                                            : SS_PRODUCT_HILLSHADE;
+    if ((rc = job_plan(&job, &set.common, product, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+        job_close(&job);
+        return rc;
+    }
     const ss_grid *g = &job.dem.grid;
     size_t n = (size_t)g->width * (size_t)g->height;
     float *shade = malloc(n * sizeof(float));
@@ -87,6 +95,7 @@ int cmd_hillshade(int argc, char **argv)
     if (st == SS_OK) {
         char buf[200];
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
+        job_plan_metadata(&job, w);
         snprintf(buf, sizeof buf,
                  "gdaldem hillshade: az %g (raster frame), alt %g, z %g, %s%s%s; sky-view "
                  "weight %g",

@@ -48,6 +48,7 @@ typedef struct {
     double linke[12];
     ss_sun_field field;
     int have_field;
+    double sun_spread_deg; /* the planner's bound when one sun serves all cells */
     char **labels; /* ISO time of each step's start */
 } steps_state;
 
@@ -90,17 +91,15 @@ static ss_status sun_of_step(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
     double mid = 0.5 * (start + end);
     ss_spa_params p;
     run_spa_params(&ss->set->common, &p);
-    int want = ss->set->common.sun_per_cell; /* 0 auto, 1 on, 2 off */
-    ss_status st = ss_sun_field_compute(ctx, &job->dem, &job->frame, mid, &p, want != 2,
-                                        &ss->field);
+    /* The plan decided whether the sun is needed per cell. Without it the
+     * run still allows for the spread the planner bounded. */
+    ss_status st = ss_sun_field_compute(ctx, &job->dem, &job->frame, mid, &p,
+                                        job->plan.sun_per_cell, &ss->field);
     if (st != SS_OK)
         return st;
     ss->have_field = 1;
-    if (want == 0 && ss->field.spread_deg <= 0.001) {
-        double spread = ss->field.spread_deg;
-        ss_sun_field_free(&ss->field);
-        ss->field.spread_deg = spread;
-    }
+    if (!job->plan.sun_per_cell)
+        ss->field.spread_deg = ss->sun_spread_deg;
     const ss_sun_field *f = &ss->field;
     ss_civil_time civil;
     ss_civil_from_unix(mid, &civil);
@@ -186,6 +185,26 @@ int cmd_insolation(int argc, char **argv)
     if (st == SS_OK)
         st = parse_linke(ctx, set.linke, steps.linke);
     int n_steps = st == SS_OK ? (int)steps.range.count : 0;
+    double *mids = st == SS_OK ? malloc(sizeof(double) * (size_t)n_steps) : NULL;
+    for (int k = 0; mids && k < n_steps; ++k) {
+        double a = ss_time_range_at(&steps.range, k), b = ss_time_range_at(&steps.range, k + 1);
+        mids[k] = 0.5 * (a + (b < steps.range.end_unix_s ? b : steps.range.end_unix_s));
+    }
+    if (st == SS_OK && !mids)
+        st = command_out_of_memory(&job.run);
+    if (st == SS_OK) {
+        rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, mids,
+                      set.shadow_mode ? SS_SHADOW_INTERPOLATED : SS_SHADOW_EXACT);
+        if (rc >= 0) {
+            free(mids);
+            free(text);
+            job_close(&job);
+            return rc;
+        }
+        steps.sun_spread_deg =
+            job.frame.diagonal_m / (2.0 * run_earth_radius(&set.common, &job.frame)) * 180 / M_PI;
+    }
+    free(mids);
     const ss_grid *g = &job.dem.grid;
     size_t n = (size_t)g->width * (size_t)g->height;
     ss_insolation_out out = {0};
@@ -226,6 +245,7 @@ int cmd_insolation(int argc, char **argv)
     char meta[300];
     if (st == SS_OK) {
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
+        job_plan_metadata(&job, w);
         snprintf(meta, sizeof meta,
                  "%s, %d steps of %s evaluated at their middles; Linke %s; albedo %g; shadows "
                  "%s; solar constant %g W/m2",

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include "commands.h"
+#include "iso_time.h"
 #include "run.h"
 #include "sun_field.h"
 
@@ -36,6 +37,13 @@ int cmd_shadow(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open(&job, "shadow", &set.common, pos, n_pos)))
         return rc;
+    double when;
+    int timed = set.common.time && ss_parse_instant(job.run.ctx, set.common.time, &when) == SS_OK;
+    if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SHADOW, timed, timed ? &when : NULL,
+                       SS_SHADOW_EXACT)) >= 0) {
+        job_close(&job);
+        return rc;
+    }
     const ss_grid *g = &job.dem.grid;
     size_t n = (size_t)g->width * (size_t)g->height;
     ss_sun_field sun;
@@ -73,6 +81,7 @@ int cmd_shadow(int argc, char **argv)
     if (st == SS_OK) {
         char buf[200];
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
+        job_plan_metadata(&job, w);
         snprintf(buf, sizeof buf, "azimuth %.6f deg (true), apparent elevation %.6f deg, %s",
                  sun_az_true, sun.centre.apparent_elevation_deg,
                  sun.apparent_elevation_deg ? "per cell" : "one sun for the DEM");

@@ -41,6 +41,10 @@ int cmd_svf(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open(&job, "svf", &set.common, pos, n_pos)))
         return rc;
+    if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SVF, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+        job_close(&job);
+        return rc;
+    }
     const ss_grid *g = &job.dem.grid;
     size_t n = (size_t)g->width * (size_t)g->height;
     ss_raster_writer *w = NULL;
@@ -52,6 +56,7 @@ int cmd_svf(int argc, char **argv)
         st = ss_svf(job.run.ctx, g, &job.opt, definition_of_choice[set.definition], svf);
     if (st == SS_OK) {
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
+        job_plan_metadata(&job, w);
         ss_writer_metadata(w, "SVF_DEFINITION", definition_names[set.definition]);
         st = ss_writer_band(w, 1, svf, "sky-view factor", "1");
     }

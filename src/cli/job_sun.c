@@ -10,9 +10,6 @@
 #include "run.h"
 #include "sun_field.h"
 
-/* The sun directions of a DEM's cells differ by less than this: one sun. */
-#define SUN_SPREAD_ONE_DEG 0.001
-
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field)
 {
     ss_ctx *ctx = job->run.ctx;
@@ -42,9 +39,7 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
         return st;
     ss_spa_params p;
     run_spa_params(common, &p);
-    int want = common->sun_per_cell; /* 0 auto, 1 on, 2 off */
-    st = ss_sun_field_compute(ctx, &job->dem, &job->frame, unix_s, &p, want != 2, field);
-    if (st == SS_OK && want == 0 && field->spread_deg <= SUN_SPREAD_ONE_DEG)
-        ss_sun_field_free(field); /* one sun serves every cell */
-    return st;
+    /* The plan decided whether the sun is needed per cell. */
+    return ss_sun_field_compute(ctx, &job->dem, &job->frame, unix_s, &p, job->plan.sun_per_cell,
+                                field);
 }

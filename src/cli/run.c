@@ -15,13 +15,15 @@
 
 #define COMMON(field) offsetof(common_settings, field)
 const opt_spec common_options[] = {
-    {"directions", OPT_INT, COMMON(directions), "N", "32", 1, 1000000, NULL,
-     "number of azimuth directions, evenly spaced"},
+    {"directions", OPT_INT, COMMON(directions), "N", NULL, 1, 1000000, NULL,
+     "number of azimuth directions, evenly spaced (default: chosen by the planner from "
+     "--svf-tolerance)"},
     {"offset", OPT_DOUBLE, COMMON(offset_deg), "DEG", "0", -360, 360, NULL,
      "azimuth of the first direction, degrees clockwise from north"},
-    {"north", OPT_CHOICE, COMMON(north), NULL, "true", 0, 0, "true|grid",
-     "azimuths from true north (meridian convergence at the DEM's centre taken out), or from "
-     "the grid's north"},
+    {"north", OPT_CHOICE, COMMON(north), NULL, "auto", 0, 0, "auto|true|grid",
+     "azimuths from true north (meridian convergence at the DEM's centre taken out) or from "
+     "the grid's north; auto: true north where they differ by more than "
+     "--horizon-tolerance"},
     {"device", OPT_STRING, COMMON(device), "NAME", NULL, 0, 0, NULL,
      "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin)"},
     {"q", OPT_FLAG, COMMON(quiet), NULL, NULL, 0, 0, NULL, "quiet: no progress, no summary"},
@@ -30,12 +32,23 @@ const opt_spec common_options[] = {
      "GDAL creation option (repeatable); defaults: TILED=YES COMPRESS=DEFLATE PREDICTOR=3"},
     {"cell-size", OPT_DOUBLE, COMMON(cell_size_m), "METRES", NULL, 1e-6, 1e7, NULL,
      "treat an input without georeferencing as a heightmap with this cell size"},
-    {"curvature", OPT_CHOICE, COMMON(curvature), NULL, "off", 0, 0, "off|on",
-     "earth curvature with terrestrial refraction"},
+    {"curvature", OPT_CHOICE, COMMON(curvature), NULL, "auto", 0, 0, "auto|on|off",
+     "earth curvature with terrestrial refraction; auto: on where it moves horizons by more "
+     "than the tolerance"},
     {"refraction", OPT_DOUBLE, COMMON(refraction_k), "K", "0.13", 0, 0.99, NULL,
      "terrestrial refraction coefficient k (R_eff = R / (1 - k))"},
     {"earth-radius", OPT_DOUBLE, COMMON(earth_radius_m), "METRES", NULL, 1e3, 1e9, NULL,
      "earth radius for curvature (default: the ellipsoid's mean radius at the DEM's centre)"},
+    {"horizon-tolerance", OPT_DOUBLE, COMMON(horizon_tolerance_deg), "DEG", "0.05", 1e-9, 90,
+     NULL, "horizon (and shadow, azimuth) error the run may allow; the planner follows it"},
+    {"svf-tolerance", OPT_DOUBLE, COMMON(svf_tolerance), "SVF", "0.01", 1e-9, 1, NULL,
+     "sky-view factor error the run may allow"},
+    {"sun-tolerance", OPT_DOUBLE, COMMON(sun_tolerance_deg), "DEG", "0.001", 1e-9, 90, NULL,
+     "error in the sun's direction per cell the run may allow"},
+    {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
+     "print the plan (effects on/off, why, the error allowed, cost) and stop"},
+    {"plan-format", OPT_CHOICE, COMMON(plan_json), NULL, "text", 0, 0, "text|json",
+     "format of the plan"},
     {"lines", OPT_CHOICE, COMMON(lines), NULL, "interpolated", 0, 0, "interpolated|digital",
      "interpolated: samples on exact lines, heights interpolated across them; digital: lines "
      "through cell centres (doc/model.md)"},
@@ -50,7 +63,7 @@ const opt_spec sun_options[] = {
      "... and apparent elevation above the horizontal"},
     {"sun-per-cell", OPT_CHOICE, COMMON(sun_per_cell), NULL, "auto", 0, 0, "auto|on|off",
      "the sun's position per cell (rotated into each cell's frame) or one for the DEM; auto: "
-     "per cell when they differ by more than 0.001 deg"},
+     "per cell when they differ by more than --sun-tolerance"},
     {"delta-t", OPT_DOUBLE, COMMON(delta_t_s), "SECONDS", NULL, -8000, 8000, NULL,
      "TT - UT1 (default: the Espenak-Meeus model)"},
     {"pressure", OPT_DOUBLE, COMMON(pressure_hpa), "HPA", "1013.25", 0, 5000, NULL,
@@ -168,17 +181,22 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
     return st;
 }
 
+double run_earth_radius(const common_settings *common, const ss_dem_frame *frame)
+{
+    return common->earth_radius_m > 0 ? common->earth_radius_m : frame->earth_radius_m;
+}
+
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt)
 {
     ss_sweep_options_default(opt);
-    opt->directions = common->directions;
+    /* Provisional: job_plan sets directions, curvature and north from the plan. */
+    opt->directions = common->directions ? common->directions : 32;
     opt->offset_deg = common->offset_deg;
-    double radius = common->earth_radius_m > 0 ? common->earth_radius_m : frame->earth_radius_m;
-    opt->earth_radius_m = common->curvature ? radius : 0.0;
-    opt->refraction_k = common->curvature ? common->refraction_k : 0.0;
+    opt->earth_radius_m = common->curvature == 1 ? run_earth_radius(common, frame) : 0.0;
+    opt->refraction_k = common->curvature == 1 ? common->refraction_k : 0.0;
     opt->lines = common->lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
-    opt->grid_north_deg = common->north == 0 ? frame->grid_north_deg : 0.0;
+    opt->grid_north_deg = common->north != 2 ? frame->grid_north_deg : 0.0;
 }
 
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,

@@ -19,11 +19,13 @@ typedef struct {
     const char *format;
     opt_list creation_options;
     double cell_size_m;
-    int curvature; /* 0 off, 1 on */
+    int curvature; /* index into "auto|on|off" */
     double refraction_k;
     double earth_radius_m; /* 0: the DEM's local radius */
     int lines;             /* index into "interpolated|digital" */
-    int north;             /* index into "true|grid" */
+    int north;             /* index into "auto|true|grid" */
+    double horizon_tolerance_deg, svf_tolerance, sun_tolerance_deg;
+    int plan_only, plan_json;
     /* The sun (commands that take sun_options): */
     const char *time;      /* ISO 8601 instant or range */
     double sun_azimuth_deg, sun_elevation_deg; /* given instead of a time; NAN if not */
@@ -72,6 +74,7 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
                        const common_settings *common, ss_dem *dem, ss_dem_frame *frame);
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt);
+double run_earth_radius(const common_settings *common, const ss_dem_frame *frame);
 /* Refuses an output that is also an input. */
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
                            int n_inputs);
@@ -91,6 +94,7 @@ typedef struct {
     ss_dem_frame frame;
     ss_sweep_options opt;
     int have_dem;
+    ss_plan plan;
 } sweep_job;
 
 /* Starts the run, refuses an output that is an input, reads the DEM and its
@@ -101,6 +105,14 @@ int job_open(sweep_job *job, const char *command, const common_settings *common,
 /* The sun for the job (job_sun.c): given, or from --time by SPA at the DEM,
  * for one instant; one sun for the DEM or per cell. */
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field);
+/* Plans the run (planner.c: effects, directions, skipped steps) for the
+ * product and its time steps (may be none), sets the job's options from
+ * the plan, prints it unless quiet. Returns -1 to go on, else the exit
+ * code (0 after --plan). */
+int job_plan(sweep_job *job, const common_settings *common, ss_product product, int n_steps,
+             const double *step_unix_s, ss_shadow_mode shadow_mode);
+/* The plan as JSON into an output's metadata (PLAN). */
+void job_plan_metadata(sweep_job *job, ss_raster_writer *w);
 /* Prints the failure (if st is not SS_OK) and returns the exit code. */
 int job_finish(sweep_job *job, ss_status st);
 void job_close(sweep_job *job);

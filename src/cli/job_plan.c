@@ -1,0 +1,75 @@
+/* Runs the effects planner for a command and makes the job obey it. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "run.h"
+
+static ss_switch switch_of(int choice_auto_on_off)
+{
+    return choice_auto_on_off == 0 ? SS_AUTO : choice_auto_on_off == 1 ? SS_ON : SS_OFF;
+}
+
+int job_plan(sweep_job *job, const common_settings *common, ss_product product, int n_steps,
+             const double *step_unix_s, ss_shadow_mode shadow_mode)
+{
+    const ss_dem_frame *f = &job->frame;
+    ss_place place = {f->georeferenced, f->geographic, f->centre_lon_deg, f->centre_lat_deg,
+                      f->grid_north_deg, f->grid_north_min_deg, f->grid_north_max_deg,
+                      f->cell_variation, f->diagonal_m, run_earth_radius(common, f)};
+    if (!f->georeferenced) {
+        double w = job->dem.grid.width * job->dem.grid.cell_x_m;
+        double h = job->dem.grid.height * job->dem.grid.cell_y_m;
+        place.diagonal_m = sqrt(w * w + h * h);
+    }
+    ss_plan_request req;
+    req.product = product;
+    req.horizon_tolerance_deg = common->horizon_tolerance_deg;
+    req.svf_tolerance = common->svf_tolerance;
+    req.sun_tolerance_deg = common->sun_tolerance_deg;
+    req.curvature = switch_of(common->curvature);
+    req.true_north = common->north == 0 ? SS_AUTO : common->north == 1 ? SS_ON : SS_OFF;
+    req.sun_per_cell = switch_of(common->sun_per_cell);
+    req.refraction_k = common->refraction_k;
+    req.directions = common->directions;
+    req.lines = job->opt.lines;
+    req.shadow_mode = shadow_mode;
+    req.n_steps = n_steps;
+    req.step_unix_s = step_unix_s;
+    ss_status st = ss_plan_make(job->run.ctx, &job->dem.grid, &place, &req, &job->plan);
+    if (st != SS_OK)
+        return job_finish(job, st);
+    /* Obey the plan: what it leaves off is not computed. */
+    const ss_plan *p = &job->plan;
+    job->opt.directions = p->directions;
+    job->opt.earth_radius_m = p->curvature ? place.earth_radius_m : 0.0;
+    job->opt.refraction_k = p->curvature ? common->refraction_k : 0.0;
+    job->opt.grid_north_deg = p->true_north ? f->grid_north_deg : 0.0;
+    size_t len = ss_plan_format(p, common->plan_json, NULL, 0) + 1;
+    char *text = malloc(len);
+    if (!text)
+        return job_finish(job, ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory"));
+    ss_plan_format(p, common->plan_json, text, len);
+    if (common->plan_only) {
+        fputs(text, stdout);
+        free(text);
+        return 0;
+    }
+    if (!job->run.quiet)
+        printf("plan\n%s", text);
+    free(text);
+    return -1;
+}
+
+void job_plan_metadata(sweep_job *job, ss_raster_writer *w)
+{
+    size_t len = ss_plan_format(&job->plan, 1, NULL, 0) + 1;
+    char *json = malloc(len);
+    if (!json)
+        return;
+    ss_plan_format(&job->plan, 1, json, len);
+    ss_writer_metadata(w, "PLAN", json);
+    free(json);
+}

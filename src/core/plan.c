@@ -1,0 +1,272 @@
+/* The effects planner: for one scene (a grid, where it lies, the product,
+ * the time steps and the accuracy asked for) decide which physical effects
+ * and which costly steps the run needs, say why in the scene's own numbers,
+ * and state the error that leaving each out allows. The run then obeys the
+ * plan: what is planned off is not computed. */
+#include "config.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "ctx_internal.h"
+#include "spa.h"
+
+#define DEG (180.0 / M_PI)
+
+/* Sweep throughput and per-cell step cost used for the cost estimate:
+ * measured with make bench on the 2-core EPYC development machine through
+ * PoCL (doc/performance.md); a GPU is much faster. */
+#define PLAN_CELL_DIRECTIONS_PER_S 8e7
+#define PLAN_CELL_STEP_S 2e-8
+
+static ss_plan_item *add(ss_plan *p, const char *key, int on, double bound, const char *unit,
+                         const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+static ss_plan_item *add(ss_plan *p, const char *key, int on, double bound, const char *unit,
+                         const char *fmt, ...)
+{
+    if (p->n_items >= SS_PLAN_MAX_ITEMS)
+        return NULL;
+    ss_plan_item *it = &p->items[p->n_items++];
+    snprintf(it->key, sizeof it->key, "%s", key);
+    it->on = on;
+    it->bound = bound;
+    snprintf(it->unit, sizeof it->unit, "%s", unit);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(it->reason, sizeof it->reason, fmt, ap);
+    va_end(ap);
+    return it;
+}
+
+static int uses_horizons(ss_product product)
+{
+    return product != SS_PRODUCT_HILLSHADE;
+}
+
+static int uses_sun(ss_product product)
+{
+    return product == SS_PRODUCT_SHADOW || product == SS_PRODUCT_INSOLATION;
+}
+
+/* The accuracy a product is judged by, as the horizon angle it allows: SVF
+ * moves by at most the horizon's change in radians (d sin h / dh <= 1). */
+static double horizon_tolerance_deg(const ss_plan_request *r)
+{
+    return r->product == SS_PRODUCT_SVF ? r->svf_tolerance * DEG : r->horizon_tolerance_deg;
+}
+
+static void plan_curvature(ss_plan *p, const ss_plan_request *r, const ss_place *place)
+{
+    if (!uses_horizons(r->product)) {
+        add(p, "curvature", 0, 0, "deg", "this product reads no horizons");
+        return;
+    }
+    double k = r->refraction_k;
+    double lowering = (1.0 - k) * place->diagonal_m / (2.0 * place->earth_radius_m) * DEG;
+    double tol = horizon_tolerance_deg(r);
+    int on = r->curvature == SS_AUTO ? lowering > tol : r->curvature == SS_ON;
+    const char *why = r->curvature == SS_AUTO ? (on ? "above" : "within") : "requested, tolerance";
+    add(p, "curvature", on, on ? 0 : lowering, "deg",
+        "horizons reach at most %.3g km across the DEM, where the earth's curvature with "
+        "refraction k = %.2f lowers them by %.3g deg: %s the %.3g deg tolerance",
+        place->diagonal_m / 1000, k, lowering, why, tol);
+}
+
+static void plan_north(ss_plan *p, const ss_plan_request *r, const ss_place *place)
+{
+    double tol = r->horizon_tolerance_deg;
+    if (!place->georeferenced) {
+        add(p, "true_north", 0, 0, "deg", "no CRS: azimuths are from the grid's north");
+        return;
+    }
+    double off = fabs(place->grid_north_deg);
+    double spread = fmax(fabs(place->grid_north_max_deg - place->grid_north_deg),
+                         fabs(place->grid_north_min_deg - place->grid_north_deg));
+    int on = r->true_north == SS_AUTO ? off > tol : r->true_north == SS_ON;
+    if (on)
+        add(p, "true_north", 1, spread, "deg",
+            "grid north is %.4f deg from true north at the centre; azimuths are turned by it, "
+            "and across the DEM it varies by %.4f deg more",
+            place->grid_north_deg, spread);
+    else
+        add(p, "true_north", 0, off + spread, "deg",
+            "grid north is %.4f deg from true north at the centre (%.4f deg at most over the "
+            "DEM): %s the %.3g deg tolerance",
+            place->grid_north_deg, off + spread,
+            r->true_north == SS_AUTO ? "within" : "requested off,", tol);
+}
+
+static void plan_cells(ss_plan *p, const ss_plan_request *r, const ss_place *place)
+{
+    /* A relative distance error e tilts a horizon h by (e/2) sin 2h <= e/2 rad. */
+    double bound = 0.5 * place->cell_variation * DEG;
+    if (!place->georeferenced)
+        add(p, "cell_sizes", 0, 0, "deg", "no CRS: the given cell size is used");
+    else
+        add(p, "cell_sizes", 1, bound, "deg",
+            "%s cell sizes at the DEM's centre; they vary by %.2g over the DEM, which tilts "
+            "horizons by at most %.3g deg%s",
+            place->geographic ? "geodesic" : "ground (projected / scale factor)",
+            place->cell_variation, bound,
+            bound > r->horizon_tolerance_deg ? " (above the tolerance: reproject the DEM to a "
+                                               "local projection, or cut it into smaller parts)"
+                                             : "");
+}
+
+static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place)
+{
+    if (!uses_sun(r->product) || !place->georeferenced) {
+        add(p, "sun_per_cell", 0, 0, "deg",
+            uses_sun(r->product) ? "no CRS: the sun is given for the whole DEM"
+                                 : "this product has no sun");
+        return;
+    }
+    /* The local vertical turns by the central angle between two cells. */
+    double spread = place->diagonal_m / (2.0 * place->earth_radius_m) * DEG;
+    int on = r->sun_per_cell == SS_AUTO ? spread > r->sun_tolerance_deg : r->sun_per_cell == SS_ON;
+    add(p, "sun_per_cell", on, on ? 0 : spread, "deg",
+        "the sun's direction differs by up to %.4f deg between the centre and a corner: %s the "
+        "%.3g deg sun tolerance",
+        spread, r->sun_per_cell != SS_AUTO ? "requested, tolerance" : on ? "above" : "within",
+        r->sun_tolerance_deg);
+}
+
+/* Counts of the time steps that need no work, from SPA at the centre. */
+static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
+                            const ss_place *place, double bound_deg, double spread_deg)
+{
+    if (!uses_sun(r->product) || r->n_steps == 0 || !place->georeferenced)
+        return SS_OK;
+    ss_spa_params sp;
+    ss_spa_params_default(&sp);
+    for (int k = 0; k < r->n_steps; ++k) {
+        ss_spa_result s;
+        ss_status st = ss_spa(ctx, r->step_unix_s[k], place->centre_lat_deg,
+                              place->centre_lon_deg, &sp, &s);
+        if (st != SS_OK)
+            return st;
+        if (s.elevation_deg + spread_deg <= 0.0)
+            p->steps_night++;
+        else if (s.apparent_elevation_deg - spread_deg > bound_deg)
+            p->steps_high_sun++;
+    }
+    p->steps_total = r->n_steps;
+    if (r->product == SS_PRODUCT_INSOLATION)
+        add(p, "night_steps", 1, 0, "",
+            "%d of %d time steps have the sun below the horizontal at every cell: skipped "
+            "exactly",
+            p->steps_night, r->n_steps);
+    add(p, "shadow_sweeps", 1, 0, "",
+        "%d of %d daylight steps have the sun above %.2f deg, the highest horizon this terrain "
+        "can cast (proven bound): no shadow sweep for them",
+        p->steps_high_sun, r->n_steps - p->steps_night, bound_deg);
+    return SS_OK;
+}
+
+ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
+                       const ss_plan_request *r, ss_plan *p)
+{
+    memset(p, 0, sizeof *p);
+    if (!(r->horizon_tolerance_deg > 0) || !(r->svf_tolerance > 0) ||
+        !(r->sun_tolerance_deg > 0) || r->directions < 0 || r->n_steps < 0)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "tolerances must be positive (horizon %g deg, SVF %g, sun %g deg)",
+                       r->horizon_tolerance_deg, r->svf_tolerance, r->sun_tolerance_deg);
+    if (!(place->earth_radius_m > 0) || !(place->diagonal_m >= 0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "the place of the DEM is not known");
+    p->cells = (double)grid->width * grid->height;
+
+    plan_curvature(p, r, place);
+    plan_north(p, r, place);
+    plan_cells(p, r, place);
+    plan_sun(p, r, place);
+    p->curvature = p->items[0].on;
+    p->true_north = p->items[1].on;
+    p->sun_per_cell = p->items[3].on;
+
+    p->directions = r->directions ? r->directions : 32;
+    if (r->product == SS_PRODUCT_SVF || r->product == SS_PRODUCT_HORIZON ||
+        r->product == SS_PRODUCT_INSOLATION)
+        add(p, "directions", 1, 0, "",
+            r->directions ? "%d directions, as requested"
+                          : "%d directions: the default (SVF within about 0.01 on mountain "
+                            "terrain, doc/accuracy.md)",
+            p->directions);
+
+    double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;
+    double bound = uses_sun(r->product) ? ss_horizon_bound_deg(grid, r->lines) : 90.0;
+    ss_status st = plan_steps(ctx, p, r, place, bound, spread);
+    if (st != SS_OK)
+        return st;
+    if (r->product == SS_PRODUCT_INSOLATION)
+        add(p, "diffuse_reflected", 1, 0, "",
+            "insolation needs the sky each cell sees: one radiative SVF sweep over %d "
+            "directions for the diffuse and reflected terms",
+            p->directions);
+
+    /* Work: sweeps of all cells, then per-cell arithmetic for each step. */
+    double sweeps = 0;
+    int daylight = p->steps_total - p->steps_night;
+    switch (r->product) {
+    case SS_PRODUCT_HORIZON:
+    case SS_PRODUCT_SVF:
+        sweeps = p->directions;
+        break;
+    case SS_PRODUCT_SHADOW:
+        sweeps = 1;
+        break;
+    case SS_PRODUCT_HILLSHADE:
+        sweeps = 0;
+        break;
+    case SS_PRODUCT_INSOLATION:
+        sweeps = p->directions + (r->shadow_mode == SS_SHADOW_INTERPOLATED
+                                      ? p->directions
+                                      : daylight - p->steps_high_sun);
+        break;
+    }
+    p->sweeps = (int)sweeps;
+    p->estimated_seconds = sweeps * p->cells / PLAN_CELL_DIRECTIONS_PER_S +
+                           daylight * p->cells * PLAN_CELL_STEP_S;
+    return SS_OK;
+}
+
+size_t ss_plan_format(const ss_plan *p, int json, char *buf, size_t size)
+{
+    size_t used = 0;
+#define PUT(...)                                                                               \
+    do {                                                                                       \
+        int n_ = snprintf(buf + (used < size ? used : size), used < size ? size - used : 0,   \
+                          __VA_ARGS__);                                                        \
+        used += n_ > 0 ? (size_t)n_ : 0;                                                       \
+    } while (0)
+    if (json) {
+        PUT("{\"directions\": %d, \"sweeps\": %d, \"estimated_seconds\": %.3g, "
+            "\"steps\": %d, \"night_steps\": %d, \"high_sun_steps\": %d, \"effects\": [",
+            p->directions, p->sweeps, p->estimated_seconds, p->steps_total, p->steps_night,
+            p->steps_high_sun);
+        for (int i = 0; i < p->n_items; ++i) {
+            const ss_plan_item *it = &p->items[i];
+            PUT("%s{\"effect\": \"%s\", \"on\": %s, \"bound\": %.6g, \"unit\": \"%s\", "
+                "\"reason\": \"",
+                i ? ", " : "", it->key, it->on ? "true" : "false", it->bound, it->unit);
+            for (const char *c = it->reason; *c; ++c)
+                PUT(*c == '"' || *c == '\\' ? "\\%c" : "%c", *c);
+            PUT("\"}");
+        }
+        PUT("]}\n");
+    } else {
+        for (int i = 0; i < p->n_items; ++i) {
+            const ss_plan_item *it = &p->items[i];
+            PUT("%-18s %-3s %s", it->key, it->on ? "ON" : "OFF", it->reason);
+            if (it->bound > 0)
+                PUT(" [error allowed: %.3g %s]", it->bound, it->unit);
+            PUT("\n");
+        }
+        PUT("%-18s     %d sweeps of %.3g Mcells, about %.2g s on a 2-core CPU (PoCL)\n", "cost",
+            p->sweeps, p->cells / 1e6, p->estimated_seconds);
+    }
+#undef PUT
+    return used;
+}
