@@ -8,16 +8,33 @@
 #include <string.h>
 
 #include "commands.h"
+#include "horizon_points.h"
 #include "run.h"
 
 typedef struct {
     common_settings common;
     const char *distance_path;
+    horizon_point_settings pts;
 } horizon_settings;
 
+#define PTS(field) offsetof(horizon_settings, pts.field)
 static const opt_spec horizon_options[] = {
     {"distance", OPT_STRING, offsetof(horizon_settings, distance_path), "FILE", NULL, 0, 0,
      NULL, "also write the distance (m) to the horizon-casting cell, one band per azimuth"},
+    {"point", OPT_STRING, PTS(point), "LON,LAT", NULL, 0, 0, NULL,
+     "horizon profile of one site instead of rasters (doc/pv-horizons.md); OUTPUT is then "
+     "optional (standard output)"},
+    {"points", OPT_STRING, PTS(points), "FILE", NULL, 0, 0, NULL,
+     "profiles of the sites in a CSV file with the columns id,lon,lat and optionally height"},
+    {"point-crs", OPT_STRING, PTS(point_crs), "CRS", "EPSG:4326", 0, 0, NULL,
+     "CRS of --point and --points coordinates: 'dem' for the DEM's own, or any CRS GDAL reads"},
+    {"step", OPT_DOUBLE, PTS(step_deg), "DEG", "1", 0.00036, 360, NULL,
+     "azimuth step of site profiles, from true north; 360 / step must be whole"},
+    {"height", OPT_DOUBLE, PTS(height_m), "METRES", "0", 0, 1e6, NULL,
+     "observer (e.g. PV module) height above the ground at the sites"},
+    {"format", OPT_CHOICE, PTS(format), NULL, "csv", 0, 0, HORIZON_POINT_FORMATS,
+     "site profile format; pvgis: the elevations at equal steps clockwise from north, "
+     "comma-separated (PVGIS user horizon)"},
     OPT_END};
 
 typedef struct {
@@ -44,19 +61,33 @@ int cmd_horizon(int argc, char **argv)
     const opt_spec *tables[] = {horizon_options, common_options, NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
-    int rc = run_parse("horizon", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1,
-                       2, "skysweep horizon [options] DEM... OUTPUT",
+    int rc = run_parse("horizon", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 1,
+                       "skysweep horizon [options] DEM... OUTPUT\n"
+                       "       skysweep horizon --point LON,LAT | --points FILE [options] DEM... "
+                       "[OUTPUT|-]",
                        "Horizon elevation angle (degrees above the horizontal; -90 where no "
                        "terrain lies ahead)\nof every cell, one band per azimuth, exact at "
-                       "unlimited distance.",
+                       "unlimited distance; or the horizon profiles of sites.",
                        set.common.device);
     if (rc >= 0)
         return rc;
+    if (set.pts.point || set.pts.points) {
+        if (set.distance_path)
+            return run_usage_error("horizon", "--distance is for raster output; site profiles "
+                                              "carry their distances");
+        return horizon_points_run(&set.common, &set.pts, pos, n_pos);
+    }
+    if (n_pos < 2)
+        return run_usage_error("horizon", "needs an input DEM and an output file");
     if (set.distance_path && strcmp(set.distance_path, pos[n_pos - 1]) == 0)
         return run_usage_error("horizon", "--distance must name a file other than OUTPUT");
     sweep_job job;
     if ((rc = job_open(&job, "horizon", &set.common, pos, n_pos)))
         return rc;
+    if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+        job_close(&job);
+        return rc;
+    }
     ss_status st = set.distance_path ? run_check_output(&job.run, set.distance_path, job.inputs,
                                                         job.n_inputs)
                                      : SS_OK;
@@ -78,6 +109,7 @@ int cmd_horizon(int argc, char **argv)
     }
     if (st == SS_OK) {
         run_common_metadata(&job.run, hs.angle, &job.opt, &job.frame);
+        job_plan_metadata(&job, hs.angle);
         ss_writer_metadata(hs.angle, "QUANTITY",
                            "horizon elevation angle, degrees above the horizontal; -90 where "
                            "no terrain lies ahead");

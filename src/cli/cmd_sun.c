@@ -1,4 +1,6 @@
-/* skysweep sun: sun position table for a site over an ISO 8601 time range. */
+/* skysweep sun: sun position table for a site over an ISO 8601 time range,
+ * optionally marking the steps when the sun is behind the terrain horizon
+ * of a DEM (--horizon-from). */
 #include "config.h"
 
 #include <math.h>
@@ -8,6 +10,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "horizon_points.h"
 #include "iso_time.h"
 #include "spa.h"
 
@@ -22,6 +25,8 @@ typedef struct {
     double temperature_c;
     double altitude_m;
     int algorithm;
+    const char *horizon_from; /* DEM for the terrain horizon, or NULL */
+    site_horizon_settings horizon;
 } sun_settings;
 
 enum { FORMAT_CSV, FORMAT_JSON };
@@ -47,6 +52,17 @@ static const opt_spec sun_table_options[] = {
      "site height above the ellipsoid, for parallax (default 0)"},
     {"algorithm", OPT_CHOICE, SET(algorithm), NULL, "spa", 0, 0, "spa|psa",
      "spa: NREL SPA, +-0.0003 deg; psa: PSA 2020, faster, about 0.01 deg near 2020-2050"},
+    {"horizon-from", OPT_STRING, SET(horizon_from), "DEM", NULL, 0, 0, NULL,
+     "add the terrain horizon at the sun's azimuth (exact, doc/pv-horizons.md) and whether the "
+     "sun is behind it; the DEM's height is then the default --altitude"},
+    {"height", OPT_DOUBLE, SET(horizon.height_m), "METRES", "0", 0, 1e6, NULL,
+     "with --horizon-from: observer (e.g. PV module) height above the ground"},
+    {"lines", OPT_CHOICE, SET(horizon.lines), NULL, "interpolated", 0, 0, "interpolated|digital",
+     "with --horizon-from: line model (doc/model.md)"},
+    {"curvature", OPT_CHOICE, SET(horizon.curvature), NULL, "off", 0, 0, "off|on",
+     "with --horizon-from: earth curvature with terrestrial refraction"},
+    {"refraction", OPT_DOUBLE, SET(horizon.refraction_k), "K", "0.13", 0, 0.99, NULL,
+     "with --horizon-from and curvature: terrestrial refraction coefficient k"},
     OPT_END};
 
 /* "LON,LAT" in degrees; range checks are the library's. */
@@ -61,26 +77,52 @@ static int parse_site(const char *text, double *lon_deg, double *lat_deg)
     return end != lat && *end == '\0';
 }
 
-static void print_row(const sun_settings *set, const char *time, const ss_spa_result *r, int first)
+/* horizon_deg: the terrain horizon at the sun's azimuth, NAN without --horizon-from. */
+static void print_row(const sun_settings *set, const char *time, const ss_spa_result *r,
+                      double horizon_deg, int first)
 {
+    int behind = r->apparent_elevation_deg < horizon_deg;
     if (set->format == FORMAT_CSV) {
-        printf("%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.4f\n", time, r->azimuth_deg, r->elevation_deg,
+        printf("%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.4f", time, r->azimuth_deg, r->elevation_deg,
                r->apparent_elevation_deg, r->zenith_deg, r->declination_deg,
                r->equation_of_time_min);
+        if (set->horizon_from)
+            printf(",%.6f,%d", horizon_deg, behind);
+        printf("\n");
         return;
     }
     printf("%s\n    {\"time\": \"%s\", \"azimuth\": %.6f, \"elevation\": %.6f, "
            "\"apparent_elevation\": %.6f, \"zenith\": %.6f, \"declination\": %.6f, "
-           "\"equation_of_time\": %.4f}",
+           "\"equation_of_time\": %.4f",
            first ? "" : ",", time, r->azimuth_deg, r->elevation_deg, r->apparent_elevation_deg,
            r->zenith_deg, r->declination_deg, r->equation_of_time_min);
+    if (set->horizon_from)
+        printf(", \"horizon_elevation\": %.6f, \"behind_terrain\": %s", horizon_deg,
+               behind ? "true" : "false");
+    printf("}");
 }
 
+static void json_quoted(const char *text)
+{
+    putchar('"');
+    for (const char *c = text; *c; ++c) {
+        if (*c == '"' || *c == '\\')
+            putchar('\\');
+        putchar((unsigned char)*c < 0x20 ? ' ' : *c);
+    }
+    putchar('"');
+}
+
+/* horizon: what the terrain horizon is, or NULL without --horizon-from. */
 static void print_head(const sun_settings *set, double lon_deg, double lat_deg,
-                       const ss_spa_params *p)
+                       const ss_spa_params *p, const char *horizon)
 {
     if (set->format == FORMAT_CSV) {
-        printf("time,azimuth,elevation,apparent_elevation,zenith,declination,equation_of_time\n");
+        if (horizon)
+            printf("# %s; behind_terrain = 1 when apparent_elevation < horizon_elevation\n",
+                   horizon);
+        printf("time,azimuth,elevation,apparent_elevation,zenith,declination,equation_of_time%s\n",
+               horizon ? ",horizon_elevation,behind_terrain" : "");
         return;
     }
     printf("{\n  \"longitude\": %.9g, \"latitude\": %.9g, \"altitude_m\": %.9g,\n", lon_deg,
@@ -94,7 +136,14 @@ static void print_head(const sun_settings *set, double lon_deg, double lat_deg,
     printf("  \"conventions\": \"times UTC; degrees; azimuth clockwise from true north; "
            "elevation topocentric without refraction; apparent_elevation with refraction; "
            "zenith = 90 - apparent_elevation; declination geocentric; equation_of_time in "
-           "minutes\",\n  \"rows\": [");
+           "minutes%s\",\n",
+           horizon ? "; behind_terrain when apparent_elevation < horizon_elevation" : "");
+    if (horizon) {
+        printf("  \"horizon\": ");
+        json_quoted(horizon);
+        printf(",\n");
+    }
+    printf("  \"rows\": [");
 }
 
 int cmd_sun(int argc, char **argv)
@@ -141,8 +190,25 @@ int cmd_sun(int argc, char **argv)
     }
     ss_time_range range;
     ss_spa_result res;
-    ss_status st = ss_parse_time_range(ctx, set.time, &range);
+    site_horizon sh;
+    char horizon[1024] = "";
+    ss_status st = SS_OK;
+    if (set.horizon_from) {
+        st = site_horizon_open(&sh, ctx, set.horizon_from, lon_deg, lat_deg, &set.horizon);
+        site_horizon_describe(&sh, horizon, sizeof horizon);
+        /* The site's own height, for parallax and the standard pressure
+         * (geoid minus ellipsoid is ignored: its parallax is below 1e-5 deg). */
+        if (st == SS_OK && isnan(set.altitude_m)) {
+            p.elevation_m = sh.ground_m + set.horizon.height_m;
+            if (isnan(set.pressure_hpa))
+                p.pressure_hpa = ss_pressure_from_altitude_hpa(p.elevation_m);
+        }
+    }
+    if (st == SS_OK)
+        st = ss_parse_time_range(ctx, set.time, &range);
     if (st == SS_OK && range.count == 0) {
+        if (set.horizon_from)
+            site_horizon_close(&sh);
         ss_ctx_free(ctx);
         return run_usage_error("sun", "--time START/END needs a step: START/END/STEP, e.g. "
                                       "2026-06-21T00:00Z/P1D/PT30M");
@@ -152,6 +218,8 @@ int cmd_sun(int argc, char **argv)
                  "--time '%s' gives %lld rows, more than %lld; use a larger step or a shorter "
                  "range",
                  set.time, range.count, SUN_MAX_ROWS);
+        if (set.horizon_from)
+            site_horizon_close(&sh);
         ss_ctx_free(ctx);
         return run_usage_error("sun", err);
     }
@@ -162,19 +230,23 @@ int cmd_sun(int argc, char **argv)
     if (st == SS_OK)
         st = ss_spa(ctx, ss_time_range_at(&range, range.count - 1), lat_deg, lon_deg, &p, &res);
     if (st == SS_OK)
-        print_head(&set, lon_deg, lat_deg, &p);
+        print_head(&set, lon_deg, lat_deg, &p, set.horizon_from ? horizon : NULL);
     for (long long k = 0; st == SS_OK && k < range.count; ++k) {
         char time[48];
-        double t = ss_time_range_at(&range, k);
+        double t = ss_time_range_at(&range, k), horizon_deg = NAN;
         ss_format_instant(t, time, sizeof time);
         st = ss_spa(ctx, t, lat_deg, lon_deg, &p, &res);
+        if (st == SS_OK && set.horizon_from)
+            st = site_horizon_at(&sh, res.azimuth_deg, &horizon_deg);
         if (st == SS_OK)
-            print_row(&set, time, &res, k == 0);
+            print_row(&set, time, &res, horizon_deg, k == 0);
     }
     if (st == SS_OK && set.format == FORMAT_JSON)
         printf("\n  ]\n}\n");
     if (st != SS_OK)
         fprintf(stderr, "skysweep sun: %s\n", ss_ctx_message(ctx));
+    if (set.horizon_from)
+        site_horizon_close(&sh);
     ss_ctx_free(ctx);
     return st;
 }

@@ -1,0 +1,60 @@
+/* skysweep horizon --point / --points: horizon profiles of sites (solar PV,
+ * doc/pv-horizons.md) as CSV, JSON or a PVGIS user horizon, instead of
+ * horizon rasters. */
+#ifndef SS_CLI_HORIZON_POINTS_H
+#define SS_CLI_HORIZON_POINTS_H
+
+#include "point_horizon.h"
+#include "run.h"
+#include "site.h"
+
+#define HORIZON_POINT_FORMATS "csv|json|pvgis"
+enum { POINT_FORMAT_CSV, POINT_FORMAT_JSON, POINT_FORMAT_PVGIS };
+
+typedef struct {
+    const char *point;     /* "X,Y": one site, WGS84 longitude,latitude unless --point-crs */
+    const char *points;    /* CSV file of sites: id, lon (or x), lat (or y), optional height */
+    const char *point_crs; /* CRS of site coordinates; "dem": the DEM's own */
+    double step_deg;       /* azimuth step; 360 / step must be a whole number */
+    double height_m;       /* observer above the ground, where a site gives none */
+    int format;            /* index into HORIZON_POINT_FORMATS */
+} horizon_point_settings;
+
+/* Point mode of skysweep horizon. pos holds the DEM tiles and, when there
+ * are two or more, OUTPUT last ("-": standard output; one DEM alone: the
+ * profiles go to standard output). Returns the exit code. */
+int horizon_points_run(const common_settings *common, const horizon_point_settings *pts,
+                       const char **pos, int n_pos);
+
+/* The terrain horizon of one site at any azimuth, computed exactly there
+ * (skysweep sun --horizon-from). */
+typedef struct {
+    ss_ctx *ctx;
+    ss_dem dem;
+    ss_dem_frame frame;
+    int have_dem;
+    ss_site_frame *sf;
+    ss_point_grid *pg;
+    ss_point_site site;
+    ss_sweep_options opt;
+    double ground_m;
+} site_horizon;
+
+typedef struct {
+    double height_m;     /* observer above the ground */
+    int lines;           /* 0 interpolated, 1 digital */
+    int curvature;       /* 0 off, 1 on (earth radius of the DEM's centre) */
+    double refraction_k; /* with curvature */
+} site_horizon_settings;
+
+/* Reads the DEM and places the site (WGS84 degrees) on it; failures leave
+ * their message in ctx, which must outlive sh. Close sh in any case. */
+ss_status site_horizon_open(site_horizon *sh, ss_ctx *ctx, const char *dem_path, double lon_deg,
+                            double lat_deg, const site_horizon_settings *set);
+/* Horizon elevation (degrees) toward a true azimuth. */
+ss_status site_horizon_at(site_horizon *sh, double azimuth_deg, double *elevation_deg);
+/* What was used: "interpolated lines, earth curvature off, observer 0 m". */
+void site_horizon_describe(const site_horizon *sh, char *buf, size_t size);
+void site_horizon_close(site_horizon *sh);
+
+#endif
