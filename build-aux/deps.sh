@@ -5,7 +5,7 @@ set -eu
 packages="build-essential autoconf automake libtool pkg-config bc
   ocl-icd-opencl-dev opencl-c-headers pocl-opencl-icd clinfo
   libgdal-dev gdal-bin
-  libgeographiclib-dev
+  libgeographiclib-dev libinih-dev
   libopenimageio-dev openimageio-tools
   libvtk9-dev xvfb xauth"
 missing=""

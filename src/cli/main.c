@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "scene.h"
 #include "skysweep.h"
 
 static const struct {
@@ -18,8 +19,42 @@ static const struct {
     {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun"},
     {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)"},
     {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range"},
+    {"plan", NULL, "what a scene needs: effects on/off with reason and error bound, cost"},
+    {"run", NULL, "run the job a scene file describes"},
     {"info", cmd_info, "version, dependencies, devices, kernel build status"},
 };
+
+/* skysweep plan|run SCENE [options]: the scene's product command with
+ * --scene SCENE (and --plan). */
+static int scene_command(const char *verb, int argc, char **argv)
+{
+    if (argc < 2 || argv[1][0] == '-') {
+        fprintf(stderr, "skysweep %s: needs a scene file (skysweep %s SCENE [options])\n", verb,
+                verb);
+        return SS_ERR_ARGUMENT;
+    }
+    char product[32], err[400];
+    if (scene_product(argv[1], product, sizeof product, err, sizeof err) != 0) {
+        fprintf(stderr, "skysweep %s: %s\n", verb, err);
+        return SS_ERR_ARGUMENT;
+    }
+    char *args[COMMAND_MAX_INPUTS + 8];
+    int n = 0;
+    args[n++] = product;
+    args[n++] = "--scene";
+    args[n++] = argv[1];
+    if (strcmp(verb, "plan") == 0)
+        args[n++] = "--plan";
+    for (int i = 2; i < argc && n < COMMAND_MAX_INPUTS + 7; ++i)
+        args[n++] = argv[i];
+    args[n] = NULL;
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+        if (commands[i].run && strcmp(product, commands[i].name) == 0 &&
+            strcmp(product, "sun") && strcmp(product, "info"))
+            return commands[i].run(n, args);
+    fprintf(stderr, "skysweep %s: %s: unknown product '%s'\n", verb, argv[1], product);
+    return SS_ERR_ARGUMENT;
+}
 
 static void usage(FILE *to)
 {
@@ -45,6 +80,8 @@ int main(int argc, char **argv)
         printf("skysweep %s\n", ss_version());
         return 0;
     }
+    if (strcmp(name, "plan") == 0 || strcmp(name, "run") == 0)
+        return scene_command(name, argc - 1, argv + 1);
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
         if (strcmp(name, commands[i].name) == 0)
             return commands[i].run(argc - 1, argv + 1);

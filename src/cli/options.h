@@ -42,6 +42,12 @@ int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **ar
               const char **positional, int *n_positional, int max_positional, char *err,
               size_t err_size);
 
+/* The option named exactly `name` (no dashes), or NULL. */
+const opt_spec *opt_find(const opt_spec *const *tables, const char *name);
+/* Checks a value's text for an option without storing it: 0, or -1 with
+ * one line in err. */
+int opt_check(const opt_spec *spec, const char *text, char *err, size_t err_size);
+
 /* Prints the options of the tables as a --help text. */
 void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary);
 /* ... and as a Markdown section for doc/cli.md (options_doc.c). */

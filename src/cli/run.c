@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "run.h"
+#include "scene.h"
 
 #define COMMON(field) offsetof(common_settings, field)
 const opt_spec common_options[] = {
@@ -45,6 +46,8 @@ const opt_spec common_options[] = {
      "sky-view factor error the run may allow"},
     {"sun-tolerance", OPT_DOUBLE, COMMON(sun_tolerance_deg), "DEG", "0.001", 1e-9, 90, NULL,
      "error in the sun's direction per cell the run may allow"},
+    {"scene", OPT_STRING, COMMON(scene), "FILE", NULL, 0, 0, NULL,
+     "read the job from a scene file (doc/scenes.md); options given here override it"},
     {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
     {"plan-format", OPT_CHOICE, COMMON(plan_json), NULL, "text", 0, 0, "text|json",
@@ -300,6 +303,14 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
         return 0;
     }
     char err[512];
+    char **scene_argv = NULL;
+    int scene_argc;
+    if (scene_expand(tables, argc, argv, &scene_argc, &scene_argv, err, sizeof err) != 0)
+        return run_usage_error(command, err);
+    if (scene_argv) { /* lives as long as the run: settings point into it */
+        argc = scene_argc;
+        argv = scene_argv;
+    }
     int r = opt_parse(tables, settings, argc, argv, pos, n_pos, max_pos, err, sizeof err);
     if (r < 0)
         return run_usage_error(command, err);

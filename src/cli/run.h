@@ -26,6 +26,7 @@ typedef struct {
     int north;             /* index into "auto|true|grid" */
     double horizon_tolerance_deg, svf_tolerance, sun_tolerance_deg;
     int plan_only, plan_json;
+    const char *scene;
     /* The sun (commands that take sun_options): */
     const char *time;      /* ISO 8601 instant or range */
     double sun_azimuth_deg, sun_elevation_deg; /* given instead of a time; NAN if not */

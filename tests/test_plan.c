@@ -1,0 +1,243 @@
+/* The effects planner: for each effect a scene where it must be on and one
+ * where it must be off, with the reason quoting the scene's numbers; for
+ * the off decisions, the effect forced on changes the result by no more
+ * than the bound the plan states (every cell); and the work planned away is
+ * not done (the library's counters). */
+#include "config.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "tap.h"
+#include "testlib.h"
+
+static const ss_plan_item *item(const ss_plan *p, const char *key)
+{
+    for (int i = 0; i < p->n_items; ++i)
+        if (strcmp(p->items[i].key, key) == 0)
+            return &p->items[i];
+    return NULL;
+}
+
+static ss_plan_request request(ss_product product)
+{
+    ss_plan_request r;
+    memset(&r, 0, sizeof r);
+    r.product = product;
+    r.horizon_tolerance_deg = 0.05;
+    r.svf_tolerance = 0.01;
+    r.sun_tolerance_deg = 0.001;
+    r.curvature = r.true_north = r.sun_per_cell = SS_AUTO;
+    r.refraction_k = 0.13;
+    return r;
+}
+
+static ss_place place_of(const ss_grid *g, double grid_north_deg, double lat)
+{
+    double w = g->width * g->cell_x_m, h = g->height * g->cell_y_m;
+    ss_place p = {1, 0, 10.0, lat, grid_north_deg, grid_north_deg - 0.01, grid_north_deg + 0.01,
+                  1e-6, sqrt(w * w + h * h), 6371000.0};
+    return p;
+}
+
+static float *horizon(const ss_grid *g, double az, double radius)
+{
+    float *h = malloc(sizeof(float) * (size_t)g->width * g->height);
+    char err[300];
+    if (test_lib_horizon(NULL, g, az, radius, radius > 0 ? 0.13 : 0, SS_LINES_INTERPOLATED, h,
+                         NULL, err, sizeof err) != SS_OK) {
+        free(h);
+        return NULL;
+    }
+    return h;
+}
+
+/* Curvature: off on a 234 m urban block (and the bound holds), on for a
+ * 10 km spike seen from 50 km at a 0.01 degree tolerance. */
+static void curvature(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_grid city = test_grid(234, 223, 1, 1);
+    test_fill(&city, TERRAIN_PLATEAUS, 3, 40); /* blocks of buildings, sheer walls */
+    ss_plan_request r = request(SS_PRODUCT_HORIZON);
+    ss_place pl = place_of(&city, 0.0, 57.7);
+    ss_plan p;
+    ss_status st = ss_plan_make(ctx, &city, &pl, &r, &p);
+    const ss_plan_item *it = item(&p, "curvature");
+    tap_ok(st == SS_OK && it && !it->on && strstr(it->reason, "0.323 km"),
+           "curvature OFF on a 234 m x 223 m urban DSM: %s", it ? it->reason : ss_ctx_message(ctx));
+    double worst = 0;
+    for (double az = 10; az < 360 && it; az += 70) {
+        float *flat_earth = horizon(&city, az, 0), *curved = horizon(&city, az, 6371000.0);
+        for (size_t c = 0; flat_earth && curved && c < 234u * 223u; ++c)
+            if (flat_earth[c] > -89)
+                worst = fmax(worst, fabs(flat_earth[c] - curved[c]));
+        free(flat_earth);
+        free(curved);
+    }
+    tap_ok(it && worst <= it->bound, "... and forcing it on moves no horizon by more than the "
+                                     "stated %.3g deg (worst %.3g deg, 6 azimuths, every cell)",
+           it ? it->bound : NAN, worst);
+
+    ss_grid plain = test_grid(600, 20, 100, 100);
+    for (size_t c = 0; c < 600u * 20u; ++c)
+        plain.z[c] = 0.0f;
+    plain.z[10 * 600 + 5] = 10000.0f; /* a 10 km spike 50+ km from the far end */
+    r.horizon_tolerance_deg = 0.01;
+    pl = place_of(&plain, 0.0, 20.0);
+    st = ss_plan_make(ctx, &plain, &pl, &r, &p);
+    it = item(&p, "curvature");
+    tap_ok(st == SS_OK && it && it->on && strstr(it->reason, "above the 0.01 deg"),
+           "curvature ON for a 10 km spike seen across 60 km at 0.01 deg: %s",
+           it ? it->reason : ss_ctx_message(ctx));
+    float *flat_earth = horizon(&plain, 270, 0), *curved = horizon(&plain, 270, 6371000.0);
+    size_t far = 10 * 600 + 595;
+    tap_ok(flat_earth && curved && flat_earth[far] - curved[far] > 0.01,
+           "... where leaving it off would raise the far horizon by %.3f deg",
+           flat_earth && curved ? flat_earth[far] - curved[far] : NAN);
+    free(flat_earth);
+    free(curved);
+    ss_grid_free(&city);
+    ss_grid_free(&plain);
+    ss_ctx_free(ctx);
+}
+
+/* True north: off on a UTM central meridian, on near a zone's edge. */
+static void north(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_grid g = test_grid(100, 100, 30, 30);
+    test_fill(&g, TERRAIN_SMOOTH, 4, 100);
+    ss_plan_request r = request(SS_PRODUCT_SVF);
+    ss_plan p;
+    ss_place centre = place_of(&g, 0.0012, 45.0), edge = place_of(&g, 2.1166, 45.0);
+    ss_plan_make(ctx, &g, &centre, &r, &p);
+    const ss_plan_item *it = item(&p, "true_north");
+    tap_ok(it && !it->on && strstr(it->reason, "0.0012"),
+           "true north OFF on the central meridian: %s", it ? it->reason : "");
+    ss_plan_make(ctx, &g, &edge, &r, &p);
+    it = item(&p, "true_north");
+    tap_ok(it && it->on && p.true_north && strstr(it->reason, "2.1166"),
+           "true north ON 3 degrees of longitude from the central meridian at 45 N: %s",
+           it ? it->reason : "");
+    ss_grid_free(&g);
+    ss_ctx_free(ctx);
+}
+
+/* One sun for a city block, one per cell for a 300 km region. */
+static void sun_per_cell(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_grid small = test_grid(234, 223, 1, 1), large = test_grid(300, 300, 1000, 1000);
+    ss_plan_request r = request(SS_PRODUCT_SHADOW);
+    r.sun_tolerance_deg = 0.01;
+    ss_plan p;
+    ss_place ps = place_of(&small, 0, 57.7), pl = place_of(&large, 0, 46);
+    ss_plan_make(ctx, &small, &ps, &r, &p);
+    const ss_plan_item *it = item(&p, "sun_per_cell");
+    tap_ok(it && !it->on && it->bound < 0.01, "one sun for a 234 m block: %s",
+           it ? it->reason : "");
+    ss_plan_make(ctx, &large, &pl, &r, &p);
+    it = item(&p, "sun_per_cell");
+    tap_ok(it && it->on, "the sun per cell across 424 km: %s", it ? it->reason : "");
+    ss_grid_free(&small);
+    ss_grid_free(&large);
+    ss_ctx_free(ctx);
+}
+
+typedef struct {
+    double start;
+} day_sun;
+
+/* A sun crossing the sky from east to west over one day, low at the ends:
+ * elevation 60 sin(pi t / 12) - 10 for t hours after start. */
+static ss_status sun_at(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
+{
+    (void)ctx;
+    (void)user;
+    double t = k + 0.5;
+    memset(step, 0, sizeof *step);
+    step->duration_h = 1;
+    step->linke = 3;
+    step->extraterrestrial_w_m2 = 1361;
+    step->azimuth_deg = step->grid_azimuth_deg = 90 + 7.5 * t;
+    step->elevation_deg = step->apparent_elevation_deg = 60 * sin(M_PI * t / 12) - 10;
+    return SS_OK;
+}
+
+/* Work planned away is not done: the counters after an insolation run
+ * equal the plan's counts of night steps and skipped shadow sweeps, and the
+ * sweeps run equal the plan's estimate. */
+static void skipped_work(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_grid g = test_grid(60, 60, 30, 30);
+    test_fill(&g, TERRAIN_SMOOTH, 8, 20); /* gentle: the horizon bound is low */
+    double bound = ss_horizon_bound_deg(&g, SS_LINES_INTERPOLATED);
+    int night = 0, high = 0;
+    for (int k = 0; k < 24; ++k) {
+        ss_sun_step s;
+        sun_at(NULL, k, &s, NULL);
+        night += s.elevation_deg <= 0;
+        high += s.elevation_deg > 0 && s.apparent_elevation_deg > bound;
+    }
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = 8;
+    ss_insolation_options io = {0.2, SS_SHADOW_EXACT};
+    size_t n = 3600;
+    ss_insolation_out out = {malloc(n * 4), malloc(n * 4), malloc(n * 4), malloc(n * 4),
+                             malloc(n * 4)};
+    ss_status st = ss_insolation(ctx, &g, &opt, &io, 24, sun_at, NULL, NULL, NULL, &out);
+    ss_counters c = ss_ctx_counters(ctx);
+    int sweeps_expected = 8 + (24 - night - high);
+    tap_ok(st == SS_OK && (int)c.night_steps_skipped == night &&
+               (int)c.shadow_sweeps_skipped == high && (int)c.sweeps == sweeps_expected &&
+               night > 0 && high > 0,
+           "night steps skipped %llu (want %d), shadow sweeps skipped %llu (want %d, sun above the "
+           "%.1f deg bound), sweeps run %llu (want %d: 8 for the sky view + one per shaded step)",
+           (unsigned long long)c.night_steps_skipped, night,
+           (unsigned long long)c.shadow_sweeps_skipped, high, bound,
+           (unsigned long long)c.sweeps, sweeps_expected);
+    free(out.global);
+    free(out.beam);
+    free(out.diffuse);
+    free(out.reflected);
+    free(out.sun_hours);
+    ss_grid_free(&g);
+    ss_ctx_free(ctx);
+}
+
+/* The planner counts the same night steps from SPA at the DEM's centre. */
+static void plan_counts(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_grid g = test_grid(60, 60, 30, 30);
+    test_fill(&g, TERRAIN_SMOOTH, 8, 20);
+    double instants[48];
+    for (int k = 0; k < 48; ++k)
+        instants[k] = 1782000000.0 + 10 * 3600 + (k + 0.5) * 1800; /* 21 June, Kilauea's day */
+    ss_plan_request r = request(SS_PRODUCT_INSOLATION);
+    r.n_steps = 48;
+    r.step_unix_s = instants;
+    ss_place pl = place_of(&g, 0, 19.4);
+    pl.centre_lon_deg = -155.3;
+    ss_plan p;
+    ss_status st = ss_plan_make(ctx, &g, &pl, &r, &p);
+    const ss_plan_item *it = item(&p, "night_steps");
+    tap_ok(st == SS_OK && it && p.steps_night == 22 && strstr(it->reason, "22 of 48"),
+           "planner: 22 of 48 half-hour steps of 21 June at Kilauea are night: %s",
+           it ? it->reason : ss_ctx_message(ctx));
+    ss_grid_free(&g);
+    ss_ctx_free(ctx);
+}
+
+int main(void)
+{
+    curvature();
+    north();
+    sun_per_cell();
+    skipped_work();
+    plan_counts();
+    return tap_done();
+}
