@@ -45,10 +45,12 @@ static int choice_index(const char *choices, const char *word)
     return -1;
 }
 
+/* Parses text for option s and stores it in settings; settings NULL only
+ * checks the text. */
 static int set_value(const opt_spec *s, void *settings, const char *text, char *err,
                      size_t err_size)
 {
-    char *field = (char *)settings + s->offset;
+    char *field = settings ? (char *)settings + s->offset : NULL;
     char *end = NULL;
     errno = 0;
     switch (s->type) {
@@ -59,7 +61,8 @@ static int set_value(const opt_spec *s, void *settings, const char *text, char *
                      s->name, s->min, s->max, text);
             return -1;
         }
-        *(int *)field = (int)v;
+        if (field)
+            *(int *)field = (int)v;
         return 0;
     }
     case OPT_DOUBLE: {
@@ -69,11 +72,13 @@ static int set_value(const opt_spec *s, void *settings, const char *text, char *
                      s->min, s->max, text);
             return -1;
         }
-        *(double *)field = v;
+        if (field)
+            *(double *)field = v;
         return 0;
     }
     case OPT_STRING:
-        *(const char **)field = text;
+        if (field)
+            *(const char **)field = text;
         return 0;
     case OPT_CHOICE: {
         int i = choice_index(s->choices, text);
@@ -82,14 +87,18 @@ static int set_value(const opt_spec *s, void *settings, const char *text, char *
                      text);
             return -1;
         }
-        *(int *)field = i;
+        if (field)
+            *(int *)field = i;
         return 0;
     }
     case OPT_FLAG:
-        *(int *)field = 1;
+        if (field)
+            *(int *)field = 1;
         return 0;
     case OPT_LIST: {
         opt_list *l = (opt_list *)field;
+        if (!l)
+            return 0;
         if (l->count >= OPT_LIST_MAX) {
             snprintf(err, err_size, "--%s given more than %d times", s->name, OPT_LIST_MAX);
             return -1;
@@ -100,6 +109,20 @@ static int set_value(const opt_spec *s, void *settings, const char *text, char *
     }
     }
     return -1;
+}
+
+const opt_spec *opt_find(const opt_spec *const *tables, const char *name)
+{
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s)
+            if (strcmp(s->name, name) == 0)
+                return s;
+    return NULL;
+}
+
+int opt_check(const opt_spec *spec, const char *text, char *err, size_t err_size)
+{
+    return set_value(spec, NULL, text, err, err_size);
 }
 
 int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **argv,
@@ -128,7 +151,9 @@ int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **ar
     int result = 0;
     *n_positional = 0;
     opterr = 0;
-    optind = 1;
+    /* 0, not 1: glibc and musl then forget a previous parse entirely (one
+     * that stopped inside "-hx" would otherwise resume at its "x"). */
+    optind = 0;
     /* '-' in front: positionals come back in order as value 1. */
     for (;;) {
         int prev = optind;
@@ -162,6 +187,10 @@ int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **ar
         }
     }
     free(longopts);
+    /* The message quotes the user's words: keep it one line whatever they hold. */
+    for (char *p = err; result < 0 && *p; ++p)
+        if ((unsigned char)*p < 0x20 || *p == 0x7f)
+            *p = ' ';
     return result;
 }
 
