@@ -108,7 +108,7 @@ tap_ok $rc "the same raster as a heightmap with --cell-size"
 for bad in 0 -1 1e9 nan 3.5 ""; do
     expect_failure 2 "--directions '$bad'" -- svf --directions "$bad" "$dem" "$work/out/o.tif"
 done
-expect_failure 2 "unknown option" -- svf --frobnicate 3 "$dem" "$work/out/o.tif"
+expect_failure 2 "unknown option '--frobnicate'" -- svf --frobnicate 3 "$dem" "$work/out/o.tif"
 expect_failure 2 "unknown SVF definition" -- svf --definition fancy "$dem" "$work/out/o.tif"
 expect_failure 2 "missing output argument" -- svf "$dem"
 expect_failure 2 "unknown command" -- frobnicate "$dem" "$work/out/o.tif"

@@ -30,7 +30,9 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     req.svf_tolerance = common->svf_tolerance;
     req.sun_tolerance_deg = common->sun_tolerance_deg;
     req.curvature = switch_of(common->curvature);
-    req.true_north = common->north == 0 ? SS_AUTO : common->north == 1 ? SS_ON : SS_OFF;
+    req.true_north = common->north == NORTH_AUTO   ? SS_AUTO
+                     : common->north == NORTH_TRUE ? SS_ON
+                                                   : SS_OFF;
     req.sun_per_cell = switch_of(common->sun_per_cell);
     req.refraction_k = common->refraction_k;
     req.directions = common->directions;

@@ -24,7 +24,7 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
                                 "--sun-azimuth and --sun-elevation go together");
         double az = common->sun_azimuth_deg;
         /* In the grid frame the sun is given in grid azimuths. */
-        if (common->north == 1)
+        if (common->north == NORTH_GRID)
             az += job->frame.grid_north_deg;
         ss_sun_field_fixed(&job->frame, job->dem.grid.width, job->dem.grid.height, az,
                            common->sun_elevation_deg, field);

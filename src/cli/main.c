@@ -18,6 +18,8 @@ static const struct {
     {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view"},
     {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun"},
     {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)"},
+    {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView"},
+    {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map"},
     {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range"},
     {"plan", NULL, "what a scene needs: effects on/off with reason and error bound, cost"},
     {"run", NULL, "run the job a scene file describes"},

@@ -156,7 +156,7 @@ int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **ar
     optind = 0;
     /* '-' in front: positionals come back in order as value 1. */
     for (;;) {
-        int prev = optind;
+        int prev = optind > 0 ? optind : 1; /* optind 0 stands for 1 (see above) */
         int c = getopt_long_only(argc, argv, "-:h", longopts, NULL);
         if (c == -1)
             break;

@@ -11,6 +11,7 @@
 #include <gdal.h>
 
 #include "commands.h"
+#include "heightmap_input.h"
 #include "run.h"
 #include "scene.h"
 
@@ -33,6 +34,11 @@ const opt_spec common_options[] = {
      "GDAL creation option (repeatable); defaults: TILED=YES COMPRESS=DEFLATE PREDICTOR=3"},
     {"cell-size", OPT_DOUBLE, COMMON(cell_size_m), "METRES", NULL, 1e-6, 1e7, NULL,
      "treat an input without georeferencing as a heightmap with this cell size"},
+    {"heightmap", OPT_FLAG, COMMON(heightmap), NULL, NULL, 0, 0, NULL,
+     "read the input as a plain image through OpenImageIO (16-bit PNG, EXR, TIFF): heights "
+     "= pixel x --z-scale on --cell-size cells, no CRS"},
+    {"z-scale", OPT_DOUBLE, COMMON(z_scale), "FACTOR", "1", -1e6, 1e6, NULL,
+     "with --heightmap: metres per pixel value (e.g. 0.1 for decimetres)"},
     {"curvature", OPT_CHOICE, COMMON(curvature), NULL, "auto", 0, 0, "auto|on|off",
      "earth curvature with terrestrial refraction; auto: on where it moves horizons by more "
      "than the tolerance"},
@@ -171,7 +177,8 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
                        const common_settings *common, ss_dem *dem, ss_dem_frame *frame)
 {
     ss_dem_read_options ro = {common->cell_size_m};
-    ss_status st = ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
+    ss_status st = common->heightmap ? heightmap_read(run, paths, n_paths, common, dem)
+                                     : ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
     if (st == SS_OK) {
         st = ss_dem_frame_open(run->ctx, dem, frame);
         if (st != SS_OK)

@@ -19,11 +19,13 @@ typedef struct {
     const char *format;
     opt_list creation_options;
     double cell_size_m;
+    int heightmap; /* read the input through OpenImageIO (heightmap_input.h) */
+    double z_scale; /* --heightmap: metres per pixel value */
     int curvature; /* index into "auto|on|off" */
     double refraction_k;
     double earth_radius_m; /* 0: the DEM's local radius */
     int lines;             /* index into "interpolated|digital" */
-    int north;             /* index into "auto|true|grid" */
+    int north;             /* NORTH_AUTO, NORTH_TRUE or NORTH_GRID ("auto|true|grid") */
     double horizon_tolerance_deg, svf_tolerance, sun_tolerance_deg;
     int plan_only, plan_json;
     const char *scene;
@@ -69,6 +71,9 @@ int run_begin(run_state *run, const char *command, const common_settings *common
 int run_fail(run_state *run, ss_status status);
 int run_usage_error(const char *command, const char *message);
 void run_end(run_state *run);
+
+/* --north's choices, in the order of its table. */
+enum { NORTH_AUTO = 0, NORTH_TRUE = 1, NORTH_GRID = 2 };
 
 /* Reads the DEM and opens its frame (ground cell sizes, true north). */
 ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
