@@ -70,7 +70,15 @@ ss hillshade -q --az 290 --alt 15 --cast-shadows "$dem" "$tmp/hillshade.tif"
 ss quicklook -q --colormap grey --min 1 --max 150 "$tmp/hillshade.tif" \
     "$img/kilauea_hillshade_shadows.png"
 
-# 4. Gothenburg: buildings and their shadows at 09:00 CET on 20 March.
+# 4. RVT's VAT relief blend of the caldera (doc/relief.md), horizons within
+# 10 cells as RVT's default, and positive openness at unlimited range.
+ss hillshade -q --blend vat "$dem" "$tmp/vat.tif"
+gdal_translate -q -of PNG "$tmp/vat.tif" "$img/kilauea_vat.png"
+ss openness -q "$dem" "$tmp/openness.tif"
+ss quicklook -q --colormap grey --min 60 --max 100 "$tmp/openness.tif" \
+    "$img/kilauea_openness.png"
+
+# 5. Gothenburg: buildings and their shadows at 09:00 CET on 20 March.
 if [ -e "$GOTEBORG" ]; then
     when=2026-03-20T08:00Z
     ss shadow -q --time "$when" "$GOTEBORG" "$tmp/goteborg_shadow.tif"

@@ -23,6 +23,8 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
         return ss_svf_geometric_term(d, dz);
     if (definition == SS_SVF_HORIZONTAL)
         return ss_svf_horizontal_term(d, dz);
+    if (definition == SS_TERM_ELEVATION)
+        return d > 0.0f ? ss_horizon_deg(d, dz) : 0.0f;
     if (minor < 0 || minor >= ls->minor_len)
         return 0.0f; /* no such cell: it receives nothing (and z must not be read there) */
     int col = ls->major_is_row ? minor : major, row = ls->major_is_row ? major : minor;
@@ -88,6 +90,52 @@ SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k, f
             if (h.cell1 >= 0 && h.w1 > 0.5f)
                 dist_m[h.cell1] = h.d;
         }
+    }
+}
+
+/* Adds, for the cells the line feeds, a term (SS_TERM_ELEVATION,
+ * SS_SVF_GEOMETRIC or SS_SVF_HORIZONTAL) of the horizon within radius_m
+ * only: the highest terrain ahead no farther than radius_m, nothing where
+ * none lies within it. The classical radius-limited horizon of openness
+ * (Yokoyama et al. 2002) and of RVT's sky-view factor: a plain scan back
+ * along the line, O(samples x radius). */
+SS_FN void ss_pass_radius_terms(const ss_line_set *ls, int line, int definition,
+                                float radius_m, float curv_k, SS_GLOBAL const float *z,
+                                SS_GLOBAL float *acc)
+{
+    ss_walker w;
+    int n = ss_walker_begin(&w, ls, line);
+    int flags = ss_walk_flags(ls, curv_k);
+    for (int s = 0; s < n; ++s) {
+        float zv, offv;
+        ss_line_sample qv = ss_walker_sample(ls, &w, s);
+        ss_sample_horizon h = ss_sample_cells(ls, qv, z, &zv, &offv);
+        if (!h.valid)
+            continue;
+        ss_hull_point v = ss_hull_point_at(&w, s, qv, zv, offv);
+        float best_d = 0.0f, best_dz = -1.0f;
+        for (int t = s - 1; t >= 0; --t) {
+            float zt, offt;
+            ss_line_sample qt = ss_walker_sample(ls, &w, t);
+            ss_sample_horizon ht = ss_sample_cells(ls, qt, z, &zt, &offt);
+            ss_hull_point p = ss_hull_point_at(&w, t, qt, zt, offt);
+            float d = ss_hull_dist(ls, v, p, flags);
+            if (d > radius_m)
+                break;
+            if (!ht.occludes)
+                continue;
+            float dz = ss_hull_height_above(v, p, flags) - curv_k * d * d;
+            if (best_d == 0.0f || dz * best_d > best_dz * d) {
+                best_d = d;
+                best_dz = dz;
+            }
+        }
+        float term = ss_svf_term_for(definition, ls, 0, 0, best_d, best_dz, 0.0f, 0.0f, 0.0f,
+                                     0.0f, 0, z);
+        if (h.cell0 >= 0)
+            acc[h.cell0] += h.w0 * term;
+        if (h.cell1 >= 0)
+            acc[h.cell1] += h.w1 * term;
     }
 }
 

@@ -10,6 +10,8 @@
 #define SS_SVF_GEOMETRIC 0  /* Zaksek et al. 2011 / RVT: 1 - mean sin h+ */
 #define SS_SVF_HORIZONTAL 1 /* radiative, horizontal surface: mean cos^2 h+ */
 #define SS_SVF_TILTED 2     /* radiative, tilted cell: Dozier & Frew 1990 eq. 7b */
+#define SS_TERM_ELEVATION 3 /* the horizon's elevation in degrees (0 where nothing lies
+                               ahead): positive openness is 90 - its mean */
 
 /* atan(x) for x >= 0 to within about 1e-7 rad: reduced to [0, 1] by
  * atan(x) = pi/2 - atan(1/x), then below tan(15 deg) by atan(x) = pi/6 +

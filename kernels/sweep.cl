@@ -29,3 +29,12 @@ __kernel void sweep_bare(ss_line_set ls, int round, __global const float *z,
     if (i < ss_round_lines(&ls, round))
         ss_pass_bare(&ls, ss_round_line(&ls, round, i), z, out);
 }
+
+__kernel void sweep_radius_terms(ss_line_set ls, int round, int definition, float radius_m,
+                                 float curv_k, __global const float *z, __global float *acc)
+{
+    int i = get_global_id(0);
+    if (i < ss_round_lines(&ls, round))
+        ss_pass_radius_terms(&ls, ss_round_line(&ls, round, i), definition, radius_m, curv_k, z,
+                             acc);
+}

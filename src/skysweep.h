@@ -125,6 +125,28 @@ typedef enum {
 /* Sky-view factor of every cell into out (width*height, SS_NODATA at nodata). */
 ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                  ss_svf_definition definition, float *out);
+/* The same from horizons within radius_m only (0: unlimited, as ss_svf);
+ * geometric or horizontal definitions. */
+ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                        ss_svf_definition definition, double radius_m, float *out);
+
+/* Topographic openness (Yokoyama et al. 2002), degrees: positive (negative
+ * nonzero: the openness of the inverted surface), from horizons at
+ * unlimited distance, or within radius_m when it is > 0. A flat plane
+ * gives 90. SS_NODATA at nodata. */
+ss_status ss_openness(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                      int negative, double radius_m, float *out);
+
+/* RVT's VAT relief blend (Kokalj & Somrak 2019) of one cell, 0..1 (1 =
+ * white): hillshade 0..1 (cosine of incidence), slope in degrees, positive
+ * openness in degrees, geometric SVF. src/core/relief_blend.c gives the
+ * recipe. */
+float ss_vat_compose(float hillshade, float slope_deg, float openness_deg, float svf);
+/* The VAT blend of every cell (0..1, SS_NODATA at nodata): gdaldem's
+ * hillshade at 315/35 deg, Horn's slope, and SVF and positive openness from
+ * horizons within radius_m (0: unlimited). */
+ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, double radius_m,
+                 float *out);
 
 /* Receives the horizon of every cell for one direction; dist_m is NULL unless
  * asked for. Return 0 to stop the run (it then ends with SS_ERR_CANCELLED). */

@@ -51,6 +51,38 @@ tap_ok $? "svf values lie in (0.5, 1] on a gentle hill (min $min, max $max)"
 grep -q '^svf .*min' "$work/stdout"
 tap_ok $? "svf prints a summary"
 
+# Openness: degrees, the hill's top more open than 90 (it looks down all
+# round) and its foot less, nodata kept; negative openness the reverse.
+run openness --directions 16 "$dem" "$work/pos.tif"
+tap_ok $rc "openness exits 0 ($(head -c 200 "$work/stderr"))"
+top=$(gdallocationinfo -valonly "$work/pos.tif" 30 25)
+foot=$(gdallocationinfo -valonly "$work/pos.tif" 30 35)
+corner=$(gdallocationinfo -valonly "$work/pos.tif" 0 0)
+awk -v t="$top" -v f="$foot" -v c="$corner" 'BEGIN { exit !(t > 90 && t < 180 && f < 90 && c == -9999) }'
+tap_ok $? "positive openness: top $top > 90, foot $foot < 90, nodata corner $corner"
+run openness --kind negative --radius 300 --directions 16 "$dem" "$work/neg.tif"
+tap_ok $rc "negative openness with --radius exits 0"
+top=$(gdallocationinfo -valonly "$work/neg.tif" 30 25)
+gdalinfo "$work/neg.tif" | grep -q 'OPENNESS_RADIUS_M=300'
+tap_ok $? "negative openness: radius recorded; top $top"
+awk -v t="$top" 'BEGIN { exit !(t < 90) }'
+tap_ok $? "negative openness of the hill's top is below 90 ($top)"
+
+# The VAT relief blend: Byte 1..255 with 0 = nodata, georeferencing kept.
+run hillshade --blend vat --directions 16 "$dem" "$work/vat.tif"
+tap_ok $rc "hillshade --blend vat exits 0 ($(head -c 200 "$work/stderr"))"
+info=$(gdalinfo -stats "$work/vat.tif" 2>&1)
+echo "$info" | grep -q 'Type=Byte' && echo "$info" | grep -q 'NoData Value=0' &&
+    echo "$info" | grep -q 'ID\["EPSG",32605\]' &&
+    echo "$info" | grep -q 'Origin = (254325.000000000000000,2153655.000000000000000)'
+tap_ok $? "VAT blend is Byte with nodata 0, CRS and origin kept"
+min=$(echo "$info" | sed -n 's/.*STATISTICS_MINIMUM=//p')
+corner=$(gdallocationinfo -valonly "$work/vat.tif" 0 0)
+awk -v a="$min" -v c="$corner" 'BEGIN { exit !(a >= 1 && c == 0) }'
+tap_ok $? "VAT values >= 1 (min $min), nodata cell 0 ($corner)"
+gdalinfo "$work/vat.tif" | grep -q 'RELIEF_BLEND=RVT VAT'
+tap_ok $? "VAT blend states its recipe in the metadata"
+
 run horizon --directions 8 --distance "$work/dist.tif" "$dem" "$work/h.tif"
 tap_ok $rc "horizon with --distance exits 0"
 bands=$(gdalinfo "$work/h.tif" | grep -c '^Band ')
@@ -85,6 +117,9 @@ expect_failure() {
     tap_ok $? "$what: exit $rc (want $code), $lines stderr line(s), $leftovers file(s) left: $(head -c 160 "$work/stderr")"
 }
 
+expect_failure 2 "does not take" -- hillshade --blend vat --cast-shadows "$dem" "$work/out/o.tif"
+expect_failure 2 "negative openness radius" -- openness --radius -5 "$dem" "$work/out/o.tif"
+expect_failure 2 "radius-limited radiative SVF" -- svf --radius 100 --definition radiative "$dem" "$work/out/o.tif"
 expect_failure 3 "missing input" -- svf "$work/nope.tif" "$work/out/o.tif"
 : >"$work/empty.tif"
 expect_failure 3 "empty file" -- svf "$work/empty.tif" "$work/out/o.tif"

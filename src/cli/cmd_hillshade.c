@@ -14,8 +14,8 @@
 typedef struct {
     common_settings common;
     double azimuth_deg, altitude_deg, z_factor;
-    int alg, multidirectional, cast_shadows;
-    double sky_view;
+    int alg, multidirectional, cast_shadows, blend;
+    double sky_view, blend_radius_cells;
 } hillshade_settings;
 
 #define SET(field) offsetof(hillshade_settings, field)
@@ -36,6 +36,12 @@ static const opt_spec hillshade_options[] = {
     {"sky-view", OPT_DOUBLE, SET(sky_view), "WEIGHT", "0", 0, 1, NULL,
      "blend in sky-view shading: (1 - W) hillshade + W (1 + 254 SVF), geometric SVF over "
      "--directions"},
+    {"blend", OPT_CHOICE, SET(blend), NULL, "none", 0, 0, "none|vat",
+     "vat: RVT's relief blend for archaeology and cartography (hillshade 315/35, slope, "
+     "positive openness, SVF; doc/relief.md) instead of the plain hillshade"},
+    {"blend-radius", OPT_DOUBLE, SET(blend_radius_cells), "CELLS", "10", 0, 1e6, NULL,
+     "how far the blend's SVF and openness look for the horizon, in cells (RVT's default "
+     "10); 0: unlimited"},
     OPT_END};
 
 int cmd_hillshade(int argc, char **argv)
@@ -52,13 +58,18 @@ int cmd_hillshade(int argc, char **argv)
                        set.common.device);
     if (rc >= 0)
         return rc;
+    if (set.blend && (set.cast_shadows || set.sky_view > 0 || set.multidirectional)) {
+        fprintf(stderr, "skysweep hillshade: --blend vat has its own light and layers; it "
+                        "does not take --cast-shadows, --sky-view or --multidirectional\n");
+        return SS_ERR_ARGUMENT;
+    }
     sweep_job job;
     if ((rc = job_open(&job, "hillshade", &set.common, pos, n_pos)))
         return rc;
     /* Plain hillshade reads no horizons; cast shadows and sky view do. */
-    ss_product product = set.cast_shadows   ? SS_PRODUCT_SHADOW
-                         : set.sky_view > 0 ? SS_PRODUCT_SVF
-                                            : SS_PRODUCT_HILLSHADE;
+    ss_product product = set.cast_shadows                 ? SS_PRODUCT_SHADOW
+                         : set.sky_view > 0 || set.blend ? SS_PRODUCT_SVF
+                                                         : SS_PRODUCT_HILLSHADE;
     if ((rc = job_plan(&job, &set.common, product, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
@@ -73,7 +84,13 @@ int cmd_hillshade(int argc, char **argv)
                                              set.common.format,
                                              set.common.creation_options.items, &w)
                        : command_out_of_memory(&job.run);
-    if (st == SS_OK)
+    double blend_radius_m = set.blend_radius_cells * sqrt(g->cell_x_m * g->cell_y_m);
+    if (st == SS_OK && set.blend) {
+        st = ss_vat(job.run.ctx, g, &job.opt, blend_radius_m, shade);
+        for (size_t c = 0; st == SS_OK && c < n; ++c)
+            if (shade[c] != SS_NODATA)
+                shade[c] = 1.0f + 254.0f * shade[c];
+    } else if (st == SS_OK)
         st = ss_hillshade(job.run.ctx, g, set.azimuth_deg, set.altitude_deg, set.z_factor,
                           set.alg == 1, set.multidirectional, shade);
     /* The light's azimuth is in the raster's frame; the sweep takes the
@@ -93,17 +110,24 @@ int cmd_hillshade(int argc, char **argv)
                                    set.sky_view * (1.0 + 254.0 * extra[c]));
     }
     if (st == SS_OK) {
-        char buf[200];
+        char buf[300];
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
         job_plan_metadata(&job, w);
-        snprintf(buf, sizeof buf,
+        if (set.blend)
+            snprintf(buf, sizeof buf,
+                     "RVT VAT blend (Kokalj & Somrak 2019): hillshade 315/35 normal 100%%, "
+                     "slope 0..50 deg inverted luminosity 50%%, positive openness 68..93 deg "
+                     "overlay 50%%, SVF 0.7..1 multiply 25%%; horizons within %g m%s",
+                     blend_radius_m, blend_radius_m > 0 ? "" : " (unlimited)");
+        else
+            snprintf(buf, sizeof buf,
                  "gdaldem hillshade: az %g (raster frame), alt %g, z %g, %s%s%s; sky-view "
                  "weight %g",
                  set.azimuth_deg, set.altitude_deg, set.z_factor, set.alg ? "ZevenbergenThorne" : "Horn",
                  set.multidirectional ? ", multidirectional" : "",
                  set.cast_shadows ? ", cast shadows" : "", set.sky_view);
-        ss_writer_metadata(w, "HILLSHADE", buf);
-        st = ss_writer_band(w, 1, shade, "hillshade", NULL);
+        ss_writer_metadata(w, set.blend ? "RELIEF_BLEND" : "HILLSHADE", buf);
+        st = ss_writer_band(w, 1, shade, set.blend ? "VAT relief blend" : "hillshade", NULL);
     }
     if (st == SS_OK)
         st = run_commit(&job.run, w);
@@ -112,9 +136,13 @@ int cmd_hillshade(int argc, char **argv)
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);
-        if (set.cast_shadows || set.sky_view > 0)
+        if (set.cast_shadows || set.sky_view > 0 || set.blend)
             command_print_sweep(&job.run, &job.opt, g->width, g->height);
-        printf("shade   light %g/%g deg -> %s\n", set.azimuth_deg, set.altitude_deg, job.output);
+        if (set.blend)
+            printf("shade   VAT blend, horizons within %g m -> %s\n", blend_radius_m, job.output);
+        else
+            printf("shade   light %g/%g deg -> %s\n", set.azimuth_deg, set.altitude_deg,
+                   job.output);
     }
     free(shade);
     free(extra);

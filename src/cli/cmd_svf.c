@@ -11,6 +11,7 @@
 typedef struct {
     common_settings common; /* first: common_options' offsets are relative to it */
     int definition;
+    double radius_m;
 } svf_settings;
 
 static const char *const definition_names[] = {"geometric", "radiative", "horizontal"};
@@ -23,6 +24,9 @@ static const opt_spec svf_options[] = {
      "geometric|radiative|horizontal",
      "geometric: 1 - mean sin h (Zaksek/RVT); radiative: cosine-weighted sky seen by the "
      "sloping cell (Dozier & Frew); horizontal: cosine-weighted, horizontal surface"},
+    {"radius", OPT_DOUBLE, offsetof(svf_settings, radius_m), "METRES", "0", 0, 1e7, NULL,
+     "look for the horizon only this far, as RVT and SAGA do (geometric or horizontal; slower: "
+     "O(radius) per cell); 0: unlimited, the exact sweep horizon"},
     OPT_END};
 
 int cmd_svf(int argc, char **argv)
@@ -53,11 +57,15 @@ int cmd_svf(int argc, char **argv)
                                         set.common.creation_options.items, &w)
                        : command_out_of_memory(&job.run);
     if (st == SS_OK)
-        st = ss_svf(job.run.ctx, g, &job.opt, definition_of_choice[set.definition], svf);
+        st = ss_svf_within(job.run.ctx, g, &job.opt, definition_of_choice[set.definition],
+                           set.radius_m, svf);
     if (st == SS_OK) {
+        char radius[32];
+        snprintf(radius, sizeof radius, "%g", set.radius_m);
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
         job_plan_metadata(&job, w);
         ss_writer_metadata(w, "SVF_DEFINITION", definition_names[set.definition]);
+        ss_writer_metadata(w, "SVF_RADIUS_M", set.radius_m > 0 ? radius : "unlimited");
         st = ss_writer_band(w, 1, svf, "sky-view factor", "1");
     }
     if (st == SS_OK)

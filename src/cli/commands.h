@@ -13,6 +13,7 @@ int cmd_sun(int argc, char **argv);
 int cmd_shadow(int argc, char **argv);
 int cmd_hillshade(int argc, char **argv);
 int cmd_insolation(int argc, char **argv);
+int cmd_openness(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_quicklook(int argc, char **argv);
 

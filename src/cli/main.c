@@ -15,6 +15,7 @@ static const struct {
 } commands[] = {
     {"horizon", cmd_horizon, "horizon elevation angle per azimuth (one band each)"},
     {"svf", cmd_svf, "sky-view factor (geometric, radiative or horizontal)"},
+    {"openness", cmd_openness, "positive or negative topographic openness (degrees)"},
     {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view"},
     {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun"},
     {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)"},

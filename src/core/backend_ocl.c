@@ -22,7 +22,7 @@ struct ss_ocl {
     cl_context context;
     cl_command_queue queue;
     cl_program program;
-    cl_kernel k_svf, k_horizon, k_bare;
+    cl_kernel k_svf, k_horizon, k_bare, k_radius;
     size_t work_group;
 };
 
@@ -231,7 +231,7 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
         cl_kernel *k;
         const char *name;
     } kernels[] = {{&o->k_svf, "sweep_svf"}, {&o->k_horizon, "sweep_horizon"},
-                   {&o->k_bare, "sweep_bare"}};
+                   {&o->k_bare, "sweep_bare"}, {&o->k_radius, "sweep_radius_terms"}};
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i) {
         *kernels[i].k = clCreateKernel(o->program, kernels[i].name, &err);
         if (err != CL_SUCCESS)
@@ -301,6 +301,8 @@ void ss_ocl_release(struct ss_ocl *o)
         clReleaseKernel(o->k_horizon);
     if (o->k_bare)
         clReleaseKernel(o->k_bare);
+    if (o->k_radius)
+        clReleaseKernel(o->k_radius);
     if (o->program)
         clReleaseProgram(o->program);
     if (o->queue)
@@ -416,6 +418,20 @@ static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)
     return launch(s, s->ctx->ocl->k_bare, args, 4, ls, "the bare-pass kernel");
 }
 
+static ss_status ocl_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
+                                  float radius_m, float curv_k)
+{
+    ocl_session *q = s->impl;
+    kernel_arg args[] = {{sizeof *ls, ls},
+                         {0, NULL},
+                         {sizeof definition, &definition},
+                         {sizeof radius_m, &radius_m},
+                         {sizeof curv_k, &curv_k},
+                         {sizeof(cl_mem), &q->z},
+                         {sizeof(cl_mem), &q->out[0]}};
+    return launch(s, s->ctx->ocl->k_radius, args, 7, ls, "the radius-limited horizon kernel");
+}
+
 static ss_status ocl_view(ss_session *s, int output, float **host)
 {
     ocl_session *q = s->impl;
@@ -451,8 +467,8 @@ static void ocl_close(ss_session *s)
     free(q);
 }
 
-static const ss_backend ocl_backend = {ocl_clear, ocl_svf, ocl_horizon,
-                                       ocl_bare,  ocl_view, ocl_close};
+static const ss_backend ocl_backend = {ocl_clear, ocl_svf,  ocl_horizon, ocl_bare,
+                                       ocl_radius_terms, ocl_view, ocl_close};
 
 ss_status ss_backend_ocl_open(ss_session *s)
 {

@@ -65,6 +65,20 @@ static ss_status ref_bare(ss_session *s, const ss_line_set *ls)
     return SS_OK;
 }
 
+static ss_status ref_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
+                                  float radius_m, float curv_k)
+{
+    ref_session *r = s->impl;
+    for (int round = 0; round < 2; ++round) {
+        int n = ss_round_lines(ls, round);
+#pragma omp parallel for schedule(dynamic, 16)
+        for (int i = 0; i < n; ++i)
+            ss_pass_radius_terms(ls, ss_round_line(ls, round, i), definition, radius_m, curv_k,
+                                 s->grid->z, r->out[0]);
+    }
+    return SS_OK;
+}
+
 static ss_status ref_view(ss_session *s, int output, float **host)
 {
     ref_session *r = s->impl;
@@ -83,8 +97,8 @@ static void ref_close(ss_session *s)
     free(r);
 }
 
-static const ss_backend ref_backend = {ref_clear, ref_svf, ref_horizon,
-                                       ref_bare,  ref_view, ref_close};
+static const ss_backend ref_backend = {ref_clear, ref_svf,  ref_horizon, ref_bare,
+                                       ref_radius_terms, ref_view, ref_close};
 
 ss_status ss_backend_ref_open(ss_session *s)
 {

@@ -61,6 +61,13 @@ ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k,
     return s->backend->horizon(s, ls, curv_k, none_deg, want_dist);
 }
 
+ss_status ss_session_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
+                                  float radius_m, float curv_k)
+{
+    count_sweep(s);
+    return s->backend->radius_terms(s, ls, definition, radius_m, curv_k);
+}
+
 ss_status ss_session_bare(ss_session *s, const ss_line_set *ls)
 {
     return s->backend->bare(s, ls);

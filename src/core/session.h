@@ -18,6 +18,8 @@ typedef struct {
     ss_status (*horizon)(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
                          int want_dist);
     ss_status (*bare)(ss_session *s, const ss_line_set *ls);
+    ss_status (*radius_terms)(ss_session *s, const ss_line_set *ls, int definition,
+                              float radius_m, float curv_k);
     ss_status (*view)(ss_session *s, int output, float **host);
     void (*close)(ss_session *s);
 } ss_backend;
@@ -40,6 +42,10 @@ ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, f
  * ahead) into output 0 and sets distances in output 1; clear both first. */
 ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
                              int want_dist);
+/* Adds a term (SS_TERM_ELEVATION, SS_SVF_GEOMETRIC or SS_SVF_HORIZONTAL)
+ * of the horizon within radius_m into output 0. */
+ss_status ss_session_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
+                                  float radius_m, float curv_k);
 /* out0[c] += z[c] along the lines. */
 ss_status ss_session_bare(ss_session *s, const ss_line_set *ls);
 /* Waits for queued passes; *host (readable and writable) stays valid until

@@ -1,0 +1,85 @@
+/* skysweep openness: positive or negative topographic openness GeoTIFF. */
+#include "config.h"
+
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "commands.h"
+#include "run.h"
+
+typedef struct {
+    common_settings common; /* first: common_options' offsets are relative to it */
+    int kind;
+    double radius_m;
+} openness_settings;
+
+static const char *const kind_names[] = {"positive", "negative"};
+
+static const opt_spec openness_options[] = {
+    {"kind", OPT_CHOICE, offsetof(openness_settings, kind), NULL, "positive", 0, 0,
+     "positive|negative",
+     "positive: 90 deg minus the mean horizon elevation (valleys low, ridges high); negative: "
+     "the same for the inverted surface (ridges low, valleys high)"},
+    {"radius", OPT_DOUBLE, offsetof(openness_settings, radius_m), "METRES", "0", 0, 1e7, NULL,
+     "look for the horizon only this far (the classical radius-limited openness, slower: "
+     "O(radius) per cell); 0: unlimited, the exact sweep horizon"},
+    OPT_END};
+
+int cmd_openness(int argc, char **argv)
+{
+    openness_settings set = {0};
+    const opt_spec *tables[] = {openness_options, common_options, NULL};
+    const char *pos[COMMAND_MAX_INPUTS + 1];
+    int n_pos = 0;
+    int rc = run_parse("openness", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1,
+                       2, "skysweep openness [options] DEM... OUTPUT",
+                       "Topographic openness in degrees (Yokoyama et al. 2002), from horizons in "
+                       "evenly spaced azimuths.\nSeveral DEM tiles are mosaicked first.",
+                       set.common.device);
+    if (rc >= 0)
+        return rc;
+    sweep_job job;
+    if ((rc = job_open(&job, "openness", &set.common, pos, n_pos)))
+        return rc;
+    if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+        job_close(&job);
+        return rc;
+    }
+    const ss_grid *g = &job.dem.grid;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    ss_raster_writer *w = NULL;
+    float *openness = malloc(n * sizeof *openness);
+    ss_status st = openness ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1,
+                                             set.common.format,
+                                             set.common.creation_options.items, &w)
+                            : command_out_of_memory(&job.run);
+    if (st == SS_OK)
+        st = ss_openness(job.run.ctx, g, &job.opt, set.kind == 1, set.radius_m, openness);
+    if (st == SS_OK) {
+        char radius[32];
+        snprintf(radius, sizeof radius, "%g", set.radius_m);
+        run_common_metadata(&job.run, w, &job.opt, &job.frame);
+        job_plan_metadata(&job, w);
+        ss_writer_metadata(w, "OPENNESS_KIND", kind_names[set.kind]);
+        ss_writer_metadata(w, "OPENNESS_RADIUS_M", set.radius_m > 0 ? radius : "unlimited");
+        st = ss_writer_band(w, 1, openness,
+                            set.kind ? "negative openness" : "positive openness", "deg");
+    }
+    if (st == SS_OK)
+        st = run_commit(&job.run, w);
+    else
+        ss_writer_abort(w);
+    rc = job_finish(&job, st);
+    if (st == SS_OK && !job.run.quiet) {
+        double lo, mean, hi;
+        run_stats(openness, n, &lo, &mean, &hi);
+        run_print_dem(&job.run, &job.dem, &job.frame);
+        command_print_sweep(&job.run, &job.opt, g->width, g->height);
+        printf("openness %s, min %.2f mean %.2f max %.2f deg -> %s\n", kind_names[set.kind], lo,
+               mean, hi, job.output);
+    }
+    free(openness);
+    job_close(&job);
+    return rc;
+}
