@@ -49,6 +49,8 @@ typedef struct {
     float along_per_step_m; /* distance walked per major step (> 0) */
     float along_per_minor_m;/* distance walked per +1 of the minor index (digital only) */
     float weight_per_frac;  /* interpolation weight per 1/65536 cell: 2^-16, or 0 for digital */
+    int base_major;         /* the buffers' first major and minor index: 0 for the whole */
+    int base_minor;         /* grid; a band of rows starts at row base (src/core/banded.c) */
     int reserved;
 } ss_line_set;
 
@@ -121,9 +123,10 @@ SS_FN int ss_line_major_at(const ss_line_set *ls, int first, int count, int s)
     return ls->step > 0 ? first + s : first + count - 1 - s;
 }
 
+/* Index of a cell in the buffers (the whole grid, or a band of rows). */
 SS_FN int ss_line_cell(const ss_line_set *ls, int major, int minor)
 {
-    return major * ls->stride_major + minor * ls->stride_minor;
+    return (major - ls->base_major) * ls->stride_major + (minor - ls->base_minor) * ls->stride_minor;
 }
 
 /* One sample of a line: its height source and where its result goes. */

@@ -27,23 +27,24 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
         return d > 0.0f ? ss_horizon_deg(d, dz) : 0.0f;
     if (minor < 0 || minor >= ls->minor_len)
         return 0.0f; /* no such cell: it receives nothing (and z must not be read there) */
-    int col = ls->major_is_row ? minor : major, row = ls->major_is_row ? major : minor;
+    /* The row within the buffers (the grid, or a band of rows and its halo). */
+    int col = ls->major_is_row ? minor : major;
+    int row = ls->major_is_row ? major - ls->base_major : minor - ls->base_minor;
     float dz_de = 0.0f, dz_dn = 0.0f;
     if (SS_ISFINITE(z[row * ls->width + col]))
         ss_gradient_horn(z, ls->width, height, col, row, cell_x_m, cell_y_m, &dz_de, &dz_dn);
     return ss_svf_tilted_term(d, dz, sin_az, cos_az, dz_de, dz_dn);
 }
 
-/* Adds one direction's SVF term to acc for the cells the line feeds. */
-SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, float curv_k,
-                            float sin_az, float cos_az, float cell_x_m, float cell_y_m,
-                            int height, SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                            SS_GLOBAL float *acc, int flags)
+/* Adds one direction's SVF term to acc for the cells that steps [s_lo,
+ * s_hi) of the walker's line feed. */
+SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi, int definition,
+                        float curv_k, float sin_az, float cos_az, float cell_x_m,
+                        float cell_y_m, int height, SS_GLOBAL const float *z,
+                        SS_GLOBAL int *stack, SS_GLOBAL float *acc, int flags)
 {
-    ss_walker w;
-    int n = ss_walker_begin(&w, ls, line);
-    for (int i = 0; i < n; ++i) {
-        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k, i, flags);
+    for (int i = s_lo; i < s_hi; ++i) {
+        ss_sample_horizon h = ss_walker_step(w, ls, z, stack, curv_k, i, flags);
         if (!h.valid)
             continue;
         /* Only the radiative term depends on the receiving cell (its slope). */
@@ -58,6 +59,18 @@ SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, flo
         if (h.cell1 >= 0)
             acc[h.cell1] += h.w1 * term1;
     }
+}
+
+/* Adds one direction's SVF term to acc for the cells the line feeds. */
+SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, float curv_k,
+                            float sin_az, float cos_az, float cell_x_m, float cell_y_m,
+                            int height, SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                            SS_GLOBAL float *acc, int flags)
+{
+    ss_walker w;
+    int n = ss_walker_begin(&w, ls, line);
+    ss_svf_steps(&w, ls, 0, n, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m, height, z,
+                 stack, acc, flags);
 }
 
 /* Adds the weighted horizon angle (degrees) into angle_deg and, if

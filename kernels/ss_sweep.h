@@ -20,6 +20,12 @@
  * walked. Each slot holds the step index of a hull vertex; the top
  * SS_RING vertices are also kept whole in private memory, so the pops that
  * follow most pushes need no global reads.
+ *
+ * A walk can stop after any step and resume later in other buffers (the
+ * banded sweep of src/core/banded.c, which never holds the whole grid):
+ * the hull so far is then handed on as whole points, the `carried` slots
+ * below slot_base, and the slots pushed after the resumption live at the
+ * home cells of the samples walked since, counted from sample_base.
  */
 #ifndef SS_SWEEP_H
 #define SS_SWEEP_H
@@ -59,6 +65,9 @@ typedef struct {
     int origin_minor; /* positions, and so the curvature terms, small) */
     int depth;        /* vertices on the hull stack */
     int ring_low;     /* lowest stack slot whose copy in ring is valid */
+    int slot_base;    /* slots below are carried in whole (0 unless resumed) */
+    int sample_base;  /* step of the first sample walked since resuming (0) */
+    SS_GLOBAL const ss_hull_point *carried; /* slots [0, slot_base) */
     ss_hull_point ring[SS_RING]; /* slot i at ring[i & (SS_RING - 1)] */
 } ss_walker;
 
@@ -127,6 +136,9 @@ SS_FN int ss_walker_begin(ss_walker *w, const ss_line_set *ls, int line)
     w->dy = (ss_i64)w->dmajor * (ls->slope_fx / 65536);
     w->depth = 0;
     w->ring_low = 0;
+    w->slot_base = 0;
+    w->sample_base = 0;
+    w->carried = 0;
     w->origin_s = w->count / 2;
     w->origin_minor = ss_walker_sample(ls, w, w->origin_s).minor0;
     return w->count;
@@ -180,14 +192,24 @@ SS_FN ss_hull_point ss_hull_point_at(const ss_walker *w, int s, ss_line_sample q
     return p;
 }
 
-/* Rebuilds stack slot `slot` from the stack grid: the slot (at the home cell
- * of the line's slot-th sample) holds the vertex's step index. Only
- * occluding samples are pushed, so the vertex is a full interpolation. */
+/* The home cell of stack slot `slot` (at or above slot_base): that of the
+ * (slot - slot_base)-th sample walked since the walk began or resumed. */
+SS_FN int ss_walker_home(const ss_line_set *ls, const ss_walker *w, int slot)
+{
+    return ss_walker_sample(ls, w, w->sample_base + slot - w->slot_base).home;
+}
+
+/* Rebuilds stack slot `slot` from the stack grid: the slot (at its home
+ * cell) holds the vertex's step index; carried slots are whole points.
+ * Only occluding samples are pushed, so the vertex is a full
+ * interpolation. */
 SS_FN ss_hull_point ss_walker_load(const ss_line_set *ls, const ss_walker *w,
                                    SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
                                    int slot)
 {
-    int s = stack[ss_walker_sample(ls, w, slot).home];
+    if (slot < w->slot_base)
+        return w->carried[slot];
+    int s = stack[ss_walker_home(ls, w, slot)];
     ss_line_sample q = ss_walker_sample(ls, w, s);
     float base, offset;
     ss_sample_cells(ls, q, z, &base, &offset);
@@ -213,7 +235,11 @@ SS_FN void ss_walker_push(ss_walker *w, const ss_line_set *ls, SS_GLOBAL int *st
                           ss_hull_point v, int s)
 {
     int slot = w->depth++;
-    stack[ss_walker_sample(ls, w, slot).home] = s;
+    /* A resumed hull that shrank into its carried slots grows again from
+     * there: those slots now live at home cells too. */
+    if (slot < w->slot_base)
+        w->slot_base = slot;
+    stack[ss_walker_home(ls, w, slot)] = s;
     w->ring[slot & (SS_RING - 1)] = v;
     if (slot - w->ring_low >= SS_RING)
         w->ring_low = slot - SS_RING + 1;
@@ -275,6 +301,28 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
     if (h.occludes)
         ss_walker_push(w, ls, stack, v, s);
     return h;
+}
+
+/* Resumes the walk of line number `line` at step s_lo, with the hull of
+ * the steps before handed on as n whole points (ss_walker_slot). */
+SS_FN void ss_walker_resume(ss_walker *w, const ss_line_set *ls, int line, int s_lo,
+                            SS_GLOBAL const ss_hull_point *carried, int n)
+{
+    ss_walker_begin(w, ls, line);
+    w->carried = carried;
+    w->slot_base = n;
+    w->depth = n;
+    w->sample_base = s_lo;
+    w->ring_low = n > SS_RING ? n - SS_RING : 0;
+    for (int k = w->ring_low; k < n; ++k)
+        w->ring[k & (SS_RING - 1)] = carried[k];
+}
+
+/* Hull slot k (below depth) as a whole point, to hand the hull on. */
+SS_FN ss_hull_point ss_walker_slot(const ss_walker *w, const ss_line_set *ls,
+                                   SS_GLOBAL const float *z, SS_GLOBAL const int *stack, int k)
+{
+    return k >= w->ring_low ? w->ring[k & (SS_RING - 1)] : ss_walker_load(ls, w, z, stack, k);
 }
 
 /* The flags of a line set and curvature (see SS_WALK_DIGITAL). */

@@ -137,6 +137,67 @@ ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
 ss_status ss_openness(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                       int negative, double radius_m, float *out);
 
+/* ---- sums of sky terms: work shared between processes -------------------- */
+
+/* SVF and openness are means over the directions of a per-direction term;
+ * processes that share the directions add their sums, then finish. */
+typedef enum {
+    SS_SKY_SVF_GEOMETRIC = 0, /* the values match ss_svf_definition */
+    SS_SKY_SVF_HORIZONTAL = 1,
+    SS_SKY_SVF_TILTED = 2,
+    SS_SKY_OPENNESS_POSITIVE = 3,
+    SS_SKY_OPENNESS_NEGATIVE = 4
+} ss_sky_term;
+
+/* Checks a term, a radius (0: unlimited) and a share of D directions. */
+ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m, int first, int stride,
+                       int directions);
+/* Sums, per cell, the term over directions first, first + stride, ... of
+ * opt (horizons within radius_m when > 0). Nodata cells hold garbage. */
+ss_status ss_sky_sums(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                      ss_sky_term term, double radius_m, int first, int stride, float *sums);
+/* The product from the sum over all `directions`. */
+float ss_sky_value(ss_sky_term term, float sum, int directions);
+
+/* ---- banded sweeps: DEMs that are never held whole ----------------------- */
+
+/* Reads rows [row0, row0 + n_rows) of the DEM, all columns, into z (NaN at
+ * nodata); returns SS_OK or a status (with a message in the context). */
+typedef ss_status (*ss_rows_read)(void *user, int row0, int n_rows, float *z);
+/* Receives finished rows of the product (SS_NODATA at nodata). */
+typedef ss_status (*ss_rows_write)(void *user, int row0, int n_rows, const float *values);
+
+/* What a banded sweep handed on between bands. */
+typedef struct {
+    size_t handoffs;              /* a line's hull handed to the next band */
+    size_t hull_points_handed_on; /* summed over the handoffs */
+    size_t max_hull_points;       /* the largest hull handed on */
+} ss_band_stats;
+
+typedef struct {
+    int width, height;          /* the DEM's size */
+    double cell_x_m, cell_y_m;  /* ground cell sizes */
+    int band_rows;              /* rows held at once (plus 4 halo rows) */
+    ss_rows_read read;
+    ss_rows_write write;        /* rows arrive bottom band first, each once */
+    void *user;
+    int first, stride;          /* the share of directions (0, 1: all) */
+    int write_sums;             /* 1: write the sums, not the finished product */
+    ss_band_stats *stats;       /* filled in at the end; may be NULL */
+} ss_band_io;
+
+/* The bytes a banded sweep holds for its bands (the hulls handed on come
+ * on top; ss_band_stats counts them). */
+size_t ss_band_bytes(int width, int band_rows);
+
+/* SVF (any definition) or openness (unlimited radius) as ss_svf and
+ * ss_openness compute them, reading and writing the grid band by band: the
+ * same result (hulls are handed on exactly between bands), in memory set
+ * by band_rows. Runs on the host (C, OpenMP), whatever device the context
+ * has. */
+ss_status ss_sky_banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_options *opt,
+                        ss_sky_term term);
+
 /* RVT's VAT relief blend (Kokalj & Somrak 2019) of one cell, 0..1 (1 =
  * white): hillshade 0..1 (cosine of incidence), slope in degrees, positive
  * openness in degrees, geometric SVF. src/core/relief_blend.c gives the

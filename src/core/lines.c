@@ -6,6 +6,9 @@
 
 #include "lines.h"
 
+/* The kernels take the line set by value: no padding may differ. */
+_Static_assert(sizeof(ss_line_set) == 80, "ss_line_set layout");
+
 void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell_x_m,
                              double cell_y_m, double azimuth_deg, int model)
 {
@@ -19,6 +22,7 @@ void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell
 
     ls->width = width;
     ls->model = model;
+    ls->base_major = ls->base_minor = 0;
     ls->reserved = 0;
     ls->weight_per_frac = model == SS_LINE_MODEL_DIGITAL ? 0.0f : 1.0f / 65536.0f;
     ls->round_fx = model == SS_LINE_MODEL_DIGITAL ? ((ss_i64)1 << 31) : 0;

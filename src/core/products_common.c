@@ -5,6 +5,7 @@
 
 #include "lines.h"
 #include "products_internal.h"
+#include "ss_terms.h"
 
 /* The public enum and the kernels' constants must agree. */
 _Static_assert((int)SS_LINES_INTERPOLATED == SS_LINE_MODEL_INTERPOLATED, "line model values");
@@ -27,6 +28,15 @@ ss_status ss_product_begin(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_opti
     if (st == SS_OK)
         st = ss_session_open(ctx, grid, n_outputs, session);
     return st;
+}
+
+float ss_product_finish(int term, float sum, int directions)
+{
+    float mean = sum / (float)directions;
+    if (term == SS_TERM_ELEVATION)
+        return 90.0f - mean;
+    float v = term == SS_SVF_GEOMETRIC ? 1.0f - mean : mean;
+    return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
 }
 
 double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,

@@ -19,6 +19,10 @@ double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
 double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
                            double azimuth_deg, ss_line_set *ls);
 
+/* A cell's value from the sum of its terms over the directions: the SVF
+ * definitions (SS_SVF_*) or openness (SS_TERM_ELEVATION: 90 - mean). */
+float ss_product_finish(int term, float sum, int directions);
+
 /* Terrain horizon of every cell in one azimuth (options' frame), degrees,
  * 0 where nothing lies ahead, into the session's output 0 (nodata cells
  * hold garbage). */
