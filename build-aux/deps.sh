@@ -7,7 +7,8 @@ packages="build-essential autoconf automake libtool pkg-config bc
   libgdal-dev gdal-bin
   libgeographiclib-dev libinih-dev
   libopenimageio-dev openimageio-tools
-  libvtk9-dev xvfb xauth"
+  libvtk9-dev xvfb xauth
+  libopenmpi-dev openmpi-bin"
 missing=""
 for p in $packages; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||

@@ -9,6 +9,27 @@
 #include <gdal.h>
 
 #include "commands.h"
+
+#ifdef HAVE_OIIO
+#define HAVE_OIIO_FLAG 1
+#else
+#define HAVE_OIIO_FLAG 0
+#endif
+#ifdef HAVE_VTK
+#define HAVE_VTK_FLAG 1
+#else
+#define HAVE_VTK_FLAG 0
+#endif
+#ifdef HAVE_MPI
+#define HAVE_MPI_FLAG 1
+#else
+#define HAVE_MPI_FLAG 0
+#endif
+
+static const char *built_with(int flag)
+{
+    return flag ? "yes" : "no";
+}
 #include "run.h"
 
 typedef struct {
@@ -37,6 +58,8 @@ int cmd_info(int argc, char **argv)
     }
     printf("skysweep %s\n", ss_version());
     printf("GDAL     %s\n", GDALVersionInfo("RELEASE_NAME"));
+    printf("built    OpenImageIO %s, VTK %s, MPI %s\n", built_with(HAVE_OIIO_FLAG),
+           built_with(HAVE_VTK_FLAG), built_with(HAVE_MPI_FLAG));
     printf("devices:\n");
     command_list_devices();
 

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "commands.h"
+#include "mpi_share.h"
 #include "run.h"
 
 typedef struct {
@@ -50,13 +51,19 @@ int cmd_openness(int argc, char **argv)
     size_t n = (size_t)g->width * (size_t)g->height;
     ss_raster_writer *w = NULL;
     float *openness = malloc(n * sizeof *openness);
-    ss_status st = openness ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1,
-                                             set.common.format,
-                                             set.common.creation_options.items, &w)
-                            : command_out_of_memory(&job.run);
+    /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
+    ss_status st = !openness ? command_out_of_memory(&job.run)
+                   : share_rank() == 0
+                       ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1, set.common.format,
+                                        set.common.creation_options.items, &w)
+                       : SS_OK;
+    if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
+        st = ss_ctx_error(job.run.ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
     if (st == SS_OK)
-        st = ss_openness(job.run.ctx, g, &job.opt, set.kind == 1, set.radius_m, openness);
-    if (st == SS_OK) {
+        st = share_sky_product(&job.run, g, &job.opt,
+                               set.kind ? SS_SKY_OPENNESS_NEGATIVE : SS_SKY_OPENNESS_POSITIVE,
+                               set.radius_m, openness);
+    if (st == SS_OK && w) {
         char radius[32];
         snprintf(radius, sizeof radius, "%g", set.radius_m);
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
@@ -66,9 +73,9 @@ int cmd_openness(int argc, char **argv)
         st = ss_writer_band(w, 1, openness,
                             set.kind ? "negative openness" : "positive openness", "deg");
     }
-    if (st == SS_OK)
+    if (st == SS_OK && w)
         st = run_commit(&job.run, w);
-    else
+    else if (w)
         ss_writer_abort(w);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {

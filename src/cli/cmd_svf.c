@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "commands.h"
+#include "mpi_share.h"
 #include "run.h"
 
 typedef struct {
@@ -53,13 +54,19 @@ int cmd_svf(int argc, char **argv)
     size_t n = (size_t)g->width * (size_t)g->height;
     ss_raster_writer *w = NULL;
     float *svf = malloc(n * sizeof *svf);
-    ss_status st = svf ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1, set.common.format,
+    /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
+    ss_status st = !svf ? command_out_of_memory(&job.run)
+                   : share_rank() == 0
+                       ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1, set.common.format,
                                         set.common.creation_options.items, &w)
-                       : command_out_of_memory(&job.run);
+                       : SS_OK;
+    if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
+        st = ss_ctx_error(job.run.ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
     if (st == SS_OK)
-        st = ss_svf_within(job.run.ctx, g, &job.opt, definition_of_choice[set.definition],
-                           set.radius_m, svf);
-    if (st == SS_OK) {
+        st = share_sky_product(&job.run, g, &job.opt,
+                               (ss_sky_term)definition_of_choice[set.definition], set.radius_m,
+                               svf);
+    if (st == SS_OK && w) {
         char radius[32];
         snprintf(radius, sizeof radius, "%g", set.radius_m);
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
@@ -68,9 +75,9 @@ int cmd_svf(int argc, char **argv)
         ss_writer_metadata(w, "SVF_RADIUS_M", set.radius_m > 0 ? radius : "unlimited");
         st = ss_writer_band(w, 1, svf, "sky-view factor", "1");
     }
-    if (st == SS_OK)
+    if (st == SS_OK && w)
         st = run_commit(&job.run, w);
-    else
+    else if (w)
         ss_writer_abort(w);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "commands.h"
+#include "mpi_share.h"
 #include "skysweep.h"
 
 int command_list_devices(void)
@@ -33,6 +34,10 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
     printf("time    sweep %.3f s (%.0f M cell-directions/s over %d x %d cells), kernel build "
            "%.3f s\n",
            c.sweep_seconds, rate, width, height, c.build_seconds);
+    if (share_size() > 1)
+        printf("share   %d MPI processes, directions dealt round-robin (this one swept %llu), "
+               "sums added at rank 0\n",
+               share_size(), (unsigned long long)c.sweeps);
 }
 
 ss_status command_out_of_memory(run_state *run)

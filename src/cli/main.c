@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "mpi_share.h"
 #include "scene.h"
 #include "skysweep.h"
 
@@ -12,20 +13,35 @@ static const struct {
     const char *name;
     int (*run)(int argc, char **argv);
     const char *summary;
+    int shares; /* runs shared between MPI processes (mpi_share.h) */
 } commands[] = {
-    {"horizon", cmd_horizon, "horizon elevation angle per azimuth (one band each)"},
-    {"svf", cmd_svf, "sky-view factor (geometric, radiative or horizontal)"},
-    {"openness", cmd_openness, "positive or negative topographic openness (degrees)"},
-    {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view"},
-    {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun"},
-    {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)"},
-    {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView"},
-    {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map"},
-    {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range"},
-    {"plan", NULL, "what a scene needs: effects on/off with reason and error bound, cost"},
-    {"run", NULL, "run the job a scene file describes"},
-    {"info", cmd_info, "version, dependencies, devices, kernel build status"},
+    {"horizon", cmd_horizon, "horizon elevation angle per azimuth (one band each)", 0},
+    {"svf", cmd_svf, "sky-view factor (geometric, radiative or horizontal)", 1},
+    {"openness", cmd_openness, "positive or negative topographic openness (degrees)", 1},
+    {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view", 0},
+    {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun", 0},
+    {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)", 0},
+    {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView", 0},
+    {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map", 0},
+    {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range", 0},
+    {"plan", NULL, "what a scene needs: effects on/off with reason and error bound, cost", 0},
+    {"run", NULL, "run the job a scene file describes", 0},
+    {"info", cmd_info, "version, dependencies, devices, kernel build status", 0},
 };
+
+/* Runs command i, unless several MPI processes would each do all of it. */
+static int run_command(size_t i, int argc, char **argv)
+{
+    if (share_size() > 1 && !commands[i].shares) {
+        if (share_rank() == 0)
+            fprintf(stderr,
+                    "skysweep %s: runs in one process; under mpirun only svf and openness "
+                    "share their work (%d processes were started)\n",
+                    commands[i].name, share_size());
+        return SS_ERR_ARGUMENT;
+    }
+    return commands[i].run(argc, argv);
+}
 
 /* skysweep plan|run SCENE [options]: the scene's product command with
  * --scene SCENE (and --plan). */
@@ -54,7 +70,7 @@ static int scene_command(const char *verb, int argc, char **argv)
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
         if (commands[i].run && strcmp(product, commands[i].name) == 0 &&
             strcmp(product, "sun") && strcmp(product, "info"))
-            return commands[i].run(n, args);
+            return run_command(i, n, args);
     fprintf(stderr, "skysweep %s: %s: unknown product '%s'\n", verb, argv[1], product);
     return SS_ERR_ARGUMENT;
 }
@@ -68,7 +84,7 @@ static void usage(FILE *to)
                 "clockwise from north.\n");
 }
 
-int main(int argc, char **argv)
+static int dispatch(int argc, char **argv)
 {
     if (argc < 2) {
         usage(stderr);
@@ -87,7 +103,15 @@ int main(int argc, char **argv)
         return scene_command(name, argc - 1, argv + 1);
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
         if (strcmp(name, commands[i].name) == 0)
-            return commands[i].run(argc - 1, argv + 1);
+            return run_command(i, argc - 1, argv + 1);
     fprintf(stderr, "skysweep: unknown command '%s' (see skysweep --help)\n", name);
     return SS_ERR_ARGUMENT;
+}
+
+int main(int argc, char **argv)
+{
+    share_start(&argc, &argv);
+    int rc = dispatch(argc, argv);
+    share_stop();
+    return rc;
 }

@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "heightmap_input.h"
+#include "mpi_share.h"
 #include "run.h"
 #include "scene.h"
 
@@ -130,7 +131,8 @@ int run_begin(run_state *run, const char *command, const common_settings *common
 {
     memset(run, 0, sizeof *run);
     run->command = command;
-    run->quiet = common ? common->quiet : 0;
+    /* Under mpirun only rank 0 speaks (mpi_share.h). */
+    run->quiet = (common ? common->quiet : 0) || share_rank() > 0;
     run->started = now();
     run->ctx = ss_ctx_new();
     if (!run->ctx) {
@@ -155,6 +157,8 @@ int run_fail(run_state *run, ss_status status)
                 run->command, (int)interrupted_by);
         return 128 + (int)interrupted_by;
     }
+    if (share_rank() > 0)
+        return (int)status; /* rank 0 reports, naming this process if it failed alone */
     if (run->progress_shown)
         fputc('\n', stderr);
     fprintf(stderr, "skysweep %s: %s\n", run->command, ss_ctx_message(run->ctx));

@@ -1,0 +1,117 @@
+/* MPI for skysweep's CLI (mpi_share.h): only this file includes mpi.h. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef HAVE_MPI
+#include <mpi.h>
+#endif
+
+#include "mpi_share.h"
+
+static int rank_now = 0, size_now = 1;
+
+#ifdef HAVE_MPI
+static int joined;
+
+/* Open MPI's and PMIx/PMI launchers set these; a plain start sets none, and
+ * then MPI is not initialised at all (no singleton start-up cost). */
+static int launched_by_mpi(void)
+{
+    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
+}
+#endif
+
+void share_start(int *argc, char ***argv)
+{
+#ifdef HAVE_MPI
+    if (!launched_by_mpi() || MPI_Init(argc, argv) != MPI_SUCCESS)
+        return;
+    joined = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_now);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_now);
+    /* Rank 0 alone prints summaries and plans. */
+    if (rank_now > 0 && !freopen("/dev/null", "w", stdout))
+        fclose(stdout);
+#else
+    (void)argc, (void)argv;
+#endif
+}
+
+void share_stop(void)
+{
+#ifdef HAVE_MPI
+    if (joined)
+        MPI_Finalize();
+    joined = 0;
+#endif
+}
+
+int share_rank(void)
+{
+    return rank_now;
+}
+
+int share_size(void)
+{
+    return size_now;
+}
+
+int share_first_failure(int failed)
+{
+    int first = failed ? rank_now : size_now;
+#ifdef HAVE_MPI
+    if (size_now > 1)
+        MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+#endif
+    return first < size_now ? first : -1;
+}
+
+/* Adds every process's values into rank 0's, in pieces MPI counts in int. */
+static int sum_at_root(float *values, size_t n)
+{
+#ifdef HAVE_MPI
+    const size_t piece = (size_t)1 << 28;
+    for (size_t at = 0; size_now > 1 && at < n; at += piece) {
+        int count = (int)(n - at < piece ? n - at : piece);
+        int rc = rank_now == 0 ? MPI_Reduce(MPI_IN_PLACE, values + at, count, MPI_FLOAT, MPI_SUM,
+                                            0, MPI_COMM_WORLD)
+                               : MPI_Reduce(values + at, NULL, count, MPI_FLOAT, MPI_SUM, 0,
+                                            MPI_COMM_WORLD);
+        if (rc != MPI_SUCCESS)
+            return 0;
+    }
+#else
+    (void)values, (void)n;
+#endif
+    return 1;
+}
+
+ss_status share_sky_product(run_state *run, const ss_grid *grid, const ss_sweep_options *opt,
+                            ss_sky_term term, double radius_m, float *out)
+{
+    size_t n = (size_t)grid->width * (size_t)grid->height;
+    ss_status st = SS_OK;
+    /* A rank beyond the directions has nothing to sweep: its sums are 0. */
+    if (rank_now < opt->directions)
+        st = ss_sky_sums(run->ctx, grid, opt, term, radius_m, rank_now, size_now, out);
+    else if ((st = ss_sky_check(run->ctx, term, radius_m, 0, 1, opt->directions)) == SS_OK)
+        memset(out, 0, n * sizeof *out);
+    int failed = share_first_failure(st != SS_OK);
+    if (failed >= 0) {
+        if (st == SS_OK)
+            st = ss_ctx_error(run->ctx, SS_ERR_INTERNAL, "process %d of %d failed", failed,
+                              size_now);
+        return st;
+    }
+    if (!sum_at_root(out, n))
+        return ss_ctx_error(run->ctx, SS_ERR_INTERNAL, "MPI could not add the processes' sums");
+    if (rank_now == 0)
+        for (size_t c = 0; c < n; ++c)
+            out[c] = isfinite(grid->z[c]) ? ss_sky_value(term, out[c], opt->directions)
+                                          : SS_NODATA;
+    return SS_OK;
+}

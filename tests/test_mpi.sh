@@ -1,0 +1,101 @@
+#!/bin/bash
+# Runs shared between MPI processes (src/cli/mpi_share.c): svf and openness
+# under mpirun with 2 and 4 processes equal the single-process result (sums
+# are added in another order: within 1e-6 in SVF, 1e-4 deg in openness),
+# nodata stays nodata, only rank 0 prints, and commands that do not share
+# their work refuse to run N times. Skipped, saying so, where skysweep was
+# built without MPI or mpirun is missing.
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+SKYSWEEP=${SKYSWEEP:-./skysweep}
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-mpi.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+if ! "$SKYSWEEP" info | grep -q 'MPI yes'; then
+    tap_skip "MPI runs" "skysweep was built without MPI (configure --without-mpi or no libopenmpi-dev)"
+    tap_done
+    exit
+fi
+if ! command -v mpirun >/dev/null; then
+    tap_skip "MPI runs" "mpirun is not installed (openmpi-bin)"
+    tap_done
+    exit
+fi
+# CI runs as root, and this machine has fewer cores than processes.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_btl_vader_single_copy_mechanism=none
+mpi() { mpirun --oversubscribe -np "$@"; }
+
+# A 70 x 55 DEM with two hills, a pit and a nodata patch (UTM 5N).
+awk 'BEGIN {
+    print "ncols 70"; print "nrows 55"; print "xllcorner 254325"; print "yllcorner 2152155"
+    print "cellsize 30"; print "NODATA_value -9999"
+    for (r = 0; r < 55; r++) {
+        line = ""
+        for (c = 0; c < 70; c++) {
+            v = 200 + 400 * exp(-((c - 20) ^ 2 + (r - 20) ^ 2) / 60) \
+                + 250 * exp(-((c - 50) ^ 2 + (r - 35) ^ 2) / 90) \
+                - 120 * exp(-((c - 35) ^ 2 + (r - 45) ^ 2) / 20)
+            if (r >= 5 && r < 8 && c >= 60 && c < 66) v = -9999
+            line = line sprintf("%.3f ", v)
+        }
+        print line
+    }
+}' >"$work/dem.asc"
+dem=$work/dem.tif
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/dem.asc" "$dem"
+
+# Largest |a - b| over cells, and whether nodata cells agree, from two
+# rasters written as ASCII grids.
+compare() { # A B
+    gdal_translate -q -of AAIGrid "$1" "$work/a.asc"
+    gdal_translate -q -of AAIGrid "$2" "$work/b.asc"
+    paste -d '\n' <(tail -n +7 "$work/a.asc") <(tail -n +7 "$work/b.asc") | awk '
+        NR % 2 == 1 { n = split($0, a, " "); next }
+        { split($0, b, " ")
+          for (i = 1; i <= n; i++) {
+              if ((a[i] == -9999) != (b[i] == -9999)) bad++
+              else if (a[i] != -9999) { d = a[i] - b[i]; if (d < 0) d = -d; if (d > worst) worst = d }
+          } }
+        END { printf "%.3g %d\n", worst, bad }'
+}
+
+for product in "svf --definition horizontal" "openness --kind negative"; do
+    set -- $product
+    "$SKYSWEEP" $product --directions 24 -q "$dem" "$work/one.tif"
+    tol=1e-6
+    [ "$1" = openness ] && tol=1e-4
+    for np in 2 4; do
+        rm -f "$work/shared.tif"
+        mpi "$np" "$SKYSWEEP" $product --directions 24 "$dem" "$work/shared.tif" \
+            >"$work/stdout" 2>"$work/stderr"
+        rc=$?
+        read -r worst bad < <(compare "$work/one.tif" "$work/shared.tif")
+        awk -v w="$worst" -v t="$tol" 'BEGIN { exit !(w <= t) }' && [ "$rc" -eq 0 ] && [ "$bad" -eq 0 ]
+        tap_ok $? "$product with $np processes == one process (worst $worst, $bad nodata mismatches, exit $rc)"
+    done
+    summaries=$(grep -c '^share ' "$work/stdout")
+    [ "$summaries" -eq 1 ]
+    tap_ok $? "$1 with 4 processes: one summary, from rank 0 ($summaries 'share' lines)"
+done
+
+# More processes than directions: the idle ones add zeros.
+"$SKYSWEEP" svf --directions 3 -q "$dem" "$work/three.tif"
+mpi 4 "$SKYSWEEP" svf --directions 3 -q "$dem" "$work/three4.tif" 2>"$work/stderr"
+rc=$?
+read -r worst bad < <(compare "$work/three.tif" "$work/three4.tif")
+awk -v w="$worst" 'BEGIN { exit !(w <= 1e-6) }' && [ "$rc" -eq 0 ] && [ "$bad" -eq 0 ]
+tap_ok $? "3 directions over 4 processes == one process (worst $worst, exit $rc)"
+
+mpi 2 "$SKYSWEEP" horizon --directions 4 "$dem" "$work/h.tif" >"$work/stdout" 2>"$work/stderr"
+rc=$?
+lines=$(grep -c 'runs in one process' "$work/stderr")
+[ "$rc" -ne 0 ] && [ "$lines" -eq 1 ] && [ ! -e "$work/h.tif" ]
+tap_ok $? "horizon under mpirun -np 2 refuses once, writes nothing (exit $rc, $lines message)"
+
+mpi 2 "$SKYSWEEP" svf -q "$work/missing.tif" "$work/m.tif" >"$work/stdout" 2>"$work/stderr"
+rc=$?
+lines=$(grep -c 'skysweep svf:' "$work/stderr")
+[ "$rc" -ne 0 ] && [ "$lines" -eq 1 ]
+tap_ok $? "a missing input under mpirun: one error line, from rank 0 (exit $rc, $lines lines)"
+tap_done
