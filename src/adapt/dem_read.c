@@ -11,6 +11,7 @@
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
+#include <cpl_http.h>
 #include <gdal.h>
 #include <gdal_utils.h>
 #include <ogr_srs_api.h>
@@ -253,6 +254,38 @@ static void mark_uncovered(ss_dem *dem, const tile *tiles, int n)
     free(covered);
 }
 
+/* Network reads only where the user names them. A file given as input (a
+ * VRT, say) may name /vsicurl/, /vsis3/ or http:// sources that GDAL would
+ * fetch (and /vsis3/ probes the cloud metadata address): unless an input
+ * path itself names a network source, the read runs with GDAL's curl file
+ * systems accepting no file and its HTTP fetches refused. */
+static int names_network(const char *const *paths, int n)
+{
+    static const char *const marks[] = {"/vsicurl", "/vsis3", "/vsigs", "/vsiaz", "/vsiadls",
+                                        "/vsioss", "/vsiswift", "/vsihdfs", "/vsiwebhdfs",
+                                        "://"};
+    for (int i = 0; i < n; ++i)
+        for (size_t k = 0; k < sizeof marks / sizeof marks[0]; ++k)
+            if (strstr(paths[i], marks[k]))
+                return 1;
+    return 0;
+}
+
+static CPLHTTPResult *refuse_fetch(const char *url, CSLConstList options,
+                                   GDALProgressFunc progress, void *progress_arg,
+                                   CPLHTTPFetchWriteFunc write, void *write_arg, void *user)
+{
+    (void)options, (void)progress, (void)progress_arg, (void)write, (void)write_arg, (void)user;
+    CPLHTTPResult *r = CPLCalloc(1, sizeof *r);
+    r->nStatus = 1;
+    r->pszErrBuf = CPLStrdup("skysweep reads the network only for inputs named on its "
+                             "command line");
+    CPLError(CE_Failure, CPLE_AppDefined, "'%s' was not fetched: %s", url, r->pszErrBuf);
+    return r;
+}
+
+#define SS_CURL_FENCE "/vsicurl/skysweep-reads-only-network-inputs-named-on-its-command-line"
+
 ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
                       const ss_dem_read_options *opt, ss_dem *dem)
 {
@@ -260,6 +293,14 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
     if (n_paths < 1)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "no input DEM given");
     ss_gdal_init();
+    int fenced = !names_network(paths, n_paths);
+    char *saved_allowed = NULL;
+    if (fenced) {
+        const char *a = CPLGetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", NULL);
+        saved_allowed = a ? CPLStrdup(a) : NULL;
+        CPLSetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", SS_CURL_FENCE);
+        fenced = CPLHTTPPushFetchCallback(refuse_fetch, NULL) ? 2 : 1;
+    }
     CPLPushErrorHandler(CPLQuietErrorHandler);
     tile *tiles = calloc((size_t)n_paths, sizeof *tiles);
     GDALDatasetH mosaic = NULL;
@@ -301,8 +342,8 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
                          "'%s' has %d x %d cells: sweeping it needs about %.1f GB, more than "
                          "this machine's %.1f GB",
                          paths[0], w, h, bytes_needed / 1e9, phys / 1e9);
-        else
-            st = ss_grid_alloc(ctx, &dem->grid, w, h, cx, cy);
+        else if ((st = ss_grid_alloc(ctx, &dem->grid, w, h, cx, cy)) == SS_ERR_ARGUMENT)
+            st = SS_ERR_INPUT; /* a size no sweep handles is the input's fault (exit 3) */
     }
     if (st == SS_OK) {
         snprintf(dem->description, sizeof dem->description, "%s%s",
@@ -318,6 +359,12 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
             GDALClose(tiles[i].ds);
     free(tiles);
     CPLPopErrorHandler();
+    if (fenced) {
+        if (fenced == 2)
+            CPLHTTPPopFetchCallback();
+        CPLSetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", saved_allowed);
+        CPLFree(saved_allowed);
+    }
     if (st != SS_OK)
         ss_dem_free(dem);
     return st;

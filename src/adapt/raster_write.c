@@ -110,7 +110,7 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     *writer = NULL;
     ss_gdal_init();
     for (int i = 0; creation_options && creation_options[i]; ++i)
-        if (!strchr(creation_options[i], '='))
+        if (!strchr(creation_options[i], '=') || creation_options[i][0] == '=')
             return ss_fail(ctx, SS_ERR_ARGUMENT, "-co expects KEY=VALUE, not '%s'",
                            creation_options[i]);
     GDALDriverH driver = GDALGetDriverByName(format ? format : "GTiff");
