@@ -153,7 +153,8 @@ typedef enum {
 ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m, int first, int stride,
                        int directions);
 /* Sums, per cell, the term over directions first, first + stride, ... of
- * opt (horizons within radius_m when > 0). Nodata cells hold garbage. */
+ * opt (horizons within radius_m when > 0; none, so zeros, when first is
+ * past the last direction). Nodata cells hold garbage. */
 ss_status ss_sky_sums(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                       ss_sky_term term, double radius_m, int first, int stride, float *sums);
 /* The product from the sum over all `directions`. */
@@ -182,7 +183,7 @@ typedef struct {
     ss_rows_write write;        /* rows arrive bottom band first, each once */
     void *user;
     int first, stride;          /* the share of directions (0, 1: all) */
-    int write_sums;             /* 1: write the sums, not the finished product */
+    int write_sums;             /* 1: write the sums (NaN at nodata), not the product */
     ss_band_stats *stats;       /* filled in at the end; may be NULL */
 } ss_band_io;
 

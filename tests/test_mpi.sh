@@ -87,6 +87,31 @@ read -r worst bad < <(compare "$work/three.tif" "$work/three4.tif")
 awk -v w="$worst" 'BEGIN { exit !(w <= 1e-6) }' && [ "$rc" -eq 0 ] && [ "$bad" -eq 0 ]
 tap_ok $? "3 directions over 4 processes == one process (worst $worst, exit $rc)"
 
+# Banded and shared: a 1200 x 1000 DEM under --memory 60M (its whole-grid
+# sweep needs about 72 MiB) over 3 processes, each band's sums added at rank 0.
+awk 'BEGIN {
+    print "ncols 1200"; print "nrows 1000"; print "xllcorner 254325"; print "yllcorner 2150000"
+    print "cellsize 10"; print "NODATA_value -9999"
+    for (r = 0; r < 1000; r++) {
+        line = ""
+        for (c = 0; c < 1200; c++) {
+            v = 500 + 200 * sin(c / 90.0) * cos(r / 120.0) + 40 * sin((c + 2 * r) / 31.0)
+            if (r >= 400 && r < 430 && c >= 100 && c < 160) v = -9999
+            line = line sprintf("%.2f ", v)
+        }
+        print line
+    }
+}' >"$work/big.asc"
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/big.asc" "$work/big.tif"
+"$SKYSWEEP" svf --directions 10 --device reference -q "$work/big.tif" "$work/big_one.tif"
+mpi 3 "$SKYSWEEP" svf --directions 10 --memory 60M "$work/big.tif" "$work/big_shared.tif" \
+    >"$work/stdout" 2>"$work/stderr"
+rc=$?
+read -r worst bad < <(compare "$work/big_one.tif" "$work/big_shared.tif")
+grep -q '^bands ' "$work/stdout" && awk -v w="$worst" 'BEGIN { exit !(w <= 1e-6) }' &&
+    [ "$rc" -eq 0 ] && [ "$bad" -eq 0 ]
+tap_ok $? "banded (--memory 60M) over 3 processes == one whole-grid process (worst $worst, $bad nodata mismatches, exit $rc)"
+
 mpi 2 "$SKYSWEEP" horizon --directions 4 "$dem" "$work/h.tif" >"$work/stdout" 2>"$work/stderr"
 rc=$?
 lines=$(grep -c 'runs in one process' "$work/stderr")

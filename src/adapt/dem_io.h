@@ -30,6 +30,19 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
                       const ss_dem_read_options *opt, ss_dem *dem);
 void ss_dem_free(ss_dem *dem);
 
+/* The same in two steps, for DEMs read in pieces (the banded sweep):
+ * ss_dem_open fills dem's metadata (size, cell sizes, CRS; grid.z stays
+ * NULL) and keeps the files open; ss_dem_source_read reads rows [row0,
+ * row0 + n_rows) into z as ss_dem_read would (heights relative to
+ * dem->grid.z_origin_m, set by the first plausible height read; nodata and
+ * rejected cells counted into dem). Reads run on the opening thread. */
+typedef struct ss_dem_source ss_dem_source;
+ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
+                      const ss_dem_read_options *opt, ss_dem *dem, ss_dem_source **source);
+ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0, int n_rows,
+                             float *z);
+void ss_dem_source_close(ss_dem_source *src);
+
 typedef struct ss_raster_writer ss_raster_writer;
 
 /* Creates OUTPUT's temporary twin with the DEM's size, CRS and geotransform.
@@ -46,6 +59,9 @@ ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like,
 /* Writes band (1-based): SS_NODATA marks nodata; NaN or Inf is refused. */
 ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
                          const char *description, const char *unit);
+/* Writes rows [row0, row0 + n_rows) of a band, in any order (a banded run). */
+ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows, const float *data);
+void ss_writer_describe(ss_raster_writer *w, int band, const char *description, const char *unit);
 ss_status ss_writer_metadata(ss_raster_writer *w, const char *key, const char *value);
 /* Flushes, closes and renames the file into place. */
 ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *user);

@@ -178,82 +178,6 @@ static ss_status open_tiles(ss_ctx *ctx, const char *const *paths, int n, tile *
     return SS_OK;
 }
 
-/* Reads the band into grid->z: heights relative to the first plausible
- * height found, NAN where there is none. */
-static ss_status read_heights(ss_ctx *ctx, const char *what, GDALRasterBandH band, ss_dem *dem)
-{
-    ss_grid *g = &dem->grid;
-    int has_nodata = 0;
-    double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
-    int has_scale = 0, has_offset = 0;
-    double scale = GDALGetRasterScale(band, &has_scale);
-    double offset = GDALGetRasterOffset(band, &has_offset);
-    if (!has_scale)
-        scale = 1.0;
-    if (!has_offset)
-        offset = 0.0;
-    const int rows_per_chunk = 256;
-    double *buf = malloc(sizeof(double) * (size_t)g->width * rows_per_chunk);
-    if (!buf)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", what);
-    int have_origin = 0;
-    for (int r0 = 0; r0 < g->height; r0 += rows_per_chunk) {
-        int rows = g->height - r0 < rows_per_chunk ? g->height - r0 : rows_per_chunk;
-        CPLErrorReset();
-        if (GDALRasterIO(band, GF_Read, 0, r0, g->width, rows, buf, g->width, rows, GDT_Float64,
-                         0, 0) != CE_None) {
-            free(buf);
-            return ss_fail(ctx, SS_ERR_INPUT, "cannot read rows %d..%d of '%s': %s", r0,
-                           r0 + rows - 1, what, gdal_message());
-        }
-        for (size_t i = 0; i < (size_t)g->width * rows; ++i) {
-            double v = buf[i];
-            float *dst = &g->z[(size_t)r0 * g->width + i];
-            if (!isfinite(v) || (has_nodata && v == nodata)) {
-                *dst = NAN;
-                dem->nodata_cells++;
-                continue;
-            }
-            v = v * scale + offset;
-            if (!(fabs(v) <= SS_Z_PLAUSIBLE_M)) {
-                *dst = NAN;
-                dem->rejected_cells++;
-                continue;
-            }
-            if (!have_origin) {
-                g->z_origin_m = nearbyint(v);
-                have_origin = 1;
-            }
-            *dst = (float)(v - g->z_origin_m);
-        }
-    }
-    free(buf);
-    return SS_OK;
-}
-
-/* Mosaic cells covered by no tile are nodata, whatever the VRT filled in. */
-static void mark_uncovered(ss_dem *dem, const tile *tiles, int n)
-{
-    ss_grid *g = &dem->grid;
-    unsigned char *covered = calloc((size_t)g->width * g->height, 1);
-    if (!covered)
-        return;
-    for (int i = 0; i < n; ++i) {
-        int c0 = (int)nearbyint((tiles[i].gt[0] - dem->geotransform[0]) / dem->geotransform[1]);
-        int r0 = (int)nearbyint((tiles[i].gt[3] - dem->geotransform[3]) / dem->geotransform[5]);
-        for (int r = r0; r < r0 + tiles[i].height; ++r)
-            for (int c = c0; c < c0 + tiles[i].width; ++c)
-                if (r >= 0 && c >= 0 && r < g->height && c < g->width)
-                    covered[(size_t)r * g->width + c] = 1;
-    }
-    for (size_t k = 0; k < (size_t)g->width * g->height; ++k)
-        if (!covered[k] && isfinite(g->z[k])) {
-            g->z[k] = NAN;
-            dem->nodata_cells++;
-        }
-    free(covered);
-}
-
 /* Network reads only where the user names them. A file given as input (a
  * VRT, say) may name /vsicurl/, /vsis3/ or http:// sources that GDAL would
  * fetch (and /vsis3/ probes the cloud metadata address): unless an input
@@ -286,42 +210,162 @@ static CPLHTTPResult *refuse_fetch(const char *url, CSLConstList options,
 
 #define SS_CURL_FENCE "/vsicurl/skysweep-reads-only-network-inputs-named-on-its-command-line"
 
-ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
-                      const ss_dem_read_options *opt, ss_dem *dem)
+/* An opened DEM whose heights are read on demand (dem_io.h). */
+struct ss_dem_source {
+    tile *tiles;
+    int n_tiles;
+    GDALDatasetH mosaic;       /* VRT of the tiles, or NULL for one file */
+    GDALRasterBandH band;
+    int has_nodata;
+    double nodata, scale, offset;
+    int have_origin;           /* z_origin_m is set (from the first plausible height) */
+    int fenced;                /* 1: network fenced, 2: and the fetch callback pushed */
+    char *saved_allowed;
+    char what[512];            /* the first path, for messages */
+};
+
+/* Mosaic cells covered by no tile are nodata, whatever the VRT filled in. */
+static void mark_uncovered(const ss_dem_source *src, const ss_dem *dem, int row0, int n_rows,
+                           float *z, size_t *nodata_cells)
+{
+    int w = dem->grid.width;
+    unsigned char *covered = calloc((size_t)w, 1);
+    if (!covered)
+        return;
+    for (int r = row0; r < row0 + n_rows; ++r) {
+        memset(covered, 0, (size_t)w);
+        for (int i = 0; i < src->n_tiles; ++i) {
+            const tile *t = &src->tiles[i];
+            int c0 = (int)nearbyint((t->gt[0] - dem->geotransform[0]) / dem->geotransform[1]);
+            int r0 = (int)nearbyint((t->gt[3] - dem->geotransform[3]) / dem->geotransform[5]);
+            if (r < r0 || r >= r0 + t->height)
+                continue;
+            for (int c = c0 < 0 ? 0 : c0; c < c0 + t->width && c < w; ++c)
+                covered[c] = 1;
+        }
+        float *row = z + (size_t)(r - row0) * w;
+        for (int c = 0; c < w; ++c)
+            if (!covered[c] && isfinite(row[c])) {
+                row[c] = NAN;
+                (*nodata_cells)++;
+            }
+    }
+    free(covered);
+}
+
+ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0, int n_rows,
+                             float *z)
+{
+    ss_grid *g = &dem->grid;
+    if (row0 < 0 || n_rows < 0 || row0 + n_rows > g->height)
+        return ss_fail(ctx, SS_ERR_INTERNAL, "rows %d..%d are outside '%s'", row0,
+                       row0 + n_rows - 1, src->what);
+    const int rows_per_chunk = 256;
+    double *buf = malloc(sizeof(double) * (size_t)g->width * rows_per_chunk);
+    if (!buf)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
+    size_t nodata = 0, rejected = 0;
+    for (int r0 = row0; r0 < row0 + n_rows; r0 += rows_per_chunk) {
+        int rows = row0 + n_rows - r0 < rows_per_chunk ? row0 + n_rows - r0 : rows_per_chunk;
+        CPLErrorReset();
+        if (GDALRasterIO(src->band, GF_Read, 0, r0, g->width, rows, buf, g->width, rows,
+                         GDT_Float64, 0, 0) != CE_None) {
+            free(buf);
+            return ss_fail(ctx, SS_ERR_INPUT, "cannot read rows %d..%d of '%s': %s", r0,
+                           r0 + rows - 1, src->what, gdal_message());
+        }
+        for (size_t i = 0; i < (size_t)g->width * rows; ++i) {
+            double v = buf[i];
+            float *dst = &z[(size_t)(r0 - row0) * g->width + i];
+            if (!isfinite(v) || (src->has_nodata && v == src->nodata)) {
+                *dst = NAN;
+                nodata++;
+                continue;
+            }
+            v = v * src->scale + src->offset;
+            if (!(fabs(v) <= SS_Z_PLAUSIBLE_M)) {
+                *dst = NAN;
+                rejected++;
+                continue;
+            }
+            /* Heights relative to the first plausible one read keep the
+             * float precision of the local relief. */
+            if (!src->have_origin) {
+                g->z_origin_m = nearbyint(v);
+                src->have_origin = 1;
+            }
+            *dst = (float)(v - g->z_origin_m);
+        }
+    }
+    free(buf);
+    if (src->n_tiles > 1)
+        mark_uncovered(src, dem, row0, n_rows, z, &nodata);
+    dem->nodata_cells += nodata;
+    dem->rejected_cells += rejected;
+    return SS_OK;
+}
+
+void ss_dem_source_close(ss_dem_source *src)
+{
+    if (!src)
+        return;
+    if (src->mosaic)
+        GDALClose(src->mosaic);
+    for (int i = 0; src->tiles && i < src->n_tiles; ++i)
+        if (src->tiles[i].ds)
+            GDALClose(src->tiles[i].ds);
+    free(src->tiles);
+    CPLPopErrorHandler();
+    if (src->fenced) {
+        if (src->fenced == 2)
+            CPLHTTPPopFetchCallback();
+        CPLSetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", src->saved_allowed);
+        CPLFree(src->saved_allowed);
+    }
+    free(src);
+}
+
+ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
+                      const ss_dem_read_options *opt, ss_dem *dem, ss_dem_source **source)
 {
     memset(dem, 0, sizeof *dem);
+    *source = NULL;
     if (n_paths < 1)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "no input DEM given");
     ss_gdal_init();
-    int fenced = !names_network(paths, n_paths);
-    char *saved_allowed = NULL;
-    if (fenced) {
+    ss_dem_source *src = calloc(1, sizeof *src);
+    if (!src)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+    snprintf(src->what, sizeof src->what, "%s", paths[0]);
+    src->fenced = !names_network(paths, n_paths);
+    if (src->fenced) {
         const char *a = CPLGetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", NULL);
-        saved_allowed = a ? CPLStrdup(a) : NULL;
+        src->saved_allowed = a ? CPLStrdup(a) : NULL;
         CPLSetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", SS_CURL_FENCE);
-        fenced = CPLHTTPPushFetchCallback(refuse_fetch, NULL) ? 2 : 1;
+        src->fenced = CPLHTTPPushFetchCallback(refuse_fetch, NULL) ? 2 : 1;
     }
     CPLPushErrorHandler(CPLQuietErrorHandler);
-    tile *tiles = calloc((size_t)n_paths, sizeof *tiles);
-    GDALDatasetH mosaic = NULL;
+    src->tiles = calloc((size_t)n_paths, sizeof *src->tiles);
+    src->n_tiles = n_paths;
     int georeferenced = 1;
-    ss_status st = tiles ? open_tiles(ctx, paths, n_paths, tiles, &georeferenced)
-                         : ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+    ss_status st = src->tiles ? open_tiles(ctx, paths, n_paths, src->tiles, &georeferenced)
+                              : ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
     if (st == SS_OK && n_paths > 1)
-        st = check_tiles(ctx, paths, tiles, n_paths);
-    GDALDatasetH ds = tiles ? tiles[0].ds : NULL;
+        st = check_tiles(ctx, paths, src->tiles, n_paths);
+    GDALDatasetH ds = src->tiles ? src->tiles[0].ds : NULL;
     if (st == SS_OK && n_paths > 1) {
         GDALDatasetH *handles = malloc(sizeof *handles * (size_t)n_paths);
         for (int i = 0; handles && i < n_paths; ++i)
-            handles[i] = tiles[i].ds;
+            handles[i] = src->tiles[i].ds;
         int usage_error = 0;
         CPLErrorReset();
-        mosaic = handles ? GDALBuildVRT("", n_paths, handles, NULL, NULL, &usage_error) : NULL;
+        src->mosaic = handles ? GDALBuildVRT("", n_paths, handles, NULL, NULL, &usage_error)
+                              : NULL;
         free(handles);
-        if (!mosaic)
+        if (!src->mosaic)
             st = ss_fail(ctx, SS_ERR_INPUT, "cannot mosaic the %d tiles: %s", n_paths,
                          gdal_message());
-        ds = mosaic;
+        ds = src->mosaic;
     }
     double cx = 0, cy = 0;
     if (st == SS_OK) {
@@ -334,37 +378,53 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
                               &dem->crs_wkt);
     }
     if (st == SS_OK) {
-        int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
-        double bytes_needed = (double)w * (double)h * 16.0; /* grid, stack, two outputs */
-        double phys = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
-        if (phys > 0 && bytes_needed > 0.8 * phys)
-            st = ss_fail(ctx, SS_ERR_MEMORY,
-                         "'%s' has %d x %d cells: sweeping it needs about %.1f GB, more than "
-                         "this machine's %.1f GB",
-                         paths[0], w, h, bytes_needed / 1e9, phys / 1e9);
-        else if ((st = ss_grid_alloc(ctx, &dem->grid, w, h, cx, cy)) == SS_ERR_ARGUMENT)
-            st = SS_ERR_INPUT; /* a size no sweep handles is the input's fault (exit 3) */
-    }
-    if (st == SS_OK) {
+        ss_grid *g = &dem->grid;
+        g->width = GDALGetRasterXSize(ds);
+        g->height = GDALGetRasterYSize(ds);
+        g->cell_x_m = cx;
+        g->cell_y_m = cy;
+        src->band = GDALGetRasterBand(ds, 1);
+        src->nodata = GDALGetRasterNoDataValue(src->band, &src->has_nodata);
+        int has_scale = 0, has_offset = 0;
+        src->scale = GDALGetRasterScale(src->band, &has_scale);
+        src->offset = GDALGetRasterOffset(src->band, &has_offset);
+        if (!has_scale)
+            src->scale = 1.0;
+        if (!has_offset)
+            src->offset = 0.0;
         snprintf(dem->description, sizeof dem->description, "%s%s",
                  n_paths > 1 ? "mosaic from " : "", paths[0]);
-        st = read_heights(ctx, paths[0], GDALGetRasterBand(ds, 1), dem);
     }
-    if (st == SS_OK && n_paths > 1)
-        mark_uncovered(dem, tiles, n_paths);
-    if (mosaic)
-        GDALClose(mosaic);
-    for (int i = 0; tiles && i < n_paths; ++i)
-        if (tiles[i].ds)
-            GDALClose(tiles[i].ds);
-    free(tiles);
-    CPLPopErrorHandler();
-    if (fenced) {
-        if (fenced == 2)
-            CPLHTTPPopFetchCallback();
-        CPLSetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", saved_allowed);
-        CPLFree(saved_allowed);
+    if (st != SS_OK) {
+        ss_dem_source_close(src);
+        ss_dem_free(dem);
+        return st;
     }
+    *source = src;
+    return SS_OK;
+}
+
+ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
+                      const ss_dem_read_options *opt, ss_dem *dem)
+{
+    ss_dem_source *src;
+    ss_status st = ss_dem_open(ctx, paths, n_paths, opt, dem, &src);
+    if (st != SS_OK)
+        return st;
+    int w = dem->grid.width, h = dem->grid.height;
+    double cx = dem->grid.cell_x_m, cy = dem->grid.cell_y_m;
+    double bytes_needed = (double)w * (double)h * 16.0; /* grid, stack, two outputs */
+    double phys = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+    if (phys > 0 && bytes_needed > 0.8 * phys)
+        st = ss_fail(ctx, SS_ERR_MEMORY,
+                     "'%s' has %d x %d cells: sweeping it whole needs about %.1f GB, more than "
+                     "this machine's %.1f GB (svf and openness can sweep it in bands: --memory)",
+                     paths[0], w, h, bytes_needed / 1e9, phys / 1e9);
+    else if ((st = ss_grid_alloc(ctx, &dem->grid, w, h, cx, cy)) == SS_ERR_ARGUMENT)
+        st = SS_ERR_INPUT; /* a size no sweep handles is the input's fault (exit 3) */
+    if (st == SS_OK)
+        st = ss_dem_source_read(ctx, src, dem, 0, h, dem->grid.z);
+    ss_dem_source_close(src);
     if (st != SS_OK)
         ss_dem_free(dem);
     return st;

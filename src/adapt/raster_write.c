@@ -177,10 +177,11 @@ ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like,
     return writer_open(ctx, path, like, bands, format, creation_options, 1, writer);
 }
 
-ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
-                         const char *description, const char *unit)
+ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
+                         const float *data)
 {
-    size_t n = (size_t)GDALGetRasterXSize(w->ds) * (size_t)GDALGetRasterYSize(w->ds);
+    int width = GDALGetRasterXSize(w->ds);
+    size_t n = (size_t)width * (size_t)n_rows;
     for (size_t i = 0; i < n; ++i)
         if (!isfinite(data[i]))
             return ss_fail(w->ctx, SS_ERR_INTERNAL,
@@ -200,20 +201,33 @@ ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
     }
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
-    CPLErr err = GDALRasterIO(b, GF_Write, 0, 0, GDALGetRasterXSize(w->ds),
-                              GDALGetRasterYSize(w->ds), bytes ? (void *)bytes : (void *)data,
-                              GDALGetRasterXSize(w->ds), GDALGetRasterYSize(w->ds),
+    CPLErr err = GDALRasterIO(b, GF_Write, 0, row0, width, n_rows,
+                              bytes ? (void *)bytes : (void *)data, width, n_rows,
                               bytes ? GDT_Byte : GDT_Float32, 0, 0);
     CPLPopErrorHandler();
     free(bytes);
     if (err != CE_None)
         return ss_fail(w->ctx, SS_ERR_OUTPUT, "cannot write band %d of '%s': %s", band, w->path,
                        gdal_message());
+    return SS_OK;
+}
+
+void ss_writer_describe(ss_raster_writer *w, int band, const char *description, const char *unit)
+{
+    GDALRasterBandH b = GDALGetRasterBand(w->ds, band);
     if (description)
         GDALSetDescription(b, description);
     if (unit)
         GDALSetRasterUnitType(b, unit);
-    return SS_OK;
+}
+
+ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
+                         const char *description, const char *unit)
+{
+    ss_status st = ss_writer_rows(w, band, 0, GDALGetRasterYSize(w->ds), data);
+    if (st == SS_OK)
+        ss_writer_describe(w, band, description, unit);
+    return st;
 }
 
 ss_status ss_writer_metadata(ss_raster_writer *w, const char *key, const char *value)

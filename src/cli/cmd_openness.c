@@ -1,12 +1,14 @@
 /* skysweep openness: positive or negative topographic openness GeoTIFF. */
 #include "config.h"
 
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "commands.h"
 #include "mpi_share.h"
+#include "sky_job.h"
 #include "run.h"
 
 typedef struct {
@@ -41,28 +43,26 @@ int cmd_openness(int argc, char **argv)
     if (rc >= 0)
         return rc;
     sweep_job job;
-    if ((rc = job_open(&job, "openness", &set.common, pos, n_pos)))
+    if ((rc = job_open_bands(&job, "openness", &set.common, pos, n_pos)))
         return rc;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
     }
-    const ss_grid *g = &job.dem.grid;
-    size_t n = (size_t)g->width * (size_t)g->height;
     ss_raster_writer *w = NULL;
-    float *openness = malloc(n * sizeof *openness);
     /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
-    ss_status st = !openness ? command_out_of_memory(&job.run)
-                   : share_rank() == 0
-                       ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1, set.common.format,
-                                        set.common.creation_options.items, &w)
-                       : SS_OK;
+    ss_status st = share_rank() == 0 ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1,
+                                                      set.common.format,
+                                                      set.common.creation_options.items, &w)
+                                     : SS_OK;
     if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
         st = ss_ctx_error(job.run.ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
+    double lo = NAN, mean = NAN, hi = NAN;
+    ss_band_stats bands = {0};
     if (st == SS_OK)
-        st = share_sky_product(&job.run, g, &job.opt,
-                               set.kind ? SS_SKY_OPENNESS_NEGATIVE : SS_SKY_OPENNESS_POSITIVE,
-                               set.radius_m, openness);
+        st = job_sky_product(&job,
+                             set.kind ? SS_SKY_OPENNESS_NEGATIVE : SS_SKY_OPENNESS_POSITIVE,
+                             set.radius_m, w, &bands, &lo, &mean, &hi);
     if (st == SS_OK && w) {
         char radius[32];
         snprintf(radius, sizeof radius, "%g", set.radius_m);
@@ -70,8 +70,7 @@ int cmd_openness(int argc, char **argv)
         job_plan_metadata(&job, w);
         ss_writer_metadata(w, "OPENNESS_KIND", kind_names[set.kind]);
         ss_writer_metadata(w, "OPENNESS_RADIUS_M", set.radius_m > 0 ? radius : "unlimited");
-        st = ss_writer_band(w, 1, openness,
-                            set.kind ? "negative openness" : "positive openness", "deg");
+        ss_writer_describe(w, 1, set.kind ? "negative openness" : "positive openness", "deg");
     }
     if (st == SS_OK && w)
         st = run_commit(&job.run, w);
@@ -79,14 +78,11 @@ int cmd_openness(int argc, char **argv)
         ss_writer_abort(w);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
-        double lo, mean, hi;
-        run_stats(openness, n, &lo, &mean, &hi);
         run_print_dem(&job.run, &job.dem, &job.frame);
-        command_print_sweep(&job.run, &job.opt, g->width, g->height);
+        command_print_job_sweep(&job, &bands);
         printf("openness %s, min %.2f mean %.2f max %.2f deg -> %s\n", kind_names[set.kind], lo,
                mean, hi, job.output);
     }
-    free(openness);
     job_close(&job);
     return rc;
 }

@@ -1,12 +1,14 @@
 /* skysweep svf: sky-view factor GeoTIFF from a DEM. */
 #include "config.h"
 
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "commands.h"
 #include "mpi_share.h"
+#include "sky_job.h"
 #include "run.h"
 
 typedef struct {
@@ -44,28 +46,25 @@ int cmd_svf(int argc, char **argv)
     if (rc >= 0)
         return rc;
     sweep_job job;
-    if ((rc = job_open(&job, "svf", &set.common, pos, n_pos)))
+    if ((rc = job_open_bands(&job, "svf", &set.common, pos, n_pos)))
         return rc;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SVF, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
     }
-    const ss_grid *g = &job.dem.grid;
-    size_t n = (size_t)g->width * (size_t)g->height;
     ss_raster_writer *w = NULL;
-    float *svf = malloc(n * sizeof *svf);
     /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
-    ss_status st = !svf ? command_out_of_memory(&job.run)
-                   : share_rank() == 0
-                       ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1, set.common.format,
-                                        set.common.creation_options.items, &w)
-                       : SS_OK;
+    ss_status st = share_rank() == 0 ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1,
+                                                      set.common.format,
+                                                      set.common.creation_options.items, &w)
+                                     : SS_OK;
     if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
         st = ss_ctx_error(job.run.ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
+    double lo = NAN, mean = NAN, hi = NAN;
+    ss_band_stats bands = {0};
     if (st == SS_OK)
-        st = share_sky_product(&job.run, g, &job.opt,
-                               (ss_sky_term)definition_of_choice[set.definition], set.radius_m,
-                               svf);
+        st = job_sky_product(&job, (ss_sky_term)definition_of_choice[set.definition],
+                             set.radius_m, w, &bands, &lo, &mean, &hi);
     if (st == SS_OK && w) {
         char radius[32];
         snprintf(radius, sizeof radius, "%g", set.radius_m);
@@ -73,7 +72,7 @@ int cmd_svf(int argc, char **argv)
         job_plan_metadata(&job, w);
         ss_writer_metadata(w, "SVF_DEFINITION", definition_names[set.definition]);
         ss_writer_metadata(w, "SVF_RADIUS_M", set.radius_m > 0 ? radius : "unlimited");
-        st = ss_writer_band(w, 1, svf, "sky-view factor", "1");
+        ss_writer_describe(w, 1, "sky-view factor", "1");
     }
     if (st == SS_OK && w)
         st = run_commit(&job.run, w);
@@ -81,14 +80,11 @@ int cmd_svf(int argc, char **argv)
         ss_writer_abort(w);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
-        double lo, mean, hi;
-        run_stats(svf, n, &lo, &mean, &hi);
         run_print_dem(&job.run, &job.dem, &job.frame);
-        command_print_sweep(&job.run, &job.opt, g->width, g->height);
+        command_print_job_sweep(&job, &bands);
         printf("svf     %s, min %.4f mean %.4f max %.4f -> %s\n",
                definition_names[set.definition], lo, mean, hi, job.output);
     }
-    free(svf);
     job_close(&job);
     return rc;
 }

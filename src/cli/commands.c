@@ -1,7 +1,9 @@
 /* Helpers shared by the commands. */
 #include "config.h"
 
+#include <math.h>
 #include <stdio.h>
+#include <sys/resource.h>
 #include <stdlib.h>
 
 #include "commands.h"
@@ -38,6 +40,41 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
         printf("share   %d MPI processes, directions dealt round-robin (this one swept %llu), "
                "sums added at rank 0\n",
                share_size(), (unsigned long long)c.sweeps);
+}
+
+/* Peak resident memory of the process so far (getrusage), MiB. */
+static double peak_resident_mib(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : NAN;
+}
+
+void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
+{
+    const ss_grid *g = &job->dem.grid;
+    if (!job->source) {
+        command_print_sweep(&job->run, &job->opt, g->width, g->height);
+        printf("memory  peak resident %.0f MiB (whole grid)\n", peak_resident_mib());
+        return;
+    }
+    ss_counters c = ss_ctx_counters(job->run.ctx);
+    printf("sweep   %llu sweeps (%s lines), curvature %s, banded on the host (C, OpenMP)\n",
+           (unsigned long long)c.sweeps,
+           job->opt.lines == SS_LINES_DIGITAL ? "digital" : "interpolated",
+           job->opt.earth_radius_m > 0 ? "on" : "off");
+    printf("time    sweep %.3f s (%.0f M cell-directions/s over %d x %d cells), DEM read in "
+           "bands\n",
+           c.sweep_seconds,
+           c.sweep_seconds > 0 ? (double)c.cells_swept / c.sweep_seconds / 1e6 : 0.0, g->width,
+           g->height);
+    printf("bands   %d rows of %d cells at a time (%.0f MiB); hulls handed on between bands: "
+           "%zu, mean %.1f points, largest %zu\n",
+           job->band_rows, job->dem.grid.width,
+           (double)ss_band_bytes(job->dem.grid.width, job->band_rows) / 1048576.0,
+           bands->handoffs,
+           bands->handoffs ? (double)bands->hull_points_handed_on / (double)bands->handoffs : 0.0,
+           bands->max_hull_points);
+    printf("memory  peak resident %.0f MiB (bands)\n", peak_resident_mib());
 }
 
 ss_status command_out_of_memory(run_state *run)

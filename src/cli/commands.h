@@ -21,6 +21,9 @@ int cmd_quicklook(int argc, char **argv);
 int command_list_devices(void);
 /* One summary line about the sweep: directions, device, speed. */
 void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width, int height);
+/* The sweep summary of a job that may be banded (with the rows per band
+ * and the hulls handed on). */
+void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands);
 /* Records an out-of-memory failure in the context; returns its status. */
 ss_status command_out_of_memory(run_state *run);
 

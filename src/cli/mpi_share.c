@@ -70,8 +70,7 @@ int share_first_failure(int failed)
     return first < size_now ? first : -1;
 }
 
-/* Adds every process's values into rank 0's, in pieces MPI counts in int. */
-static int sum_at_root(float *values, size_t n)
+int share_sum_at_root(float *values, size_t n)
 {
 #ifdef HAVE_MPI
     const size_t piece = (size_t)1 << 28;
@@ -94,12 +93,8 @@ ss_status share_sky_product(run_state *run, const ss_grid *grid, const ss_sweep_
                             ss_sky_term term, double radius_m, float *out)
 {
     size_t n = (size_t)grid->width * (size_t)grid->height;
-    ss_status st = SS_OK;
     /* A rank beyond the directions has nothing to sweep: its sums are 0. */
-    if (rank_now < opt->directions)
-        st = ss_sky_sums(run->ctx, grid, opt, term, radius_m, rank_now, size_now, out);
-    else if ((st = ss_sky_check(run->ctx, term, radius_m, 0, 1, opt->directions)) == SS_OK)
-        memset(out, 0, n * sizeof *out);
+    ss_status st = ss_sky_sums(run->ctx, grid, opt, term, radius_m, rank_now, size_now, out);
     int failed = share_first_failure(st != SS_OK);
     if (failed >= 0) {
         if (st == SS_OK)
@@ -107,7 +102,7 @@ ss_status share_sky_product(run_state *run, const ss_grid *grid, const ss_sweep_
                               size_now);
         return st;
     }
-    if (!sum_at_root(out, n))
+    if (!share_sum_at_root(out, n))
         return ss_ctx_error(run->ctx, SS_ERR_INTERNAL, "MPI could not add the processes' sums");
     if (rank_now == 0)
         for (size_t c = 0; c < n; ++c)

@@ -20,6 +20,10 @@ int share_size(void);
 /* Collective: -1 when no process failed, else the lowest failed rank. */
 int share_first_failure(int failed);
 
+/* Collective: adds every process's values into rank 0's (others' values
+ * are left as they were). Returns 0 if MPI failed. */
+int share_sum_at_root(float *values, size_t n);
+
 /* The sky product (SVF definitions, openness) of every cell into out on
  * rank 0 (other ranks' out is scratch), directions shared between the
  * processes. Collective; on failure every rank returns an error and rank

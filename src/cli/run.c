@@ -55,6 +55,9 @@ const opt_spec common_options[] = {
      "error in the sun's direction per cell the run may allow"},
     {"scene", OPT_STRING, COMMON(scene), "FILE", NULL, 0, 0, NULL,
      "read the job from a scene file (doc/scenes.md); options given here override it"},
+    {"memory", OPT_STRING, COMMON(memory), "SIZE", NULL, 0, 0, NULL,
+     "bound on the working set, e.g. 512M or 4G; svf and openness sweep larger DEMs in bands "
+     "of rows (exact, doc/scale.md), other products refuse them (default: half the RAM)"},
     {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
     {"plan-format", OPT_CHOICE, COMMON(plan_json), NULL, "text", 0, 0, "text|json",
@@ -177,12 +180,122 @@ void run_end(run_state *run)
     run->ctx = NULL;
 }
 
+/* --memory's SIZE: bytes, with an optional k, M, G or T (powers of 1024). */
+static int parse_size(const char *text, double *bytes)
+{
+    char *end;
+    double v = strtod(text, &end);
+    const char *units = "kMGT";
+    const char *u = *end ? strchr(units, *end) : NULL;
+    if (*end && (!u || end[1] != '\0'))
+        return -1;
+    if (u)
+        v *= pow(1024.0, (double)(u - units + 1));
+    if (!(v > 0) || !isfinite(v))
+        return -1;
+    *bytes = v;
+    return 0;
+}
+
+/* Bytes a whole-grid sweep of svf or openness holds per cell: heights,
+ * hull stack slots, sums, the product (and an inverted copy). */
+#define WHOLE_BYTES_PER_CELL 20.0
+/* What --memory must also cover besides the sweep's grids: GDAL's block
+ * cache (capped at 16 MiB in banded runs) and the output's buffers. The
+ * program's code and shared libraries (about 150 MiB resident, shared
+ * with other processes) are not counted: doc/scale.md. */
+#define FIXED_BYTES (48.0 * 1048576.0)
+
+/* Whole grid, or bands of how many rows, in `budget` bytes: 0 for the
+ * whole grid, -1 if not even one band fits. The hulls handed on between
+ * bands get their own allowance: about 8 points of 16 bytes per line and
+ * direction (doc/scale.md measures them). */
+static int rows_per_band(const ss_dem *dem, int directions, double budget)
+{
+    double w = dem->grid.width, h = dem->grid.height;
+    if (w * h * WHOLE_BYTES_PER_CELL + FIXED_BYTES <= budget)
+        return 0;
+    double hulls = (w + h) * (directions > 0 ? directions : 64) * 8.0 * 16.0;
+    double per_row = (double)ss_band_bytes(dem->grid.width, 2) -
+                     (double)ss_band_bytes(dem->grid.width, 1);
+    double rows = (budget - FIXED_BYTES - hulls) / per_row - 4;
+    if (rows < 1)
+        return -1;
+    /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
+    int r = rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
+    return r < h ? r : (int)h;
+}
+
+/* Opens the DEM; reads it whole unless may_band and it does not fit. */
+static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
+                          const common_settings *common, int may_band, ss_dem *dem,
+                          ss_dem_source **source, int *band_rows)
+{
+    *source = NULL;
+    *band_rows = 0;
+    if (common->heightmap)
+        return heightmap_read(run, paths, n_paths, common, dem);
+    double budget = 0;
+    if (common->memory && parse_size(common->memory, &budget) != 0)
+        return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
+                            "--memory expects a size such as 512M or 4G, not '%s'",
+                            common->memory);
+    ss_dem_read_options ro = {common->cell_size_m};
+    if (!common->memory && !may_band)
+        return ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
+    if (!common->memory)
+        budget = 0.5 * (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+    ss_dem_source *src;
+    ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
+    if (st != SS_OK)
+        return st;
+    int rows = rows_per_band(dem, common->directions, budget);
+    if (rows != 0 && (!may_band || rows < 0)) {
+        double need = (double)dem->grid.width * dem->grid.height * WHOLE_BYTES_PER_CELL +
+                      FIXED_BYTES;
+        if (may_band)
+            st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
+                              "the memory budget (%s) is too small for one band of %d cells "
+                              "(with the hulls handed on)",
+                              common->memory ? common->memory : "half this machine's memory",
+                              dem->grid.width);
+        else
+            st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
+                              "'%s' needs about %.0f MiB for a whole-grid sweep, more than "
+                              "%s allows; only svf and openness sweep in bands",
+                              paths[0], need / 1048576.0,
+                              common->memory ? "--memory" : "half this machine's memory");
+    }
+    if (st == SS_OK && rows == 0) {
+        /* It fits: read it whole, as ss_dem_read would. */
+        ss_grid *g = &dem->grid;
+        int w = g->width, h = g->height;
+        double cx = g->cell_x_m, cy = g->cell_y_m;
+        st = ss_grid_alloc(run->ctx, g, w, h, cx, cy);
+        if (st == SS_ERR_ARGUMENT)
+            st = SS_ERR_INPUT;
+        if (st == SS_OK)
+            st = ss_dem_source_read(run->ctx, src, dem, 0, h, g->z);
+    }
+    if (st == SS_OK && rows > 0) {
+        *source = src;
+        *band_rows = rows;
+        /* GDAL's block cache counts against the bound too. */
+        GDALSetCacheMax64((GIntBig)(16 * 1048576));
+        return SS_OK;
+    }
+    ss_dem_source_close(src);
+    if (st != SS_OK)
+        ss_dem_free(dem);
+    return st;
+}
+
 ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
                        const common_settings *common, ss_dem *dem, ss_dem_frame *frame)
 {
-    ss_dem_read_options ro = {common->cell_size_m};
-    ss_status st = common->heightmap ? heightmap_read(run, paths, n_paths, common, dem)
-                                     : ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
+    ss_dem_source *source;
+    int band_rows;
+    ss_status st = open_dem(run, paths, n_paths, common, 0, dem, &source, &band_rows);
     if (st == SS_OK) {
         st = ss_dem_frame_open(run->ctx, dem, frame);
         if (st != SS_OK)
@@ -339,8 +452,8 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
     return -1;
 }
 
-int job_open(sweep_job *job, const char *command, const common_settings *common,
-             const char **pos, int n_pos)
+static int open_job(sweep_job *job, const char *command, const common_settings *common,
+                    const char **pos, int n_pos, int may_band)
 {
     memset(job, 0, sizeof *job);
     int rc = run_begin(&job->run, command, common);
@@ -354,7 +467,24 @@ int job_open(sweep_job *job, const char *command, const common_settings *common,
         run_end(&job->run);
         return st;
     }
-    st = run_read_dem(&job->run, pos, job->n_inputs, common, &job->dem, &job->frame);
+    st = open_dem(&job->run, pos, job->n_inputs, common, may_band, &job->dem, &job->source,
+                  &job->band_rows);
+    if (st == SS_OK) {
+        st = ss_dem_frame_open(job->run.ctx, &job->dem, &job->frame);
+        if (st != SS_OK) {
+            ss_dem_source_close(job->source);
+            job->source = NULL;
+            ss_dem_free(&job->dem);
+        }
+    }
+    if (st == SS_OK && job->dem.rejected_cells && !job->run.quiet)
+        fprintf(stderr,
+                "skysweep %s: warning: %zu heights beyond +-1e7 m were taken as nodata\n",
+                command, job->dem.rejected_cells);
+    /* Banded sweeps run on the host's C twin (ss_sky_banded): no device
+     * is opened, and the outputs say so. */
+    if (st == SS_OK && job->source)
+        ss_ctx_use_device(job->run.ctx, "reference");
     if (st == SS_OK) {
         job->have_dem = 1;
         run_sweep_options(common, &job->frame, &job->opt);
@@ -368,6 +498,18 @@ int job_open(sweep_job *job, const char *command, const common_settings *common,
     return 0;
 }
 
+int job_open(sweep_job *job, const char *command, const common_settings *common,
+             const char **pos, int n_pos)
+{
+    return open_job(job, command, common, pos, n_pos, 0);
+}
+
+int job_open_bands(sweep_job *job, const char *command, const common_settings *common,
+                   const char **pos, int n_pos)
+{
+    return open_job(job, command, common, pos, n_pos, 1);
+}
+
 int job_finish(sweep_job *job, ss_status st)
 {
     return st == SS_OK ? 0 : run_fail(&job->run, st);
@@ -377,6 +519,8 @@ void job_close(sweep_job *job)
 {
     if (job->have_dem) {
         ss_dem_frame_close(&job->frame);
+        ss_dem_source_close(job->source);
+        job->source = NULL;
         ss_dem_free(&job->dem);
         job->have_dem = 0;
     }

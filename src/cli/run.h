@@ -35,6 +35,7 @@ typedef struct {
     double delta_t_s;                          /* NAN: the model */
     double pressure_hpa, temperature_c;
     int sun_per_cell;      /* index into "auto|on|off" */
+    const char *memory;    /* --memory SIZE: bound on the working set; NULL: half the RAM */
 } common_settings;
 
 /* Marks the optional numbers as not given (NAN); call before parsing. */
@@ -101,6 +102,10 @@ typedef struct {
     ss_sweep_options opt;
     int have_dem;
     ss_plan plan;
+    /* A banded job (job_open_bands): the DEM stays in its files, dem.grid.z
+     * is NULL, and the sweep reads band_rows rows at a time. */
+    ss_dem_source *source;
+    int band_rows;
 } sweep_job;
 
 /* Starts the run, refuses an output that is an input, reads the DEM and its
@@ -108,6 +113,11 @@ typedef struct {
  * code after printing the error (the job is then closed). */
 int job_open(sweep_job *job, const char *command, const common_settings *common,
              const char **pos, int n_pos);
+/* The same for commands that can sweep in bands (svf, openness): when the
+ * whole-grid sweep would not fit in --memory (default half the RAM), the
+ * DEM is left in its files and job->source and band_rows are set. */
+int job_open_bands(sweep_job *job, const char *command, const common_settings *common,
+                   const char **pos, int n_pos);
 /* The sun for the job (job_sun.c): given, or from --time by SPA at the DEM,
  * for one instant; one sun for the DEM or per cell. */
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field);

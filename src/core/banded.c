@@ -120,8 +120,10 @@ static ss_status read_band(band_run *b, int row0, int rows)
 /* Hands line `line`'s hull on after its steps in this band. */
 static ss_status carry_hull(band_run *b, carried_hull *hull, ss_walker *wk, const ss_line_set *ls)
 {
-    if (wk->depth > hull->capacity) {
-        int cap = wk->depth + wk->depth / 2 + 8;
+    /* Exactly the hull's size: the hulls of every line crossing the band's
+     * edge are held at once, and they dominate a banded run's memory. */
+    if (wk->depth > hull->capacity || wk->depth < hull->capacity / 2) {
+        int cap = wk->depth > 0 ? wk->depth : 1;
         ss_hull_point *p = realloc(hull->points, sizeof *p * (size_t)cap);
         if (!p)
             return SS_ERR_MEMORY;
@@ -166,7 +168,10 @@ static ss_status walk_band(band_run *b, band_direction *dir, int row0, int row1,
             ss_walker_resume(&wk, &ls, line, s_lo, hull->points, hull->count);
             ss_svf_steps(&wk, &ls, s_lo, s_hi, b->term, b->curv_k, dir->sin_az, dir->cos_az, cx,
                          cy, rows_held, b->z, b->stack, b->acc, flags);
-            if (s_hi < count) {
+            if (s_hi >= count) { /* the line is done: its hull is no longer needed */
+                free(hull->points);
+                *hull = (carried_hull){NULL, 0, 0};
+            } else {
                 if (carry_hull(b, hull, &wk, &ls) != SS_OK)
                     failed = 1;
                 hull_sum += (size_t)hull->count;
@@ -222,9 +227,10 @@ static ss_status run_pass(band_run *b, band_direction *dirs, int n_dirs, int pas
             st = store_partial(b, row0, rows, 1);
             float *out = b->acc + HALO * w;
             const float *z = b->z + HALO * w;
-            for (size_t c = 0; st == SS_OK && !b->io->write_sums && c < (size_t)rows * w; ++c)
-                out[c] = SS_ISFINITE(z[c]) ? ss_sky_value(b->sky, out[c], b->opt->directions)
-                                           : SS_NODATA;
+            for (size_t c = 0; st == SS_OK && c < (size_t)rows * w; ++c)
+                out[c] = !SS_ISFINITE(z[c])      ? (b->io->write_sums ? NAN : SS_NODATA)
+                         : b->io->write_sums ? out[c]
+                                             : ss_sky_value(b->sky, out[c], b->opt->directions);
             if (st == SS_OK)
                 st = b->io->write(b->io->user, row0, rows, out);
         }

@@ -37,11 +37,11 @@ ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m, int first
     if (radius_m > 0 && term == SS_SKY_SVF_TILTED)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "a radius-limited SVF is geometric or horizontal, not radiative (tilted)");
-    if (stride < 1 || first < 0 || first >= stride || first >= directions)
+    if (stride < 1 || first < 0 || first >= stride || directions < 1)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "a share of directions needs 0 <= first < stride and first < %d "
-                       "directions (got first %d, stride %d)",
-                       directions, first, stride);
+                       "a share of directions needs 0 <= first < stride (got first %d, stride "
+                       "%d; %d directions)",
+                       first, stride, directions);
     return SS_OK;
 }
 

@@ -1,0 +1,118 @@
+/* Sky products of a job. A banded job (job_open_bands) reads the DEM band
+ * by band from its files, its finished rows go straight into the output,
+ * and under mpirun each band's sums meet at rank 0 before it finishes them. */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sky_job.h"
+#include "mpi_share.h"
+
+typedef struct {
+    sweep_job *job;
+    ss_sky_term term;
+    ss_raster_writer *w; /* rank 0's */
+    float *rows;         /* a band of sums, to add across processes */
+    unsigned char *counted; /* rows whose nodata cells are counted (rows are read twice) */
+    double lo, hi, sum;
+    size_t count;
+} band_state;
+
+static ss_status read_rows(void *user, int row0, int n_rows, float *z)
+{
+    band_state *b = user;
+    ss_dem *dem = &b->job->dem;
+    size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
+    ss_status st = ss_dem_source_read(b->job->run.ctx, b->job->source, dem, row0, n_rows, z);
+    /* Each row's cells without a height are counted once, all as nodata. */
+    dem->nodata_cells = nodata;
+    dem->rejected_cells = rejected;
+    for (int r = 0; st == SS_OK && r < n_rows; ++r) {
+        if (b->counted[row0 + r])
+            continue;
+        b->counted[row0 + r] = 1;
+        for (int c = 0; c < dem->grid.width; ++c)
+            dem->nodata_cells += !isfinite(z[(size_t)r * dem->grid.width + c]);
+    }
+    return st;
+}
+
+static ss_status write_rows(void *user, int row0, int n_rows, const float *values)
+{
+    band_state *b = user;
+    size_t n = (size_t)n_rows * (size_t)b->job->dem.grid.width;
+    if (share_size() > 1) {
+        /* Sums (NaN at nodata) from every process; rank 0 finishes them. */
+        memcpy(b->rows, values, n * sizeof(float));
+        if (!share_sum_at_root(b->rows, n))
+            return ss_ctx_error(b->job->run.ctx, SS_ERR_INTERNAL,
+                                "MPI could not add the processes' sums");
+        if (share_rank() > 0)
+            return SS_OK;
+        for (size_t c = 0; c < n; ++c)
+            b->rows[c] = isnan(b->rows[c])
+                             ? SS_NODATA
+                             : ss_sky_value(b->term, b->rows[c], b->job->opt.directions);
+        values = b->rows;
+    }
+    for (size_t c = 0; c < n; ++c)
+        if (values[c] != SS_NODATA) {
+            b->lo = fmin(b->lo, values[c]);
+            b->hi = fmax(b->hi, values[c]);
+            b->sum += values[c];
+            b->count++;
+        }
+    return ss_writer_rows(b->w, 1, row0, n_rows, values);
+}
+
+static ss_status sky_banded(sweep_job *job, ss_sky_term term, ss_raster_writer *w,
+                            ss_band_stats *stats, double *min, double *mean, double *max)
+{
+    band_state b = {job, term, w, NULL, NULL, INFINITY, -INFINITY, 0, 0};
+    int shared = share_size() > 1;
+    b.counted = calloc((size_t)job->dem.grid.height, 1);
+    if (shared)
+        b.rows = malloc(sizeof(float) * (size_t)job->band_rows * (size_t)job->dem.grid.width);
+    if (!b.counted || (shared && !b.rows)) {
+        free(b.counted);
+        free(b.rows);
+        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band");
+    }
+    const ss_grid *g = &job->dem.grid;
+    ss_band_io io = {g->width, g->height, g->cell_x_m, g->cell_y_m, job->band_rows,
+                     read_rows, write_rows, &b, share_rank(), share_size(), shared, stats};
+    ss_status st = ss_sky_banded(job->run.ctx, &io, &job->opt, term);
+    free(b.rows);
+    free(b.counted);
+    *min = b.count ? b.lo : NAN;
+    *max = b.count ? b.hi : NAN;
+    *mean = b.count ? b.sum / (double)b.count : NAN;
+    return st;
+}
+
+ss_status job_sky_product(sweep_job *job, ss_sky_term term, double radius_m,
+                          ss_raster_writer *w, ss_band_stats *stats, double *min, double *mean,
+                          double *max)
+{
+    if (job->source) {
+        if (radius_m > 0)
+            return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY,
+                                "the DEM is swept in bands (it does not fit in --memory), "
+                                "and a radius-limited product needs the whole grid");
+        return sky_banded(job, term, w, stats, min, mean, max);
+    }
+    const ss_grid *g = &job->dem.grid;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    float *out = malloc(n * sizeof *out);
+    if (!out)
+        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the product");
+    ss_status st = share_sky_product(&job->run, g, &job->opt, term, radius_m, out);
+    if (st == SS_OK && w) {
+        run_stats(out, n, min, mean, max);
+        st = ss_writer_rows(w, 1, 0, g->height, out);
+    }
+    free(out);
+    return st;
+}
