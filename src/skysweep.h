@@ -327,6 +327,7 @@ typedef struct {
     ss_switch curvature, true_north, sun_per_cell; /* SS_AUTO: the planner decides */
     double refraction_k;
     int directions; /* 0: the planner chooses */
+    ss_svf_definition svf_definition; /* the SVF product's (insolation uses the radiative) */
     ss_line_model lines;
     ss_shadow_mode shadow_mode;
     int n_steps;                /* time steps (shadow, insolation) ... */

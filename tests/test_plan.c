@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "accuracy_table.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -232,8 +233,60 @@ static void plan_counts(void)
     ss_ctx_free(ctx);
 }
 
+/* Directions: the fewest the accuracy table says meet --svf-tolerance, per
+ * SVF definition (a looser tolerance never asks for more), the radiative
+ * table for insolation's sky, 32 for digital lines (not tabulated), and a
+ * request obeyed as given. */
+static void directions(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_grid g = test_grid(64, 64, 30, 30);
+    test_fill(&g, TERRAIN_SMOOTH, 4, 300);
+    ss_place place = place_of(&g, 0, 45);
+    for (int def = SS_SVF_DEF_GEOMETRIC; def <= SS_SVF_DEF_TILTED; ++def) {
+        int previous = 1 << 30, monotone = 1, agree = 1;
+        for (double tol = 0.002; tol <= 0.05; tol *= 2) {
+            ss_plan_request r = request(SS_PRODUCT_SVF);
+            r.svf_definition = (ss_svf_definition)def;
+            r.svf_tolerance = tol;
+            ss_plan p;
+            double expected;
+            int want = ss_directions_for_tolerance((ss_svf_definition)def, tol, &expected);
+            agree &= ss_plan_make(ctx, &g, &place, &r, &p) == SS_OK && p.directions == want &&
+                     item(&p, "directions") && item(&p, "directions")->bound == expected;
+            monotone &= p.directions <= previous;
+            previous = p.directions;
+        }
+        tap_ok(agree && monotone,
+               "SVF definition %d: directions follow the accuracy table for tolerances 0.002 to "
+               "0.05, never more for a looser one",
+               def);
+    }
+    ss_plan_request r = request(SS_PRODUCT_INSOLATION);
+    r.svf_definition = SS_SVF_DEF_GEOMETRIC; /* insolation's sky is radiative all the same */
+    ss_plan p;
+    int want = ss_directions_for_tolerance(SS_SVF_DEF_TILTED, r.svf_tolerance, NULL);
+    ss_status st = ss_plan_make(ctx, &g, &place, &r, &p);
+    tap_ok(st == SS_OK && p.directions == want,
+           "insolation: %d directions from the radiative SVF's table (want %d)", p.directions,
+           want);
+    r = request(SS_PRODUCT_SVF);
+    r.lines = SS_LINES_DIGITAL;
+    st = ss_plan_make(ctx, &g, &place, &r, &p);
+    tap_ok(st == SS_OK && p.directions == 32,
+           "digital lines: the untabulated default of 32 directions (%d)", p.directions);
+    r = request(SS_PRODUCT_SVF);
+    r.directions = 7;
+    st = ss_plan_make(ctx, &g, &place, &r, &p);
+    tap_ok(st == SS_OK && p.directions == 7 && strstr(item(&p, "directions")->reason, "as requested"),
+           "7 directions requested: 7 planned (%s)", item(&p, "directions")->reason);
+    ss_grid_free(&g);
+    ss_ctx_free(ctx);
+}
+
 int main(void)
 {
+    directions();
     curvature();
     north();
     sun_per_cell();

@@ -48,6 +48,7 @@ int cmd_svf(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open_bands(&job, "svf", &set.common, pos, n_pos)))
         return rc;
+    job.svf_definition = definition_of_choice[set.definition];
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SVF, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;

@@ -36,6 +36,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     req.sun_per_cell = switch_of(common->sun_per_cell);
     req.refraction_k = common->refraction_k;
     req.directions = common->directions;
+    req.svf_definition = job->svf_definition;
     req.lines = job->opt.lines;
     req.shadow_mode = shadow_mode;
     req.n_steps = n_steps;

@@ -106,6 +106,7 @@ typedef struct {
      * is NULL, and the sweep reads band_rows rows at a time. */
     ss_dem_source *source;
     int band_rows;
+    ss_svf_definition svf_definition; /* what the planner chooses directions for (svf) */
 } sweep_job;
 
 /* Starts the run, refuses an output that is an input, reads the DEM and its

@@ -67,7 +67,11 @@ static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_option
                              &t->dz_dn[k]);
             float slope = atanf(sqrtf(t->dz_de[k] * t->dz_de[k] + t->dz_dn[k] * t->dz_dn[k]));
             t->slope_term[k] = ss_muneer_slope_term(slope);
-            t->pressure_factor[k] = (float)exp(-(g->z[k] + g->z_origin_m) / 8434.5);
+            /* Air pressure relative to sea level (ESRA's p/p0). No dry land
+             * lies below -1000 m, and far below it the factor overflows: a
+             * DEM of bathymetry or fill values gets the -1000 m air. */
+            double height_m = fmax(g->z[k] + g->z_origin_m, -1000.0);
+            t->pressure_factor[k] = (float)exp(-height_m / 8434.5);
         }
     return SS_OK;
 }

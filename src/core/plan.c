@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "accuracy_table.h"
 #include "ctx_internal.h"
 #include "spa.h"
 
@@ -96,6 +97,46 @@ static void plan_north(ss_plan *p, const ss_plan_request *r, const ss_place *pla
             "DEM): %s the %.3g deg tolerance",
             place->grid_north_deg, off + spread,
             r->true_north == SS_AUTO ? "within" : "requested off,", tol);
+}
+
+/* Directions: as requested; for an SVF (and insolation's sky) the fewest
+ * whose measured error meets --svf-tolerance (doc/accuracy.md); else 32. */
+static void plan_directions(ss_plan *p, const ss_plan_request *r)
+{
+    int sky = r->product == SS_PRODUCT_SVF || r->product == SS_PRODUCT_INSOLATION;
+    if (r->directions) {
+        p->directions = r->directions;
+        if (sky || r->product == SS_PRODUCT_HORIZON)
+            add(p, "directions", 1, 0, "", "%d directions, as requested", p->directions);
+        return;
+    }
+    p->directions = 32;
+    if (!sky || r->lines != SS_LINES_INTERPOLATED) {
+        if (sky || r->product == SS_PRODUCT_HORIZON)
+            add(p, "directions", 1, 0, "",
+                "%d directions: the default (the accuracy table is measured on interpolated "
+                "lines, doc/accuracy.md)",
+                p->directions);
+        return;
+    }
+    ss_svf_definition def =
+        r->product == SS_PRODUCT_INSOLATION ? SS_SVF_DEF_TILTED : r->svf_definition;
+    double error;
+    int d = ss_directions_for_tolerance(def, r->svf_tolerance, &error);
+    if (d <= 0)
+        return;
+    p->directions = d;
+    if (error <= r->svf_tolerance)
+        add(p, "directions", 1, error, "SVF",
+            "%d directions: the fewest whose SVF error (95th percentile on mountain DEMs, "
+            "doc/accuracy.md) is within the %.3g tolerance",
+            d, r->svf_tolerance);
+    else
+        add(p, "directions", 1, error, "SVF",
+            "%d directions: no number of directions brings the SVF error within %.3g on "
+            "mountain DEMs (it is set by the line sampling near steep ground, doc/accuracy.md); "
+            "the cheapest near the floor",
+            d, r->svf_tolerance);
 }
 
 static void plan_cells(ss_plan *p, const ss_plan_request *r, const ss_place *place)
@@ -186,14 +227,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     p->true_north = p->items[1].on;
     p->sun_per_cell = p->items[3].on;
 
-    p->directions = r->directions ? r->directions : 32;
-    if (r->product == SS_PRODUCT_SVF || r->product == SS_PRODUCT_HORIZON ||
-        r->product == SS_PRODUCT_INSOLATION)
-        add(p, "directions", 1, 0, "",
-            r->directions ? "%d directions, as requested"
-                          : "%d directions: the default (SVF within about 0.01 on mountain "
-                            "terrain, doc/accuracy.md)",
-            p->directions);
+    plan_directions(p, r);
 
     double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;
     double bound = uses_sun(r->product) ? ss_horizon_bound_deg(grid, r->lines) : 90.0;
