@@ -190,6 +190,11 @@ typedef struct {
 /* The bytes a banded sweep holds for its bands (the hulls handed on come
  * on top; ss_band_stats counts them). */
 size_t ss_band_bytes(int width, int band_rows);
+/* About what a whole-grid SVF or openness run needs, buffers included. */
+double ss_whole_sweep_bytes(int width, int height);
+/* Rows per band for a run within budget_bytes: 0 when the whole grid fits,
+ * -1 when not even one band does (directions 0: not known yet). */
+int ss_band_rows_for(int width, int height, int directions, double budget_bytes);
 
 /* SVF (any definition) or openness (unlimited radius) as ss_svf and
  * ss_openness compute them, reading and writing the grid band by band: the

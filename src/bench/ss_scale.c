@@ -155,13 +155,15 @@ int main(int argc, char **argv)
             ss_grid_free(&g);
     } else {
         if (band_rows < 1) {
-            /* The bands take what --memory leaves after the handed-on hulls'
-             * allowance (a quarter) and 64 MiB for the process itself. */
-            double budget = (a.memory_mib > 0 ? a.memory_mib : 256) - 64;
-            size_t per_row = ss_band_bytes(n, 2) - ss_band_bytes(n, 1);
-            band_rows = (int)(budget * 0.75 * 1048576.0 / (double)per_row) - 4;
-            if (band_rows < 1)
-                band_rows = 1;
+            /* The CLI's rule for --memory (default 256 MiB). */
+            double budget = (a.memory_mib > 0 ? a.memory_mib : 256) * 1048576.0;
+            band_rows = ss_band_rows_for(n, n, a.directions, budget);
+            if (band_rows == 0)
+                band_rows = n;
+            if (band_rows < 0) {
+                fprintf(stderr, "ss-scale: %g MiB is too small for one band\n", a.memory_mib);
+                return 2;
+            }
         }
         ss_band_io io = {n, n, a.cell_m, a.cell_m, band_rows, read_rows, write_rows, &s,
                          0, 1, 0, &stats};

@@ -197,35 +197,6 @@ static int parse_size(const char *text, double *bytes)
     return 0;
 }
 
-/* Bytes a whole-grid sweep of svf or openness holds per cell: heights,
- * hull stack slots, sums, the product (and an inverted copy). */
-#define WHOLE_BYTES_PER_CELL 20.0
-/* What --memory must also cover besides the sweep's grids: GDAL's block
- * cache (capped at 16 MiB in banded runs) and the output's buffers. The
- * program's code and shared libraries (about 150 MiB resident, shared
- * with other processes) are not counted: doc/scale.md. */
-#define FIXED_BYTES (48.0 * 1048576.0)
-
-/* Whole grid, or bands of how many rows, in `budget` bytes: 0 for the
- * whole grid, -1 if not even one band fits. The hulls handed on between
- * bands get their own allowance: about 8 points of 16 bytes per line and
- * direction (doc/scale.md measures them). */
-static int rows_per_band(const ss_dem *dem, int directions, double budget)
-{
-    double w = dem->grid.width, h = dem->grid.height;
-    if (w * h * WHOLE_BYTES_PER_CELL + FIXED_BYTES <= budget)
-        return 0;
-    double hulls = (w + h) * (directions > 0 ? directions : 64) * 8.0 * 16.0;
-    double per_row = (double)ss_band_bytes(dem->grid.width, 2) -
-                     (double)ss_band_bytes(dem->grid.width, 1);
-    double rows = (budget - FIXED_BYTES - hulls) / per_row - 4;
-    if (rows < 1)
-        return -1;
-    /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
-    int r = rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
-    return r < h ? r : (int)h;
-}
-
 /* Opens the DEM; reads it whole unless may_band and it does not fit. */
 static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
                           const common_settings *common, int may_band, ss_dem *dem,
@@ -249,10 +220,9 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
     if (st != SS_OK)
         return st;
-    int rows = rows_per_band(dem, common->directions, budget);
+    int rows = ss_band_rows_for(dem->grid.width, dem->grid.height, common->directions, budget);
     if (rows != 0 && (!may_band || rows < 0)) {
-        double need = (double)dem->grid.width * dem->grid.height * WHOLE_BYTES_PER_CELL +
-                      FIXED_BYTES;
+        double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
         if (may_band)
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "the memory budget (%s) is too small for one band of %d cells "

@@ -330,6 +330,34 @@ size_t ss_band_bytes(int width, int band_rows)
     return (size_t)(band_rows + 2 * HALO) * (size_t)width * (2 * sizeof(float) + sizeof(int));
 }
 
+/* A whole-grid SVF or openness holds about 20 bytes a cell (heights, hull
+ * stack slots, sums, the product, an inverted copy); besides the sweep's
+ * grids a run needs buffers for reading and writing (GDAL's block cache,
+ * capped at 16 MiB by the CLI in banded runs). */
+#define WHOLE_BYTES_PER_CELL 20.0
+#define FIXED_BYTES (48.0 * 1048576.0)
+
+double ss_whole_sweep_bytes(int width, int height)
+{
+    return (double)width * (double)height * WHOLE_BYTES_PER_CELL + FIXED_BYTES;
+}
+
+int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
+{
+    if (ss_whole_sweep_bytes(width, height) <= budget_bytes)
+        return 0;
+    /* The hulls handed on: about 8 points of 16 bytes per line and
+     * direction on terrain (doc/scale.md measures them). */
+    double hulls = ((double)width + height) * (directions > 0 ? directions : 64) * 8.0 * 16.0;
+    double per_row = (double)(ss_band_bytes(width, 2) - ss_band_bytes(width, 1));
+    double rows = (budget_bytes - FIXED_BYTES - hulls) / per_row - 2 * HALO;
+    if (rows < 1)
+        return -1;
+    /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
+    int r = rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
+    return r < height ? r : height;
+}
+
 ss_status ss_sky_banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_options *opt,
                         ss_sky_term term)
 {
