@@ -54,6 +54,20 @@ worst=$(paste -d '\n' <(tail -n +7 "$work/a.asc") <(tail -n +7 "$work/b.asc") | 
 awk -v w="$worst" 'BEGIN { exit !(w <= 1e-6) }'
 tap_ok $? "banded SVF == whole-grid SVF (worst $worst)"
 
+# A window of the banded run equals the same window of the whole-grid run.
+win="260325 2155000 272325 2146000"
+"$SKYSWEEP" svf --directions 8 --memory 64M -q -projwin $win "$work/dem.tif" "$work/bwin.tif"
+gdal_translate -q -projwin $win "$work/whole.tif" "$work/wcut.tif"
+gdal_translate -q -of AAIGrid "$work/bwin.tif" "$work/a.asc"
+gdal_translate -q -of AAIGrid "$work/wcut.tif" "$work/b.asc"
+size=$(gdalinfo "$work/bwin.tif" | grep 'Size is')
+worst=$(paste -d '\n' <(tail -n +7 "$work/a.asc") <(tail -n +7 "$work/b.asc") | awk '
+    NR % 2 == 1 { n = split($0, a, " "); next }
+    { split($0, b, " "); for (i = 1; i <= n; i++) { d = a[i] - b[i]; if (d < 0) d = -d; if (d > w) w = d } }
+    END { printf "%.3g", w }')
+[ "$size" = "Size is 1200, 900" ] && awk -v w="$worst" 'BEGIN { exit !(w <= 1e-6) }'
+tap_ok $? "banded -projwin window == the whole-grid output's window ($size, worst $worst)"
+
 "$SKYSWEEP" svf --memory 20M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
 rc=$?
 [ "$rc" -eq 6 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]

@@ -1,8 +1,10 @@
 #!/bin/bash
-# Seamless tiles: the Kilauea sample cut into 4 tiles of unequal size (as
-# files, and as a VRT of them) gives exactly the SVF of the whole file,
-# with no seam: the tiles are mosaicked on their common grid before the
-# sweep, so horizons cross tile edges as on the merged DEM.
+# Seamless tiles and windows: the Kilauea sample cut into 4 tiles of
+# unequal size (as files, and as a VRT of them) gives exactly the SVF of
+# the whole file, with no seam: the tiles are mosaicked on their common
+# grid before the sweep, so horizons cross tile edges as on the merged
+# DEM. -projwin writes one window of the outputs, equal to the same window
+# cut from the full output (horizons still come from the whole DEM).
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
@@ -35,4 +37,27 @@ info=$(gdalinfo "$work/tiles.tif")
 echo "$info" | grep -q 'Size is 512, 643' &&
     echo "$info" | grep -q "$(gdalinfo "$dem" | grep '^Origin')"
 tap_ok $? "the mosaic's output has the merged DEM's size and origin"
+
+# A window of 200 x 120 cells from the tiles (GDAL's -projwin words, and
+# the joined form), against gdal_translate's cut of the full output.
+win="259125 2144655 265125 2141055"
+"$SKYSWEEP" svf -q --directions 16 -projwin $win "$work"/{nw,ne,sw,se}.tif "$work/win.tif"
+tap_ok $? "svf -projwin $win over the tiles"
+gdal_translate -q -projwin $win "$work/whole.tif" "$work/cut.tif"
+gdal_translate -q -of ENVI "$work/cut.tif" "$work/cut.raw"
+raw "$work/win.tif" "$work/win.raw" "$work/cut.raw"
+tap_ok $? "the window == the same window cut from the full output, bit for bit"
+gdalinfo "$work/win.tif" | grep -q 'Size is 200, 120' &&
+    gdalinfo "$work/win.tif" | grep -q 'Origin = (259125.000000000000000,2144655.000000000000000)'
+tap_ok $? "the window's size and origin are gdal_translate's"
+"$SKYSWEEP" hillshade -q --projwin 259125,2144655,265125,2141055 "$dem" "$work/hs_win.tif" &&
+    "$SKYSWEEP" hillshade -q "$dem" "$work/hs.tif" &&
+    gdal_translate -q -projwin $win "$work/hs.tif" "$work/hs_cut.tif" &&
+    gdal_translate -q -of ENVI "$work/hs_cut.tif" "$work/hs_cut.raw" &&
+    raw "$work/hs_win.tif" "$work/hs_win.raw" "$work/hs_cut.raw"
+tap_ok $? "hillshade (Byte) with the joined -projwin form == its cut"
+"$SKYSWEEP" svf -q -projwin 0 0 1 1 "$dem" "$work/bad.tif" 2>"$work/err"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/bad.tif" ]
+tap_ok $? "a window outside the DEM: exit $rc, $(head -c 100 "$work/err")"
 tap_done

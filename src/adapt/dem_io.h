@@ -15,6 +15,10 @@ typedef struct {
     size_t nodata_cells;   /* cells without a height: nodata value or NaN */
     size_t rejected_cells; /* heights beyond +-1e7 m, taken as nodata */
     char description[600]; /* what was read, for summaries */
+    /* The part of the grid outputs cover (-projwin): columns [col0, col0 +
+     * cols) and rows [row0, row0 + rows); cols == 0: the whole grid. The
+     * sweep still sees the whole DEM, so horizons reach beyond it. */
+    int window_col0, window_row0, window_cols, window_rows;
 } ss_dem;
 
 typedef struct {
@@ -45,7 +49,13 @@ void ss_dem_source_close(ss_dem_source *src);
 
 typedef struct ss_raster_writer ss_raster_writer;
 
-/* Creates OUTPUT's temporary twin with the DEM's size, CRS and geotransform.
+/* Sets dem's output window from -projwin's ULX ULY LRX LRY (the DEM's CRS,
+ * cell edges rounded as gdal_translate -projwin does); fails if it is
+ * empty or not inside the DEM. */
+ss_status ss_dem_set_window(ss_ctx *ctx, ss_dem *dem, const double projwin[4]);
+
+/* Creates OUTPUT's temporary twin with the DEM's size (or its window), CRS
+ * and geotransform.
  * format NULL means GTiff; creation_options are KEY=VALUE strings (NULL-ended)
  * that override the defaults (tiled, DEFLATE, floating-point predictor). */
 ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
@@ -56,10 +66,12 @@ ss_status ss_writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int 
 ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
                               const char *format, const char *const *creation_options,
                               ss_raster_writer **writer);
-/* Writes band (1-based): SS_NODATA marks nodata; NaN or Inf is refused. */
+/* Writes band (1-based), the whole grid's values (only the window's are
+ * stored): SS_NODATA marks nodata; NaN or Inf is refused. */
 ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
                          const char *description, const char *unit);
-/* Writes rows [row0, row0 + n_rows) of a band, in any order (a banded run). */
+/* Writes rows [row0, row0 + n_rows) of a band, full grid rows, in any
+ * order (a banded run); what falls outside the window is dropped. */
 ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows, const float *data);
 void ss_writer_describe(ss_raster_writer *w, int band, const char *description, const char *unit);
 ss_status ss_writer_metadata(ss_raster_writer *w, const char *key, const char *value);

@@ -430,6 +430,32 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
     return st;
 }
 
+ss_status ss_dem_set_window(ss_ctx *ctx, ss_dem *dem, const double projwin[4])
+{
+    const double *gt = dem->geotransform;
+    /* gdal_translate -projwin: offsets floored (with a 0.001-cell grace),
+     * sizes rounded to the nearest cell. */
+    double x = (projwin[0] - gt[0]) / gt[1], y = (projwin[1] - gt[3]) / gt[5];
+    double cols = (projwin[2] - projwin[0]) / gt[1], rows = (projwin[3] - projwin[1]) / gt[5];
+    double col0 = floor(x + 0.001), row0 = floor(y + 0.001);
+    cols = floor(cols + 0.5);
+    rows = floor(rows + 0.5);
+    if (!(cols >= 1 && rows >= 1 && col0 >= 0 && row0 >= 0 &&
+          col0 + cols <= dem->grid.width && row0 + rows <= dem->grid.height))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "-projwin %g %g %g %g is %s the DEM (columns %.0f..%.0f, rows %.0f..%.0f "
+                       "of %d x %d)",
+                       projwin[0], projwin[1], projwin[2], projwin[3],
+                       cols >= 1 && rows >= 1 ? "not inside" : "empty or upside down for",
+                       col0, col0 + cols - 1, row0, row0 + rows - 1, dem->grid.width,
+                       dem->grid.height);
+    dem->window_col0 = (int)col0;
+    dem->window_row0 = (int)row0;
+    dem->window_cols = (int)cols;
+    dem->window_rows = (int)rows;
+    return SS_OK;
+}
+
 void ss_dem_free(ss_dem *dem)
 {
     ss_grid_free(&dem->grid);

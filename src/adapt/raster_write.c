@@ -23,6 +23,8 @@
 
 struct ss_raster_writer {
     ss_ctx *ctx;
+    int grid_width;       /* rows handed in are this long ... */
+    int col0, row0;       /* ... and the file holds the window from here */
     int byte_pixels;      /* 1: Byte bands, values rounded, nodata 0 (gdaldem's style) */
     GDALDatasetH ds;      /* the temporary file, or a MEM copy for CreateCopy-only drivers */
     GDALDriverH driver;   /* the output format */
@@ -142,19 +144,27 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
     const ss_grid *g = &like->grid;
+    int windowed = like->window_cols > 0;
+    int cols = windowed ? like->window_cols : g->width, rows = windowed ? like->window_rows : g->height;
+    w->grid_width = g->width;
+    w->col0 = windowed ? like->window_col0 : 0;
+    w->row0 = windowed ? like->window_row0 : 0;
     GDALDataType type = byte_pixels ? GDT_Byte : GDT_Float32;
     if (can_create)
-        w->ds = GDALCreate(driver, w->tmp_path, g->width, g->height, bands, type, w->create_opts);
+        w->ds = GDALCreate(driver, w->tmp_path, cols, rows, bands, type, w->create_opts);
     else
-        w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", g->width, g->height, bands, type,
-                           NULL);
+        w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", cols, rows, bands, type, NULL);
     CPLPopErrorHandler();
     if (!w->ds) {
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path, gdal_message());
         ss_writer_abort(w);
         return st;
     }
-    GDALSetGeoTransform(w->ds, (double *)like->geotransform);
+    double gt[6];
+    memcpy(gt, like->geotransform, sizeof gt);
+    gt[0] += w->col0 * gt[1];
+    gt[3] += w->row0 * gt[5];
+    GDALSetGeoTransform(w->ds, gt);
     if (like->crs_wkt)
         GDALSetProjection(w->ds, like->crs_wkt);
     for (int b = 1; b <= bands; ++b)
@@ -180,14 +190,23 @@ ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like,
 ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
                          const float *data)
 {
-    int width = GDALGetRasterXSize(w->ds);
+    /* The rows handed in that fall in the file's window, its columns only. */
+    int width = GDALGetRasterXSize(w->ds), height = GDALGetRasterYSize(w->ds);
+    int lo = row0 > w->row0 ? row0 : w->row0;
+    int hi = row0 + n_rows < w->row0 + height ? row0 + n_rows : w->row0 + height;
+    if (lo >= hi)
+        return SS_OK;
+    data += (size_t)(lo - row0) * (size_t)w->grid_width + (size_t)w->col0;
+    n_rows = hi - lo;
+    row0 = lo - w->row0;
     size_t n = (size_t)width * (size_t)n_rows;
-    for (size_t i = 0; i < n; ++i)
-        if (!isfinite(data[i]))
-            return ss_fail(w->ctx, SS_ERR_INTERNAL,
-                           "refusing to write a non-finite value into band %d of '%s' "
-                           "(a bug: please report it)",
-                           band, w->path);
+    for (int r = 0; r < n_rows; ++r)
+        for (int c = 0; c < width; ++c)
+            if (!isfinite(data[(size_t)r * w->grid_width + c]))
+                return ss_fail(w->ctx, SS_ERR_INTERNAL,
+                               "refusing to write a non-finite value into band %d of '%s' "
+                               "(a bug: please report it)",
+                               band, w->path);
     GDALRasterBandH b = GDALGetRasterBand(w->ds, band);
     unsigned char *bytes = NULL;
     if (w->byte_pixels) {
@@ -195,15 +214,20 @@ ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
         bytes = malloc(n);
         if (!bytes)
             return ss_fail(w->ctx, SS_ERR_MEMORY, "out of memory writing '%s'", w->path);
-        for (size_t i = 0; i < n; ++i)
-            bytes[i] = data[i] == SS_NODATA ? 0
-                                            : (unsigned char)fmin(255.0, fmax(1.0, nearbyint(data[i])));
+        for (int r = 0; r < n_rows; ++r)
+            for (int c = 0; c < width; ++c) {
+                float v = data[(size_t)r * w->grid_width + c];
+                bytes[(size_t)r * width + c] =
+                    v == SS_NODATA ? 0 : (unsigned char)fmin(255.0, fmax(1.0, nearbyint(v)));
+            }
     }
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
-    CPLErr err = GDALRasterIO(b, GF_Write, 0, row0, width, n_rows,
-                              bytes ? (void *)bytes : (void *)data, width, n_rows,
-                              bytes ? GDT_Byte : GDT_Float32, 0, 0);
+    CPLErr err = bytes ? GDALRasterIO(b, GF_Write, 0, row0, width, n_rows, bytes, width, n_rows,
+                                      GDT_Byte, 0, 0)
+                       : GDALRasterIO(b, GF_Write, 0, row0, width, n_rows, (void *)data, width,
+                                      n_rows, GDT_Float32, (int)sizeof(float),
+                                      w->grid_width * (int)sizeof(float));
     CPLPopErrorHandler();
     free(bytes);
     if (err != CE_None)
@@ -224,7 +248,7 @@ void ss_writer_describe(ss_raster_writer *w, int band, const char *description, 
 ss_status ss_writer_band(ss_raster_writer *w, int band, const float *data,
                          const char *description, const char *unit)
 {
-    ss_status st = ss_writer_rows(w, band, 0, GDALGetRasterYSize(w->ds), data);
+    ss_status st = ss_writer_rows(w, band, 0, w->row0 + GDALGetRasterYSize(w->ds), data);
     if (st == SS_OK)
         ss_writer_describe(w, band, description, unit);
     return st;

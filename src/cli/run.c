@@ -55,6 +55,9 @@ const opt_spec common_options[] = {
      "error in the sun's direction per cell the run may allow"},
     {"scene", OPT_STRING, COMMON(scene), "FILE", NULL, 0, 0, NULL,
      "read the job from a scene file (doc/scenes.md); options given here override it"},
+    {"projwin", OPT_STRING, COMMON(projwin), "ULX ULY LRX LRY", NULL, 0, 0, NULL,
+     "write the outputs for this window only (the DEM's CRS, as gdal_translate -projwin; "
+     "also ULX,ULY,LRX,LRY); horizons still come from the whole DEM"},
     {"memory", OPT_STRING, COMMON(memory), "SIZE", NULL, 0, 0, NULL,
      "bound on the working set, e.g. 512M or 4G; svf and openness sweep larger DEMs in bands "
      "of rows (exact, doc/scale.md), other products refuse them (default: half the RAM)"},
@@ -388,10 +391,36 @@ void run_print_dem(run_state *run, const ss_dem *dem, const ss_dem_frame *frame)
                frame->cell_variation);
 }
 
+/* GDAL's "-projwin ULX ULY LRX LRY" takes four words; the option table
+ * takes one: the four numbers are joined into "ULX,ULY,LRX,LRY" in place. */
+static void join_projwin(int *argc, char **argv)
+{
+    static char joined[4 * 32];
+    for (int i = 1; i + 4 < *argc; ++i) {
+        if (strcmp(argv[i], "-projwin") != 0 && strcmp(argv[i], "--projwin") != 0)
+            continue;
+        int numbers = 1;
+        for (int k = 1; k <= 4; ++k) {
+            char *end;
+            strtod(argv[i + k], &end);
+            numbers &= end != argv[i + k] && *end == '\0';
+        }
+        if (!numbers || snprintf(joined, sizeof joined, "%s,%s,%s,%s", argv[i + 1], argv[i + 2],
+                                 argv[i + 3], argv[i + 4]) >= (int)sizeof joined)
+            return;
+        argv[i + 1] = joined;
+        for (int k = i + 2; k + 3 <= *argc; ++k)
+            argv[k] = argv[k + 3];
+        *argc -= 3;
+        return;
+    }
+}
+
 int run_parse(const char *command, const opt_spec *const *tables, void *settings, int argc,
               char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
               const char *usage, const char *summary, const char *device_setting)
 {
+    join_projwin(&argc, argv);
     if (argc == 2 && strcmp(argv[1], "--help-markdown") == 0) {
         opt_print_markdown(tables, command, usage, summary);
         return 0;
@@ -446,6 +475,15 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
             job->source = NULL;
             ss_dem_free(&job->dem);
         }
+    }
+    if (st == SS_OK && common->projwin) {
+        double w[4];
+        char tail;
+        if (sscanf(common->projwin, "%lf,%lf,%lf,%lf%c", &w[0], &w[1], &w[2], &w[3], &tail) != 4)
+            st = ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
+                              "-projwin expects ULX ULY LRX LRY, not '%s'", common->projwin);
+        else
+            st = ss_dem_set_window(job->run.ctx, &job->dem, w);
     }
     if (st == SS_OK && job->dem.rejected_cells && !job->run.quiet)
         fprintf(stderr,

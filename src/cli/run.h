@@ -36,6 +36,7 @@ typedef struct {
     double pressure_hpa, temperature_c;
     int sun_per_cell;      /* index into "auto|on|off" */
     const char *memory;    /* --memory SIZE: bound on the working set; NULL: half the RAM */
+    const char *projwin;   /* "ULX,ULY,LRX,LRY": the outputs' window; NULL: the whole DEM */
 } common_settings;
 
 /* Marks the optional numbers as not given (NAN); call before parsing. */
