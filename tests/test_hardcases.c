@@ -653,6 +653,7 @@ static void pit(void)
         for (int dev = 0; dev < 2; ++dev)
             free_products(&p[dev]);
     }
+    ss_grid_free(&g);
 }
 
 /* Plateaus and exact ties. A staircase z = column (1 m cells) puts every

@@ -41,8 +41,12 @@ rc=$?
 used=$(peak "$work/banded.out")
 grep -q '^bands ' "$work/banded.out"
 tap_ok $? "a DEM needing ~140 MiB whole is swept in bands under --memory 64M (exit $rc): $(grep '^bands ' "$work/banded.out" | cut -c1-80)"
-[ -n "$base" ] && [ -n "$used" ] && [ "$used" -le $((base + 64)) ]
-tap_ok $? "peak resident ${used:-?} MiB <= ${base:-?} MiB (the program on a 40x40 DEM) + 64 MiB"
+if "$SKYSWEEP" info | grep -q 'sanitizers yes'; then
+    tap_skip "peak resident memory within the bound" "AddressSanitizer's shadow memory and quarantine inflate it"
+else
+    [ -n "$base" ] && [ -n "$used" ] && [ "$used" -le $((base + 64)) ]
+    tap_ok $? "peak resident ${used:-?} MiB <= ${base:-?} MiB (the program on a 40x40 DEM) + 64 MiB"
+fi
 
 "$SKYSWEEP" svf --directions 8 --device reference -q "$work/dem.tif" "$work/whole.tif"
 gdal_translate -q -of AAIGrid "$work/whole.tif" "$work/a.asc"

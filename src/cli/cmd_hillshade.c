@@ -55,7 +55,7 @@ int cmd_hillshade(int argc, char **argv)
                        COMMAND_MAX_INPUTS + 1, 2, "skysweep hillshade [options] DEM... OUTPUT",
                        "Shaded relief as gdaldem hillshade computes it (Byte 1..255, 0 = "
                        "nodata), optionally with\nexact cast shadows and sky-view shading.",
-                       set.common.device);
+                       &set.common.device);
     if (rc >= 0)
         return rc;
     if (set.blend && (set.cast_shadows || set.sky_view > 0 || set.multidirectional)) {

@@ -68,7 +68,7 @@ int cmd_horizon(int argc, char **argv)
                        "Horizon elevation angle (degrees above the horizontal; -90 where no "
                        "terrain lies ahead)\nof every cell, one band per azimuth, exact at "
                        "unlimited distance; or the horizon profiles of sites.",
-                       set.common.device);
+                       &set.common.device);
     if (rc >= 0)
         return rc;
     if (set.pts.point || set.pts.points) {

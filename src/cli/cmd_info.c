@@ -25,6 +25,11 @@
 #else
 #define HAVE_MPI_FLAG 0
 #endif
+#ifdef HAVE_SANITIZERS
+#define HAVE_SANITIZERS_FLAG 1
+#else
+#define HAVE_SANITIZERS_FLAG 0
+#endif
 
 static const char *built_with(int flag)
 {
@@ -58,8 +63,8 @@ int cmd_info(int argc, char **argv)
     }
     printf("skysweep %s\n", ss_version());
     printf("GDAL     %s\n", GDALVersionInfo("RELEASE_NAME"));
-    printf("built    OpenImageIO %s, VTK %s, MPI %s\n", built_with(HAVE_OIIO_FLAG),
-           built_with(HAVE_VTK_FLAG), built_with(HAVE_MPI_FLAG));
+    printf("built    OpenImageIO %s, VTK %s, MPI %s, sanitizers %s\n", built_with(HAVE_OIIO_FLAG),
+           built_with(HAVE_VTK_FLAG), built_with(HAVE_MPI_FLAG), built_with(HAVE_SANITIZERS_FLAG));
     printf("devices:\n");
     command_list_devices();
 

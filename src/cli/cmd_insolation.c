@@ -146,7 +146,7 @@ int cmd_insolation(int argc, char **argv)
         "Clear-sky irradiation over a time range (ESRA, Linke turbidity), on each cell's slope "
         "with\nexact cast shadows. Bands: 1 global, 2 beam, 3 diffuse, 4 reflected (Wh/m2), 5 "
         "hours of\ndirect sun.",
-        set.common.device);
+        &set.common.device);
     if (rc >= 0)
         return rc;
     sweep_job job;

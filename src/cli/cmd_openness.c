@@ -39,7 +39,7 @@ int cmd_openness(int argc, char **argv)
                        2, "skysweep openness [options] DEM... OUTPUT",
                        "Topographic openness in degrees (Yokoyama et al. 2002), from horizons in "
                        "evenly spaced azimuths.\nSeveral DEM tiles are mosaicked first.",
-                       set.common.device);
+                       &set.common.device);
     if (rc >= 0)
         return rc;
     sweep_job job;

@@ -377,7 +377,7 @@ int cmd_render(int argc, char **argv)
                        "its grid, lit by the\nsun skysweep shadow uses (--time or "
                        "--sun-azimuth/--sun-elevation). Needs an X display:\non a headless "
                        "machine run it as xvfb-run -a skysweep render ...",
-                       set.common.device);
+                       &set.common.device);
     if (rc >= 0)
         return rc;
 #ifndef HAVE_VTK

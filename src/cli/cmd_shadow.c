@@ -31,7 +31,7 @@ int cmd_shadow(int argc, char **argv)
                        "sunlit (1) or in a cast\nshadow (0); 2 facing the sun (1) or away "
                        "(self-shadow, 0); 3 illumination cos(i) on sunlit cells facing\nthe "
                        "sun, else 0 (shaded relief with cast shadows).",
-                       set.common.device);
+                       &set.common.device);
     if (rc >= 0)
         return rc;
     sweep_job job;

@@ -42,7 +42,7 @@ int cmd_svf(int argc, char **argv)
                        "skysweep svf [options] DEM... OUTPUT",
                        "Sky-view factor of every cell (0..1), from exact horizons in evenly "
                        "spaced azimuths.\nSeveral DEM tiles are mosaicked first.",
-                       set.common.device);
+                       &set.common.device);
     if (rc >= 0)
         return rc;
     sweep_job job;

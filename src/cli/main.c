@@ -112,6 +112,7 @@ int main(int argc, char **argv)
 {
     share_start(&argc, &argv);
     int rc = dispatch(argc, argv);
+    scene_release();
     share_stop();
     return rc;
 }

@@ -418,7 +418,7 @@ static void join_projwin(int *argc, char **argv)
 
 int run_parse(const char *command, const opt_spec *const *tables, void *settings, int argc,
               char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
-              const char *usage, const char *summary, const char *device_setting)
+              const char *usage, const char *summary, const char *const *device_setting)
 {
     join_projwin(&argc, argv);
     if (argc == 2 && strcmp(argv[1], "--help-markdown") == 0) {
@@ -441,7 +441,8 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
         opt_print_help(tables, usage, summary);
         return 0;
     }
-    if (device_setting && strcmp(device_setting, "list") == 0)
+    /* Read after parsing: --device list prints the devices and stops. */
+    if (device_setting && *device_setting && strcmp(*device_setting, "list") == 0)
         return command_list_devices();
     if (*n_pos < min_pos) {
         snprintf(err, sizeof err, "needs %s", min_pos > 1 ? "an input DEM and an output file"

@@ -64,7 +64,7 @@ typedef struct {
  * --device list. Returns -1 to go on, else the exit code to return. */
 int run_parse(const char *command, const opt_spec *const *tables, void *settings, int argc,
               char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
-              const char *usage, const char *summary, const char *device_setting);
+              const char *usage, const char *summary, const char *const *device_setting);
 
 /* Creates the context, installs SIGINT/SIGTERM handlers and progress. */
 int run_begin(run_state *run, const char *command, const common_settings *common);

@@ -156,9 +156,27 @@ static int scene_arg(int argc, char **argv)
     return -1;
 }
 
+/* The last expansion: its vector and the strings it owns (the scene's),
+ * kept until scene_release, since the command's settings point into them. */
+static struct {
+    char **vector;
+    char **owned;
+    int n_owned;
+} held;
+
+void scene_release(void)
+{
+    for (int i = 0; i < held.n_owned; ++i)
+        free(held.owned[i]);
+    free(held.owned);
+    free(held.vector);
+    memset(&held, 0, sizeof held);
+}
+
 int scene_expand(const opt_spec *const *tables, int argc, char **argv, int *out_argc,
                  char ***out_argv, char *err, size_t err_size)
 {
+    scene_release();
     *out_argc = argc;
     *out_argv = NULL;
     int at = scene_arg(argc, argv);
@@ -196,27 +214,39 @@ int scene_expand(const opt_spec *const *tables, int argc, char **argv, int *out_
             i++;
     }
     char **v = rc == 0 ? calloc((size_t)(argc + s.n_args + s.n_dems + 2), sizeof *v) : NULL;
-    if (rc == 0 && !v)
+    char **owned = rc == 0 ? calloc((size_t)(s.n_args + s.n_dems + 1), sizeof *owned) : NULL;
+    if (rc == 0 && (!v || !owned)) {
+        free(v);
+        free(owned);
+        v = owned = NULL;
         snprintf(err, err_size, "out of memory"), rc = -1;
+    }
     if (rc == 0) {
-        int n = 0;
+        int n = 0, k = 0;
         v[n++] = argv[0];
         for (int i = 0; i < s.n_args; ++i)
-            v[n++] = s.args[i], s.args[i] = NULL;
+            v[n++] = owned[k++] = s.args[i], s.args[i] = NULL;
         for (int i = 1; i < argc; ++i)
             if (i != at && i != at + 1)
                 v[n++] = argv[i];
         if (!positional) {
             for (int i = 0; i < s.n_dems; ++i)
-                v[n++] = s.dems[i], s.dems[i] = NULL;
+                v[n++] = owned[k++] = s.dems[i], s.dems[i] = NULL;
             if (s.output)
-                v[n++] = s.output, s.output = NULL;
+                v[n++] = owned[k++] = s.output, s.output = NULL;
         }
+        held.vector = v;
+        held.owned = owned;
+        held.n_owned = k;
         *out_argc = n;
         *out_argv = v;
     }
     scene_free(&s);
     free(dir_copy);
+    /* The message quotes the file's keys and values: keep it one line. */
+    for (char *p = err; rc != 0 && *p; ++p)
+        if ((unsigned char)*p < 0x20 || *p == 0x7f)
+            *p = ' ';
     return rc;
 }
 

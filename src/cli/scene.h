@@ -14,6 +14,8 @@
  * message" in err. */
 int scene_expand(const opt_spec *const *tables, int argc, char **argv, int *out_argc,
                  char ***out_argv, char *err, size_t err_size);
+/* Frees what the last scene_expand returned (at the end of the run). */
+void scene_release(void);
 /* The scene's `product` (for skysweep plan/run SCENE). */
 int scene_product(const char *file, char *product, size_t size, char *err, size_t err_size);
 
