@@ -73,37 +73,66 @@ SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, flo
                  stack, acc, flags);
 }
 
-/* Adds the weighted horizon angle (degrees) into angle_deg and, if
- * want_dist, gives each cell the distance (metres, 0 when nothing lies
- * ahead) of the sample nearest to it. Where nothing lies ahead the angle is
- * none_deg (-90 for horizon products; shadows take the horizontal, 0).
- * Both grids start at 0; cells without a height are set to nodata
- * afterwards by the host. */
-SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k, float none_deg,
+/* Gives a cell the distance d (> 0) of a sample with terrain ahead. Each
+ * cell is fed by at most two samples (digital lines: one), on lines of
+ * different rounds, and takes the distance of the nearer one that has
+ * terrain ahead: the nearer sample writes unconditionally, the farther only
+ * into a cell still at 0 (the grid starts at 0), so either order of the
+ * rounds gives the same result. Of a sample's two cells, cell0 is the
+ * nearer when w1 <= 0.5 (a tie goes to cell0, so the neighbouring line,
+ * whose cell1 it is, is the farther). */
+SS_FN void ss_horizon_dist(const ss_sample_horizon *h, SS_GLOBAL float *dist_m)
+{
+    int near0 = h->w1 <= 0.5f;
+    if (h->cell0 >= 0 && (near0 || dist_m[h->cell0] == 0.0f))
+        dist_m[h->cell0] = h->d;
+    if (h->cell1 >= 0 && (!near0 || dist_m[h->cell1] == 0.0f))
+        dist_m[h->cell1] = h->d;
+}
+
+/* Adds, for the samples that have terrain ahead, the weighted horizon
+ * angle (degrees) into angle_deg and the weight into weight; samples with
+ * nothing ahead add nothing, so that a cell beside the grid's edge or a
+ * hole, fed by one sample with terrain ahead and one without, is not
+ * dragged toward -90 by the empty one (ss_pass_horizon_finish divides).
+ * If want_dist, gives each cell the distance (metres) of its nearer sample
+ * with terrain ahead, 0 where none has. All grids start at 0; cells
+ * without a height are set to nodata afterwards by the host. */
+SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
                                 SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m,
-                                int want_dist, int flags)
+                                SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
+                                SS_GLOBAL float *dist_m, int want_dist, int flags)
 {
     ss_walker w;
     int n = ss_walker_begin(&w, ls, line);
     for (int i = 0; i < n; ++i) {
         ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k, i, flags);
-        if (!h.valid)
+        if (!h.valid || !(h.d > 0.0f))
             continue;
-        float angle = h.d > 0.0f ? ss_horizon_deg(h.d, h.dz) : none_deg;
-        if (h.cell0 >= 0)
+        float angle = ss_horizon_deg(h.d, h.dz);
+        if (h.cell0 >= 0) {
             angle_deg[h.cell0] += h.w0 * angle;
-        if (h.cell1 >= 0)
-            angle_deg[h.cell1] += h.w1 * angle;
-        if (want_dist) {
-            /* The nearer cell takes the distance; a tie goes to cell0, and
-             * the neighbouring line then gives its cell1 to nobody. */
-            if (h.cell0 >= 0 && h.w1 <= 0.5f)
-                dist_m[h.cell0] = h.d;
-            if (h.cell1 >= 0 && h.w1 > 0.5f)
-                dist_m[h.cell1] = h.d;
+            weight[h.cell0] += h.w0;
         }
+        if (h.cell1 >= 0) {
+            angle_deg[h.cell1] += h.w1 * angle;
+            weight[h.cell1] += h.w1;
+        }
+        if (want_dist)
+            ss_horizon_dist(&h, dist_m);
     }
+}
+
+/* Turns a cell's sums into its horizon: the weighted mean over the samples
+ * that have terrain ahead, or none_deg (-90 for horizon products; shadows
+ * take the horizontal, 0) where none has. Weights are exact (16 fractional
+ * bits) and sum to exactly 1 where both samples have terrain ahead, so
+ * there the division changes nothing. */
+SS_FN void ss_pass_horizon_finish(int cell, float none_deg, SS_GLOBAL float *angle_deg,
+                                  SS_GLOBAL const float *weight)
+{
+    float w = weight[cell];
+    angle_deg[cell] = w > 0.0f ? angle_deg[cell] / w : none_deg;
 }
 
 /* Adds, for the cells the line feeds, a term (SS_TERM_ELEVATION,
@@ -177,12 +206,13 @@ SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float cu
     }
 }
 
-SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k, float none_deg,
+SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
                            SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                           SS_GLOBAL float *angle_deg, SS_GLOBAL float *dist_m, int want_dist)
+                           SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
+                           SS_GLOBAL float *dist_m, int want_dist)
 {
     /* Horizon grids are written once per direction: one general copy. */
-    ss_pass_horizon_walk(ls, line, curv_k, none_deg, z, stack, angle_deg, dist_m, want_dist,
+    ss_pass_horizon_walk(ls, line, curv_k, z, stack, angle_deg, weight, dist_m, want_dist,
                          ss_walk_flags(ls, curv_k));
 }
 

@@ -12,14 +12,23 @@ __kernel void sweep_svf(ss_line_set ls, int round, int definition, float curv_k,
                     cell_x_m, cell_y_m, height, z, stack, acc);
 }
 
-__kernel void sweep_horizon(ss_line_set ls, int round, float curv_k, float none_deg,
-                            __global const float *z, __global int *stack,
-                            __global float *angle_deg, __global float *dist_m, int want_dist)
+__kernel void sweep_horizon(ss_line_set ls, int round, float curv_k, __global const float *z,
+                            __global int *stack, __global float *angle_deg,
+                            __global float *weight, __global float *dist_m, int want_dist)
 {
     int i = get_global_id(0);
     if (i < ss_round_lines(&ls, round))
-        ss_pass_horizon(&ls, ss_round_line(&ls, round, i), curv_k, none_deg, z, stack, angle_deg,
+        ss_pass_horizon(&ls, ss_round_line(&ls, round, i), curv_k, z, stack, angle_deg, weight,
                         dist_m, want_dist);
+}
+
+/* One work-item per cell, after both rounds of sweep_horizon. */
+__kernel void sweep_horizon_finish(int n_cells, float none_deg, __global float *angle_deg,
+                                   __global const float *weight)
+{
+    int cell = get_global_id(0);
+    if (cell < n_cells)
+        ss_pass_horizon_finish(cell, none_deg, angle_deg, weight);
 }
 
 __kernel void sweep_bare(ss_line_set ls, int round, __global const float *z,

@@ -82,9 +82,15 @@ void test_holes(ss_grid *g, unsigned seed, int n_holes, int max_size)
     }
 }
 
+/* How a cell combines the angles of the samples that feed it. */
+typedef enum {
+    BRUTE_AHEAD_ONLY, /* mean over the samples with terrain ahead (horizon products) */
+    BRUTE_ALL_TERMS   /* mean over all, none_deg counted as a term (openness) */
+} brute_mean;
+
 static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
-                          double none_deg, const float *claimed_dist, double *angle_deg,
-                          double *near_angle_rad, double *claimed_angle_rad)
+                          double none_deg, brute_mean mean, const float *claimed_dist,
+                          double *angle_deg, double *near_angle_rad, double *claimed_angle_rad)
 {
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, azimuth_deg,
@@ -95,6 +101,10 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
     double per_major = ls.major_is_row ? per_row : per_col;
     double per_minor = ls.major_is_row ? per_col : per_row;
     size_t n_cells = (size_t)g->width * g->height;
+    /* Per cell: the weight summed into angle_deg, and the rank of the
+     * sample whose horizon near_angle_rad holds (0: none yet). */
+    double *weight = calloc(n_cells, sizeof(double));
+    int *rank = calloc(n_cells, sizeof(int));
     for (size_t c = 0; c < n_cells; ++c) {
         angle_deg[c] = 0.0;
         near_angle_rad[c] = claimed_angle_rad[c] = NAN;
@@ -126,13 +136,23 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
         for (int v = 0; v < n; ++v) {
             if (!valid[v])
                 continue;
+            /* The sample's cells (k = 0: minor0, 1: minor0 + 1) that it feeds
+             * with a positive weight, and what each claims as distance. */
+            double w[2] = {1.0 - smp[v].w1, smp[v].w1}, claimed[2] = {NAN, NAN};
+            double claimed_angle[2] = {NAN, NAN};
+            size_t cell[2] = {0, 0};
+            int feeds[2];
+            for (int k = 0; k < 2; ++k) {
+                int minor = smp[v].minor0 + k;
+                feeds[k] = minor >= 0 && minor < ls.minor_len && w[k] > 0;
+                if (!feeds[k])
+                    continue;
+                cell[k] = (size_t)ss_line_cell(&ls, smp[v].major, minor);
+                if (claimed_dist)
+                    claimed[k] = claimed_dist[cell[k]];
+            }
             /* Slopes rank like angles and cost a division, not an atan2. */
             double best = -INFINITY, best_d = 0;
-            int nearest_cell = smp[v].w1 <= 0.5f ? smp[v].minor0 : smp[v].minor0 + 1;
-            size_t near_idx = (size_t)ss_line_cell(&ls, smp[v].major, nearest_cell);
-            int nearest_in = nearest_cell >= 0 && nearest_cell < ls.minor_len;
-            double claimed = nearest_in && claimed_dist ? claimed_dist[near_idx] : NAN;
-            double claimed_angle = NAN;
             for (int t = 0; t < v; ++t) {
                 if (!occludes[t])
                     continue;
@@ -142,28 +162,42 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
                     best = slope;
                     best_d = d;
                 }
-                if (fabs(d - claimed) <= 1e-4 * (1.0 + d))
-                    claimed_angle = atan(slope);
+                for (int k = 0; k < 2; ++k)
+                    if (fabs(d - claimed[k]) <= 1e-4 * (1.0 + d))
+                        claimed_angle[k] = atan(slope);
             }
-            double angle = best == -INFINITY ? none_deg * M_PI / 180 : atan(best);
-            if (best == -INFINITY && claimed == 0.0)
-                claimed_angle = -M_PI / 2;
-            double w1 = smp[v].w1, w0 = 1.0 - w1;
-            if (smp[v].minor0 >= 0 && w0 > 0)
-                angle_deg[ss_line_cell(&ls, smp[v].major, smp[v].minor0)] +=
-                    w0 * angle * 180.0 / M_PI;
-            if (smp[v].minor0 + 1 < ls.minor_len && w1 > 0)
-                angle_deg[ss_line_cell(&ls, smp[v].major, smp[v].minor0 + 1)] +=
-                    w1 * angle * 180.0 / M_PI;
-            if (nearest_in) {
-                near_angle_rad[near_idx] = angle;
-                claimed_angle_rad[near_idx] = claimed_angle;
+            int ahead = best != -INFINITY;
+            double angle = ahead ? atan(best) : none_deg * M_PI / 180;
+            for (int k = 0; k < 2; ++k) {
+                if (!feeds[k])
+                    continue;
+                if (!ahead && claimed[k] == 0.0)
+                    claimed_angle[k] = angle;
+                if (ahead || mean == BRUTE_ALL_TERMS) {
+                    angle_deg[cell[k]] += w[k] * angle * 180.0 / M_PI;
+                    weight[cell[k]] += w[k];
+                }
+                /* The cell's distance names its nearer sample (a tie goes to
+                 * the sample whose minor0 it is) among those with terrain
+                 * ahead, if any: rank by (ahead, nearer). */
+                int nearer = k == 0 ? w[k] >= 0.5 : w[k] > 0.5;
+                int r = 1 + 2 * ahead + nearer;
+                if (r > rank[cell[k]]) {
+                    rank[cell[k]] = r;
+                    near_angle_rad[cell[k]] = angle;
+                    claimed_angle_rad[cell[k]] = claimed_angle[k];
+                }
             }
         }
     }
-    for (size_t c = 0; c < n_cells; ++c)
+    for (size_t c = 0; c < n_cells; ++c) {
         if (!isfinite(g->z[c]))
             angle_deg[c] = NAN;
+        else if (mean == BRUTE_AHEAD_ONLY)
+            angle_deg[c] = weight[c] > 0 ? angle_deg[c] / weight[c] : none_deg;
+    }
+    free(weight);
+    free(rank);
     free(pos);
     free(height);
     free(valid);
@@ -175,15 +209,26 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
                         const float *claimed_dist, double *angle_deg, double *near_angle_rad,
                         double *claimed_angle_rad)
 {
-    brute_horizon(g, azimuth_deg, curv_k, model, -90.0, claimed_dist, angle_deg, near_angle_rad,
-                  claimed_angle_rad);
+    brute_horizon(g, azimuth_deg, curv_k, model, -90.0, BRUTE_AHEAD_ONLY, claimed_dist,
+                  angle_deg, near_angle_rad, claimed_angle_rad);
 }
 
 void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
                              double *angle_deg, double *near_angle_rad, double *claimed_angle_rad)
 {
-    brute_horizon(g, azimuth_deg, 0.0, model, none_deg, NULL, angle_deg, near_angle_rad,
-                  claimed_angle_rad);
+    brute_horizon(g, azimuth_deg, 0.0, model, none_deg, BRUTE_AHEAD_ONLY, NULL, angle_deg,
+                  near_angle_rad, claimed_angle_rad);
+}
+
+void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, int model, double none_deg,
+                              double *angle_deg)
+{
+    size_t n = (size_t)g->width * g->height;
+    double *near = malloc(n * sizeof(double)), *claimed = malloc(n * sizeof(double));
+    brute_horizon(g, azimuth_deg, 0.0, model, none_deg, BRUTE_ALL_TERMS, NULL, angle_deg, near,
+                  claimed);
+    free(near);
+    free(claimed);
 }
 
 typedef struct {

@@ -23,12 +23,14 @@ void test_holes(ss_grid *g, unsigned seed, int n_holes, int max_size);
 /* Brute force of a line model (SS_LINE_MODEL_INTERPOLATED or _DIGITAL): every
  * sample scans every sample ahead of it on its line, in double precision,
  * and its angle goes to its cells with the model's weights. Per cell:
- * angle_deg = the weighted horizon (NAN at nodata); near_angle_rad = the
- * horizon of the sample nearest the cell (-pi/2 where nothing lies ahead);
- * if claimed_dist is given, claimed_angle_rad = the angle from that sample
- * to the sample at the claimed distance (NAN if none is there), to check
- * that a reported casting sample really casts the horizon.
- * curv_k = 1/(2 R_eff) or 0. */
+ * angle_deg = the weighted mean of the horizons of its samples that have
+ * terrain ahead, weights renormalised, -90 where none has (NAN at nodata);
+ * near_angle_rad = the horizon of the sample that names the cell's
+ * distance: the nearest to the cell among those with terrain ahead, else
+ * the nearest (-pi/2 then); if claimed_dist is given, claimed_angle_rad =
+ * the angle from that sample to the sample at the claimed distance (NAN if
+ * none is there), to check that a reported casting sample really casts the
+ * horizon. curv_k = 1/(2 R_eff) or 0. */
 void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
                         const float *claimed_dist, double *angle_deg, double *near_angle_rad,
                         double *claimed_angle_rad);
@@ -37,6 +39,12 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
  * lies ahead, as shadows take it. */
 void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
                              double *angle_deg, double *near_angle_rad, double *claimed_angle_rad);
+
+/* Without curvature, every sample's angle, none_deg where nothing lies
+ * ahead, weighted into its cells as a term: the per-direction elevation
+ * term of openness, whose mean over samples counts open sky as none_deg. */
+void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, int model, double none_deg,
+                              double *angle_deg);
 
 /* The library's horizon for one azimuth, on the device given ("reference"
  * or NULL for the default OpenCL device). Returns the status. */

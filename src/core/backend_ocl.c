@@ -22,12 +22,13 @@ struct ss_ocl {
     cl_context context;
     cl_command_queue queue;
     cl_program program;
-    cl_kernel k_svf, k_horizon, k_bare, k_radius;
+    cl_kernel k_svf, k_horizon, k_horizon_finish, k_bare, k_radius;
     size_t work_group;
 };
 
 typedef struct {
     cl_mem z, stack, out[SS_SESSION_MAX_OUTPUTS];
+    cl_mem weight; /* horizon weights (ss_pass_horizon_walk), made on first use */
     float *host[SS_SESSION_MAX_OUTPUTS];
     int mapped[SS_SESSION_MAX_OUTPUTS];
 } ocl_session;
@@ -230,8 +231,11 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     struct {
         cl_kernel *k;
         const char *name;
-    } kernels[] = {{&o->k_svf, "sweep_svf"}, {&o->k_horizon, "sweep_horizon"},
-                   {&o->k_bare, "sweep_bare"}, {&o->k_radius, "sweep_radius_terms"}};
+    } kernels[] = {{&o->k_svf, "sweep_svf"},
+                   {&o->k_horizon, "sweep_horizon"},
+                   {&o->k_horizon_finish, "sweep_horizon_finish"},
+                   {&o->k_bare, "sweep_bare"},
+                   {&o->k_radius, "sweep_radius_terms"}};
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i) {
         *kernels[i].k = clCreateKernel(o->program, kernels[i].name, &err);
         if (err != CL_SUCCESS)
@@ -299,6 +303,8 @@ void ss_ocl_release(struct ss_ocl *o)
         clReleaseKernel(o->k_svf);
     if (o->k_horizon)
         clReleaseKernel(o->k_horizon);
+    if (o->k_horizon_finish)
+        clReleaseKernel(o->k_horizon_finish);
     if (o->k_bare)
         clReleaseKernel(o->k_bare);
     if (o->k_radius)
@@ -397,17 +403,61 @@ static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, f
     return launch(s, s->ctx->ocl->k_svf, args, 12, ls, "the SVF kernel");
 }
 
+/* Zeroes the horizon weight grid, creating it on first use: only horizon
+ * sessions pay for it. */
+static ss_status clear_weight(ss_session *s)
+{
+    ocl_session *q = s->impl;
+    struct ss_ocl *o = s->ctx->ocl;
+    size_t bytes = grid_cells(s) * sizeof(float);
+    cl_int err = CL_SUCCESS;
+    if (!q->weight)
+        q->weight = clCreateBuffer(o->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
+    if (err != CL_SUCCESS)
+        return cl_fail(s->ctx, err, "allocating the horizon weights");
+    float zero = 0.0f;
+    err = clEnqueueFillBuffer(o->queue, q->weight, &zero, sizeof zero, 0, bytes, 0, NULL, NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, "clEnqueueFillBuffer");
+}
+
+/* Divides the angle sums by their weights (ss_pass_horizon_finish), one
+ * work-item per cell. */
+static ss_status finish_horizon(ss_session *s, float none_deg)
+{
+    ocl_session *q = s->impl;
+    struct ss_ocl *o = s->ctx->ocl;
+    int n_cells = (int)grid_cells(s);
+    kernel_arg args[] = {{sizeof n_cells, &n_cells},
+                         {sizeof none_deg, &none_deg},
+                         {sizeof(cl_mem), &q->out[0]},
+                         {sizeof(cl_mem), &q->weight}};
+    for (cl_uint i = 0; i < 4; ++i) {
+        cl_int err = clSetKernelArg(o->k_horizon_finish, i, args[i].size, args[i].value);
+        if (err != CL_SUCCESS)
+            return cl_fail(s->ctx, err, "the horizon finishing kernel");
+    }
+    size_t local = o->work_group;
+    size_t global = ((size_t)n_cells + local - 1) / local * local;
+    cl_int err = clEnqueueNDRangeKernel(o->queue, o->k_horizon_finish, 1, NULL, &global, &local,
+                                        0, NULL, NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, "the horizon finishing kernel");
+}
+
 static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
                              int want_dist)
 {
     ocl_session *q = s->impl;
+    ss_status st = clear_weight(s);
+    if (st != SS_OK)
+        return st;
     cl_mem dist = want_dist ? q->out[1] : q->out[0];
     kernel_arg args[] = {{sizeof *ls, ls},           {0, NULL},
-                         {sizeof curv_k, &curv_k},   {sizeof none_deg, &none_deg},
-                         {sizeof(cl_mem), &q->z},    {sizeof(cl_mem), &q->stack},
-                         {sizeof(cl_mem), &q->out[0]}, {sizeof(cl_mem), &dist},
+                         {sizeof curv_k, &curv_k},   {sizeof(cl_mem), &q->z},
+                         {sizeof(cl_mem), &q->stack}, {sizeof(cl_mem), &q->out[0]},
+                         {sizeof(cl_mem), &q->weight}, {sizeof(cl_mem), &dist},
                          {sizeof want_dist, &want_dist}};
-    return launch(s, s->ctx->ocl->k_horizon, args, 9, ls, "the horizon kernel");
+    st = launch(s, s->ctx->ocl->k_horizon, args, 9, ls, "the horizon kernel");
+    return st == SS_OK ? finish_horizon(s, none_deg) : st;
 }
 
 static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)
@@ -461,6 +511,8 @@ static void ocl_close(ss_session *s)
         clReleaseMemObject(q->z);
     if (q->stack)
         clReleaseMemObject(q->stack);
+    if (q->weight)
+        clReleaseMemObject(q->weight);
     for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
         if (q->out[i])
             clReleaseMemObject(q->out[i]);

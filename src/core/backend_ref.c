@@ -13,6 +13,7 @@
 typedef struct {
     int *stack;
     float *out[SS_SESSION_MAX_OUTPUTS];
+    float *weight; /* horizon weights (ss_pass_horizon_walk), made on first use */
 } ref_session;
 
 static ss_status ref_clear(ss_session *s, int output)
@@ -42,14 +43,23 @@ static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k,
                              int want_dist)
 {
     ref_session *r = s->impl;
+    size_t n_cells = (size_t)s->grid->width * s->grid->height;
+    /* Only horizon sessions pay for the weight grid. */
+    if (!r->weight && !(r->weight = ss_alloc_grid(n_cells * sizeof(float))))
+        return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of horizon weights",
+                       (n_cells * sizeof(float)) >> 20);
+    memset(r->weight, 0, n_cells * sizeof(float));
     float *dist = want_dist ? r->out[1] : r->out[0];
     for (int round = 0; round < 2; ++round) {
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
-            ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, none_deg, s->grid->z,
-                            r->stack, r->out[0], dist, want_dist);
+            ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, s->grid->z, r->stack,
+                            r->out[0], r->weight, dist, want_dist);
     }
+#pragma omp parallel for schedule(static)
+    for (int c = 0; c < (int)n_cells; ++c)
+        ss_pass_horizon_finish(c, none_deg, r->out[0], r->weight);
     return SS_OK;
 }
 
@@ -94,6 +104,7 @@ static void ref_close(ss_session *s)
     free(r->stack);
     for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
         free(r->out[i]);
+    free(r->weight);
     free(r);
 }
 

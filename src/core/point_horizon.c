@@ -315,11 +315,20 @@ static void walk_sample(const ss_point_grid *pg, const direction *dir, sample_wa
     }
 }
 
+/* Which samples feed one of the site's cells, with their sample weights
+ * (not multiplied by the cell's): the cell's horizon is their mean over
+ * those with terrain ahead, as the sweep gives it (ss_pass_horizon_walk). */
+typedef struct {
+    int n;
+    int sample[2];
+    double weight[2];
+} cell_feed;
+
 /* The samples feeding the site's cells in this direction (two per cell on
  * interpolated lines, where the cell is cell0 of one sample and cell1 of
- * the next line's), merged where cells share one. */
+ * the next line's), merged where cells share one; feed[i] lists cell i's. */
 static int site_samples(const ss_grid *g, const direction *dir, const site_cell *cells, int n_cells,
-                        double observer_height_m, sample_walk *out)
+                        double observer_height_m, sample_walk *out, cell_feed *feed)
 {
     const ss_line_set *ls = &dir->ls;
     int n = 0;
@@ -329,12 +338,16 @@ static int site_samples(const ss_grid *g, const direction *dir, const site_cell 
         ss_i64 y0 = ss_line_y16(ls, 0, major);
         ss_i64 frac = y0 - ss_floor16(y0) * 65536;
         float w1 = (float)(int)frac * ls->weight_per_frac;
-        for (int s = 0; s < (w1 > 0.0f ? 2 : 1); ++s) {
+        feed[i].n = w1 > 0.0f ? 2 : 1;
+        for (int s = 0; s < feed[i].n; ++s) {
             ss_i64 y16 = (ss_i64)(minor - s) * 65536 + frac;
-            double w = cells[i].weight * (s == 0 ? 1.0 - (double)w1 : (double)w1);
+            double sw = s == 0 ? 1.0 - (double)w1 : (double)w1;
+            double w = cells[i].weight * sw;
             int j = 0;
             while (j < n && !(out[j].major == major && out[j].y16 == y16))
                 j++;
+            feed[i].sample[s] = j;
+            feed[i].weight[s] = sw;
             if (j < n) {
                 out[j].weight += w;
                 continue;
@@ -352,6 +365,31 @@ static int site_samples(const ss_grid *g, const direction *dir, const site_cell 
     return n;
 }
 
+/* Each cell's horizon as the sweep gives it (the mean over its samples
+ * with terrain ahead, none where none has), mixed over the cells that have
+ * one with their bilinear weights renormalised, as cells outside the grid
+ * or nodata drop out: -90 only where no cell sees terrain ahead. */
+static double site_elevation(const sample_walk *smp, const site_cell *cells,
+                             const cell_feed *feed, int n_cells)
+{
+    double sum_deg = 0.0, sum_w = 0.0;
+    for (int i = 0; i < n_cells; ++i) {
+        double cell_deg = 0.0, cell_w = 0.0;
+        for (int s = 0; s < feed[i].n; ++s) {
+            const sample_walk *v = &smp[feed[i].sample[s]];
+            if (v->best_k == 0)
+                continue;
+            cell_deg += feed[i].weight[s] * atan(v->slope) * (180.0 / M_PI);
+            cell_w += feed[i].weight[s];
+        }
+        if (cell_w > 0.0) {
+            sum_deg += cells[i].weight * (cell_deg / cell_w);
+            sum_w += cells[i].weight;
+        }
+    }
+    return sum_w > 0.0 ? sum_deg / sum_w : -90.0;
+}
+
 static void point_direction(const ss_point_grid *pg, const ss_sweep_options *opt,
                             const ss_point_site *site, const site_cell *cells, int n_cells,
                             double azimuth_deg, ss_point_horizon_result *res)
@@ -360,22 +398,24 @@ static void point_direction(const ss_point_grid *pg, const ss_sweep_options *opt
     direction dir;
     direction_open(g, opt, azimuth_deg, site->grid_north_deg, &dir);
     sample_walk smp[SS_SITE_SAMPLES];
-    int n = site_samples(g, &dir, cells, n_cells, site->observer_height_m, smp);
-    double sum_deg = 0.0, sum_w = 0.0;
+    cell_feed feed[SS_SITE_CELLS];
+    int n = site_samples(g, &dir, cells, n_cells, site->observer_height_m, smp, feed);
     int dominant = 0;
     for (int j = 0; j < n; ++j) {
         walk_sample(pg, &dir, &smp[j]);
-        double deg = smp[j].best_k ? atan(smp[j].slope) * (180.0 / M_PI) : -90.0;
-        sum_deg += smp[j].weight * deg;
-        sum_w += smp[j].weight;
-        /* Strictly larger: at equal weights the first (the cell's own line) wins. */
-        if (smp[j].weight > smp[dominant].weight)
+        /* The largest weight among samples with terrain ahead, if any;
+         * strictly larger: at equal weights the first (the cell's own
+         * line) wins, as in the sweep. */
+        int ahead = smp[j].best_k != 0, ahead_dominant = smp[dominant].best_k != 0;
+        if (ahead > ahead_dominant ||
+            (ahead == ahead_dominant && smp[j].weight > smp[dominant].weight))
             dominant = j;
     }
     res->azimuth_deg = azimuth_deg;
-    res->elevation_deg = sum_deg / sum_w;
-    /* The casting point is the one of the sample with the largest weight:
-     * the mixed elevation has no single caster. */
+    res->elevation_deg = site_elevation(smp, cells, feed, n_cells);
+    /* The casting point is the one of the sample with the largest weight
+     * among those with terrain ahead: the mixed elevation has no single
+     * caster. */
     const sample_walk *v = &smp[dominant];
     if (v->best_k == 0) {
         res->distance_m = 0.0;

@@ -23,8 +23,9 @@ void ss_point_grid_free(ss_point_grid *pg);
 /* A site. col, row: cell-centre position (the centre of cell (c, r) is
  * col = c, row = r; the grid's outer edges are at -0.5 and width - 0.5).
  * The horizon is the bilinear mix of the four surrounding cells' horizons
- * (cells outside the grid or nodata drop out); the site must lie on the
- * grid and its own cell (the nearest centre) must have a height. */
+ * (cells outside the grid or nodata drop out, and in a direction so do
+ * cells with nothing ahead); the site must lie on the grid and its own
+ * cell (the nearest centre) must have a height. */
 typedef struct {
     double col, row;
     double observer_height_m; /* eye above the ground (>= 0): lifts each cell's viewpoint */

@@ -38,8 +38,11 @@ ss_status ss_session_clear(ss_session *s, int output);
 /* Adds one direction's SVF term into output 0. */
 ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
                          double azimuth_rad);
-/* Adds weighted horizon angles (degrees; none_deg where nothing lies
- * ahead) into output 0 and sets distances in output 1; clear both first. */
+/* Sets output 0 to horizon angles (degrees): each cell's weighted mean over
+ * the samples feeding it that have terrain ahead, weights renormalised, and
+ * exactly none_deg where none has (ss_pass_horizon_walk); sets output 1 to
+ * distances, from the nearer such sample, 0 where none has. Clear both
+ * first. The backend keeps one more float grid, of weights, for this. */
 ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
                              int want_dist);
 /* Adds a term (SS_TERM_ELEVATION, SS_SVF_GEOMETRIC or SS_SVF_HORIZONTAL)

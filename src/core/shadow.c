@@ -2,7 +2,9 @@
  * interpolation between stored directions. A cell is sunlit when the sun
  * stands above its terrain horizon in that azimuth; where no terrain lies
  * ahead inside the grid the horizon is taken as the horizontal, so a sun
- * below 0 degrees lights nothing there. */
+ * below 0 degrees lights nothing there. A cell beside the grid's edge or
+ * a hole whose two samples disagree takes the mean of those with terrain
+ * ahead, never a mix with the horizontal (doc/model.md, Edges). */
 #include "config.h"
 
 #include <math.h>
