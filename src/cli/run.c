@@ -475,6 +475,8 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
             ss_dem_source_close(job->source);
             job->source = NULL;
             ss_dem_free(&job->dem);
+        } else {
+            job->have_dem = 1; /* from here on job_close frees DEM, frame and source */
         }
     }
     if (st == SS_OK && common->projwin) {
@@ -495,7 +497,6 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
     if (st == SS_OK && job->source)
         ss_ctx_use_device(job->run.ctx, "reference");
     if (st == SS_OK) {
-        job->have_dem = 1;
         run_sweep_options(common, &job->frame, &job->opt);
         st = ss_sweep_options_check(job->run.ctx, &job->opt);
     }
