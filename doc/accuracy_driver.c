@@ -227,8 +227,10 @@ typedef struct {
     float *out; /* n_cells x directions */
 } sample_sink;
 
-static int keep_samples(int index, double az, const float *angle, const float *dist, void *user)
+static int keep_samples(int index, double az, const float *angle, const float *dist,
+                        const float *cast, void *user)
 {
+    (void)cast;
     (void)az;
     (void)dist;
     sample_sink *s = user;
@@ -548,8 +550,10 @@ typedef struct {
     size_t n;
 } all_sink;
 
-static int keep_all(int index, double az, const float *angle, const float *dist, void *user)
+static int keep_all(int index, double az, const float *angle, const float *dist,
+                    const float *cast, void *user)
 {
+    (void)cast;
     (void)az;
     (void)dist;
     all_sink *s = user;
@@ -766,8 +770,10 @@ static void study_effects(const args *a)
 
 /* ---- cost: wall time of each product on the whole grid ------------------- */
 
-static int drop_all(int index, double az, const float *angle, const float *dist, void *user)
+static int drop_all(int index, double az, const float *angle, const float *dist,
+                    const float *cast, void *user)
 {
+    (void)cast;
     (void)index;
     (void)az;
     (void)angle;

@@ -73,21 +73,34 @@ SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, flo
                  stack, acc, flags);
 }
 
-/* Gives a cell the distance d (> 0) of a sample with terrain ahead. Each
- * cell is fed by at most two samples (digital lines: one), on lines of
- * different rounds, and takes the distance of the nearer one that has
- * terrain ahead: the nearer sample writes unconditionally, the farther only
- * into a cell still at 0 (the grid starts at 0), so either order of the
+/* What ss_pass_horizon writes besides the angles (bits of its `want`):
+ * distances, and the casting samples' heights (which need the distances). */
+#define SS_HORIZON_WANT_DIST 1
+#define SS_HORIZON_WANT_CAST 2
+
+/* Gives a cell the distance d (> 0) of a sample with terrain ahead and, if
+ * want_cast, the height of that sample's casting point. Each cell is fed
+ * by at most two samples (digital lines: one), on lines of different
+ * rounds, and takes the caster of the nearer one that has terrain ahead:
+ * the nearer sample writes unconditionally, the farther only into a cell
+ * whose distance is still 0 (the grid starts at 0), so either order of the
  * rounds gives the same result. Of a sample's two cells, cell0 is the
  * nearer when w1 <= 0.5 (a tie goes to cell0, so the neighbouring line,
  * whose cell1 it is, is the farther). */
-SS_FN void ss_horizon_dist(const ss_sample_horizon *h, SS_GLOBAL float *dist_m)
+SS_FN void ss_horizon_caster(const ss_sample_horizon *h, SS_GLOBAL float *dist_m,
+                             SS_GLOBAL float *cast_z, int want_cast)
 {
     int near0 = h->w1 <= 0.5f;
-    if (h->cell0 >= 0 && (near0 || dist_m[h->cell0] == 0.0f))
+    if (h->cell0 >= 0 && (near0 || dist_m[h->cell0] == 0.0f)) {
         dist_m[h->cell0] = h->d;
-    if (h->cell1 >= 0 && (!near0 || dist_m[h->cell1] == 0.0f))
+        if (want_cast)
+            cast_z[h->cell0] = h->zc;
+    }
+    if (h->cell1 >= 0 && (!near0 || dist_m[h->cell1] == 0.0f)) {
         dist_m[h->cell1] = h->d;
+        if (want_cast)
+            cast_z[h->cell1] = h->zc;
+    }
 }
 
 /* Adds, for the samples that have terrain ahead, the weighted horizon
@@ -95,13 +108,16 @@ SS_FN void ss_horizon_dist(const ss_sample_horizon *h, SS_GLOBAL float *dist_m)
  * nothing ahead add nothing, so that a cell beside the grid's edge or a
  * hole, fed by one sample with terrain ahead and one without, is not
  * dragged toward -90 by the empty one (ss_pass_horizon_finish divides).
- * If want_dist, gives each cell the distance (metres) of its nearer sample
- * with terrain ahead, 0 where none has. All grids start at 0; cells
- * without a height are set to nodata afterwards by the host. */
+ * With SS_HORIZON_WANT_DIST in want, gives each cell the distance
+ * (metres) of its nearer sample with terrain ahead, 0 where none has, and
+ * with SS_HORIZON_WANT_CAST too the height of that sample's casting point
+ * (relative to the grid origin). All grids start at 0; cells without a
+ * height, or without a caster, are set to nodata afterwards by the host. */
 SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
                                 SS_GLOBAL const float *z, SS_GLOBAL int *stack,
                                 SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
-                                SS_GLOBAL float *dist_m, int want_dist, int flags)
+                                SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want,
+                                int flags)
 {
     ss_walker w;
     int n = ss_walker_begin(&w, ls, line);
@@ -118,8 +134,8 @@ SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
             angle_deg[h.cell1] += h.w1 * angle;
             weight[h.cell1] += h.w1;
         }
-        if (want_dist)
-            ss_horizon_dist(&h, dist_m);
+        if (want & SS_HORIZON_WANT_DIST)
+            ss_horizon_caster(&h, dist_m, cast_z, want & SS_HORIZON_WANT_CAST);
     }
 }
 
@@ -209,10 +225,10 @@ SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float cu
 SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
                            SS_GLOBAL const float *z, SS_GLOBAL int *stack,
                            SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
-                           SS_GLOBAL float *dist_m, int want_dist)
+                           SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want)
 {
     /* Horizon grids are written once per direction: one general copy. */
-    ss_pass_horizon_walk(ls, line, curv_k, z, stack, angle_deg, weight, dist_m, want_dist,
+    ss_pass_horizon_walk(ls, line, curv_k, z, stack, angle_deg, weight, dist_m, cast_z, want,
                          ss_walk_flags(ls, curv_k));
 }
 

@@ -84,6 +84,7 @@ typedef struct {
     int major;        /* the cells' major index; minors are minor0, minor0 + 1 */
     int minor0;
     float d, dz;
+    float zc; /* height of the casting sample relative to the grid origin, when d > 0 */
 } ss_sample_horizon;
 
 /* Height of a sample (base + offset, see ss_hull_point) and the cells it
@@ -102,6 +103,7 @@ SS_FN ss_sample_horizon ss_sample_cells(const ss_line_set *ls, ss_line_sample p,
     h.minor0 = p.minor0;
     h.d = 0.0f;
     h.dz = -1.0f;
+    h.zc = 0.0f;
     h.w1 = p.w1;
     h.w0 = 1.0f - p.w1; /* > 0: the fraction is below 1 */
     int cell = ss_line_cell(ls, p.major, p.minor0);
@@ -162,6 +164,13 @@ SS_FN float ss_hull_dist(const ss_line_set *ls, ss_hull_point v, ss_hull_point t
 }
 
 /* Height of hull point t above v, from differences of like parts. */
+/* Height of hull point t relative to the grid origin (digital lines have
+ * no offsets). */
+SS_FN float ss_hull_height(ss_hull_point t, int flags)
+{
+    return (flags & SS_WALK_DIGITAL) ? t.z : t.z + t.z_off;
+}
+
 SS_FN float ss_hull_height_above(ss_hull_point v, ss_hull_point t, int flags)
 {
     float dz = t.z - v.z;
@@ -276,6 +285,7 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
         }
         h.d = d1;
         h.dz = ss_hull_height_above(v, top, flags) - curv_k * d1 * d1;
+        h.zc = ss_hull_height(top, flags);
     } else if (w->depth > 0) {
         /* v will not join the hull, so the hull must stay as it is: walk
          * down from the top while the tangent still rises (the slopes from
@@ -297,6 +307,7 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
         }
         h.d = d1;
         h.dz = ss_hull_height_above(v, best, flags) - curv_k * d1 * d1;
+        h.zc = ss_hull_height(best, flags);
     }
     if (h.occludes)
         ss_walker_push(w, ls, stack, v, s);

@@ -14,12 +14,13 @@ __kernel void sweep_svf(ss_line_set ls, int round, int definition, float curv_k,
 
 __kernel void sweep_horizon(ss_line_set ls, int round, float curv_k, __global const float *z,
                             __global int *stack, __global float *angle_deg,
-                            __global float *weight, __global float *dist_m, int want_dist)
+                            __global float *weight, __global float *dist_m,
+                            __global float *cast_z, int want)
 {
     int i = get_global_id(0);
     if (i < ss_round_lines(&ls, round))
         ss_pass_horizon(&ls, ss_round_line(&ls, round, i), curv_k, z, stack, angle_deg, weight,
-                        dist_m, want_dist);
+                        dist_m, cast_z, want);
 }
 
 /* One work-item per cell, after both rounds of sweep_horizon. */

@@ -215,12 +215,18 @@ float ss_vat_compose(float hillshade, float slope_deg, float openness_deg, float
 ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, double radius_m,
                  float *out);
 
-/* Receives the horizon of every cell for one direction; dist_m is NULL unless
- * asked for. Return 0 to stop the run (it then ends with SS_ERR_CANCELLED). */
+/* What ss_horizon gives besides the angles (bits of its `want`). */
+#define SS_HORIZON_DISTANCE 1    /* metres to the horizon-casting point, 0: none */
+#define SS_HORIZON_CAST_HEIGHT 2 /* that point's ground height, metres (z_origin_m
+                                    included), SS_NODATA where none */
+/* Receives the horizon of every cell for one direction; dist_m and
+ * cast_height_m are NULL unless asked for. The caster of a cell is that of
+ * its nearer sample with terrain ahead (doc/model.md, Edges). Return 0 to
+ * stop the run (it then ends with SS_ERR_CANCELLED). */
 typedef int (*ss_horizon_sink)(int index, double azimuth_deg, const float *angle_deg,
-                               const float *dist_m, void *user);
-ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                     int want_distance, ss_horizon_sink sink, void *user);
+                               const float *dist_m, const float *cast_height_m, void *user);
+ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, int want,
+                     ss_horizon_sink sink, void *user);
 
 /* Cast shadows for one sun: a sweep along sun_azimuth_deg (the options'
  * frame); a cell is sunlit (1) when its sun elevation, per cell or else the

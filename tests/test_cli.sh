@@ -93,6 +93,24 @@ tap_ok $? "horizon bands are described by azimuth"
 gdalinfo "$work/dist.tif" | grep -q 'Unit Type: m'
 tap_ok $? "distance bands carry the unit m"
 
+# Casting heights: band 3 looks east (azimuth 90). From the hill's western
+# foot the caster is on the hill (ground 300..400 m); from the eastern edge
+# nothing lies ahead: nodata, where the distance is 0.
+run horizon --directions 8 --cast-height "$work/cast.tif" --distance "$work/dist2.tif" "$dem" \
+    "$work/h2.tif"
+tap_ok $rc "horizon with --cast-height and --distance exits 0 ($(head -c 200 "$work/stderr"))"
+foot=$(gdallocationinfo -valonly -b 3 "$work/cast.tif" 10 25)
+edge=$(gdallocationinfo -valonly -b 3 "$work/cast.tif" 59 25)
+edge_dist=$(gdallocationinfo -valonly -b 3 "$work/dist2.tif" 59 25)
+awk -v f="$foot" -v e="$edge" -v d="$edge_dist" 'BEGIN { exit !(f > 300 && f <= 400 && e == -9999 && d == 0) }'
+tap_ok $? "casting height east of the foot is on the hill ($foot m); east edge nodata ($edge, distance $edge_dist)"
+gdalinfo "$work/cast.tif" | grep -q 'QUANTITY=ground height of the horizon-casting point' &&
+    [ "$(gdalinfo "$work/cast.tif" | grep -c '^Band ')" -eq 8 ]
+tap_ok $? "casting heights: 8 bands, quantity stated"
+run horizon --directions 8 --cast-height "$work/h3.tif" "$dem" "$work/h3.tif"
+[ $rc -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ]
+tap_ok $? "--cast-height naming OUTPUT: exit 2, one line"
+
 run svf -q --directions 8 "$dem" "$work/quiet.tif"
 [ $rc -eq 0 ] && [ ! -s "$work/stdout" ] && [ ! -s "$work/stderr" ]
 tap_ok $? "-q prints nothing"

@@ -95,8 +95,10 @@ typedef struct {
     products *p;
 } horizon_user;
 
-static int keep_horizon(int index, double az, const float *angle, const float *dist, void *user)
+static int keep_horizon(int index, double az, const float *angle, const float *dist,
+                        const float *cast, void *user)
 {
+    (void)cast;
     (void)az;
     products *p = user;
     memcpy(p->angle + (size_t)index * p->n, angle, p->n * sizeof(float));

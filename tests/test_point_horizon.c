@@ -26,8 +26,10 @@ typedef struct {
     size_t cells;
 } grid_profiles;
 
-static int keep_direction(int index, double az, const float *angle, const float *dist, void *user)
+static int keep_direction(int index, double az, const float *angle, const float *dist,
+                          const float *cast, void *user)
 {
+    (void)cast;
     (void)az;
     grid_profiles *gp = user;
     memcpy(gp->angle + (size_t)index * gp->cells, angle, gp->cells * sizeof(float));

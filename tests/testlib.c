@@ -90,7 +90,8 @@ typedef enum {
 
 static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
                           double none_deg, brute_mean mean, const float *claimed_dist,
-                          double *angle_deg, double *near_angle_rad, double *claimed_angle_rad)
+                          double *angle_deg, double *near_angle_rad, double *claimed_angle_rad,
+                          double *claimed_height_m)
 {
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, azimuth_deg,
@@ -108,6 +109,8 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
     for (size_t c = 0; c < n_cells; ++c) {
         angle_deg[c] = 0.0;
         near_angle_rad[c] = claimed_angle_rad[c] = NAN;
+        if (claimed_height_m)
+            claimed_height_m[c] = NAN;
     }
     int max_len = g->width > g->height ? g->width : g->height;
     double *pos = malloc(sizeof(double) * max_len), *height = malloc(sizeof(double) * max_len);
@@ -139,7 +142,7 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
             /* The sample's cells (k = 0: minor0, 1: minor0 + 1) that it feeds
              * with a positive weight, and what each claims as distance. */
             double w[2] = {1.0 - smp[v].w1, smp[v].w1}, claimed[2] = {NAN, NAN};
-            double claimed_angle[2] = {NAN, NAN};
+            double claimed_angle[2] = {NAN, NAN}, claimed_height[2] = {NAN, NAN};
             size_t cell[2] = {0, 0};
             int feeds[2];
             for (int k = 0; k < 2; ++k) {
@@ -163,8 +166,10 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
                     best_d = d;
                 }
                 for (int k = 0; k < 2; ++k)
-                    if (fabs(d - claimed[k]) <= 1e-4 * (1.0 + d))
+                    if (fabs(d - claimed[k]) <= 1e-4 * (1.0 + d)) {
                         claimed_angle[k] = atan(slope);
+                        claimed_height[k] = height[t];
+                    }
             }
             int ahead = best != -INFINITY;
             double angle = ahead ? atan(best) : none_deg * M_PI / 180;
@@ -186,6 +191,8 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
                     rank[cell[k]] = r;
                     near_angle_rad[cell[k]] = angle;
                     claimed_angle_rad[cell[k]] = claimed_angle[k];
+                    if (claimed_height_m)
+                        claimed_height_m[cell[k]] = claimed_height[k];
                 }
             }
         }
@@ -210,14 +217,27 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
                         double *claimed_angle_rad)
 {
     brute_horizon(g, azimuth_deg, curv_k, model, -90.0, BRUTE_AHEAD_ONLY, claimed_dist,
-                  angle_deg, near_angle_rad, claimed_angle_rad);
+                  angle_deg, near_angle_rad, claimed_angle_rad, NULL);
+}
+
+void test_brute_caster_height(const ss_grid *g, double azimuth_deg, double curv_k, int model,
+                              const float *claimed_dist, double *claimed_height_m)
+{
+    size_t n = (size_t)g->width * g->height;
+    double *angle = malloc(n * sizeof(double)), *near = malloc(n * sizeof(double));
+    double *claimed = malloc(n * sizeof(double));
+    brute_horizon(g, azimuth_deg, curv_k, model, -90.0, BRUTE_AHEAD_ONLY, claimed_dist, angle,
+                  near, claimed, claimed_height_m);
+    free(angle);
+    free(near);
+    free(claimed);
 }
 
 void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
                              double *angle_deg, double *near_angle_rad, double *claimed_angle_rad)
 {
     brute_horizon(g, azimuth_deg, 0.0, model, none_deg, BRUTE_AHEAD_ONLY, NULL, angle_deg,
-                  near_angle_rad, claimed_angle_rad);
+                  near_angle_rad, claimed_angle_rad, NULL);
 }
 
 void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, int model, double none_deg,
@@ -226,17 +246,18 @@ void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, int model, d
     size_t n = (size_t)g->width * g->height;
     double *near = malloc(n * sizeof(double)), *claimed = malloc(n * sizeof(double));
     brute_horizon(g, azimuth_deg, 0.0, model, none_deg, BRUTE_ALL_TERMS, NULL, angle_deg, near,
-                  claimed);
+                  claimed, NULL);
     free(near);
     free(claimed);
 }
 
 typedef struct {
-    float *angle, *dist;
+    float *angle, *dist, *cast;
     size_t n;
 } sink_copy;
 
-static int copy_sink(int index, double az, const float *angle, const float *dist, void *user)
+static int copy_sink(int index, double az, const float *angle, const float *dist,
+                     const float *cast, void *user)
 {
     (void)index;
     (void)az;
@@ -244,12 +265,22 @@ static int copy_sink(int index, double az, const float *angle, const float *dist
     memcpy(sc->angle, angle, sc->n * sizeof(float));
     if (dist && sc->dist)
         memcpy(sc->dist, dist, sc->n * sizeof(float));
+    if (cast && sc->cast)
+        memcpy(sc->cast, cast, sc->n * sizeof(float));
     return 1;
 }
 
 ss_status test_lib_horizon(const char *device, const ss_grid *g, double azimuth_deg,
                            double earth_radius_m, double refraction_k, int model,
                            float *angle_deg, float *dist_m, char *err, size_t err_size)
+{
+    return test_lib_caster(device, g, azimuth_deg, earth_radius_m, refraction_k, model,
+                           angle_deg, dist_m, NULL, err, err_size);
+}
+
+ss_status test_lib_caster(const char *device, const ss_grid *g, double azimuth_deg,
+                          double earth_radius_m, double refraction_k, int model, float *angle_deg,
+                          float *dist_m, float *cast_height_m, char *err, size_t err_size)
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, device);
@@ -260,8 +291,9 @@ ss_status test_lib_horizon(const char *device, const ss_grid *g, double azimuth_
     opt.earth_radius_m = earth_radius_m;
     opt.refraction_k = refraction_k;
     opt.lines = (ss_line_model)model;
-    sink_copy sc = {angle_deg, dist_m, (size_t)g->width * g->height};
-    ss_status st = ss_horizon(ctx, g, &opt, dist_m != NULL, copy_sink, &sc);
+    sink_copy sc = {angle_deg, dist_m, cast_height_m, (size_t)g->width * g->height};
+    int want = (dist_m ? SS_HORIZON_DISTANCE : 0) | (cast_height_m ? SS_HORIZON_CAST_HEIGHT : 0);
+    ss_status st = ss_horizon(ctx, g, &opt, want, copy_sink, &sc);
     if (st != SS_OK && err)
         snprintf(err, err_size, "%s", ss_ctx_message(ctx));
     ss_ctx_free(ctx);

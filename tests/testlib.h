@@ -35,6 +35,13 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
                         const float *claimed_dist, double *angle_deg, double *near_angle_rad,
                         double *claimed_angle_rad);
 
+/* Per cell, the height (relative to the grid's stored zero) of the sample
+ * at the claimed distance ahead of the cell's distance-naming sample (as
+ * for claimed_angle_rad), NAN where no sample lies there: what the
+ * horizon-casting point's height must be. */
+void test_brute_caster_height(const ss_grid *g, double azimuth_deg, double curv_k, int model,
+                              const float *claimed_dist, double *claimed_height_m);
+
 /* The same without curvature, with none_deg (instead of -90) where nothing
  * lies ahead, as shadows take it. */
 void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
@@ -51,6 +58,11 @@ void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, int model, d
 ss_status test_lib_horizon(const char *device, const ss_grid *g, double azimuth_deg,
                            double earth_radius_m, double refraction_k, int model,
                            float *angle_deg, float *dist_m, char *err, size_t err_size);
+/* The same with the casting points' heights too (z_origin_m included,
+ * SS_NODATA where none), if cast_height_m is given. */
+ss_status test_lib_caster(const char *device, const ss_grid *g, double azimuth_deg,
+                          double earth_radius_m, double refraction_k, int model, float *angle_deg,
+                          float *dist_m, float *cast_height_m, char *err, size_t err_size);
 
 /* Path of a file in ../shared/data, or NULL if that folder is absent. */
 const char *test_shared_data(const char *name);

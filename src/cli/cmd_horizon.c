@@ -1,6 +1,7 @@
 /* skysweep horizon: one band per azimuth with the horizon elevation angle,
- * optionally a second file with the distance to the casting cell. Bands
- * are written as their directions finish, so memory stays one grid. */
+ * optionally files with the distance to the horizon-casting point and its
+ * ground height. Bands are written as their directions finish, so memory
+ * stays one grid per file. */
 #include "config.h"
 
 #include <stddef.h>
@@ -14,13 +15,17 @@
 typedef struct {
     common_settings common;
     const char *distance_path;
+    const char *cast_height_path;
     horizon_point_settings pts;
 } horizon_settings;
 
 #define PTS(field) offsetof(horizon_settings, pts.field)
 static const opt_spec horizon_options[] = {
     {"distance", OPT_STRING, offsetof(horizon_settings, distance_path), "FILE", NULL, 0, 0,
-     NULL, "also write the distance (m) to the horizon-casting cell, one band per azimuth"},
+     NULL, "also write the distance (m) to the horizon-casting point, one band per azimuth"},
+    {"cast-height", OPT_STRING, offsetof(horizon_settings, cast_height_path), "FILE", NULL, 0, 0,
+     NULL, "also write the ground height (m, the DEM's datum) of the horizon-casting point, one "
+           "band per azimuth; nodata where no terrain lies ahead"},
     {"point", OPT_STRING, PTS(point), "LON,LAT", NULL, 0, 0, NULL,
      "horizon profile of one site instead of rasters (doc/pv-horizons.md); OUTPUT is then "
      "optional (standard output)"},
@@ -38,13 +43,12 @@ static const opt_spec horizon_options[] = {
     OPT_END};
 
 typedef struct {
-    ss_raster_writer *angle, *dist;
+    ss_raster_writer *angle, *dist, *cast;
     ss_status status;
-    double min, max;
 } horizon_sink_state;
 
 static int store_direction(int index, double azimuth_deg, const float *angle_deg,
-                           const float *dist_m, void *user)
+                           const float *dist_m, const float *cast_height_m, void *user)
 {
     horizon_sink_state *hs = user;
     char desc[64];
@@ -52,7 +56,21 @@ static int store_direction(int index, double azimuth_deg, const float *angle_deg
     hs->status = ss_writer_band(hs->angle, index + 1, angle_deg, desc, "deg");
     if (hs->status == SS_OK && hs->dist)
         hs->status = ss_writer_band(hs->dist, index + 1, dist_m, desc, "m");
+    if (hs->status == SS_OK && hs->cast)
+        hs->status = ss_writer_band(hs->cast, index + 1, cast_height_m, desc, "m");
     return hs->status == SS_OK;
+}
+
+/* Opens one more horizon output (distance or casting height) after
+ * checking its name against the inputs and the other outputs. */
+static ss_status open_extra(sweep_job *job, const horizon_settings *set, const char *path,
+                            ss_raster_writer **w)
+{
+    ss_status st = run_check_output(&job->run, path, job->inputs, job->n_inputs);
+    if (st == SS_OK)
+        st = ss_writer_open(job->run.ctx, path, &job->dem, job->opt.directions,
+                            set->common.format, set->common.creation_options.items, w);
+    return st;
 }
 
 int cmd_horizon(int argc, char **argv)
@@ -72,15 +90,19 @@ int cmd_horizon(int argc, char **argv)
     if (rc >= 0)
         return rc;
     if (set.pts.point || set.pts.points) {
-        if (set.distance_path)
-            return run_usage_error("horizon", "--distance is for raster output; site profiles "
-                                              "carry their distances");
+        if (set.distance_path || set.cast_height_path)
+            return run_usage_error("horizon", "--distance and --cast-height are for raster "
+                                              "output; site profiles carry both");
         return horizon_points_run(&set.common, &set.pts, pos, n_pos);
     }
     if (n_pos < 2)
         return run_usage_error("horizon", "needs an input DEM and an output file");
-    if (set.distance_path && strcmp(set.distance_path, pos[n_pos - 1]) == 0)
-        return run_usage_error("horizon", "--distance must name a file other than OUTPUT");
+    if ((set.distance_path && strcmp(set.distance_path, pos[n_pos - 1]) == 0) ||
+        (set.cast_height_path && strcmp(set.cast_height_path, pos[n_pos - 1]) == 0) ||
+        (set.distance_path && set.cast_height_path &&
+         strcmp(set.distance_path, set.cast_height_path) == 0))
+        return run_usage_error("horizon", "OUTPUT, --distance and --cast-height must name "
+                                          "different files");
     sweep_job job;
     if ((rc = job_open(&job, "horizon", &set.common, pos, n_pos)))
         return rc;
@@ -88,22 +110,16 @@ int cmd_horizon(int argc, char **argv)
         job_close(&job);
         return rc;
     }
-    ss_status st = set.distance_path ? run_check_output(&job.run, set.distance_path, job.inputs,
-                                                        job.n_inputs)
-                                     : SS_OK;
-    if (st != SS_OK) {
-        job_close(&job);
-        return st;
-    }
-    horizon_sink_state hs = {NULL, NULL, SS_OK, 0, 0};
-    st = ss_writer_open(job.run.ctx, job.output, &job.dem, job.opt.directions, set.common.format,
-                        set.common.creation_options.items, &hs.angle);
+    horizon_sink_state hs = {NULL, NULL, NULL, SS_OK};
+    ss_status st = ss_writer_open(job.run.ctx, job.output, &job.dem, job.opt.directions,
+                                  set.common.format, set.common.creation_options.items, &hs.angle);
     if (st == SS_OK && set.distance_path)
-        st = ss_writer_open(job.run.ctx, set.distance_path, &job.dem, job.opt.directions,
-                            set.common.format, set.common.creation_options.items, &hs.dist);
+        st = open_extra(&job, &set, set.distance_path, &hs.dist);
+    if (st == SS_OK && set.cast_height_path)
+        st = open_extra(&job, &set, set.cast_height_path, &hs.cast);
     if (st == SS_OK) {
-        st = ss_horizon(job.run.ctx, &job.dem.grid, &job.opt, set.distance_path != NULL,
-                        store_direction, &hs);
+        int want = (hs.dist ? SS_HORIZON_DISTANCE : 0) | (hs.cast ? SS_HORIZON_CAST_HEIGHT : 0);
+        st = ss_horizon(job.run.ctx, &job.dem.grid, &job.opt, want, store_direction, &hs);
         if (hs.status != SS_OK)
             st = hs.status;
     }
@@ -116,25 +132,35 @@ int cmd_horizon(int argc, char **argv)
         if (hs.dist) {
             run_common_metadata(&job.run, hs.dist, &job.opt, &job.frame);
             ss_writer_metadata(hs.dist, "QUANTITY",
-                               "distance along the azimuth to the horizon-casting cell, "
+                               "distance along the azimuth to the horizon-casting point, "
                                "metres; 0 where no terrain lies ahead");
         }
-        st = run_commit(&job.run, hs.angle);
-        hs.angle = NULL;
+        if (hs.cast) {
+            run_common_metadata(&job.run, hs.cast, &job.opt, &job.frame);
+            ss_writer_metadata(hs.cast, "QUANTITY",
+                               "ground height of the horizon-casting point, metres in the "
+                               "DEM's vertical datum; nodata where no terrain lies ahead");
+        }
     }
-    if (st == SS_OK && hs.dist) {
-        st = run_commit(&job.run, hs.dist);
-        hs.dist = NULL;
-    }
-    ss_writer_abort(hs.angle);
-    ss_writer_abort(hs.dist);
+    /* Committed (closed, renamed into place) in turn; a file that fails
+     * to commit, and those after it, are aborted: none is left half-written. */
+    ss_raster_writer **writers[] = {&hs.angle, &hs.dist, &hs.cast};
+    for (int w = 0; w < 3 && st == SS_OK; ++w)
+        if (*writers[w]) {
+            st = run_commit(&job.run, *writers[w]);
+            *writers[w] = NULL;
+        }
+    for (int w = 0; w < 3; ++w)
+        ss_writer_abort(*writers[w]);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);
         command_print_sweep(&job.run, &job.opt, job.dem.grid.width, job.dem.grid.height);
-        printf("horizon %d bands (degrees) -> %s%s%s\n", job.opt.directions, job.output,
+        printf("horizon %d bands (degrees) -> %s%s%s%s%s\n", job.opt.directions, job.output,
                set.distance_path ? ", distances -> " : "",
-               set.distance_path ? set.distance_path : "");
+               set.distance_path ? set.distance_path : "",
+               set.cast_height_path ? ", casting heights -> " : "",
+               set.cast_height_path ? set.cast_height_path : "");
     }
     job_close(&job);
     return rc;

@@ -444,19 +444,21 @@ static ss_status finish_horizon(ss_session *s, float none_deg)
 }
 
 static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
-                             int want_dist)
+                             int want)
 {
     ocl_session *q = s->impl;
     ss_status st = clear_weight(s);
     if (st != SS_OK)
         return st;
-    cl_mem dist = want_dist ? q->out[1] : q->out[0];
+    /* Grids not asked for are never written: output 0 stands in. */
+    cl_mem dist = want & SS_HORIZON_WANT_DIST ? q->out[1] : q->out[0];
+    cl_mem cast = want & SS_HORIZON_WANT_CAST ? q->out[2] : q->out[0];
     kernel_arg args[] = {{sizeof *ls, ls},           {0, NULL},
                          {sizeof curv_k, &curv_k},   {sizeof(cl_mem), &q->z},
                          {sizeof(cl_mem), &q->stack}, {sizeof(cl_mem), &q->out[0]},
                          {sizeof(cl_mem), &q->weight}, {sizeof(cl_mem), &dist},
-                         {sizeof want_dist, &want_dist}};
-    st = launch(s, s->ctx->ocl->k_horizon, args, 9, ls, "the horizon kernel");
+                         {sizeof(cl_mem), &cast},    {sizeof want, &want}};
+    st = launch(s, s->ctx->ocl->k_horizon, args, 10, ls, "the horizon kernel");
     return st == SS_OK ? finish_horizon(s, none_deg) : st;
 }
 

@@ -40,7 +40,7 @@ static ss_status ref_svf(ss_session *s, const ss_line_set *ls, int definition, f
 }
 
 static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
-                             int want_dist)
+                             int want)
 {
     ref_session *r = s->impl;
     size_t n_cells = (size_t)s->grid->width * s->grid->height;
@@ -49,13 +49,15 @@ static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k,
         return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of horizon weights",
                        (n_cells * sizeof(float)) >> 20);
     memset(r->weight, 0, n_cells * sizeof(float));
-    float *dist = want_dist ? r->out[1] : r->out[0];
+    /* Grids not asked for are never written: output 0 stands in. */
+    float *dist = want & SS_HORIZON_WANT_DIST ? r->out[1] : r->out[0];
+    float *cast = want & SS_HORIZON_WANT_CAST ? r->out[2] : r->out[0];
     for (int round = 0; round < 2; ++round) {
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
             ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, s->grid->z, r->stack,
-                            r->out[0], r->weight, dist, want_dist);
+                            r->out[0], r->weight, dist, cast, want);
     }
 #pragma omp parallel for schedule(static)
     for (int c = 0; c < (int)n_cells; ++c)

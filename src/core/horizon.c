@@ -5,37 +5,54 @@
 #include <math.h>
 
 #include "products_internal.h"
+#include "ss_passes.h"
 
-ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                     int want_distance, ss_horizon_sink sink, void *user)
+ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, int want,
+                     ss_horizon_sink sink, void *user)
 {
+    int want_dist = (want & SS_HORIZON_DISTANCE) != 0;
+    int want_cast = (want & SS_HORIZON_CAST_HEIGHT) != 0;
+    /* Casting heights ride on the distance grid (ss_horizon_caster). */
+    int pass_want = want_cast ? SS_HORIZON_WANT_DIST | SS_HORIZON_WANT_CAST
+                    : want_dist ? SS_HORIZON_WANT_DIST
+                                : 0;
+    int n_outputs = want_cast ? 3 : want_dist ? 2 : 1;
     ss_session *s;
-    ss_status st = ss_product_begin(ctx, grid, opt, want_distance ? 2 : 1, &s);
+    ss_status st = ss_product_begin(ctx, grid, opt, n_outputs, &s);
     if (st != SS_OK)
         return st;
     float curv_k = ss_curvature_k(opt);
+    size_t n_cells = (size_t)grid->width * (size_t)grid->height;
     for (int i = 0; i < opt->directions && st == SS_OK; ++i) {
         ss_line_set ls;
         double t0 = ss_seconds_now();
         ss_product_lines(grid, opt, i, &ls);
-        for (int out = 0; out < (want_distance ? 2 : 1) && st == SS_OK; ++out)
+        for (int out = 0; out < n_outputs && st == SS_OK; ++out)
             st = ss_session_clear(s, out);
         if (st == SS_OK)
-            st = ss_session_horizon(s, &ls, curv_k, -90.0f, want_distance);
-        float *angle = NULL, *dist = NULL;
+            st = ss_session_horizon(s, &ls, curv_k, -90.0f, pass_want);
+        float *angle = NULL, *dist = NULL, *cast = NULL;
         if (st == SS_OK)
             st = ss_session_view(s, 0, &angle);
-        if (st == SS_OK && want_distance)
+        if (st == SS_OK && n_outputs > 1)
             st = ss_session_view(s, 1, &dist);
+        if (st == SS_OK && want_cast)
+            st = ss_session_view(s, 2, &cast);
         ctx->counters.sweep_seconds += ss_seconds_now() - t0;
         if (st == SS_OK)
-            for (size_t c = 0; c < (size_t)grid->width * (size_t)grid->height; ++c)
-                if (!isfinite(grid->z[c])) {
+            for (size_t c = 0; c < n_cells; ++c) {
+                int no_height = !isfinite(grid->z[c]);
+                if (no_height)
                     angle[c] = SS_NODATA;
-                    if (dist)
-                        dist[c] = SS_NODATA;
-                }
-        if (st == SS_OK && !sink(i, ss_direction_azimuth(opt, i), angle, dist, user))
+                if (cast)
+                    cast[c] = no_height || dist[c] == 0.0f
+                                  ? SS_NODATA
+                                  : (float)(grid->z_origin_m + (double)cast[c]);
+                if (dist && no_height)
+                    dist[c] = SS_NODATA;
+            }
+        if (st == SS_OK &&
+            !sink(i, ss_direction_azimuth(opt, i), angle, want_dist ? dist : NULL, cast, user))
             st = ss_fail(ctx, SS_ERR_CANCELLED, "stopped while storing direction %d", i);
         if (st == SS_OK)
             st = ss_progress(ctx, (double)(i + 1) / opt->directions, "horizon");

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "session.h"
+#include "ss_passes.h"
 
 ss_status ss_session_open(ss_ctx *ctx, const ss_grid *grid, int n_outputs, ss_session **out)
 {
@@ -55,10 +56,18 @@ ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, f
 }
 
 ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
-                             int want_dist)
+                             int want)
 {
+    /* Casting heights are written with the distances, which mark the
+     * cells that already have a caster (ss_horizon_caster). */
+    if (want & SS_HORIZON_WANT_CAST)
+        want |= SS_HORIZON_WANT_DIST;
+    int outputs = want & SS_HORIZON_WANT_CAST ? 3 : want & SS_HORIZON_WANT_DIST ? 2 : 1;
+    if (s->n_outputs < outputs)
+        return ss_fail(s->ctx, SS_ERR_INTERNAL, "horizon pass needs %d outputs, session has %d",
+                       outputs, s->n_outputs);
     count_sweep(s);
-    return s->backend->horizon(s, ls, curv_k, none_deg, want_dist);
+    return s->backend->horizon(s, ls, curv_k, none_deg, want);
 }
 
 ss_status ss_session_radius_terms(ss_session *s, const ss_line_set *ls, int definition,

@@ -1,5 +1,5 @@
 /* A sweep session: one grid on one device (OpenCL or the C twin), a hull
- * stack grid, and up to two float output grids that passes write into.
+ * stack grid, and up to three float output grids that passes write into.
  * Products queue passes direction by direction and read outputs back. */
 #ifndef SS_SESSION_H
 #define SS_SESSION_H
@@ -7,7 +7,7 @@
 #include "ctx_internal.h"
 #include "ss_lines.h"
 
-#define SS_SESSION_MAX_OUTPUTS 2
+#define SS_SESSION_MAX_OUTPUTS 3
 
 typedef struct ss_session ss_session;
 
@@ -16,7 +16,7 @@ typedef struct {
     ss_status (*svf)(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
                      float sin_az, float cos_az);
     ss_status (*horizon)(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
-                         int want_dist);
+                         int want);
     ss_status (*bare)(ss_session *s, const ss_line_set *ls);
     ss_status (*radius_terms)(ss_session *s, const ss_line_set *ls, int definition,
                               float radius_m, float curv_k);
@@ -40,11 +40,13 @@ ss_status ss_session_svf(ss_session *s, const ss_line_set *ls, int definition, f
                          double azimuth_rad);
 /* Sets output 0 to horizon angles (degrees): each cell's weighted mean over
  * the samples feeding it that have terrain ahead, weights renormalised, and
- * exactly none_deg where none has (ss_pass_horizon_walk); sets output 1 to
- * distances, from the nearer such sample, 0 where none has. Clear both
- * first. The backend keeps one more float grid, of weights, for this. */
+ * exactly none_deg where none has (ss_pass_horizon_walk). With
+ * SS_HORIZON_WANT_DIST in want, sets output 1 to distances, from the nearer
+ * such sample, 0 where none has; with SS_HORIZON_WANT_CAST too, output 2 to
+ * the heights of those samples' casting points (grid origin). Clear the
+ * outputs first. The backend keeps one more float grid, of weights. */
 ss_status ss_session_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
-                             int want_dist);
+                             int want);
 /* Adds a term (SS_TERM_ELEVATION, SS_SVF_GEOMETRIC or SS_SVF_HORIZONTAL)
  * of the horizon within radius_m into output 0. */
 ss_status ss_session_radius_terms(ss_session *s, const ss_line_set *ls, int definition,

@@ -103,7 +103,7 @@ typedef struct {
 } sink_state;
 
 static int check_sink(int index, double azimuth_deg, const float *angle, const float *dist,
-                      void *user)
+                      const float *cast, void *user)
 {
     sink_state *s = user;
     const ss_grid *g = s->g;
@@ -111,9 +111,11 @@ static int check_sink(int index, double azimuth_deg, const float *angle, const f
     FUZZ_CHECK(index == s->calls, "direction %d after %d", index, s->calls);
     FUZZ_CHECK(azimuth_deg >= 0 && azimuth_deg < 360, "azimuth %g", azimuth_deg);
     FUZZ_CHECK((dist != NULL) == (s->want_dist != 0), "distance grid %p", (const void *)dist);
+    FUZZ_CHECK((cast != NULL) == (s->want_dist != 0), "casting height grid %p", (const void *)cast);
     for (size_t c = 0; c < n; ++c) {
         if (!isfinite(g->z[c])) {
-            FUZZ_CHECK(angle[c] == SS_NODATA && (!dist || dist[c] == SS_NODATA),
+            FUZZ_CHECK(angle[c] == SS_NODATA && (!dist || dist[c] == SS_NODATA) &&
+                           (!cast || cast[c] == SS_NODATA),
                        "nodata cell %zu: angle %g", c, (double)angle[c]);
             continue;
         }
@@ -122,6 +124,11 @@ static int check_sink(int index, double azimuth_deg, const float *angle, const f
         if (dist)
             FUZZ_CHECK(isfinite(dist[c]) && dist[c] >= 0, "cell %zu: distance %g", c,
                        (double)dist[c]);
+        /* A caster exactly where a distance is, at a finite height. */
+        if (cast)
+            FUZZ_CHECK(dist[c] == 0 ? cast[c] == SS_NODATA : isfinite(cast[c]),
+                       "cell %zu: distance %g, casting height %g", c, (double)dist[c],
+                       (double)cast[c]);
     }
     if (index == 0 && s->angle_copy)
         memcpy(s->angle_copy, angle, n * sizeof *angle);
@@ -165,7 +172,8 @@ static void run_products(const char *device, const ss_grid *g, const ss_sweep_op
                        (double)g->z[c], (double)svf[c]);
     }
     sink_state s = {g, want_dist, 0, angle0};
-    st = ss_horizon(ctx, g, opt, want_dist, check_sink, &s);
+    st = ss_horizon(ctx, g, opt, want_dist ? SS_HORIZON_DISTANCE | SS_HORIZON_CAST_HEIGHT : 0,
+                    check_sink, &s);
     check_status(ctx, st, want, "ss_horizon");
     if (st == SS_OK)
         FUZZ_CHECK(s.calls == opt->directions, "%d of %d directions", s.calls, opt->directions);
