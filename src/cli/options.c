@@ -194,6 +194,18 @@ int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **ar
     return result;
 }
 
+/* Help shows GDAL's own options the way GDAL's tools spell them (-of,
+ * -co, -projwin, -q) and the others with two dashes; both spellings of
+ * every option are accepted (getopt_long_only). */
+const char *opt_dash(const char *name)
+{
+    static const char *gdal_style[] = {"of", "co", "projwin", "q"};
+    for (size_t i = 0; i < sizeof gdal_style / sizeof gdal_style[0]; ++i)
+        if (strcmp(name, gdal_style[i]) == 0)
+            return "-";
+    return "--";
+}
+
 void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary)
 {
     printf("Usage: %s\n\n%s\n\nOptions:\n", usage, summary);
@@ -201,14 +213,14 @@ void opt_print_help(const opt_spec *const *tables, const char *usage, const char
         for (const opt_spec *s = tables[t]; s->name; ++s) {
             char left[64];
             if (s->type == OPT_FLAG)
-                snprintf(left, sizeof left, "-%s", s->name);
+                snprintf(left, sizeof left, "%s%s", opt_dash(s->name), s->name);
             else
-                snprintf(left, sizeof left, "-%s %s", s->name,
+                snprintf(left, sizeof left, "%s%s %s", opt_dash(s->name), s->name,
                          s->type == OPT_CHOICE ? s->choices : s->metavar);
             printf("  %-34s %s", left, s->help);
             if (s->default_text && s->type != OPT_FLAG)
                 printf(" (default %s)", s->default_text);
             printf("\n");
         }
-    printf("  %-34s %s\n", "-help", "show this help");
+    printf("  %-34s %s\n", "--help", "show this help");
 }

@@ -49,6 +49,9 @@ const opt_spec *opt_find(const opt_spec *const *tables, const char *name);
 int opt_check(const opt_spec *spec, const char *text, char *err, size_t err_size);
 
 /* Prints the options of the tables as a --help text. */
+/* "-" for the options GDAL's tools spell with one dash (-of, -co, -projwin,
+ * -q), "--" for the others: how help and doc/cli.md show them. */
+const char *opt_dash(const char *name);
 void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary);
 /* ... and as a Markdown section for doc/cli.md (options_doc.c). */
 void opt_print_markdown(const opt_spec *const *tables, const char *command, const char *usage,

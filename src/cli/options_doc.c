@@ -20,7 +20,7 @@ void opt_print_markdown(const opt_spec *const *tables, const char *command, cons
     printf("| option | value | default | meaning |\n|---|---|---|---|\n");
     for (int t = 0; tables[t]; ++t)
         for (const opt_spec *s = tables[t]; s->name; ++s) {
-            printf("| `-%s` | ", s->name);
+            printf("| `%s%s` | ", opt_dash(s->name), s->name);
             if (s->type == OPT_CHOICE)
                 cell(s->choices);
             else if (s->type != OPT_FLAG)
