@@ -163,13 +163,14 @@ SS_FN float ss_hull_dist(const ss_line_set *ls, ss_hull_point v, ss_hull_point t
     return d;
 }
 
-/* Height of hull point t above v, from differences of like parts. */
 /* Height of hull point t relative to the grid origin (digital lines have
  * no offsets). */
 SS_FN float ss_hull_height(ss_hull_point t, int flags)
 {
     return (flags & SS_WALK_DIGITAL) ? t.z : t.z + t.z_off;
 }
+
+/* Height of hull point t above v, from differences of like parts. */
 
 SS_FN float ss_hull_height_above(ss_hull_point v, ss_hull_point t, int flags)
 {

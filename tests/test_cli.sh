@@ -110,6 +110,12 @@ tap_ok $? "casting heights: 8 bands, quantity stated"
 run horizon --directions 8 --cast-height "$work/h3.tif" "$dem" "$work/h3.tif"
 [ $rc -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ]
 tap_ok $? "--cast-height naming OUTPUT: exit 2, one line"
+# The same file spelled two ways would share one temporary name.
+mkdir -p "$work/sub"
+run horizon --directions 8 --distance "$work/sub/../d3.tif" --cast-height "$work/./d3.tif" "$dem" \
+    "$work/h3.tif"
+[ $rc -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && [ ! -e "$work/h3.tif" ]
+tap_ok $? "--distance and --cast-height naming one file two ways: exit 2, one line, no output"
 
 run svf -q --directions 8 "$dem" "$work/quiet.tif"
 [ $rc -eq 0 ] && [ ! -s "$work/stdout" ] && [ ! -s "$work/stderr" ]

@@ -82,5 +82,9 @@ void ss_writer_abort(ss_raster_writer *w);
 
 /* Nonzero when two paths name the same existing file. */
 int ss_same_file(const char *a, const char *b);
+/* Nonzero when two output paths, which need not exist yet, name the same
+ * file: equal names in the same folder (links and dots resolved), or the
+ * same existing file. */
+int ss_same_output(const char *a, const char *b);
 
 #endif

@@ -413,7 +413,10 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
         return st;
     int w = dem->grid.width, h = dem->grid.height;
     double cx = dem->grid.cell_x_m, cy = dem->grid.cell_y_m;
-    double bytes_needed = (double)w * (double)h * 16.0; /* grid, stack, two outputs */
+    /* The most a whole-grid product holds: heights, hull stack, three
+     * outputs and the weights of a horizon run with --distance and
+     * --cast-height. */
+    double bytes_needed = (double)w * (double)h * 24.0;
     double phys = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
     if (phys > 0 && bytes_needed > 0.8 * phys)
         st = ss_fail(ctx, SS_ERR_MEMORY,

@@ -40,6 +40,24 @@ int ss_same_file(const char *a, const char *b)
            sa.st_ino == sb.st_ino;
 }
 
+int ss_same_output(const char *a, const char *b)
+{
+    char *a_dir = strdup(a), *a_base = strdup(a), *b_dir = strdup(b), *b_base = strdup(b);
+    int same = strcmp(a, b) == 0;
+    if (!same && a_dir && a_base && b_dir && b_base &&
+        strcmp(basename(a_base), basename(b_base)) == 0) {
+        char *ra = realpath(dirname(a_dir), NULL), *rb = realpath(dirname(b_dir), NULL);
+        same = ra && rb && strcmp(ra, rb) == 0;
+        free(ra);
+        free(rb);
+    }
+    free(a_dir);
+    free(a_base);
+    free(b_dir);
+    free(b_base);
+    return same || ss_same_file(a, b);
+}
+
 static const char *gdal_message(void)
 {
     const char *m = CPLGetLastErrorMsg();

@@ -62,7 +62,8 @@ static int store_direction(int index, double azimuth_deg, const float *angle_deg
 }
 
 /* Opens one more horizon output (distance or casting height) after
- * checking its name against the inputs and the other outputs. */
+ * checking its name against the inputs (cmd_horizon has checked it against
+ * the other outputs). */
 static ss_status open_extra(sweep_job *job, const horizon_settings *set, const char *path,
                             ss_raster_writer **w)
 {
@@ -97,10 +98,10 @@ int cmd_horizon(int argc, char **argv)
     }
     if (n_pos < 2)
         return run_usage_error("horizon", "needs an input DEM and an output file");
-    if ((set.distance_path && strcmp(set.distance_path, pos[n_pos - 1]) == 0) ||
-        (set.cast_height_path && strcmp(set.cast_height_path, pos[n_pos - 1]) == 0) ||
+    if ((set.distance_path && ss_same_output(set.distance_path, pos[n_pos - 1])) ||
+        (set.cast_height_path && ss_same_output(set.cast_height_path, pos[n_pos - 1])) ||
         (set.distance_path && set.cast_height_path &&
-         strcmp(set.distance_path, set.cast_height_path) == 0))
+         ss_same_output(set.distance_path, set.cast_height_path)))
         return run_usage_error("horizon", "OUTPUT, --distance and --cast-height must name "
                                           "different files");
     sweep_job job;
@@ -143,7 +144,9 @@ int cmd_horizon(int argc, char **argv)
         }
     }
     /* Committed (closed, renamed into place) in turn; a file that fails
-     * to commit, and those after it, are aborted: none is left half-written. */
+     * to commit, and those after it, are aborted: none is left half-written,
+     * but files of an earlier run under the later names stay as they were
+     * (the error names the file that failed). */
     ss_raster_writer **writers[] = {&hs.angle, &hs.dist, &hs.cast};
     for (int w = 0; w < 3 && st == SS_OK; ++w)
         if (*writers[w]) {
