@@ -543,6 +543,13 @@ measure_all() {
     echo $(( ($(date +%s) - started + 30) / 60 )) >"$work/elapsed_min"
 }
 [ "$report_only" = 1 ] || measure_all
+# skysweep against its own targets, the scaling plot and the profile
+# (doc/bench/targets.sh; needs the build tree's ss-bench beside skysweep).
+if [ "$tiny" = 0 ] && [ "$report_only" = 0 ]; then
+    log "skysweep's own targets (doc/bench/targets.sh)"
+    BUILD=$(dirname "$skysweep") bash "$bench/targets.sh" --plot "$top/doc/img/scaling.png" \
+        >"$work/targets.md" || note "doc/bench/targets.sh failed: no target figures in this report"
+fi
 elapsed_min=$(cat "$work/elapsed_min" 2>/dev/null || echo "?")
 [ "$report_only" = 0 ] || command_line=$(cat "$work/command_line" 2>/dev/null || echo "$command_line")
 
@@ -621,6 +628,10 @@ $("$skysweep" info 2>&1)
   (venv $peers_venv: $("$vpy" --version 2>/dev/null || echo absent); numpy $("$py" -c 'import numpy; print(numpy.__version__)'))
 
 $("$py" "$bench/summary.py" "$work/times.tsv")
+
+## skysweep against its own targets
+
+$(cat "$work/targets.md" 2>/dev/null || echo "(not measured in this run: doc/bench/targets.sh)")
 
 ## Wall time and memory
 
