@@ -61,17 +61,13 @@ static int store_direction(int index, double azimuth_deg, const float *angle_deg
     return hs->status == SS_OK;
 }
 
-/* Opens one more horizon output (distance or casting height) after
- * checking its name against the inputs (cmd_horizon has checked it against
- * the other outputs). */
+/* Opens one more horizon output (distance or casting height); its name
+ * was checked against the inputs and the other outputs before. */
 static ss_status open_extra(sweep_job *job, const horizon_settings *set, const char *path,
                             ss_raster_writer **w)
 {
-    ss_status st = run_check_output(&job->run, path, job->inputs, job->n_inputs);
-    if (st == SS_OK)
-        st = ss_writer_open(job->run.ctx, path, &job->dem, job->opt.directions,
-                            set->common.format, set->common.creation_options.items, w);
-    return st;
+    return ss_writer_open(job->run.ctx, path, &job->dem, job->opt.directions, set->common.format,
+                          set->common.creation_options.items, w);
 }
 
 int cmd_horizon(int argc, char **argv)
@@ -110,6 +106,16 @@ int cmd_horizon(int argc, char **argv)
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
+    }
+    /* run_check_output prints its own one-line error. */
+    const char *extras[] = {set.distance_path, set.cast_height_path};
+    for (int i = 0; i < 2; ++i) {
+        ss_status bad = extras[i] ? run_check_output(&job.run, extras[i], job.inputs, job.n_inputs)
+                                  : SS_OK;
+        if (bad != SS_OK) {
+            job_close(&job);
+            return bad;
+        }
     }
     horizon_sink_state hs = {NULL, NULL, NULL, SS_OK};
     ss_status st = ss_writer_open(job.run.ctx, job.output, &job.dem, job.opt.directions,
