@@ -14,10 +14,14 @@
 #include "ss_sweep.h"
 #include "ss_terms.h"
 
-/* One direction's term of an SVF definition for a receiving cell. */
+/* One direction's term of an SVF definition for a receiving cell. The
+ * radiative term needs the cell's surface gradient: from grad (dz/de, dz/dn
+ * per cell, ss_gradient_grid), or where grad is null (banded runs, which
+ * keep to 12 bytes a cell) by Horn's formula from z on the spot. */
 SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, int minor,
                             float d, float dz, float sin_az, float cos_az, float cell_x_m,
-                            float cell_y_m, int height, SS_GLOBAL const float *z)
+                            float cell_y_m, int height, SS_GLOBAL const float *z,
+                            SS_GLOBAL const float *grad)
 {
     if (definition == SS_SVF_GEOMETRIC)
         return ss_svf_geometric_term(d, dz);
@@ -30,9 +34,14 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
     /* The row within the buffers (the grid, or a band of rows and its halo). */
     int col = ls->major_is_row ? minor : major;
     int row = ls->major_is_row ? major - ls->base_major : minor - ls->base_minor;
+    int cell = row * ls->width + col;
     float dz_de = 0.0f, dz_dn = 0.0f;
-    if (SS_ISFINITE(z[row * ls->width + col]))
+    if (grad) {
+        dz_de = grad[2 * cell];
+        dz_dn = grad[2 * cell + 1];
+    } else if (SS_ISFINITE(z[cell])) {
         ss_gradient_horn(z, ls->width, height, col, row, cell_x_m, cell_y_m, &dz_de, &dz_dn);
+    }
     return ss_svf_tilted_term(d, dz, sin_az, cos_az, dz_de, dz_dn);
 }
 
@@ -41,7 +50,8 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
 SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi, int definition,
                         float curv_k, float sin_az, float cos_az, float cell_x_m,
                         float cell_y_m, int height, SS_GLOBAL const float *z,
-                        SS_GLOBAL int *stack, SS_GLOBAL float *acc, int flags)
+                        SS_GLOBAL const float *grad, SS_GLOBAL int *stack,
+                        SS_GLOBAL float *acc, int flags)
 {
     for (int i = s_lo; i < s_hi; ++i) {
         ss_sample_horizon h = ss_walker_step(w, ls, z, stack, curv_k, i, flags);
@@ -49,10 +59,10 @@ SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
             continue;
         /* Only the radiative term depends on the receiving cell (its slope). */
         float term0 = ss_svf_term_for(definition, ls, h.major, h.minor0, h.d, h.dz, sin_az,
-                                      cos_az, cell_x_m, cell_y_m, height, z);
+                                      cos_az, cell_x_m, cell_y_m, height, z, grad);
         float term1 = definition == SS_SVF_TILTED
                           ? ss_svf_term_for(definition, ls, h.major, h.minor0 + 1, h.d, h.dz,
-                                            sin_az, cos_az, cell_x_m, cell_y_m, height, z)
+                                            sin_az, cos_az, cell_x_m, cell_y_m, height, z, grad)
                           : term0;
         if (h.cell0 >= 0)
             acc[h.cell0] += h.w0 * term0;
@@ -64,13 +74,13 @@ SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
 /* Adds one direction's SVF term to acc for the cells the line feeds. */
 SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, float curv_k,
                             float sin_az, float cos_az, float cell_x_m, float cell_y_m,
-                            int height, SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                            SS_GLOBAL float *acc, int flags)
+                            int height, SS_GLOBAL const float *z, SS_GLOBAL const float *grad,
+                            SS_GLOBAL int *stack, SS_GLOBAL float *acc, int flags)
 {
     ss_walker w;
     int n = ss_walker_begin(&w, ls, line);
     ss_svf_steps(&w, ls, 0, n, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m, height, z,
-                 stack, acc, flags);
+                 grad, stack, acc, flags);
 }
 
 /* What ss_pass_horizon writes besides the angles (bits of its `want`):
@@ -188,8 +198,9 @@ SS_FN void ss_pass_radius_terms(const ss_line_set *ls, int line, int definition,
                 best_dz = dz;
             }
         }
+        /* Radius terms are never radiative: no gradient is read. */
         float term = ss_svf_term_for(definition, ls, 0, 0, best_d, best_dz, 0.0f, 0.0f, 0.0f,
-                                     0.0f, 0, z);
+                                     0.0f, 0, z, z);
         if (h.cell0 >= 0)
             acc[h.cell0] += h.w0 * term;
         if (h.cell1 >= 0)
@@ -201,24 +212,25 @@ SS_FN void ss_pass_radius_terms(const ss_line_set *ls, int line, int definition,
  * only what its lines need (SS_WALK_DIGITAL, SS_WALK_CURVED). */
 SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float curv_k,
                        float sin_az, float cos_az, float cell_x_m, float cell_y_m, int height,
-                       SS_GLOBAL const float *z, SS_GLOBAL int *stack, SS_GLOBAL float *acc)
+                       SS_GLOBAL const float *z, SS_GLOBAL const float *grad, SS_GLOBAL int *stack,
+                       SS_GLOBAL float *acc)
 {
     switch (ss_walk_flags(ls, curv_k)) {
     case 0:
         ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, stack, acc, 0);
+                         height, z, grad, stack, acc, 0);
         break;
     case SS_WALK_DIGITAL:
         ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, stack, acc, SS_WALK_DIGITAL);
+                         height, z, grad, stack, acc, SS_WALK_DIGITAL);
         break;
     case SS_WALK_CURVED:
         ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, stack, acc, SS_WALK_CURVED);
+                         height, z, grad, stack, acc, SS_WALK_CURVED);
         break;
     default:
         ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, stack, acc, SS_WALK_DIGITAL | SS_WALK_CURVED);
+                         height, z, grad, stack, acc, SS_WALK_DIGITAL | SS_WALK_CURVED);
     }
 }
 

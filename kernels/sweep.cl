@@ -2,14 +2,17 @@
  * direction. The work itself is in ss_passes.h, which the C twin runs too. */
 #include "ss_passes.h"
 
+/* grad: the gradient grid for the radiative definition (any buffer for
+ * the others, which do not read it). */
 __kernel void sweep_svf(ss_line_set ls, int round, int definition, float curv_k, float sin_az,
                         float cos_az, float cell_x_m, float cell_y_m, int height,
-                        __global const float *z, __global int *stack, __global float *acc)
+                        __global const float *z, __global const float *grad,
+                        __global int *stack, __global float *acc)
 {
     int i = get_global_id(0);
     if (i < ss_round_lines(&ls, round))
         ss_pass_svf(&ls, ss_round_line(&ls, round, i), definition, curv_k, sin_az, cos_az,
-                    cell_x_m, cell_y_m, height, z, stack, acc);
+                    cell_x_m, cell_y_m, height, z, grad, stack, acc);
 }
 
 __kernel void sweep_horizon(ss_line_set ls, int round, float curv_k, __global const float *z,

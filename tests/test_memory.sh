@@ -13,7 +13,7 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/ss-memory.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
 # 2400 x 2000 cells of rolling hills (UTM 5N, 10 m): a whole-grid sweep
-# holds about 20 bytes a cell (92 MiB) and 48 MiB of buffers, against --memory 64M.
+# holds up to 24 bytes a cell (110 MiB) and 48 MiB of buffers, against --memory 64M.
 awk 'BEGIN {
     W = 2400; H = 2000
     print "ncols " W; print "nrows " H; print "xllcorner 254325"; print "yllcorner 2140000"

@@ -29,6 +29,7 @@ struct ss_ocl {
 typedef struct {
     cl_mem z, stack, out[SS_SESSION_MAX_OUTPUTS];
     cl_mem weight; /* horizon weights (ss_pass_horizon_walk), made on first use */
+    cl_mem grad;   /* gradients for the radiative SVF (ss_gradient_grid), made on first use */
     float *host[SS_SESSION_MAX_OUTPUTS];
     int mapped[SS_SESSION_MAX_OUTPUTS];
 } ocl_session;
@@ -387,20 +388,49 @@ static ss_status launch(ss_session *s, cl_kernel k, kernel_arg *args, int n_args
     return SS_OK;
 }
 
+/* The radiative SVF's gradient grid, computed on the host (as the C twin
+ * does) and copied to the device once per session. */
+static ss_status make_gradients(ss_session *s)
+{
+    ocl_session *q = s->impl;
+    size_t bytes = 2 * grid_cells(s) * sizeof(float);
+    float *host = ss_alloc_grid(bytes);
+    if (!host)
+        return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of surface gradients",
+                       bytes >> 20);
+    ss_gradient_grid(s->grid, host);
+    cl_int err = CL_SUCCESS;
+    q->grad = clCreateBuffer(s->ctx->ocl->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
+                             host, &err);
+    free(host);
+    if (err != CL_SUCCESS) {
+        q->grad = NULL;
+        return cl_fail(s->ctx, err, "allocating the surface gradients");
+    }
+    return SS_OK;
+}
+
 static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
                          float sin_az, float cos_az)
 {
     ocl_session *q = s->impl;
     float cx = (float)s->grid->cell_x_m, cy = (float)s->grid->cell_y_m;
     int height = s->grid->height;
+    if (definition == SS_SVF_TILTED && !q->grad) {
+        ss_status st = make_gradients(s);
+        if (st != SS_OK)
+            return st;
+    }
+    /* The other definitions read no gradient: the heights stand in. */
+    cl_mem grad = definition == SS_SVF_TILTED ? q->grad : q->z;
     kernel_arg args[] = {{sizeof *ls, ls},          {0, NULL},
                          {sizeof definition, &definition},
                          {sizeof curv_k, &curv_k},  {sizeof sin_az, &sin_az},
                          {sizeof cos_az, &cos_az},  {sizeof cx, &cx},
                          {sizeof cy, &cy},          {sizeof height, &height},
-                         {sizeof(cl_mem), &q->z},   {sizeof(cl_mem), &q->stack},
-                         {sizeof(cl_mem), &q->out[0]}};
-    return launch(s, s->ctx->ocl->k_svf, args, 12, ls, "the SVF kernel");
+                         {sizeof(cl_mem), &q->z},   {sizeof(cl_mem), &grad},
+                         {sizeof(cl_mem), &q->stack}, {sizeof(cl_mem), &q->out[0]}};
+    return launch(s, s->ctx->ocl->k_svf, args, 13, ls, "the SVF kernel");
 }
 
 /* Zeroes the horizon weight grid, creating it on first use: only horizon
@@ -515,6 +545,8 @@ static void ocl_close(ss_session *s)
         clReleaseMemObject(q->stack);
     if (q->weight)
         clReleaseMemObject(q->weight);
+    if (q->grad)
+        clReleaseMemObject(q->grad);
     for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
         if (q->out[i])
             clReleaseMemObject(q->out[i]);

@@ -14,6 +14,7 @@ typedef struct {
     int *stack;
     float *out[SS_SESSION_MAX_OUTPUTS];
     float *weight; /* horizon weights (ss_pass_horizon_walk), made on first use */
+    float *grad;   /* gradients for the radiative SVF (ss_gradient_grid), made on first use */
 } ref_session;
 
 static ss_status ref_clear(ss_session *s, int output)
@@ -29,12 +30,19 @@ static ss_status ref_svf(ss_session *s, const ss_line_set *ls, int definition, f
     ref_session *r = s->impl;
     const ss_grid *g = s->grid;
     float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
+    if (definition == SS_SVF_TILTED && !r->grad) {
+        size_t bytes = 2 * (size_t)g->width * g->height * sizeof(float);
+        if (!(r->grad = ss_alloc_grid(bytes)))
+            return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of surface gradients",
+                           bytes >> 20);
+        ss_gradient_grid(g, r->grad);
+    }
     for (int round = 0; round < 2; ++round) {
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
             ss_pass_svf(ls, ss_round_line(ls, round, i), definition, curv_k, sin_az, cos_az, cx,
-                        cy, g->height, g->z, r->stack, r->out[0]);
+                        cy, g->height, g->z, r->grad, r->stack, r->out[0]);
     }
     return SS_OK;
 }
@@ -107,6 +115,7 @@ static void ref_close(ss_session *s)
     for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
         free(r->out[i]);
     free(r->weight);
+    free(r->grad);
     free(r);
 }
 

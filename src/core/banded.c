@@ -166,8 +166,10 @@ static ss_status walk_band(band_run *b, band_direction *dir, int row0, int row1,
             if (s_lo >= s_hi)
                 continue;
             ss_walker_resume(&wk, &ls, line, s_lo, hull->points, hull->count);
+            /* No gradient grid: a band computes the radiative term's
+             * gradient on the spot and keeps to 12 bytes a cell. */
             ss_svf_steps(&wk, &ls, s_lo, s_hi, b->term, b->curv_k, dir->sin_az, dir->cos_az, cx,
-                         cy, rows_held, b->z, b->stack, b->acc, flags);
+                         cy, rows_held, b->z, NULL, b->stack, b->acc, flags);
             if (s_hi >= count) { /* the line is done: its hull is no longer needed */
                 free(hull->points);
                 *hull = (carried_hull){NULL, 0, 0};
@@ -330,11 +332,12 @@ size_t ss_band_bytes(int width, int band_rows)
     return (size_t)(band_rows + 2 * HALO) * (size_t)width * (2 * sizeof(float) + sizeof(int));
 }
 
-/* A whole-grid SVF or openness holds about 20 bytes a cell (heights, hull
- * stack slots, sums, the product, an inverted copy); besides the sweep's
- * grids a run needs buffers for reading and writing (GDAL's block cache,
- * capped at 16 MiB by the CLI in banded runs). */
-#define WHOLE_BYTES_PER_CELL 20.0
+/* A whole-grid SVF or openness holds at most 24 bytes a cell: heights,
+ * hull stack slots, sums and the product, and either an inverted copy
+ * (negative openness) or the surface gradients (radiative SVF, 8 bytes);
+ * besides the sweep's grids a run needs buffers for reading and writing
+ * (GDAL's block cache, capped at 16 MiB by the CLI in banded runs). */
+#define WHOLE_BYTES_PER_CELL 24.0
 #define FIXED_BYTES (48.0 * 1048576.0)
 
 double ss_whole_sweep_bytes(int width, int height)

@@ -86,3 +86,17 @@ ss_status ss_session_view(ss_session *s, int output, float **host)
 {
     return s->backend->view(s, output, host);
 }
+
+void ss_gradient_grid(const ss_grid *g, float *out)
+{
+    float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < g->height; ++row)
+        for (int col = 0; col < g->width; ++col) {
+            size_t c = (size_t)row * g->width + col;
+            out[2 * c] = out[2 * c + 1] = 0.0f;
+            if (isfinite(g->z[c]))
+                ss_gradient_horn(g->z, g->width, g->height, col, row, cx, cy, &out[2 * c],
+                                 &out[2 * c + 1]);
+        }
+}

@@ -57,6 +57,12 @@ ss_status ss_session_bare(ss_session *s, const ss_line_set *ls);
  * the next call. */
 ss_status ss_session_view(ss_session *s, int output, float **host);
 
+/* The surface gradient of every cell for the radiative SVF: out[2c] =
+ * dz/de, out[2c + 1] = dz/dn by Horn's formula (ss_gradient_horn), 0 at
+ * nodata cells; 2 * width * height floats. Computed once per session
+ * instead of for both cells of every sample of every direction. */
+void ss_gradient_grid(const ss_grid *g, float *out);
+
 /* Backends. */
 ss_status ss_backend_ref_open(ss_session *s);
 ss_status ss_backend_ocl_open(ss_session *s);
