@@ -51,8 +51,9 @@ ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
 void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user);
 const char *ss_version(void);
 
-/* Devices. spec NULL or "" picks the default (the first CPU device of a PoCL
- * platform, else the first device found); "reference" runs the plain C
+/* Devices. spec NULL or "" picks the default: the environment variable
+ * SKYSWEEP_DEVICE where set (same forms as spec), else the first CPU device
+ * of a PoCL platform, else the first device found; "reference" runs the plain C
  * twin of the kernels; anything else is "P:D" (platform and device numbers)
  * or a case-insensitive part of "platform name: device name". */
 ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec);

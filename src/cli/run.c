@@ -28,7 +28,7 @@ const opt_spec common_options[] = {
      "the grid's north; auto: true north where they differ by more than "
      "--horizon-tolerance"},
     {"device", OPT_STRING, COMMON(device), "NAME", NULL, 0, 0, NULL,
-     "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin)"},
+     "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin); default $SKYSWEEP_DEVICE, else PoCL's CPU"},
     {"q", OPT_FLAG, COMMON(quiet), NULL, NULL, 0, 0, NULL, "quiet: no progress, no summary"},
     {"of", OPT_STRING, COMMON(format), "FORMAT", "GTiff", 0, 0, NULL, "GDAL output format"},
     {"co", OPT_LIST, COMMON(creation_options), "KEY=VALUE", NULL, 0, 0, NULL,

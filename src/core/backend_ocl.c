@@ -198,6 +198,10 @@ ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
     ss_ocl_release(ctx->ocl);
     ctx->ocl = NULL;
     ctx->device_name[0] = '\0';
+    /* The environment names the default, so whole test suites and scripts
+     * can be pointed at another device (a GPU) without new options. */
+    if (!spec || !spec[0])
+        spec = getenv("SKYSWEEP_DEVICE");
     snprintf(ctx->device_spec, sizeof ctx->device_spec, "%s", spec ? spec : "");
     ctx->use_reference = spec && strcasecmp(spec, "reference") == 0;
     if (ctx->use_reference)

@@ -12,7 +12,10 @@
 
 ss_ctx *ss_ctx_new(void)
 {
-    return calloc(1, sizeof(ss_ctx));
+    ss_ctx *ctx = calloc(1, sizeof(ss_ctx));
+    if (ctx)
+        ss_ctx_use_device(ctx, NULL); /* the default, which SKYSWEEP_DEVICE may name */
+    return ctx;
 }
 
 void ss_ctx_free(ss_ctx *ctx)
