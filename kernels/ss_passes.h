@@ -122,17 +122,15 @@ SS_FN void ss_horizon_caster(const ss_sample_horizon *h, SS_GLOBAL float *dist_m
  * (metres) of its nearer sample with terrain ahead, 0 where none has, and
  * with SS_HORIZON_WANT_CAST too the height of that sample's casting point
  * (relative to the grid origin). All grids start at 0; cells without a
- * height, or without a caster, are set to nodata afterwards by the host. */
-SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
-                                SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
-                                SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want,
-                                int flags)
+ * height, or without a caster, are set to nodata afterwards by the host.
+ * Steps [s_lo, s_hi) of the walker's line (a band's share of it). */
+SS_FN void ss_horizon_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
+                            float curv_k, SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                            SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
+                            SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want, int flags)
 {
-    ss_walker w;
-    int n = ss_walker_begin(&w, ls, line);
-    for (int i = 0; i < n; ++i) {
-        ss_sample_horizon h = ss_walker_step(&w, ls, z, stack, curv_k, i, flags);
+    for (int i = s_lo; i < s_hi; ++i) {
+        ss_sample_horizon h = ss_walker_step(w, ls, z, stack, curv_k, i, flags);
         if (!h.valid || !(h.d > 0.0f))
             continue;
         float angle = ss_horizon_deg(h.d, h.dz);
@@ -147,6 +145,19 @@ SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
         if (want & SS_HORIZON_WANT_DIST)
             ss_horizon_caster(&h, dist_m, cast_z, want & SS_HORIZON_WANT_CAST);
     }
+}
+
+/* ss_horizon_steps over the whole line. */
+SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
+                                SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
+                                SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want,
+                                int flags)
+{
+    ss_walker w;
+    int n = ss_walker_begin(&w, ls, line);
+    ss_horizon_steps(&w, ls, 0, n, curv_k, z, stack, angle_deg, weight, dist_m, cast_z, want,
+                     flags);
 }
 
 /* Turns a cell's sums into its horizon: the weighted mean over the samples

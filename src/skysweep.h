@@ -191,11 +191,19 @@ typedef struct {
 /* The bytes a banded sweep holds for its bands (the hulls handed on come
  * on top; ss_band_stats counts them). */
 size_t ss_band_bytes(int width, int band_rows);
+/* Bytes a banded sweep of term holds per cell of a band (halo rows
+ * included): ss_band_bytes' three grids, and the radiative SVF's surface
+ * gradients. */
+double ss_sky_band_cell_bytes(ss_sky_term term);
 /* About what a whole-grid SVF or openness run needs, buffers included. */
 double ss_whole_sweep_bytes(int width, int height);
 /* Rows per band for a run within budget_bytes: 0 when the whole grid fits,
  * -1 when not even one band does (directions 0: not known yet). */
 int ss_band_rows_for(int width, int height, int directions, double budget_bytes);
+/* The same for any banded run: band_cell_bytes held per cell of a band
+ * (halo rows included), column_bytes per column and direction besides. */
+int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
+                        double band_cell_bytes, double column_bytes);
 
 /* SVF (any definition) or openness (unlimited radius) as ss_svf and
  * ss_openness compute them, reading and writing the grid band by band: the
@@ -204,6 +212,45 @@ int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
  * has. */
 ss_status ss_sky_banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_options *opt,
                         ss_sky_term term);
+
+/* Receives finished rows [row0, row0 + n_rows) of one direction's horizon
+ * (direction: the index into the run's azimuths): angles in degrees
+ * (SS_NODATA at nodata, none_deg where no terrain lies ahead), and where
+ * asked for distances (metres, 0 where none) and casting heights (metres,
+ * in the frame of the heights read, SS_NODATA where none), else NULL.
+ * Every direction's rows arrive once each, band by band. */
+typedef ss_status (*ss_horizon_rows_write)(void *user, int direction, int row0, int n_rows,
+                                           const float *angle_deg, const float *dist_m,
+                                           const float *cast_height_m);
+
+typedef struct {
+    int width, height;          /* the DEM's size */
+    double cell_x_m, cell_y_m;  /* ground cell sizes */
+    int band_rows;              /* rows held at once (plus 4 halo rows) */
+    ss_rows_read read;
+    ss_horizon_rows_write write;
+    void *user;
+    int n_azimuths;             /* > 0: these azimuths (degrees, the options' frame) */
+    const double *azimuths_deg; /* instead of the options' evenly spaced directions */
+    float none_deg;             /* no terrain ahead: -90 (horizon products) or 0 (shadows) */
+    ss_band_stats *stats;       /* filled in at the end; may be NULL */
+    /* May be NULL. Called for every band in each of the two passes (pass 0,
+     * then 1) once every direction of that pass has written its rows
+     * there, also when the pass has no directions: a band's rows have
+     * then seen all their directions of that pass. */
+    ss_status (*band_done)(void *user, int pass, int row0, int n_rows);
+} ss_horizon_band_io;
+
+/* What a banded horizon run holds, with `want` as in ss_horizon: bytes per
+ * cell of a band (ss_band_rows_within's band_cell_bytes), and bytes per
+ * column and direction for the rows of sums carried between bands. */
+double ss_horizon_band_cell_bytes(int want);
+double ss_horizon_column_bytes(void);
+/* Horizons as ss_horizon (none_deg -90) and ss_sun_horizon (0) compute
+ * them, reading the grid band by band: the same result, in memory set by
+ * band_rows. Runs on the host (C, OpenMP). */
+ss_status ss_horizon_banded(ss_ctx *ctx, const ss_horizon_band_io *io,
+                            const ss_sweep_options *opt, int want);
 
 /* RVT's VAT relief blend (Kokalj & Somrak 2019) of one cell, 0..1 (1 =
  * white): hillshade 0..1 (cosine of incidence), slope in degrees, positive
@@ -260,7 +307,8 @@ ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_de
 
 /* An upper bound (degrees) on every terrain horizon the grid can cast in the
  * line model, curvature or not: no cell is in a cast shadow when the sun is
- * above it (doc/insolation.md gives the proof). */
+ * above it (doc/insolation.md gives the proof). 90 for a grid whose heights
+ * are not in memory (z NULL). */
 double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines);
 
 /* ---- insolation --------------------------------------------------------- */
@@ -308,6 +356,46 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                         const ss_insolation_options *io, int n_steps, ss_sun_step_fn sun_at,
                         void *sun_user, ss_step_sink sink, void *sink_user,
                         ss_insolation_out *out);
+
+/* The sun of step `index` for rows [row0, row0 + n_rows): as
+ * ss_sun_step_fn, with per-cell arrays (where one sun does not serve the
+ * grid) covering those rows only, from their first cell; n_rows 0 asks for
+ * the centre's values alone. */
+typedef ss_status (*ss_sun_rows_fn)(ss_ctx *ctx, int index, int row0, int n_rows,
+                                    ss_sun_step *step, void *user);
+/* Finished rows [row0, row0 + n_rows) of the five outputs (the pointers
+ * point at those rows). */
+typedef ss_status (*ss_insolation_rows_write)(void *user, int row0, int n_rows,
+                                              const ss_insolation_out *rows);
+/* Rows of one step's global irradiation (Wh/m^2, SS_NODATA at nodata). */
+typedef ss_status (*ss_step_rows_write)(void *user, int step, int row0, int n_rows,
+                                        const float *global_wh_m2);
+
+typedef struct {
+    int width, height;          /* the DEM's size */
+    double cell_x_m, cell_y_m;  /* ground cell sizes */
+    int band_rows;              /* rows held at once */
+    const double *z_origin_m;   /* the datum height the heights read are relative to */
+    ss_rows_read read;
+    ss_sun_rows_fn sun_rows;
+    ss_insolation_rows_write write;
+    ss_step_rows_write write_step; /* may be NULL */
+    void *user;
+    ss_band_stats *stats;       /* of the shadow sweeps; may be NULL */
+} ss_insolation_band_io;
+
+/* What ss_insolation computes with exact shadows, reading the grid band by
+ * band: the radiative SVF by ss_sky_banded into a temporary file, then one
+ * banded horizon per daylight step at its sun's azimuth (ss_horizon_banded),
+ * each band's rows summed over the steps of both passes. The same result up
+ * to the order of float additions, in memory set by band_rows. Runs on the
+ * host (C, OpenMP). */
+ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
+                               const ss_sweep_options *opt, const ss_insolation_options *options,
+                               int n_steps);
+/* Bytes a banded insolation run holds per cell of a band, besides the
+ * banded sweeps' own (ss_band_rows_within's band_cell_bytes). */
+double ss_insolation_band_cell_bytes(void);
 
 /* ---- the effects planner (doc/planner.md) -------------------------------- */
 

@@ -4,8 +4,9 @@
 # the peak resident memory the process reports (getrusage) stays within
 # --memory plus a stated constant: the resident size of the same command on
 # a 40 x 40 DEM on the same host device (the program, its libraries and
-# their buffers). Bad sizes
-# and products that cannot band are refused in one line.
+# their buffers). Horizons (with distances and casting heights), shadows and
+# insolation band too, with the same results. Bad sizes and products that
+# cannot band are refused in one line.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
@@ -76,10 +77,83 @@ tap_ok $? "banded -projwin window == the whole-grid output's window ($size, wors
 rc=$?
 [ "$rc" -eq 6 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]
 tap_ok $? "--memory too small for one band: exit $rc, $(head -c 120 "$work/err")"
-"$SKYSWEEP" horizon --directions 4 --memory 64M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
+# Worst absolute difference between band $3 of two rasters (nodata in one
+# but not the other counts as a difference of about 1e4).
+worst_band() {
+    gdal_translate -q -b "$3" -of AAIGrid "$1" "$work/a.asc"
+    gdal_translate -q -b "$3" -of AAIGrid "$2" "$work/b.asc"
+    paste -d '\n' <(tail -n +7 "$work/a.asc") <(tail -n +7 "$work/b.asc") | awk '
+        NR % 2 == 1 { n = split($0, a, " "); next }
+        { split($0, b, " "); for (i = 1; i <= n; i++) { d = a[i] - b[i]; if (d < 0) d = -d; if (d > w) w = d } }
+        END { printf "%.3g", w }'
+}
+# Worst over bands 1..$3 of two rasters.
+worst_bands() {
+    local w=0 b
+    for b in $(seq 1 "$3"); do
+        w=$(awk -v a="$w" -v b="$(worst_band "$1" "$2" "$b")" 'BEGIN { print (b > a ? b : a) }')
+    done
+    echo "$w"
+}
+
+# Horizons, with distances and casting heights, in bands: the same files.
+"$SKYSWEEP" horizon --directions 4 --memory 64M --distance "$work/hd_b.tif" \
+    --cast-height "$work/hc_b.tif" "$work/dem.tif" "$work/h_b.tif" >"$work/hb.out"
+rc=$?
+used=$(peak "$work/hb.out")
+grep -q '^bands ' "$work/hb.out"
+tap_ok $? "horizon with distances and casting heights is swept in bands under --memory 64M (exit $rc): $(grep '^bands ' "$work/hb.out" | cut -c1-80)"
+if "$SKYSWEEP" info | grep -q 'sanitizers yes'; then
+    tap_skip "horizon's peak resident memory within the bound" "AddressSanitizer inflates it"
+else
+    [ -n "$base" ] && [ -n "$used" ] && [ "$used" -le $((base + 64)) ]
+    tap_ok $? "horizon: peak resident ${used:-?} MiB <= ${base:-?} MiB + 64 MiB"
+fi
+"$SKYSWEEP" horizon --directions 4 --device reference -q --distance "$work/hd_w.tif" \
+    --cast-height "$work/hc_w.tif" "$work/dem.tif" "$work/h_w.tif"
+wa=$(worst_bands "$work/h_w.tif" "$work/h_b.tif" 4)
+wd=$(worst_bands "$work/hd_w.tif" "$work/hd_b.tif" 4)
+wc=$(worst_bands "$work/hc_w.tif" "$work/hc_b.tif" 4)
+awk -v a="$wa" -v d="$wd" -v c="$wc" 'BEGIN { exit !(a <= 1e-4 && d <= 1e-2 && c <= 1e-2) }'
+tap_ok $? "banded horizon == whole grid in 4 azimuths: angles worst $wa deg, distances $wd m, casting heights $wc m"
+
+# Shadows in bands, for a given sun and for an instant with a sun per cell.
+for sun in "--sun-azimuth 120 --sun-elevation 9" "--time 2026-12-21T16:30:00-10:00 --sun-per-cell on"; do
+    # shellcheck disable=SC2086
+    "$SKYSWEEP" shadow $sun --memory 64M "$work/dem.tif" "$work/s_b.tif" >"$work/sb.out"
+    rc=$?
+    # shellcheck disable=SC2086
+    "$SKYSWEEP" shadow $sun --device reference -q "$work/dem.tif" "$work/s_w.tif"
+    w=$(worst_bands "$work/s_w.tif" "$work/s_b.tif" 3)
+    lit=$(sed -n 's/^shadow  \([0-9.]*\) %.*/\1/p' "$work/sb.out")
+    grep -q '^bands ' "$work/sb.out" && awk -v w="$w" -v l="$lit" 'BEGIN { exit !(w <= 1e-6 && l > 1 && l < 99) }'
+    tap_ok $? "banded shadow ($sun) == whole grid in all 3 bands (worst $w; $lit % sunlit; exit $rc)"
+done
+
+# Insolation in bands (a sun per cell, five steps): the same totals and steps.
+sun="--time 2026-12-21T07:00-10:00/PT10H --step PT2H --sun-per-cell on"
+# shellcheck disable=SC2086
+"$SKYSWEEP" insolation $sun --memory 96M --steps "$work/is_b.tif" "$work/dem.tif" \
+    "$work/i_b.tif" >"$work/ib.out"
+rc=$?
+# shellcheck disable=SC2086
+"$SKYSWEEP" insolation $sun --device reference -q --steps "$work/is_w.tif" "$work/dem.tif" \
+    "$work/i_w.tif"
+wg=$(worst_band "$work/i_w.tif" "$work/i_b.tif" 1)
+wh=$(worst_band "$work/i_w.tif" "$work/i_b.tif" 5)
+ws=$(worst_bands "$work/is_w.tif" "$work/is_b.tif" 2)
+grep -q '^bands ' "$work/ib.out" && awk -v g="$wg" -v h="$wh" -v s="$ws" 'BEGIN { exit !(g <= 0.01 && h <= 1e-6 && s <= 0.01) }'
+tap_ok $? "banded insolation == whole grid: global worst $wg Wh/m2, sun hours $wh h, steps $ws Wh/m2 (exit $rc): $(grep '^bands ' "$work/ib.out" | cut -c1-60)"
+# shellcheck disable=SC2086
+"$SKYSWEEP" insolation $sun -q --shadow interpolated --memory 96M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]
+tap_ok $? "interpolated shadows cannot band: exit $rc, $(head -c 120 "$work/err")"
+"$SKYSWEEP" hillshade --memory 64M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
 rc=$?
 [ "$rc" -eq 6 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]
-tap_ok $? "horizon cannot band: exit $rc, $(head -c 120 "$work/err")"
+tap_ok $? "hillshade cannot band: exit $rc, $(head -c 120 "$work/err")"
+
 "$SKYSWEEP" svf --memory lots "$work/tiny.tif" "$work/x.tif" 2>"$work/err"
 rc=$?
 [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ]

@@ -253,6 +253,24 @@ static void mark_uncovered(const ss_dem_source *src, const ss_dem *dem, int row0
     free(covered);
 }
 
+/* Sets the origin from the first plausible height in rows before row0,
+ * as a read of the whole grid from its first row would: the heights then
+ * round the same whatever order bands read them in. */
+static ss_status find_origin(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0)
+{
+    float *row = malloc(sizeof(float) * (size_t)dem->grid.width);
+    if (!row)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
+    size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
+    ss_status st = SS_OK;
+    for (int r = 0; r < row0 && !src->have_origin && st == SS_OK; ++r)
+        st = ss_dem_source_read(ctx, src, dem, r, 1, row);
+    dem->nodata_cells = nodata;
+    dem->rejected_cells = rejected;
+    free(row);
+    return st;
+}
+
 ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0, int n_rows,
                              float *z)
 {
@@ -260,6 +278,11 @@ ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int r
     if (row0 < 0 || n_rows < 0 || row0 + n_rows > g->height)
         return ss_fail(ctx, SS_ERR_INTERNAL, "rows %d..%d are outside '%s'", row0,
                        row0 + n_rows - 1, src->what);
+    if (!src->have_origin && row0 > 0) {
+        ss_status st = find_origin(ctx, src, dem, row0);
+        if (st != SS_OK)
+            return st;
+    }
     const int rows_per_chunk = 256;
     double *buf = malloc(sizeof(double) * (size_t)g->width * rows_per_chunk);
     if (!buf)
@@ -421,7 +444,8 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
     if (phys > 0 && bytes_needed > 0.8 * phys)
         st = ss_fail(ctx, SS_ERR_MEMORY,
                      "'%s' has %d x %d cells: sweeping it whole needs about %.1f GB, more than "
-                     "this machine's %.1f GB (svf and openness can sweep it in bands: --memory)",
+                     "this machine's %.1f GB (svf, openness, horizon and shadow sweep it in "
+                     "bands: --memory)",
                      paths[0], w, h, bytes_needed / 1e9, phys / 1e9);
     else if ((st = ss_grid_alloc(ctx, &dem->grid, w, h, cx, cy)) == SS_ERR_ARGUMENT)
         st = SS_ERR_INPUT; /* a size no sweep handles is the input's fault (exit 3) */

@@ -51,8 +51,24 @@ static double between(int x, int a, int b)
     return b > a ? (double)(x - a) / (b - a) : 0.0;
 }
 
-ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
+/* Keeps the lattice rows that rows [row_lo, row_hi) lie between (at least
+ * two): moves them to the front of rows[]; returns how many. */
+static int lattice_rows_for(int *rows, int nr, int row_lo, int row_hi)
+{
+    int j_lo = 0, j_hi = nr - 1;
+    while (j_lo + 1 < nr && rows[j_lo + 1] <= row_lo)
+        ++j_lo;
+    while (j_hi - 1 >= 0 && rows[j_hi - 1] >= row_hi - 1)
+        --j_hi;
+    if (j_hi == j_lo)
+        j_hi < nr - 1 ? ++j_hi : --j_lo;
+    memmove(rows, rows + j_lo, sizeof(int) * (size_t)(j_hi - j_lo + 1));
+    return j_hi - j_lo + 1;
+}
+
+ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
                                double unix_s, const ss_spa_params *params, int per_cell,
+                               int row_lo, int row_hi, ss_rows_read read, void *user,
                                ss_sun_field *field)
 {
     memset(field, 0, sizeof *field);
@@ -65,6 +81,7 @@ ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
                        "the sun as --sun-azimuth and --sun-elevation");
     ss_spa_params p = *params;
     p.elevation_m = g->z_origin_m;
+    field->params = p;
     ss_status st = ss_spa(ctx, unix_s, frame->centre_lat_deg, frame->centre_lon_deg, &p,
                           &field->centre);
     if (st != SS_OK)
@@ -75,26 +92,29 @@ ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
 
     int step_c = (int)fmax(1.0, floor(SS_SUN_LATTICE_M / g->cell_x_m));
     int step_r = (int)fmax(1.0, floor(SS_SUN_LATTICE_M / g->cell_y_m));
-    int *cols = malloc(sizeof(int) * (g->width / step_c + 3));
-    int *rows = malloc(sizeof(int) * (g->height / step_r + 3));
-    int nc = cols ? lattice_nodes(g->width, step_c, cols) : 0;
+    int *cols = field->lattice_cols = malloc(sizeof(int) * (g->width / step_c + 3));
+    int *rows = field->lattice_rows = malloc(sizeof(int) * (g->height / step_r + 3));
+    int nc = field->n_lattice_cols = cols ? lattice_nodes(g->width, step_c, cols) : 0;
     int nr = rows ? lattice_nodes(g->height, step_r, rows) : 0;
-    double *node_az = malloc(sizeof(double) * (size_t)nc * nr);
-    double *node_e0 = malloc(sizeof(double) * (size_t)nc * nr);
-    size_t n = (size_t)g->width * g->height;
-    field->grid_azimuth_deg = malloc(sizeof(float) * n);
-    field->elevation_deg = malloc(sizeof(float) * n);
-    field->apparent_elevation_deg = malloc(sizeof(float) * n);
-    if (!cols || !rows || !node_az || !node_e0 || !field->grid_azimuth_deg ||
-        !field->elevation_deg || !field->apparent_elevation_deg)
+    if (nr > 1)
+        nr = lattice_rows_for(rows, nr, row_lo, row_hi);
+    field->n_lattice_rows = nr;
+    double *node_az = field->node_azimuth_deg = malloc(sizeof(double) * (size_t)nc * nr);
+    double *node_e0 = field->node_elevation_deg = malloc(sizeof(double) * (size_t)nc * nr);
+    float *row_z = read ? malloc(sizeof(float) * (size_t)g->width) : NULL;
+    if (!cols || !rows || !node_az || !node_e0 || (read && !row_z))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
     /* Exact positions at the lattice nodes: the centre's geocentric sun
      * direction seen from each node, parallax included. */
-    for (int j = 0; j < nr && st == SS_OK; ++j)
+    for (int j = 0; j < nr && st == SS_OK; ++j) {
+        const float *z = g->z + (read ? 0 : (size_t)rows[j] * g->width);
+        if (read && (st = read(user, rows[j], 1, row_z)) != SS_OK)
+            break;
+        if (read)
+            z = row_z;
         for (int i = 0; i < nc && st == SS_OK; ++i) {
             double lon, lat, north, az, e0;
-            size_t cell = (size_t)rows[j] * g->width + cols[i];
-            double h = isfinite(g->z[cell]) ? g->z[cell] + g->z_origin_m : g->z_origin_m;
+            double h = isfinite(z[cols[i]]) ? z[cols[i]] + g->z_origin_m : g->z_origin_m;
             st = ss_geo_lonlat(frame->geo, cols[i], rows[j], &lon, &lat);
             if (st == SS_OK)
                 st = ss_geo_grid_north(frame->geo, cols[i], rows[j], &north);
@@ -114,33 +134,78 @@ ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
             double spread = sqrt(d_e * d_e + d_a * d_a);
             field->spread_deg = spread > field->spread_deg ? spread : field->spread_deg;
         }
-    /* Bilinear between nodes; refraction per cell, since it bends sharply
-     * near the horizon. */
-    for (int j = 0; j + 1 < nr && st == SS_OK; ++j)
-        for (int r = rows[j]; r <= rows[j + 1]; ++r) {
-            double ty = between(r, rows[j], rows[j + 1]);
-            for (int i = 0; i + 1 < nc; ++i)
-                for (int c = cols[i]; c <= cols[i + 1]; ++c) {
-                    double tx = between(c, cols[i], cols[i + 1]);
-                    size_t a = (size_t)j * nc + i, b = a + 1, d = a + nc, e = d + 1;
-                    double az = (1 - ty) * ((1 - tx) * node_az[a] + tx * node_az[b]) +
-                                ty * ((1 - tx) * node_az[d] + tx * node_az[e]);
-                    double e0 = (1 - ty) * ((1 - tx) * node_e0[a] + tx * node_e0[b]) +
-                                ty * ((1 - tx) * node_e0[d] + tx * node_e0[e]);
-                    size_t cell = (size_t)r * g->width + c;
-                    field->grid_azimuth_deg[cell] = (float)az;
-                    field->elevation_deg[cell] = (float)e0;
-                    field->apparent_elevation_deg[cell] =
-                        (float)(e0 + ss_spa_refraction_deg(e0, p.pressure_hpa, p.temperature_c,
-                                                           p.atmos_refract_deg));
-                }
-        }
-    free(cols);
-    free(rows);
-    free(node_az);
-    free(node_e0);
+    }
+    free(row_z);
     if (st != SS_OK)
         ss_sun_field_free(field);
+    return st;
+}
+
+ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_rows)
+{
+    if (!field->node_azimuth_deg)
+        return SS_OK;
+    const int *lattice = field->lattice_rows;
+    int last = field->n_lattice_rows - 1;
+    if (row0 < 0 || n_rows < 1 || row0 + n_rows > field->height || row0 < lattice[0] ||
+        row0 + n_rows - 1 > lattice[last])
+        return ss_fail(ctx, SS_ERR_INTERNAL,
+                       "sun positions asked for rows %d..%d, outside the lattice's %d..%d", row0,
+                       row0 + n_rows - 1, lattice[0], lattice[last]);
+    size_t n = (size_t)field->width * (size_t)n_rows;
+    if (n_rows > field->rows || !field->grid_azimuth_deg) {
+        free(field->grid_azimuth_deg);
+        free(field->elevation_deg);
+        free(field->apparent_elevation_deg);
+        field->grid_azimuth_deg = malloc(sizeof(float) * n);
+        field->elevation_deg = malloc(sizeof(float) * n);
+        field->apparent_elevation_deg = malloc(sizeof(float) * n);
+        if (!field->grid_azimuth_deg || !field->elevation_deg ||
+            !field->apparent_elevation_deg) {
+            ss_sun_field_free(field);
+            return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+        }
+    }
+    field->row0 = row0;
+    field->rows = n_rows;
+    const int *rows = field->lattice_rows, *cols = field->lattice_cols;
+    int nc = field->n_lattice_cols, nr = field->n_lattice_rows;
+    const double *node_az = field->node_azimuth_deg, *node_e0 = field->node_elevation_deg;
+    const ss_spa_params *p = &field->params;
+    /* Bilinear between nodes; refraction per cell, since it bends sharply
+     * near the horizon. */
+    for (int r = row0; r < row0 + n_rows; ++r) {
+        int j = 0;
+        while (j + 2 < nr && rows[j + 1] < r)
+            ++j;
+        double ty = between(r, rows[j], rows[j + 1]);
+        for (int i = 0; i + 1 < nc; ++i)
+            for (int c = cols[i]; c <= cols[i + 1]; ++c) {
+                double tx = between(c, cols[i], cols[i + 1]);
+                size_t a = (size_t)j * nc + i, b = a + 1, d = a + nc, e = d + 1;
+                double az = (1 - ty) * ((1 - tx) * node_az[a] + tx * node_az[b]) +
+                            ty * ((1 - tx) * node_az[d] + tx * node_az[e]);
+                double e0 = (1 - ty) * ((1 - tx) * node_e0[a] + tx * node_e0[b]) +
+                            ty * ((1 - tx) * node_e0[d] + tx * node_e0[e]);
+                size_t cell = (size_t)(r - row0) * field->width + c;
+                field->grid_azimuth_deg[cell] = (float)az;
+                field->elevation_deg[cell] = (float)e0;
+                field->apparent_elevation_deg[cell] =
+                    (float)(e0 + ss_spa_refraction_deg(e0, p->pressure_hpa, p->temperature_c,
+                                                       p->atmos_refract_deg));
+            }
+    }
+    return SS_OK;
+}
+
+ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
+                               double unix_s, const ss_spa_params *params, int per_cell,
+                               ss_sun_field *field)
+{
+    ss_status st = ss_sun_field_lattice(ctx, dem, frame, unix_s, params, per_cell, 0,
+                                        dem->grid.height, NULL, NULL, field);
+    if (st == SS_OK && per_cell)
+        st = ss_sun_field_rows(ctx, field, 0, dem->grid.height);
     return st;
 }
 
@@ -150,4 +215,10 @@ void ss_sun_field_free(ss_sun_field *field)
     free(field->elevation_deg);
     free(field->apparent_elevation_deg);
     field->grid_azimuth_deg = field->elevation_deg = field->apparent_elevation_deg = NULL;
+    free(field->lattice_cols);
+    free(field->lattice_rows);
+    free(field->node_azimuth_deg);
+    free(field->node_elevation_deg);
+    field->lattice_cols = field->lattice_rows = NULL;
+    field->node_azimuth_deg = field->node_elevation_deg = NULL;
 }

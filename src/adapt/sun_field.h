@@ -15,23 +15,48 @@ typedef struct {
     int width, height;
     ss_spa_result centre;       /* full SPA at the grid's centre */
     double centre_grid_azimuth_deg; /* the sun's azimuth in the grid frame at the centre */
-    /* Per cell, or NULL when one sun serves the whole grid: */
+    /* Per cell of rows [row0, row0 + rows), or NULL when one sun serves the
+     * whole grid (cell indices count from the first of those rows): */
+    int row0, rows;
     float *grid_azimuth_deg;     /* clockwise from the grid's north */
     float *elevation_deg;        /* true (airless) */
     float *apparent_elevation_deg;
     double spread_deg;          /* largest angle between a cell's sun and the centre's */
+    /* The lattice that per-cell positions are interpolated from (NULL when
+     * one sun serves the grid). */
+    int *lattice_cols, *lattice_rows, n_lattice_cols, n_lattice_rows;
+    double *node_azimuth_deg, *node_elevation_deg;
+    ss_spa_params params;
 } ss_sun_field;
 
-/* per_cell 0 fills only the centre (one sun for the scene). A DEM without a
- * CRS has no place on Earth: it needs an explicit sun (ss_sun_field_fixed). */
+/* per_cell 0 fills only the centre (one sun for the scene); else every
+ * cell. A DEM without a CRS has no place on Earth: it needs an explicit
+ * sun (ss_sun_field_fixed). */
 ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
                                double unix_s, const ss_spa_params *params, int per_cell,
                                ss_sun_field *field);
+/* The same without filling cells, for a DEM read in bands: only the
+ * lattice rows that rows [row_lo, row_hi) lie between, their heights from
+ * read (NULL: from dem->grid.z); ss_sun_field_rows then fills rows in that
+ * range. spread_deg covers those lattice rows only. */
+ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
+                               double unix_s, const ss_spa_params *params, int per_cell,
+                               int row_lo, int row_hi, ss_rows_read read, void *user,
+                               ss_sun_field *field);
+/* Per-cell positions for rows [row0, row0 + rows) only (nothing to do for
+ * one sun). */
+ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int rows);
 /* A sun given by its azimuth (true, or grid for a DEM without a CRS) and
  * apparent elevation, the same for every cell. */
 void ss_sun_field_fixed(const ss_dem_frame *frame, int width, int height, double azimuth_deg,
                         double apparent_elevation_deg, ss_sun_field *field);
 void ss_sun_field_free(ss_sun_field *field);
+
+/* Whether the cells have suns of their own (else one sun serves the grid). */
+static inline int ss_sun_field_per_cell(const ss_sun_field *f)
+{
+    return f->node_azimuth_deg != NULL;
+}
 
 /* The sun at cell c: grid azimuth and apparent elevation, degrees. */
 static inline void ss_sun_field_at(const ss_sun_field *f, size_t c, double *grid_azimuth_deg,

@@ -1,9 +1,10 @@
-/* ss-scale: the banded sweep (ss_sky_banded) on a synthetic fractal DEM of
- * any size, generated band by band as it is read, so that nothing but the
- * bands is ever held: the figures of doc/scale.md. Links only the core.
+/* ss-scale: the banded sweep (ss_sky_banded, or ss_horizon_banded with
+ * --horizon) on a synthetic fractal DEM of any size, generated band by band
+ * as it is read, so that nothing but the bands is ever held: the figures of
+ * doc/scale.md. Links only the core.
  *
  *   ss-scale --size N [--directions D] [--band-rows R | --memory MIB]
- *            [--whole] [--cell METRES] [--device SPEC]
+ *            [--whole] [--horizon] [--cell METRES] [--device SPEC]
  *
  * Prints wall time, cell-directions per second, peak resident memory, and
  * the hulls handed on between bands; --whole runs the whole-grid sweep on
@@ -33,13 +34,14 @@ typedef struct {
     int band_rows;
     double memory_mib;
     int whole;
+    int horizon; /* horizon angles (one grid per direction) instead of SVF */
     double cell_m;
     const char *device;
 } scale_args;
 
 static int parse(int argc, char **argv, scale_args *a)
 {
-    *a = (scale_args){0, 16, 0, 0, 0, 30.0, NULL};
+    *a = (scale_args){0, 16, 0, 0, 0, 0, 30.0, NULL};
     for (int i = 1; i < argc; ++i) {
         const char *o = argv[i];
         int more = argc - i - 1;
@@ -57,6 +59,8 @@ static int parse(int argc, char **argv, scale_args *a)
             a->device = argv[++i];
         else if (!strcmp(o, "--whole"))
             a->whole = 1;
+        else if (!strcmp(o, "--horizon"))
+            a->horizon = 1;
         else {
             fprintf(stderr, "ss-scale: bad argument '%s' (see the comment in ss_scale.c)\n", o);
             return -1;
@@ -125,6 +129,23 @@ static ss_status write_rows(void *user, int row0, int n_rows, const float *value
     return SS_OK;
 }
 
+/* Horizons: the mean angle (degrees) over cells and directions. */
+static ss_status write_horizon_rows(void *user, int direction, int row0, int n_rows,
+                                    const float *angle_deg, const float *dist_m,
+                                    const float *cast_height_m)
+{
+    (void)direction, (void)dist_m, (void)cast_height_m;
+    return write_rows(user, row0, n_rows, angle_deg);
+}
+
+static int horizon_sink(int index, double azimuth_deg, const float *angle_deg,
+                        const float *dist_m, const float *cast_height_m, void *user)
+{
+    (void)index, (void)azimuth_deg, (void)dist_m, (void)cast_height_m;
+    scale_io *s = user;
+    return write_rows(user, 0, s->width /* a square grid */, angle_deg) == SS_OK;
+}
+
 int main(int argc, char **argv)
 {
     scale_args a;
@@ -147,8 +168,12 @@ int main(int argc, char **argv)
         float *out = st == SS_OK ? malloc(sizeof(float) * (size_t)n * n) : NULL;
         if (st == SS_OK && out) {
             read_rows(&s, 0, n, g.z);
-            st = ss_svf(ctx, &g, &opt, SS_SVF_DEF_GEOMETRIC, out);
-            write_rows(&s, 0, n, out);
+            if (a.horizon) {
+                st = ss_horizon(ctx, &g, &opt, 0, horizon_sink, &s);
+            } else {
+                st = ss_svf(ctx, &g, &opt, SS_SVF_DEF_GEOMETRIC, out);
+                write_rows(&s, 0, n, out);
+            }
         }
         free(out);
         if (st == SS_OK)
@@ -157,7 +182,10 @@ int main(int argc, char **argv)
         if (band_rows < 1) {
             /* The CLI's rule for --memory (default 256 MiB). */
             double budget = (a.memory_mib > 0 ? a.memory_mib : 256) * 1048576.0;
-            band_rows = ss_band_rows_for(n, n, a.directions, budget);
+            band_rows = a.horizon ? ss_band_rows_within(n, n, a.directions, budget,
+                                                        ss_horizon_band_cell_bytes(0),
+                                                        ss_horizon_column_bytes())
+                                  : ss_band_rows_for(n, n, a.directions, budget);
             if (band_rows == 0)
                 band_rows = n;
             if (band_rows < 0) {
@@ -167,7 +195,10 @@ int main(int argc, char **argv)
         }
         ss_band_io io = {n, n, a.cell_m, a.cell_m, band_rows, read_rows, write_rows, &s,
                          0, 1, 0, &stats};
-        st = ss_sky_banded(ctx, &io, &opt, SS_SKY_SVF_GEOMETRIC);
+        ss_horizon_band_io hio = {n, n, a.cell_m, a.cell_m, band_rows, read_rows,
+                                  write_horizon_rows, &s, 0, NULL, -90.0f, &stats, NULL};
+        st = a.horizon ? ss_horizon_banded(ctx, &hio, &opt, 0)
+                       : ss_sky_banded(ctx, &io, &opt, SS_SKY_SVF_GEOMETRIC);
     }
     double wall = seconds_now() - t0;
     if (st != SS_OK) {
@@ -177,12 +208,14 @@ int main(int argc, char **argv)
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     double cd = (double)n * n * a.directions;
-    printf("grid      %d x %d (%.0f MiB of float heights), %d directions, %s\n", n, n,
-           (double)n * n * 4 / 1048576.0, a.directions,
-           a.whole ? "whole grid" : "banded");
+    printf("grid      %d x %d (%.0f MiB of float heights), %d directions, %s %s\n", n, n,
+           (double)n * n * 4 / 1048576.0, a.directions, a.whole ? "whole grid" : "banded",
+           a.horizon ? "horizon" : "SVF");
     if (!a.whole)
         printf("bands     %d rows (%.1f MiB of band buffers)\n", band_rows,
-               ss_band_bytes(n, band_rows) / 1048576.0);
+               (a.horizon ? ss_horizon_band_cell_bytes(0) * (band_rows + 4.0) * n
+                          : (double)ss_band_bytes(n, band_rows)) /
+                   1048576.0);
     printf("device    %s\n", ss_ctx_device_name(ctx));
     printf("time      %.2f s wall, %.1f M cell-directions/s (DEM generated on the fly)\n", wall,
            cd / wall / 1e6);
@@ -191,8 +224,12 @@ int main(int argc, char **argv)
         printf("hulls     %zu handed on, mean %.1f points, max %zu\n", stats.handoffs,
                stats.handoffs ? (double)stats.hull_points_handed_on / stats.handoffs : 0.0,
                stats.max_hull_points);
-    printf("check     mean SVF %.6f over %zu rows\n", s.checksum / ((double)n * n),
-           s.rows_written);
+    if (a.horizon)
+        printf("check     mean horizon %.6f deg over %zu rows of all directions\n",
+               s.checksum / ((double)n * n * a.directions), s.rows_written);
+    else
+        printf("check     mean SVF %.6f over %zu rows\n", s.checksum / ((double)n * n),
+               s.rows_written);
     ss_ctx_free(ctx);
     return 0;
 }

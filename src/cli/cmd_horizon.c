@@ -1,11 +1,14 @@
 /* skysweep horizon: one band per azimuth with the horizon elevation angle,
  * optionally files with the distance to the horizon-casting point and its
  * ground height. Bands are written as their directions finish, so memory
- * stays one grid per file. */
+ * stays one grid per file; a DEM whose sweep does not fit in --memory is
+ * swept in bands of rows (ss_horizon_banded), each direction's rows
+ * written as each band finishes them. */
 #include "config.h"
 
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"
@@ -45,20 +48,77 @@ static const opt_spec horizon_options[] = {
 typedef struct {
     ss_raster_writer *angle, *dist, *cast;
     ss_status status;
+    sweep_job *job;      /* banded runs: the DEM's rows and origin */
+    float *cast_scratch; /* banded runs: a band of casting heights with the origin added */
 } horizon_sink_state;
+
 
 static int store_direction(int index, double azimuth_deg, const float *angle_deg,
                            const float *dist_m, const float *cast_height_m, void *user)
 {
+    (void)azimuth_deg;
     horizon_sink_state *hs = user;
-    char desc[64];
-    snprintf(desc, sizeof desc, "azimuth %.10g", azimuth_deg);
-    hs->status = ss_writer_band(hs->angle, index + 1, angle_deg, desc, "deg");
+    int height = hs->job->dem.grid.height;
+    hs->status = ss_writer_rows(hs->angle, index + 1, 0, height, angle_deg);
     if (hs->status == SS_OK && hs->dist)
-        hs->status = ss_writer_band(hs->dist, index + 1, dist_m, desc, "m");
+        hs->status = ss_writer_rows(hs->dist, index + 1, 0, height, dist_m);
     if (hs->status == SS_OK && hs->cast)
-        hs->status = ss_writer_band(hs->cast, index + 1, cast_height_m, desc, "m");
+        hs->status = ss_writer_rows(hs->cast, index + 1, 0, height, cast_height_m);
     return hs->status == SS_OK;
+}
+
+static ss_status read_band_rows(void *user, int row0, int n_rows, float *z)
+{
+    horizon_sink_state *hs = user;
+    return job_read_rows(hs->job, row0, n_rows, z);
+}
+
+static ss_status store_band_rows(void *user, int direction, int row0, int n_rows,
+                                 const float *angle_deg, const float *dist_m,
+                                 const float *cast_height_m)
+{
+    horizon_sink_state *hs = user;
+    ss_status st = ss_writer_rows(hs->angle, direction + 1, row0, n_rows, angle_deg);
+    if (st == SS_OK && hs->dist)
+        st = ss_writer_rows(hs->dist, direction + 1, row0, n_rows, dist_m);
+    if (st == SS_OK && hs->cast) {
+        /* The band's heights are relative to the DEM's origin, as read. */
+        size_t n = (size_t)n_rows * (size_t)hs->job->dem.grid.width;
+        for (size_t c = 0; c < n; ++c)
+            hs->cast_scratch[c] = cast_height_m[c] == SS_NODATA
+                                      ? SS_NODATA
+                                      : (float)(hs->job->dem.grid.z_origin_m + cast_height_m[c]);
+        st = ss_writer_rows(hs->cast, direction + 1, row0, n_rows, hs->cast_scratch);
+    }
+    return st;
+}
+
+/* Every direction's horizon, on the whole grid or band by band. */
+static ss_status sweep(horizon_sink_state *hs, int want, ss_band_stats *bands)
+{
+    sweep_job *job = hs->job;
+    const ss_grid *g = &job->dem.grid;
+    ss_raster_writer *writers[] = {hs->angle, hs->dist, hs->cast};
+    for (int i = 0; i < job->opt.directions; ++i) {
+        char desc[64];
+        snprintf(desc, sizeof desc, "azimuth %.10g", ss_direction_azimuth(&job->opt, i));
+        for (int k = 0; k < 3; ++k)
+            if (writers[k])
+                ss_writer_describe(writers[k], i + 1, desc, k == 0 ? "deg" : "m");
+    }
+    if (!job->source) {
+        ss_status st = ss_horizon(job->run.ctx, g, &job->opt, want, store_direction, hs);
+        return hs->status != SS_OK ? hs->status : st;
+    }
+    if (hs->cast && !(hs->cast_scratch = malloc(sizeof(float) * (size_t)job->band_rows *
+                                                (size_t)g->width)))
+        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band");
+    ss_horizon_band_io io = {g->width, g->height, g->cell_x_m, g->cell_y_m, job->band_rows,
+                             read_band_rows, store_band_rows, hs, 0, NULL, -90.0f, bands, NULL};
+    ss_status st = ss_horizon_banded(job->run.ctx, &io, &job->opt, want);
+    free(hs->cast_scratch);
+    hs->cast_scratch = NULL;
+    return st;
 }
 
 /* Opens one more horizon output (distance or casting height); its name
@@ -100,8 +160,11 @@ int cmd_horizon(int argc, char **argv)
          ss_same_output(set.distance_path, set.cast_height_path)))
         return run_usage_error("horizon", "OUTPUT, --distance and --cast-height must name "
                                           "different files");
+    int want = (set.distance_path ? SS_HORIZON_DISTANCE : 0) |
+               (set.cast_height_path ? SS_HORIZON_CAST_HEIGHT : 0);
+    band_cost cost = {ss_horizon_band_cell_bytes(want), ss_horizon_column_bytes(), 0};
     sweep_job job;
-    if ((rc = job_open(&job, "horizon", &set.common, pos, n_pos)))
+    if ((rc = job_open_banded(&job, "horizon", &set.common, pos, n_pos, cost)))
         return rc;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
@@ -117,19 +180,16 @@ int cmd_horizon(int argc, char **argv)
             return bad;
         }
     }
-    horizon_sink_state hs = {NULL, NULL, NULL, SS_OK};
+    horizon_sink_state hs = {NULL, NULL, NULL, SS_OK, &job, NULL};
     ss_status st = ss_writer_open(job.run.ctx, job.output, &job.dem, job.opt.directions,
                                   set.common.format, set.common.creation_options.items, &hs.angle);
     if (st == SS_OK && set.distance_path)
         st = open_extra(&job, &set, set.distance_path, &hs.dist);
     if (st == SS_OK && set.cast_height_path)
         st = open_extra(&job, &set, set.cast_height_path, &hs.cast);
-    if (st == SS_OK) {
-        int want = (hs.dist ? SS_HORIZON_DISTANCE : 0) | (hs.cast ? SS_HORIZON_CAST_HEIGHT : 0);
-        st = ss_horizon(job.run.ctx, &job.dem.grid, &job.opt, want, store_direction, &hs);
-        if (hs.status != SS_OK)
-            st = hs.status;
-    }
+    ss_band_stats bands = {0};
+    if (st == SS_OK)
+        st = sweep(&hs, want, &bands);
     if (st == SS_OK) {
         run_common_metadata(&job.run, hs.angle, &job.opt, &job.frame);
         job_plan_metadata(&job, hs.angle);
@@ -164,7 +224,7 @@ int cmd_horizon(int argc, char **argv)
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);
-        command_print_sweep(&job.run, &job.opt, job.dem.grid.width, job.dem.grid.height);
+        command_print_job_sweep(&job, &bands);
         printf("horizon %d bands (degrees) -> %s%s%s%s%s\n", job.opt.directions, job.output,
                set.distance_path ? ", distances -> " : "",
                set.distance_path ? set.distance_path : "",

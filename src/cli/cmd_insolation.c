@@ -1,7 +1,8 @@
 /* skysweep insolation: clear-sky beam, diffuse, reflected and global
  * irradiation (Wh/m^2) and hours of direct sun over a time range, each
  * step's sun from SPA at the DEM (per cell where it matters), each step
- * evaluated at its middle. */
+ * evaluated at its middle; on the whole grid, or band by band
+ * (ss_insolation_banded) for a DEM whose sweep does not fit in --memory. */
 #include "config.h"
 
 #include <math.h>
@@ -77,7 +78,15 @@ static ss_status parse_linke(ss_ctx *ctx, const char *text, double linke[12])
     return SS_OK;
 }
 
-static ss_status sun_of_step(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
+static ss_status read_rows(void *user, int row0, int n_rows, float *z)
+{
+    return job_read_rows(user, row0, n_rows, z);
+}
+
+/* The sun of step k for rows [row0, row0 + n_rows) of the DEM (all of
+ * them for a DEM in memory); n_rows 0: the centre's sun alone. */
+static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step,
+                                  void *user)
 {
     steps_state *ss = user;
     sweep_job *job = ss->job;
@@ -91,14 +100,22 @@ static ss_status sun_of_step(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
     double mid = 0.5 * (start + end);
     ss_spa_params p;
     run_spa_params(&ss->set->common, &p);
-    /* The plan decided whether the sun is needed per cell. Without it the
-     * run still allows for the spread the planner bounded. */
-    ss_status st = ss_sun_field_compute(ctx, &job->dem, &job->frame, mid, &p,
-                                        job->plan.sun_per_cell, &ss->field);
+    /* The plan decided whether the sun is needed per cell. Without it, or
+     * when only the centre is asked for, the run still allows for the
+     * spread the planner bounded. */
+    int per_cell = job->plan.sun_per_cell && n_rows > 0;
+    ss_status st;
+    if (job->source)
+        st = ss_sun_field_lattice(ctx, &job->dem, &job->frame, mid, &p, per_cell, row0,
+                                  row0 + n_rows, read_rows, job, &ss->field);
+    else
+        st = ss_sun_field_compute(ctx, &job->dem, &job->frame, mid, &p, per_cell, &ss->field);
     if (st != SS_OK)
         return st;
     ss->have_field = 1;
-    if (!job->plan.sun_per_cell)
+    if (job->source && per_cell && (st = ss_sun_field_rows(ctx, &ss->field, row0, n_rows)))
+        return st;
+    if (!per_cell)
         ss->field.spread_deg = ss->sun_spread_deg;
     const ss_sun_field *f = &ss->field;
     ss_civil_time civil;
@@ -119,6 +136,12 @@ static ss_status sun_of_step(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
     return SS_OK;
 }
 
+static ss_status sun_of_step(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
+{
+    steps_state *ss = user;
+    return sun_of_step_rows(ctx, k, 0, ss->job->dem.grid.height, step, user);
+}
+
 typedef struct {
     ss_raster_writer *w;
     steps_state *steps;
@@ -130,6 +153,75 @@ static int store_step(int k, const float *global_wh_m2, void *user)
     step_sink_state *sk = user;
     sk->status = ss_writer_band(sk->w, k + 1, global_wh_m2, sk->steps->labels[k], "Wh/m2");
     return sk->status == SS_OK;
+}
+
+static const char *const band_names[5] = {"global", "beam", "diffuse", "reflected", "sun_hours"};
+
+/* A banded run: its steps' suns, where its rows go, and the global's
+ * statistics. */
+typedef struct {
+    steps_state *steps;
+    ss_raster_writer *w, *steps_w;
+    double lo, hi, sum;
+    size_t count;
+} band_sink;
+
+static ss_status band_read(void *user, int row0, int n_rows, float *z)
+{
+    band_sink *b = user;
+    return job_read_rows(b->steps->job, row0, n_rows, z);
+}
+
+static ss_status band_sun(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step, void *user)
+{
+    band_sink *b = user;
+    return sun_of_step_rows(ctx, k, row0, n_rows, step, b->steps);
+}
+
+static ss_status write_step_rows(void *user, int k, int row0, int n_rows, const float *global)
+{
+    band_sink *b = user;
+    if (row0 == 0)
+        ss_writer_describe(b->steps_w, k + 1, b->steps->labels[k], "Wh/m2");
+    return ss_writer_rows(b->steps_w, k + 1, row0, n_rows, global);
+}
+
+static ss_status write_band_rows(void *user, int row0, int n_rows, const ss_insolation_out *rows)
+{
+    band_sink *b = user;
+    const float *planes[5] = {rows->global, rows->beam, rows->diffuse, rows->reflected,
+                              rows->sun_hours};
+    size_t n = (size_t)n_rows * (size_t)b->steps->job->dem.grid.width;
+    for (size_t c = 0; c < n; ++c)
+        if (rows->global[c] != SS_NODATA) {
+            b->lo = fmin(b->lo, rows->global[c]);
+            b->hi = fmax(b->hi, rows->global[c]);
+            b->sum += rows->global[c];
+            b->count++;
+        }
+    ss_status st = SS_OK;
+    for (int k = 0; k < 5 && st == SS_OK; ++k)
+        st = ss_writer_rows(b->w, k + 1, row0, n_rows, planes[k]);
+    return st;
+}
+
+/* A DEM left in its files: band by band, exact shadows. */
+static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insolation_options *io,
+                                 ss_raster_writer *w, ss_raster_writer *steps_w,
+                                 ss_band_stats *bands, double *lo, double *mean, double *hi)
+{
+    sweep_job *job = steps->job;
+    const ss_grid *g = &job->dem.grid;
+    band_sink b = {steps, w, steps_w, INFINITY, -INFINITY, 0, 0};
+    ss_insolation_band_io bio = {g->width,        g->height,       g->cell_x_m,
+                                 g->cell_y_m,     job->band_rows,  &g->z_origin_m,
+                                 band_read,       band_sun,        write_band_rows,
+                                 steps_w ? write_step_rows : NULL, &b, bands};
+    ss_status st = ss_insolation_banded(job->run.ctx, &bio, &job->opt, io, n_steps);
+    *lo = b.count ? b.lo : NAN;
+    *hi = b.count ? b.hi : NAN;
+    *mean = b.count ? b.sum / (double)b.count : NAN;
+    return st;
 }
 
 int cmd_insolation(int argc, char **argv)
@@ -149,8 +241,12 @@ int cmd_insolation(int argc, char **argv)
         &set.common.device);
     if (rc >= 0)
         return rc;
+    /* Bands hold a horizon's sums and the cells' insolation terms and sums
+     * (more than the radiative SVF's band before them). */
+    band_cost cost = {ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
+                      ss_horizon_column_bytes(), 0};
     sweep_job job;
-    if ((rc = job_open(&job, "insolation", &set.common, pos, n_pos)))
+    if ((rc = job_open_banded(&job, "insolation", &set.common, pos, n_pos, cost)))
         return rc;
     ss_ctx *ctx = job.run.ctx;
     steps_state steps;
@@ -209,7 +305,7 @@ int cmd_insolation(int argc, char **argv)
     size_t n = (size_t)g->width * (size_t)g->height;
     ss_insolation_out out = {0};
     float *bands[5] = {NULL};
-    for (int b = 0; b < 5 && st == SS_OK; ++b)
+    for (int b = 0; b < 5 && st == SS_OK && !job.source; ++b)
         if (!(bands[b] = malloc(n * sizeof(float))))
             st = command_out_of_memory(&job.run);
     out.global = bands[0];
@@ -236,12 +332,17 @@ int cmd_insolation(int argc, char **argv)
     }
     ss_insolation_options io = {set.albedo,
                                 set.shadow_mode ? SS_SHADOW_INTERPOLATED : SS_SHADOW_EXACT};
-    if (st == SS_OK)
+    double lo = NAN, mean = NAN, hi = NAN;
+    ss_band_stats band_stats = {0};
+    if (st == SS_OK && job.source)
+        st = insolate_banded(&steps, n_steps, &io, w, sink.w, &band_stats, &lo, &mean, &hi);
+    else if (st == SS_OK)
         st = ss_insolation(ctx, g, &job.opt, &io, n_steps, sun_of_step, &steps,
                            sink.w ? store_step : NULL, &sink, &out);
+    if (st == SS_OK && !job.source)
+        run_stats(out.global, n, &lo, &mean, &hi);
     if (st == SS_OK && sink.status != SS_OK)
         st = sink.status;
-    static const char *const names[5] = {"global", "beam", "diffuse", "reflected", "sun_hours"};
     char meta[300];
     if (st == SS_OK) {
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
@@ -257,7 +358,10 @@ int cmd_insolation(int argc, char **argv)
                            "radiative sky-view factor; reflected = albedo x global horizontal x "
                            "(1 - sky view)");
         for (int b = 0; b < 5 && st == SS_OK; ++b)
-            st = ss_writer_band(w, b + 1, bands[b], names[b], b == 4 ? "h" : "Wh/m2");
+            if (job.source)
+                ss_writer_describe(w, b + 1, band_names[b], b == 4 ? "h" : "Wh/m2");
+            else
+                st = ss_writer_band(w, b + 1, bands[b], band_names[b], b == 4 ? "h" : "Wh/m2");
     }
     if (st == SS_OK) {
         st = run_commit(&job.run, w);
@@ -274,10 +378,8 @@ int cmd_insolation(int argc, char **argv)
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         ss_counters c = ss_ctx_counters(ctx);
-        double lo, mean, hi;
-        run_stats(out.global, n, &lo, &mean, &hi);
         run_print_dem(&job.run, &job.dem, &job.frame);
-        command_print_sweep(&job.run, &job.opt, g->width, g->height);
+        command_print_job_sweep(&job, &band_stats);
         printf("steps   %d: %llu in daylight, %llu at night skipped, %llu shadow sweeps skipped "
                "(sun above every horizon)\n",
                n_steps, (unsigned long long)c.time_steps,

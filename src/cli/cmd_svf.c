@@ -46,7 +46,9 @@ int cmd_svf(int argc, char **argv)
     if (rc >= 0)
         return rc;
     sweep_job job;
-    if ((rc = job_open_bands(&job, "svf", &set.common, pos, n_pos)))
+    ss_sky_term term = (ss_sky_term)definition_of_choice[set.definition];
+    band_cost cost = {ss_sky_band_cell_bytes(term), 0.0, 0};
+    if ((rc = job_open_banded(&job, "svf", &set.common, pos, n_pos, cost)))
         return rc;
     job.svf_definition = definition_of_choice[set.definition];
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SVF, 0, NULL, SS_SHADOW_EXACT)) >= 0) {

@@ -70,7 +70,8 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
     printf("bands   %d rows of %d cells at a time (%.0f MiB); hulls handed on between bands: "
            "%zu, mean %.1f points, largest %zu\n",
            job->band_rows, job->dem.grid.width,
-           (double)ss_band_bytes(job->dem.grid.width, job->band_rows) / 1048576.0,
+           /* the band's rows and its 4 halo rows */
+           job->band.cell_bytes * (job->band_rows + 4.0) * job->dem.grid.width / 1048576.0,
            bands->handoffs,
            bands->handoffs ? (double)bands->hull_points_handed_on / (double)bands->handoffs : 0.0,
            bands->max_hull_points);

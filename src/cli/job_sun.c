@@ -10,6 +10,11 @@
 #include "run.h"
 #include "sun_field.h"
 
+static ss_status read_rows(void *user, int row0, int n_rows, float *z)
+{
+    return job_read_rows(user, row0, n_rows, z);
+}
+
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field)
 {
     ss_ctx *ctx = job->run.ctx;
@@ -39,7 +44,12 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
         return st;
     ss_spa_params p;
     run_spa_params(common, &p);
-    /* The plan decided whether the sun is needed per cell. */
+    /* The plan decided whether the sun is needed per cell. A DEM left in
+     * its files gets the lattice only; the bands fill their rows. */
+    if (job->source)
+        return ss_sun_field_lattice(ctx, &job->dem, &job->frame, unix_s, &p,
+                                    job->plan.sun_per_cell, 0, job->dem.grid.height, read_rows,
+                                    job, field);
     return ss_sun_field_compute(ctx, &job->dem, &job->frame, unix_s, &p, job->plan.sun_per_cell,
                                 field);
 }

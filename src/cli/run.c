@@ -28,7 +28,8 @@ const opt_spec common_options[] = {
      "the grid's north; auto: true north where they differ by more than "
      "--horizon-tolerance"},
     {"device", OPT_STRING, COMMON(device), "NAME", NULL, 0, 0, NULL,
-     "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin); default $SKYSWEEP_DEVICE, else PoCL's CPU"},
+     "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin); default "
+     "$SKYSWEEP_DEVICE, else PoCL's CPU"},
     {"q", OPT_FLAG, COMMON(quiet), NULL, NULL, 0, 0, NULL, "quiet: no progress, no summary"},
     {"of", OPT_STRING, COMMON(format), "FORMAT", "GTiff", 0, 0, NULL, "GDAL output format"},
     {"co", OPT_LIST, COMMON(creation_options), "KEY=VALUE", NULL, 0, 0, NULL,
@@ -59,8 +60,9 @@ const opt_spec common_options[] = {
      "write the outputs for this window only (the DEM's CRS, as gdal_translate -projwin; "
      "also ULX,ULY,LRX,LRY); horizons still come from the whole DEM"},
     {"memory", OPT_STRING, COMMON(memory), "SIZE", NULL, 0, 0, NULL,
-     "bound on the working set, e.g. 512M or 4G; svf and openness sweep larger DEMs in bands "
-     "of rows (exact, doc/scale.md), other products refuse them (default: half the RAM)"},
+     "bound on the working set, e.g. 512M or 4G; svf, openness, horizon and shadow sweep larger "
+     "DEMs in bands of rows (exact, doc/scale.md), other products refuse them (default: half "
+     "the RAM)"},
     {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
     {"plan-format", OPT_CHOICE, COMMON(plan_json), NULL, "text", 0, 0, "text|json",
@@ -200,11 +202,13 @@ static int parse_size(const char *text, double *bytes)
     return 0;
 }
 
-/* Opens the DEM; reads it whole unless may_band and it does not fit. */
+/* Opens the DEM; reads it whole unless the command can band (cost is not
+ * NULL) and the whole-grid sweep does not fit. */
 static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
-                          const common_settings *common, int may_band, ss_dem *dem,
+                          const common_settings *common, const band_cost *cost, ss_dem *dem,
                           ss_dem_source **source, int *band_rows)
 {
+    int may_band = cost != NULL;
     *source = NULL;
     *band_rows = 0;
     if (common->heightmap)
@@ -223,7 +227,12 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
     if (st != SS_OK)
         return st;
-    int rows = ss_band_rows_for(dem->grid.width, dem->grid.height, common->directions, budget);
+    int rows = may_band ? ss_band_rows_within(dem->grid.width, dem->grid.height,
+                                              cost->directions ? cost->directions
+                                                               : common->directions,
+                                              budget, cost->cell_bytes, cost->column_bytes)
+                        : ss_band_rows_for(dem->grid.width, dem->grid.height,
+                                           common->directions, budget);
     if (rows != 0 && (!may_band || rows < 0)) {
         double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
         if (may_band)
@@ -235,7 +244,8 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
         else
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "'%s' needs about %.0f MiB for a whole-grid sweep, more than "
-                              "%s allows; only svf and openness sweep in bands",
+                              "%s allows; only svf, openness, horizon and shadow sweep in "
+                              "bands",
                               paths[0], need / 1048576.0,
                               common->memory ? "--memory" : "half this machine's memory");
     }
@@ -268,7 +278,7 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
 {
     ss_dem_source *source;
     int band_rows;
-    ss_status st = open_dem(run, paths, n_paths, common, 0, dem, &source, &band_rows);
+    ss_status st = open_dem(run, paths, n_paths, common, NULL, dem, &source, &band_rows);
     if (st == SS_OK) {
         st = ss_dem_frame_open(run->ctx, dem, frame);
         if (st != SS_OK)
@@ -457,7 +467,7 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
 }
 
 static int open_job(sweep_job *job, const char *command, const common_settings *common,
-                    const char **pos, int n_pos, int may_band)
+                    const char **pos, int n_pos, const band_cost *cost)
 {
     memset(job, 0, sizeof *job);
     int rc = run_begin(&job->run, command, common);
@@ -471,7 +481,9 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
         run_end(&job->run);
         return st;
     }
-    st = open_dem(&job->run, pos, job->n_inputs, common, may_band, &job->dem, &job->source,
+    if (cost)
+        job->band = *cost;
+    st = open_dem(&job->run, pos, job->n_inputs, common, cost, &job->dem, &job->source,
                   &job->band_rows);
     if (st == SS_OK) {
         st = ss_dem_frame_open(job->run.ctx, &job->dem, &job->frame);
@@ -515,13 +527,40 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
 int job_open(sweep_job *job, const char *command, const common_settings *common,
              const char **pos, int n_pos)
 {
-    return open_job(job, command, common, pos, n_pos, 0);
+    return open_job(job, command, common, pos, n_pos, NULL);
 }
 
 int job_open_bands(sweep_job *job, const char *command, const common_settings *common,
                    const char **pos, int n_pos)
 {
-    return open_job(job, command, common, pos, n_pos, 1);
+    band_cost sky = {ss_sky_band_cell_bytes(SS_SKY_SVF_GEOMETRIC), 0.0, 0};
+    return open_job(job, command, common, pos, n_pos, &sky);
+}
+
+int job_open_banded(sweep_job *job, const char *command, const common_settings *common,
+                    const char **pos, int n_pos, band_cost cost)
+{
+    return open_job(job, command, common, pos, n_pos, &cost);
+}
+
+ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z)
+{
+    ss_dem *dem = &job->dem;
+    if (!job->rows_counted && !(job->rows_counted = calloc((size_t)dem->grid.height, 1)))
+        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band");
+    size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
+    ss_status st = ss_dem_source_read(job->run.ctx, job->source, dem, row0, n_rows, z);
+    /* Each row's cells without a height are counted once, all as nodata. */
+    dem->nodata_cells = nodata;
+    dem->rejected_cells = rejected;
+    for (int r = 0; st == SS_OK && r < n_rows; ++r) {
+        if (job->rows_counted[row0 + r])
+            continue;
+        job->rows_counted[row0 + r] = 1;
+        for (int c = 0; c < dem->grid.width; ++c)
+            dem->nodata_cells += !isfinite(z[(size_t)r * dem->grid.width + c]);
+    }
+    return st;
 }
 
 int job_finish(sweep_job *job, ss_status st)
@@ -538,5 +577,7 @@ void job_close(sweep_job *job)
         ss_dem_free(&job->dem);
         job->have_dem = 0;
     }
+    free(job->rows_counted);
+    job->rows_counted = NULL;
     run_end(&job->run);
 }

@@ -91,6 +91,14 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
                          const ss_dem_frame *frame);
 ss_status run_commit(run_state *run, ss_raster_writer *w);
 
+/* What a banded sweep holds: bytes per cell of a band (halo rows
+ * included), and per column and direction besides (hulls handed on are
+ * estimated from the directions). */
+typedef struct {
+    double cell_bytes, column_bytes;
+    int directions; /* swept at once; 0: those of --directions */
+} band_cost;
+
 /* A sweeping command's input side: the output named last, the DEM tiles
  * before it, the DEM with its frame, and the sweep options. */
 typedef struct {
@@ -107,6 +115,8 @@ typedef struct {
      * is NULL, and the sweep reads band_rows rows at a time. */
     ss_dem_source *source;
     int band_rows;
+    band_cost band; /* what a band holds, for its size and the summary */
+    unsigned char *rows_counted; /* rows whose nodata cells are counted (bands reread rows) */
     ss_svf_definition svf_definition; /* what the planner chooses directions for (svf) */
 } sweep_job;
 
@@ -115,11 +125,14 @@ typedef struct {
  * code after printing the error (the job is then closed). */
 int job_open(sweep_job *job, const char *command, const common_settings *common,
              const char **pos, int n_pos);
-/* The same for commands that can sweep in bands (svf, openness): when the
+/* The same for commands that can sweep in bands (openness, geometric SVF): when the
  * whole-grid sweep would not fit in --memory (default half the RAM), the
  * DEM is left in its files and job->source and band_rows are set. */
 int job_open_bands(sweep_job *job, const char *command, const common_settings *common,
                    const char **pos, int n_pos);
+/* The same for any banded product, with what its bands hold. */
+int job_open_banded(sweep_job *job, const char *command, const common_settings *common,
+                    const char **pos, int n_pos, band_cost cost);
 /* The sun for the job (job_sun.c): given, or from --time by SPA at the DEM,
  * for one instant; one sun for the DEM or per cell. */
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field);
@@ -131,6 +144,9 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
              const double *step_unix_s, ss_shadow_mode shadow_mode);
 /* The plan as JSON into an output's metadata (PLAN). */
 void job_plan_metadata(sweep_job *job, ss_raster_writer *w);
+/* Reads rows of a banded job's DEM (NaN at nodata), counting each row's
+ * cells without a height once however often the row is read. */
+ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z);
 /* Prints the failure (if st is not SS_OK) and returns the exit code. */
 int job_finish(sweep_job *job, ss_status st);
 void job_close(sweep_job *job);

@@ -15,7 +15,6 @@ typedef struct {
     ss_sky_term term;
     ss_raster_writer *w; /* rank 0's */
     float *rows;         /* a band of sums, to add across processes */
-    unsigned char *counted; /* rows whose nodata cells are counted (rows are read twice) */
     double lo, hi, sum;
     size_t count;
 } band_state;
@@ -23,20 +22,7 @@ typedef struct {
 static ss_status read_rows(void *user, int row0, int n_rows, float *z)
 {
     band_state *b = user;
-    ss_dem *dem = &b->job->dem;
-    size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
-    ss_status st = ss_dem_source_read(b->job->run.ctx, b->job->source, dem, row0, n_rows, z);
-    /* Each row's cells without a height are counted once, all as nodata. */
-    dem->nodata_cells = nodata;
-    dem->rejected_cells = rejected;
-    for (int r = 0; st == SS_OK && r < n_rows; ++r) {
-        if (b->counted[row0 + r])
-            continue;
-        b->counted[row0 + r] = 1;
-        for (int c = 0; c < dem->grid.width; ++c)
-            dem->nodata_cells += !isfinite(z[(size_t)r * dem->grid.width + c]);
-    }
-    return st;
+    return job_read_rows(b->job, row0, n_rows, z);
 }
 
 static ss_status write_rows(void *user, int row0, int n_rows, const float *values)
@@ -70,22 +56,17 @@ static ss_status write_rows(void *user, int row0, int n_rows, const float *value
 static ss_status sky_banded(sweep_job *job, ss_sky_term term, ss_raster_writer *w,
                             ss_band_stats *stats, double *min, double *mean, double *max)
 {
-    band_state b = {job, term, w, NULL, NULL, INFINITY, -INFINITY, 0, 0};
+    band_state b = {job, term, w, NULL, INFINITY, -INFINITY, 0, 0};
     int shared = share_size() > 1;
-    b.counted = calloc((size_t)job->dem.grid.height, 1);
     if (shared)
         b.rows = malloc(sizeof(float) * (size_t)job->band_rows * (size_t)job->dem.grid.width);
-    if (!b.counted || (shared && !b.rows)) {
-        free(b.counted);
-        free(b.rows);
+    if (shared && !b.rows)
         return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band");
-    }
     const ss_grid *g = &job->dem.grid;
     ss_band_io io = {g->width, g->height, g->cell_x_m, g->cell_y_m, job->band_rows,
                      read_rows, write_rows, &b, share_rank(), share_size(), shared, stats};
     ss_status st = ss_sky_banded(job->run.ctx, &io, &job->opt, term);
     free(b.rows);
-    free(b.counted);
     *min = b.count ? b.lo : NAN;
     *max = b.count ? b.hi : NAN;
     *mean = b.count ? b.sum / (double)b.count : NAN;

@@ -25,7 +25,8 @@
  * up pass completes the same rows; then the finished rows go to the
  * caller (or their sums, for processes that share the directions).
  * Memory: three (rows + 4) x width grids (heights, hull stack
- * slots, sums) and the handed-on hulls, whose sizes are counted. */
+ * slots, sums), two more for the radiative SVF's gradients, and the
+ * handed-on hulls, whose sizes are counted. */
 #include "config.h"
 
 #include <math.h>
@@ -36,157 +37,63 @@
 #include "ctx_internal.h"
 #include "lines.h"
 #include "products_internal.h"
-#include "ss_passes.h"
+#include "band_walk.h"
+#include "session.h"
 
-#define HALO 2 /* rows held above and below a band */
-
-typedef struct {
-    ss_hull_point *points; /* the hull handed on, slots 0..count-1 */
-    int count, capacity;
-} carried_hull;
+#define HALO SS_BAND_HALO
 
 typedef struct {
-    ss_line_set ls;         /* whole-grid line set */
-    float sin_az, cos_az;   /* for the radiative term */
-    carried_hull *hulls;    /* one per line */
+    ss_line_set ls;          /* whole-grid line set */
+    float sin_az, cos_az;    /* for the radiative term */
+    ss_carried_hull *hulls;  /* one per line */
 } band_direction;
 
 typedef struct {
-    ss_ctx *ctx;
+    ss_band_grid grid;      /* heights and hull stack slots of the band */
     const ss_band_io *io;
     const ss_sweep_options *opt;
     ss_sky_term sky;
     int term;               /* the kernels' SS_SVF_* or SS_TERM_ELEVATION */
-    int negate;             /* heights read as -z (negative openness) */
     float curv_k;
     int width, band_rows;
-    float *z, *acc;         /* (band_rows + 2 HALO) x width, from the band's row0 - HALO */
-    int *stack;
+    float *acc;             /* sums, (band_rows + 2 HALO) x width like the grid */
+    float *grad;            /* radiative SVF: the band's surface gradients, 2 floats a cell */
     FILE *partial;          /* the down pass's sums, whole rows */
     ss_band_stats stats;
 } band_run;
 
-/* Walk direction of a line set's owner rows: +1 down (growing rows), -1 up. */
-static int pass_of(const ss_line_set *ls)
-{
-    if (ls->major_is_row)
-        return ls->step;
-    return (ls->slope_fx < 0) == (ls->step < 0) || ls->slope_fx == 0 ? 1 : -1;
-}
-
-static int owner_row(const ss_line_set *ls, const ss_walker *w, int s, int pass, int height)
-{
-    ss_line_sample q = ss_walker_sample(ls, w, s);
-    int row = ls->major_is_row ? q.major : (pass > 0 ? q.minor0 : q.minor0 + 1);
-    return row < 0 ? 0 : (row >= height ? height - 1 : row);
-}
-
-/* First step of the walk whose owner row is at or past `row` in the
- * pass's order (owners are monotone along the walk); count if none. */
-static int first_step_past(const ss_line_set *ls, const ss_walker *w, int count, int row,
-                           int pass, int height)
-{
-    int lo = 0, hi = count;
-    while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        int r = owner_row(ls, w, mid, pass, height);
-        if (pass > 0 ? r >= row : r <= row)
-            hi = mid;
-        else
-            lo = mid + 1;
-    }
-    return lo;
-}
-
-static ss_status read_band(band_run *b, int row0, int rows)
-{
-    size_t w = (size_t)b->width, held = (size_t)(rows + 2 * HALO) * w;
-    /* Halo rows outside the grid are nodata, as the grid's edge is. */
-    for (size_t c = 0; c < held; ++c)
-        b->z[c] = NAN;
-    int lo = row0 - HALO > 0 ? row0 - HALO : 0;
-    int hi = row0 + rows + HALO < b->io->height ? row0 + rows + HALO : b->io->height;
-    ss_status st = b->io->read(b->io->user, lo, hi - lo, b->z + (size_t)(lo - (row0 - HALO)) * w);
-    if (st != SS_OK)
-        return ss_ctx_message(b->ctx)[0]
-                   ? st
-                   : ss_fail(b->ctx, st, "could not read DEM rows %d..%d", lo, hi - 1);
-    if (b->negate)
-        for (size_t c = 0; c < held; ++c)
-            b->z[c] = -b->z[c];
-    return SS_OK;
-}
-
-/* Hands line `line`'s hull on after its steps in this band. */
-static ss_status carry_hull(band_run *b, carried_hull *hull, ss_walker *wk, const ss_line_set *ls)
-{
-    /* Exactly the hull's size: the hulls of every line crossing the band's
-     * edge are held at once, and they dominate a banded run's memory. */
-    if (wk->depth > hull->capacity || wk->depth < hull->capacity / 2) {
-        int cap = wk->depth > 0 ? wk->depth : 1;
-        ss_hull_point *p = realloc(hull->points, sizeof *p * (size_t)cap);
-        if (!p)
-            return SS_ERR_MEMORY;
-        hull->points = p;
-        hull->capacity = cap;
-        wk->carried = p; /* the carried slots moved with the array */
-    }
-    for (int k = wk->slot_base; k < wk->depth; ++k)
-        hull->points[k] = ss_walker_slot(wk, ls, b->z, b->stack, k);
-    hull->count = wk->depth;
-    return SS_OK;
-}
-
 /* Walks, for one direction, every line's steps owned by rows [row0, row1). */
 static ss_status walk_band(band_run *b, band_direction *dir, int row0, int row1, int pass)
 {
-    ss_line_set ls = dir->ls;
-    /* Cells of the band's buffers: rows from row0 - HALO. */
-    if (ls.major_is_row)
-        ls.base_major = row0 - HALO;
-    else
-        ls.base_minor = row0 - HALO;
+    ss_line_set ls = ss_band_lines(&dir->ls, row0);
     int flags = ss_walk_flags(&ls, b->curv_k), height = b->io->height;
     int rows_held = row1 - row0 + 2 * HALO;
     float cx = (float)b->io->cell_x_m, cy = (float)b->io->cell_y_m;
     int failed = 0;
-    size_t hull_sum = 0, hull_max = 0, handoffs = 0;
     for (int round = 0; round < 2; ++round) {
         int n = ss_round_lines(&ls, round);
-#pragma omp parallel for schedule(dynamic, 16) reduction(|| : failed) \
-    reduction(+ : hull_sum, handoffs) reduction(max : hull_max)
-        for (int i = 0; i < n; ++i) {
-            int line = ss_round_line(&ls, round, i);
-            carried_hull *hull = &dir->hulls[line];
-            ss_walker wk;
-            int count = ss_walker_begin(&wk, &ls, line);
-            /* Owners in [row0, row1): entered at row0 going down, at row1 - 1 going up. */
-            int s_lo = first_step_past(&ls, &wk, count, pass > 0 ? row0 : row1 - 1, pass, height);
-            int s_hi = first_step_past(&ls, &wk, count, pass > 0 ? row1 : row0 - 1, pass, height);
-            if (s_lo >= s_hi)
-                continue;
-            ss_walker_resume(&wk, &ls, line, s_lo, hull->points, hull->count);
-            /* No gradient grid: a band computes the radiative term's
-             * gradient on the spot and keeps to 12 bytes a cell. */
-            ss_svf_steps(&wk, &ls, s_lo, s_hi, b->term, b->curv_k, dir->sin_az, dir->cos_az, cx,
-                         cy, rows_held, b->z, NULL, b->stack, b->acc, flags);
-            if (s_hi >= count) { /* the line is done: its hull is no longer needed */
-                free(hull->points);
-                *hull = (carried_hull){NULL, 0, 0};
-            } else {
-                if (carry_hull(b, hull, &wk, &ls) != SS_OK)
+#pragma omp parallel reduction(|| : failed)
+        {
+            ss_band_tally tally = {0, 0, 0};
+#pragma omp for schedule(dynamic, 16)
+            for (int i = 0; i < n; ++i) {
+                int line = ss_round_line(&ls, round, i), s_lo, s_hi, count;
+                ss_carried_hull *hull = &dir->hulls[line];
+                ss_walker wk;
+                if (!ss_band_line_begin(&ls, line, hull, row0, row1, pass, height, &wk, &s_lo,
+                                        &s_hi, &count))
+                    continue;
+                ss_svf_steps(&wk, &ls, s_lo, s_hi, b->term, b->curv_k, dir->sin_az,
+                             dir->cos_az, cx, cy, rows_held, b->grid.z, b->grad, b->grid.stack,
+                             b->acc, flags);
+                if (ss_band_line_end(hull, &wk, &ls, &b->grid, s_hi, count, &tally) != 0)
                     failed = 1;
-                hull_sum += (size_t)hull->count;
-                hull_max = (size_t)hull->count > hull_max ? (size_t)hull->count : hull_max;
-                handoffs++;
             }
+#pragma omp critical(band_tally)
+            ss_band_stats_add(&b->stats, &tally);
         }
     }
-    b->stats.hull_points_handed_on += hull_sum;
-    b->stats.handoffs += handoffs;
-    if (hull_max > b->stats.max_hull_points)
-        b->stats.max_hull_points = hull_max;
-    return failed ? ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for the hulls handed on")
+    return failed ? ss_fail(b->grid.ctx, SS_ERR_MEMORY, "out of memory for the hulls handed on")
                   : SS_OK;
 }
 
@@ -194,15 +101,16 @@ static ss_status store_partial(band_run *b, int row0, int rows, int load)
 {
     size_t w = (size_t)b->width, n = (size_t)rows * w;
     if (fseeko(b->partial, (off_t)((size_t)row0 * w * sizeof(float)), SEEK_SET) != 0)
-        return ss_fail(b->ctx, SS_ERR_OUTPUT, "temporary file: cannot seek");
+        return ss_fail(b->grid.ctx, SS_ERR_OUTPUT, "temporary file: cannot seek");
     float *rows_acc = b->acc + HALO * w; /* the band's own rows, after the halo */
     if (!load)
         return fwrite(rows_acc, sizeof(float), n, b->partial) == n
                    ? SS_OK
-                   : ss_fail(b->ctx, SS_ERR_OUTPUT, "temporary file: write failed (disk full?)");
-    float *tmp = (float *)b->stack; /* the stack grid is free by now */
+                   : ss_fail(b->grid.ctx, SS_ERR_OUTPUT,
+                             "temporary file: write failed (disk full?)");
+    float *tmp = (float *)b->grid.stack; /* the stack grid is free by now */
     if (fread(tmp, sizeof(float), n, b->partial) != n)
-        return ss_fail(b->ctx, SS_ERR_OUTPUT, "temporary file: read failed");
+        return ss_fail(b->grid.ctx, SS_ERR_OUTPUT, "temporary file: read failed");
     for (size_t c = 0; c < n; ++c)
         rows_acc[c] += tmp[c];
     return SS_OK;
@@ -220,7 +128,14 @@ static ss_status run_pass(band_run *b, band_direction *dirs, int n_dirs, int pas
         int band = pass > 0 ? k : bands - 1 - k;
         int row0 = band * b->band_rows;
         int row1 = row0 + b->band_rows < h ? row0 + b->band_rows : h, rows = row1 - row0;
-        st = read_band(b, row0, rows);
+        st = ss_band_read(&b->grid, row0, rows);
+        if (st == SS_OK && b->grad) {
+            /* The band's rows as a grid: the same Horn gradients that each
+             * sample would compute on the spot, once per cell. */
+            ss_grid rows_held = {w, rows + 2 * HALO, b->io->cell_x_m, b->io->cell_y_m, 0.0,
+                                 b->grid.z};
+            ss_gradient_grid(&rows_held, b->grad);
+        }
         for (int d = 0; d < n_dirs && st == SS_OK; ++d)
             st = walk_band(b, &dirs[d], row0, row1, pass);
         if (st == SS_OK && pass > 0)
@@ -228,7 +143,7 @@ static ss_status run_pass(band_run *b, band_direction *dirs, int n_dirs, int pas
         if (st == SS_OK && pass < 0) {
             st = store_partial(b, row0, rows, 1);
             float *out = b->acc + HALO * w;
-            const float *z = b->z + HALO * w;
+            const float *z = b->grid.z + HALO * w;
             for (size_t c = 0; st == SS_OK && c < (size_t)rows * w; ++c)
                 out[c] = !SS_ISFINITE(z[c])      ? (b->io->write_sums ? NAN : SS_NODATA)
                          : b->io->write_sums ? out[c]
@@ -240,14 +155,14 @@ static ss_status run_pass(band_run *b, band_direction *dirs, int n_dirs, int pas
          * - 1 going up) is carried into it: its first own row going down,
          * its last going up (bands above the last are full). */
         float *fed = b->acc + (size_t)(pass > 0 ? HALO + rows : HALO - 1) * w;
-        float *keep = (float *)b->stack; /* scratch: the stack grid is rebuilt per band */
+        float *keep = (float *)b->grid.stack; /* scratch: the stack grid is rebuilt per band */
         memcpy(keep, fed, (size_t)w * sizeof(float));
         memset(b->acc, 0, held * sizeof(float));
         float *dest = b->acc + (size_t)(pass > 0 ? HALO : HALO + b->band_rows - 1) * w;
         memcpy(dest, keep, (size_t)w * sizeof(float));
         *progress += progress_per_band;
         if (st == SS_OK)
-            st = ss_progress(b->ctx, *progress, "banded sweep");
+            st = ss_progress(b->grid.ctx, *progress, "banded sweep");
     }
     return st;
 }
@@ -262,21 +177,23 @@ static ss_status banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_option
                        "banded sweep needs a grid of at least 2 x 2 cells with positive cell "
                        "sizes, a reader, a writer and at least one row per band");
     band_run b = {0};
-    b.ctx = ctx;
+    b.grid = (ss_band_grid){ctx, io->read, io->user, io->width, io->height,
+                            io->band_rows < io->height ? io->band_rows : io->height,
+                            term == SS_SKY_OPENNESS_NEGATIVE, NULL, NULL};
     b.io = io;
     b.opt = opt;
     b.sky = term;
     b.term = term <= SS_SKY_SVF_TILTED ? (int)term : SS_TERM_ELEVATION;
-    b.negate = term == SS_SKY_OPENNESS_NEGATIVE;
     b.curv_k = ss_curvature_k(opt);
     b.width = io->width;
-    b.band_rows = io->band_rows < io->height ? io->band_rows : io->height;
-    size_t held = (size_t)(b.band_rows + 2 * HALO) * (size_t)io->width;
-    b.z = malloc(held * sizeof(float));
-    b.acc = malloc(held * sizeof(float));
-    b.stack = malloc(held * sizeof(int));
+    b.band_rows = b.grid.band_rows;
+    st = ss_band_grid_alloc(&b.grid);
+    b.acc = malloc(ss_band_held_cells(&b.grid) * sizeof(float));
+    if (term == SS_SKY_SVF_TILTED && !(b.grad = malloc(2 * ss_band_held_cells(&b.grid) *
+                                                       sizeof(float))))
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", b.band_rows);
     band_direction *dirs = calloc((size_t)opt->directions, sizeof *dirs);
-    if (!b.z || !b.acc || !b.stack || !dirs)
+    if (st == SS_OK && (!b.acc || !dirs))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", b.band_rows);
     if (st == SS_OK && !(b.partial = tmpfile()))
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create a temporary file for the banded sweep");
@@ -287,14 +204,14 @@ static ss_status banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_option
         n_dirs++;
         ss_line_set ls;
         ss_product_lines(&dims, opt, i, &ls);
-        n_down += pass_of(&ls) > 0;
+        n_down += ss_band_pass_of(&ls) > 0;
     }
     /* Down-pass directions first in dirs, then the up-pass ones. */
     int next[2] = {0, n_down};
     for (int i = io->first; i < opt->directions && st == SS_OK; i += io->stride) {
         ss_line_set ls;
         double az = ss_product_lines(&dims, opt, i, &ls);
-        band_direction *d = &dirs[next[pass_of(&ls) > 0 ? 0 : 1]++];
+        band_direction *d = &dirs[next[ss_band_pass_of(&ls) > 0 ? 0 : 1]++];
         d->ls = ls;
         d->sin_az = (float)sin(az);
         d->cos_az = (float)cos(az);
@@ -313,23 +230,27 @@ static ss_status banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_option
     ctx->counters.cells_swept += (uint64_t)n_dirs * (uint64_t)io->width * (uint64_t)io->height;
     if (io->stats)
         *io->stats = b.stats;
-    for (int i = 0; dirs && i < n_dirs; ++i) {
-        for (int l = 0; dirs[i].hulls && l < dirs[i].ls.n_lines; ++l)
-            free(dirs[i].hulls[l].points);
-        free(dirs[i].hulls);
-    }
+    for (int i = 0; dirs && i < n_dirs; ++i)
+        ss_carried_hulls_free(dirs[i].hulls, dirs[i].ls.n_lines);
     free(dirs);
     if (b.partial)
         fclose(b.partial);
-    free(b.z);
+    ss_band_grid_free(&b.grid);
     free(b.acc);
-    free(b.stack);
+    free(b.grad);
     return st;
 }
 
 size_t ss_band_bytes(int width, int band_rows)
 {
     return (size_t)(band_rows + 2 * HALO) * (size_t)width * (2 * sizeof(float) + sizeof(int));
+}
+
+double ss_sky_band_cell_bytes(ss_sky_term term)
+{
+    /* Heights, stack slots and sums; the radiative SVF's gradients. */
+    return (double)(ss_band_bytes(1, 1) / (1 + 2 * HALO)) +
+           (term == SS_SKY_SVF_TILTED ? 2.0 * sizeof(float) : 0.0);
 }
 
 /* A whole-grid SVF or openness holds at most 24 bytes a cell: heights,
@@ -347,13 +268,23 @@ double ss_whole_sweep_bytes(int width, int height)
 
 int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
 {
+    return ss_band_rows_within(width, height, directions, budget_bytes,
+                               (double)ss_band_bytes(1, 1) / (1 + 2 * HALO), 0.0);
+}
+
+int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
+                        double band_cell_bytes, double column_bytes)
+{
     if (ss_whole_sweep_bytes(width, height) <= budget_bytes)
         return 0;
     /* The hulls handed on: about 8 points of 16 bytes per line and
-     * direction on terrain (doc/scale.md measures them). */
-    double hulls = ((double)width + height) * (directions > 0 ? directions : 64) * 8.0 * 16.0;
-    double per_row = (double)(ss_band_bytes(width, 2) - ss_band_bytes(width, 1));
-    double rows = (budget_bytes - FIXED_BYTES - hulls) / per_row - 2 * HALO;
+     * direction on terrain (doc/scale.md measures them); and what a run
+     * carries per column and direction between bands. */
+    int dirs = directions > 0 ? directions : 64;
+    double hulls = ((double)width + height) * dirs * 8.0 * 16.0;
+    double carried = (double)width * dirs * column_bytes;
+    double per_row = band_cell_bytes * width;
+    double rows = (budget_bytes - FIXED_BYTES - hulls - carried) / per_row - 2 * HALO;
     if (rows < 1)
         return -1;
     /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */

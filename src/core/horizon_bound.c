@@ -42,5 +42,7 @@ static double horizon_tan_bound(const ss_grid *g, int digital)
 
 double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines)
 {
+    if (!grid->z) /* not in memory (a banded run): nothing is bounded */
+        return 90.0;
     return atan(horizon_tan_bound(grid, lines == SS_LINES_DIGITAL)) * 180.0 / M_PI;
 }

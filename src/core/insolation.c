@@ -12,50 +12,32 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "insolation_cell.h"
 #include "lines.h"
 #include "products_internal.h"
-#include "ss_insolation.h"
-#include "ss_sun.h"
-#include "ss_terms.h"
 
 /* Stored horizons are int16 hundredths of a degree (shadow mode
  * interpolated): 0.005 degrees of rounding, far below the interpolation's
  * own error. */
 #define HORIZON_SCALE 100.0f
 
-/* Per-cell quantities that do not change with time. */
-typedef struct {
-    float *dz_de, *dz_dn;   /* surface gradient (Horn) */
-    float *sky_view;        /* radiative SVF of the tilted cell */
-    float *slope_term;      /* Muneer's F(S) */
-    float *pressure_factor; /* exp(-z / 8434.5): air mass at the cell's height */
-} cell_terms;
-
-static void free_terms(cell_terms *t)
-{
-    free(t->dz_de);
-    free(t->dz_dn);
-    free(t->sky_view);
-    free(t->slope_term);
-    free(t->pressure_factor);
-}
-
+/* Per-cell quantities that do not change with time (insolation_cell.h). */
 static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
-                            cell_terms *t)
+                            ss_cell_terms **terms)
 {
     size_t n = (size_t)g->width * g->height;
-    memset(t, 0, sizeof *t);
-    t->dz_de = malloc(n * sizeof(float));
-    t->dz_dn = malloc(n * sizeof(float));
-    t->sky_view = malloc(n * sizeof(float));
-    t->slope_term = malloc(n * sizeof(float));
-    t->pressure_factor = malloc(n * sizeof(float));
-    if (!t->dz_de || !t->dz_dn || !t->sky_view || !t->slope_term || !t->pressure_factor)
-        return ss_fail(ctx, SS_ERR_MEMORY, "cannot allocate insolation buffers for %d x %d cells",
-                       g->width, g->height);
-    ss_status st = ss_svf(ctx, g, opt, SS_SVF_DEF_TILTED, t->sky_view);
-    if (st != SS_OK)
+    ss_cell_terms *t = *terms = malloc(n * sizeof *t);
+    float *sky_view = malloc(n * sizeof(float));
+    ss_status st = SS_OK;
+    if (!t || !sky_view)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "cannot allocate insolation buffers for %d x %d cells",
+                     g->width, g->height);
+    if (st == SS_OK)
+        st = ss_svf(ctx, g, opt, SS_SVF_DEF_TILTED, sky_view);
+    if (st != SS_OK) {
+        free(sky_view);
         return st;
+    }
     float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
 #pragma omp parallel for schedule(static)
     for (int r = 0; r < g->height; ++r)
@@ -63,16 +45,11 @@ static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_option
             size_t k = (size_t)r * g->width + c;
             if (!isfinite(g->z[k]))
                 continue;
-            ss_gradient_horn(g->z, g->width, g->height, c, r, cx, cy, &t->dz_de[k],
-                             &t->dz_dn[k]);
-            float slope = atanf(sqrtf(t->dz_de[k] * t->dz_de[k] + t->dz_dn[k] * t->dz_dn[k]));
-            t->slope_term[k] = ss_muneer_slope_term(slope);
-            /* Air pressure relative to sea level (ESRA's p/p0). No dry land
-             * lies below -1000 m, and far below it the factor overflows: a
-             * DEM of bathymetry or fill values gets the -1000 m air. */
-            double height_m = fmax(g->z[k] + g->z_origin_m, -1000.0);
-            t->pressure_factor[k] = (float)exp(-height_m / 8434.5);
+            float dz_de, dz_dn;
+            ss_gradient_horn(g->z, g->width, g->height, c, r, cx, cy, &dz_de, &dz_dn);
+            t[k] = ss_cell_terms_of(dz_de, dz_dn, sky_view[k], g->z[k] + g->z_origin_m);
         }
+    free(sky_view);
     return SS_OK;
 }
 
@@ -126,15 +103,13 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                        "(albedo %g, %d steps)",
                        io->albedo, n_steps);
     size_t n = (size_t)grid->width * grid->height;
-    cell_terms terms;
+    ss_cell_terms *terms = NULL;
     ss_session *s = NULL;
     int16_t *stored = NULL;
     float *step_global = sink ? malloc(n * sizeof(float)) : NULL;
     ss_status st = ss_product_begin(ctx, grid, opt, 1, &s);
     if (st == SS_OK)
         st = make_terms(ctx, grid, opt, &terms);
-    else
-        memset(&terms, 0, sizeof terms);
     if (st == SS_OK && sink && !step_global)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-step bands");
     if (st == SS_OK && io->shadow_mode == SS_SHADOW_INTERPOLATED)
@@ -185,35 +160,18 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                                                   : (float)sun.apparent_elevation_deg;
                 if (h0 <= 0.0f)
                     continue;
-                float sin_h0 = sinf(h0);
-                float se = cosf(h0) * sinf(az), sn = cosf(h0) * cosf(az);
-                float cos_i = ss_cos_incidence_gradient(se, sn, sin_h0, terms.dz_de[c],
-                                                        terms.dz_dn[c]);
                 float horizon = all_lit ? -90.0f
                                 : h     ? h[c]
                                         : stored_horizon(stored, n, opt, c, sun.azimuth_deg);
-                int lit = app > horizon && cos_i > 0.0f;
-                float m = terms.pressure_factor[c] * ss_esra_air_mass_sea_level(h0);
-                float kb = ss_esra_beam_transmittance(linke, m);
-                float beam_h = g0 * sin_h0 * kb;
-                float diff_h = g0 * ss_esra_diffuse_fraction(linke, sin_h0);
-                float beam = lit ? g0 * kb * cos_i : 0.0f;
-                /* sin S cos(sun azimuth - aspect): the tilt toward the sun. */
-                float norm = sqrtf(1.0f + terms.dz_de[c] * terms.dz_de[c] +
-                                   terms.dz_dn[c] * terms.dz_dn[c]);
-                float side = -(terms.dz_de[c] * sinf(az) + terms.dz_dn[c] * cosf(az)) / norm;
-                int level = terms.dz_de[c] == 0.0f && terms.dz_dn[c] == 0.0f;
-                float diffuse = diff_h * ss_muneer_diffuse_factor(terms.sky_view[c],
-                                                                  terms.slope_term[c], kb, lit,
-                                                                  level, cos_i, sin_h0, h0, side);
-                float reflected = albedo * (beam_h + diff_h) * (1.0f - terms.sky_view[c]);
-                out->beam[c] += beam * dt;
-                out->diffuse[c] += diffuse * dt;
-                out->reflected[c] += reflected * dt;
-                out->global[c] += (beam + diffuse + reflected) * dt;
-                out->sun_hours[c] += lit ? dt : 0.0f;
+                ss_cell_step add = ss_cell_step_of(&terms[c], az, h0, app, horizon, g0, linke,
+                                                   albedo, dt);
+                out->beam[c] += add.beam;
+                out->diffuse[c] += add.diffuse;
+                out->reflected[c] += add.reflected;
+                out->global[c] += add.global;
+                out->sun_hours[c] += add.sun_hours;
                 if (step_global)
-                    step_global[c] = (beam + diffuse + reflected) * dt;
+                    step_global[c] = add.global;
             }
         }
         if (st == SS_OK && sink && !sink(k, step_global, sink_user))
@@ -223,7 +181,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     }
     free(stored);
     free(step_global);
-    free_terms(&terms);
+    free(terms);
     ss_session_close(s);
     return st;
 }

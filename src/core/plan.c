@@ -199,10 +199,16 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
             "%d of %d time steps have the sun below the horizontal at every cell: skipped "
             "exactly",
             p->steps_night, r->n_steps);
-    add(p, "shadow_sweeps", 1, 0, "",
-        "%d of %d daylight steps have the sun above %.2f deg, the highest horizon this terrain "
-        "can cast (proven bound): no shadow sweep for them",
-        p->steps_high_sun, r->n_steps - p->steps_night, bound_deg);
+    if (bound_deg >= 90.0)
+        add(p, "shadow_sweeps", 1, 0, "",
+            "the DEM is read in bands, so no bound on its horizons is known: every one of the "
+            "%d daylight steps gets its shadow sweep",
+            r->n_steps - p->steps_night);
+    else
+        add(p, "shadow_sweeps", 1, 0, "",
+            "%d of %d daylight steps have the sun above %.2f deg, the highest horizon this "
+            "terrain can cast (proven bound): no shadow sweep for them",
+            p->steps_high_sun, r->n_steps - p->steps_night, bound_deg);
     return SS_OK;
 }
 

@@ -1,0 +1,314 @@
+/* Insolation of a DEM that is never held whole (ss_insolation_banded).
+ *
+ * First the radiative SVF, which the diffuse and reflected terms need, is
+ * swept in bands (ss_sky_banded) into a temporary file of floats. Then
+ * every daylight step is one direction of a banded horizon run
+ * (ss_horizon_banded) at its sun's azimuth, the horizontal where nothing
+ * lies ahead, as ss_cast_shadow takes it. A band's rows arrive from every
+ * direction of a pass in turn, so each band keeps its cells' terms
+ * (gradient, SVF, slope term, air pressure) and five sums while it is
+ * walked; at the end of the first pass its sums wait in a second temporary
+ * file, at the end of the second they are added to it, finished and
+ * written. Each cell's step is insolation_cell.h's, as on the whole grid. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "insolation_cell.h"
+#include "products_internal.h"
+
+#define N_SUMS 5 /* beam, diffuse, reflected, global, sun hours */
+
+typedef struct {
+    ss_ctx *ctx;
+    const ss_insolation_band_io *io;
+    float albedo;
+    int n_steps;
+    int *step_of;       /* daylight direction -> step */
+    unsigned char *day; /* per step: swept */
+    FILE *svf;          /* the radiative SVF, whole rows */
+    FILE *partial;      /* the first pass's sums: per band, N_SUMS planes of its rows */
+    /* The band being walked. */
+    int row0, ready;
+    float *z;        /* its rows and one row either side (Horn's gradient) */
+    float *sky_view; /* its rows */
+    ss_cell_terms *terms;
+    float *sums;   /* N_SUMS planes of its rows' cells each: beam, diffuse, reflected,
+                      global, hours */
+    float *loaded; /* the same, as the first pass left them */
+    float *step_global;
+} insolation_run;
+
+double ss_insolation_band_cell_bytes(void)
+{
+    /* Heights (with a halo row), SVF 4, terms 20, sums and loaded sums 40,
+     * one step's global 4; the horizon sweep's own band comes on top. */
+    return 72.0;
+}
+
+static ss_status file_rows(insolation_run *r, FILE *f, int row0, int n_rows, size_t per_cell,
+                           float *data, int write)
+{
+    size_t w = (size_t)r->io->width, n = (size_t)n_rows * w * per_cell;
+    if (fseeko(f, (off_t)((size_t)row0 * w * per_cell * sizeof(float)), SEEK_SET) != 0)
+        return ss_fail(r->ctx, SS_ERR_OUTPUT, "temporary file: cannot seek");
+    size_t done = write ? fwrite(data, sizeof(float), n, f) : fread(data, sizeof(float), n, f);
+    return done == n ? SS_OK
+                     : ss_fail(r->ctx, SS_ERR_OUTPUT, "temporary file: %s failed%s",
+                               write ? "write" : "read", write ? " (disk full?)" : "");
+}
+
+static ss_status read_rows(void *user, int row0, int n_rows, float *z)
+{
+    insolation_run *r = user;
+    return r->io->read(r->io->user, row0, n_rows, z);
+}
+
+static ss_status svf_rows(void *user, int row0, int n_rows, const float *values)
+{
+    insolation_run *r = user;
+    return file_rows(r, r->svf, row0, n_rows, 1, (float *)values, 1);
+}
+
+/* The band's heights (with a row either side), SVF and cell terms; its
+ * sums start at 0. */
+static ss_status prepare_band(insolation_run *r, int row0, int n_rows)
+{
+    const ss_insolation_band_io *io = r->io;
+    int w = io->width;
+    int lo = row0 > 0 ? row0 - 1 : 0;
+    int hi = row0 + n_rows < io->height ? row0 + n_rows + 1 : io->height;
+    ss_status st = io->read(io->user, lo, hi - lo, r->z);
+    if (st == SS_OK)
+        st = file_rows(r, r->svf, row0, n_rows, 1, r->sky_view, 0);
+    if (st != SS_OK)
+        return st;
+    const float *z = r->z + (size_t)(row0 - lo) * w;
+    float cx = (float)io->cell_x_m, cy = (float)io->cell_y_m;
+    double origin = *io->z_origin_m;
+#pragma omp parallel for schedule(static)
+    for (int y = 0; y < n_rows; ++y)
+        for (int c = 0; c < w; ++c) {
+            size_t k = (size_t)y * w + c;
+            if (!isfinite(z[k]))
+                continue;
+            float dz_de, dz_dn;
+            /* The rows read form a grid whose first row is lo. */
+            ss_gradient_horn(r->z, w, hi - lo, c, row0 - lo + y, cx, cy, &dz_de, &dz_dn);
+            r->terms[k] = ss_cell_terms_of(dz_de, dz_dn, r->sky_view[k], z[k] + origin);
+        }
+    memset(r->sums, 0, sizeof(float) * N_SUMS * (size_t)n_rows * w);
+    r->row0 = row0;
+    r->ready = 1;
+    return SS_OK;
+}
+
+/* The band's own heights (after the row above it, if read). */
+static const float *band_z(const insolation_run *r)
+{
+    return r->z + (size_t)(r->row0 > 0 ? 1 : 0) * r->io->width;
+}
+
+/* One daylight step's shadows for the band's rows: the step's sums. */
+static ss_status step_rows(void *user, int direction, int row0, int n_rows,
+                           const float *horizon_deg, const float *dist_m,
+                           const float *cast_height_m)
+{
+    (void)dist_m, (void)cast_height_m;
+    insolation_run *r = user;
+    ss_status st = SS_OK;
+    if (!r->ready || r->row0 != row0)
+        st = prepare_band(r, row0, n_rows);
+    int k = r->step_of[direction];
+    ss_sun_step sun;
+    if (st == SS_OK)
+        st = r->io->sun_rows(r->ctx, k, row0, n_rows, &sun, r->io->user);
+    if (st != SS_OK)
+        return st;
+    const float rad = (float)(M_PI / 180.0);
+    float g0 = (float)sun.extraterrestrial_w_m2, linke = (float)sun.linke;
+    float dt = (float)sun.duration_h;
+    const float *z = band_z(r);
+    size_t n = (size_t)n_rows * r->io->width;
+    float *beam = r->sums, *diffuse = beam + n, *reflected = diffuse + n;
+    float *global = reflected + n, *hours = global + n;
+#pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < n; ++c) {
+        r->step_global[c] = isfinite(z[c]) ? 0.0f : SS_NODATA;
+        if (!isfinite(z[c]))
+            continue;
+        float az = (sun.grid_azimuth_per_cell ? sun.grid_azimuth_per_cell[c]
+                                              : (float)sun.grid_azimuth_deg) *
+                   rad;
+        float h0 =
+            (sun.elevation_per_cell ? sun.elevation_per_cell[c] : (float)sun.elevation_deg) * rad;
+        float app =
+            sun.apparent_per_cell ? sun.apparent_per_cell[c] : (float)sun.apparent_elevation_deg;
+        if (h0 <= 0.0f)
+            continue;
+        ss_cell_step add =
+            ss_cell_step_of(&r->terms[c], az, h0, app, horizon_deg[c], g0, linke, r->albedo, dt);
+        beam[c] += add.beam;
+        diffuse[c] += add.diffuse;
+        reflected[c] += add.reflected;
+        global[c] += add.global;
+        hours[c] += add.sun_hours;
+        r->step_global[c] = add.global;
+    }
+    return r->io->write_step ? r->io->write_step(r->io->user, k, row0, n_rows, r->step_global)
+                             : SS_OK;
+}
+
+/* A band's rows have seen every direction of a pass: after the first, its
+ * sums wait in the file; after the second, they are added to the first's,
+ * finished and written, with the night steps' rows of the step file. */
+static ss_status band_done(void *user, int pass, int row0, int n_rows)
+{
+    insolation_run *r = user;
+    ss_status st = SS_OK;
+    if (!r->ready || r->row0 != row0)
+        st = prepare_band(r, row0, n_rows);
+    r->ready = 0;
+    size_t n = (size_t)n_rows * r->io->width;
+    if (st != SS_OK || pass == 0)
+        return st == SS_OK ? file_rows(r, r->partial, row0, n_rows, N_SUMS, r->sums, 1) : st;
+    st = file_rows(r, r->partial, row0, n_rows, N_SUMS, r->loaded, 0);
+    const float *z = band_z(r);
+    for (int k = 0; k < N_SUMS && st == SS_OK; ++k) {
+        float *sum = r->sums + (size_t)k * n;
+        const float *first = r->loaded + (size_t)k * n;
+        for (size_t c = 0; c < n; ++c)
+            sum[c] = isfinite(z[c]) ? first[c] + sum[c] : SS_NODATA;
+    }
+    ss_insolation_out rows = {r->sums + 3 * n, r->sums, r->sums + n, r->sums + 2 * n,
+                              r->sums + 4 * n};
+    if (st == SS_OK)
+        st = r->io->write(r->io->user, row0, n_rows, &rows);
+    for (size_t c = 0; c < n; ++c)
+        r->step_global[c] = isfinite(z[c]) ? 0.0f : SS_NODATA;
+    for (int k = 0; k < r->n_steps && st == SS_OK && r->io->write_step; ++k)
+        if (!r->day[k])
+            st = r->io->write_step(r->io->user, k, row0, n_rows, r->step_global);
+    return st;
+}
+
+/* No daylight step: every band's two passes, with no direction walked. */
+static ss_status run_nights(insolation_run *r, int band_rows)
+{
+    ss_status st = SS_OK;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int row0 = 0; row0 < r->io->height && st == SS_OK; row0 += band_rows) {
+            int rows = row0 + band_rows < r->io->height ? band_rows : r->io->height - row0;
+            st = band_done(r, pass, row0, rows);
+        }
+    return st;
+}
+
+static ss_status check_io(ss_ctx *ctx, const ss_insolation_band_io *io,
+                          const ss_insolation_options *options, int n_steps)
+{
+    if (!io || !io->read || !io->write || !io->sun_rows || !io->z_origin_m || io->width < 2 ||
+        io->height < 2 || io->band_rows < 1 || !(io->cell_x_m > 0) || !(io->cell_y_m > 0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "banded insolation needs a grid of at least 2 x 2 cells with positive "
+                       "cell sizes, a reader, a writer, the sun and at least one row per band");
+    if (!(options->albedo >= 0 && options->albedo <= 1) || n_steps < 1)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "insolation needs an albedo in 0..1 and at least one step (albedo %g, "
+                       "%d steps)",
+                       options->albedo, n_steps);
+    if (options->shadow_mode != SS_SHADOW_EXACT)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "a DEM swept in bands takes exact shadows only: interpolated shadows "
+                       "store every direction's horizons for the whole grid");
+    return SS_OK;
+}
+
+/* The daylight steps, and their suns' azimuths for the shadow sweep. */
+static ss_status classify_steps(insolation_run *r, double **azimuths, int *n_day)
+{
+    *n_day = 0;
+    *azimuths = malloc(sizeof(double) * (size_t)r->n_steps);
+    if (!*azimuths)
+        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory for %d steps", r->n_steps);
+    for (int k = 0; k < r->n_steps; ++k) {
+        ss_sun_step sun;
+        ss_status st = r->io->sun_rows(r->ctx, k, 0, 0, &sun, r->io->user);
+        if (st != SS_OK)
+            return st;
+        /* As on the whole grid: night where no cell's sun is up. */
+        r->day[k] = sun.elevation_deg + sun.spread_deg > 0.0;
+        if (!r->day[k]) {
+            r->ctx->counters.night_steps_skipped++;
+            continue;
+        }
+        r->ctx->counters.time_steps++;
+        r->step_of[*n_day] = k;
+        (*azimuths)[(*n_day)++] = sun.azimuth_deg;
+    }
+    return SS_OK;
+}
+
+ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
+                               const ss_sweep_options *opt, const ss_insolation_options *options,
+                               int n_steps)
+{
+    ss_status st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK)
+        st = check_io(ctx, io, options, n_steps);
+    if (st != SS_OK)
+        return st;
+    insolation_run r = {0};
+    r.ctx = ctx;
+    r.io = io;
+    r.albedo = (float)options->albedo;
+    r.n_steps = n_steps;
+    int band_rows = io->band_rows < io->height ? io->band_rows : io->height;
+    size_t cells = (size_t)band_rows * io->width;
+    r.step_of = malloc(sizeof(int) * (size_t)n_steps);
+    r.day = calloc((size_t)n_steps, 1);
+    r.z = malloc(sizeof(float) * (cells + 2 * (size_t)io->width));
+    r.sky_view = malloc(sizeof(float) * cells);
+    r.terms = malloc(sizeof(ss_cell_terms) * cells);
+    r.sums = malloc(sizeof(float) * N_SUMS * cells);
+    r.loaded = malloc(sizeof(float) * N_SUMS * cells);
+    r.step_global = malloc(sizeof(float) * cells);
+    if (!r.step_of || !r.day || !r.z || !r.sky_view || !r.terms || !r.sums || !r.loaded ||
+        !r.step_global)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", band_rows);
+    if (st == SS_OK && (!(r.svf = tmpfile()) || !(r.partial = tmpfile())))
+        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create a temporary file for the banded sweep");
+    double *azimuths = NULL;
+    int n_day = 0;
+    if (st == SS_OK)
+        st = classify_steps(&r, &azimuths, &n_day);
+    /* The radiative SVF of every cell, for the diffuse and reflected terms. */
+    ss_band_io svf_io = {
+        io->width, io->height, io->cell_x_m, io->cell_y_m, band_rows, read_rows, svf_rows, &r, 0,
+        1,         0,          NULL};
+    if (st == SS_OK)
+        st = ss_sky_banded(ctx, &svf_io, opt, SS_SKY_SVF_TILTED);
+    /* Then the shadows of every daylight step, summed band by band. */
+    ss_horizon_band_io shadow_io = {io->width, io->height, io->cell_x_m, io->cell_y_m, band_rows,
+                                    read_rows, step_rows,  &r,           n_day,        azimuths,
+                                    0.0f,      io->stats,  band_done};
+    if (st == SS_OK)
+        st = n_day > 0 ? ss_horizon_banded(ctx, &shadow_io, opt, 0) : run_nights(&r, band_rows);
+    free(azimuths);
+    if (r.svf)
+        fclose(r.svf);
+    if (r.partial)
+        fclose(r.partial);
+    free(r.step_of);
+    free(r.day);
+    free(r.z);
+    free(r.sky_view);
+    free(r.terms);
+    free(r.sums);
+    free(r.loaded);
+    free(r.step_global);
+    return st;
+}

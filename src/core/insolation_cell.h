@@ -1,0 +1,79 @@
+/* One cell's clear-sky irradiation for one time step, shared by the
+ * whole-grid insolation (insolation.c) and the banded one
+ * (banded_insolation.c), so that both compute the same function. */
+#ifndef SS_INSOLATION_CELL_H
+#define SS_INSOLATION_CELL_H
+
+#include <math.h>
+
+#include "ss_insolation.h"
+#include "ss_sun.h"
+#include "ss_terms.h"
+
+/* What a cell keeps for every step: its gradient (Horn), the radiative
+ * SVF of the tilted cell, Muneer's F(S), and the air pressure factor
+ * exp(-z / 8434.5). */
+typedef struct {
+    float dz_de, dz_dn, sky_view, slope_term, pressure_factor;
+} ss_cell_terms;
+
+/* The terms of a cell from its gradient, radiative SVF and height above
+ * the datum. */
+static inline ss_cell_terms ss_cell_terms_of(float dz_de, float dz_dn, float sky_view,
+                                             double height_m)
+{
+    ss_cell_terms t;
+    t.dz_de = dz_de;
+    t.dz_dn = dz_dn;
+    t.sky_view = sky_view;
+    float slope = atanf(sqrtf(dz_de * dz_de + dz_dn * dz_dn));
+    t.slope_term = ss_muneer_slope_term(slope);
+    /* Air pressure relative to sea level (ESRA's p/p0). No dry land lies
+     * below -1000 m, and far below it the factor overflows: a DEM of
+     * bathymetry or fill values gets the -1000 m air. */
+    t.pressure_factor = (float)exp(-fmax(height_m, -1000.0) / 8434.5);
+    return t;
+}
+
+/* What one step adds to a cell (Wh/m^2, hours of direct sun). */
+typedef struct {
+    float beam, diffuse, reflected, global, sun_hours;
+} ss_cell_step;
+
+/* The step's sun at the cell: grid azimuth and true elevation (radians),
+ * apparent elevation (degrees); the cell's terrain horizon (degrees) in
+ * the sun's azimuth; the step's extraterrestrial irradiance, Linke
+ * turbidity, albedo and duration (hours). A sun below the horizontal adds
+ * nothing. */
+static inline ss_cell_step ss_cell_step_of(const ss_cell_terms *t, float az, float h0,
+                                           float apparent_deg, float horizon_deg, float g0,
+                                           float linke, float albedo, float dt)
+{
+    ss_cell_step s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    if (h0 <= 0.0f)
+        return s;
+    float sin_h0 = sinf(h0);
+    float se = cosf(h0) * sinf(az), sn = cosf(h0) * cosf(az);
+    float cos_i = ss_cos_incidence_gradient(se, sn, sin_h0, t->dz_de, t->dz_dn);
+    int lit = apparent_deg > horizon_deg && cos_i > 0.0f;
+    float m = t->pressure_factor * ss_esra_air_mass_sea_level(h0);
+    float kb = ss_esra_beam_transmittance(linke, m);
+    float beam_h = g0 * sin_h0 * kb;
+    float diff_h = g0 * ss_esra_diffuse_fraction(linke, sin_h0);
+    float beam = lit ? g0 * kb * cos_i : 0.0f;
+    /* sin S cos(sun azimuth - aspect): the tilt toward the sun. */
+    float norm = sqrtf(1.0f + t->dz_de * t->dz_de + t->dz_dn * t->dz_dn);
+    float side = -(t->dz_de * sinf(az) + t->dz_dn * cosf(az)) / norm;
+    int level = t->dz_de == 0.0f && t->dz_dn == 0.0f;
+    float diffuse = diff_h * ss_muneer_diffuse_factor(t->sky_view, t->slope_term, kb, lit, level,
+                                                      cos_i, sin_h0, h0, side);
+    float reflected = albedo * (beam_h + diff_h) * (1.0f - t->sky_view);
+    s.beam = beam * dt;
+    s.diffuse = diffuse * dt;
+    s.reflected = reflected * dt;
+    s.global = (beam + diffuse + reflected) * dt;
+    s.sun_hours = lit ? dt : 0.0f;
+    return s;
+}
+
+#endif
