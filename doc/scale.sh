@@ -6,9 +6,11 @@
 # whole and banded. Prints Markdown tables on stdout (doc/scale.md quotes
 # them), with the machine and the load.
 #
-#   doc/scale.sh [--quick] [--large] [--directions D]    (from the build tree)
+#   doc/scale.sh [--quick] [--large] [--directions D] [--products "svf horizon"] [--no-cli]
 #
-# --quick: 2048 and 4096 only (a few minutes); --large adds 24576 x 24576.
+# --quick: 2048 and 4096 only (a few minutes); --large adds 24576 x 24576;
+# --products: which banded products to time (default both); --no-cli skips
+# the CLI and MPI table.
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD:-$top}
@@ -16,12 +18,16 @@ scale=$build/ss-scale
 skysweep=$build/skysweep
 directions=16
 sizes="4096 8192 16384"
+products="svf horizon"
+cli=1
 while [ $# -gt 0 ]; do
     case $1 in
     --quick) sizes="2048 4096" ;;
     --large) sizes="$sizes 24576" ;;
     --directions) directions=$2 && shift ;;
-    *) echo "usage: doc/scale.sh [--quick] [--large] [--directions D]" >&2 && exit 2 ;;
+    --products) products=$2 && shift ;;
+    --no-cli) cli=0 ;;
+    *) echo "usage: doc/scale.sh [--quick] [--large] [--directions D] [--products LIST] [--no-cli]" >&2 && exit 2 ;;
     esac
     shift
 done
@@ -35,8 +41,11 @@ field() { sed -n "s/^$1 *//p" "$2"; }
 
 echo "Machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; load average before: $(cut -d' ' -f1-3 /proc/loadavg). $(date -u +%Y-%m-%d)."
 echo
-echo "| grid | path | wall s | M cell-dir/s | peak RSS MiB | band rows | hulls handed on | mean / max points |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| product | grid | path | wall s | M cell-dir/s | peak RSS MiB | band rows | hulls handed on | mean / max points |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for product in $products; do
+flag=""
+[ "$product" = horizon ] && flag=--horizon
 for n in $sizes; do
     runs="banded"
     # The whole grid holds about 20 bytes a cell (plus OpenCL's copies).
@@ -45,8 +54,8 @@ for n in $sizes; do
     fi
     for run in $runs; do
         case $run in
-        banded) "$scale" --size "$n" --directions "$directions" --memory 256 >"$work/out" ;;
-        whole-pocl) "$scale" --size "$n" --directions "$directions" --whole --device 0:0 >"$work/out" ;;
+        banded) "$scale" --size "$n" --directions "$directions" --memory 256 $flag >"$work/out" ;;
+        whole-pocl) "$scale" --size "$n" --directions "$directions" --whole --device 0:0 $flag >"$work/out" ;;
         esac
         wall=$(field time "$work/out" | awk '{print $1}')
         rate=$(field time "$work/out" | awk '{print $4}')
@@ -55,10 +64,12 @@ for n in $sizes; do
         hulls=$(field hulls "$work/out")
         handed=$(echo "$hulls" | awk '{print $1}')
         points=$(echo "$hulls" | sed -n 's/.*mean \([0-9.]*\) points, max \([0-9]*\).*/\1 \/ \2/p')
-        echo "| ${n}² | $run | $wall | $rate | $rss | ${rows:--} | ${handed:--} | ${points:--} |"
+        echo "| $product | ${n}² | $run | $wall | $rate | $rss | ${rows:--} | ${handed:--} | ${points:--} |"
     done
 done
+done
 echo
+[ "$cli" = 1 ] || exit 0
 
 # The CLI on a GeoTIFF: 4096 x 4096 cells of fractal terrain, whole and banded,
 # 1, 2 and 4 MPI processes (the same octaves of value noise as ss-scale).
