@@ -463,7 +463,7 @@ static void run_day(const args *a, scene *s, int directions, ss_shadow_mode mode
                     {0},
                     0};
     int n_steps = (int)lround(1440 / step_min);
-    ss_insolation_options io = {0.2, mode};
+    ss_insolation_options io = {0.2, mode, 0, 1};
     ss_insolation_out o = {out->global, out->beam, out->diffuse, out->reflected, out->sun_hours};
     double t = now_s();
     check(ss_insolation(ctx, &s->dem.grid, &opt, &io, n_steps, sun_step, &su, NULL, NULL, &o),

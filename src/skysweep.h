@@ -321,6 +321,8 @@ typedef enum {
 typedef struct {
     double albedo;             /* ground reflectance for the reflected term, 0..1 */
     ss_shadow_mode shadow_mode;
+    int first, stride;         /* this process's steps: first, first + stride, ... (0, 1: all);
+                                  the others add nothing and reach no step sink */
 } ss_insolation_options;
 
 /* The sun for one time step, supplied by the caller (who knows where the

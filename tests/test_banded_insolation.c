@@ -196,7 +196,7 @@ static void compare(const ss_grid *g, const char *terrain, int per_cell, int cur
     opt.directions = 12;
     opt.earth_radius_m = curved ? 3e4 : 0;
     opt.refraction_k = 0;
-    ss_insolation_options io = {0.25, SS_SHADOW_EXACT};
+    ss_insolation_options io = {0.25, SS_SHADOW_EXACT, 0, 1};
     sun_setup sun;
     grids ref, out;
     int ok = sun_init(&sun, g, per_cell) && grids_init(&ref, g, &sun) && grids_init(&out, g, &sun);

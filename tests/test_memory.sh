@@ -149,10 +149,17 @@ tap_ok $? "banded insolation == whole grid: global worst $wg Wh/m2, sun hours $w
 rc=$?
 [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]
 tap_ok $? "interpolated shadows cannot band: exit $rc, $(head -c 120 "$work/err")"
-"$SKYSWEEP" hillshade --memory 64M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
+# A plain hillshade in bands: the same bytes as on the whole grid.
+"$SKYSWEEP" hillshade --multidirectional --memory 64M "$work/dem.tif" "$work/hs_b.tif" >"$work/hs.out"
+rc=$?
+"$SKYSWEEP" hillshade --multidirectional -q "$work/dem.tif" "$work/hs_w.tif"
+w=$(worst_band "$work/hs_w.tif" "$work/hs_b.tif" 1)
+grep -q '^bands ' "$work/hs.out" && [ "$w" = 0 ]
+tap_ok $? "banded hillshade == whole grid, every byte (worst $w; exit $rc)"
+"$SKYSWEEP" hillshade --sky-view 0.3 --memory 64M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
 rc=$?
 [ "$rc" -eq 6 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]
-tap_ok $? "hillshade cannot band: exit $rc, $(head -c 120 "$work/err")"
+tap_ok $? "hillshade with sky-view shading cannot band: exit $rc, $(head -c 120 "$work/err")"
 
 "$SKYSWEEP" svf --memory lots "$work/tiny.tif" "$work/x.tif" 2>"$work/err"
 rc=$?

@@ -1,7 +1,8 @@
 #!/bin/bash
-# Runs shared between MPI processes (src/cli/mpi_share.c): svf and openness
-# under mpirun with 2 and 4 processes equal the single-process result (sums
-# are added in another order: within 1e-6 in SVF, 1e-4 deg in openness),
+# Runs shared between MPI processes (src/cli/mpi_share.c): svf, openness
+# and insolation under mpirun with 2 to 4 processes equal the single-process
+# result (sums are added in another order: within 1e-6 in SVF, 1e-4 deg in
+# openness, 0.01 Wh/m2 in insolation), whole and banded,
 # nodata stays nodata, only rank 0 prints, and commands that do not share
 # their work refuse to run N times. Skipped, saying so, where skysweep was
 # built without MPI or mpirun is missing.
@@ -114,6 +115,41 @@ read -r worst bad < <(compare "$work/big_one.tif" "$work/big_shared.tif")
 grep -q '^bands ' "$work/stdout" && awk -v w="$worst" 'BEGIN { exit !(w <= 1e-6) }' &&
     [ "$rc" -eq 0 ] && [ "$bad" -eq 0 ]
 tap_ok $? "banded (--memory 60M) over 3 processes == one whole-grid process (worst $worst, $bad nodata mismatches, exit $rc)"
+
+# Insolation: time steps dealt round-robin, the five bands added at rank 0.
+band() { gdal_translate -q -b "$3" "$1" "$2"; } # FILE OUT BAND
+sun="--time 2026-06-21T05:00-10:00/PT14H --step PT2H --directions 8"
+# shellcheck disable=SC2086
+"$SKYSWEEP" insolation $sun --device reference -q "$dem" "$work/i_one.tif"
+# shellcheck disable=SC2086
+mpi 3 "$SKYSWEEP" insolation $sun "$dem" "$work/i_three.tif" >"$work/stdout" 2>"$work/stderr"
+rc=$?
+band "$work/i_one.tif" "$work/g1.tif" 1 && band "$work/i_three.tif" "$work/g3.tif" 1
+read -r wg bad_g < <(compare "$work/g1.tif" "$work/g3.tif")
+band "$work/i_one.tif" "$work/h1.tif" 5 && band "$work/i_three.tif" "$work/h3.tif" 5
+read -r wh bad_h < <(compare "$work/h1.tif" "$work/h3.tif")
+grep -q '^share   3 MPI processes, time steps' "$work/stdout" &&
+    awk -v g="$wg" -v h="$wh" 'BEGIN { exit !(g <= 0.01 && h <= 1e-6) }' && [ "$rc" -eq 0 ] &&
+    [ "$bad_g" -eq 0 ] && [ "$bad_h" -eq 0 ]
+tap_ok $? "insolation, 7 steps over 3 processes == one process (global worst $wg Wh/m2, sun hours $wh h, exit $rc)"
+# shellcheck disable=SC2086
+"$SKYSWEEP" insolation $sun --device reference -q "$work/big.tif" "$work/bi_one.tif"
+# shellcheck disable=SC2086
+mpi 2 "$SKYSWEEP" insolation $sun --memory 60M "$work/big.tif" "$work/bi_two.tif" \
+    >"$work/stdout" 2>"$work/stderr"
+rc=$?
+band "$work/bi_one.tif" "$work/g1.tif" 1 && band "$work/bi_two.tif" "$work/g2.tif" 1
+read -r wg bad_g < <(compare "$work/g1.tif" "$work/g2.tif")
+grep -q '^bands ' "$work/stdout" && awk -v g="$wg" 'BEGIN { exit !(g <= 0.01) }' &&
+    [ "$rc" -eq 0 ] && [ "$bad_g" -eq 0 ]
+tap_ok $? "banded insolation (--memory 60M) over 2 processes == one whole-grid process (global worst $wg Wh/m2, $bad_g nodata mismatches, exit $rc)"
+# shellcheck disable=SC2086
+mpi 2 "$SKYSWEEP" insolation $sun --steps "$work/s.tif" "$dem" "$work/i.tif" \
+    >"$work/stdout" 2>"$work/stderr"
+rc=$?
+lines=$(grep -c 'skysweep insolation:' "$work/stderr")
+[ "$rc" -eq 2 ] && [ "$lines" -eq 1 ] && [ ! -e "$work/i.tif" ] && [ ! -e "$work/s.tif" ]
+tap_ok $? "insolation --steps under mpirun refuses once (exit $rc, $lines message)"
 
 mpi 2 "$SKYSWEEP" horizon --directions 4 "$dem" "$work/h.tif" >"$work/stdout" 2>"$work/stderr"
 rc=$?

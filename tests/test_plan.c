@@ -185,7 +185,7 @@ static void skipped_work(void)
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = 8;
-    ss_insolation_options io = {0.2, SS_SHADOW_EXACT};
+    ss_insolation_options io = {0.2, SS_SHADOW_EXACT, 0, 1};
     size_t n = 3600;
     ss_insolation_out out = {malloc(n * 4), malloc(n * 4), malloc(n * 4), malloc(n * 4),
                              malloc(n * 4)};

@@ -444,8 +444,8 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
     if (phys > 0 && bytes_needed > 0.8 * phys)
         st = ss_fail(ctx, SS_ERR_MEMORY,
                      "'%s' has %d x %d cells: sweeping it whole needs about %.1f GB, more than "
-                     "this machine's %.1f GB (svf, openness, horizon and shadow sweep it in "
-                     "bands: --memory)",
+                     "this machine's %.1f GB (svf, openness, horizon, shadow, insolation and "
+                     "a plain hillshade take it in bands: --memory)",
                      paths[0], w, h, bytes_needed / 1e9, phys / 1e9);
     else if ((st = ss_grid_alloc(ctx, &dem->grid, w, h, cx, cy)) == SS_ERR_ARGUMENT)
         st = SS_ERR_INPUT; /* a size no sweep handles is the input's fault (exit 3) */

@@ -1,6 +1,7 @@
 /* skysweep hillshade: gdaldem's hillshade (same formula, options and byte
  * output), plus what a cartographer wants from the sweep: exact cast
- * shadows of the light, and sky-view shading blended in. */
+ * shadows of the light, and sky-view shading blended in. A plain hillshade
+ * of a DEM that does not fit in --memory is shaded band by band. */
 #include "config.h"
 
 #include <math.h>
@@ -44,6 +45,33 @@ static const opt_spec hillshade_options[] = {
      "10); 0: unlimited"},
     OPT_END};
 
+/* A DEM left in its files: bands of rows read with one row either side
+ * (the 3 x 3 slope window), shaded as a grid of their own, whose inner
+ * rows are then the whole grid's. */
+static ss_status shade_banded(sweep_job *job, const hillshade_settings *set,
+                              ss_raster_writer *w)
+{
+    const ss_grid *g = &job->dem.grid;
+    size_t held = (size_t)(job->band_rows + 2) * (size_t)g->width;
+    float *z = malloc(held * sizeof(float)), *shade = malloc(held * sizeof(float));
+    ss_status st = z && shade ? SS_OK : command_out_of_memory(&job->run);
+    for (int row0 = 0; row0 < g->height && st == SS_OK; row0 += job->band_rows) {
+        int rows = row0 + job->band_rows < g->height ? job->band_rows : g->height - row0;
+        int lo = row0 > 0 ? row0 - 1 : 0;
+        int hi = row0 + rows < g->height ? row0 + rows + 1 : g->height;
+        st = job_read_rows(job, lo, hi - lo, z);
+        ss_grid band = {g->width, hi - lo, g->cell_x_m, g->cell_y_m, g->z_origin_m, z};
+        if (st == SS_OK)
+            st = ss_hillshade(job->run.ctx, &band, set->azimuth_deg, set->altitude_deg,
+                              set->z_factor, set->alg == 1, set->multidirectional, shade);
+        if (st == SS_OK)
+            st = ss_writer_rows(w, 1, row0, rows, shade + (size_t)(row0 - lo) * g->width);
+    }
+    free(z);
+    free(shade);
+    return st;
+}
+
 int cmd_hillshade(int argc, char **argv)
 {
     hillshade_settings set = {0};
@@ -63,8 +91,13 @@ int cmd_hillshade(int argc, char **argv)
                         "does not take --cast-shadows, --sky-view or --multidirectional\n");
         return SS_ERR_ARGUMENT;
     }
+    /* A plain hillshade reads rows and shades them: heights and shades of
+     * a band. What sweeps needs the whole grid. */
+    int plain = !(set.blend || set.cast_shadows || set.sky_view > 0);
+    band_cost cost = {8.0, 0.0, 1};
     sweep_job job;
-    if ((rc = job_open(&job, "hillshade", &set.common, pos, n_pos)))
+    if ((rc = plain ? job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)
+                    : job_open(&job, "hillshade", &set.common, pos, n_pos)))
         return rc;
     /* Plain hillshade reads no horizons; cast shadows and sky view do. */
     ss_product product = set.cast_shadows                 ? SS_PRODUCT_SHADOW
@@ -75,17 +108,19 @@ int cmd_hillshade(int argc, char **argv)
         return rc;
     }
     const ss_grid *g = &job.dem.grid;
-    size_t n = (size_t)g->width * (size_t)g->height;
-    float *shade = malloc(n * sizeof(float));
+    size_t n = job.source ? 0 : (size_t)g->width * (size_t)g->height;
+    float *shade = job.source ? NULL : malloc(n * sizeof(float));
     float *extra = (set.cast_shadows || set.sky_view > 0) ? malloc(n * sizeof(float)) : NULL;
     ss_raster_writer *w = NULL;
-    ss_status st = shade && (extra || !(set.cast_shadows || set.sky_view > 0))
+    ss_status st = (shade || job.source) && (extra || !(set.cast_shadows || set.sky_view > 0))
                        ? ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1,
                                              set.common.format,
                                              set.common.creation_options.items, &w)
                        : command_out_of_memory(&job.run);
     double blend_radius_m = set.blend_radius_cells * sqrt(g->cell_x_m * g->cell_y_m);
-    if (st == SS_OK && set.blend) {
+    if (st == SS_OK && job.source) {
+        st = shade_banded(&job, &set, w);
+    } else if (st == SS_OK && set.blend) {
         st = ss_vat(job.run.ctx, g, &job.opt, blend_radius_m, shade);
         for (size_t c = 0; st == SS_OK && c < n; ++c)
             if (shade[c] != SS_NODATA)
@@ -127,7 +162,10 @@ int cmd_hillshade(int argc, char **argv)
                  set.multidirectional ? ", multidirectional" : "",
                  set.cast_shadows ? ", cast shadows" : "", set.sky_view);
         ss_writer_metadata(w, set.blend ? "RELIEF_BLEND" : "HILLSHADE", buf);
-        st = ss_writer_band(w, 1, shade, set.blend ? "VAT relief blend" : "hillshade", NULL);
+        if (job.source)
+            ss_writer_describe(w, 1, "hillshade", NULL);
+        else
+            st = ss_writer_band(w, 1, shade, set.blend ? "VAT relief blend" : "hillshade", NULL);
     }
     if (st == SS_OK)
         st = run_commit(&job.run, w);
@@ -138,6 +176,9 @@ int cmd_hillshade(int argc, char **argv)
         run_print_dem(&job.run, &job.dem, &job.frame);
         if (set.cast_shadows || set.sky_view > 0 || set.blend)
             command_print_sweep(&job.run, &job.opt, g->width, g->height);
+        if (job.source)
+            printf("bands   %d rows of %d cells at a time, read with a row either side\n",
+                   job.band_rows, g->width);
         if (set.blend)
             printf("shade   VAT blend, horizons within %g m -> %s\n", blend_radius_m, job.output);
         else

@@ -13,6 +13,7 @@
 
 #include "commands.h"
 #include "iso_time.h"
+#include "mpi_share.h"
 #include "run.h"
 #include "sun_field.h"
 
@@ -161,7 +162,8 @@ static const char *const band_names[5] = {"global", "beam", "diffuse", "reflecte
  * statistics. */
 typedef struct {
     steps_state *steps;
-    ss_raster_writer *w, *steps_w;
+    ss_raster_writer *w, *steps_w; /* rank 0's */
+    float *shared;                 /* under mpirun: a band's five planes, added at rank 0 */
     double lo, hi, sum;
     size_t count;
 } band_sink;
@@ -186,12 +188,46 @@ static ss_status write_step_rows(void *user, int k, int row0, int n_rows, const 
     return ss_writer_rows(b->steps_w, k + 1, row0, n_rows, global);
 }
 
+/* Under mpirun: every process's five planes of n cells added into rank
+ * 0's. Nodata (SS_NODATA, the same cells in every process) is kept out of
+ * the sums and put back at rank 0. mask: n bytes of scratch. */
+static ss_status add_shared(run_state *run, float *const planes[5], size_t n,
+                            unsigned char *mask)
+{
+    for (size_t c = 0; c < n; ++c)
+        mask[c] = planes[0][c] == SS_NODATA;
+    for (int k = 0; k < 5; ++k) {
+        for (size_t c = 0; c < n; ++c)
+            planes[k][c] = mask[c] ? 0.0f : planes[k][c];
+        if (!share_sum_at_root(planes[k], n))
+            return ss_ctx_error(run->ctx, SS_ERR_INTERNAL,
+                                "MPI could not add the processes' sums");
+    }
+    for (int k = 0; k < 5 && share_rank() == 0; ++k)
+        for (size_t c = 0; c < n; ++c)
+            planes[k][c] = mask[c] ? SS_NODATA : planes[k][c];
+    return SS_OK;
+}
+
 static ss_status write_band_rows(void *user, int row0, int n_rows, const ss_insolation_out *rows)
 {
     band_sink *b = user;
     const float *planes[5] = {rows->global, rows->beam, rows->diffuse, rows->reflected,
                               rows->sun_hours};
     size_t n = (size_t)n_rows * (size_t)b->steps->job->dem.grid.width;
+    if (b->shared) {
+        float *own[5];
+        for (int k = 0; k < 5; ++k) {
+            own[k] = b->shared + (size_t)k * n;
+            memcpy(own[k], planes[k], n * sizeof(float));
+        }
+        ss_status st = add_shared(&b->steps->job->run, own, n,
+                                  (unsigned char *)(b->shared + 5 * n));
+        if (st != SS_OK || share_rank() > 0)
+            return st;
+        for (int k = 0; k < 5; ++k)
+            planes[k] = own[k];
+    }
     for (size_t c = 0; c < n; ++c)
         if (rows->global[c] != SS_NODATA) {
             b->lo = fmin(b->lo, rows->global[c]);
@@ -212,12 +248,17 @@ static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insol
 {
     sweep_job *job = steps->job;
     const ss_grid *g = &job->dem.grid;
-    band_sink b = {steps, w, steps_w, INFINITY, -INFINITY, 0, 0};
+    band_sink b = {steps, w, steps_w, NULL, INFINITY, -INFINITY, 0, 0};
+    /* Five planes and a nodata mask of a band, for adding across processes. */
+    size_t cells = (size_t)job->band_rows * (size_t)g->width;
+    if (share_size() > 1 && !(b.shared = malloc(cells * (5 * sizeof(float) + 1))))
+        return command_out_of_memory(&job->run);
     ss_insolation_band_io bio = {g->width,        g->height,       g->cell_x_m,
                                  g->cell_y_m,     job->band_rows,  &g->z_origin_m,
                                  band_read,       band_sun,        write_band_rows,
                                  steps_w ? write_step_rows : NULL, &b, bands};
     ss_status st = ss_insolation_banded(job->run.ctx, &bio, &job->opt, io, n_steps);
+    free(b.shared);
     *lo = b.count ? b.lo : NAN;
     *hi = b.count ? b.hi : NAN;
     *mean = b.count ? b.sum / (double)b.count : NAN;
@@ -241,6 +282,12 @@ int cmd_insolation(int argc, char **argv)
         &set.common.device);
     if (rc >= 0)
         return rc;
+    /* Under mpirun every process evaluates every N-th step; a band per step
+     * would have to travel whole to rank 0. */
+    if (share_size() > 1 && set.steps_path)
+        return share_rank() == 0 ? run_usage_error("insolation", "--steps is not shared between "
+                                                                 "MPI processes: run it alone")
+                                 : 2;
     /* Bands hold a horizon's sums and the cells' insolation terms and sums
      * (more than the radiative SVF's band before them). */
     band_cost cost = {ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
@@ -315,9 +362,12 @@ int cmd_insolation(int argc, char **argv)
     out.sun_hours = bands[4];
     ss_raster_writer *w = NULL;
     step_sink_state sink = {NULL, &steps, SS_OK};
-    if (st == SS_OK)
+    /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
+    if (st == SS_OK && share_rank() == 0)
         st = ss_writer_open(ctx, job.output, &job.dem, 5, set.common.format,
                             set.common.creation_options.items, &w);
+    if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
     if (st == SS_OK && set.steps_path) {
         steps.labels = calloc((size_t)n_steps, sizeof(char *));
         for (int k = 0; steps.labels && k < n_steps; ++k) {
@@ -331,7 +381,8 @@ int cmd_insolation(int argc, char **argv)
                                 set.common.creation_options.items, &sink.w);
     }
     ss_insolation_options io = {set.albedo,
-                                set.shadow_mode ? SS_SHADOW_INTERPOLATED : SS_SHADOW_EXACT};
+                                set.shadow_mode ? SS_SHADOW_INTERPOLATED : SS_SHADOW_EXACT,
+                                share_rank(), share_size()};
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats band_stats = {0};
     if (st == SS_OK && job.source)
@@ -339,12 +390,25 @@ int cmd_insolation(int argc, char **argv)
     else if (st == SS_OK)
         st = ss_insolation(ctx, g, &job.opt, &io, n_steps, sun_of_step, &steps,
                            sink.w ? store_step : NULL, &sink, &out);
+    if (!job.source && share_size() > 1) {
+        /* Every process's sums meet at rank 0. */
+        int failed = share_first_failure(st != SS_OK);
+        if (failed >= 0 && st == SS_OK)
+            st = ss_ctx_error(ctx, SS_ERR_INTERNAL, "process %d of %d failed", failed,
+                              share_size());
+        unsigned char *mask = st == SS_OK ? malloc(n) : NULL;
+        if (st == SS_OK && !mask)
+            st = command_out_of_memory(&job.run);
+        if (st == SS_OK)
+            st = add_shared(&job.run, bands, n, mask);
+        free(mask);
+    }
     if (st == SS_OK && !job.source)
         run_stats(out.global, n, &lo, &mean, &hi);
     if (st == SS_OK && sink.status != SS_OK)
         st = sink.status;
     char meta[300];
-    if (st == SS_OK) {
+    if (st == SS_OK && w) {
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
         job_plan_metadata(&job, w);
         snprintf(meta, sizeof meta,
@@ -363,7 +427,7 @@ int cmd_insolation(int argc, char **argv)
             else
                 st = ss_writer_band(w, b + 1, bands[b], band_names[b], b == 4 ? "h" : "Wh/m2");
     }
-    if (st == SS_OK) {
+    if (st == SS_OK && w) {
         st = run_commit(&job.run, w);
         w = NULL;
     }
@@ -385,6 +449,10 @@ int cmd_insolation(int argc, char **argv)
                n_steps, (unsigned long long)c.time_steps,
                (unsigned long long)c.night_steps_skipped,
                (unsigned long long)c.shadow_sweeps_skipped);
+        if (share_size() > 1)
+            printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
+                   "this one's), sums added at rank 0\n",
+                   share_size());
         printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi, job.output);
     }
     if (steps.have_field)

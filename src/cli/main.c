@@ -19,7 +19,7 @@ static const struct {
     {"svf", cmd_svf, "sky-view factor (geometric, radiative or horizontal)", 1},
     {"openness", cmd_openness, "positive or negative topographic openness (degrees)", 1},
     {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view", 0},
-    {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun", 0},
+    {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun", 1},
     {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)", 0},
     {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView", 0},
     {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map", 0},

@@ -1,8 +1,9 @@
 /* Processes sharing one run: `mpirun -np N skysweep svf ...` starts N
  * copies; each reads the DEM and sweeps every N-th direction (rank r takes
- * r, r + N, ...), their per-cell sums meet at rank 0 (one reduction of a
- * float grid: what crosses the network per run), and rank 0 alone writes
- * the output and speaks. Without MPI, or started without a launcher, a
+ * r, r + N, ...; insolation deals out its time steps so), their per-cell
+ * sums meet at rank 0 (one reduction of a float grid per output: what
+ * crosses the network per run), and rank 0 alone writes the output and
+ * speaks. Without MPI, or started without a launcher, a
  * run is one process and these calls cost nothing. */
 #ifndef SS_CLI_MPI_SHARE_H
 #define SS_CLI_MPI_SHARE_H

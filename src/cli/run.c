@@ -60,9 +60,9 @@ const opt_spec common_options[] = {
      "write the outputs for this window only (the DEM's CRS, as gdal_translate -projwin; "
      "also ULX,ULY,LRX,LRY); horizons still come from the whole DEM"},
     {"memory", OPT_STRING, COMMON(memory), "SIZE", NULL, 0, 0, NULL,
-     "bound on the working set, e.g. 512M or 4G; svf, openness, horizon and shadow sweep larger "
-     "DEMs in bands of rows (exact, doc/scale.md), other products refuse them (default: half "
-     "the RAM)"},
+     "bound on the working set, e.g. 512M or 4G; svf, openness, horizon, shadow, insolation and "
+     "a plain hillshade take larger DEMs in bands of rows (exact, doc/scale.md), the rest "
+     "refuse them (default: half the RAM)"},
     {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
     {"plan-format", OPT_CHOICE, COMMON(plan_json), NULL, "text", 0, 0, "text|json",
@@ -244,8 +244,8 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
         else
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "'%s' needs about %.0f MiB for a whole-grid sweep, more than "
-                              "%s allows; only svf, openness, horizon and shadow sweep in "
-                              "bands",
+                              "%s allows; svf, openness, horizon, shadow, insolation and a "
+                              "plain hillshade work in bands",
                               paths[0], need / 1048576.0,
                               common->memory ? "--memory" : "half this machine's memory");
     }

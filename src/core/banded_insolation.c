@@ -22,13 +22,15 @@
 
 #define N_SUMS 5 /* beam, diffuse, reflected, global, sun hours */
 
+enum { STEP_NIGHT, STEP_DAY, STEP_ELSEWHERE /* another process's */ };
+
 typedef struct {
     ss_ctx *ctx;
     const ss_insolation_band_io *io;
     float albedo;
     int n_steps;
     int *step_of;       /* daylight direction -> step */
-    unsigned char *day; /* per step: swept */
+    unsigned char *day; /* per step: STEP_NIGHT, STEP_DAY or STEP_ELSEWHERE */
     FILE *svf;          /* the radiative SVF, whole rows */
     FILE *partial;      /* the first pass's sums: per band, N_SUMS planes of its rows */
     /* The band being walked. */
@@ -190,7 +192,7 @@ static ss_status band_done(void *user, int pass, int row0, int n_rows)
     for (size_t c = 0; c < n; ++c)
         r->step_global[c] = isfinite(z[c]) ? 0.0f : SS_NODATA;
     for (int k = 0; k < r->n_steps && st == SS_OK && r->io->write_step; ++k)
-        if (!r->day[k])
+        if (r->day[k] == STEP_NIGHT)
             st = r->io->write_step(r->io->user, k, row0, n_rows, r->step_global);
     return st;
 }
@@ -215,11 +217,9 @@ static ss_status check_io(ss_ctx *ctx, const ss_insolation_band_io *io,
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "banded insolation needs a grid of at least 2 x 2 cells with positive "
                        "cell sizes, a reader, a writer, the sun and at least one row per band");
-    if (!(options->albedo >= 0 && options->albedo <= 1) || n_steps < 1)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "insolation needs an albedo in 0..1 and at least one step (albedo %g, "
-                       "%d steps)",
-                       options->albedo, n_steps);
+    ss_status st = ss_insolation_check(ctx, options, n_steps);
+    if (st != SS_OK)
+        return st;
     if (options->shadow_mode != SS_SHADOW_EXACT)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "a DEM swept in bands takes exact shadows only: interpolated shadows "
@@ -228,20 +228,25 @@ static ss_status check_io(ss_ctx *ctx, const ss_insolation_band_io *io,
 }
 
 /* The daylight steps, and their suns' azimuths for the shadow sweep. */
-static ss_status classify_steps(insolation_run *r, double **azimuths, int *n_day)
+static ss_status classify_steps(insolation_run *r, const ss_insolation_options *options,
+                                double **azimuths, int *n_day)
 {
     *n_day = 0;
     *azimuths = malloc(sizeof(double) * (size_t)r->n_steps);
     if (!*azimuths)
         return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory for %d steps", r->n_steps);
     for (int k = 0; k < r->n_steps; ++k) {
+        if (k % options->stride != options->first) {
+            r->day[k] = STEP_ELSEWHERE;
+            continue;
+        }
         ss_sun_step sun;
         ss_status st = r->io->sun_rows(r->ctx, k, 0, 0, &sun, r->io->user);
         if (st != SS_OK)
             return st;
         /* As on the whole grid: night where no cell's sun is up. */
-        r->day[k] = sun.elevation_deg + sun.spread_deg > 0.0;
-        if (!r->day[k]) {
+        r->day[k] = sun.elevation_deg + sun.spread_deg > 0.0 ? STEP_DAY : STEP_NIGHT;
+        if (r->day[k] == STEP_NIGHT) {
             r->ctx->counters.night_steps_skipped++;
             continue;
         }
@@ -284,7 +289,7 @@ ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
     double *azimuths = NULL;
     int n_day = 0;
     if (st == SS_OK)
-        st = classify_steps(&r, &azimuths, &n_day);
+        st = classify_steps(&r, options, &azimuths, &n_day);
     /* The radiative SVF of every cell, for the diffuse and reflected terms. */
     ss_band_io svf_io = {
         io->width, io->height, io->cell_x_m, io->cell_y_m, band_rows, read_rows, svf_rows, &r, 0,

@@ -91,10 +91,7 @@ static float stored_horizon(const int16_t *stored, size_t n, const ss_sweep_opti
            HORIZON_SCALE;
 }
 
-ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                        const ss_insolation_options *io, int n_steps, ss_sun_step_fn sun_at,
-                        void *sun_user, ss_step_sink sink, void *sink_user,
-                        ss_insolation_out *out)
+ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps)
 {
     if (!(io->albedo >= 0 && io->albedo <= 1) || n_steps < 1 ||
         (io->shadow_mode != SS_SHADOW_EXACT && io->shadow_mode != SS_SHADOW_INTERPOLATED))
@@ -102,12 +99,27 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                        "insolation needs an albedo in 0..1, at least one step and a shadow mode "
                        "(albedo %g, %d steps)",
                        io->albedo, n_steps);
+    if (io->stride < 1 || io->first < 0 || io->first >= io->stride)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "a share of the steps needs 0 <= first < stride (first %d, stride %d)",
+                       io->first, io->stride);
+    return SS_OK;
+}
+
+ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                        const ss_insolation_options *io, int n_steps, ss_sun_step_fn sun_at,
+                        void *sun_user, ss_step_sink sink, void *sink_user,
+                        ss_insolation_out *out)
+{
+    ss_status st = ss_insolation_check(ctx, io, n_steps);
+    if (st != SS_OK)
+        return st;
     size_t n = (size_t)grid->width * grid->height;
     ss_cell_terms *terms = NULL;
     ss_session *s = NULL;
     int16_t *stored = NULL;
     float *step_global = sink ? malloc(n * sizeof(float)) : NULL;
-    ss_status st = ss_product_begin(ctx, grid, opt, 1, &s);
+    st = ss_product_begin(ctx, grid, opt, 1, &s);
     if (st == SS_OK)
         st = make_terms(ctx, grid, opt, &terms);
     if (st == SS_OK && sink && !step_global)
@@ -121,6 +133,8 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     }
     double bound_deg = ss_horizon_bound_deg(grid, opt->lines);
     for (int k = 0; k < n_steps && st == SS_OK; ++k) {
+        if (k % io->stride != io->first)
+            continue; /* another process's step */
         ss_sun_step sun;
         st = sun_at(ctx, k, &sun, sun_user);
         if (st != SS_OK)

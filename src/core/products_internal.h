@@ -29,4 +29,7 @@ float ss_product_finish(int term, float sum, int directions);
 ss_status ss_sun_horizon(ss_session *s, const ss_grid *grid, const ss_sweep_options *opt,
                          double azimuth_deg, float **horizon_deg);
 
+/* The insolation options and step count, as both insolation paths need them. */
+ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps);
+
 #endif
