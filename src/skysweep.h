@@ -321,7 +321,8 @@ typedef enum {
 typedef struct {
     double albedo;             /* ground reflectance for the reflected term, 0..1 */
     ss_shadow_mode shadow_mode;
-    int first, stride;         /* this process's steps: first, first + stride, ... (0, 1: all);
+    int first, stride;         /* this process's steps: first, first + stride, ... (stride 0
+                                  or 1: all);
                                   the others add nothing and reach no step sink */
 } ss_insolation_options;
 
@@ -395,6 +396,9 @@ typedef struct {
 ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
                                const ss_sweep_options *opt, const ss_insolation_options *options,
                                int n_steps);
+/* Daylight steps swept together in one banded horizon run (each holds its
+ * lines' hulls): size the bands for this many directions. */
+#define SS_INSOLATION_STEPS_PER_RUN 64
 /* Bytes a banded insolation run holds per cell of a band, besides the
  * banded sweeps' own (ss_band_rows_within's band_cell_bytes). */
 double ss_insolation_band_cell_bytes(void);

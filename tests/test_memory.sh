@@ -30,7 +30,12 @@ awk 'BEGIN {
     }
 }' >"$work/dem.asc"
 gdal_translate -q -ot Float32 -a_srs EPSG:32605 -co TILED=YES "$work/dem.asc" "$work/dem.tif"
-rm -f "$work/dem.asc"
+# The same with an ocean: 60 rows of nodata on top, and 50 more across the middle.
+awk 'NR <= 6 { print; next } { r = NR - 7 }
+     r < 60 || (r >= 1000 && r < 1050) { line = ""; for (i = 1; i <= NF; i++) line = line "-9999 "; print line; next }
+     { print }' "$work/dem.asc" >"$work/sea.asc"
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 -co TILED=YES "$work/sea.asc" "$work/sea.tif"
+rm -f "$work/dem.asc" "$work/sea.asc"
 gdal_translate -q -srcwin 0 0 40 40 "$work/dem.tif" "$work/tiny.tif"
 
 peak() { sed -n 's/^memory  peak resident \([0-9]*\) MiB.*/\1/p' "$1"; }
@@ -156,6 +161,18 @@ rc=$?
 w=$(worst_band "$work/hs_w.tif" "$work/hs_b.tif" 1)
 grep -q '^bands ' "$work/hs.out" && [ "$w" = 0 ]
 tap_ok $? "banded hillshade == whole grid, every byte (worst $w; exit $rc)"
+# Nodata rows on top (the heights' origin is looked for below them, once)
+# and a band of nodata in the middle, which some bands hold alone.
+"$SKYSWEEP" shadow --sun-azimuth 200 --sun-elevation 15 --memory 49M "$work/sea.tif" "$work/ss_b.tif" >"$work/ss.out"
+rc=$?
+"$SKYSWEEP" shadow --sun-azimuth 200 --sun-elevation 15 --device reference -q "$work/sea.tif" "$work/ss_w.tif"
+"$SKYSWEEP" hillshade --memory 49M -q "$work/sea.tif" "$work/sh_b.tif"
+rc2=$?
+"$SKYSWEEP" hillshade -q "$work/sea.tif" "$work/sh_w.tif"
+w=$(worst_bands "$work/ss_w.tif" "$work/ss_b.tif" 3)
+w2=$(worst_band "$work/sh_w.tif" "$work/sh_b.tif" 1)
+grep -q '^bands ' "$work/ss.out" && [ "$w" = 0 ] && [ "$w2" = 0 ] && [ "$rc" -eq 0 ] && [ "$rc2" -eq 0 ]
+tap_ok $? "an ocean on top and across the middle: banded shadow and hillshade == whole grid (worst $w and $w2; exits $rc, $rc2)"
 "$SKYSWEEP" hillshade --sky-view 0.3 --memory 64M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
 rc=$?
 [ "$rc" -eq 6 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]

@@ -135,14 +135,28 @@ tap_ok $? "insolation, 7 steps over 3 processes == one process (global worst $wg
 # shellcheck disable=SC2086
 "$SKYSWEEP" insolation $sun --device reference -q "$work/big.tif" "$work/bi_one.tif"
 # shellcheck disable=SC2086
-mpi 2 "$SKYSWEEP" insolation $sun --memory 60M "$work/big.tif" "$work/bi_two.tif" \
+mpi 2 "$SKYSWEEP" insolation $sun --memory 72M "$work/big.tif" "$work/bi_two.tif" \
     >"$work/stdout" 2>"$work/stderr"
 rc=$?
 band "$work/bi_one.tif" "$work/g1.tif" 1 && band "$work/bi_two.tif" "$work/g2.tif" 1
 read -r wg bad_g < <(compare "$work/g1.tif" "$work/g2.tif")
 grep -q '^bands ' "$work/stdout" && awk -v g="$wg" 'BEGIN { exit !(g <= 0.01) }' &&
     [ "$rc" -eq 0 ] && [ "$bad_g" -eq 0 ]
-tap_ok $? "banded insolation (--memory 60M) over 2 processes == one whole-grid process (global worst $wg Wh/m2, $bad_g nodata mismatches, exit $rc)"
+tap_ok $? "banded insolation (--memory 72M) over 2 processes == one whole-grid process (global worst $wg Wh/m2, $bad_g nodata mismatches, exit $rc)"
+# Two steps over three processes: one has only a night step, and still adds
+# its (zero) sums band by band in the others' order.
+two="--time 2026-06-21T05:00-10:00/PT4H --step PT2H --directions 8"
+# shellcheck disable=SC2086
+"$SKYSWEEP" insolation $two --device reference -q "$work/big.tif" "$work/b2_one.tif"
+# shellcheck disable=SC2086
+mpi 3 "$SKYSWEEP" insolation $two --memory 72M "$work/big.tif" "$work/b2_three.tif" \
+    >"$work/stdout" 2>"$work/stderr"
+rc=$?
+band "$work/b2_one.tif" "$work/g1.tif" 1 && band "$work/b2_three.tif" "$work/g3.tif" 1
+read -r wg bad_g < <(compare "$work/g1.tif" "$work/g3.tif")
+grep -q '^bands ' "$work/stdout" && awk -v g="$wg" 'BEGIN { exit !(g <= 0.01) }' &&
+    [ "$rc" -eq 0 ] && [ "$bad_g" -eq 0 ]
+tap_ok $? "banded insolation, 2 steps over 3 processes (one with none in daylight) == one process (global worst $wg Wh/m2, exit $rc)"
 # shellcheck disable=SC2086
 mpi 2 "$SKYSWEEP" insolation $sun --steps "$work/s.tif" "$dem" "$work/i.tif" \
     >"$work/stdout" 2>"$work/stderr"

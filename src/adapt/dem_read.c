@@ -253,37 +253,13 @@ static void mark_uncovered(const ss_dem_source *src, const ss_dem *dem, int row0
     free(covered);
 }
 
-/* Sets the origin from the first plausible height in rows before row0,
- * as a read of the whole grid from its first row would: the heights then
- * round the same whatever order bands read them in. */
-static ss_status find_origin(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0)
-{
-    float *row = malloc(sizeof(float) * (size_t)dem->grid.width);
-    if (!row)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
-    size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
-    ss_status st = SS_OK;
-    for (int r = 0; r < row0 && !src->have_origin && st == SS_OK; ++r)
-        st = ss_dem_source_read(ctx, src, dem, r, 1, row);
-    dem->nodata_cells = nodata;
-    dem->rejected_cells = rejected;
-    free(row);
-    return st;
-}
-
-ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0, int n_rows,
-                             float *z)
+/* Reads rows [row0, row0 + n_rows) as they are; the first plausible
+ * height read sets the origin if none is set. */
+static ss_status read_rows(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0, int n_rows,
+                           float *z)
 {
     ss_grid *g = &dem->grid;
-    if (row0 < 0 || n_rows < 0 || row0 + n_rows > g->height)
-        return ss_fail(ctx, SS_ERR_INTERNAL, "rows %d..%d are outside '%s'", row0,
-                       row0 + n_rows - 1, src->what);
-    if (!src->have_origin && row0 > 0) {
-        ss_status st = find_origin(ctx, src, dem, row0);
-        if (st != SS_OK)
-            return st;
-    }
-    const int rows_per_chunk = 256;
+    const int rows_per_chunk = n_rows < 256 ? n_rows : 256;
     double *buf = malloc(sizeof(double) * (size_t)g->width * rows_per_chunk);
     if (!buf)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
@@ -326,6 +302,41 @@ ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int r
     dem->nodata_cells += nodata;
     dem->rejected_cells += rejected;
     return SS_OK;
+}
+
+/* Sets the origin from the first plausible height in rows before row0,
+ * as a read of the whole grid from its first row would: the heights then
+ * round the same whatever order bands read them in. One row at a time:
+ * leading rows of nodata (an ocean) cost one read each. */
+static ss_status find_origin(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0)
+{
+    float *row = malloc(sizeof(float) * (size_t)dem->grid.width);
+    if (!row)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
+    size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
+    ss_status st = SS_OK;
+    for (int r = 0; r < row0 && !src->have_origin && st == SS_OK; ++r)
+        st = read_rows(ctx, src, dem, r, 1, row);
+    dem->nodata_cells = nodata;
+    dem->rejected_cells = rejected;
+    free(row);
+    return st;
+}
+
+ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row0, int n_rows,
+                             float *z)
+{
+    if (row0 < 0 || n_rows < 0 || row0 + n_rows > dem->grid.height)
+        return ss_fail(ctx, SS_ERR_INTERNAL, "rows %d..%d are outside '%s'", row0,
+                       row0 + n_rows - 1, src->what);
+    if (n_rows == 0)
+        return SS_OK;
+    if (!src->have_origin && row0 > 0) {
+        ss_status st = find_origin(ctx, src, dem, row0);
+        if (st != SS_OK)
+            return st;
+    }
+    return read_rows(ctx, src, dem, row0, n_rows, z);
 }
 
 void ss_dem_source_close(ss_dem_source *src)

@@ -61,7 +61,11 @@ static ss_status shade_banded(sweep_job *job, const hillshade_settings *set,
         int hi = row0 + rows < g->height ? row0 + rows + 1 : g->height;
         st = job_read_rows(job, lo, hi - lo, z);
         ss_grid band = {g->width, hi - lo, g->cell_x_m, g->cell_y_m, g->z_origin_m, z};
-        if (st == SS_OK)
+        size_t n = (size_t)(hi - lo) * (size_t)g->width;
+        if (st == SS_OK && !run_any_height(z, n))
+            for (size_t c = 0; c < n; ++c) /* all nodata: nothing to shade */
+                shade[c] = SS_NODATA;
+        else if (st == SS_OK)
             st = ss_hillshade(job->run.ctx, &band, set->azimuth_deg, set->altitude_deg,
                               set->z_factor, set->alg == 1, set->multidirectional, shade);
         if (st == SS_OK)

@@ -164,6 +164,7 @@ typedef struct {
     steps_state *steps;
     ss_raster_writer *w, *steps_w; /* rank 0's */
     float *shared;                 /* under mpirun: a band's five planes, added at rank 0 */
+    share_bands agreed;            /* before each band's planes are added */
     double lo, hi, sum;
     size_t count;
 } band_sink;
@@ -216,6 +217,9 @@ static ss_status write_band_rows(void *user, int row0, int n_rows, const ss_inso
                               rows->sun_hours};
     size_t n = (size_t)n_rows * (size_t)b->steps->job->dem.grid.width;
     if (b->shared) {
+        ss_status agreed = share_band_agree(&b->steps->job->run, &b->agreed);
+        if (agreed != SS_OK)
+            return agreed;
         float *own[5];
         for (int k = 0; k < 5; ++k) {
             own[k] = b->shared + (size_t)k * n;
@@ -229,10 +233,10 @@ static ss_status write_band_rows(void *user, int row0, int n_rows, const ss_inso
             planes[k] = own[k];
     }
     for (size_t c = 0; c < n; ++c)
-        if (rows->global[c] != SS_NODATA) {
-            b->lo = fmin(b->lo, rows->global[c]);
-            b->hi = fmax(b->hi, rows->global[c]);
-            b->sum += rows->global[c];
+        if (planes[0][c] != SS_NODATA) {
+            b->lo = fmin(b->lo, planes[0][c]);
+            b->hi = fmax(b->hi, planes[0][c]);
+            b->sum += planes[0][c];
             b->count++;
         }
     ss_status st = SS_OK;
@@ -248,16 +252,18 @@ static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insol
 {
     sweep_job *job = steps->job;
     const ss_grid *g = &job->dem.grid;
-    band_sink b = {steps, w, steps_w, NULL, INFINITY, -INFINITY, 0, 0};
+    int n_bands = (g->height + job->band_rows - 1) / job->band_rows;
+    band_sink b = {steps, w, steps_w, NULL, {n_bands, 0}, INFINITY, -INFINITY, 0, 0};
     /* Five planes and a nodata mask of a band, for adding across processes. */
     size_t cells = (size_t)job->band_rows * (size_t)g->width;
     if (share_size() > 1 && !(b.shared = malloc(cells * (5 * sizeof(float) + 1))))
-        return command_out_of_memory(&job->run);
+        return share_bands_finish(&job->run, &b.agreed, command_out_of_memory(&job->run));
     ss_insolation_band_io bio = {g->width,        g->height,       g->cell_x_m,
                                  g->cell_y_m,     job->band_rows,  &g->z_origin_m,
                                  band_read,       band_sun,        write_band_rows,
                                  steps_w ? write_step_rows : NULL, &b, bands};
     ss_status st = ss_insolation_banded(job->run.ctx, &bio, &job->opt, io, n_steps);
+    st = share_bands_finish(&job->run, &b.agreed, st);
     free(b.shared);
     *lo = b.count ? b.lo : NAN;
     *hi = b.count ? b.hi : NAN;
@@ -290,8 +296,11 @@ int cmd_insolation(int argc, char **argv)
                                  : 2;
     /* Bands hold a horizon's sums and the cells' insolation terms and sums
      * (more than the radiative SVF's band before them). */
+    int directions = set.common.directions > SS_INSOLATION_STEPS_PER_RUN
+                         ? set.common.directions
+                         : SS_INSOLATION_STEPS_PER_RUN;
     band_cost cost = {ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
-                      ss_horizon_column_bytes(), 0};
+                      ss_horizon_column_bytes(), directions};
     sweep_job job;
     if ((rc = job_open_banded(&job, "insolation", &set.common, pos, n_pos, cost)))
         return rc;

@@ -124,7 +124,11 @@ static ss_status shade_band(void *user, int direction, int row0, int n_rows,
      * or only there for the slopes. */
     ss_grid rows = {g->width, hi - lo, g->cell_x_m, g->cell_y_m, g->z_origin_m, b->z};
     float *cos_i = b->out.light;
-    if (st == SS_OK)
+    size_t read = (size_t)(hi - lo) * g->width;
+    if (st == SS_OK && !run_any_height(b->z, read))
+        for (size_t c = 0; c < read; ++c) /* all nodata: no slopes */
+            cos_i[c] = SS_NODATA;
+    else if (st == SS_OK)
         st = ss_sun_incidence(ctx, &rows, b->sun->centre_grid_azimuth_deg,
                               b->sun->centre.apparent_elevation_deg, b->sun->grid_azimuth_deg,
                               b->sun->apparent_elevation_deg, cos_i);

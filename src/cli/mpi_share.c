@@ -1,6 +1,7 @@
 /* MPI for skysweep's CLI (mpi_share.h): only this file includes mpi.h. */
 #include "config.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,6 +69,47 @@ int share_first_failure(int failed)
         MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
 #endif
     return first < size_now ? first : -1;
+}
+
+static int all_min(int v)
+{
+#ifdef HAVE_MPI
+    if (size_now > 1)
+        MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+#endif
+    return v;
+}
+
+int share_band_rows(int rows)
+{
+    if (size_now < 2)
+        return rows;
+    int worst = all_min(rows < 0 ? rows : 0);
+    if (worst < 0)
+        return worst;
+    int smallest = all_min(rows > 0 ? rows : INT_MAX);
+    return smallest == INT_MAX ? 0 : smallest;
+}
+
+ss_status share_band_agree(run_state *run, share_bands *b)
+{
+    b->made++;
+    int failed = share_first_failure(0);
+    return failed < 0 ? SS_OK
+                      : ss_ctx_error(run->ctx, SS_ERR_INTERNAL, "process %d of %d failed", failed,
+                                     size_now);
+}
+
+ss_status share_bands_finish(run_state *run, share_bands *b, ss_status st)
+{
+    if (size_now < 2)
+        return st;
+    for (; b->made < b->bands; b->made++)
+        share_first_failure(st != SS_OK);
+    int failed = share_first_failure(st != SS_OK);
+    if (failed >= 0 && st == SS_OK)
+        st = ss_ctx_error(run->ctx, SS_ERR_INTERNAL, "process %d of %d failed", failed, size_now);
+    return st;
 }
 
 int share_sum_at_root(float *values, size_t n)

@@ -21,6 +21,27 @@ int share_size(void);
 /* Collective: -1 when no process failed, else the lowest failed rank. */
 int share_first_failure(int failed);
 
+/* Collective: one band height for every process from each one's own
+ * (ss_band_rows_within's: 0 whole grid, -1 not even one band fits, or
+ * rows; -2 for a process that failed before deciding), so that all sweep
+ * the same bands in the same order: -2 or -1 if any process says so, else
+ * the smallest band any process needs, else 0. */
+int share_band_rows(int rows);
+
+/* A banded run under mpirun agrees, before each band's sums are added,
+ * that no process has failed; a process that stops early (or finishes)
+ * makes up the agreements it has left, so every process makes the same
+ * number and none waits for ever. */
+typedef struct {
+    int bands; /* agreements a run makes: one per band */
+    int made;
+} share_bands;
+/* Before a band's reduction: SS_OK, or an error naming the failed process. */
+ss_status share_band_agree(run_state *run, share_bands *b);
+/* At the end of the run, whatever st is: the agreements left, then one
+ * more on the outcome; returns st, or an error if another process failed. */
+ss_status share_bands_finish(run_state *run, share_bands *b, ss_status st);
+
 /* Collective: adds every process's values into rank 0's (others' values
  * are left as they were). Returns 0 if MPI failed. */
 int share_sum_at_root(float *values, size_t n);

@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "heightmap_input.h"
 #include "mpi_share.h"
+#include "mpi_share.h"
 #include "run.h"
 #include "scene.h"
 
@@ -225,14 +226,25 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
         budget = 0.5 * (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
     ss_dem_source *src;
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
+    int rows = st != SS_OK ? -2
+               : may_band  ? ss_band_rows_within(dem->grid.width, dem->grid.height,
+                                                 cost->directions ? cost->directions
+                                                                  : common->directions,
+                                                 budget, cost->cell_bytes, cost->column_bytes)
+                           : ss_band_rows_for(dem->grid.width, dem->grid.height,
+                                              common->directions, budget);
+    /* Processes sharing a run sweep the same bands (their machines' memory
+     * may differ); a process that could not open the DEM stops them all. */
+    if (may_band)
+        rows = share_band_rows(rows);
     if (st != SS_OK)
         return st;
-    int rows = may_band ? ss_band_rows_within(dem->grid.width, dem->grid.height,
-                                              cost->directions ? cost->directions
-                                                               : common->directions,
-                                              budget, cost->cell_bytes, cost->column_bytes)
-                        : ss_band_rows_for(dem->grid.width, dem->grid.height,
-                                           common->directions, budget);
+    if (rows == -2) {
+        ss_dem_source_close(src);
+        ss_dem_free(dem);
+        return ss_ctx_error(run->ctx, SS_ERR_INPUT, "another process could not open '%s'",
+                            paths[0]);
+    }
     if (rows != 0 && (!may_band || rows < 0)) {
         double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
         if (may_band)
@@ -541,6 +553,14 @@ int job_open_banded(sweep_job *job, const char *command, const common_settings *
                     const char **pos, int n_pos, band_cost cost)
 {
     return open_job(job, command, common, pos, n_pos, &cost);
+}
+
+int run_any_height(const float *z, size_t n)
+{
+    for (size_t c = 0; c < n; ++c)
+        if (isfinite(z[c]))
+            return 1;
+    return 0;
 }
 
 ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z)

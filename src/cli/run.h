@@ -147,6 +147,9 @@ void job_plan_metadata(sweep_job *job, ss_raster_writer *w);
 /* Reads rows of a banded job's DEM (NaN at nodata), counting each row's
  * cells without a height once however often the row is read. */
 ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z);
+/* Whether any of n heights is a height (a band can be all nodata, which
+ * the whole-grid functions refuse as a grid). */
+int run_any_height(const float *z, size_t n);
 /* Prints the failure (if st is not SS_OK) and returns the exit code. */
 int job_finish(sweep_job *job, ss_status st);
 void job_close(sweep_job *job);

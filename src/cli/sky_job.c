@@ -15,6 +15,7 @@ typedef struct {
     ss_sky_term term;
     ss_raster_writer *w; /* rank 0's */
     float *rows;         /* a band of sums, to add across processes */
+    share_bands agreed;  /* before each band's sums are added */
     double lo, hi, sum;
     size_t count;
 } band_state;
@@ -31,6 +32,9 @@ static ss_status write_rows(void *user, int row0, int n_rows, const float *value
     size_t n = (size_t)n_rows * (size_t)b->job->dem.grid.width;
     if (share_size() > 1) {
         /* Sums (NaN at nodata) from every process; rank 0 finishes them. */
+        ss_status agreed = share_band_agree(&b->job->run, &b->agreed);
+        if (agreed != SS_OK)
+            return agreed;
         memcpy(b->rows, values, n * sizeof(float));
         if (!share_sum_at_root(b->rows, n))
             return ss_ctx_error(b->job->run.ctx, SS_ERR_INTERNAL,
@@ -56,16 +60,20 @@ static ss_status write_rows(void *user, int row0, int n_rows, const float *value
 static ss_status sky_banded(sweep_job *job, ss_sky_term term, ss_raster_writer *w,
                             ss_band_stats *stats, double *min, double *mean, double *max)
 {
-    band_state b = {job, term, w, NULL, INFINITY, -INFINITY, 0, 0};
+    int bands = (job->dem.grid.height + job->band_rows - 1) / job->band_rows;
+    band_state b = {job, term, w, NULL, {bands, 0}, INFINITY, -INFINITY, 0, 0};
     int shared = share_size() > 1;
     if (shared)
         b.rows = malloc(sizeof(float) * (size_t)job->band_rows * (size_t)job->dem.grid.width);
     if (shared && !b.rows)
-        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band");
+        return share_bands_finish(
+            &job->run, &b.agreed,
+            ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band"));
     const ss_grid *g = &job->dem.grid;
     ss_band_io io = {g->width, g->height, g->cell_x_m, g->cell_y_m, job->band_rows,
                      read_rows, write_rows, &b, share_rank(), share_size(), shared, stats};
     ss_status st = ss_sky_banded(job->run.ctx, &io, &job->opt, term);
+    st = share_bands_finish(&job->run, &b.agreed, st);
     free(b.rows);
     *min = b.count ? b.lo : NAN;
     *max = b.count ? b.hi : NAN;

@@ -34,7 +34,8 @@ typedef struct {
 typedef struct {
     ss_band_grid grid;
     const ss_horizon_band_io *io;
-    int want; /* SS_HORIZON_WANT_* bits for the walk */
+    int want;  /* SS_HORIZON_WANT_* bits for the walk */
+    int asked; /* the caller's SS_HORIZON_* bits */
     float curv_k;
     float *sums[N_SUMS]; /* held cells each, like the grid */
     ss_band_stats stats;
@@ -134,7 +135,7 @@ static ss_status direction_in_band(horizon_run *h, horizon_direction *dir, int r
         if (dist && no_height)
             dist[c] = SS_NODATA;
     }
-    int want_dist = (h->want & SS_HORIZON_WANT_DIST) != 0;
+    int want_dist = (h->asked & SS_HORIZON_DISTANCE) != 0;
     return h->io->write(h->io->user, dir->index, row0, rows, angle, want_dist ? dist : NULL, cast);
 }
 
@@ -194,6 +195,7 @@ ss_status ss_horizon_banded(ss_ctx *ctx, const ss_horizon_band_io *io, const ss_
     int want_cast = (want & SS_HORIZON_CAST_HEIGHT) != 0;
     int want_dist = want_cast || (want & SS_HORIZON_DISTANCE);
     h.want = (want_dist ? SS_HORIZON_WANT_DIST : 0) | (want_cast ? SS_HORIZON_WANT_CAST : 0);
+    h.asked = want;
     h.curv_k = ss_curvature_k(opt);
     int n_dirs = io->n_azimuths > 0 ? io->n_azimuths : opt->directions;
     size_t held = 0, w = (size_t)io->width;

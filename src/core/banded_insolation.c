@@ -30,6 +30,8 @@ typedef struct {
     float albedo;
     int n_steps;
     int *step_of;       /* daylight direction -> step */
+    int step_base;      /* the current group's first daylight direction */
+    int group, n_groups; /* groups of daylight steps, one banded horizon run each */
     unsigned char *day; /* per step: STEP_NIGHT, STEP_DAY or STEP_ELSEWHERE */
     FILE *svf;          /* the radiative SVF, whole rows */
     FILE *partial;      /* the first pass's sums: per band, N_SUMS planes of its rows */
@@ -124,7 +126,7 @@ static ss_status step_rows(void *user, int direction, int row0, int n_rows,
     ss_status st = SS_OK;
     if (!r->ready || r->row0 != row0)
         st = prepare_band(r, row0, n_rows);
-    int k = r->step_of[direction];
+    int k = r->step_of[r->step_base + direction];
     ss_sun_step sun;
     if (st == SS_OK)
         st = r->io->sun_rows(r->ctx, k, row0, n_rows, &sun, r->io->user);
@@ -164,9 +166,10 @@ static ss_status step_rows(void *user, int direction, int row0, int n_rows,
                              : SS_OK;
 }
 
-/* A band's rows have seen every direction of a pass: after the first, its
- * sums wait in the file; after the second, they are added to the first's,
- * finished and written, with the night steps' rows of the step file. */
+/* A band's rows have seen every direction of a pass: its sums are added to
+ * what earlier passes (and groups of steps) left in the file, and wait
+ * there; after the last, they are finished and written, with the night
+ * steps' rows of the step file. */
 static ss_status band_done(void *user, int pass, int row0, int n_rows)
 {
     insolation_run *r = user;
@@ -175,16 +178,21 @@ static ss_status band_done(void *user, int pass, int row0, int n_rows)
         st = prepare_band(r, row0, n_rows);
     r->ready = 0;
     size_t n = (size_t)n_rows * r->io->width;
-    if (st != SS_OK || pass == 0)
-        return st == SS_OK ? file_rows(r, r->partial, row0, n_rows, N_SUMS, r->sums, 1) : st;
-    st = file_rows(r, r->partial, row0, n_rows, N_SUMS, r->loaded, 0);
+    int first = r->group == 0 && pass == 0, last = r->group == r->n_groups - 1 && pass == 1;
+    if (st == SS_OK && !first)
+        st = file_rows(r, r->partial, row0, n_rows, N_SUMS, r->loaded, 0);
     const float *z = band_z(r);
-    for (int k = 0; k < N_SUMS && st == SS_OK; ++k) {
+    for (int k = 0; k < N_SUMS && st == SS_OK && !first; ++k) {
         float *sum = r->sums + (size_t)k * n;
-        const float *first = r->loaded + (size_t)k * n;
+        const float *before = r->loaded + (size_t)k * n;
         for (size_t c = 0; c < n; ++c)
-            sum[c] = isfinite(z[c]) ? first[c] + sum[c] : SS_NODATA;
+            sum[c] = before[c] + sum[c];
     }
+    if (st != SS_OK || !last)
+        return st == SS_OK ? file_rows(r, r->partial, row0, n_rows, N_SUMS, r->sums, 1) : st;
+    for (int k = 0; k < N_SUMS; ++k)
+        for (size_t c = 0; c < n; ++c)
+            r->sums[(size_t)k * n + c] = isfinite(z[c]) ? r->sums[(size_t)k * n + c] : SS_NODATA;
     ss_insolation_out rows = {r->sums + 3 * n, r->sums, r->sums + n, r->sums + 2 * n,
                               r->sums + 4 * n};
     if (st == SS_OK)
@@ -197,12 +205,16 @@ static ss_status band_done(void *user, int pass, int row0, int n_rows)
     return st;
 }
 
-/* No daylight step: every band's two passes, with no direction walked. */
+/* No daylight step: every band's two passes, with no direction walked, in
+ * the order ss_horizon_banded visits them (down, then up), so that every
+ * process writes, and adds, its bands in the same order. */
 static ss_status run_nights(insolation_run *r, int band_rows)
 {
     ss_status st = SS_OK;
+    int bands = (r->io->height + band_rows - 1) / band_rows;
     for (int pass = 0; pass < 2; ++pass)
-        for (int row0 = 0; row0 < r->io->height && st == SS_OK; row0 += band_rows) {
+        for (int k = 0; k < bands && st == SS_OK; ++k) {
+            int row0 = (pass == 0 ? k : bands - 1 - k) * band_rows;
             int rows = row0 + band_rows < r->io->height ? band_rows : r->io->height - row0;
             st = band_done(r, pass, row0, rows);
         }
@@ -236,7 +248,7 @@ static ss_status classify_steps(insolation_run *r, const ss_insolation_options *
     if (!*azimuths)
         return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory for %d steps", r->n_steps);
     for (int k = 0; k < r->n_steps; ++k) {
-        if (k % options->stride != options->first) {
+        if (!ss_insolation_step_is_mine(options, k)) {
             r->day[k] = STEP_ELSEWHERE;
             continue;
         }
@@ -275,15 +287,8 @@ ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
     size_t cells = (size_t)band_rows * io->width;
     r.step_of = malloc(sizeof(int) * (size_t)n_steps);
     r.day = calloc((size_t)n_steps, 1);
-    r.z = malloc(sizeof(float) * (cells + 2 * (size_t)io->width));
-    r.sky_view = malloc(sizeof(float) * cells);
-    r.terms = malloc(sizeof(ss_cell_terms) * cells);
-    r.sums = malloc(sizeof(float) * N_SUMS * cells);
-    r.loaded = malloc(sizeof(float) * N_SUMS * cells);
-    r.step_global = malloc(sizeof(float) * cells);
-    if (!r.step_of || !r.day || !r.z || !r.sky_view || !r.terms || !r.sums || !r.loaded ||
-        !r.step_global)
-        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", band_rows);
+    if (!r.step_of || !r.day)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for %d steps", n_steps);
     if (st == SS_OK && (!(r.svf = tmpfile()) || !(r.partial = tmpfile())))
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create a temporary file for the banded sweep");
     double *azimuths = NULL;
@@ -296,12 +301,43 @@ ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
         1,         0,          NULL};
     if (st == SS_OK)
         st = ss_sky_banded(ctx, &svf_io, opt, SS_SKY_SVF_TILTED);
-    /* Then the shadows of every daylight step, summed band by band. */
-    ss_horizon_band_io shadow_io = {io->width, io->height, io->cell_x_m, io->cell_y_m, band_rows,
-                                    read_rows, step_rows,  &r,           n_day,        azimuths,
-                                    0.0f,      io->stats,  band_done};
-    if (st == SS_OK)
+    /* The bands' own buffers, once the SVF's are free. */
+    if (st == SS_OK) {
+        r.z = malloc(sizeof(float) * (cells + 2 * (size_t)io->width));
+        r.sky_view = malloc(sizeof(float) * cells);
+        r.terms = malloc(sizeof(ss_cell_terms) * cells);
+        r.sums = malloc(sizeof(float) * N_SUMS * cells);
+        r.loaded = malloc(sizeof(float) * N_SUMS * cells);
+        r.step_global = malloc(sizeof(float) * cells);
+        if (!r.z || !r.sky_view || !r.terms || !r.sums || !r.loaded || !r.step_global)
+            st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", band_rows);
+    }
+    /* Then the shadows of the daylight steps, summed band by band. A run
+     * holds every line's hull for each of its directions, so the steps go
+     * in groups of SS_INSOLATION_STEPS_PER_RUN, each a banded horizon run. */
+    r.n_groups = n_day > 0 ? (n_day + SS_INSOLATION_STEPS_PER_RUN - 1) /
+                                 SS_INSOLATION_STEPS_PER_RUN
+                           : 1;
+    ss_band_stats total = {0, 0, 0};
+    for (r.group = 0; st == SS_OK && r.group < r.n_groups; ++r.group) {
+        r.step_base = r.group * SS_INSOLATION_STEPS_PER_RUN;
+        int in_group = n_day - r.step_base < SS_INSOLATION_STEPS_PER_RUN
+                           ? n_day - r.step_base
+                           : SS_INSOLATION_STEPS_PER_RUN;
+        ss_band_stats stats = {0, 0, 0};
+        ss_horizon_band_io shadow_io = {io->width,  io->height, io->cell_x_m,
+                                        io->cell_y_m, band_rows, read_rows,
+                                        step_rows,  &r,         in_group,
+                                        azimuths + r.step_base, 0.0f, &stats,
+                                        band_done};
         st = n_day > 0 ? ss_horizon_banded(ctx, &shadow_io, opt, 0) : run_nights(&r, band_rows);
+        total.handoffs += stats.handoffs;
+        total.hull_points_handed_on += stats.hull_points_handed_on;
+        if (stats.max_hull_points > total.max_hull_points)
+            total.max_hull_points = stats.max_hull_points;
+    }
+    if (io->stats)
+        *io->stats = total;
     free(azimuths);
     if (r.svf)
         fclose(r.svf);

@@ -99,11 +99,17 @@ ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int 
                        "insolation needs an albedo in 0..1, at least one step and a shadow mode "
                        "(albedo %g, %d steps)",
                        io->albedo, n_steps);
-    if (io->stride < 1 || io->first < 0 || io->first >= io->stride)
+    if (io->stride < 0 || io->first < 0 || (io->stride > 1 && io->first >= io->stride) ||
+        (io->stride <= 1 && io->first != 0))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "a share of the steps needs 0 <= first < stride (first %d, stride %d)",
                        io->first, io->stride);
     return SS_OK;
+}
+
+int ss_insolation_step_is_mine(const ss_insolation_options *io, int k)
+{
+    return io->stride <= 1 || k % io->stride == io->first;
 }
 
 ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
@@ -133,7 +139,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     }
     double bound_deg = ss_horizon_bound_deg(grid, opt->lines);
     for (int k = 0; k < n_steps && st == SS_OK; ++k) {
-        if (k % io->stride != io->first)
+        if (!ss_insolation_step_is_mine(io, k))
             continue; /* another process's step */
         ss_sun_step sun;
         st = sun_at(ctx, k, &sun, sun_user);

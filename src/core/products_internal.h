@@ -31,5 +31,7 @@ ss_status ss_sun_horizon(ss_session *s, const ss_grid *grid, const ss_sweep_opti
 
 /* The insolation options and step count, as both insolation paths need them. */
 ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps);
+/* Whether step k is this process's (ss_insolation_options' share). */
+int ss_insolation_step_is_mine(const ss_insolation_options *io, int k);
 
 #endif
