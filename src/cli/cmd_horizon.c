@@ -48,10 +48,9 @@ static const opt_spec horizon_options[] = {
 typedef struct {
     ss_raster_writer *angle, *dist, *cast;
     ss_status status;
-    sweep_job *job;      /* banded runs: the DEM's rows and origin */
+    sweep_job *job;      /* the DEM: its size; in banded runs its rows and origin */
     float *cast_scratch; /* banded runs: a band of casting heights with the origin added */
 } horizon_sink_state;
-
 
 static int store_direction(int index, double azimuth_deg, const float *angle_deg,
                            const float *dist_m, const float *cast_height_m, void *user)

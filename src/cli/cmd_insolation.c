@@ -79,11 +79,6 @@ static ss_status parse_linke(ss_ctx *ctx, const char *text, double linke[12])
     return SS_OK;
 }
 
-static ss_status read_rows(void *user, int row0, int n_rows, float *z)
-{
-    return job_read_rows(user, row0, n_rows, z);
-}
-
 /* The sun of step k for rows [row0, row0 + n_rows) of the DEM (all of
  * them for a DEM in memory); n_rows 0: the centre's sun alone. */
 static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step,
@@ -108,7 +103,7 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     ss_status st;
     if (job->source)
         st = ss_sun_field_lattice(ctx, &job->dem, &job->frame, mid, &p, per_cell, row0,
-                                  row0 + n_rows, read_rows, job, &ss->field);
+                                  row0 + n_rows, job_rows_reader, job, &ss->field);
     else
         st = ss_sun_field_compute(ctx, &job->dem, &job->frame, mid, &p, per_cell, &ss->field);
     if (st != SS_OK)
@@ -165,8 +160,7 @@ typedef struct {
     ss_raster_writer *w, *steps_w; /* rank 0's */
     float *shared;                 /* under mpirun: a band's five planes, added at rank 0 */
     share_bands agreed;            /* before each band's planes are added */
-    double lo, hi, sum;
-    size_t count;
+    run_tally global;              /* of the finished global rows */
 } band_sink;
 
 static ss_status band_read(void *user, int row0, int n_rows, float *z)
@@ -232,13 +226,7 @@ static ss_status write_band_rows(void *user, int row0, int n_rows, const ss_inso
         for (int k = 0; k < 5; ++k)
             planes[k] = own[k];
     }
-    for (size_t c = 0; c < n; ++c)
-        if (planes[0][c] != SS_NODATA) {
-            b->lo = fmin(b->lo, planes[0][c]);
-            b->hi = fmax(b->hi, planes[0][c]);
-            b->sum += planes[0][c];
-            b->count++;
-        }
+    run_tally_add(&b->global, planes[0], n);
     ss_status st = SS_OK;
     for (int k = 0; k < 5 && st == SS_OK; ++k)
         st = ss_writer_rows(b->w, k + 1, row0, n_rows, planes[k]);
@@ -253,7 +241,7 @@ static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insol
     sweep_job *job = steps->job;
     const ss_grid *g = &job->dem.grid;
     int n_bands = (g->height + job->band_rows - 1) / job->band_rows;
-    band_sink b = {steps, w, steps_w, NULL, {n_bands, 0}, INFINITY, -INFINITY, 0, 0};
+    band_sink b = {steps, w, steps_w, NULL, {n_bands, 0}, {0, 0, 0, 0}};
     /* Five planes and a nodata mask of a band, for adding across processes. */
     size_t cells = (size_t)job->band_rows * (size_t)g->width;
     if (share_size() > 1 && !(b.shared = malloc(cells * (5 * sizeof(float) + 1))))
@@ -265,9 +253,7 @@ static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insol
     ss_status st = ss_insolation_banded(job->run.ctx, &bio, &job->opt, io, n_steps);
     st = share_bands_finish(&job->run, &b.agreed, st);
     free(b.shared);
-    *lo = b.count ? b.lo : NAN;
-    *hi = b.count ? b.hi : NAN;
-    *mean = b.count ? b.sum / (double)b.count : NAN;
+    run_tally_result(&b.global, NAN, lo, mean, hi);
     return st;
 }
 

@@ -10,11 +10,6 @@
 #include "run.h"
 #include "sun_field.h"
 
-static ss_status read_rows(void *user, int row0, int n_rows, float *z)
-{
-    return job_read_rows(user, row0, n_rows, z);
-}
-
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field)
 {
     ss_ctx *ctx = job->run.ctx;
@@ -48,8 +43,8 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
      * its files gets the lattice only; the bands fill their rows. */
     if (job->source)
         return ss_sun_field_lattice(ctx, &job->dem, &job->frame, unix_s, &p,
-                                    job->plan.sun_per_cell, 0, job->dem.grid.height, read_rows,
-                                    job, field);
+                                    job->plan.sun_per_cell, 0, job->dem.grid.height,
+                                    job_rows_reader, job, field);
     return ss_sun_field_compute(ctx, &job->dem, &job->frame, unix_s, &p, job->plan.sun_per_cell,
                                 field);
 }

@@ -386,21 +386,30 @@ ss_status run_commit(run_state *run, ss_raster_writer *w)
     return ss_writer_commit(w, progress, run);
 }
 
-void run_stats(const float *v, size_t n, double *min, double *mean, double *max)
+void run_tally_add(run_tally *t, const float *v, size_t n)
 {
-    double lo = INFINITY, hi = -INFINITY, sum = 0;
-    size_t count = 0;
     for (size_t i = 0; i < n; ++i) {
         if (v[i] == SS_NODATA)
             continue;
-        lo = v[i] < lo ? v[i] : lo;
-        hi = v[i] > hi ? v[i] : hi;
-        sum += v[i];
-        count++;
+        t->lo = t->count && t->lo <= v[i] ? t->lo : v[i];
+        t->hi = t->count && t->hi >= v[i] ? t->hi : v[i];
+        t->sum += v[i];
+        t->count++;
     }
-    *min = count ? lo : 0;
-    *max = count ? hi : 0;
-    *mean = count ? sum / (double)count : 0;
+}
+
+void run_tally_result(const run_tally *t, double empty, double *min, double *mean, double *max)
+{
+    *min = t->count ? t->lo : empty;
+    *max = t->count ? t->hi : empty;
+    *mean = t->count ? t->sum / (double)t->count : empty;
+}
+
+void run_stats(const float *v, size_t n, double *min, double *mean, double *max)
+{
+    run_tally t = {0, 0, 0, 0};
+    run_tally_add(&t, v, n);
+    run_tally_result(&t, 0.0, min, mean, max);
 }
 
 void run_print_dem(run_state *run, const ss_dem *dem, const ss_dem_frame *frame)
@@ -553,6 +562,11 @@ int job_open_banded(sweep_job *job, const char *command, const common_settings *
                     const char **pos, int n_pos, band_cost cost)
 {
     return open_job(job, command, common, pos, n_pos, &cost);
+}
+
+ss_status job_rows_reader(void *job, int row0, int n_rows, float *z)
+{
+    return job_read_rows(job, row0, n_rows, z);
 }
 
 int run_any_height(const float *z, size_t n)

@@ -147,6 +147,8 @@ void job_plan_metadata(sweep_job *job, ss_raster_writer *w);
 /* Reads rows of a banded job's DEM (NaN at nodata), counting each row's
  * cells without a height once however often the row is read. */
 ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z);
+/* job_read_rows as an ss_rows_read, for callbacks whose user is the job. */
+ss_status job_rows_reader(void *job, int row0, int n_rows, float *z);
 /* Whether any of n heights is a height (a band can be all nodata, which
  * the whole-grid functions refuse as a grid). */
 int run_any_height(const float *z, size_t n);
@@ -156,6 +158,14 @@ void job_close(sweep_job *job);
 
 /* min, mean and max over valid cells (value != SS_NODATA). */
 void run_stats(const float *v, size_t n, double *min, double *mean, double *max);
+/* The same added up a band of rows at a time (start from all zeros);
+ * empty is what a tally of no valid cell gives. */
+typedef struct {
+    double lo, hi, sum;
+    size_t count;
+} run_tally;
+void run_tally_add(run_tally *t, const float *v, size_t n);
+void run_tally_result(const run_tally *t, double empty, double *min, double *mean, double *max);
 void run_print_dem(run_state *run, const ss_dem *dem, const ss_dem_frame *frame);
 
 #endif

@@ -16,8 +16,7 @@ typedef struct {
     ss_raster_writer *w; /* rank 0's */
     float *rows;         /* a band of sums, to add across processes */
     share_bands agreed;  /* before each band's sums are added */
-    double lo, hi, sum;
-    size_t count;
+    run_tally tally;     /* of the finished rows */
 } band_state;
 
 static ss_status read_rows(void *user, int row0, int n_rows, float *z)
@@ -47,13 +46,7 @@ static ss_status write_rows(void *user, int row0, int n_rows, const float *value
                              : ss_sky_value(b->term, b->rows[c], b->job->opt.directions);
         values = b->rows;
     }
-    for (size_t c = 0; c < n; ++c)
-        if (values[c] != SS_NODATA) {
-            b->lo = fmin(b->lo, values[c]);
-            b->hi = fmax(b->hi, values[c]);
-            b->sum += values[c];
-            b->count++;
-        }
+    run_tally_add(&b->tally, values, n);
     return ss_writer_rows(b->w, 1, row0, n_rows, values);
 }
 
@@ -61,7 +54,7 @@ static ss_status sky_banded(sweep_job *job, ss_sky_term term, ss_raster_writer *
                             ss_band_stats *stats, double *min, double *mean, double *max)
 {
     int bands = (job->dem.grid.height + job->band_rows - 1) / job->band_rows;
-    band_state b = {job, term, w, NULL, {bands, 0}, INFINITY, -INFINITY, 0, 0};
+    band_state b = {job, term, w, NULL, {bands, 0}, {0, 0, 0, 0}};
     int shared = share_size() > 1;
     if (shared)
         b.rows = malloc(sizeof(float) * (size_t)job->band_rows * (size_t)job->dem.grid.width);
@@ -75,9 +68,7 @@ static ss_status sky_banded(sweep_job *job, ss_sky_term term, ss_raster_writer *
     ss_status st = ss_sky_banded(job->run.ctx, &io, &job->opt, term);
     st = share_bands_finish(&job->run, &b.agreed, st);
     free(b.rows);
-    *min = b.count ? b.lo : NAN;
-    *max = b.count ? b.hi : NAN;
-    *mean = b.count ? b.sum / (double)b.count : NAN;
+    run_tally_result(&b.tally, NAN, min, mean, max);
     return st;
 }
 

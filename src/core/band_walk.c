@@ -92,9 +92,18 @@ static int first_step_past(const ss_line_set *ls, const ss_walker *w, int count,
     return lo;
 }
 
-int ss_band_line_begin(const ss_line_set *ls, int line, const ss_carried_hull *hull, int row0,
-                       int row1, int pass, int height, ss_walker *wk, int *s_lo, int *s_hi,
-                       int *count)
+/* Sums of what the bands handed on, merged into ss_band_stats. */
+typedef struct {
+    size_t hull_sum, hull_max, handoffs;
+} band_tally;
+
+/* Begins line `line` (of ls from ss_band_lines) in the band [row0, row1):
+ * sets [*s_lo, *s_hi) to the steps whose owner rows lie in the band and
+ * resumes the walker with the hull handed on. Returns 0 when the band
+ * holds none of the line's steps. *count gets the line's step count. */
+static int line_begin(const ss_line_set *ls, int line, const ss_carried_hull *hull, int row0,
+                      int row1, int pass, int height, ss_walker *wk, int *s_lo, int *s_hi,
+                      int *count)
 {
     *count = ss_walker_begin(wk, ls, line);
     /* Owners in [row0, row1): entered at row0 going down, at row1 - 1 going up. */
@@ -106,8 +115,11 @@ int ss_band_line_begin(const ss_line_set *ls, int line, const ss_carried_hull *h
     return 1;
 }
 
-int ss_band_line_end(ss_carried_hull *hull, ss_walker *wk, const ss_line_set *ls,
-                     const ss_band_grid *b, int s_hi, int count, ss_band_tally *tally)
+/* After the band's steps: frees the hull of a line that is done, else
+ * hands the walker's hull on (counted in tally). Returns 0, or -1 when out
+ * of memory. */
+static int line_end(ss_carried_hull *hull, ss_walker *wk, const ss_line_set *ls,
+                    const ss_band_grid *b, int s_hi, int count, band_tally *tally)
 {
     if (s_hi >= count) { /* the line is done: its hull is no longer needed */
         free(hull->points);
@@ -142,10 +154,41 @@ void ss_carried_hulls_free(ss_carried_hull *hulls, int n)
     free(hulls);
 }
 
-void ss_band_stats_add(ss_band_stats *stats, const ss_band_tally *t)
+static void stats_add(ss_band_stats *stats, const band_tally *t)
 {
     stats->hull_points_handed_on += t->hull_sum;
     stats->handoffs += t->handoffs;
     if (t->hull_max > stats->max_hull_points)
         stats->max_hull_points = t->hull_max;
+}
+
+ss_status ss_band_walk(const ss_band_grid *b, const ss_line_set *whole, ss_carried_hull *hulls,
+                       int row0, int row1, int pass, float curv_k, ss_band_steps_fn steps,
+                       void *user, ss_band_stats *stats)
+{
+    ss_line_set ls = ss_band_lines(whole, row0);
+    int flags = ss_walk_flags(&ls, curv_k), failed = 0;
+    for (int round = 0; round < 2; ++round) {
+        int n = ss_round_lines(&ls, round);
+#pragma omp parallel reduction(|| : failed)
+        {
+            band_tally tally = {0, 0, 0};
+#pragma omp for schedule(dynamic, 16)
+            for (int i = 0; i < n; ++i) {
+                int line = ss_round_line(&ls, round, i), s_lo, s_hi, count;
+                ss_carried_hull *hull = &hulls[line];
+                ss_walker wk;
+                if (!line_begin(&ls, line, hull, row0, row1, pass, b->height, &wk, &s_lo, &s_hi,
+                                &count))
+                    continue;
+                steps(user, &wk, &ls, s_lo, s_hi, flags);
+                if (line_end(hull, &wk, &ls, b, s_hi, count, &tally) != 0)
+                    failed = 1;
+            }
+#pragma omp critical(band_tally)
+            stats_add(stats, &tally);
+        }
+    }
+    return failed ? ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for the hulls handed on")
+                  : SS_OK;
 }

@@ -28,11 +28,6 @@ typedef struct {
     int *stack;
 } ss_band_grid;
 
-/* Sums of what the bands handed on, merged into ss_band_stats. */
-typedef struct {
-    size_t hull_sum, hull_max, handoffs;
-} ss_band_tally;
-
 /* Allocates the band's buffers; SS_ERR_MEMORY (with a message) if not. */
 ss_status ss_band_grid_alloc(ss_band_grid *b);
 void ss_band_grid_free(ss_band_grid *b);
@@ -45,19 +40,20 @@ int ss_band_pass_of(const ss_line_set *ls);
 /* The whole-grid line set re-based to the band buffers of row0. */
 ss_line_set ss_band_lines(const ss_line_set *whole, int row0);
 
-/* Begins line `line` (of ls from ss_band_lines) in the band [row0, row1):
- * sets [*s_lo, *s_hi) to the steps whose owner rows lie in the band and
- * resumes the walker with the hull handed on. Returns 0 when the band
- * holds none of the line's steps. *count gets the line's step count. */
-int ss_band_line_begin(const ss_line_set *ls, int line, const ss_carried_hull *hull, int row0,
-                       int row1, int pass, int height, ss_walker *wk, int *s_lo, int *s_hi,
-                       int *count);
-/* After the band's steps: frees the hull of a line that is done, else
- * hands the walker's hull on (counted in tally). Returns 0, or -1 when out
- * of memory. */
-int ss_band_line_end(ss_carried_hull *hull, ss_walker *wk, const ss_line_set *ls,
-                     const ss_band_grid *b, int s_hi, int count, ss_band_tally *tally);
+/* What a product does with a line's steps [s_lo, s_hi) in a band: walk
+ * them (ss_walker_step with flags) and add what they feed into its sums.
+ * Called from OpenMP threads, lines of one round at once. */
+typedef void (*ss_band_steps_fn)(void *user, ss_walker *wk, const ss_line_set *ls, int s_lo,
+                                 int s_hi, int flags);
+
+/* Walks one direction (its whole-grid line set and one carried hull per
+ * line) through the band [row0, row1) in the pass's order: every line's
+ * steps owned by the band's rows, resumed from its carried hull, handed to
+ * steps, and the hull handed on (counted in stats) or freed when the line
+ * is done. SS_ERR_MEMORY (with a message) if a hull cannot be kept. */
+ss_status ss_band_walk(const ss_band_grid *b, const ss_line_set *whole, ss_carried_hull *hulls,
+                       int row0, int row1, int pass, float curv_k, ss_band_steps_fn steps,
+                       void *user, ss_band_stats *stats);
 void ss_carried_hulls_free(ss_carried_hull *hulls, int n);
-void ss_band_stats_add(ss_band_stats *stats, const ss_band_tally *t);
 
 #endif

@@ -62,39 +62,29 @@ typedef struct {
     ss_band_stats stats;
 } band_run;
 
+/* The SVF or openness term of a line's steps in the band. */
+typedef struct {
+    const band_run *b;
+    const band_direction *dir;
+    int rows_held;
+} sky_steps;
+
+static void add_sky_steps(void *user, ss_walker *wk, const ss_line_set *ls, int s_lo, int s_hi,
+                          int flags)
+{
+    const sky_steps *k = user;
+    const band_run *b = k->b;
+    ss_svf_steps(wk, ls, s_lo, s_hi, b->term, b->curv_k, k->dir->sin_az, k->dir->cos_az,
+                 (float)b->io->cell_x_m, (float)b->io->cell_y_m, k->rows_held, b->grid.z, b->grad,
+                 b->grid.stack, b->acc, flags);
+}
+
 /* Walks, for one direction, every line's steps owned by rows [row0, row1). */
 static ss_status walk_band(band_run *b, band_direction *dir, int row0, int row1, int pass)
 {
-    ss_line_set ls = ss_band_lines(&dir->ls, row0);
-    int flags = ss_walk_flags(&ls, b->curv_k), height = b->io->height;
-    int rows_held = row1 - row0 + 2 * HALO;
-    float cx = (float)b->io->cell_x_m, cy = (float)b->io->cell_y_m;
-    int failed = 0;
-    for (int round = 0; round < 2; ++round) {
-        int n = ss_round_lines(&ls, round);
-#pragma omp parallel reduction(|| : failed)
-        {
-            ss_band_tally tally = {0, 0, 0};
-#pragma omp for schedule(dynamic, 16)
-            for (int i = 0; i < n; ++i) {
-                int line = ss_round_line(&ls, round, i), s_lo, s_hi, count;
-                ss_carried_hull *hull = &dir->hulls[line];
-                ss_walker wk;
-                if (!ss_band_line_begin(&ls, line, hull, row0, row1, pass, height, &wk, &s_lo,
-                                        &s_hi, &count))
-                    continue;
-                ss_svf_steps(&wk, &ls, s_lo, s_hi, b->term, b->curv_k, dir->sin_az,
-                             dir->cos_az, cx, cy, rows_held, b->grid.z, b->grad, b->grid.stack,
-                             b->acc, flags);
-                if (ss_band_line_end(hull, &wk, &ls, &b->grid, s_hi, count, &tally) != 0)
-                    failed = 1;
-            }
-#pragma omp critical(band_tally)
-            ss_band_stats_add(&b->stats, &tally);
-        }
-    }
-    return failed ? ss_fail(b->grid.ctx, SS_ERR_MEMORY, "out of memory for the hulls handed on")
-                  : SS_OK;
+    sky_steps k = {b, dir, row1 - row0 + 2 * HALO};
+    return ss_band_walk(&b->grid, &dir->ls, dir->hulls, row0, row1, pass, b->curv_k,
+                        add_sky_steps, &k, &b->stats);
 }
 
 static ss_status store_partial(band_run *b, int row0, int rows, int load)

@@ -69,36 +69,14 @@ static size_t landing_row(int pass, int band_rows, int width)
     return (size_t)(pass > 0 ? HALO : HALO + band_rows - 1) * (size_t)width;
 }
 
-static ss_status walk_direction(horizon_run *h, horizon_direction *dir, int row0, int row1,
-                                int pass)
+/* The horizon sums of a line's steps in the band. */
+static void add_horizon_steps(void *user, ss_walker *wk, const ss_line_set *ls, int s_lo,
+                              int s_hi, int flags)
 {
-    ss_line_set ls = ss_band_lines(&dir->ls, row0);
-    int flags = ss_walk_flags(&ls, h->curv_k), height = h->io->height, failed = 0;
-    float **s = h->sums;
-    for (int round = 0; round < 2; ++round) {
-        int n = ss_round_lines(&ls, round);
-#pragma omp parallel reduction(|| : failed)
-        {
-            ss_band_tally tally = {0, 0, 0};
-#pragma omp for schedule(dynamic, 16)
-            for (int i = 0; i < n; ++i) {
-                int line = ss_round_line(&ls, round, i), s_lo, s_hi, count;
-                ss_carried_hull *hull = &dir->hulls[line];
-                ss_walker wk;
-                if (!ss_band_line_begin(&ls, line, hull, row0, row1, pass, height, &wk, &s_lo,
-                                        &s_hi, &count))
-                    continue;
-                ss_horizon_steps(&wk, &ls, s_lo, s_hi, h->curv_k, h->grid.z, h->grid.stack, s[0],
-                                 s[1], s[2], s[3], h->want, flags);
-                if (ss_band_line_end(hull, &wk, &ls, &h->grid, s_hi, count, &tally) != 0)
-                    failed = 1;
-            }
-#pragma omp critical(band_tally)
-            ss_band_stats_add(&h->stats, &tally);
-        }
-    }
-    return failed ? ss_fail(h->grid.ctx, SS_ERR_MEMORY, "out of memory for the hulls handed on")
-                  : SS_OK;
+    const horizon_run *h = user;
+    float *const *s = h->sums;
+    ss_horizon_steps(wk, ls, s_lo, s_hi, h->curv_k, h->grid.z, h->grid.stack, s[0], s[1], s[2],
+                     s[3], h->want, flags);
 }
 
 /* One direction in one band: its carried sums in, the walk, the sums fed
@@ -113,7 +91,8 @@ static ss_status direction_in_band(horizon_run *h, horizon_direction *dir, int r
             memcpy(h->sums[k] + landing_row(pass, h->grid.band_rows, (int)w), dir->carried + k * w,
                    w * sizeof(float));
         }
-    ss_status st = walk_direction(h, dir, row0, row0 + rows, pass);
+    ss_status st = ss_band_walk(&h->grid, &dir->ls, dir->hulls, row0, row0 + rows, pass,
+                                h->curv_k, add_horizon_steps, h, &h->stats);
     for (int k = 0; st == SS_OK && k < N_SUMS; ++k)
         if (h->sums[k])
             memcpy(dir->carried + k * w, h->sums[k] + fed_row(pass, rows, (int)w),
