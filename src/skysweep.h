@@ -32,7 +32,7 @@ typedef enum {
     SS_ERR_OUTPUT = 4,    /* an output cannot be written */
     SS_ERR_DEVICE = 5,    /* no usable OpenCL device, or the kernels failed to build */
     SS_ERR_MEMORY = 6,    /* an allocation failed or would exceed a limit */
-    SS_ERR_CANCELLED = 7, /* the progress callback asked to stop */
+    SS_ERR_CANCELLED = 7, /* the progress callback or ss_ctx_cancel asked to stop */
     SS_ERR_INTERNAL = 8   /* a bug: please report it */
 } ss_status;
 
@@ -49,6 +49,13 @@ const char *ss_ctx_message(const ss_ctx *ctx);
 ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user);
+/* Asks the call running on ctx to stop: it returns SS_ERR_CANCELLED within
+ * about two directions' sweeps (the C twin checks between lines, an OpenCL
+ * device keeps at most one pass queued behind the running one). It only
+ * sets a flag, so a signal handler or another thread may call it. The
+ * request holds for every later call until ss_ctx_cancel_clear. */
+void ss_ctx_cancel(ss_ctx *ctx);
+void ss_ctx_cancel_clear(ss_ctx *ctx);
 const char *ss_version(void);
 
 /* Devices. spec NULL or "" picks the default: the environment variable
@@ -204,6 +211,10 @@ int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
  * (halo rows included), column_bytes per column and direction besides. */
 int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
                         double band_cell_bytes, double column_bytes);
+/* The smallest budget_bytes with which ss_band_rows_within does not refuse
+ * (returns 0 or more): one band of one row, or the whole grid if less. */
+double ss_band_min_budget(int width, int height, int directions, double band_cell_bytes,
+                          double column_bytes);
 
 /* SVF (any definition) or openness (unlimited radius) as ss_svf and
  * ss_openness compute them, reading and writing the grid band by band: the

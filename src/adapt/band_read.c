@@ -14,12 +14,7 @@
 #include "band_read.h"
 #include "ctx_internal.h"
 #include "dem_io.h"
-
-static const char *gdal_message(void)
-{
-    const char *m = CPLGetLastErrorMsg();
-    return m && *m ? m : "no details from GDAL";
-}
+#include "gdal_errors.h"
 
 /* One band into dst, nodata as SS_NODATA; the band's name and unit. */
 static ss_status read_band(ss_ctx *ctx, const char *path, GDALDatasetH ds, int number,
@@ -52,7 +47,7 @@ static ss_status read_band(ss_ctx *ctx, const char *path, GDALDatasetH ds, int n
                          0, 0) != CE_None) {
             free(buf);
             return ss_fail(ctx, SS_ERR_INPUT, "cannot read band %d of '%s': %s", number, path,
-                           gdal_message());
+                           ss_gdal_message());
         }
         float *dst = out->values[k] + (size_t)r0 * out->width;
         for (size_t i = 0; i < (size_t)out->width * rows; ++i) {
@@ -78,7 +73,7 @@ ss_status ss_bands_read(ss_ctx *ctx, const char *path, int first_band, int n_ban
     GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL, NULL);
     ss_status st = SS_OK;
     if (!ds)
-        st = ss_fail(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", path, gdal_message());
+        st = ss_fail(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", path, ss_gdal_message());
     if (st == SS_OK) {
         out->width = GDALGetRasterXSize(ds);
         out->height = GDALGetRasterYSize(ds);

@@ -18,20 +18,17 @@
 
 #include "ctx_internal.h"
 #include "dem_io.h"
+#include "gdal_errors.h"
 
 /* Heights beyond this are fill values or corruption, not terrain. */
 #define SS_Z_PLAUSIBLE_M 1e7
 
 void ss_gdal_init(void)
 {
-    if (GDALGetDriverCount() == 0)
+    if (GDALGetDriverCount() == 0) {
+        ss_gdal_errors_install();
         GDALAllRegister();
-}
-
-static const char *gdal_message(void)
-{
-    const char *m = CPLGetLastErrorMsg();
-    return m && *m ? m : "no details from GDAL";
+    }
 }
 
 typedef struct {
@@ -151,7 +148,7 @@ static ss_status open_tiles(ss_ctx *ctx, const char *const *paths, int n, tile *
         tiles[i].ds = GDALOpenEx(paths[i], GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL, NULL);
         if (!tiles[i].ds)
             return ss_fail(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", paths[i],
-                           gdal_message());
+                           ss_gdal_message());
         tiles[i].width = GDALGetRasterXSize(tiles[i].ds);
         tiles[i].height = GDALGetRasterYSize(tiles[i].ds);
         int bands = GDALGetRasterCount(tiles[i].ds);
@@ -271,7 +268,7 @@ static ss_status read_rows(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row
                          GDT_Float64, 0, 0) != CE_None) {
             free(buf);
             return ss_fail(ctx, SS_ERR_INPUT, "cannot read rows %d..%d of '%s': %s", r0,
-                           r0 + rows - 1, src->what, gdal_message());
+                           r0 + rows - 1, src->what, ss_gdal_message());
         }
         for (size_t i = 0; i < (size_t)g->width * rows; ++i) {
             double v = buf[i];
@@ -398,7 +395,7 @@ ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
         free(handles);
         if (!src->mosaic)
             st = ss_fail(ctx, SS_ERR_INPUT, "cannot mosaic the %d tiles: %s", n_paths,
-                         gdal_message());
+                         ss_gdal_message());
         ds = src->mosaic;
     }
     double cx = 0, cy = 0;

@@ -20,6 +20,7 @@
 #include <GeographicLib/Math.hpp>
 
 #include "ctx_internal.h"
+#include "gdal_errors.h"
 #include "geodesy.h"
 
 using GeographicLib::Math;
@@ -85,12 +86,6 @@ struct quiet_gdal {
     quiet_gdal &operator=(const quiet_gdal &) = delete;
 };
 
-static const char *gdal_message()
-{
-    const char *m = CPLGetLastErrorMsg();
-    return m && *m ? m : "no details from GDAL";
-}
-
 /* Runs body, turning any exception into status `st` (memory: SS_ERR_MEMORY). */
 template <class F>
 static ss_status guarded(ss_ctx *ctx, ss_status st, const char *what, F body) noexcept
@@ -141,7 +136,7 @@ static ss_status to_lonlat(ss_geo *g, double col, double row, double *lon_deg, d
             return ss_fail(g->ctx, SS_ERR_ARGUMENT,
                            "cell position (%g, %g) at x %.3f, y %.3f cannot be taken to "
                            "longitude/latitude: %s",
-                           col, row, x, y, gdal_message());
+                           col, row, x, y, ss_gdal_message());
         x = cx;
         y = cy;
     }
@@ -218,7 +213,7 @@ static ss_status open_geo(ss_ctx *ctx, const char *crs_wkt, const double geotran
     char *wkt = const_cast<char *>(crs_wkt); /* OSRImportFromWkt only advances it */
     if (OSRImportFromWkt(srs, &wkt) != OGRERR_NONE) {
         OSRDestroySpatialReference(srs);
-        return ss_fail(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS: %s", gdal_message());
+        return ss_fail(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS: %s", ss_gdal_message());
     }
     int geographic = OSRIsGeographic(srs);
     if (!geographic && !OSRIsProjected(srs)) {
@@ -253,7 +248,7 @@ static ss_status open_geo(ss_ctx *ctx, const char *crs_wkt, const double geotran
     if (!g->geog) {
         delete g;
         return ss_fail(ctx, SS_ERR_INPUT, "the DEM's CRS has no geographic CRS: %s",
-                       gdal_message());
+                       ss_gdal_message());
     }
     OSRSetAxisMappingStrategy(g->geog, OAMS_TRADITIONAL_GIS_ORDER);
     double rad_per_unit = OSRGetAngularUnits(g->geog, nullptr);
@@ -268,7 +263,7 @@ static ss_status open_geo(ss_ctx *ctx, const char *crs_wkt, const double geotran
             delete g;
             return ss_fail(ctx, SS_ERR_INPUT,
                            "cannot transform the DEM's CRS to longitude/latitude: %s",
-                           gdal_message());
+                           ss_gdal_message());
         }
         double pixel_m = std::sqrt(std::fabs(g->gt[1] * g->gt[5] - g->gt[2] * g->gt[4])) *
                          OSRGetLinearUnits(srs, nullptr);

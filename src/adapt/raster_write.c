@@ -4,7 +4,10 @@
  * and never replaces an existing one. */
 #include "config.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <limits.h>
+#include <signal.h>
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
@@ -20,6 +23,7 @@
 
 #include "ctx_internal.h"
 #include "dem_io.h"
+#include "gdal_errors.h"
 
 struct ss_raster_writer {
     ss_ctx *ctx;
@@ -58,10 +62,31 @@ int ss_same_output(const char *a, const char *b)
     return same || ss_same_file(a, b);
 }
 
-static const char *gdal_message(void)
+/* Removes the temporaries "dir/.base.<pid>.tmp" (and their .aux.xml) of
+ * processes that no longer run: what a SIGKILL or a crash left behind. */
+static void remove_stale_temporaries(const char *dir, const char *base)
 {
-    const char *m = CPLGetLastErrorMsg();
-    return m && *m ? m : "no details from GDAL";
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    size_t n_base = strlen(base);
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        const char *name = e->d_name;
+        if (name[0] != '.' || strncmp(name + 1, base, n_base) != 0 || name[1 + n_base] != '.')
+            continue;
+        char *end;
+        long pid = strtol(name + 2 + n_base, &end, 10);
+        if (pid <= 0 || end == name + 2 + n_base ||
+            (strcmp(end, ".tmp") != 0 && strcmp(end, ".tmp.aux.xml") != 0))
+            continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH)
+            continue; /* alive, or not ours to judge */
+        char full[PATH_MAX];
+        if (snprintf(full, sizeof full, "%s/%s", dir, name) < (int)sizeof full)
+            unlink(full);
+    }
+    closedir(d);
 }
 
 /* "dir/name.tif" -> "dir/.name.tif.<pid>.tmp": same folder, so the final
@@ -72,6 +97,7 @@ static char *temporary_name(const char *path)
     char *out = NULL;
     if (dir_copy && base_copy) {
         const char *dir = dirname(dir_copy), *base = basename(base_copy);
+        remove_stale_temporaries(dir, base);
         size_t n = strlen(dir) + strlen(base) + 40;
         out = malloc(n);
         if (out)
@@ -159,8 +185,7 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
         ss_writer_abort(w);
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
     }
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
+    ss_gdal_errors_reset();
     const ss_grid *g = &like->grid;
     int windowed = like->window_cols > 0;
     int cols = windowed ? like->window_cols : g->width, rows = windowed ? like->window_rows : g->height;
@@ -172,9 +197,10 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
         w->ds = GDALCreate(driver, w->tmp_path, cols, rows, bands, type, w->create_opts);
     else
         w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", cols, rows, bands, type, NULL);
-    CPLPopErrorHandler();
     if (!w->ds) {
-        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path, gdal_message());
+        char why[1200];
+        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path,
+                     ss_gdal_failure(why, sizeof why));
         ss_writer_abort(w);
         return st;
     }
@@ -239,18 +265,17 @@ ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
                     v == SS_NODATA ? 0 : (unsigned char)fmin(255.0, fmax(1.0, nearbyint(v)));
             }
     }
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
+    ss_gdal_errors_reset();
     CPLErr err = bytes ? GDALRasterIO(b, GF_Write, 0, row0, width, n_rows, bytes, width, n_rows,
                                       GDT_Byte, 0, 0)
                        : GDALRasterIO(b, GF_Write, 0, row0, width, n_rows, (void *)data, width,
                                       n_rows, GDT_Float32, (int)sizeof(float),
                                       w->grid_width * (int)sizeof(float));
-    CPLPopErrorHandler();
     free(bytes);
-    if (err != CE_None)
+    char why[1200];
+    if (err != CE_None || ss_gdal_failed())
         return ss_fail(w->ctx, SS_ERR_OUTPUT, "cannot write band %d of '%s': %s", band, w->path,
-                       gdal_message());
+                       ss_gdal_failure(why, sizeof why));
     return SS_OK;
 }
 
@@ -282,23 +307,23 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
 {
     ss_ctx *ctx = w->ctx;
     ss_status st = SS_OK;
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
+    char why[1200];
+    ss_gdal_errors_reset();
     if (!CSLFetchBoolean(GDALGetMetadata(w->driver, NULL), GDAL_DCAP_CREATE, FALSE)) {
         GDALDatasetH copy = GDALCreateCopy(w->driver, w->tmp_path, w->ds, FALSE, w->create_opts,
                                            progress, user);
         if (copy)
             GDALClose(copy);
-        if (!copy || CPLGetLastErrorType() >= CE_Failure)
-            st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", w->path, gdal_message());
+        if (!copy || ss_gdal_failed())
+            st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", w->path,
+                         ss_gdal_failure(why, sizeof why));
     }
     /* GDALClose flushes the file; an error here (disk full) loses the output. */
     GDALClose(w->ds);
     w->ds = NULL;
-    if (st == SS_OK && CPLGetLastErrorType() >= CE_Failure)
+    if (st == SS_OK && ss_gdal_failed())
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': %s", w->path,
-                     gdal_message());
-    CPLPopErrorHandler();
+                     ss_gdal_failure(why, sizeof why));
     if (st == SS_OK && progress && !progress(1.0, "", user))
         st = ss_fail(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
     if (st == SS_OK && rename(w->tmp_path, w->path) != 0)

@@ -9,6 +9,7 @@
 #include <ogr_srs_api.h>
 
 #include "ctx_internal.h"
+#include "gdal_errors.h"
 #include "site.h"
 
 struct ss_site_frame {
@@ -19,12 +20,6 @@ struct ss_site_frame {
     OGRCoordinateTransformationH to_wgs84;
     char site_crs_name[64];
 };
-
-static const char *ogr_message(void)
-{
-    const char *m = CPLGetLastErrorMsg();
-    return m && *m ? m : "no details from GDAL";
-}
 
 static OGRSpatialReferenceH srs_from(const char *text)
 {
@@ -79,12 +74,12 @@ ss_status ss_site_frame_open(ss_ctx *ctx, const ss_dem *dem, const char *site_cr
     sf->dem_srs = srs_from(dem->crs_wkt);
     sf->wgs84 = srs_from("EPSG:4326");
     if (!sf->dem_srs || !sf->wgs84)
-        st = ss_fail(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS or WGS84: %s", ogr_message());
+        st = ss_fail(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS or WGS84: %s", ss_gdal_message());
     if (st == SS_OK && !in_dem_crs) {
         sf->site_srs = srs_from(site_text);
         if (!sf->site_srs)
             st = ss_fail(ctx, SS_ERR_ARGUMENT, "unknown CRS for sites '%s': %s", site_text,
-                         ogr_message());
+                         ss_gdal_message());
     } else if (st == SS_OK) {
         sf->site_srs = sf->dem_srs;
     }
@@ -92,13 +87,13 @@ ss_status ss_site_frame_open(ss_ctx *ctx, const ss_dem *dem, const char *site_cr
         sf->to_dem = OCTNewCoordinateTransformation(sf->site_srs, sf->dem_srs);
         if (!sf->to_dem)
             st = ss_fail(ctx, SS_ERR_ARGUMENT, "no transformation from %s to the DEM's CRS: %s",
-                         site_text, ogr_message());
+                         site_text, ss_gdal_message());
     }
     if (st == SS_OK) {
         sf->to_wgs84 = OCTNewCoordinateTransformation(sf->dem_srs, sf->wgs84);
         if (!sf->to_wgs84)
             st = ss_fail(ctx, SS_ERR_INPUT, "no transformation from the DEM's CRS to WGS84: %s",
-                         ogr_message());
+                         ss_gdal_message());
     }
     CPLPopErrorHandler();
     if (st != SS_OK) {
@@ -129,7 +124,7 @@ ss_status ss_site_locate(ss_site_frame *sf, double x, double y, double *col, dou
         return ss_fail(sf->ctx, SS_ERR_ARGUMENT,
                        "site %.9g,%.9g (%s) cannot be placed in the "
                        "DEM's CRS: %s",
-                       x, y, sf->site_crs_name, ogr_message());
+                       x, y, sf->site_crs_name, ss_gdal_message());
     const ss_grid *g = &sf->dem->grid;
     const double *gt = sf->dem->geotransform;
     *col = (dx - gt[0]) / gt[1] - 0.5;
@@ -172,7 +167,7 @@ ss_status ss_site_lonlat(ss_site_frame *sf, int n, const double *col, const doub
     CPLPopErrorHandler();
     if (!moved)
         return ss_fail(sf->ctx, SS_ERR_INPUT,
-                       "positions on the DEM have no WGS84 longitude, latitude: %s", ogr_message());
+                       "positions on the DEM have no WGS84 longitude, latitude: %s", ss_gdal_message());
     /* Spread the results back to their slots, from the end. */
     for (int i = n - 1; i >= 0; --i) {
         if (isfinite(col[i]) && isfinite(row[i])) {

@@ -115,9 +115,15 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The context of the command running, so that a signal stops its sweep
+ * between lines (ss_ctx_cancel only sets a flag). */
+static ss_ctx *signal_ctx = NULL;
+
 static void on_signal(int sig)
 {
     interrupted_by = sig;
+    if (signal_ctx)
+        ss_ctx_cancel(signal_ctx);
 }
 
 /* GDAL's term progress, shown only once a run has lasted a second, and the
@@ -148,6 +154,7 @@ int run_begin(run_state *run, const char *command, const common_settings *common
         fprintf(stderr, "skysweep %s: out of memory\n", command);
         return SS_ERR_MEMORY;
     }
+    signal_ctx = run->ctx;
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
@@ -182,6 +189,8 @@ int run_usage_error(const char *command, const char *message)
 
 void run_end(run_state *run)
 {
+    if (signal_ctx == run->ctx)
+        signal_ctx = NULL;
     ss_ctx_free(run->ctx);
     run->ctx = NULL;
 }
@@ -247,12 +256,18 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
     }
     if (rows != 0 && (!may_band || rows < 0)) {
         double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
-        if (may_band)
+        if (may_band) {
+            double least = ss_band_min_budget(
+                dem->grid.width, dem->grid.height,
+                cost->directions ? cost->directions : common->directions, cost->cell_bytes,
+                cost->column_bytes);
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
-                              "the memory budget (%s) is too small for one band of %d cells "
-                              "(with the hulls handed on)",
+                              "the memory budget (%s) is too small for this DEM and command: "
+                              "it needs at least --memory %.0fM (one band of %d cells with "
+                              "the hulls handed on, and 48 MiB of fixed buffers; doc/scale.md)",
                               common->memory ? common->memory : "half this machine's memory",
-                              dem->grid.width);
+                              ceil(least / 1048576.0), dem->grid.width);
+        }
         else
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "'%s' needs about %.0f MiB for a whole-grid sweep, more than "

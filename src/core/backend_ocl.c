@@ -8,6 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <limits.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
 
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
@@ -32,6 +35,7 @@ typedef struct {
     cl_mem grad;   /* gradients for the radiative SVF (ss_gradient_grid), made on first use */
     float *host[SS_SESSION_MAX_OUTPUTS];
     int mapped[SS_SESSION_MAX_OUTPUTS];
+    cl_event queued; /* marks the end of the last pass queued (pace) */
 } ocl_session;
 
 static const char *cl_error_name(cl_int err)
@@ -253,7 +257,63 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     return SS_OK;
 }
 
-/* Opens the chosen device and builds the kernels, once per context. */
+/* PoCL compiles kernels into files under its cache folder (LLVM ends the
+ * process when such a write fails). Returns a reason when that cannot work
+ * here: a file-size limit below what its compiler writes, or a cache folder
+ * without room; NULL when it can. */
+static const char *pocl_cannot_write(char *why, size_t size)
+{
+    const double need_file = 16.0 * 1048576, need_space = 64.0 * 1048576;
+    struct rlimit lim;
+    if (getrlimit(RLIMIT_FSIZE, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY &&
+        (double)lim.rlim_cur < need_file) {
+        snprintf(why, size, "the file size limit (ulimit -f: %.0f KiB) is below the 16 MiB "
+                 "PoCL's kernel compiler may write", (double)lim.rlim_cur / 1024);
+        return why;
+    }
+    char dir[PATH_MAX];
+    const char *env = getenv("POCL_CACHE_DIR"), *xdg = getenv("XDG_CACHE_HOME"),
+               *home = getenv("HOME");
+    if (env && *env)
+        snprintf(dir, sizeof dir, "%s", env);
+    else if (xdg && *xdg)
+        snprintf(dir, sizeof dir, "%s/pocl", xdg);
+    else
+        snprintf(dir, sizeof dir, "%s/.cache/pocl", home ? home : "/tmp");
+    /* The folder may not exist yet: its nearest existing parent holds it. */
+    struct statvfs fs;
+    while (statvfs(dir, &fs) != 0) {
+        char *slash = strrchr(dir, '/');
+        if (!slash || slash == dir)
+            return NULL;
+        *slash = '\0';
+    }
+    double free_bytes = (double)fs.f_bavail * (double)fs.f_frsize;
+    if (free_bytes < need_space) {
+        snprintf(why, size, "PoCL's kernel cache folder %s has %.1f MiB free, below the 64 MiB "
+                 "its compiler may need", dir, free_bytes / 1048576);
+        return why;
+    }
+    return NULL;
+}
+
+/* Opens the chosen device and builds the kernels, once per context; a
+ * failure leaves the context as it was, so the next call tries again. */
+static ss_status ocl_open(ss_ctx *ctx, struct ss_ocl *o, const ocl_device_info *found)
+{
+    o->device = found->device;
+    cl_int err;
+    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)found->platform,
+                                     0};
+    o->context = clCreateContext(props, 1, &o->device, NULL, NULL, &err);
+    if (err != CL_SUCCESS)
+        return cl_fail(ctx, err, "clCreateContext");
+    o->queue = clCreateCommandQueue(o->context, o->device, 0, &err);
+    if (err != CL_SUCCESS)
+        return cl_fail(ctx, err, "clCreateCommandQueue");
+    return build_program(ctx, o);
+}
+
 static ss_status ocl_acquire(ss_ctx *ctx)
 {
     if (ctx->ocl)
@@ -274,29 +334,37 @@ static ss_status ocl_acquire(ss_ctx *ctx)
                        "no OpenCL platform found: install pocl-opencl-icd, or run the C "
                        "reference with --device reference");
     }
+    char why[PATH_MAX + 200];
+    if (is_pocl_cpu(&ps.found) && pocl_cannot_write(why, sizeof why)) {
+        if (ctx->device_spec[0])
+            return ss_fail(ctx, SS_ERR_DEVICE, "cannot use %s: %s (use --device reference)",
+                           ps.found.device_name, why);
+        /* The default device cannot work here; the C twin computes the same. */
+        ctx->use_reference = 1;
+        snprintf(ctx->device_name, sizeof ctx->device_name,
+                 "C reference (host, OpenMP), not PoCL: %.500s", why);
+        return SS_OK;
+    }
     struct ss_ocl *o = calloc(1, sizeof *o);
     if (!o)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory opening OpenCL");
-    ctx->ocl = o;
-    o->device = ps.found.device;
     snprintf(ctx->device_name, sizeof ctx->device_name, "%s: %s", ps.found.platform_name,
              ps.found.device_name);
-    cl_int err;
-    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)ps.found.platform,
-                                     0};
-    o->context = clCreateContext(props, 1, &o->device, NULL, NULL, &err);
-    if (err != CL_SUCCESS)
-        return cl_fail(ctx, err, "clCreateContext");
-    o->queue = clCreateCommandQueue(o->context, o->device, 0, &err);
-    if (err != CL_SUCCESS)
-        return cl_fail(ctx, err, "clCreateCommandQueue");
-    return build_program(ctx, o);
+    ss_status st = ocl_open(ctx, o, &ps.found);
+    if (st != SS_OK) {
+        ss_ocl_release(o);
+        return st;
+    }
+    ctx->ocl = o;
+    return SS_OK;
 }
 
 const char *ss_ctx_device_name(ss_ctx *ctx)
 {
-    if (!ctx->use_reference && !ctx->ocl && ocl_acquire(ctx) != SS_OK)
+    if (!ctx->use_reference && !ctx->ocl && ocl_acquire(ctx) != SS_OK) {
+        ctx->device_name[0] = '\0';
         return "(no device)";
+    }
     return ctx->device_name;
 }
 
@@ -392,6 +460,32 @@ static ss_status launch(ss_session *s, cl_kernel k, kernel_arg *args, int n_args
     return SS_OK;
 }
 
+/* Ends a pass: waits for the pass before it, so that at most one pass is
+ * queued behind the running one. The device never idles (the next pass is
+ * queued before the wait), and a cancelled run waits for two passes, not for
+ * every direction it had queued (an NDRange cannot be stopped once queued). */
+static ss_status pace(ss_session *s, ss_status st)
+{
+    ocl_session *q = s->impl;
+    cl_command_queue queue = s->ctx->ocl->queue;
+    if (st != SS_OK)
+        return st;
+    cl_event mark;
+    cl_int err = clEnqueueMarkerWithWaitList(queue, 0, NULL, &mark);
+    if (err == CL_SUCCESS)
+        err = clFlush(queue);
+    if (err != CL_SUCCESS)
+        return cl_fail(s->ctx, err, "queueing a pass");
+    if (q->queued) {
+        err = clWaitForEvents(1, &q->queued);
+        clReleaseEvent(q->queued);
+    }
+    q->queued = mark;
+    if (err != CL_SUCCESS)
+        return cl_fail(s->ctx, err, "waiting for a pass");
+    return ss_check_cancel(s->ctx, "the sweep");
+}
+
 /* The radiative SVF's gradient grid, computed on the host (as the C twin
  * does) and copied to the device once per session. */
 static ss_status make_gradients(ss_session *s)
@@ -434,7 +528,7 @@ static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, f
                          {sizeof cy, &cy},          {sizeof height, &height},
                          {sizeof(cl_mem), &q->z},   {sizeof(cl_mem), &grad},
                          {sizeof(cl_mem), &q->stack}, {sizeof(cl_mem), &q->out[0]}};
-    return launch(s, s->ctx->ocl->k_svf, args, 13, ls, "the SVF kernel");
+    return pace(s, launch(s, s->ctx->ocl->k_svf, args, 13, ls, "the SVF kernel"));
 }
 
 /* Zeroes the horizon weight grid, creating it on first use: only horizon
@@ -493,7 +587,7 @@ static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k,
                          {sizeof(cl_mem), &q->weight}, {sizeof(cl_mem), &dist},
                          {sizeof(cl_mem), &cast},    {sizeof want, &want}};
     st = launch(s, s->ctx->ocl->k_horizon, args, 10, ls, "the horizon kernel");
-    return st == SS_OK ? finish_horizon(s, none_deg) : st;
+    return pace(s, st == SS_OK ? finish_horizon(s, none_deg) : st);
 }
 
 static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)
@@ -501,7 +595,7 @@ static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)
     ocl_session *q = s->impl;
     kernel_arg args[] = {
         {sizeof *ls, ls}, {0, NULL}, {sizeof(cl_mem), &q->z}, {sizeof(cl_mem), &q->out[0]}};
-    return launch(s, s->ctx->ocl->k_bare, args, 4, ls, "the bare-pass kernel");
+    return pace(s, launch(s, s->ctx->ocl->k_bare, args, 4, ls, "the bare-pass kernel"));
 }
 
 static ss_status ocl_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
@@ -515,7 +609,8 @@ static ss_status ocl_radius_terms(ss_session *s, const ss_line_set *ls, int defi
                          {sizeof curv_k, &curv_k},
                          {sizeof(cl_mem), &q->z},
                          {sizeof(cl_mem), &q->out[0]}};
-    return launch(s, s->ctx->ocl->k_radius, args, 7, ls, "the radius-limited horizon kernel");
+    return pace(s,
+                launch(s, s->ctx->ocl->k_radius, args, 7, ls, "the radius-limited horizon kernel"));
 }
 
 static ss_status ocl_view(ss_session *s, int output, float **host)
@@ -543,6 +638,8 @@ static void ocl_close(ss_session *s)
         unmap_all(s);
         clFinish(s->ctx->ocl->queue);
     }
+    if (q->queued)
+        clReleaseEvent(q->queued);
     if (q->z)
         clReleaseMemObject(q->z);
     if (q->stack)
@@ -565,6 +662,8 @@ ss_status ss_backend_ocl_open(ss_session *s)
     ss_status st = ocl_acquire(s->ctx);
     if (st != SS_OK)
         return st;
+    if (s->ctx->use_reference) /* the default device could not work here */
+        return ss_backend_ref_open(s);
     struct ss_ocl *o = s->ctx->ocl;
     ocl_session *q = calloc(1, sizeof *q);
     if (!q)

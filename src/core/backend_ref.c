@@ -41,10 +41,11 @@ static ss_status ref_svf(ss_session *s, const ss_line_set *ls, int definition, f
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
-            ss_pass_svf(ls, ss_round_line(ls, round, i), definition, curv_k, sin_az, cos_az, cx,
-                        cy, g->height, g->z, r->grad, r->stack, r->out[0]);
+            if (!s->ctx->cancel_requested)
+                ss_pass_svf(ls, ss_round_line(ls, round, i), definition, curv_k, sin_az, cos_az, cx,
+                            cy, g->height, g->z, r->grad, r->stack, r->out[0]);
     }
-    return SS_OK;
+    return ss_check_cancel(s->ctx, "the sweep");
 }
 
 static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
@@ -64,9 +65,12 @@ static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k,
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
-            ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, s->grid->z, r->stack,
-                            r->out[0], r->weight, dist, cast, want);
+            if (!s->ctx->cancel_requested)
+                ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, s->grid->z, r->stack,
+                                r->out[0], r->weight, dist, cast, want);
     }
+    if (s->ctx->cancel_requested)
+        return ss_check_cancel(s->ctx, "the sweep");
 #pragma omp parallel for schedule(static)
     for (int c = 0; c < (int)n_cells; ++c)
         ss_pass_horizon_finish(c, none_deg, r->out[0], r->weight);
@@ -80,9 +84,10 @@ static ss_status ref_bare(ss_session *s, const ss_line_set *ls)
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
-            ss_pass_bare(ls, ss_round_line(ls, round, i), s->grid->z, r->out[0]);
+            if (!s->ctx->cancel_requested)
+                ss_pass_bare(ls, ss_round_line(ls, round, i), s->grid->z, r->out[0]);
     }
-    return SS_OK;
+    return ss_check_cancel(s->ctx, "the sweep");
 }
 
 static ss_status ref_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
@@ -93,10 +98,11 @@ static ss_status ref_radius_terms(ss_session *s, const ss_line_set *ls, int defi
         int n = ss_round_lines(ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i)
-            ss_pass_radius_terms(ls, ss_round_line(ls, round, i), definition, radius_m, curv_k,
-                                 s->grid->z, r->out[0]);
+            if (!s->ctx->cancel_requested)
+                ss_pass_radius_terms(ls, ss_round_line(ls, round, i), definition, radius_m,
+                                     curv_k, s->grid->z, r->out[0]);
     }
-    return SS_OK;
+    return ss_check_cancel(s->ctx, "the sweep");
 }
 
 static ss_status ref_view(ss_session *s, int output, float **host)

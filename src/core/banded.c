@@ -262,24 +262,41 @@ int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
                                (double)ss_band_bytes(1, 1) / (1 + 2 * HALO), 0.0);
 }
 
+/* What a banded run holds besides its band's rows: fixed buffers, the
+ * hulls handed on (about 8 points of 16 bytes per line and direction on
+ * terrain, doc/scale.md measures them) and what it carries per column and
+ * direction between bands. */
+static double band_overhead_bytes(int width, int height, int directions, double column_bytes)
+{
+    int dirs = directions > 0 ? directions : 64;
+    double hulls = ((double)width + height) * dirs * 8.0 * 16.0;
+    double carried = (double)width * dirs * column_bytes;
+    return FIXED_BYTES + hulls + carried;
+}
+
 int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
                         double band_cell_bytes, double column_bytes)
 {
     if (ss_whole_sweep_bytes(width, height) <= budget_bytes)
         return 0;
-    /* The hulls handed on: about 8 points of 16 bytes per line and
-     * direction on terrain (doc/scale.md measures them); and what a run
-     * carries per column and direction between bands. */
-    int dirs = directions > 0 ? directions : 64;
-    double hulls = ((double)width + height) * dirs * 8.0 * 16.0;
-    double carried = (double)width * dirs * column_bytes;
     double per_row = band_cell_bytes * width;
-    double rows = (budget_bytes - FIXED_BYTES - hulls - carried) / per_row - 2 * HALO;
+    double rows = (budget_bytes - band_overhead_bytes(width, height, directions, column_bytes)) /
+                      per_row -
+                  2 * HALO;
     if (rows < 1)
         return -1;
     /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
     int r = rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
     return r < height ? r : height;
+}
+
+double ss_band_min_budget(int width, int height, int directions, double band_cell_bytes,
+                          double column_bytes)
+{
+    double one_band = band_overhead_bytes(width, height, directions, column_bytes) +
+                      band_cell_bytes * width * (1 + 2 * HALO);
+    double whole = ss_whole_sweep_bytes(width, height);
+    return one_band < whole ? one_band : whole;
 }
 
 ss_status ss_sky_banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_options *opt,

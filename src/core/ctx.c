@@ -69,8 +69,28 @@ ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
     return ss_fail(ctx, status, "%s", line);
 }
 
+void ss_ctx_cancel(ss_ctx *ctx)
+{
+    ctx->cancel_requested = 1;
+}
+
+void ss_ctx_cancel_clear(ss_ctx *ctx)
+{
+    ctx->cancel_requested = 0;
+}
+
+ss_status ss_check_cancel(ss_ctx *ctx, const char *what)
+{
+    return ctx->cancel_requested
+               ? ss_fail(ctx, SS_ERR_CANCELLED, "cancelled during %s", what ? what : "the run")
+               : SS_OK;
+}
+
 ss_status ss_progress(ss_ctx *ctx, double complete, const char *what)
 {
+    ss_status st = ss_check_cancel(ctx, what);
+    if (st != SS_OK)
+        return st;
     if (ctx->progress && !ctx->progress(complete, what, ctx->progress_user))
         return ss_fail(ctx, SS_ERR_CANCELLED, "cancelled during %s", what ? what : "the run");
     return SS_OK;

@@ -3,6 +3,8 @@
 #ifndef SS_CTX_INTERNAL_H
 #define SS_CTX_INTERNAL_H
 
+#include <signal.h>
+
 #include "skysweep.h"
 
 #ifdef __cplusplus
@@ -21,6 +23,7 @@ struct ss_ctx {
     struct ss_ocl *ocl;
     char device_name[600];
     ss_counters counters;
+    volatile sig_atomic_t cancel_requested; /* ss_ctx_cancel; read by every worker */
 };
 
 /* Records a one-line message (newlines become spaces) and returns status. */
@@ -28,8 +31,12 @@ ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
 /* Reports progress; returns SS_ERR_CANCELLED (with a message) if the
- * callback asks to stop. */
+ * callback asks to stop or ss_ctx_cancel was called. */
 ss_status ss_progress(ss_ctx *ctx, double complete, const char *what);
+
+/* SS_ERR_CANCELLED (with a message naming what) once ss_ctx_cancel was
+ * called, else SS_OK: for the places between progress reports. */
+ss_status ss_check_cancel(ss_ctx *ctx, const char *what);
 
 double ss_seconds_now(void);
 

@@ -1,0 +1,29 @@
+/* GDAL's errors, gathered in one place: the adapters never let GDAL print.
+ * One process-wide handler (installed by ss_gdal_init) keeps the first
+ * failure since the last reset with the errno of that moment, so a write
+ * that fails for every strip of a full disk is reported once, by its
+ * cause, whichever call noticed it. */
+#ifndef SS_GDAL_ERRORS_H
+#define SS_GDAL_ERRORS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+void ss_gdal_errors_install(void);
+/* Forgets the failures recorded so far (and GDAL's last error). */
+void ss_gdal_errors_reset(void);
+/* Whether GDAL reported a failure since the last reset. */
+int ss_gdal_failed(void);
+/* GDAL's last message, or "no details from GDAL". */
+const char *ss_gdal_message(void);
+/* The first failure since the last reset as "CAUSE (GDAL: message)" where
+ * errno or the message names a cause a user can act on (no space left,
+ * the file size limit, the disk quota), else GDAL's message; written into
+ * buf. */
+const char *ss_gdal_failure(char *buf, size_t size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
