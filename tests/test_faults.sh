@@ -250,26 +250,81 @@ rm -f "$work/out/"*
 # ---- signals in the middle of a long run ------------------------------------------------------
 ascii_grid "$work/big.asc" 400 400 254325 2152155 30
 gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/big.asc" "$work/big.tif"
-for sig in INT TERM; do
+# Each command and device, long enough to run for minutes; the signal comes
+# 1.5 s in, and the exit must follow within 1.5 s (the C twin stops between
+# lines, an OpenCL device has at most one pass queued behind the running one).
+signal_run() { # SIG DEVICE ARGS...
+    local sig=$1 device=$2
+    shift 2
     echo "precious" >"$work/out/keep.tif"
-    "$SKYSWEEP" svf --device reference --directions 200000 "$work/big.tif" \
-        "$work/out/keep.tif" >"$work/stdout" 2>"$work/stderr" &
+    "$SKYSWEEP" "$@" --device "$device" "$work/big.tif" "$work/out/keep.tif" \
+        >"$work/stdout" 2>"$work/stderr" &
     pid=$!
     sleep 1.5
     kill -"$sig" "$pid"
+    local t0 t1
+    t0=$(date +%s%N)
     waited=0
     while kill -0 "$pid" 2>/dev/null && [ "$waited" -lt 300 ]; do
-        sleep 0.1
+        sleep 0.02
         waited=$((waited + 1))
     done
+    t1=$(date +%s%N)
     kill -KILL "$pid" 2>/dev/null
     wait "$pid"
     rc=$?
+    ms=$(((t1 - t0) / 1000000))
     num=$(kill -l "$sig" >/dev/null 2>&1 && echo $((128 + $(kill -l "$sig"))))
     lines=$(wc -l <"$work/stderr")
-    [ "$rc" -eq "$num" ] && [ "$lines" -eq 1 ] && grep -q 'interrupted' "$work/stderr" &&
+    [ "$rc" -eq "$num" ] && [ "$ms" -le 1500 ] && [ "$lines" -eq 1 ] &&
+        grep -q 'interrupted' "$work/stderr" &&
         [ "$(cat "$work/out/keep.tif")" = precious ] && [ "$(ls -A "$work/out")" = keep.tif ]
-    tap_ok $? "SIG$sig during a long svf: exit $rc (want $num) after $((waited / 10)).$((waited % 10)) s, $lines line(s), output untouched, no temporary: $(tail -c 160 "$work/stderr")"
+    tap_ok $? "SIG$sig during $1 on $device: exit $rc (want $num) after $ms ms (at most 1500), $lines line(s), output untouched, no temporary: $(tail -c 160 "$work/stderr")"
+    rm -f "$work/out/"* "$work/out/".* 2>/dev/null
+}
+pocl_device=none
+"$SKYSWEEP" info 2>/dev/null | grep -q 'Portable Computing Language' && pocl_device=Portable
+for sig in INT TERM; do
+    signal_run "$sig" reference svf -q --directions 200000
+    if [ "$pocl_device" = none ]; then
+        tap_skip "SIG$sig during svf on PoCL" "no PoCL device"
+        tap_skip "SIG$sig during horizon on PoCL" "no PoCL device"
+        continue
+    fi
+    signal_run "$sig" "$pocl_device" svf -q --directions 200000
+    signal_run "$sig" "$pocl_device" horizon -q --directions 2000 -co COMPRESS=NONE
+done
+# SIGKILL cannot be caught: it may leave the temporary, and the next run of
+# the same output neither trips over it nor keeps it.
+"$SKYSWEEP" svf -q --device reference --directions 200000 "$work/big.tif" "$work/out/k.tif" \
+    >/dev/null 2>&1 &
+pid=$!
+sleep 1.5
+kill -KILL "$pid"
+wait "$pid" 2>/dev/null
+before=$(ls -A "$work/out" | wc -l)
+run svf -q --device reference --directions 8 "$work/big.tif" "$work/out/k.tif"
+[ "$rc" -eq 0 ] && [ "$(ls -A "$work/out")" = k.tif ]
+tap_ok $? "after SIGKILL ($before file(s) left), the next run writes the output and removes the dead run's temporary: exit $rc, folder: $(ls -A "$work/out" | tr '\n' ' ')"
+rm -f "$work/out/"* "$work/out/".* 2>/dev/null
+
+# The disk fills up under a sweep on the default device: one line naming
+# the output and the cause, exit 4, nothing left. 16 MiB (above what PoCL's
+# compiler may write) against 64 uncompressed bands of 400 x 400 (41 MB) and
+# their distances; then 8 KiB, where PoCL could not compile at all and the
+# C twin runs instead.
+for limit_kib in 16500 8; do
+    (
+        trap '' XFSZ
+        ulimit -f "$limit_kib"
+        exec timeout -s KILL "$limit" "$SKYSWEEP" horizon -q --directions 64 -co COMPRESS=NONE \
+            --distance "$work/out/d.tif" "$work/big.tif" "$work/out/h.tif"
+    ) >"$work/stdout" 2>"$work/stderr"
+    rc=$?
+    lines=$(wc -l <"$work/stderr")
+    [ "$rc" -eq 4 ] && [ "$lines" -eq 1 ] && [ -z "$(ls -A "$work/out")" ] &&
+        grep -q "out/[hd].tif'.*file size limit" "$work/stderr"
+    tap_ok $? "disk full (ulimit -f $limit_kib KiB) under horizon --distance: exit $rc (want 4), $lines line(s) naming the output and the cause, nothing left: $(head -c 240 "$work/stderr")"
     rm -f "$work/out/"* "$work/out/".* 2>/dev/null
 done
 
@@ -372,5 +427,25 @@ if command -v strace >/dev/null 2>&1 && strace -f -qq -e trace=none true 2>/dev/
 else
     tap_skip "an svf run opens no network socket" "strace cannot run here"
 fi
+
+# ---- --memory too small: the message names the least budget that works -----------------------
+sample=$top/samples/kilauea_summit_30m.tif
+for cmd in "svf --directions 8" "horizon --directions 8"; do
+    # shellcheck disable=SC2086
+    run $cmd -q --device reference --memory 40M "$sample" "$work/out/m.tif"
+    least=$(sed -n 's/.*needs at least --memory \([0-9]*\)M.*/\1/p' "$work/stderr")
+    first_rc=$rc
+    first_msg=$(head -c 200 "$work/stderr")
+    if [ -n "$least" ]; then
+        # shellcheck disable=SC2086
+        run $cmd -q --device reference --memory "$((least - 1))M" "$sample" "$work/out/m.tif"
+        below=$rc
+        # shellcheck disable=SC2086
+        run $cmd -q --device reference --memory "${least}M" "$sample" "$work/out/m.tif"
+    fi
+    [ "$first_rc" -eq 6 ] && [ -n "$least" ] && [ "${below:-0}" -eq 6 ] && [ "$rc" -eq 0 ]
+    tap_ok $? "${cmd%% *} --memory 40M: exit $first_rc (want 6) naming the least budget (${least:-none}M): $((least - 1))M is refused (${below:-?}), ${least}M runs ($rc): $first_msg"
+    rm -f "$work/out/"* "$work/out/".* 2>/dev/null
+done
 
 tap_done

@@ -75,6 +75,14 @@ static const char *cause_of(int err, const char *message)
     return NULL;
 }
 
+const char *ss_gdal_io_cause(void)
+{
+    pthread_mutex_lock(&lock);
+    const char *cause = failed ? cause_of(first_errno, first_message) : NULL;
+    pthread_mutex_unlock(&lock);
+    return cause;
+}
+
 const char *ss_gdal_failure(char *buf, size_t size)
 {
     pthread_mutex_lock(&lock);

@@ -6,6 +6,8 @@
 #ifndef SS_GDAL_ERRORS_H
 #define SS_GDAL_ERRORS_H
 
+#include <gdal.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -22,6 +24,11 @@ const char *ss_gdal_message(void);
  * the file size limit, the disk quota), else GDAL's message; written into
  * buf. */
 const char *ss_gdal_failure(char *buf, size_t size);
+/* That cause alone, or NULL where the first failure names none. */
+const char *ss_gdal_io_cause(void);
+/* Closes a dataset that is being thrown away without flushing its cache
+ * (gdal_discard.cpp). */
+void ss_gdal_close_discarding(GDALDatasetH ds);
 
 #ifdef __cplusplus
 }

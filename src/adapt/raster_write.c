@@ -19,6 +19,7 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 
 #include "ctx_internal.h"
@@ -62,9 +63,11 @@ int ss_same_output(const char *a, const char *b)
     return same || ss_same_file(a, b);
 }
 
-/* Removes the temporaries "dir/.base.<pid>.tmp" (and their .aux.xml) of
- * processes that no longer run: what a SIGKILL or a crash left behind. */
-static void remove_stale_temporaries(const char *dir, const char *base)
+/* Removes the files "dir/.base.<pid>.*" that a writer of OUTPUT dir/base
+ * made: the temporary, its side-cars (.aux.xml, an ENVI .hdr, a .prj) and a
+ * format probe. pid 0: those of processes that no longer run, which a
+ * SIGKILL or a crash left behind; else those of that process. */
+static void remove_temporaries(const char *dir, const char *base, long pid)
 {
     DIR *d = opendir(dir);
     if (!d)
@@ -76,35 +79,52 @@ static void remove_stale_temporaries(const char *dir, const char *base)
         if (name[0] != '.' || strncmp(name + 1, base, n_base) != 0 || name[1 + n_base] != '.')
             continue;
         char *end;
-        long pid = strtol(name + 2 + n_base, &end, 10);
-        if (pid <= 0 || end == name + 2 + n_base ||
-            (strcmp(end, ".tmp") != 0 && strcmp(end, ".tmp.aux.xml") != 0))
+        long owner = strtol(name + 2 + n_base, &end, 10);
+        if (owner <= 0 || end == name + 2 + n_base || *end != '.')
             continue;
-        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH)
-            continue; /* alive, or not ours to judge */
+        if (pid ? owner != pid : kill((pid_t)owner, 0) == 0 || errno != ESRCH)
+            continue; /* another's, or alive (or not ours to judge) */
         char full[PATH_MAX];
-        if (snprintf(full, sizeof full, "%s/%s", dir, name) < (int)sizeof full)
-            unlink(full);
+        if (snprintf(full, sizeof full, "%s/%s", dir, name) < (int)sizeof full &&
+            unlink(full) != 0 && errno == EISDIR)
+            VSIRmdirRecursive(full); /* a format that is a folder (Zarr) */
     }
     closedir(d);
 }
 
-/* "dir/name.tif" -> "dir/.name.tif.<pid>.tmp": same folder, so the final
- * rename is atomic, hidden so that nobody picks it up half-written. */
-static char *temporary_name(const char *path)
+/* Splits path into a folder and a name (both to be freed). */
+static int split_path(const char *path, char **dir, char **base)
 {
     char *dir_copy = strdup(path), *base_copy = strdup(path);
-    char *out = NULL;
-    if (dir_copy && base_copy) {
-        const char *dir = dirname(dir_copy), *base = basename(base_copy);
-        remove_stale_temporaries(dir, base);
-        size_t n = strlen(dir) + strlen(base) + 40;
-        out = malloc(n);
-        if (out)
-            snprintf(out, n, "%s/.%s.%ld.tmp", dir, base, (long)getpid());
-    }
+    *dir = dir_copy ? strdup(dirname(dir_copy)) : NULL;
+    *base = base_copy ? strdup(basename(base_copy)) : NULL;
     free(dir_copy);
     free(base_copy);
+    if (*dir && *base)
+        return 0;
+    free(*dir);
+    free(*base);
+    return -1;
+}
+
+/* "dir/name.tif" -> "dir/.name.tif.<pid>.KIND.tif": same folder, so the
+ * final rename is atomic; hidden, so that nobody picks it up half-written;
+ * the output's extension last, so that GDAL renames a format's side-cars
+ * (an ENVI .hdr) to what the output's name calls for. */
+static char *temporary_name(const char *path, const char *kind)
+{
+    char *dir, *base, *out = NULL;
+    if (split_path(path, &dir, &base) != 0)
+        return NULL;
+    remove_temporaries(dir, base, 0);
+    const char *ext = strrchr(base, '.');
+    size_t n = strlen(dir) + 2 * strlen(base) + strlen(kind) + 40;
+    out = malloc(n);
+    if (out)
+        snprintf(out, n, "%s/.%s.%ld.%s%s", dir, base, (long)getpid(), kind,
+                 ext && ext != base ? ext : "");
+    free(dir);
+    free(base);
     return out;
 }
 
@@ -136,6 +156,10 @@ static char **default_options(GDALDriverH driver, int bands, int byte_pixels,
         /* Floating-point prediction for floats, horizontal differencing for bytes. */
         opts = CSLSetNameValue(opts, "PREDICTOR", byte_pixels ? "2" : "3");
         opts = CSLSetNameValue(opts, "BIGTIFF", "IF_SAFER");
+        /* Every tile of a finished output is written anyway; without it
+         * GDAL fills the missing ones of an abandoned file at close, which
+         * kept an interrupted run of many bands busy for seconds. */
+        opts = CSLSetNameValue(opts, "SPARSE_OK", "TRUE");
         if (bands > 1)
             opts = CSLSetNameValue(opts, "INTERLEAVE", "BAND");
     }
@@ -147,6 +171,99 @@ static char **default_options(GDALDriverH driver, int bands, int byte_pixels,
         CPLFree(key);
     }
     return opts;
+}
+
+/* Formats known to hold every product (Float32 or Byte, any band count,
+ * nodata), for the message that refuses another. */
+#define SS_FORMATS_THAT_HOLD "GTiff, COG, HFA or ENVI"
+
+static int probe_holds(GDALDatasetH ds, int bands, GDALDataType type, const double *values)
+{
+    if (!ds || GDALGetRasterCount(ds) != bands)
+        return 0;
+    for (int b = 1; b <= bands; ++b) {
+        GDALRasterBandH band = GDALGetRasterBand(ds, b);
+        int has_nodata = 0;
+        double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
+        double back[4];
+        if (!has_nodata || nodata != values[0] ||
+            GDALRasterIO(band, GF_Read, 0, 0, 2, 2, back, 2, 2, GDT_Float64, 0, 0) != CE_None)
+            return 0;
+        for (int i = 0; i < 4; ++i)
+            if (back[i] != values[i])
+                return 0;
+    }
+    (void)type;
+    return 1;
+}
+
+/* Whether the format can hold the product's values: its data type, its
+ * bands and its nodata value. A 2 x 2 probe with the values that would be
+ * lost (nodata, fractions, values above 255) is written next to the output
+ * and read back, before any work, so that no format casts or drops them
+ * silently (a PNG of an SVF would hold only 0 and 1). */
+static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char *format,
+                                    const char *path, int bands, GDALDataType type,
+                                    char **create_opts)
+{
+    const char *types = GDALGetMetadataItem(driver, GDAL_DMD_CREATIONDATATYPES, NULL);
+    const char *type_name = GDALGetDataTypeName(type);
+    if (types && !strstr(types, type_name))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the %s format cannot hold this product's %s values (it writes %s); use "
+                       "-of %s, or convert afterwards with gdal_translate -ot -scale",
+                       format, type_name, types, SS_FORMATS_THAT_HOLD);
+    const double float_values[4] = {SS_NODATA, 0.8125, -12.5, 1234.5};
+    const double byte_values[4] = {0, 1, 128, 255};
+    const double *values = type == GDT_Byte ? byte_values : float_values;
+    char *probe = temporary_name(path, "probe");
+    if (!probe)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+    GDALDatasetH mem = GDALCreate(GDALGetDriverByName("MEM"), "", 2, 2, bands, type, NULL);
+    for (int b = 1; mem && b <= bands; ++b) {
+        GDALRasterBandH band = GDALGetRasterBand(mem, b);
+        if (GDALSetRasterNoDataValue(band, values[0]) != CE_None ||
+            GDALRasterIO(band, GF_Write, 0, 0, 2, 2, (void *)values, 2, 2, GDT_Float64, 0, 0) !=
+                CE_None) {
+            GDALClose(mem);
+            mem = NULL;
+        }
+    }
+    GDALDatasetH copy = mem ? GDALCreateCopy(driver, probe, mem, FALSE, create_opts, NULL, NULL)
+                            : NULL;
+    if (copy)
+        GDALClose(copy);
+    if (mem)
+        GDALClose(mem);
+    GDALDatasetH back = copy ? GDALOpen(probe, GA_ReadOnly) : NULL;
+    int holds = probe_holds(back, bands, type, values), side_cars = 0;
+    char **files = back ? GDALGetFileList(back) : NULL;
+    for (int i = 0; files && files[i]; ++i)
+        side_cars += i > 0 && !strstr(files[i], ".aux.xml");
+    CSLDestroy(files);
+    if (back)
+        GDALClose(back);
+    if (copy)
+        GDALDeleteDataset(driver, probe);
+    free(probe); /* what a failed copy left, ss_writer_abort removes */
+    char why[1200];
+    if (!holds && ss_gdal_io_cause()) /* the folder, not the format, failed it */
+        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path,
+                       ss_gdal_failure(why, sizeof why));
+    ss_gdal_errors_reset();
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    if (holds && side_cars && (!dot || (slash && dot < slash)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the %s format keeps side-car files named after the output's extension, "
+                       "and '%s' has none: add one (e.g. %s.bin)",
+                       format, path, path);
+    if (!holds)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the %s format cannot hold this product (%d %s band%s with nodata %g, "
+                       "read back unchanged); use -of %s",
+                       format, bands, type_name, bands == 1 ? "" : "s", values[0],
+                       SS_FORMATS_THAT_HOLD);
+    return SS_OK;
 }
 
 static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
@@ -179,20 +296,26 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     w->driver = driver;
     w->bands = bands;
     w->path = strdup(path);
-    w->tmp_path = temporary_name(path);
+    w->tmp_path = temporary_name(path, "tmp");
     w->create_opts = default_options(driver, bands, byte_pixels, creation_options);
     if (!w->path || !w->tmp_path) {
         ss_writer_abort(w);
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
     }
+    GDALDataType type = byte_pixels ? GDT_Byte : GDT_Float32;
     ss_gdal_errors_reset();
+    st = check_format_holds(ctx, driver, format ? format : "GTiff", path, bands, type,
+                            w->create_opts);
+    if (st != SS_OK) {
+        ss_writer_abort(w);
+        return st;
+    }
     const ss_grid *g = &like->grid;
     int windowed = like->window_cols > 0;
     int cols = windowed ? like->window_cols : g->width, rows = windowed ? like->window_rows : g->height;
     w->grid_width = g->width;
     w->col0 = windowed ? like->window_col0 : 0;
     w->row0 = windowed ? like->window_row0 : 0;
-    GDALDataType type = byte_pixels ? GDT_Byte : GDT_Float32;
     if (can_create)
         w->ds = GDALCreate(driver, w->tmp_path, cols, rows, bands, type, w->create_opts);
     else
@@ -326,24 +449,12 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
                      ss_gdal_failure(why, sizeof why));
     if (st == SS_OK && progress && !progress(1.0, "", user))
         st = ss_fail(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
-    if (st == SS_OK && rename(w->tmp_path, w->path) != 0)
+    /* GDAL's rename moves the side-cars a format keeps beside the file
+     * (.aux.xml, an ENVI .hdr, a .prj) along, named as the format expects. */
+    if (st == SS_OK && GDALRenameDataset(w->driver, w->path, w->tmp_path) != CE_None &&
+        rename(w->tmp_path, w->path) != 0) /* names GDAL cannot pair: the file alone */
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
-                     strerror(errno));
-    if (st == SS_OK) {
-        /* Side-car metadata some formats keep next to the file follows it. */
-        size_t n = strlen(w->tmp_path) + 10;
-        char *aux_tmp = malloc(n), *aux = malloc(strlen(w->path) + 10);
-        if (aux_tmp && aux) {
-            snprintf(aux_tmp, n, "%s.aux.xml", w->tmp_path);
-            snprintf(aux, strlen(w->path) + 10, "%s.aux.xml", w->path);
-            if (access(aux_tmp, F_OK) == 0)
-                rename(aux_tmp, aux);
-        }
-        free(aux_tmp);
-        free(aux);
-        free(w->tmp_path);
-        w->tmp_path = NULL;
-    }
+                     ss_gdal_failure(why, sizeof why));
     ss_writer_abort(w);
     return st;
 }
@@ -353,16 +464,12 @@ void ss_writer_abort(ss_raster_writer *w)
     if (!w)
         return;
     if (w->ds)
-        GDALClose(w->ds);
-    if (w->tmp_path) {
-        unlink(w->tmp_path);
-        size_t n = strlen(w->tmp_path) + 10;
-        char *aux = malloc(n);
-        if (aux) {
-            snprintf(aux, n, "%s.aux.xml", w->tmp_path);
-            unlink(aux);
-        }
-        free(aux);
+        ss_gdal_close_discarding(w->ds);
+    char *dir, *base;
+    if (w->path && split_path(w->path, &dir, &base) == 0) {
+        remove_temporaries(dir, base, (long)getpid());
+        free(dir);
+        free(base);
     }
     CSLDestroy(w->create_opts);
     free(w->path);

@@ -80,7 +80,5 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
 
 ss_status command_out_of_memory(run_state *run)
 {
-    (void)run;
-    fprintf(stderr, "skysweep %s: out of memory\n", run->command);
-    return SS_ERR_MEMORY;
+    return ss_ctx_error(run->ctx, SS_ERR_MEMORY, "out of memory");
 }

@@ -21,22 +21,6 @@
 #define POINTS_MAX 1000000
 #define ID_MAX 200
 
-/* Prints a failure found here (the library's go through run_fail) and
- * notes that it was told. */
-static ss_status say(int *told, ss_status st, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static ss_status say(int *told, ss_status st, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("skysweep horizon: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-    *told = 1;
-    return st;
-}
-
 typedef struct {
     char id[ID_MAX + 1];
     double x, y;     /* as given, in the sites' CRS */
@@ -54,7 +38,6 @@ typedef struct {
     FILE *out;          /* NULL in pvgis folder mode */
     const char *folder; /* pvgis folder mode: one file per site */
     ss_status status;
-    int told; /* the failure was printed here */
     ss_ctx *ctx;
     int quiet;
     int true_north;
@@ -141,12 +124,12 @@ static int compare_ids(const void *a, const void *b)
 
 /* Reads the sites CSV: a header naming id, lon (or x), lat (or y) and
  * optionally height, in any order; '#' lines and blank lines are skipped. */
-static ss_status read_sites(int *told, const char *path, double default_height_m, int ids_as_files,
+static ss_status read_sites(ss_ctx *ctx, const char *path, double default_height_m, int ids_as_files,
                             site_rec **out, int *n_out)
 {
     FILE *f = fopen(path, "r");
     if (!f)
-        return say(told, SS_ERR_INPUT, "cannot open the sites file '%s'", path);
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot open the sites file '%s'", path);
     char *line = NULL;
     size_t cap = 0;
     int col_id = -1, col_x = -1, col_y = -1, col_h = -1, n_cols = 0, n = 0, lineno = 0;
@@ -167,25 +150,25 @@ static ss_status read_sites(int *told, const char *path, double default_height_m
             col_y = column_of(fields, nf, "lat", "y");
             col_h = column_of(fields, nf, "height", NULL);
             if (col_id < 0 || col_x < 0 || col_y < 0)
-                st = say(told, SS_ERR_INPUT,
+                st = ss_ctx_error(ctx, SS_ERR_INPUT,
                          "%s line %d: the header must name the columns id, lon, lat "
                          "(or id, x, y) and optionally height",
                          path, lineno);
             continue;
         }
         if (nf != n_cols) {
-            st = say(told, SS_ERR_INPUT, "%s line %d: %d fields, the header has %d", path, lineno,
+            st = ss_ctx_error(ctx, SS_ERR_INPUT, "%s line %d: %d fields, the header has %d", path, lineno,
                      nf, n_cols);
             break;
         }
         if (n >= POINTS_MAX) {
-            st = say(told, SS_ERR_INPUT, "%s: more than %d sites", path, POINTS_MAX);
+            st = ss_ctx_error(ctx, SS_ERR_INPUT, "%s: more than %d sites", path, POINTS_MAX);
             break;
         }
         if (n % 1024 == 0) {
             site_rec *grown = realloc(sites, sizeof *sites * (size_t)(n + 1024));
             if (!grown) {
-                st = say(told, SS_ERR_MEMORY, "out of memory reading '%s'", path);
+                st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", path);
                 break;
             }
             sites = grown;
@@ -195,15 +178,15 @@ static ss_status read_sites(int *told, const char *path, double default_height_m
         const char *bad_id = id_problem(fields[col_id], ids_as_files);
         r->height_m = default_height_m;
         if (bad_id)
-            st = say(told, SS_ERR_INPUT, "%s line %d: id '%.40s' %s", path, lineno, fields[col_id],
+            st = ss_ctx_error(ctx, SS_ERR_INPUT, "%s line %d: id '%.40s' %s", path, lineno, fields[col_id],
                      bad_id);
         else if (!parse_number(fields[col_x], &r->x) || !parse_number(fields[col_y], &r->y))
-            st = say(told, SS_ERR_INPUT, "%s line %d: '%s,%s' are not two numbers", path, lineno,
+            st = ss_ctx_error(ctx, SS_ERR_INPUT, "%s line %d: '%s,%s' are not two numbers", path, lineno,
                      fields[col_x], fields[col_y]);
         else if (col_h >= 0 && *fields[col_h] &&
                  (!parse_number(fields[col_h], &r->height_m) || r->height_m < 0 ||
                   r->height_m > 1e6))
-            st = say(told, SS_ERR_INPUT, "%s line %d: height '%s' is not 0 to 1e6 m", path, lineno,
+            st = ss_ctx_error(ctx, SS_ERR_INPUT, "%s line %d: height '%s' is not 0 to 1e6 m", path, lineno,
                      fields[col_h]);
         else
             snprintf(r->id, sizeof r->id, "%s", fields[col_id]);
@@ -212,19 +195,19 @@ static ss_status read_sites(int *told, const char *path, double default_height_m
     free(line);
     fclose(f);
     if (st == SS_OK && n == 0)
-        st = say(told, SS_ERR_INPUT, "%s holds no sites", path);
+        st = ss_ctx_error(ctx, SS_ERR_INPUT, "%s holds no sites", path);
     if (st == SS_OK) {
         /* Duplicate ids would make the output ambiguous (and overwrite
          * pvgis files): sorted copy, neighbours compared. */
         site_rec *sorted = malloc(sizeof *sorted * (size_t)n);
         if (!sorted)
-            st = say(told, SS_ERR_MEMORY, "out of memory checking ids");
+            st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory checking ids");
         else {
             memcpy(sorted, sites, sizeof *sorted * (size_t)n);
             qsort(sorted, (size_t)n, sizeof *sorted, compare_ids);
             for (int i = 1; i < n && st == SS_OK; ++i)
                 if (strcmp(sorted[i].id, sorted[i - 1].id) == 0)
-                    st = say(told, SS_ERR_INPUT, "%s: the id '%s' is given twice", path,
+                    st = ss_ctx_error(ctx, SS_ERR_INPUT, "%s: the id '%s' is given twice", path,
                              sorted[i].id);
             free(sorted);
         }
@@ -362,7 +345,7 @@ static void write_site_json(writer *w, int index, const site_rec *s,
     /* The per-direction columns, gathered into the cast_* buffers' space. */
     double *col = malloc(sizeof *col * (size_t)n);
     if (!col) {
-        w->status = say(&w->told, SS_ERR_MEMORY, "out of memory writing JSON");
+        w->status = ss_ctx_error(w->ctx, SS_ERR_MEMORY, "out of memory writing JSON");
         return;
     }
     const char *names[] = {"azimuth_deg", "elevation_deg", "distance_m", "cast_height_m"};
@@ -389,14 +372,14 @@ static void write_pvgis(FILE *f, const ss_point_horizon_result *p, int n)
 }
 
 /* Finishes a temporary file: close, and rename over path when all went well. */
-static ss_status commit_file(int *told, FILE *f, const char *tmp, const char *path, ss_status st)
+static ss_status commit_file(ss_ctx *ctx, FILE *f, const char *tmp, const char *path, ss_status st)
 {
     int bad = ferror(f);
     bad |= fclose(f) != 0;
     if (st == SS_OK && bad)
-        st = say(told, SS_ERR_OUTPUT, "cannot write '%s'", path);
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
     if (st == SS_OK && rename(tmp, path) != 0)
-        st = say(told, SS_ERR_OUTPUT, "cannot rename the finished output to '%s'", path);
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished output to '%s'", path);
     if (st != SS_OK)
         remove(tmp);
     return st;
@@ -410,10 +393,10 @@ static ss_status write_pvgis_file(writer *w, const site_rec *s, const ss_point_h
     FILE *f = tmp ? fopen(tmp, "w") : NULL;
     if (!f) {
         free(tmp);
-        return say(&w->told, SS_ERR_OUTPUT, "cannot create '%s'", path);
+        return ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", path);
     }
     write_pvgis(f, p, w->opt->directions);
-    ss_status st = commit_file(&w->told, f, tmp, path, SS_OK);
+    ss_status st = commit_file(w->ctx, f, tmp, path, SS_OK);
     free(tmp);
     return st;
 }
@@ -466,7 +449,7 @@ static int is_folder(const char *path)
 
 /* Places every site on the DEM (refusing any outside it or on nodata) and
  * fills the point sites: position, observer height, grid north. */
-static ss_status place_sites(run_state *run, int *told, const common_settings *common,
+static ss_status place_sites(run_state *run, const common_settings *common,
                              ss_dem_frame *frame, ss_site_frame *sf, const ss_point_grid *pg,
                              site_rec *sites, int n, ss_point_site *out)
 {
@@ -483,7 +466,7 @@ static ss_status place_sites(run_state *run, int *told, const common_settings *c
         if (st == SS_OK && common->north != NORTH_GRID)
             st = ss_geo_grid_north(frame->geo, p->col, p->row, &p->grid_north_deg);
         if (st != SS_OK)
-            return n > 1 ? say(told, st, "id '%s': %s", s->id, ss_ctx_message(run->ctx)) : st;
+            return n > 1 ? ss_ctx_error(run->ctx, st, "id '%s': %s", s->id, ss_ctx_message(run->ctx)) : st;
     }
     return SS_OK;
 }
@@ -534,10 +517,11 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
                                  const char *output, int directions)
 {
     writer *w = &j->w;
+    w->ctx = j->run.ctx;
     int folder_mode = pts->format == POINT_FORMAT_PVGIS && pts->points;
     ss_status st = SS_OK;
     if (pts->points) {
-        st = read_sites(&w->told, pts->points, pts->height_m, folder_mode, &j->sites, &j->n_sites);
+        st = read_sites(w->ctx, pts->points, pts->height_m, folder_mode, &j->sites, &j->n_sites);
     } else {
         snprintf(j->one.id, sizeof j->one.id, "site");
         j->one.height_m = pts->height_m;
@@ -549,7 +533,7 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
         (st = run_read_dem(&j->run, pos, n_inputs, common, &j->dem, &j->frame)) == SS_OK)
         j->have_dem = 1;
     if (st == SS_OK && !j->frame.georeferenced)
-        st = say(&w->told, SS_ERR_INPUT, "'%s' is not georeferenced: sites need a DEM with a CRS",
+        st = ss_ctx_error(w->ctx, SS_ERR_INPUT, "'%s' is not georeferenced: sites need a DEM with a CRS",
                  pos[0]);
     if (st == SS_OK) {
         run_sweep_options(common, &j->frame, &j->opt);
@@ -563,10 +547,10 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
         j->psites = malloc(sizeof *j->psites * (size_t)j->n_sites);
         w->cast_col = malloc(sizeof(double) * (size_t)directions * 4);
         if (!j->psites || !w->cast_col)
-            st = say(&w->told, SS_ERR_MEMORY, "out of memory for %d sites", j->n_sites);
+            st = ss_ctx_error(w->ctx, SS_ERR_MEMORY, "out of memory for %d sites", j->n_sites);
     }
     if (st == SS_OK)
-        st = place_sites(&j->run, &w->told, common, &j->frame, j->sf, j->pg, j->sites, j->n_sites,
+        st = place_sites(&j->run, common, &j->frame, j->sf, j->pg, j->sites, j->n_sites,
                          j->psites);
     if (st != SS_OK)
         return st;
@@ -588,7 +572,7 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
         j->tmp = temporary_name(output);
         w->out = j->tmp ? fopen(j->tmp, "w") : NULL;
         if (!w->out)
-            st = say(&w->told, SS_ERR_OUTPUT, "cannot create '%s'", output);
+            st = ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", output);
     }
     return st;
 }
@@ -634,10 +618,10 @@ int horizon_points_run(const common_settings *common, const horizon_point_settin
             fprintf(w->out, "\n  ]\n}\n");
     }
     if (w->out && w->out != stdout)
-        st = commit_file(&w->told, w->out, j.tmp, output, st);
+        st = commit_file(w->ctx, w->out, j.tmp, output, st);
     else if (w->out)
         fflush(stdout);
-    rc = st == SS_OK ? 0 : w->told ? (int)st : run_fail(&j.run, st);
+    rc = st == SS_OK ? 0 : run_fail(&j.run, st);
     if (st == SS_OK && !common->quiet && output) {
         run_print_dem(&j.run, &j.dem, &j.frame);
         printf("horizon profiles of %d site%s x %d azimuths (step %.10g deg) -> %s (%s)\n",

@@ -75,14 +75,17 @@ typedef struct {
     cl_device_type type;
 } ocl_device_info;
 
-/* Calls fn for every device of every platform until it returns nonzero. */
+/* Calls fn for every device of every platform until it returns nonzero;
+ * returns that value, 0, or -1 when out of memory. */
 static int for_each_device(int (*fn)(const ocl_device_info *, void *), void *user)
 {
     cl_uint n_platforms = 0;
     if (clGetPlatformIDs(0, NULL, &n_platforms) != CL_SUCCESS || n_platforms == 0)
         return 0;
-    cl_platform_id *platforms = calloc(n_platforms, sizeof *platforms);
-    if (!platforms || clGetPlatformIDs(n_platforms, platforms, NULL) != CL_SUCCESS) {
+    cl_platform_id *platforms = ss_calloc(n_platforms, sizeof *platforms);
+    if (!platforms)
+        return -1;
+    if (clGetPlatformIDs(n_platforms, platforms, NULL) != CL_SUCCESS) {
         free(platforms);
         return 0;
     }
@@ -91,9 +94,11 @@ static int for_each_device(int (*fn)(const ocl_device_info *, void *), void *use
         cl_uint n_devices = 0;
         if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &n_devices) != CL_SUCCESS)
             continue;
-        cl_device_id *devices = calloc(n_devices, sizeof *devices);
-        if (!devices)
+        cl_device_id *devices = ss_calloc(n_devices, sizeof *devices);
+        if (!devices) {
+            stop = -1;
             break;
+        }
         if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, n_devices, devices, NULL) ==
             CL_SUCCESS) {
             for (cl_uint d = 0; d < n_devices && !stop; ++d) {
@@ -226,7 +231,7 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     if (err != CL_SUCCESS) {
         size_t log_size = 0;
         clGetProgramBuildInfo(o->program, o->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &log_size);
-        char *log = calloc(1, log_size + 1);
+        char *log = ss_calloc(1, log_size + 1);
         if (log)
             clGetProgramBuildInfo(o->program, o->device, CL_PROGRAM_BUILD_LOG, log_size, log,
                                   NULL);
@@ -325,7 +330,8 @@ static ss_status ocl_acquire(ss_ctx *ctx)
         ps.want_p = p;
         ps.want_d = d;
     }
-    for_each_device(pick_one, &ps);
+    if (for_each_device(pick_one, &ps) < 0)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory listing the OpenCL devices");
     if (!ps.have) {
         if (ctx->device_spec[0])
             return ss_fail(ctx, SS_ERR_DEVICE,
@@ -345,7 +351,7 @@ static ss_status ocl_acquire(ss_ctx *ctx)
                  "C reference (host, OpenMP), not PoCL: %.500s", why);
         return SS_OK;
     }
-    struct ss_ocl *o = calloc(1, sizeof *o);
+    struct ss_ocl *o = ss_calloc(1, sizeof *o);
     if (!o)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory opening OpenCL");
     snprintf(ctx->device_name, sizeof ctx->device_name, "%s: %s", ps.found.platform_name,
@@ -665,7 +671,7 @@ ss_status ss_backend_ocl_open(ss_session *s)
     if (s->ctx->use_reference) /* the default device could not work here */
         return ss_backend_ref_open(s);
     struct ss_ocl *o = s->ctx->ocl;
-    ocl_session *q = calloc(1, sizeof *q);
+    ocl_session *q = ss_calloc(1, sizeof *q);
     if (!q)
         return ss_fail(s->ctx, SS_ERR_MEMORY, "out of memory opening a session");
     s->impl = q;

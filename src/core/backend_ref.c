@@ -131,7 +131,7 @@ static const ss_backend ref_backend = {ref_clear, ref_svf,  ref_horizon, ref_bar
 ss_status ss_backend_ref_open(ss_session *s)
 {
     size_t n = (size_t)s->grid->width * (size_t)s->grid->height;
-    ref_session *r = calloc(1, sizeof *r);
+    ref_session *r = ss_calloc(1, sizeof *r);
     s->impl = r;
     s->backend = &ref_backend;
     if (!r)

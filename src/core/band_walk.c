@@ -16,8 +16,8 @@ size_t ss_band_held_cells(const ss_band_grid *b)
 ss_status ss_band_grid_alloc(ss_band_grid *b)
 {
     size_t held = ss_band_held_cells(b);
-    b->z = malloc(held * sizeof(float));
-    b->stack = malloc(held * sizeof(int));
+    b->z = ss_malloc(held * sizeof(float));
+    b->stack = ss_malloc(held * sizeof(int));
     if (b->z && b->stack)
         return SS_OK;
     ss_band_grid_free(b);
@@ -40,9 +40,10 @@ ss_status ss_band_read(ss_band_grid *b, int row0, int rows)
         b->z[c] = NAN;
     int lo = row0 - HALO > 0 ? row0 - HALO : 0;
     int hi = row0 + rows + HALO < b->height ? row0 + rows + HALO : b->height;
+    unsigned long failures = b->ctx->failures;
     ss_status st = b->read(b->user, lo, hi - lo, b->z + (size_t)(lo - (row0 - HALO)) * w);
-    if (st != SS_OK)
-        return ss_ctx_message(b->ctx)[0]
+    if (st != SS_OK) /* the reader's own message, where it gave one */
+        return b->ctx->failures != failures
                    ? st
                    : ss_fail(b->ctx, st, "could not read DEM rows %d..%d", lo, hi - 1);
     if (b->negate)
@@ -130,7 +131,7 @@ static int line_end(ss_carried_hull *hull, ss_walker *wk, const ss_line_set *ls,
      * edge are held at once, and they dominate a banded run's memory. */
     if (wk->depth > hull->capacity || wk->depth < hull->capacity / 2) {
         int cap = wk->depth > 0 ? wk->depth : 1;
-        ss_hull_point *p = realloc(hull->points, sizeof *p * (size_t)cap);
+        ss_hull_point *p = ss_realloc(hull->points, sizeof *p * (size_t)cap);
         if (!p)
             return -1;
         hull->points = p;

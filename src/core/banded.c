@@ -178,11 +178,11 @@ static ss_status banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_option
     b.width = io->width;
     b.band_rows = b.grid.band_rows;
     st = ss_band_grid_alloc(&b.grid);
-    b.acc = malloc(ss_band_held_cells(&b.grid) * sizeof(float));
-    if (term == SS_SKY_SVF_TILTED && !(b.grad = malloc(2 * ss_band_held_cells(&b.grid) *
+    b.acc = ss_malloc(ss_band_held_cells(&b.grid) * sizeof(float));
+    if (term == SS_SKY_SVF_TILTED && !(b.grad = ss_malloc(2 * ss_band_held_cells(&b.grid) *
                                                        sizeof(float))))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", b.band_rows);
-    band_direction *dirs = calloc((size_t)opt->directions, sizeof *dirs);
+    band_direction *dirs = ss_calloc((size_t)opt->directions, sizeof *dirs);
     if (st == SS_OK && (!b.acc || !dirs))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", b.band_rows);
     if (st == SS_OK && !(b.partial = tmpfile()))
@@ -205,7 +205,7 @@ static ss_status banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_option
         d->ls = ls;
         d->sin_az = (float)sin(az);
         d->cos_az = (float)cos(az);
-        d->hulls = calloc((size_t)ls.n_lines, sizeof *d->hulls);
+        d->hulls = ss_calloc((size_t)ls.n_lines, sizeof *d->hulls);
         if (!d->hulls)
             st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the lines of a direction");
     }

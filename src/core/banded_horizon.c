@@ -183,10 +183,10 @@ ss_status ss_horizon_banded(ss_ctx *ctx, const ss_horizon_band_io *io, const ss_
         held = ss_band_held_cells(&h.grid);
     for (int k = 0; st == SS_OK && k < N_SUMS; ++k)
         if (k < 2 || (k == 2 && want_dist) || (k == 3 && want_cast))
-            if (!(h.sums[k] = malloc(held * sizeof(float))))
+            if (!(h.sums[k] = ss_malloc(held * sizeof(float))))
                 st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows",
                              h.grid.band_rows);
-    horizon_direction *dirs = st == SS_OK ? calloc((size_t)n_dirs, sizeof *dirs) : NULL;
+    horizon_direction *dirs = st == SS_OK ? ss_calloc((size_t)n_dirs, sizeof *dirs) : NULL;
     if (st == SS_OK && !dirs)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for %d directions", n_dirs);
     ss_grid dims = {io->width, io->height, io->cell_x_m, io->cell_y_m, 0.0, NULL};
@@ -208,8 +208,8 @@ ss_status ss_horizon_banded(ss_ctx *ctx, const ss_horizon_band_io *io, const ss_
         horizon_direction *d = &dirs[next[ss_band_pass_of(&ls) > 0 ? 0 : 1]++];
         d->ls = ls;
         d->index = i;
-        d->hulls = calloc((size_t)ls.n_lines, sizeof *d->hulls);
-        d->carried = calloc(N_SUMS * w, sizeof(float));
+        d->hulls = ss_calloc((size_t)ls.n_lines, sizeof *d->hulls);
+        d->carried = ss_calloc(N_SUMS * w, sizeof(float));
         if (!d->hulls || !d->carried)
             st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the lines of a direction");
     }

@@ -244,7 +244,7 @@ static ss_status classify_steps(insolation_run *r, const ss_insolation_options *
                                 double **azimuths, int *n_day)
 {
     *n_day = 0;
-    *azimuths = malloc(sizeof(double) * (size_t)r->n_steps);
+    *azimuths = ss_malloc(sizeof(double) * (size_t)r->n_steps);
     if (!*azimuths)
         return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory for %d steps", r->n_steps);
     for (int k = 0; k < r->n_steps; ++k) {
@@ -285,8 +285,8 @@ ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
     r.n_steps = n_steps;
     int band_rows = io->band_rows < io->height ? io->band_rows : io->height;
     size_t cells = (size_t)band_rows * io->width;
-    r.step_of = malloc(sizeof(int) * (size_t)n_steps);
-    r.day = calloc((size_t)n_steps, 1);
+    r.step_of = ss_malloc(sizeof(int) * (size_t)n_steps);
+    r.day = ss_calloc((size_t)n_steps, 1);
     if (!r.step_of || !r.day)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for %d steps", n_steps);
     if (st == SS_OK && (!(r.svf = tmpfile()) || !(r.partial = tmpfile())))
@@ -303,12 +303,12 @@ ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
         st = ss_sky_banded(ctx, &svf_io, opt, SS_SKY_SVF_TILTED);
     /* The bands' own buffers, once the SVF's are free. */
     if (st == SS_OK) {
-        r.z = malloc(sizeof(float) * (cells + 2 * (size_t)io->width));
-        r.sky_view = malloc(sizeof(float) * cells);
-        r.terms = malloc(sizeof(ss_cell_terms) * cells);
-        r.sums = malloc(sizeof(float) * N_SUMS * cells);
-        r.loaded = malloc(sizeof(float) * N_SUMS * cells);
-        r.step_global = malloc(sizeof(float) * cells);
+        r.z = ss_malloc(sizeof(float) * (cells + 2 * (size_t)io->width));
+        r.sky_view = ss_malloc(sizeof(float) * cells);
+        r.terms = ss_malloc(sizeof(ss_cell_terms) * cells);
+        r.sums = ss_malloc(sizeof(float) * N_SUMS * cells);
+        r.loaded = ss_malloc(sizeof(float) * N_SUMS * cells);
+        r.step_global = ss_malloc(sizeof(float) * cells);
         if (!r.z || !r.sky_view || !r.terms || !r.sums || !r.loaded || !r.step_global)
             st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of %d rows", band_rows);
     }

@@ -12,7 +12,7 @@
 
 ss_ctx *ss_ctx_new(void)
 {
-    ss_ctx *ctx = calloc(1, sizeof(ss_ctx));
+    ss_ctx *ctx = ss_calloc(1, sizeof(ss_ctx));
     if (ctx)
         ss_ctx_use_device(ctx, NULL); /* the default, which SKYSWEEP_DEVICE may name */
     return ctx;
@@ -56,6 +56,7 @@ ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)
     for (char *p = ctx->message; *p; ++p)
         if (*p == '\n' || *p == '\r')
             *p = ' ';
+    ctx->failures++;
     return status;
 }
 
@@ -101,11 +102,4 @@ double ss_seconds_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-void *ss_alloc_grid(size_t bytes)
-{
-    const size_t align = 4096;
-    size_t rounded = (bytes + align - 1) / align * align;
-    return aligned_alloc(align, rounded ? rounded : align);
 }

@@ -24,6 +24,7 @@ struct ss_ctx {
     char device_name[600];
     ss_counters counters;
     volatile sig_atomic_t cancel_requested; /* ss_ctx_cancel; read by every worker */
+    unsigned long failures; /* messages recorded: whether a callee said why it failed */
 };
 
 /* Records a one-line message (newlines become spaces) and returns status. */
@@ -40,8 +41,17 @@ ss_status ss_check_cancel(ss_ctx *ctx, const char *what);
 
 double ss_seconds_now(void);
 
+/* The core's allocations (alloc.c), released with free(). */
+void *ss_malloc(size_t bytes);
+void *ss_calloc(size_t count, size_t size);
+void *ss_realloc(void *p, size_t bytes);
 /* Aligned allocation for grids shared with OpenCL (zero-copy on PoCL). */
 void *ss_alloc_grid(size_t bytes);
+
+/* Fault injection for the tests: the core's allocations so far, and making
+ * the n-th allocation from now fail (once; n <= 0: none fails). */
+long ss_fault_allocations(void);
+void ss_fault_fail_allocation(long n);
 
 #ifdef __cplusplus
 }

@@ -26,8 +26,8 @@ static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_option
                             ss_cell_terms **terms)
 {
     size_t n = (size_t)g->width * g->height;
-    ss_cell_terms *t = *terms = malloc(n * sizeof *t);
-    float *sky_view = malloc(n * sizeof(float));
+    ss_cell_terms *t = *terms = ss_malloc(n * sizeof *t);
+    float *sky_view = ss_malloc(n * sizeof(float));
     ss_status st = SS_OK;
     if (!t || !sky_view)
         st = ss_fail(ctx, SS_ERR_MEMORY, "cannot allocate insolation buffers for %d x %d cells",
@@ -59,7 +59,7 @@ static ss_status store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
 {
     size_t n = (size_t)g->width * g->height;
     double bytes = (double)n * opt->directions * sizeof(int16_t);
-    *stored = bytes < 4e9 ? malloc((size_t)bytes) : NULL;
+    *stored = bytes < 4e9 ? ss_malloc((size_t)bytes) : NULL;
     if (!*stored)
         return ss_fail(ctx, SS_ERR_MEMORY,
                        "storing %d horizon directions takes %.1f GB: use the exact shadow "
@@ -124,7 +124,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     ss_cell_terms *terms = NULL;
     ss_session *s = NULL;
     int16_t *stored = NULL;
-    float *step_global = sink ? malloc(n * sizeof(float)) : NULL;
+    float *step_global = sink ? ss_malloc(n * sizeof(float)) : NULL;
     st = ss_product_begin(ctx, grid, opt, 1, &s);
     if (st == SS_OK)
         st = make_terms(ctx, grid, opt, &terms);

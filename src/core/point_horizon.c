@@ -67,7 +67,7 @@ ss_status ss_point_grid_new(ss_ctx *ctx, const ss_grid *grid, ss_point_grid **ou
     ss_status st = ss_grid_check(ctx, grid, NULL);
     if (st != SS_OK)
         return st;
-    ss_point_grid *pg = calloc(1, sizeof *pg);
+    ss_point_grid *pg = ss_calloc(1, sizeof *pg);
     if (!pg)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory preparing point horizons");
     pg->grid = grid;
@@ -76,7 +76,7 @@ ss_status ss_point_grid_new(ss_ctx *ctx, const ss_grid *grid, ss_point_grid **ou
         pg->blocks_x[l] = (grid->width + side - 1) >> SS_LEVEL_LOG2(l);
         pg->blocks_y[l] = (grid->height + side - 1) >> SS_LEVEL_LOG2(l);
         size_t n = (size_t)pg->blocks_x[l] * (size_t)pg->blocks_y[l];
-        pg->block_max[l] = malloc(sizeof(float) * n);
+        pg->block_max[l] = ss_malloc(sizeof(float) * n);
         if (!pg->block_max[l]) {
             ss_point_grid_free(pg);
             return ss_fail(ctx, SS_ERR_MEMORY, "out of memory preparing point horizons");
@@ -479,8 +479,8 @@ ss_status ss_point_horizons(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep
     if (st != SS_OK)
         return st;
     int n_dir = opt->directions;
-    ss_point_horizon_result *res = malloc(sizeof *res * (size_t)n_dir * SS_SITE_BATCH);
-    site_cell(*cells)[SS_SITE_CELLS] = malloc(sizeof *cells * SS_SITE_BATCH);
+    ss_point_horizon_result *res = ss_malloc(sizeof *res * (size_t)n_dir * SS_SITE_BATCH);
+    site_cell(*cells)[SS_SITE_CELLS] = ss_malloc(sizeof *cells * SS_SITE_BATCH);
     int n_cells[SS_SITE_BATCH];
     if (!res || !cells)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for profiles of %d directions", n_dir);

@@ -43,7 +43,7 @@ ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, 
                  float *out)
 {
     size_t n = (size_t)grid->width * grid->height;
-    float *svf = malloc(n * sizeof *svf), *openness = malloc(n * sizeof *openness);
+    float *svf = ss_malloc(n * sizeof *svf), *openness = ss_malloc(n * sizeof *openness);
     ss_status st = svf && openness ? SS_OK : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for VAT");
     /* The light comes from 315 deg in the raster's frame, as RVT's does. */
     if (st == SS_OK)

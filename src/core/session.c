@@ -13,7 +13,7 @@ ss_status ss_session_open(ss_ctx *ctx, const ss_grid *grid, int n_outputs, ss_se
     *out = NULL;
     if (n_outputs < 1 || n_outputs > SS_SESSION_MAX_OUTPUTS)
         return ss_fail(ctx, SS_ERR_INTERNAL, "session with %d outputs", n_outputs);
-    ss_session *s = calloc(1, sizeof *s);
+    ss_session *s = ss_calloc(1, sizeof *s);
     if (!s)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory opening a sweep session");
     s->ctx = ctx;

@@ -1,0 +1,80 @@
+#!/bin/bash
+# Output formats (-of): each format doc/cli.md names either holds the
+# product's values, nodata and bands (read back by GDAL equal to the GTiff
+# output's, value for value) or is refused before any work with one line
+# that names formats that can, exit 2 and nothing left in the folder.
+# Three products cover the kinds of output: svf (one Float32 band), horizon
+# (four Float32 bands) and hillshade (one Byte band, nodata 0).
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+SKYSWEEP=${SKYSWEEP:-./skysweep}
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-formats.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+dem=$work/dem.tif
+# A corner of the sample: the volcano's flank and the ocean's nodata.
+gdal_translate -q -ot Float32 -srcwin 180 530 48 40 \
+    "${TOP_SRCDIR:-.}/samples/kilauea_summit_30m.tif" "$dem"
+
+# raw FILE OUT: the raster's values as raw bytes (ENVI), for cmp.
+raw() { gdal_translate -q -of ENVI -co INTERLEAVE=BSQ "$1" "$2" >/dev/null 2>&1; }
+
+# check PRODUCT_ARGS FORMAT EXT EXPECT(written|refused)
+check() {
+    local args=$1 format=$2 ext=$3 expect=$4
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    # shellcheck disable=SC2086
+    "$SKYSWEEP" $args -q -of GTiff "$dem" "$work/ref.tif" 2>/dev/null
+    # shellcheck disable=SC2086
+    "$SKYSWEEP" $args -q -of "$format" "$dem" "$work/out/out$ext" >"$work/stdout" 2>"$work/stderr"
+    local rc=$? lines left
+    lines=$(wc -l <"$work/stderr")
+    left=$(ls -A "$work/out" | grep -c '^\.')
+    if [ "$expect" = written ]; then
+        raw "$work/ref.tif" "$work/ref.raw" && raw "$work/out/out$ext" "$work/out.raw" &&
+            cmp -s "$work/ref.raw" "$work/out.raw"
+        local same=$?
+        nodata=$(gdalinfo "$work/out/out$ext" 2>/dev/null | grep -c 'NoData Value=')
+        [ "$rc" -eq 0 ] && [ "$same" -eq 0 ] && [ "$left" -eq 0 ] && [ "$nodata" -ge 1 ]
+        tap_ok $? "${args%% *} -of $format: written, exit $rc, values equal the GTiff's ($same), nodata kept ($nodata), $left temporaries left: $(head -c 200 "$work/stderr")"
+    else
+        [ "$rc" -eq 2 ] && [ "$lines" -eq 1 ] && [ -z "$(ls -A "$work/out")" ] &&
+            grep -q -- '-of GTiff' "$work/stderr"
+        tap_ok $? "${args%% *} -of $format: refused, exit $rc (want 2), $lines line(s), nothing left: $(head -c 200 "$work/stderr")"
+    fi
+}
+
+svf="svf --directions 8 --device reference"
+horizon="horizon --directions 4 --device reference"
+hillshade="hillshade"
+# Float32 with nodata, any band count.
+for f in "GTiff .tif" "COG .tif" "HFA .img" "ENVI .bin" "EHdr .bil" "PCIDSK .pix"; do
+    set -- $f
+    check "$svf" "$1" "$2" written
+    check "$horizon" "$1" "$2" written
+done
+# One band only (netCDF writes more bands as separate variables, which GDAL
+# reads back as subdatasets): the SVF fits, four horizon bands do not.
+for f in "AAIGrid .asc" "netCDF .nc" "SAGA .sdat" "RST .rst"; do
+    set -- $f
+    check "$svf" "$1" "$2" written
+    check "$horizon" "$1" "$2" refused
+done
+# No Float32, no nodata, or nothing on disk.
+for f in "PNG .png" "JPEG .jpg" "GIF .gif" "BMP .bmp" "XYZ .xyz" "VRT .vrt" "MEM .mem" \
+    "GS7BG .grd"; do
+    set -- $f
+    check "$svf" "$1" "$2" refused
+done
+# Bytes: PNG holds a hillshade (nodata 0 as its transparent value); JPEG
+# is lossy and GIF has no nodata of its own.
+check "$hillshade" GTiff .tif written
+check "$hillshade" PNG .png written
+check "$hillshade" JPEG .jpg refused
+# Side-car formats need an extension to name their side-cars after.
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$SKYSWEEP" $svf -q -of ENVI "$dem" "$work/out/noext" 2>"$work/stderr"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && [ -z "$(ls -A "$work/out")" ] &&
+    grep -q 'extension' "$work/stderr"
+tap_ok $? "ENVI to a name without an extension: refused, exit $rc: $(head -c 200 "$work/stderr")"
+tap_done
