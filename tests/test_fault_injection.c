@@ -237,7 +237,7 @@ static ss_status run_fresh(const char *device, call_fn fn, float *out, ss_ctx **
     return st;
 }
 
-static long total_points, total_calls;
+static long total_points, total_calls, total_stops;
 
 /* Fails allocation n = 1, 2, ... of one call until it makes fewer. */
 static void inject_allocations(const char *device, const call_case *c, const float *want)
@@ -317,6 +317,7 @@ static void inject_cancels(const char *device, const call_case *c, const float *
         points++;
         wrong += st != SS_ERR_CANCELLED || strstr(ss_ctx_message(ctx), "cancel") == NULL;
     }
+    total_stops += points;
     ss_ctx_set_progress(ctx, NULL, NULL);
     for (size_t i = 0; i < OUT_MAX; ++i)
         out[i] = NAN;
@@ -462,8 +463,9 @@ int main(void)
         }
         cancel_from_thread(devices[d]);
     }
-    tap_diag("fault injection: %ld calls x allocations failed in turn = %ld failure points",
-             total_calls, total_points);
+    tap_diag("fault injection: %ld calls x allocations failed in turn = %ld failure points; "
+             "%ld progress stops",
+             total_calls, total_points, total_stops);
     failed_device_setups(want, have_opencl);
     free(want);
     ss_grid_free(&grid);

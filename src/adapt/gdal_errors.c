@@ -85,9 +85,10 @@ const char *ss_gdal_io_cause(void)
 
 const char *ss_gdal_failure(char *buf, size_t size)
 {
+    int err_now = errno; /* a driver that fails without a word leaves the system's */
     pthread_mutex_lock(&lock);
     const char *message = failed && first_message[0] ? first_message : ss_gdal_message();
-    const char *cause = cause_of(failed ? first_errno : 0, message);
+    const char *cause = cause_of(failed ? first_errno : err_now, message);
     if (cause)
         snprintf(buf, size, "%s (GDAL: %s)", cause, message);
     else

@@ -22,7 +22,8 @@ const char *ss_gdal_message(void);
 /* The first failure since the last reset as "CAUSE (GDAL: message)" where
  * errno or the message names a cause a user can act on (no space left,
  * the file size limit, the disk quota), else GDAL's message; written into
- * buf. */
+ * buf. Call it right after the failing call: where GDAL recorded nothing,
+ * errno as it is then names the cause. */
 const char *ss_gdal_failure(char *buf, size_t size);
 /* That cause alone, or NULL where the first failure names none. */
 const char *ss_gdal_io_cause(void);

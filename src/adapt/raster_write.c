@@ -4,7 +4,6 @@
  * and never replaces an existing one. */
 #include "config.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <limits.h>
 #include <signal.h>
@@ -69,13 +68,10 @@ int ss_same_output(const char *a, const char *b)
  * SIGKILL or a crash left behind; else those of that process. */
 static void remove_temporaries(const char *dir, const char *base, long pid)
 {
-    DIR *d = opendir(dir);
-    if (!d)
-        return;
+    char **names = VSIReadDir(dir); /* GDAL's file system: /vsimem/ and the like too */
     size_t n_base = strlen(base);
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL) {
-        const char *name = e->d_name;
+    for (int i = 0; names && names[i]; ++i) {
+        const char *name = names[i];
         if (name[0] != '.' || strncmp(name + 1, base, n_base) != 0 || name[1 + n_base] != '.')
             continue;
         char *end;
@@ -85,11 +81,16 @@ static void remove_temporaries(const char *dir, const char *base, long pid)
         if (pid ? owner != pid : kill((pid_t)owner, 0) == 0 || errno != ESRCH)
             continue; /* another's, or alive (or not ours to judge) */
         char full[PATH_MAX];
-        if (snprintf(full, sizeof full, "%s/%s", dir, name) < (int)sizeof full &&
-            unlink(full) != 0 && errno == EISDIR)
+        VSIStatBufL st;
+        if (snprintf(full, sizeof full, "%s/%s", dir, name) >= (int)sizeof full ||
+            VSIStatL(full, &st) != 0)
+            continue;
+        if (VSI_ISDIR(st.st_mode))
             VSIRmdirRecursive(full); /* a format that is a folder (Zarr) */
+        else
+            VSIUnlink(full);
     }
-    closedir(d);
+    CSLDestroy(names);
 }
 
 /* Splits path into a folder and a name (both to be freed). */
@@ -134,12 +135,12 @@ static ss_status check_output_folder(ss_ctx *ctx, const char *path)
     if (!copy)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
     const char *dir = dirname(copy);
-    struct stat st;
+    VSIStatBufL st;
     ss_status status = SS_OK;
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+    if (VSIStatL(dir, &st) != 0 || !VSI_ISDIR(st.st_mode))
         status = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' does not exist",
                          path, dir);
-    else if (access(dir, W_OK | X_OK) != 0)
+    else if (strncmp(dir, "/vsi", 4) != 0 && access(dir, W_OK | X_OK) != 0)
         status = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' is not writable",
                          path, dir);
     free(copy);
@@ -177,7 +178,7 @@ static char **default_options(GDALDriverH driver, int bands, int byte_pixels,
  * nodata), for the message that refuses another. */
 #define SS_FORMATS_THAT_HOLD "GTiff, COG, HFA or ENVI"
 
-static int probe_holds(GDALDatasetH ds, int bands, GDALDataType type, const double *values)
+static int probe_holds(GDALDatasetH ds, int bands, const double *values)
 {
     if (!ds || GDALGetRasterCount(ds) != bands)
         return 0;
@@ -193,15 +194,52 @@ static int probe_holds(GDALDatasetH ds, int bands, GDALDataType type, const doub
             if (back[i] != values[i])
                 return 0;
     }
-    (void)type;
     return 1;
 }
 
+/* Writes a 2 x 2 probe with the values that would be lost (nodata,
+ * fractions, values above 255) to probe_path with the format, reads it
+ * back and deletes it. Returns whether the values came back unchanged;
+ * *side_cars counts the files besides it (other than .aux.xml). */
+static int probe_format(GDALDriverH driver, const char *probe_path, int bands, GDALDataType type,
+                        char **create_opts, const double *values, int *side_cars)
+{
+    *side_cars = 0;
+    GDALDatasetH mem = GDALCreate(GDALGetDriverByName("MEM"), "", 2, 2, bands, type, NULL);
+    for (int b = 1; mem && b <= bands; ++b) {
+        GDALRasterBandH band = GDALGetRasterBand(mem, b);
+        if (GDALSetRasterNoDataValue(band, values[0]) != CE_None ||
+            GDALRasterIO(band, GF_Write, 0, 0, 2, 2, (void *)values, 2, 2, GDT_Float64, 0, 0) !=
+                CE_None) {
+            GDALClose(mem);
+            mem = NULL;
+        }
+    }
+    GDALDatasetH copy =
+        mem ? GDALCreateCopy(driver, probe_path, mem, FALSE, create_opts, NULL, NULL) : NULL;
+    if (copy)
+        GDALClose(copy);
+    if (mem)
+        GDALClose(mem);
+    GDALDatasetH back = copy ? GDALOpen(probe_path, GA_ReadOnly) : NULL;
+    int holds = probe_holds(back, bands, values);
+    char **files = back ? GDALGetFileList(back) : NULL;
+    for (int i = 0; files && files[i]; ++i)
+        *side_cars += i > 0 && !strstr(files[i], ".aux.xml");
+    CSLDestroy(files);
+    if (back)
+        GDALClose(back);
+    if (copy)
+        GDALDeleteDataset(driver, probe_path);
+    return holds;
+}
+
 /* Whether the format can hold the product's values: its data type, its
- * bands and its nodata value. A 2 x 2 probe with the values that would be
- * lost (nodata, fractions, values above 255) is written next to the output
- * and read back, before any work, so that no format casts or drops them
- * silently (a PNG of an SVF would hold only 0 and 1). */
+ * bands and its nodata value, probed before any work (probe_format), so
+ * that no format casts or drops them silently (a PNG of an SVF would hold
+ * only 0 and 1). The probe goes to memory first, where the driver can write
+ * there, so that a full disk is not taken for what the format holds; then
+ * beside the output (what a failed probe leaves, ss_writer_abort removes). */
 static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char *format,
                                     const char *path, int bands, GDALDataType type,
                                     char **create_opts)
@@ -216,43 +254,28 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
     const double float_values[4] = {SS_NODATA, 0.8125, -12.5, 1234.5};
     const double byte_values[4] = {0, 1, 128, 255};
     const double *values = type == GDT_Byte ? byte_values : float_values;
-    char *probe = temporary_name(path, "probe");
-    if (!probe)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
-    GDALDatasetH mem = GDALCreate(GDALGetDriverByName("MEM"), "", 2, 2, bands, type, NULL);
-    for (int b = 1; mem && b <= bands; ++b) {
-        GDALRasterBandH band = GDALGetRasterBand(mem, b);
-        if (GDALSetRasterNoDataValue(band, values[0]) != CE_None ||
-            GDALRasterIO(band, GF_Write, 0, 0, 2, 2, (void *)values, 2, 2, GDT_Float64, 0, 0) !=
-                CE_None) {
-            GDALClose(mem);
-            mem = NULL;
-        }
-    }
-    GDALDatasetH copy = mem ? GDALCreateCopy(driver, probe, mem, FALSE, create_opts, NULL, NULL)
-                            : NULL;
-    if (copy)
-        GDALClose(copy);
-    if (mem)
-        GDALClose(mem);
-    GDALDatasetH back = copy ? GDALOpen(probe, GA_ReadOnly) : NULL;
-    int holds = probe_holds(back, bands, type, values), side_cars = 0;
-    char **files = back ? GDALGetFileList(back) : NULL;
-    for (int i = 0; files && files[i]; ++i)
-        side_cars += i > 0 && !strstr(files[i], ".aux.xml");
-    CSLDestroy(files);
-    if (back)
-        GDALClose(back);
-    if (copy)
-        GDALDeleteDataset(driver, probe);
-    free(probe); /* what a failed copy left, ss_writer_abort removes */
-    char why[1200];
-    if (!holds && ss_gdal_io_cause()) /* the folder, not the format, failed it */
-        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path,
-                       ss_gdal_failure(why, sizeof why));
-    ss_gdal_errors_reset();
     const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    if (holds && side_cars && (!dot || (slash && dot < slash)))
+    int has_ext = dot && (!slash || dot > slash), holds = 0, side_cars = 0;
+    if (CSLFetchBoolean(GDALGetMetadata(driver, NULL), GDAL_DCAP_VIRTUALIO, FALSE)) {
+        char probe[128];
+        snprintf(probe, sizeof probe, "/vsimem/skysweep-probe-%ld%.16s", (long)getpid(),
+                 has_ext ? dot : "");
+        holds = probe_format(driver, probe, bands, type, create_opts, values, &side_cars);
+        ss_gdal_errors_reset();
+    }
+    if (!holds) {
+        char *probe = temporary_name(path, "probe");
+        if (!probe)
+            return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+        holds = probe_format(driver, probe, bands, type, create_opts, values, &side_cars);
+        free(probe);
+        char why[1200];
+        if (!holds && ss_gdal_io_cause()) /* the folder, not the format, failed it */
+            return ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path,
+                           ss_gdal_failure(why, sizeof why));
+        ss_gdal_errors_reset();
+    }
+    if (holds && side_cars && !has_ext)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "the %s format keeps side-car files named after the output's extension, "
                        "and '%s' has none: add one (e.g. %s.bin)",
@@ -426,6 +449,29 @@ ss_status ss_writer_metadata(ss_raster_writer *w, const char *key, const char *v
     return SS_OK;
 }
 
+static int rename_with_aux(const char *from, const char *to)
+{
+    char aux_from[PATH_MAX], aux_to[PATH_MAX];
+    snprintf(aux_from, sizeof aux_from, "%s.aux.xml", from);
+    snprintf(aux_to, sizeof aux_to, "%s.aux.xml", to);
+    VSIStatBufL st;
+    if (VSIStatL(aux_from, &st) == 0 && VSIRename(aux_from, aux_to) != 0)
+        return -1;
+    return VSIRename(from, to);
+}
+
+static int reads_back_as(const char *path, int cols, int rows, int bands)
+{
+    int err = errno; /* for ss_gdal_failure's cause, should this fail */
+    GDALDatasetH ds = GDALOpen(path, GA_ReadOnly);
+    int whole = ds && GDALGetRasterXSize(ds) == cols && GDALGetRasterYSize(ds) == rows &&
+                GDALGetRasterCount(ds) == bands;
+    if (ds)
+        GDALClose(ds);
+    errno = err;
+    return whole;
+}
+
 ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *user)
 {
     ss_ctx *ctx = w->ctx;
@@ -442,17 +488,28 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
                          ss_gdal_failure(why, sizeof why));
     }
     /* GDALClose flushes the file; an error here (disk full) loses the output. */
+    int cols = GDALGetRasterXSize(w->ds), rows = GDALGetRasterYSize(w->ds);
     GDALClose(w->ds);
     w->ds = NULL;
     if (st == SS_OK && ss_gdal_failed())
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
+    /* Some drivers lose a failed write without a word (ENVI's header at
+     * close): what was written must open as what was meant. */
+    if (st == SS_OK && !reads_back_as(w->tmp_path, cols, rows, w->bands))
+        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': the file written does not "
+                     "read back whole: %s", w->path, ss_gdal_failure(why, sizeof why));
     if (st == SS_OK && progress && !progress(1.0, "", user))
         st = ss_fail(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
     /* GDAL's rename moves the side-cars a format keeps beside the file
-     * (.aux.xml, an ENVI .hdr, a .prj) along, named as the format expects. */
-    if (st == SS_OK && GDALRenameDataset(w->driver, w->path, w->tmp_path) != CE_None &&
-        rename(w->tmp_path, w->path) != 0) /* names GDAL cannot pair: the file alone */
+     * (.aux.xml, an ENVI .hdr, a .prj) along, named as the format expects.
+     * It cannot pair the names of an output without an extension; such an
+     * output is one file (formats with side-cars refuse it at open) and
+     * perhaps its .aux.xml, moved one by one. */
+    const char *slash = strrchr(w->path, '/'), *dot = strrchr(w->path, '.');
+    int has_ext = dot && (!slash || dot > slash);
+    if (st == SS_OK && (has_ext ? GDALRenameDataset(w->driver, w->path, w->tmp_path) != CE_None
+                                : rename_with_aux(w->tmp_path, w->path) != 0))
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
     ss_writer_abort(w);
