@@ -14,11 +14,22 @@ abbreviated to a unique prefix.
 ## Conventions for every command
 
 - Azimuths: degrees clockwise from north, true north unless `--north grid` (doc/model.md).
-- Outputs: tiled, DEFLATE-compressed GeoTIFF (`-of` picks any GDAL format; `-co` adds creation
-  options), CRS and geotransform of the input, nodata −9999 (Byte products: 0), each band described
-  and given its unit, the run's parameters in metadata. An output is written to a hidden temporary
-  name beside it and renamed only when complete: a failed or interrupted run leaves nothing behind
-  and never replaces an existing file.
+- Outputs: tiled, DEFLATE-compressed GeoTIFF (`-co` adds creation options), CRS and geotransform
+  of the input, nodata −9999 (Byte products: 0), each band described and given its unit, the run's
+  parameters in metadata. An output is written to a hidden temporary name beside it and renamed
+  only when complete: a failed or interrupted run leaves nothing behind and never replaces an
+  existing file; a run killed with SIGKILL may leave its temporary, which the next run of that
+  output removes.
+- `-of FORMAT` takes a GDAL format that can hold the product: its data type (Float32; Byte for
+  hillshade), its bands and its nodata value. Before any work a 2 × 2 probe is written and read
+  back; a format that would cast, drop or lose them is refused (exit 2) in one line that names
+  formats that can. Checked by `tests/test_formats.sh`: GTiff, COG, HFA, ENVI, EHdr and PCIDSK
+  hold every product; AAIGrid, netCDF, SAGA and RST hold one-band products (svf, openness) and
+  refuse more bands; PNG holds a hillshade; PNG, JPEG, GIF, BMP, XYZ, VRT, MEM and GS7BG refuse
+  float products (convert them afterwards with `gdal_translate -ot Byte -scale`). A format with
+  side-car files (ENVI's `.hdr`) needs an extension on the output's name.
+- Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
+  no output.
 - Progress on stderr for runs longer than a second; a summary on stdout unless `-q`.
 
 ## Exit codes
