@@ -327,8 +327,10 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     }
     GDALDataType type = byte_pixels ? GDT_Byte : GDT_Float32;
     ss_gdal_errors_reset();
+    /* The user's creation options (NBITS=8 would lose values), not the
+     * defaults: tiles of 256 x 256 made a probe of 2000 bands 0.5 GB. */
     st = check_format_holds(ctx, driver, format ? format : "GTiff", path, bands, type,
-                            w->create_opts);
+                            (char **)creation_options);
     if (st != SS_OK) {
         ss_writer_abort(w);
         return st;
