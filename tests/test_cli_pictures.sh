@@ -193,4 +193,16 @@ else
     fi
 fi
 
+# The program itself links neither VTK nor OpenImageIO: each is a module
+# that only its commands load (src/cli/modules.c), so no other command pays
+# their start-up. The build tree's binary sits in .libs behind libtool's
+# wrapper.
+binary=$(dirname "$SKYSWEEP")/.libs/$(basename "$SKYSWEEP")
+[ -x "$binary" ] || binary=$SKYSWEEP
+if ldd "$binary" >"$work/ldd" 2>/dev/null; then
+    ! grep -q -E 'libvtk|libOpenImageIO' "$work/ldd"
+    tap_ok $? "skysweep links no VTK or OpenImageIO library ($(wc -l <"$work/ldd") shared libraries): $(grep -E -o 'libvtk[^ ]*|libOpenImageIO[^ ]*' "$work/ldd" | head -n 3 | tr '\n' ' ')"
+else
+    tap_skip "skysweep links no VTK or OpenImageIO library" "ldd cannot read $binary"
+fi
 tap_done

@@ -72,7 +72,7 @@ static const double deg = M_PI / 180.0;
 static const double auto_relief_fraction = 0.3;
 static const double auto_z_factor_max = 100.0;
 /* The oblique view's camera elevation, steep enough to see into valleys. */
-static const double oblique_elevation_deg = 35.0;
+static const double oblique_elevation_deg = SS_RENDER_OBLIQUE_ELEVATION_DEG;
 /* Zenith skylight relative to the sun (intensity 1). */
 static const double sky_intensity = 0.3;
 /* Window fractions left to the legend (right) and the title (top). */
@@ -613,23 +613,6 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
         report->render_seconds = ss_seconds_now() - t0;
     }
     return SS_OK;
-}
-
-extern "C" void ss_render_scene_default(ss_render_scene *scene)
-{
-    *scene = ss_render_scene{};
-    scene->scalar_min = scene->scalar_max = NAN;
-    scene->z_factor = NAN;
-    scene->view = SS_VIEW_OBLIQUE;
-    scene->view_azimuth_deg = 0.0;
-    scene->view_elevation_deg = oblique_elevation_deg;
-    scene->distance_factor = 1.0;
-    scene->sun_azimuth_deg = 315.0;
-    scene->sun_elevation_deg = 45.0;
-    scene->image_width = 800;
-    scene->image_height = 600;
-    scene->background_rgb[0] = scene->background_rgb[1] = scene->background_rgb[2] = 255;
-    scene->max_points = 1000000;
 }
 
 extern "C" ss_status ss_render_png(ss_ctx *ctx, const ss_render_scene *scene, const char *png_path,

@@ -82,6 +82,8 @@ typedef struct {
  * white background, 1,000,000 points at most, distance factor 1. The grid
  * fields are zeroed and must be set by the caller. */
 void ss_render_scene_default(ss_render_scene *scene);
+/* The oblique view's elevation above the horizontal, degrees. */
+#define SS_RENDER_OBLIQUE_ELEVATION_DEG 35.0
 
 /* Renders the scene off-screen to a PNG (8-bit RGB), written to a temporary
  * name in the same folder and renamed when complete. Needs an X display
