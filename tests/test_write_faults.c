@@ -208,6 +208,18 @@ static int leftovers(void)
     return n;
 }
 
+/* The output that exists before each run, which no failed run may touch. */
+static void put_existing_output(void)
+{
+    char path[PATH_MAX + 16];
+    snprintf(path, sizeof path, "%s/w/keep.tif", root);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs("precious\n", f);
+        fclose(f);
+    }
+}
+
 static int keep_is_intact(void)
 {
     char path[PATH_MAX + 16], text[16] = "";
@@ -277,14 +289,7 @@ static void inject(const char *format, const ss_dem *like, const float *rows)
                      format, n, (int)st, leftovers(), keep_is_intact() ? "intact" : "changed",
                      m);
         }
-        /* Put the existing output back for the next run. */
-        char path[PATH_MAX + 16];
-        snprintf(path, sizeof path, "%s/w/keep.tif", root);
-        FILE *f = fopen(path, "w");
-        if (f) {
-            fputs("precious\n", f);
-            fclose(f);
-        }
+        put_existing_output(); /* back, for the next run */
     }
     /* GDAL 3.6's ENVI driver drops a failed write of its last block at close
      * without a word (the file reads back with the right size and bands, and
@@ -333,11 +338,7 @@ int main(void)
     for (size_t i = 0; i < sizeof formats / sizeof formats[0]; ++i) {
         char path[PATH_MAX + 16];
         snprintf(path, sizeof path, "%s/w/keep.tif", root);
-        FILE *f = fopen(path, "w");
-        if (f) {
-            fputs("precious\n", f);
-            fclose(f);
-        }
+        put_existing_output();
         inject(formats[i], &like, rows);
         unlink(path);
         char hdr[PATH_MAX + 32];
