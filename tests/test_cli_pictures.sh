@@ -42,7 +42,7 @@ png_header() {
 }
 
 run svf -q --directions 16 "$dem" "$work/svf.tif"
-tap_ok $rc "svf product to draw"
+tap_ok $rc "svf product to draw ($(head -c 200 "$work/stderr"))"
 
 # ---- quicklook (OpenImageIO) ---------------------------------------------------
 run quicklook --colormap magma "$work/svf.tif" "$work/q.png"
