@@ -34,7 +34,8 @@ const opt_spec common_options[] = {
     {"q", OPT_FLAG, COMMON(quiet), NULL, NULL, 0, 0, NULL, "quiet: no progress, no summary"},
     {"of", OPT_STRING, COMMON(format), "FORMAT", "GTiff", 0, 0, NULL, "GDAL output format"},
     {"co", OPT_LIST, COMMON(creation_options), "KEY=VALUE", NULL, 0, 0, NULL,
-     "GDAL creation option (repeatable); defaults: TILED=YES COMPRESS=DEFLATE PREDICTOR=3"},
+     "GDAL creation option (repeatable); defaults: TILED=YES COMPRESS=DEFLATE ZLEVEL=1 "
+     "PREDICTOR=3 NUM_THREADS=ALL_CPUS"},
     {"cell-size", OPT_DOUBLE, COMMON(cell_size_m), "METRES", NULL, 1e-6, 1e7, NULL,
      "treat an input without georeferencing as a heightmap with this cell size"},
     {"heightmap", OPT_FLAG, COMMON(heightmap), NULL, NULL, 0, 0, NULL,
