@@ -25,9 +25,15 @@ fi
 # CI runs as root, and this machine has fewer cores than processes.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_btl_vader_single_copy_mechanism=none
-# Under LeakSanitizer, Open MPI's plugin leaks are named only with full
-# stack unwinding (tests/lsan.supp lists them).
+# Under the sanitizer build, leak checks are off for processes that mpirun
+# starts: Open MPI's runtime leaks are named only with full stack unwinding
+# (tests/lsan.supp lists them), and even so some came out with stacks of one
+# frame in every rank, now and then (2026-12-01: in CI and in 3 runs in a
+# row here, then in none of the next 16), which no suppression can match. Address and
+# undefined-behaviour checks stay on; the same code's leaks are checked by the
+# runs without mpirun.
 export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}fast_unwind_on_malloc=0"
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 mpi() { mpirun --oversubscribe -np "$@"; }
 
 # A 70 x 55 DEM with two hills, a pit and a nodata patch (UTM 5N).
