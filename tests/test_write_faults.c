@@ -199,11 +199,7 @@ static int leftovers(void)
     char **names = VSIReadDir(sub);
     int n = 0;
     for (int i = 0; names && names[i]; ++i)
-        if (names[i][0] == '.' && strcmp(names[i], ".") && strcmp(names[i], "..")) {
-            n++;
-            if (getenv("SS_LIST_LEFT"))
-                tap_diag("left: %s", names[i]);
-        }
+        n += names[i][0] == '.' && strcmp(names[i], ".") && strcmp(names[i], "..");
     CSLDestroy(names);
     return n;
 }
