@@ -15,6 +15,10 @@ typedef struct {
     size_t nodata_cells;   /* cells without a height: nodata value or NaN */
     size_t rejected_cells; /* heights beyond +-1e7 m, taken as nodata */
     char description[600]; /* what was read, for summaries */
+    /* Metres per unit of the heights as stored (they are converted to
+     * metres on reading), and where that came from, for the metadata. */
+    double z_unit_m;
+    char z_unit_source[200];
     /* The part of the grid outputs cover (-projwin): columns [col0, col0 +
      * cols) and rows [row0, row0 + rows); cols == 0: the whole grid. The
      * sweep still sees the whole DEM, so horizons reach beyond it. */
@@ -25,6 +29,9 @@ typedef struct {
     /* > 0: accept a raster without georeferencing as a heightmap whose cells
      * are this many metres wide. */
     double heightmap_cell_m;
+    /* > 0: metres per unit of the stored heights, overriding the band's
+     * unit type and the CRS's vertical axis (--z-units). */
+    double z_unit_m;
 } ss_dem_read_options;
 
 /* Registers GDAL's drivers once. */

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 #include <cpl_conv.h>
@@ -134,6 +135,74 @@ static ss_status cell_size_metres(ss_ctx *ctx, const char *path, GDALDatasetH ds
     if (OSRExportToWkt(srs, &w) == OGRERR_NONE)
         *wkt = strdup(w);
     CPLFree(w);
+    return SS_OK;
+}
+
+/* Metres per unit for a band unit type as GDAL drivers and users write
+ * it; 0 for a name not known. "" is no unit given. */
+static double metres_per_unit_named(const char *unit)
+{
+    static const struct {
+        const char *name;
+        double metres;
+    } units[] = {{"m", 1.0},           {"metre", 1.0},          {"meter", 1.0},
+                 {"metres", 1.0},      {"meters", 1.0},         {"ft", 0.3048},
+                 {"foot", 0.3048},     {"feet", 0.3048},        {"international foot", 0.3048},
+                 {"ftUS", 1200.0 / 3937.0}, {"us-ft", 1200.0 / 3937.0},
+                 {"US survey foot", 1200.0 / 3937.0}, {"US_survey_foot", 1200.0 / 3937.0},
+                 {"foot_us", 1200.0 / 3937.0}, {"us survey feet", 1200.0 / 3937.0},
+                 {"cm", 0.01},         {"centimetre", 0.01},    {"centimeter", 0.01},
+                 {"mm", 0.001},        {"millimetre", 0.001},   {"millimeter", 0.001}};
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i)
+        if (strcasecmp(unit, units[i].name) == 0)
+            return units[i].metres;
+    return 0.0;
+}
+
+/* The stored heights' unit: --z-units, else the band's unit type, else the
+ * CRS's vertical axis, else metres (said so, and flagged where the CRS's
+ * horizontal unit is feet, as in US county lidar). */
+static ss_status vertical_unit(ss_ctx *ctx, const char *path, GDALDatasetH ds,
+                               GDALRasterBandH band, const ss_dem_read_options *opt, ss_dem *dem)
+{
+    const char *unit = GDALGetRasterUnitType(band);
+    OGRSpatialReferenceH srs = GDALGetSpatialRef(ds);
+    if (opt && opt->z_unit_m > 0) {
+        dem->z_unit_m = opt->z_unit_m;
+        snprintf(dem->z_unit_source, sizeof dem->z_unit_source, "%.10g m (given by --z-units)",
+                 opt->z_unit_m);
+        return SS_OK;
+    }
+    if (unit && *unit) {
+        dem->z_unit_m = metres_per_unit_named(unit);
+        if (!(dem->z_unit_m > 0))
+            return ss_fail(ctx, SS_ERR_INPUT,
+                           "'%s': the band's unit '%s' is not a unit of height skysweep knows: "
+                           "give it with --z-units m|ft|us-ft",
+                           path, unit);
+        snprintf(dem->z_unit_source, sizeof dem->z_unit_source,
+                 "%.10g m (the band's unit type '%s')", dem->z_unit_m, unit);
+        return SS_OK;
+    }
+    if (srs && (OSRIsCompound(srs) || OSRIsVertical(srs))) {
+        char *name = NULL;
+        double metres = OSRGetTargetLinearUnits(srs, "VERT_CS", &name);
+        if (!(metres > 0))
+            return ss_fail(ctx, SS_ERR_INPUT,
+                           "'%s': the CRS's vertical axis has no usable unit: give it with "
+                           "--z-units m|ft|us-ft",
+                           path);
+        dem->z_unit_m = metres;
+        snprintf(dem->z_unit_source, sizeof dem->z_unit_source,
+                 "%.10g m (the CRS's vertical unit '%s')", metres, name ? name : "?");
+        return SS_OK;
+    }
+    dem->z_unit_m = 1.0;
+    int feet = srs && OSRIsProjected(srs) && fabs(OSRGetLinearUnits(srs, NULL) - 0.3048) < 1e-3;
+    snprintf(dem->z_unit_source, sizeof dem->z_unit_source, "%s",
+             feet ? "1 m (assumed: neither the band nor the CRS names one, although the CRS's "
+                    "horizontal unit is feet; give --z-units ft or us-ft if the heights are too)"
+                  : "1 m (assumed: neither the band nor the CRS names one)");
     return SS_OK;
 }
 
@@ -423,6 +492,11 @@ ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
             src->scale = 1.0;
         if (!has_offset)
             src->offset = 0.0;
+        st = vertical_unit(ctx, paths[0], ds, src->band, opt, dem);
+        src->scale *= dem->z_unit_m;
+        src->offset *= dem->z_unit_m;
+    }
+    if (st == SS_OK) {
         snprintf(dem->description, sizeof dem->description, "%s%s",
                  n_paths > 1 ? "mosaic from " : "", paths[0]);
     }

@@ -51,6 +51,9 @@ ss_status heightmap_read(run_state *run, const char *const *paths, int n_paths,
             dem->rejected_cells++;
         }
     }
+    dem->z_unit_m = common->z_scale;
+    snprintf(dem->z_unit_source, sizeof dem->z_unit_source, "%g m per pixel value (--z-scale)",
+             common->z_scale);
     snprintf(dem->description, sizeof dem->description,
              "%s (heightmap: %g m cells, height = pixel x %g)", paths[0], common->cell_size_m,
              common->z_scale);

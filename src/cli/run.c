@@ -43,6 +43,9 @@ const opt_spec common_options[] = {
      "= pixel x --z-scale on --cell-size cells, no CRS"},
     {"z-scale", OPT_DOUBLE, COMMON(z_scale), "FACTOR", "1", -1e6, 1e6, NULL,
      "with --heightmap: metres per pixel value (e.g. 0.1 for decimetres)"},
+    {"z-units", OPT_CHOICE, COMMON(z_units), NULL, "auto", 0, 0, "auto|m|ft|us-ft",
+     "unit of the stored heights (ft: international foot, us-ft: US survey foot); auto: the "
+     "band's unit type, else the CRS's vertical axis, else metres"},
     {"curvature", OPT_CHOICE, COMMON(curvature), NULL, "auto", 0, 0, "auto|on|off",
      "earth curvature with terrestrial refraction; auto: on where it moves horizons by more "
      "than the tolerance"},
@@ -215,9 +218,25 @@ static int parse_size(const char *text, double *bytes)
 
 /* Opens the DEM; reads it whole unless the command can band (cost is not
  * NULL) and the whole-grid sweep does not fit. */
+static ss_status open_dem_file(run_state *run, const char *const *paths, int n_paths,
+                               const common_settings *common, const band_cost *cost,
+                               ss_dem *dem, ss_dem_source **source, int *band_rows);
+
+/* Opens the DEM (open_dem_file) and keeps its height unit for the outputs'
+ * metadata. */
 static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
                           const common_settings *common, const band_cost *cost, ss_dem *dem,
                           ss_dem_source **source, int *band_rows)
+{
+    ss_status st = open_dem_file(run, paths, n_paths, common, cost, dem, source, band_rows);
+    if (st == SS_OK)
+        snprintf(run->z_unit_source, sizeof run->z_unit_source, "%s", dem->z_unit_source);
+    return st;
+}
+
+static ss_status open_dem_file(run_state *run, const char *const *paths, int n_paths,
+                               const common_settings *common, const band_cost *cost,
+                               ss_dem *dem, ss_dem_source **source, int *band_rows)
 {
     int may_band = cost != NULL;
     *source = NULL;
@@ -229,7 +248,9 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
         return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
                             "--memory expects a size such as 512M or 4G, not '%s'",
                             common->memory);
-    ss_dem_read_options ro = {common->cell_size_m};
+    static const double metres_per_unit[] = {0.0, 1.0, 0.3048, 1200.0 / 3937.0};
+    ss_dem_read_options ro = {.heightmap_cell_m = common->cell_size_m,
+                              .z_unit_m = metres_per_unit[common->z_units]};
     if (!common->memory && !may_band)
         return ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
     if (!common->memory)
@@ -357,6 +378,8 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     ss_writer_metadata(w, "SKYSWEEP_COMMAND", run->command);
     snprintf(buf, sizeof buf, "%d", opt->directions);
     ss_writer_metadata(w, "DIRECTIONS", buf);
+    if (run->z_unit_source[0])
+        ss_writer_metadata(w, "INPUT_HEIGHT_UNIT", run->z_unit_source);
     snprintf(buf, sizeof buf, "%.17g", opt->offset_deg);
     ss_writer_metadata(w, "DIRECTION_OFFSET_DEG", buf);
     if (frame->georeferenced && opt->grid_north_deg == 0.0 && frame->grid_north_deg != 0.0)
@@ -435,6 +458,8 @@ void run_print_dem(run_state *run, const ss_dem *dem, const ss_dem_frame *frame)
     const ss_grid *g = &dem->grid;
     printf("input   %s: %d x %d cells of %.6g x %.6g m, %zu nodata\n", dem->description,
            g->width, g->height, g->cell_x_m, g->cell_y_m, dem->nodata_cells + dem->rejected_cells);
+    if (dem->z_unit_m != 1.0 || strstr(dem->z_unit_source, "feet"))
+        printf("heights %s, read as metres\n", dem->z_unit_source);
     if (frame->georeferenced)
         printf("place   %.5f, %.5f (lon, lat); grid north %+.4f deg true; cell sizes vary by "
                "%.2g over the grid\n",

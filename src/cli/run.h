@@ -21,6 +21,7 @@ typedef struct {
     double cell_size_m;
     int heightmap; /* read the input through OpenImageIO (heightmap_input.h) */
     double z_scale; /* --heightmap: metres per pixel value */
+    int z_units;    /* index into "auto|m|ft|us-ft": the stored heights' unit */
     int curvature; /* index into "auto|on|off" */
     double refraction_k;
     double earth_radius_m; /* 0: the DEM's local radius */
@@ -58,6 +59,7 @@ typedef struct {
     int quiet;
     double started;
     int progress_shown;
+    char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
 } run_state;
 
 /* Parses a command's options and positionals; handles --help and
