@@ -5,10 +5,11 @@ set -eu
 packages="build-essential autoconf automake libtool pkg-config bc
   ocl-icd-opencl-dev opencl-c-headers pocl-opencl-icd clinfo
   libgdal-dev gdal-bin
-  libgeographiclib-dev libinih-dev
+  libgeographiclib-dev libinih-dev libjson-c-dev
   libopenimageio-dev openimageio-tools
   libvtk9-dev xvfb xauth
-  libopenmpi-dev openmpi-bin"
+  libopenmpi-dev openmpi-bin
+  python3-venv"
 missing=""
 for p in $packages; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||

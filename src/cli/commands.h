@@ -10,6 +10,7 @@ int cmd_svf(int argc, char **argv);
 int cmd_horizon(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_sun(int argc, char **argv);
+int cmd_weather(int argc, char **argv);
 int cmd_shadow(int argc, char **argv);
 int cmd_hillshade(int argc, char **argv);
 int cmd_insolation(int argc, char **argv);

@@ -24,6 +24,7 @@ static const struct {
     {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView", 0},
     {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map", 0},
     {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range", 0},
+    {"weather", cmd_weather, "the records of a weather file (EPW, TMY3, PVGIS, PSM, CSV) as read", 0},
     {"plan", NULL, "what a scene needs: effects on/off with reason and error bound, cost", 0},
     {"run", NULL, "run the job a scene file describes", 0},
     {"info", cmd_info, "version, dependencies, devices, kernel build status", 0},

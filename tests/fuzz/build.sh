@@ -38,7 +38,7 @@ esac
 obj=$out/obj-$mode
 mkdir -p "$obj"
 incs="-I. -Isrc -Isrc/core -Isrc/adapt -Isrc/cli -Ikernels -Itests"
-pkgs="gdal OpenCL geographiclib"
+pkgs="gdal OpenCL geographiclib json-c"
 # Optional dependencies as configure found them (scene files, MPI, images, 3D).
 mk() { sed -n "s/^$1 = //p" Makefile; }
 opt_cflags="$(mk INIH_CFLAGS) $(mk MPI_CFLAGS)"
@@ -64,7 +64,7 @@ for f in src/core/*.c src/adapt/*.c src/adapt/*.cpp src/cli/*.c tests/testlib.c;
 done
 ar rcs "$obj/libss.a" "$obj"/*.o
 
-harnesses="fuzz_time fuzz_options fuzz_sweep fuzz_dem_read fuzz_scene"
+harnesses="fuzz_time fuzz_options fuzz_sweep fuzz_dem_read fuzz_scene fuzz_weather"
 [ "$mode" = opencl ] && harnesses=fuzz_sweep
 for h in $harnesses; do
     name=$h

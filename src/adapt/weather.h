@@ -1,0 +1,52 @@
+/* Weather files for real-sky irradiation: EPW, NREL TMY3 CSV, PVGIS TMY
+ * (CSV and JSON), NSRDB PSM CSV and a plain CSV, read as pvlib's readers
+ * read them (units, zones, missing values; doc/weather.md). Each record
+ * keeps the file's time stamp, as pvlib's index has it, and the instant its
+ * values stand for, where the sun is to be taken. */
+#ifndef SS_WEATHER_H
+#define SS_WEATHER_H
+
+#include <stddef.h>
+
+#include "skysweep.h"
+
+typedef enum {
+    SS_WEATHER_EPW,
+    SS_WEATHER_TMY3,
+    SS_WEATHER_PVGIS_CSV,
+    SS_WEATHER_PVGIS_JSON,
+    SS_WEATHER_PSM,
+    SS_WEATHER_CSV
+} ss_weather_format;
+
+typedef struct {
+    double stamp_unix_s; /* the file's time stamp (pvlib's index), UTC seconds */
+    double sun_unix_s;   /* the instant the values stand for */
+    double duration_h;   /* hours the record stands for */
+    /* Irradiance, W/m^2 (hourly sums in Wh/m^2 are the hour's mean in
+     * W/m^2): global and diffuse horizontal, direct normal. NAN: missing;
+     * dni and dhi NAN throughout when the file gives GHI alone. */
+    float ghi, dni, dhi;
+    float temp_air_c, wind_speed_m_s, albedo, pressure_hpa; /* NAN: not given */
+} ss_weather_record;
+
+typedef struct {
+    ss_weather_format format;
+    const char *format_name;
+    int has_site;
+    double latitude_deg, longitude_deg, elevation_m;
+    double utc_offset_h; /* the zone the file's stamps are written in */
+    char stamps[400];    /* what a stamp means and where the sun is taken, for the plan */
+    int ghi_only;        /* no beam or diffuse column: split by a model at run time */
+    size_t n;
+    ss_weather_record *records;
+    size_t missing; /* records with an irradiance value missing */
+} ss_weather;
+
+/* Reads a weather file, the format found from its content. Refuses, in one
+ * line naming the file and line, a file it cannot parse, values out of any
+ * physical range, and a file with no records. */
+ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w);
+void ss_weather_free(ss_weather *w);
+
+#endif

@@ -1,0 +1,762 @@
+/* Weather file readers (weather.h). Each follows pvlib 0.16's reader of the
+ * format for columns, units, zones and missing values (doc/weather.md):
+ * read_epw, read_tmy3, read_pvgis_tmy, read_nsrdb_psm4. */
+#include "config.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <json-c/json.h>
+
+#include "ctx_internal.h"
+#include "iso_time.h"
+#include "weather.h"
+
+#define MAX_FILE_BYTES (512L * 1024 * 1024)
+#define MAX_FIELDS 128
+/* Irradiance beyond this (W/m^2) is a marker or corruption: missing. */
+#define IRRADIANCE_MAX 2000.0
+#define IRRADIANCE_MIN -100.0
+
+typedef struct {
+    ss_ctx *ctx;
+    const char *path;
+    char *text;  /* the file, lines split in place */
+    char **lines;
+    int n_lines;
+    ss_weather *w;
+} reader;
+
+static ss_status fail_at(reader *r, int line, const char *what)
+{
+    return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' line %d: %s", r->path, line + 1, what);
+}
+
+/* The file in memory, split into lines (\n or \r\n). */
+static ss_status load(reader *r)
+{
+    FILE *f = fopen(r->path, "rb");
+    if (!f)
+        return ss_fail(r->ctx, SS_ERR_INPUT, "cannot open weather file '%s': %s", r->path,
+                       strerror(errno));
+    long size = -1;
+    if (fseek(f, 0, SEEK_END) == 0)
+        size = ftell(f);
+    rewind(f);
+    if (size < 0 || size > MAX_FILE_BYTES) {
+        fclose(f);
+        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is not a weather file skysweep reads (%s)",
+                       r->path, size < 0 ? "not a regular file" : "over 512 MiB");
+    }
+    r->text = ss_malloc((size_t)size + 1);
+    if (!r->text) {
+        fclose(f);
+        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+    }
+    size_t got = fread(r->text, 1, (size_t)size, f);
+    fclose(f);
+    if (got != (size_t)size)
+        return ss_fail(r->ctx, SS_ERR_INPUT, "cannot read '%s'", r->path);
+    r->text[size] = '\0';
+    if (size == 0)
+        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is empty, not a weather file", r->path);
+    if (memchr(r->text, '\0', (size_t)size))
+        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is binary, not a weather file", r->path);
+    int cap = 1;
+    for (long i = 0; i < size; ++i)
+        cap += r->text[i] == '\n';
+    r->lines = ss_malloc(sizeof *r->lines * (size_t)cap);
+    if (!r->lines)
+        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+    char *p = r->text;
+    while (*p) {
+        char *end = strchr(p, '\n');
+        if (end)
+            *end = '\0';
+        size_t len = strlen(p);
+        if (len && p[len - 1] == '\r')
+            p[len - 1] = '\0';
+        r->lines[r->n_lines++] = p;
+        if (!end)
+            break;
+        p = end + 1;
+    }
+    return SS_OK;
+}
+
+/* Splits a CSV line in place (double quotes protect commas); returns the
+ * number of fields, at most MAX_FIELDS (-1 if more). */
+static int split_csv(char *line, char **fields)
+{
+    int n = 0;
+    char *p = line;
+    for (;;) {
+        if (n == MAX_FIELDS)
+            return -1;
+        while (*p == ' ')
+            ++p;
+        if (*p == '"') {
+            char *start = ++p, *out = p;
+            while (*p && !(*p == '"' && p[1] != '"')) {
+                if (*p == '"')
+                    ++p;
+                *out++ = *p++;
+            }
+            if (*p == '"')
+                ++p;
+            *out = '\0';
+            fields[n++] = start;
+            p = strchr(p, ',');
+        } else {
+            fields[n++] = p;
+            p = strchr(p, ',');
+        }
+        if (!p)
+            return n;
+        *p++ = '\0';
+    }
+}
+
+/* A number filling the field (surrounding blanks allowed). */
+static int number(const char *s, double *v)
+{
+    char *end;
+    errno = 0;
+    *v = strtod(s, &end);
+    if (end == s || errno == ERANGE)
+        return 0;
+    while (isspace((unsigned char)*end))
+        ++end;
+    return *end == '\0' && isfinite(*v);
+}
+
+static int integer(const char *s, int lo, int hi, int *v)
+{
+    double d;
+    if (!number(s, &d) || d != floor(d) || d < lo || d > hi)
+        return 0;
+    *v = (int)d;
+    return 1;
+}
+
+/* An irradiance value: NAN for the format's missing marker or anything
+ * outside a physical range. */
+static float irradiance(double v, double marker, size_t *missing)
+{
+    if (v == marker || !(v >= IRRADIANCE_MIN && v <= IRRADIANCE_MAX)) {
+        (*missing)++;
+        return NAN;
+    }
+    return (float)v;
+}
+
+/* A value in [lo, hi], else NAN (not given). */
+static float optional(double v, double lo, double hi)
+{
+    return v >= lo && v <= hi ? (float)v : NAN;
+}
+
+/* Files write 0 (IWEC, TMY3) or 999 (EPW) where they have no albedo: no
+ * ground reflects nothing, so 0 counts as not given. */
+static float albedo(double v)
+{
+    return v > 0 && v <= 1 ? (float)v : NAN;
+}
+
+static ss_weather_record *add_record(reader *r, size_t *cap)
+{
+    ss_weather *w = r->w;
+    if (w->n == *cap) {
+        size_t c = *cap ? 2 * *cap : 9000;
+        ss_weather_record *grown = ss_realloc(w->records, c * sizeof *grown);
+        if (!grown)
+            return NULL;
+        w->records = grown;
+        *cap = c;
+    }
+    ss_weather_record *rec = &w->records[w->n++];
+    rec->ghi = rec->dni = rec->dhi = NAN;
+    rec->temp_air_c = rec->wind_speed_m_s = rec->albedo = rec->pressure_hpa = NAN;
+    rec->duration_h = 1.0;
+    return rec;
+}
+
+static int find_column(char **fields, int n, const char *name)
+{
+    for (int i = 0; i < n; ++i)
+        if (strcasecmp(fields[i], name) == 0)
+            return i;
+    return -1;
+}
+
+/* Counts a record as missing where any of its irradiance values was
+ * (missing_values went up from `before` while reading it). */
+static void count_missing(ss_weather *w, size_t before, size_t missing_values)
+{
+    if (missing_values != before)
+        w->missing++;
+}
+
+/* ---- EPW ---------------------------------------------------------------- */
+
+/* EnergyPlus weather: LOCATION gives the site and the zone; records are
+ * sums over the hour ending at the stamp, local standard time. A PVGIS
+ * export states "Irradiance Time Offset (h)" in its comments: its values are
+ * PVGIS's UTC hours under the LOCATION zone's label, so its stamps are
+ * taken as UTC and the sun at stamp + offset. */
+static ss_status read_epw(reader *r)
+{
+    ss_weather *w = r->w;
+    char *f[MAX_FIELDS];
+    char location[4096];
+    snprintf(location, sizeof location, "%s", r->lines[0]);
+    int n = split_csv(location, f);
+    double lat, lon, tz, elev;
+    if (n < 10 || !number(f[6], &lat) || !number(f[7], &lon) || !number(f[8], &tz) ||
+        !number(f[9], &elev) || fabs(lat) > 90 || fabs(lon) > 180 || fabs(tz) > 14)
+        return fail_at(r, 0, "the LOCATION line needs latitude, longitude, time zone and "
+                             "elevation (fields 7 to 10)");
+    w->has_site = 1;
+    w->latitude_deg = lat;
+    w->longitude_deg = lon;
+    w->elevation_m = elev;
+    w->utc_offset_h = tz;
+    double pvgis_offset_h = NAN;
+    int data = -1;
+    for (int i = 1; i < r->n_lines && data < 0; ++i) {
+        const char *mark = strstr(r->lines[i], "Irradiance Time Offset (h):");
+        if (strncmp(r->lines[i], "COMMENTS", 8) == 0 && mark)
+            pvgis_offset_h = strtod(mark + strlen("Irradiance Time Offset (h):"), NULL);
+        if (strncmp(r->lines[i], "DATA PERIODS", 12) == 0)
+            data = i + 1;
+    }
+    if (data < 0)
+        return fail_at(r, 0, "an EPW file needs its eight header lines (no DATA PERIODS line)");
+    int pvgis = isfinite(pvgis_offset_h) && fabs(pvgis_offset_h) <= 1.0;
+    if (pvgis)
+        snprintf(w->stamps, sizeof w->stamps,
+                 "EPW exported by PVGIS: its values are PVGIS's UTC hours (its CSV's at the "
+                 "same clock hour) although LOCATION says zone %+g, so the zone is not applied: "
+                 "the sun is taken at the end of the hour read as UTC %+.4f h (the file's "
+                 "irradiance time offset)",
+                 tz, pvgis_offset_h);
+    else
+        snprintf(w->stamps, sizeof w->stamps,
+                 "EPW: sums over the hour ending at the hour field, local standard time UTC%+g "
+                 "(stamped, as pvlib does, at the hour's start); the sun is taken at the "
+                 "middle of the hour",
+                 tz);
+    size_t cap = 0, missing_values = 0;
+    for (int i = data; i < r->n_lines; ++i) {
+        if (!r->lines[i][0])
+            continue;
+        n = split_csv(r->lines[i], f);
+        int year, month, day, hour;
+        if (n < 22)
+            return fail_at(r, i, "an EPW record has at least 22 fields");
+        if (!integer(f[0], -9999, 99999, &year) || !integer(f[1], 1, 12, &month) ||
+            !integer(f[2], 1, 31, &day) || !integer(f[3], 1, 24, &hour) ||
+            day > ss_days_in_month(year, month))
+            return fail_at(r, i, "an EPW record starts with year, month (1-12), day and hour "
+                                 "(1-24)");
+        double v[35];
+        const int want[] = {6, 9, 13, 14, 15, 21, 32};
+        for (size_t k = 0; k < sizeof want / sizeof want[0]; ++k) {
+            int c = want[k];
+            v[c] = NAN;
+            if (c < n && !number(f[c], &v[c]) && !(c == 32 && !*f[c]))
+                return fail_at(r, i, "a field of an EPW record is not a number");
+        }
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        /* As pvlib: the stamp is the start of the hour the record sums
+         * (hour 1 is 00:00-01:00). PVGIS's offset counts from its end. */
+        rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour - 1, 0, 0) - tz * 3600.0;
+        rec->sun_unix_s = pvgis ? rec->stamp_unix_s + (tz + 1.0 + pvgis_offset_h) * 3600.0
+                                : rec->stamp_unix_s + 1800.0;
+        size_t before = missing_values;
+        rec->ghi = irradiance(v[13], 9999, &missing_values);
+        rec->dni = irradiance(v[14], 9999, &missing_values);
+        rec->dhi = irradiance(v[15], 9999, &missing_values);
+        count_missing(w, before, missing_values);
+        rec->temp_air_c = optional(v[6], -90, 70);
+        rec->pressure_hpa = optional(v[9] / 100.0, 300, 1200);
+        rec->wind_speed_m_s = optional(v[21], 0, 100);
+        rec->albedo = albedo(v[32]);
+    }
+    return SS_OK;
+}
+
+/* ---- TMY3 --------------------------------------------------------------- */
+
+/* NREL TMY3: station line (id, name, state, zone, lat, lon, elevation),
+ * column names, then records summed over the hour ending at the stamp, local
+ * standard time (24:00 is the end of the day); -9900 marks missing. */
+static ss_status read_tmy3(reader *r)
+{
+    ss_weather *w = r->w;
+    char *f[MAX_FIELDS];
+    int n = split_csv(r->lines[0], f);
+    double tz, lat, lon, elev;
+    if (n < 7 || !number(f[3], &tz) || !number(f[4], &lat) || !number(f[5], &lon) ||
+        !number(f[6], &elev) || fabs(lat) > 90 || fabs(lon) > 180 || fabs(tz) > 14)
+        return fail_at(r, 0, "the TMY3 station line needs time zone, latitude, longitude and "
+                             "elevation (fields 4 to 7)");
+    w->has_site = 1;
+    w->latitude_deg = lat;
+    w->longitude_deg = lon;
+    w->elevation_m = elev;
+    w->utc_offset_h = tz;
+    snprintf(w->stamps, sizeof w->stamps,
+             "TMY3: sums over the hour ending at the stamp, local standard time UTC%+g; the sun "
+             "is taken at the middle of the hour",
+             tz);
+    char *names[MAX_FIELDS];
+    int n_names = split_csv(r->lines[1], names);
+    int c_ghi = find_column(names, n_names, "GHI (W/m^2)");
+    int c_dni = find_column(names, n_names, "DNI (W/m^2)");
+    int c_dhi = find_column(names, n_names, "DHI (W/m^2)");
+    int c_temp = find_column(names, n_names, "Dry-bulb (C)");
+    int c_wind = find_column(names, n_names, "Wspd (m/s)");
+    int c_alb = find_column(names, n_names, "Alb (unitless)");
+    int c_pres = find_column(names, n_names, "Pressure (mbar)");
+    if (n_names < 2 || c_ghi < 0 || c_dni < 0 || c_dhi < 0)
+        return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2), DNI (W/m^2) or DHI (W/m^2)");
+    size_t cap = 0, missing_values = 0;
+    for (int i = 2; i < r->n_lines; ++i) {
+        if (!r->lines[i][0])
+            continue;
+        n = split_csv(r->lines[i], f);
+        int month, day, year, hour, minute;
+        if (n != n_names)
+            return fail_at(r, i, "a TMY3 record has as many fields as the column names");
+        if (sscanf(f[0], "%d/%d/%d", &month, &day, &year) != 3 || month < 1 || month > 12 ||
+            day < 1 || day > ss_days_in_month(year, month) ||
+            sscanf(f[1], "%d:%d", &hour, &minute) != 2 || hour < 0 || hour > 24 || minute < 0 ||
+            minute > 59)
+            return fail_at(r, i, "a TMY3 record starts with MM/DD/YYYY and HH:MM");
+        double v[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+        const int cols[7] = {c_ghi, c_dni, c_dhi, c_temp, c_wind, c_alb, c_pres};
+        for (int k = 0; k < 7; ++k)
+            if (cols[k] >= 0 && !number(f[cols[k]], &v[k]))
+                return fail_at(r, i, "a value of a TMY3 record is not a number");
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0) - tz * 3600.0;
+        rec->sun_unix_s = rec->stamp_unix_s - 1800.0;
+        size_t before = missing_values;
+        rec->ghi = irradiance(v[0], -9900, &missing_values);
+        rec->dni = irradiance(v[1], -9900, &missing_values);
+        rec->dhi = irradiance(v[2], -9900, &missing_values);
+        count_missing(w, before, missing_values);
+        rec->temp_air_c = optional(v[3], -90, 70);
+        rec->wind_speed_m_s = optional(v[4], 0, 100);
+        rec->albedo = albedo(v[5]);
+        rec->pressure_hpa = optional(v[6], 300, 1200);
+    }
+    return SS_OK;
+}
+
+/* ---- PVGIS TMY ---------------------------------------------------------- */
+
+/* "20180101:0000" (UTC) as Unix seconds; 0 if malformed. */
+static int pvgis_time(const char *s, double *unix_s)
+{
+    int year, month, day, hour, minute;
+    if (strlen(s) != 13 || s[8] != ':')
+        return 0;
+    for (int i = 0; i < 13; ++i)
+        if (i != 8 && !isdigit((unsigned char)s[i]))
+            return 0;
+    if (sscanf(s, "%4d%2d%2d:%2d%2d", &year, &month, &day, &hour, &minute) != 5 ||
+        month < 1 || month > 12 || day < 1 || day > ss_days_in_month(year, month) || hour > 23 ||
+        hour < 0 || minute < 0 || minute > 59)
+        return 0;
+    *unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0);
+    return 1;
+}
+
+static void pvgis_stamps(ss_weather *w, double offset_h)
+{
+    snprintf(w->stamps, sizeof w->stamps,
+             "PVGIS TMY: hourly values at UTC stamps; the sun is taken at the stamp %+.4f h "
+             "(%s)",
+             offset_h,
+             isfinite(offset_h) ? "the file's irradiance time offset" : "no offset stated");
+}
+
+/* One PVGIS record from its fields (time, G(h), Gb(n), Gd(h), T2m, WS10m,
+ * SP in Pa) on line `line` of a CSV, or (line < 0) from the JSON. */
+static ss_status pvgis_record(reader *r, int line, size_t *cap, size_t *missing_values,
+                              double offset_h, const char *time, const double v[6])
+{
+    double t;
+    if (!pvgis_time(time, &t))
+        return line < 0 ? ss_fail(r->ctx, SS_ERR_INPUT,
+                                  "'%s': a tmy_hourly time(UTC) is written YYYYMMDD:HHMM, not '%.40s'",
+                                  r->path, time)
+                        : fail_at(r, line, "a PVGIS time is written YYYYMMDD:HHMM");
+    ss_weather_record *rec = add_record(r, cap);
+    if (!rec)
+        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+    rec->stamp_unix_s = t;
+    rec->sun_unix_s = t + offset_h * 3600.0;
+    size_t before = *missing_values;
+    rec->ghi = irradiance(v[0], NAN, missing_values);
+    rec->dni = irradiance(v[1], NAN, missing_values);
+    rec->dhi = irradiance(v[2], NAN, missing_values);
+    count_missing(r->w, before, *missing_values);
+    rec->temp_air_c = optional(v[3], -90, 70);
+    rec->wind_speed_m_s = optional(v[4], 0, 100);
+    rec->pressure_hpa = optional(v[5] / 100.0, 300, 1200);
+    return SS_OK;
+}
+
+static ss_status read_pvgis_csv(reader *r)
+{
+    ss_weather *w = r->w;
+    double offset_h = NAN, v;
+    int header = -1;
+    for (int i = 0; i < r->n_lines && header < 0; ++i) {
+        const char *line = r->lines[i], *colon = strchr(line, ':');
+        if (strncmp(line, "time(UTC),", 10) == 0)
+            header = i;
+        else if (colon && number(colon + 1, &v)) {
+            if (strncmp(line, "Latitude", 8) == 0)
+                w->latitude_deg = v, w->has_site |= 1;
+            else if (strncmp(line, "Longitude", 9) == 0)
+                w->longitude_deg = v, w->has_site |= 2;
+            else if (strncmp(line, "Elevation", 9) == 0)
+                w->elevation_m = v;
+            else if (strncmp(line, "Irradiance Time Offset", 22) == 0)
+                offset_h = v;
+        }
+    }
+    if (header < 0)
+        return fail_at(r, 0, "a PVGIS TMY CSV has a 'time(UTC),...' column line");
+    if (w->has_site != 3 || fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180)
+        return fail_at(r, 0, "a PVGIS TMY CSV states its latitude and longitude");
+    w->has_site = 1;
+    if (!(fabs(offset_h) <= 1.0))
+        offset_h = 0.5; /* hourly means: the middle of the hour */
+    pvgis_stamps(w, offset_h);
+    char *names[MAX_FIELDS], *f[MAX_FIELDS];
+    int n_names = split_csv(r->lines[header], names);
+    const char *wanted[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    int cols[6];
+    for (int k = 0; k < 6; ++k)
+        cols[k] = find_column(names, n_names, wanted[k]);
+    if (cols[0] < 0 || cols[1] < 0 || cols[2] < 0)
+        return fail_at(r, header, "the PVGIS columns lack G(h), Gb(n) or Gd(h)");
+    size_t cap = 0, missing_values = 0;
+    for (int i = header + 1; i < r->n_lines; ++i) {
+        /* The records end where the footer (a blank line, then notes) begins. */
+        if (!isdigit((unsigned char)r->lines[i][0]))
+            break;
+        int n = split_csv(r->lines[i], f);
+        if (n != n_names)
+            return fail_at(r, i, "a PVGIS record has as many fields as the column names");
+        double val[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+        for (int k = 0; k < 6; ++k)
+            if (cols[k] >= 0 && !number(f[cols[k]], &val[k]))
+                return fail_at(r, i, "a value of a PVGIS record is not a number");
+        ss_status st = pvgis_record(r, i, &cap, &missing_values, offset_h, f[0], val);
+        if (st != SS_OK)
+            return st;
+    }
+    return SS_OK;
+}
+
+static int json_number(json_object *obj, const char *key, double *v)
+{
+    json_object *x;
+    if (!json_object_object_get_ex(obj, key, &x) ||
+        !(json_object_is_type(x, json_type_double) || json_object_is_type(x, json_type_int)))
+        return 0;
+    *v = json_object_get_double(x);
+    return isfinite(*v);
+}
+
+static ss_status read_pvgis_json(reader *r)
+{
+    ss_weather *w = r->w;
+    json_tokener *tok = json_tokener_new();
+    if (!tok)
+        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+    json_object *root = json_tokener_parse_ex(tok, r->text, (int)strlen(r->text));
+    enum json_tokener_error err = json_tokener_get_error(tok);
+    json_tokener_free(tok);
+    if (!root || err != json_tokener_success) {
+        json_object_put(root);
+        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is not valid JSON: %s", r->path,
+                       err == json_tokener_continue ? "it ends inside a value"
+                                                    : json_tokener_error_desc(err));
+    }
+    json_object *inputs, *location, *outputs, *hourly;
+    ss_status st = SS_OK;
+    double offset_h = NAN;
+    if (!json_object_object_get_ex(root, "inputs", &inputs) ||
+        !json_object_object_get_ex(inputs, "location", &location) ||
+        !json_number(location, "latitude", &w->latitude_deg) ||
+        !json_number(location, "longitude", &w->longitude_deg) ||
+        fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180 ||
+        !json_object_object_get_ex(root, "outputs", &outputs) ||
+        !json_object_object_get_ex(outputs, "tmy_hourly", &hourly) ||
+        !json_object_is_type(hourly, json_type_array))
+        st = ss_fail(r->ctx, SS_ERR_INPUT,
+                     "'%s' is not a PVGIS TMY JSON file (inputs.location with latitude and "
+                     "longitude, outputs.tmy_hourly)",
+                     r->path);
+    if (st == SS_OK) {
+        w->has_site = 1;
+        json_number(location, "elevation", &w->elevation_m);
+        if (!json_number(location, "irradiance_time_offset", &offset_h) ||
+            !(fabs(offset_h) <= 1.0))
+            offset_h = 0.5;
+        pvgis_stamps(w, offset_h);
+    }
+    size_t cap = 0, missing_values = 0, n = st == SS_OK ? json_object_array_length(hourly) : 0;
+    const char *keys[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    for (size_t i = 0; i < n && st == SS_OK; ++i) {
+        json_object *rec = json_object_array_get_idx(hourly, i), *time;
+        double v[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+        int ok = json_object_is_type(rec, json_type_object) &&
+                 json_object_object_get_ex(rec, "time(UTC)", &time) &&
+                 json_object_is_type(time, json_type_string);
+        for (int k = 0; k < 6 && ok; ++k)
+            ok = json_number(rec, keys[k], &v[k]) || k >= 3;
+        if (!ok)
+            st = ss_fail(r->ctx, SS_ERR_INPUT,
+                         "'%s': record %zu of tmy_hourly lacks time(UTC), G(h), Gb(n) or Gd(h)",
+                         r->path, i + 1);
+        else
+            st = pvgis_record(r, -1, &cap, &missing_values, offset_h, json_object_get_string(time),
+                              v);
+    }
+    json_object_put(root);
+    return st;
+}
+
+/* ---- NSRDB PSM ---------------------------------------------------------- */
+
+/* NSRDB PSM3/PSM4 (SAM CSV): metadata names and values, column names, then
+ * records of instantaneous values at the stamp, in the metadata's zone. */
+static ss_status read_psm(reader *r)
+{
+    ss_weather *w = r->w;
+    char *keys[MAX_FIELDS], *vals[MAX_FIELDS], *names[MAX_FIELDS], *f[MAX_FIELDS];
+    if (r->n_lines < 3)
+        return fail_at(r, 0, "a PSM file has two metadata lines and a column line");
+    int nk = split_csv(r->lines[0], keys), nv = split_csv(r->lines[1], vals);
+    int c;
+    double tz = 0;
+    if (nk < 0 || nv < nk)
+        return fail_at(r, 1, "the PSM metadata values do not match their names");
+    if ((c = find_column(keys, nk, "Latitude")) < 0 || !number(vals[c], &w->latitude_deg) ||
+        (c = find_column(keys, nk, "Longitude")) < 0 || !number(vals[c], &w->longitude_deg) ||
+        (c = find_column(keys, nk, "Time Zone")) < 0 || !number(vals[c], &tz) ||
+        fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180 || fabs(tz) > 14)
+        return fail_at(r, 1, "the PSM metadata needs Latitude, Longitude and Time Zone");
+    if ((c = find_column(keys, nk, "Elevation")) >= 0)
+        number(vals[c], &w->elevation_m);
+    w->has_site = 1;
+    w->utc_offset_h = tz;
+    snprintf(w->stamps, sizeof w->stamps,
+             "NSRDB PSM: instantaneous values at the stamp, UTC%+g; the sun is taken at the "
+             "stamp",
+             tz);
+    int n_names = split_csv(r->lines[2], names);
+    while (n_names > 0 && !names[n_names - 1][0])
+        --n_names; /* spreadsheets leave empty columns */
+    const char *wanted[10] = {"Year", "Month", "Day", "Hour", "Minute", "GHI", "DNI", "DHI",
+                              "Temperature", "Wind Speed"};
+    int cols[12];
+    for (int k = 0; k < 10; ++k)
+        if ((cols[k] = find_column(names, n_names, wanted[k])) < 0 && k < 8)
+            return fail_at(r, 2, "the PSM columns lack Year, Month, Day, Hour, Minute, GHI, DNI "
+                                 "or DHI");
+    cols[10] = find_column(names, n_names, "Surface Albedo");
+    cols[11] = find_column(names, n_names, "Pressure");
+    size_t cap = 0, missing_values = 0;
+    for (int i = 3; i < r->n_lines; ++i) {
+        if (!r->lines[i][0])
+            continue;
+        int n = split_csv(r->lines[i], f);
+        if (n < n_names)
+            return fail_at(r, i, "a PSM record has as many fields as the column names");
+        double v[12];
+        for (int k = 0; k < 12; ++k) {
+            v[k] = NAN;
+            if (cols[k] >= 0 && !number(f[cols[k]], &v[k]))
+                return fail_at(r, i, "a value of a PSM record is not a number");
+        }
+        if (v[0] != floor(v[0]) || v[1] < 1 || v[1] > 12 || v[2] < 1 ||
+            v[2] > ss_days_in_month((long long)v[0], (int)v[1]) || v[3] < 0 || v[3] > 23 ||
+            v[4] < 0 || v[4] > 59)
+            return fail_at(r, i, "a PSM record's date or time is not valid");
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        rec->stamp_unix_s = ss_unix_from_civil((long long)v[0], (int)v[1], (int)v[2], (int)v[3],
+                                               (int)v[4], 0) -
+                            tz * 3600.0;
+        rec->sun_unix_s = rec->stamp_unix_s;
+        size_t before = missing_values;
+        rec->ghi = irradiance(v[5], -9999, &missing_values);
+        rec->dni = irradiance(v[6], -9999, &missing_values);
+        rec->dhi = irradiance(v[7], -9999, &missing_values);
+        count_missing(w, before, missing_values);
+        rec->temp_air_c = optional(v[8], -90, 70);
+        rec->wind_speed_m_s = optional(v[9], 0, 100);
+        rec->albedo = albedo(v[10]);
+        rec->pressure_hpa = optional(v[11], 300, 1200);
+    }
+    return SS_OK;
+}
+
+/* ---- plain CSV ---------------------------------------------------------- */
+
+/* A header line naming `time` and `ghi` (and `dni`, `dhi`; optionally
+ * `temp_air`, `wind_speed`, `albedo`, `pressure` in hPa), then records with
+ * ISO 8601 times that carry a zone. A value stands for its stamp (an
+ * instantaneous value, or a mean centred on it). */
+static ss_status read_plain_csv(reader *r)
+{
+    ss_weather *w = r->w;
+    char *names[MAX_FIELDS], *f[MAX_FIELDS];
+    int n_names = split_csv(r->lines[0], names);
+    const char *wanted[8] = {"time", "ghi", "dni", "dhi", "temp_air", "wind_speed", "albedo",
+                             "pressure"};
+    int cols[8];
+    for (int k = 0; k < 8; ++k)
+        cols[k] = n_names > 0 ? find_column(names, n_names, wanted[k]) : -1;
+    if (cols[0] < 0 || cols[1] < 0 || (cols[2] < 0) != (cols[3] < 0))
+        return ss_fail(r->ctx, SS_ERR_INPUT,
+                       "'%s' is not a weather file skysweep reads: EPW, TMY3, PVGIS TMY (CSV or "
+                       "JSON), NSRDB PSM, or a CSV whose first line names time, ghi, dni and "
+                       "dhi (or time and ghi alone)",
+                       r->path);
+    w->ghi_only = cols[2] < 0;
+    snprintf(w->stamps, sizeof w->stamps,
+             "CSV: each value stands for its stamp (instantaneous, or a mean centred on it); "
+             "the sun is taken at the stamp");
+    size_t cap = 0, missing_values = 0;
+    for (int i = 1; i < r->n_lines; ++i) {
+        if (!r->lines[i][0])
+            continue;
+        int n = split_csv(r->lines[i], f);
+        if (n != n_names)
+            return fail_at(r, i, "a record has as many fields as the column names");
+        double t;
+        ss_status st = ss_parse_instant(r->ctx, f[cols[0]], &t);
+        if (st != SS_OK)
+            return fail_at(r, i, "the time is ISO 8601 with a zone, e.g. 2026-06-21T10:30Z");
+        double v[8];
+        for (int k = 1; k < 8; ++k) {
+            v[k] = NAN;
+            if (cols[k] >= 0 && *f[cols[k]] && !number(f[cols[k]], &v[k]))
+                return fail_at(r, i, "a value is not a number");
+        }
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        rec->stamp_unix_s = rec->sun_unix_s = t;
+        size_t before = missing_values;
+        rec->ghi = irradiance(v[1], NAN, &missing_values);
+        if (!w->ghi_only) {
+            rec->dni = irradiance(v[2], NAN, &missing_values);
+            rec->dhi = irradiance(v[3], NAN, &missing_values);
+        }
+        count_missing(w, before, missing_values);
+        rec->temp_air_c = optional(v[4], -90, 70);
+        rec->wind_speed_m_s = optional(v[5], 0, 100);
+        rec->albedo = albedo(v[6]);
+        rec->pressure_hpa = optional(v[7], 300, 1200);
+    }
+    return SS_OK;
+}
+
+/* Instantaneous values stand for the spacing of their stamps: the smallest
+ * positive gap among the first records (a gap can span missing records). */
+static ss_status set_durations(reader *r)
+{
+    ss_weather *w = r->w;
+    double step = 0;
+    for (size_t i = 1; i < w->n && i < 200; ++i) {
+        double d = w->records[i].stamp_unix_s - w->records[i - 1].stamp_unix_s;
+        if (d > 0 && (step == 0 || d < step))
+            step = d;
+    }
+    if (w->n > 1 && !(step > 0))
+        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s': the records' times do not increase",
+                       r->path);
+    if (step > 86400.0)
+        return ss_fail(r->ctx, SS_ERR_INPUT,
+                       "'%s': records %.0f h apart are too far apart for irradiance (at most a "
+                       "day)",
+                       r->path, step / 3600.0);
+    for (size_t i = 0; i < w->n; ++i)
+        w->records[i].duration_h = w->n > 1 ? step / 3600.0 : 1.0;
+    return SS_OK;
+}
+
+ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
+{
+    memset(w, 0, sizeof *w);
+    reader r = {ctx, path, NULL, NULL, 0, w};
+    ss_status st = load(&r);
+    const char *first = st == SS_OK && r.n_lines ? r.lines[0] : "";
+    const char *second = r.n_lines > 1 ? r.lines[1] : "";
+    while (st == SS_OK && isspace((unsigned char)*first))
+        ++first;
+    static const char *const names[] = {"EPW", "TMY3", "PVGIS TMY CSV", "PVGIS TMY JSON",
+                                        "NSRDB PSM", "CSV"};
+    if (st != SS_OK)
+        ;
+    else if (strncmp(first, "LOCATION,", 9) == 0)
+        w->format = SS_WEATHER_EPW;
+    else if (*first == '{')
+        w->format = SS_WEATHER_PVGIS_JSON;
+    else if (strncmp(first, "Latitude (decimal degrees):", 27) == 0)
+        w->format = SS_WEATHER_PVGIS_CSV;
+    else if (strncmp(second, "Date (MM/DD/YYYY)", 17) == 0)
+        w->format = SS_WEATHER_TMY3;
+    else if (strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone"))
+        w->format = SS_WEATHER_PSM;
+    else
+        w->format = SS_WEATHER_CSV;
+    if (st == SS_OK) {
+        w->format_name = names[w->format];
+        switch (w->format) {
+        case SS_WEATHER_EPW: st = read_epw(&r); break;
+        case SS_WEATHER_TMY3: st = read_tmy3(&r); break;
+        case SS_WEATHER_PVGIS_CSV: st = read_pvgis_csv(&r); break;
+        case SS_WEATHER_PVGIS_JSON: st = read_pvgis_json(&r); break;
+        case SS_WEATHER_PSM: st = read_psm(&r); break;
+        case SS_WEATHER_CSV: st = read_plain_csv(&r); break;
+        }
+    }
+    if (st == SS_OK && w->n == 0)
+        st = ss_fail(ctx, SS_ERR_INPUT, "'%s' (%s) holds no records", path, w->format_name);
+    if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV))
+        st = set_durations(&r);
+    free(r.lines);
+    free(r.text);
+    if (st != SS_OK)
+        ss_weather_free(w);
+    return st;
+}
+
+void ss_weather_free(ss_weather *w)
+{
+    free(w->records);
+    w->records = NULL;
+    w->n = 0;
+}

@@ -1,0 +1,93 @@
+#!/bin/bash
+# Weather files: `skysweep weather` returns the records, stamps and values
+# pvlib's readers return on the files in ../shared/data/weather/ (EPW,
+# TMY3, PVGIS TMY CSV and JSON) and on a PSM4 sample (tests/data/); a plain
+# CSV reads as written; malformed files are refused in one line with exit 3.
+# The pvlib comparisons need pvlib (tests/run.sh installs it in a venv) and
+# the shared data; each skips, saying why, without them.
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+top=${TOP_SRCDIR:-$PWD}
+SKYSWEEP=${SKYSWEEP:-./skysweep}
+python=${SKYSWEEP_PVLIB_PYTHON:-$top/tests/pyvenv/bin/python}
+weather=$top/../shared/data/weather
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-weather.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+have_pvlib=0
+"$python" -c "import pvlib" 2>/dev/null && have_pvlib=1
+# against_pvlib FILE READER
+against_pvlib() {
+    local file=$1 reader=$2 name
+    name=$(basename "$file")
+    if [ "$have_pvlib" -eq 0 ]; then
+        tap_skip "$name matches pvlib's $reader reader" "no pvlib at $python (tests/run.sh installs it)"
+    elif [ ! -f "$file" ]; then
+        tap_skip "$name matches pvlib's $reader reader" "$file is not here"
+    else
+        "$python" "$top/tests/pvlib/weather_readers.py" "$SKYSWEEP" "$file" "$reader" >"$work/out" 2>&1
+        local rc=$?
+        tap_ok $rc "$name matches pvlib's $reader reader: $(grep -c '^ok' "$work/out") checks pass, $(grep '^not ok' "$work/out" | head -c 300)$( [ $rc -gt 1 ] && tail -c 300 "$work/out")"
+    fi
+}
+against_pvlib "$weather/NLD_Amsterdam062400_IWEC.epw" epw
+against_pvlib "$weather/tmy_45.000_8.000_2005_2023.epw" epw
+against_pvlib "$weather/723170TYA.CSV" tmy3
+against_pvlib "$weather/tmy_45.000_8.000_2005_2023.csv" pvgis
+against_pvlib "$weather/tmy_45.000_8.000_2005_2023.json" pvgis
+against_pvlib "$top/tests/data/psm4_sample.csv" psm4
+
+# Where the sun is taken: the middle of an EPW hour; PVGIS's stated offset,
+# also in its EPW export whose zone label is not applied.
+if [ -f "$weather/tmy_45.000_8.000_2005_2023.epw" ]; then
+    epw=$("$SKYSWEEP" weather "$weather/tmy_45.000_8.000_2005_2023.epw" | sed -n 6p | cut -d, -f2)
+    csv=$("$SKYSWEEP" weather "$weather/tmy_45.000_8.000_2005_2023.csv" | sed -n 6p | cut -d, -f2)
+    [ "$epw" = "2018-01-01T00:10:33.96Z" ] && [ "$csv" = "$epw" ]
+    tap_ok $? "PVGIS's EPW and CSV put the first record's sun at the same instant ($epw, $csv)"
+    amsterdam=$("$SKYSWEEP" weather "$weather/NLD_Amsterdam062400_IWEC.epw" | sed -n 6p | cut -d, -f1,2)
+    [ "$amsterdam" = "1994-12-31T23:00:00Z,1994-12-31T23:30:00Z" ]
+    tap_ok $? "an EPW hour's sun is at its middle ($amsterdam)"
+else
+    tap_skip "PVGIS EPW and CSV agree on the sun's instant" "no shared weather data"
+    tap_skip "an EPW hour's sun is at its middle" "no shared weather data"
+fi
+
+# A plain CSV, with a missing value and a zone.
+cat >"$work/plain.csv" <<'CSV'
+time,ghi,dni,dhi,temp_air
+2026-06-21T10:00+02:00,700,600,150,21.5
+2026-06-21T11:00+02:00,800,,160,22
+CSV
+out=$("$SKYSWEEP" weather "$work/plain.csv")
+rows=$(echo "$out" | grep -v '^#' | tail -n +2 | tr '\n' ';')
+[ "$rows" = "2026-06-21T08:00:00Z,2026-06-21T08:00:00Z,1,700,600,150,21.5,,,;2026-06-21T09:00:00Z,2026-06-21T09:00:00Z,1,800,,160,22,,,;" ] &&
+    echo "$out" | grep -q "records 2, 1 with an irradiance value missing"
+tap_ok $? "a plain CSV reads as written: $rows"
+printf 'time,ghi\n2026-06-21T10:00Z,500\n2026-06-21T11:00Z,600\n' >"$work/ghi.csv"
+"$SKYSWEEP" weather "$work/ghi.csv" | grep -q "GHI alone"
+tap_ok $? "a CSV with GHI alone is taken as such"
+
+# refused NAME CONTENT: exit 3, one line that names the file.
+refused() {
+    local name=$1
+    printf '%b' "$2" >"$work/$name"
+    "$SKYSWEEP" weather "$work/$name" >/dev/null 2>"$work/err"
+    local rc=$?
+    [ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "$name" "$work/err"
+    tap_ok $? "$name refused: exit $rc, $(head -c 250 "$work/err")"
+}
+refused empty.csv ''
+refused binary.epw 'LOCATION,\0\1\2'
+refused no_columns.csv 'when,sun\n2026-06-21T10:00Z,1\n'
+refused no_zone.csv 'time,ghi,dni,dhi\n2026-06-21T10:00,1,2,3\n'
+refused short.epw 'LOCATION,x,-,y,z,1,45,8,1,250\nDESIGN CONDITIONS,0\nDATA PERIODS,1,1,Data,Sunday, 1/ 1,12/31\n2018,1,1,1,0,?,2,3\n'
+refused bad_location.epw 'LOCATION,x,-,y,z,1,145,8,1,250\nDATA PERIODS,1\n'
+refused broken.json '{"inputs": {"location": {"latitude": 45'
+refused other.json '{"a": 1}'
+refused bad_time.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n2018011:0000,1,2,3\n'
+refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
+"$SKYSWEEP" weather "$work/missing.epw" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && grep -q "No such file" "$work/err"
+tap_ok $? "a missing file is refused: exit $rc, $(cat "$work/err")"
+tap_done
