@@ -77,4 +77,16 @@ rc=$?
 [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && [ -z "$(ls -A "$work/out")" ] &&
     grep -q 'extension' "$work/stderr"
 tap_ok $? "ENVI to a name without an extension: refused, exit $rc: $(head -c 200 "$work/stderr")"
+# A folder's other files are not the output's: GDAL lists any NAME.txt
+# beside a GeoTIFF among its files (as satellite metadata), and a rename or
+# clean-up of GDAL's file set would move or delete it.
+for format in "GTiff .tif" "ENVI .env"; do
+    set -- $format
+    rm -rf "$work/out" && mkdir -p "$work/out" && echo "the user's notes" >"$work/out/notes.txt"
+    "$SKYSWEEP" $svf -q -of "$1" "$dem" "$work/out/svf$2" 2>"$work/stderr"
+    rc=$?
+    [ "$rc" -eq 0 ] && [ "$(cat "$work/out/notes.txt")" = "the user's notes" ] &&
+        [ -z "$(ls -A "$work/out" | grep -v -e "^notes.txt$" -e "^svf")" ]
+    tap_ok $? "-of $1 beside notes.txt: exit $rc, notes.txt kept, nothing else left: $(ls -A "$work/out" | tr '\n' ' ') $(head -c 200 "$work/stderr")"
+done
 tap_done

@@ -108,6 +108,66 @@ static int split_path(const char *path, char **dir, char **base)
     return -1;
 }
 
+/* The file name of path without its folder and last extension. */
+static char *stem_of(const char *path)
+{
+    const char *slash = strrchr(path, '/'), *name = slash ? slash + 1 : path;
+    const char *dot = strrchr(name, '.');
+    return strndup(name, dot && dot > name ? (size_t)(dot - name) : strlen(name));
+}
+
+/* The files of the dataset at path that are its own: named from its stem.
+ * GDAL's file list may name unrelated files of the folder (a GeoTIFF's
+ * lists any ./NAME.txt it takes for satellite metadata), which neither a
+ * rename nor a clean-up may touch. NULL-ended, CSLDestroy it. */
+static char **own_files(GDALDatasetH ds, const char *path)
+{
+    char **all = GDALGetFileList(ds), **own = NULL, *stem = stem_of(path);
+    for (int i = 0; stem && all && all[i]; ++i) {
+        const char *slash = strrchr(all[i], '/'), *name = slash ? slash + 1 : all[i];
+        size_t n = strlen(stem);
+        if (strncmp(name, stem, n) == 0 && (name[n] == '\0' || name[n] == '.'))
+            own = CSLAddString(own, all[i]);
+    }
+    CSLDestroy(all);
+    free(stem);
+    return own;
+}
+
+/* Renames the temporary's own files (own_files) to the output's names: the
+ * temporary's stem in each replaced by the output's; the file itself (the
+ * list's first) last, so that until it moves the output stays whole. */
+static int rename_own_files(const char *tmp_path, const char *path)
+{
+    GDALDatasetH ds = GDALOpen(tmp_path, GA_ReadOnly);
+    char **files = ds ? own_files(ds, tmp_path) : NULL;
+    if (!files && ds)
+        CPLError(CE_Failure, CPLE_FileIO, "cannot list the files of '%s'", tmp_path);
+    if (ds)
+        GDALClose(ds);
+    char *from_stem = stem_of(tmp_path), *to_stem = stem_of(path), *dir = NULL, *base = NULL;
+    int failed = !files || !from_stem || !to_stem || split_path(path, &dir, &base) != 0;
+    int n = 0;
+    while (!failed && files[n])
+        ++n;
+    for (int k = 1; !failed && k <= n; ++k) {
+        int i = k % n; /* 1, 2, ..., n - 1, then 0 */
+        const char *slash = strrchr(files[i], '/'), *name = slash ? slash + 1 : files[i];
+        char to[PATH_MAX];
+        snprintf(to, sizeof to, "%s/%s%s", dir, to_stem, name + strlen(from_stem));
+        failed = VSIRename(files[i], to) != 0;
+        if (failed) /* for ss_gdal_failure, as GDAL reports its own failures */
+            CPLError(CE_Failure, CPLE_FileIO, "cannot rename '%s' to '%s': %s", files[i], to,
+                     strerror(errno));
+    }
+    CSLDestroy(files);
+    free(from_stem);
+    free(to_stem);
+    free(dir);
+    free(base);
+    return failed ? -1 : 0;
+}
+
 /* "dir/name.tif" -> "dir/.name.tif.<pid>.KIND.tif": same folder, so the
  * final rename is atomic; hidden, so that nobody picks it up half-written;
  * the output's extension last, so that GDAL renames a format's side-cars
@@ -228,14 +288,14 @@ static int probe_format(GDALDriverH driver, const char *probe_path, int bands, G
         GDALClose(mem);
     GDALDatasetH back = copy ? GDALOpen(probe_path, GA_ReadOnly) : NULL;
     int holds = probe_holds(back, bands, values);
-    char **files = back ? GDALGetFileList(back) : NULL;
+    char **files = back ? own_files(back, probe_path) : NULL;
     for (int i = 0; files && files[i]; ++i)
         *side_cars += i > 0 && !strstr(files[i], ".aux.xml");
-    CSLDestroy(files);
     if (back)
         GDALClose(back);
-    if (copy)
-        GDALDeleteDataset(driver, probe_path);
+    for (int i = 0; files && files[i]; ++i)
+        VSIUnlink(files[i]);
+    CSLDestroy(files);
     return holds;
 }
 
@@ -508,14 +568,14 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
                      "read back whole: %s", w->path, ss_gdal_failure(why, sizeof why));
     if (st == SS_OK && progress && !progress(1.0, "", user))
         st = ss_fail(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
-    /* GDAL's rename moves the side-cars a format keeps beside the file
-     * (.aux.xml, an ENVI .hdr, a .prj) along, named as the format expects.
-     * It cannot pair the names of an output without an extension; such an
-     * output is one file (formats with side-cars refuse it at open) and
-     * perhaps its .aux.xml, moved one by one. */
+    /* The side-cars a format keeps beside the file (.aux.xml, an ENVI .hdr,
+     * a .prj) move along, named as the format expects. The names of an
+     * output without an extension cannot be paired so; such an output is
+     * one file (formats with side-cars refuse it at open) and perhaps its
+     * .aux.xml, moved one by one. */
     const char *slash = strrchr(w->path, '/'), *dot = strrchr(w->path, '.');
     int has_ext = dot && (!slash || dot > slash);
-    if (st == SS_OK && (has_ext ? GDALRenameDataset(w->driver, w->path, w->tmp_path) != CE_None
+    if (st == SS_OK && (has_ext ? rename_own_files(w->tmp_path, w->path) != 0
                                 : rename_with_aux(w->tmp_path, w->path) != 0))
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
