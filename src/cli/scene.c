@@ -135,7 +135,11 @@ static int on_key(void *user, const char *section, const char *name, const char 
         snprintf(flag, n, "--%s", name);
     if (!push(s, flag))
         return fail(s, "too many keys");
-    return spec->type == OPT_FLAG ? 1 : push(s, strdup(value));
+    if (spec->type == OPT_FLAG)
+        return 1;
+    /* A file an option names lies, like the DEM, beside the scene. */
+    int is_file = spec->metavar && strcmp(spec->metavar, "FILE") == 0;
+    return push(s, is_file ? path_beside(s->dir, value) : strdup(value));
 }
 
 static void scene_free(scene_state *s)
