@@ -6,7 +6,7 @@
 # DEVICE is passed to --device (default: reference, the C twin, whose outputs
 # must be bit-identical; "default" runs each build's default device). Prints one line per product and "N same, N differ".
 set -u
-old=$1 new=$2 device=${3:-reference}
+old=$(realpath "$1") new=$(realpath "$2") device=${3:-reference}
 top=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-compare.XXXXXX")
 trap 'rm -rf "$work"' EXIT

@@ -38,6 +38,8 @@ esac
 obj=$out/obj-$mode
 mkdir -p "$obj"
 incs="-I. -Isrc -Isrc/core -Isrc/adapt -Isrc/cli -Ikernels -Itests"
+# What libsscli_la_CFLAGS defines (Makefile.am): where the modules are found.
+incs="$incs -DSS_BUILD_DIR=\"$top\" -DSS_MODULE_DIR=\"$top/.libs\""
 pkgs="gdal OpenCL geographiclib json-c"
 # Optional dependencies as configure found them (scene files, MPI, images, 3D).
 mk() { sed -n "s/^$1 = //p" Makefile; }
