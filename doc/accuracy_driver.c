@@ -463,8 +463,12 @@ static void run_day(const args *a, scene *s, int directions, ss_shadow_mode mode
                     {0},
                     0};
     int n_steps = (int)lround(1440 / step_min);
-    ss_insolation_options io = {0.2, mode, 0, 1};
-    ss_insolation_out o = {out->global, out->beam, out->diffuse, out->reflected, out->sun_hours};
+    ss_insolation_options io = {.albedo = 0.2, .shadow_mode = mode, .first = 0, .stride = 1};
+    ss_insolation_out o = {.global = out->global,
+                           .beam = out->beam,
+                           .diffuse = out->diffuse,
+                           .reflected = out->reflected,
+                           .sun_hours = out->sun_hours};
     double t = now_s();
     check(ss_insolation(ctx, &s->dem.grid, &opt, &io, n_steps, sun_step, &su, NULL, NULL, &o),
           "insolation");

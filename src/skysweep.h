@@ -83,6 +83,11 @@ typedef struct {
     uint64_t time_steps;            /* daylight time steps evaluated */
     uint64_t night_steps_skipped;   /* steps with the sun below every cell's horizontal */
     uint64_t shadow_sweeps_skipped; /* steps with the sun above every possible horizon */
+    /* Weather records: missing (adding nothing), split from GHI alone
+     * (Erbs), with beam on the horizontal above the global (used as given),
+     * and with beam or diffuse while the sun is below the horizontal
+     * (adding nothing). */
+    uint64_t records_missing, records_split, records_beam_above_global, records_light_at_night;
 } ss_counters;
 ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
@@ -332,12 +337,21 @@ typedef enum {
     SS_SHADOW_INTERPOLATED = 1 /* horizons stored at the sweep's directions, interpolated */
 } ss_shadow_mode;
 
+/* Sky diffuse on a tilted cell for weather records (doc/insolation.md,
+ * "Real sky"); clear-sky steps use Muneer's model whatever is chosen. */
+typedef enum {
+    SS_SKY_MODEL_ISOTROPIC = 0, /* the cell's tilted sky view */
+    SS_SKY_MODEL_HAYDAVIES = 1, /* Hay & Davies 1980: a circumsolar part shaded like the beam */
+    SS_SKY_MODEL_PEREZ = 2      /* Perez et al. 1990: circumsolar and a horizon band */
+} ss_sky_model;
+
 typedef struct {
     double albedo;             /* ground reflectance for the reflected term, 0..1 */
     ss_shadow_mode shadow_mode;
     int first, stride;         /* this process's steps: first, first + stride, ... (stride 0
                                   or 1: all);
                                   the others add nothing and reach no step sink */
+    ss_sky_model sky_model;    /* for weather records */
 } ss_insolation_options;
 
 /* The sun for one time step, supplied by the caller (who knows where the
@@ -353,6 +367,14 @@ typedef struct {
     double apparent_elevation_deg; /* with refraction, for shadows */
     double spread_deg;             /* largest difference of any cell's sun from this one */
     const float *grid_azimuth_per_cell, *elevation_per_cell, *apparent_per_cell; /* or NULL */
+    /* A weather record instead of the clear sky (real_sky nonzero): its
+     * irradiance in W/m^2 (dni and dhi NAN: split from ghi by Erbs; any
+     * other NAN: the record is missing and adds nothing), the ground's
+     * albedo (NAN: the options'), and the month it counts to (1..12; 0:
+     * none) for the monthly sums. */
+    int real_sky;
+    double ghi_w_m2, dni_w_m2, dhi_w_m2, albedo;
+    int month;
 } ss_sun_step;
 
 typedef ss_status (*ss_sun_step_fn)(ss_ctx *ctx, int index, ss_sun_step *step, void *user);
@@ -363,6 +385,7 @@ typedef int (*ss_step_sink)(int index, const float *global_wh_m2, void *user);
 typedef struct {
     float *global, *beam, *diffuse, *reflected; /* Wh/m^2 over all steps */
     float *sun_hours; /* hours the cell's surface received direct sun */
+    float *monthly_global; /* NULL, or 12 planes: the global of steps in January..December */
 } ss_insolation_out;
 
 /* Clear-sky irradiation (ESRA with Linke turbidity, as GRASS r.sun; sky

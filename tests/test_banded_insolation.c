@@ -196,14 +196,19 @@ static void compare(const ss_grid *g, const char *terrain, int per_cell, int cur
     opt.directions = 12;
     opt.earth_radius_m = curved ? 3e4 : 0;
     opt.refraction_k = 0;
-    ss_insolation_options io = {0.25, SS_SHADOW_EXACT, 0, 1};
+    ss_insolation_options io = {
+        .albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
     sun_setup sun;
     grids ref, out;
     int ok = sun_init(&sun, g, per_cell) && grids_init(&ref, g, &sun) && grids_init(&out, g, &sun);
     sun.first = first;
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
-    ss_insolation_out whole = {ref.out[0], ref.out[1], ref.out[2], ref.out[3], ref.out[4]};
+    ss_insolation_out whole = {.global = ref.out[0],
+                               .beam = ref.out[1],
+                               .diffuse = ref.out[2],
+                               .reflected = ref.out[3],
+                               .sun_hours = ref.out[4]};
     /* Runs longer than the table check the five outputs only. */
     int per_step = n_steps <= N_STEPS;
     if (ok && ss_insolation(ctx, g, &opt, &io, n_steps, sun_whole, &sun,

@@ -114,8 +114,12 @@ static ss_status sun_rows(ss_ctx *ctx, int index, int row0, int n_rows, ss_sun_s
 
 static ss_status insolation_mode(ss_ctx *ctx, float *out, ss_shadow_mode mode)
 {
-    ss_insolation_options io = {0.2, mode, 0, 1};
-    ss_insolation_out o = {out, out + CELLS, out + 2 * CELLS, out + 3 * CELLS, out + 4 * CELLS};
+    ss_insolation_options io = {.albedo = 0.2, .shadow_mode = mode, .first = 0, .stride = 1};
+    ss_insolation_out o = {.global = out,
+                           .beam = out + CELLS,
+                           .diffuse = out + 2 * CELLS,
+                           .reflected = out + 3 * CELLS,
+                           .sun_hours = out + 4 * CELLS};
     return ss_insolation(ctx, &grid, &opt, &io, 3, one_sun, NULL, NULL, NULL, &o);
 }
 
@@ -187,7 +191,8 @@ static ss_status call_insolation_banded(ss_ctx *ctx, float *out)
     ss_insolation_band_io io = {W,         H,        grid.cell_x_m,         grid.cell_y_m,
                                 6,         &grid.z_origin_m, read_rows, sun_rows,
                                 write_insolation_rows, NULL, out, NULL};
-    ss_insolation_options o = {0.2, SS_SHADOW_EXACT, 0, 1};
+    ss_insolation_options o = {
+        .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
     return ss_insolation_banded(ctx, &io, &opt, &o, 3);
 }
 

@@ -169,7 +169,8 @@ static int run_products(int dev, const ss_grid *g, const run_opts *o, products *
                         &p->ins.sun_hours};
         for (int k = 0; k < 5; ++k)
             *b[k] = malloc(n * sizeof(float));
-        ss_insolation_options io = {0.2, o->shadow_mode, 0, 1};
+        ss_insolation_options io = {
+            .albedo = 0.2, .shadow_mode = o->shadow_mode, .first = 0, .stride = 1};
         steps_user su = {insol_steps, 3};
         st = ss_insolation(ctx, g, &opt, &io, 3, fixed_sun, &su, NULL, NULL, &p->ins);
         what = "insolation";
@@ -324,9 +325,11 @@ static void expect_refused(const char *label, const ss_grid *g, ss_status want)
         snprintf(msg[2], 200, "%s", ss_ctx_message(ctx));
         st[3] = ss_hillshade(ctx, g, 315, 45, 1, 0, 0, buf);
         snprintf(msg[3], 200, "%s", ss_ctx_message(ctx));
-        ss_insolation_out out = {buf, buf, buf, buf, buf};
+        ss_insolation_out out = {
+            .global = buf, .beam = buf, .diffuse = buf, .reflected = buf, .sun_hours = buf};
         steps_user su = {insol_steps, 3};
-        ss_insolation_options io = {0.2, SS_SHADOW_EXACT, 0, 1};
+        ss_insolation_options io = {
+            .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
         st[4] = ss_insolation(ctx, g, &opt, &io, 3, fixed_sun, &su, NULL, NULL, &out);
         snprintf(msg[4], 200, "%s", ss_ctx_message(ctx));
         st[5] = ss_sun_incidence(ctx, g, 135, 20, NULL, NULL, buf);
@@ -1045,8 +1048,10 @@ static void sun_positions(void)
             float *b[5];
             for (int q = 0; q < 5; ++q)
                 b[q] = malloc(sizeof(float) * 900);
-            out = (ss_insolation_out){b[0], b[1], b[2], b[3], b[4]};
-            ss_insolation_options io = {0.2, SS_SHADOW_EXACT, 0, 1};
+            out = (ss_insolation_out){
+                .global = b[0], .beam = b[1], .diffuse = b[2], .reflected = b[3], .sun_hours = b[4]};
+            ss_insolation_options io = {
+                .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
             steps_user su = {&steps[i], 1};
             ss_status si =
                 ss_insolation(ctx, &rough, &opt, &io, 1, fixed_sun, &su, NULL, NULL, &out);

@@ -185,10 +185,14 @@ static void skipped_work(void)
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = 8;
-    ss_insolation_options io = {0.2, SS_SHADOW_EXACT, 0, 1};
+    ss_insolation_options io = {
+        .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
     size_t n = 3600;
-    ss_insolation_out out = {malloc(n * 4), malloc(n * 4), malloc(n * 4), malloc(n * 4),
-                             malloc(n * 4)};
+    ss_insolation_out out = {.global = malloc(n * 4),
+                             .beam = malloc(n * 4),
+                             .diffuse = malloc(n * 4),
+                             .reflected = malloc(n * 4),
+                             .sun_hours = malloc(n * 4)};
     ss_status st = ss_insolation(ctx, &g, &opt, &io, 24, sun_at, NULL, NULL, NULL, &out);
     ss_counters c = ss_ctx_counters(ctx);
     int sweeps_expected = 8 + (24 - night - high);

@@ -1,8 +1,11 @@
-/* skysweep insolation: clear-sky beam, diffuse, reflected and global
- * irradiation (Wh/m^2) and hours of direct sun over a time range, each
- * step's sun from SPA at the DEM (per cell where it matters), each step
- * evaluated at its middle; on the whole grid, or band by band
- * (ss_insolation_banded) for a DEM whose sweep does not fit in --memory. */
+/* skysweep insolation: beam, diffuse, reflected and global irradiation and
+ * hours of direct sun, each step's sun from SPA at the DEM (per cell where it
+ * matters). Clear sky: steps over a time range, each evaluated at its
+ * middle (Wh/m^2); on the whole grid, or band by band
+ * (ss_insolation_banded) for a DEM whose sweep does not fit in --memory.
+ * Real sky (--weather): one step per record of a weather file, the sun at
+ * the instant the record stands for, sums in kWh/m^2 for the year (or the
+ * period) and each month; on the whole grid. */
 #include "config.h"
 
 #include <math.h>
@@ -16,6 +19,7 @@
 #include "mpi_share.h"
 #include "run.h"
 #include "sun_field.h"
+#include "weather.h"
 
 typedef struct {
     common_settings common;
@@ -25,7 +29,14 @@ typedef struct {
     int shadow_mode;
     const char *steps_path;
     double solar_constant;
+    const char *weather;
+    int sky_model; /* index into "perez|haydavies|isotropic" */
 } insolation_settings;
+
+static const ss_sky_model sky_model_of_choice[] = {SS_SKY_MODEL_PEREZ, SS_SKY_MODEL_HAYDAVIES,
+                                                   SS_SKY_MODEL_ISOTROPIC};
+static const char *const sky_model_names[] = {"Perez et al. 1990", "Hay & Davies 1980",
+                                              "isotropic"};
 
 #define SET(field) offsetof(insolation_settings, field)
 static const opt_spec insolation_options[] = {
@@ -41,17 +52,28 @@ static const opt_spec insolation_options[] = {
      "also write each step's global irradiation (Wh/m^2), one band per step"},
     {"solar-constant", OPT_DOUBLE, SET(solar_constant), "W/M2", "1367", 1000, 2000, NULL,
      "extraterrestrial irradiance at 1 AU (r.sun's default)"},
+    {"weather", OPT_STRING, SET(weather), "FILE", NULL, 0, 0, NULL,
+     "real sky: one step per record of an EPW, TMY3, PVGIS TMY (CSV, JSON), NSRDB PSM or CSV "
+     "file (skysweep weather FILE shows them); --time then selects records; outputs in "
+     "kWh/m2 for the year and each month (doc/insolation.md)"},
+    {"sky-model", OPT_CHOICE, SET(sky_model), NULL, "perez", 0, 0, "perez|haydavies|isotropic",
+     "with --weather: sky diffuse on the tilted cell, with the terrain (doc/insolation.md)"},
     OPT_END};
 
+/* The run's time steps: each one's instant (where the sun is taken) and
+ * length, and for a weather run its record and month. */
 typedef struct {
     sweep_job *job;
     const insolation_settings *set;
-    ss_time_range range;
+    int n;
+    double *mid_s, *hours;
+    const ss_weather_record **record; /* NULL: clear sky */
+    int *month;                       /* 1..12 in the weather file's zone */
     double linke[12];
     ss_sun_field field;
     int have_field;
     double sun_spread_deg; /* the planner's bound when one sun serves all cells */
-    char **labels; /* ISO time of each step's start */
+    char **labels; /* ISO time of each step's start (a record's stamp) */
 } steps_state;
 
 static ss_status parse_linke(ss_ctx *ctx, const char *text, double linke[12])
@@ -89,11 +111,7 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     if (ss->have_field)
         ss_sun_field_free(&ss->field);
     ss->have_field = 0;
-    double start = ss_time_range_at(&ss->range, k);
-    double end = ss_time_range_at(&ss->range, k + 1);
-    if (end > ss->range.end_unix_s)
-        end = ss->range.end_unix_s;
-    double mid = 0.5 * (start + end);
+    double mid = ss->mid_s[k];
     ss_spa_params p;
     run_spa_params(&ss->set->common, &p);
     /* The plan decided whether the sun is needed per cell. Without it, or
@@ -117,7 +135,7 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     ss_civil_time civil;
     ss_civil_from_unix(mid, &civil);
     memset(step, 0, sizeof *step);
-    step->duration_h = (end - start) / 3600.0;
+    step->duration_h = ss->hours[k];
     step->linke = ss->linke[civil.month - 1];
     double r = f->centre.earth_sun_distance_au;
     step->extraterrestrial_w_m2 = ss->set->solar_constant / (r * r);
@@ -129,7 +147,89 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     step->grid_azimuth_per_cell = f->grid_azimuth_deg;
     step->elevation_per_cell = f->elevation_deg;
     step->apparent_per_cell = f->apparent_elevation_deg;
+    const ss_weather_record *rec = ss->record ? ss->record[k] : NULL;
+    if (rec) {
+        step->real_sky = 1;
+        step->ghi_w_m2 = rec->ghi;
+        step->dni_w_m2 = rec->dni;
+        step->dhi_w_m2 = rec->dhi;
+        step->albedo = rec->albedo;
+        step->month = ss->month[k];
+    }
     return SS_OK;
+}
+
+static ss_status steps_alloc(steps_state *ss, int n, int weather)
+{
+    ss->n = n;
+    ss->mid_s = malloc(sizeof(double) * (size_t)n);
+    ss->hours = malloc(sizeof(double) * (size_t)n);
+    ss->labels = calloc((size_t)n, sizeof(char *));
+    if (weather) {
+        ss->record = malloc(sizeof *ss->record * (size_t)n);
+        ss->month = malloc(sizeof(int) * (size_t)n);
+    }
+    int ok = ss->mid_s && ss->hours && ss->labels && (!weather || (ss->record && ss->month));
+    for (int k = 0; ok && k < n; ++k)
+        ok = (ss->labels[k] = malloc(40)) != NULL;
+    return ok ? SS_OK : command_out_of_memory(&ss->job->run);
+}
+
+static void steps_free(steps_state *ss)
+{
+    for (int k = 0; ss->labels && k < ss->n; ++k)
+        free(ss->labels[k]);
+    free(ss->labels);
+    free(ss->mid_s);
+    free(ss->hours);
+    free(ss->record);
+    free(ss->month);
+}
+
+/* Clear sky: the steps of a time range, each evaluated at its middle. */
+static ss_status steps_from_range(steps_state *ss, const ss_time_range *range)
+{
+    ss_status st = steps_alloc(ss, (int)range->count, 0);
+    for (int k = 0; st == SS_OK && k < ss->n; ++k) {
+        double a = ss_time_range_at(range, k), b = ss_time_range_at(range, k + 1);
+        if (b > range->end_unix_s)
+            b = range->end_unix_s;
+        ss->mid_s[k] = 0.5 * (a + b);
+        ss->hours[k] = (b - a) / 3600.0;
+        ss_format_instant(a, ss->labels[k], 40);
+    }
+    return st;
+}
+
+/* Real sky: a step per record (those whose instant lies in `within`, if
+ * given), the sun at the instant it stands for. */
+static ss_status steps_from_weather(steps_state *ss, const ss_weather *w,
+                                    const ss_time_range *within)
+{
+    int n = 0;
+    for (size_t i = 0; i < w->n; ++i)
+        n += !within || (w->records[i].sun_unix_s >= within->start_unix_s &&
+                         w->records[i].sun_unix_s < within->end_unix_s);
+    if (n == 0)
+        return ss_ctx_error(ss->job->run.ctx, SS_ERR_ARGUMENT,
+                            "no record of the weather file lies inside --time");
+    ss_status st = steps_alloc(ss, n, 1);
+    int k = 0;
+    for (size_t i = 0; st == SS_OK && i < w->n; ++i) {
+        const ss_weather_record *rec = &w->records[i];
+        if (within && !(rec->sun_unix_s >= within->start_unix_s &&
+                         rec->sun_unix_s < within->end_unix_s))
+            continue;
+        ss->mid_s[k] = rec->sun_unix_s;
+        ss->hours[k] = rec->duration_h;
+        ss->record[k] = rec;
+        ss_civil_time local;
+        ss_civil_from_unix(rec->sun_unix_s + w->utc_offset_h * 3600.0, &local);
+        ss->month[k] = local.month;
+        ss_format_instant(rec->stamp_unix_s, ss->labels[k], 40);
+        k++;
+    }
+    return st;
 }
 
 static ss_status sun_of_step(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
@@ -183,22 +283,22 @@ static ss_status write_step_rows(void *user, int k, int row0, int n_rows, const 
     return ss_writer_rows(b->steps_w, k + 1, row0, n_rows, global);
 }
 
-/* Under mpirun: every process's five planes of n cells added into rank
- * 0's. Nodata (SS_NODATA, the same cells in every process) is kept out of
- * the sums and put back at rank 0. mask: n bytes of scratch. */
-static ss_status add_shared(run_state *run, float *const planes[5], size_t n,
+/* Under mpirun: every process's n_planes planes of n cells added into
+ * rank 0's. Nodata (SS_NODATA, the same cells in every process) is kept out
+ * of the sums and put back at rank 0. mask: n bytes of scratch. */
+static ss_status add_shared(run_state *run, float *const *planes, int n_planes, size_t n,
                             unsigned char *mask)
 {
     for (size_t c = 0; c < n; ++c)
         mask[c] = planes[0][c] == SS_NODATA;
-    for (int k = 0; k < 5; ++k) {
+    for (int k = 0; k < n_planes; ++k) {
         for (size_t c = 0; c < n; ++c)
             planes[k][c] = mask[c] ? 0.0f : planes[k][c];
         if (!share_sum_at_root(planes[k], n))
             return ss_ctx_error(run->ctx, SS_ERR_INTERNAL,
                                 "MPI could not add the processes' sums");
     }
-    for (int k = 0; k < 5 && share_rank() == 0; ++k)
+    for (int k = 0; k < n_planes && share_rank() == 0; ++k)
         for (size_t c = 0; c < n; ++c)
             planes[k][c] = mask[c] ? SS_NODATA : planes[k][c];
     return SS_OK;
@@ -219,7 +319,7 @@ static ss_status write_band_rows(void *user, int row0, int n_rows, const ss_inso
             own[k] = b->shared + (size_t)k * n;
             memcpy(own[k], planes[k], n * sizeof(float));
         }
-        ss_status st = add_shared(&b->steps->job->run, own, n,
+        ss_status st = add_shared(&b->steps->job->run, own, 5, n,
                                   (unsigned char *)(b->shared + 5 * n));
         if (st != SS_OK || share_rank() > 0)
             return st;
@@ -257,6 +357,98 @@ static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insol
     return st;
 }
 
+/* The steps from --time (and --step) or --weather; text gets the range
+ * as parsed (malloc'ed), for the metadata. */
+static ss_status make_steps(steps_state *steps, const insolation_settings *set,
+                            const ss_weather *weather, char **text)
+{
+    ss_ctx *ctx = steps->job->run.ctx;
+    *text = NULL;
+    if (!set->common.time && !weather)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                            "--time START/END (or START/DURATION) or --weather FILE is needed");
+    ss_time_range range = {0};
+    if (set->common.time) {
+        /* --time may carry its own /STEP; otherwise --step applies. */
+        size_t len = strlen(set->common.time) + strlen(set->step) + 2;
+        int slashes = 0;
+        for (const char *p = set->common.time; *p; ++p)
+            slashes += *p == '/';
+        if (!(*text = malloc(len)))
+            return command_out_of_memory(&steps->job->run);
+        snprintf(*text, len, "%s%s%s", set->common.time, slashes == 1 && !weather ? "/" : "",
+                 slashes == 1 && !weather ? set->step : "");
+        ss_status st = ss_parse_time_range(ctx, *text, &range);
+        if (st != SS_OK)
+            return st;
+        if (range.count < 1 && !(weather && range.end_unix_s > range.start_unix_s))
+            return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                                "--time must be a range (START/END or START/DURATION)");
+        if (!weather && range.count > 100000)
+            return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                                "%lld time steps is more than 100000: choose a longer --step",
+                                range.count);
+    }
+    if (weather)
+        return steps_from_weather(steps, weather, set->common.time ? &range : NULL);
+    return steps_from_range(steps, &range);
+}
+
+/* Great-circle distance (km, mean earth radius) between two places. */
+static double distance_km(double lon1, double lat1, double lon2, double lat2)
+{
+    double r = M_PI / 180.0, a = sin(0.5 * (lat2 - lat1) * r), b = sin(0.5 * (lon2 - lon1) * r);
+    double h = a * a + cos(lat1 * r) * cos(lat2 * r) * b * b;
+    return 2.0 * 6371.0088 * asin(sqrt(fmin(1.0, h)));
+}
+
+/* The weather file's summary: format, site and its distance from the DEM,
+ * what the stamps mean. */
+static void describe_weather(const ss_weather *w, const char *path, const ss_dem_frame *frame,
+                             char *buf, size_t size)
+{
+    int n = snprintf(buf, size, "%s '%s', %zu records (%zu with a value missing)",
+                     w->format_name, path, w->n, w->missing);
+    if (w->has_site && n > 0 && (size_t)n < size) {
+        double km = distance_km(w->longitude_deg, w->latitude_deg, frame->centre_lon_deg,
+                                frame->centre_lat_deg);
+        n += snprintf(buf + n, size - (size_t)n,
+                      "; site %.4f, %.4f (lon, lat), %.1f km from the DEM's centre%s",
+                      w->longitude_deg, w->latitude_deg, km,
+                      km > 50 ? ": its weather may not be the DEM's" : "");
+    } else if (n > 0 && (size_t)n < size) {
+        n += snprintf(buf + n, size - (size_t)n, "; no site given");
+    }
+    if (n > 0 && (size_t)n < size)
+        snprintf(buf + n, size - (size_t)n, "; %s", w->stamps);
+}
+
+/* Bands of a weather run: the five sums, then the global of each month. */
+#define WEATHER_BANDS 17
+static const char *const month_names[12] = {"January", "February", "March",     "April",
+                                            "May",     "June",     "July",      "August",
+                                            "September", "October", "November", "December"};
+
+/* Writes a weather run's bands in kWh/m^2 (hours stay hours), named for
+ * the year where the steps cover one (8700 to 8800 hours), else "period". */
+static ss_status write_weather_bands(ss_raster_writer *w, float *const bands[5], float *monthly,
+                                     size_t n, double hours)
+{
+    const char *span = hours >= 8700 && hours <= 8800 ? "year" : "period";
+    ss_status st = SS_OK;
+    for (int b = 0; b < WEATHER_BANDS && st == SS_OK; ++b) {
+        float *v = b < 5 ? bands[b] : monthly + (size_t)(b - 5) * n;
+        if (b != 4)
+            for (size_t c = 0; c < n; ++c)
+                v[c] = v[c] == SS_NODATA ? SS_NODATA : v[c] / 1000.0f;
+        char name[64];
+        snprintf(name, sizeof name, "%s, %s", b < 5 ? band_names[b] : "global",
+                 b < 5 ? span : month_names[b - 5]);
+        st = ss_writer_band(w, b + 1, v, name, b == 4 ? "h" : "kWh/m2");
+    }
+    return st;
+}
+
 int cmd_insolation(int argc, char **argv)
 {
     insolation_settings set = {0};
@@ -267,10 +459,11 @@ int cmd_insolation(int argc, char **argv)
     int rc = run_parse(
         "insolation", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
         "skysweep insolation --time START/END|START/DURATION [--step PT30M] [options] DEM... "
-        "OUTPUT",
-        "Clear-sky irradiation over a time range (ESRA, Linke turbidity), on each cell's slope "
-        "with\nexact cast shadows. Bands: 1 global, 2 beam, 3 diffuse, 4 reflected (Wh/m2), 5 "
-        "hours of\ndirect sun.",
+        "OUTPUT\n       skysweep insolation --weather FILE [--sky-model M] [options] DEM... OUTPUT",
+        "Irradiation on each cell's slope with exact cast shadows. Clear sky over a time range "
+        "(ESRA,\nLinke turbidity): bands 1 global, 2 beam, 3 diffuse, 4 reflected (Wh/m2), 5 "
+        "hours of direct\nsun. Real sky from a weather file: the same five (kWh/m2, hours) for "
+        "the year, then the\nglobal of each month.",
         &set.common.device);
     if (rc >= 0)
         return rc;
@@ -295,46 +488,37 @@ int cmd_insolation(int argc, char **argv)
     memset(&steps, 0, sizeof steps);
     steps.job = &job;
     steps.set = &set;
+    ss_weather weather = {0};
+    int have_weather = 0;
+    char *text = NULL, weather_note[900] = "";
     ss_status st = SS_OK;
-    if (!set.common.time)
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--time START/END (or START/DURATION) is needed");
-    else if (!job.frame.georeferenced)
+    if (!job.frame.georeferenced)
         st = ss_ctx_error(ctx, SS_ERR_INPUT,
                           "the DEM has no CRS, so where the sun stands is unknown");
-    /* --time may carry its own /STEP; otherwise --step applies. */
-    char *text = NULL;
-    if (st == SS_OK) {
-        size_t len = strlen(set.common.time) + strlen(set.step) + 2;
-        text = malloc(len);
-        int slashes = 0;
-        for (const char *p = set.common.time; *p; ++p)
-            slashes += *p == '/';
-        snprintf(text, len, "%s%s%s", set.common.time, slashes == 1 ? "/" : "",
-                 slashes == 1 ? set.step : "");
-        st = ss_parse_time_range(ctx, text, &steps.range);
-        if (st == SS_OK && steps.range.count < 1)
-            st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                              "--time must be a range (START/END or START/DURATION)");
-        if (st == SS_OK && steps.range.count > 100000)
-            st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                              "%lld time steps is more than 100000: choose a longer --step",
-                              steps.range.count);
+    if (st == SS_OK && set.weather && job.source)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--weather evaluates the DEM held whole, and its %d x %d cells do not "
+                          "fit in --memory: give it more, or cut the DEM (gdal_translate "
+                          "-srcwin)",
+                          job.dem.grid.width, job.dem.grid.height);
+    if (st == SS_OK && set.weather) {
+        st = ss_weather_read(ctx, set.weather, &weather);
+        have_weather = st == SS_OK;
+        if (have_weather)
+            describe_weather(&weather, set.weather, &job.frame, weather_note,
+                             sizeof weather_note);
     }
     if (st == SS_OK)
+        st = make_steps(&steps, &set, have_weather ? &weather : NULL, &text);
+    if (st == SS_OK)
         st = parse_linke(ctx, set.linke, steps.linke);
-    int n_steps = st == SS_OK ? (int)steps.range.count : 0;
-    double *mids = st == SS_OK ? malloc(sizeof(double) * (size_t)n_steps) : NULL;
-    for (int k = 0; mids && k < n_steps; ++k) {
-        double a = ss_time_range_at(&steps.range, k), b = ss_time_range_at(&steps.range, k + 1);
-        mids[k] = 0.5 * (a + (b < steps.range.end_unix_s ? b : steps.range.end_unix_s));
-    }
-    if (st == SS_OK && !mids)
-        st = command_out_of_memory(&job.run);
+    int n_steps = st == SS_OK ? steps.n : 0;
     if (st == SS_OK) {
-        rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, mids,
+        rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, steps.mid_s,
                       set.shadow_mode ? SS_SHADOW_INTERPOLATED : SS_SHADOW_EXACT);
         if (rc >= 0) {
-            free(mids);
+            steps_free(&steps);
+            ss_weather_free(&weather);
             free(text);
             job_close(&job);
             return rc;
@@ -342,7 +526,6 @@ int cmd_insolation(int argc, char **argv)
         steps.sun_spread_deg =
             job.frame.diagonal_m / (2.0 * run_earth_radius(&set.common, &job.frame)) * 180 / M_PI;
     }
-    free(mids);
     const ss_grid *g = &job.dem.grid;
     size_t n = (size_t)g->width * (size_t)g->height;
     ss_insolation_out out = {0};
@@ -355,29 +538,28 @@ int cmd_insolation(int argc, char **argv)
     out.diffuse = bands[2];
     out.reflected = bands[3];
     out.sun_hours = bands[4];
+    if (st == SS_OK && have_weather && !(out.monthly_global = malloc(12 * n * sizeof(float))))
+        st = command_out_of_memory(&job.run);
     ss_raster_writer *w = NULL;
     step_sink_state sink = {NULL, &steps, SS_OK};
     /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
     if (st == SS_OK && share_rank() == 0)
-        st = ss_writer_open(ctx, job.output, &job.dem, 5, set.common.format,
-                            set.common.creation_options.items, &w);
+        st = ss_writer_open(ctx, job.output, &job.dem, have_weather ? WEATHER_BANDS : 5,
+                            set.common.format, set.common.creation_options.items, &w);
     if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
     if (st == SS_OK && set.steps_path) {
-        steps.labels = calloc((size_t)n_steps, sizeof(char *));
-        for (int k = 0; steps.labels && k < n_steps; ++k) {
-            steps.labels[k] = malloc(40);
-            if (steps.labels[k])
-                ss_format_instant(ss_time_range_at(&steps.range, k), steps.labels[k], 40);
-        }
         st = run_check_output(&job.run, set.steps_path, job.inputs, job.n_inputs);
         if (st == SS_OK)
             st = ss_writer_open(ctx, set.steps_path, &job.dem, n_steps, set.common.format,
                                 set.common.creation_options.items, &sink.w);
     }
-    ss_insolation_options io = {set.albedo,
-                                set.shadow_mode ? SS_SHADOW_INTERPOLATED : SS_SHADOW_EXACT,
-                                share_rank(), share_size()};
+    ss_insolation_options io = {.albedo = set.albedo,
+                                .shadow_mode = set.shadow_mode ? SS_SHADOW_INTERPOLATED
+                                                               : SS_SHADOW_EXACT,
+                                .first = share_rank(),
+                                .stride = share_size(),
+                                .sky_model = sky_model_of_choice[set.sky_model]};
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats band_stats = {0};
     if (st == SS_OK && job.source)
@@ -395,28 +577,53 @@ int cmd_insolation(int argc, char **argv)
         if (st == SS_OK && !mask)
             st = command_out_of_memory(&job.run);
         if (st == SS_OK)
-            st = add_shared(&job.run, bands, n, mask);
+            st = add_shared(&job.run, bands, 5, n, mask);
+        float *months[12];
+        for (int m = 0; m < 12 && out.monthly_global; ++m)
+            months[m] = out.monthly_global + (size_t)m * n;
+        if (st == SS_OK && out.monthly_global)
+            st = add_shared(&job.run, months, 12, n, mask);
         free(mask);
     }
+    double hours = 0;
+    for (int k = 0; k < n_steps; ++k)
+        hours += steps.hours[k];
     if (st == SS_OK && !job.source)
         run_stats(out.global, n, &lo, &mean, &hi);
     if (st == SS_OK && sink.status != SS_OK)
         st = sink.status;
-    char meta[300];
+    char meta[1400];
     if (st == SS_OK && w) {
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
         job_plan_metadata(&job, w);
-        snprintf(meta, sizeof meta,
-                 "%s, %d steps of %s evaluated at their middles; Linke %s; albedo %g; shadows "
-                 "%s; solar constant %g W/m2",
-                 text, n_steps, set.step, set.linke, set.albedo,
-                 set.shadow_mode ? "interpolated" : "exact", set.solar_constant);
+        if (have_weather)
+            snprintf(meta, sizeof meta,
+                     "%d weather records (%.0f h)%s%s; sky diffuse %s; albedo %g where the "
+                     "file gives none; shadows %s; solar constant %g W/m2; %s",
+                     n_steps, hours, text ? " inside " : "", text ? text : "",
+                     sky_model_names[set.sky_model], set.albedo,
+                     set.shadow_mode ? "interpolated" : "exact", set.solar_constant,
+                     weather_note);
+        else
+            snprintf(meta, sizeof meta,
+                     "%s, %d steps of %s evaluated at their middles; Linke %s; albedo %g; "
+                     "shadows %s; solar constant %g W/m2",
+                     text, n_steps, set.step, set.linke, set.albedo,
+                     set.shadow_mode ? "interpolated" : "exact", set.solar_constant);
         ss_writer_metadata(w, "INSOLATION", meta);
-        ss_writer_metadata(w, "MODEL",
-                           "ESRA clear sky (r.sun); sky diffuse by Muneer with the cell's "
-                           "radiative sky-view factor; reflected = albedo x global horizontal x "
-                           "(1 - sky view)");
-        for (int b = 0; b < 5 && st == SS_OK; ++b)
+        ss_writer_metadata(
+            w, "MODEL",
+            have_weather
+                ? "real sky from weather records: beam = DNI x cos(incidence) where lit; sky "
+                  "diffuse by the chosen model with the terrain (isotropic part x the cell's "
+                  "tilted sky-view factor, circumsolar part shaded like the beam, Perez's "
+                  "horizon band x the share the cell sees); reflected = albedo x GHI x (1 - sky "
+                  "view); sun hours where lit with DNI >= 120 W/m2 (doc/insolation.md)"
+                : "ESRA clear sky (r.sun); sky diffuse by Muneer with the cell's radiative "
+                  "sky-view factor; reflected = albedo x global horizontal x (1 - sky view)");
+        if (have_weather)
+            st = write_weather_bands(w, bands, out.monthly_global, n, hours);
+        for (int b = 0; b < 5 && st == SS_OK && !have_weather; ++b)
             if (job.source)
                 ss_writer_describe(w, b + 1, band_names[b], b == 4 ? "h" : "Wh/m2");
             else
@@ -438,6 +645,14 @@ int cmd_insolation(int argc, char **argv)
     if (st == SS_OK && !job.run.quiet) {
         ss_counters c = ss_ctx_counters(ctx);
         run_print_dem(&job.run, &job.dem, &job.frame);
+        if (have_weather)
+            printf("weather %s\n        %llu records missing, %llu split from GHI alone "
+                   "(Erbs), %llu with beam on the horizontal above the global (used as "
+                   "given), %llu with light while the sun is down (not used)\n",
+                   weather_note, (unsigned long long)c.records_missing,
+                   (unsigned long long)c.records_split,
+                   (unsigned long long)c.records_beam_above_global,
+                   (unsigned long long)c.records_light_at_night);
         command_print_job_sweep(&job, &band_stats);
         printf("steps   %d: %llu in daylight, %llu at night skipped, %llu shadow sweeps skipped "
                "(sun above every horizon)\n",
@@ -448,15 +663,20 @@ int cmd_insolation(int argc, char **argv)
             printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
                    "this one's), sums added at rank 0\n",
                    share_size());
-        printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi, job.output);
+        if (have_weather)
+            printf("global  min %.1f mean %.1f max %.1f kWh/m2 -> %s\n", lo / 1000.0,
+                   mean / 1000.0, hi / 1000.0, job.output);
+        else
+            printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi,
+                   job.output);
     }
     if (steps.have_field)
         ss_sun_field_free(&steps.field);
-    for (int k = 0; steps.labels && k < n_steps; ++k)
-        free(steps.labels[k]);
-    free(steps.labels);
+    steps_free(&steps);
+    ss_weather_free(&weather);
     for (int b = 0; b < 5; ++b)
         free(bands[b]);
+    free(out.monthly_global);
     free(text);
     job_close(&job);
     return rc;

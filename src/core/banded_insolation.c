@@ -130,6 +130,9 @@ static ss_status step_rows(void *user, int direction, int row0, int n_rows,
     ss_sun_step sun;
     if (st == SS_OK)
         st = r->io->sun_rows(r->ctx, k, row0, n_rows, &sun, r->io->user);
+    if (st == SS_OK && sun.real_sky)
+        st = ss_fail(r->ctx, SS_ERR_ARGUMENT,
+                     "weather records are evaluated on a DEM held whole, not in bands");
     if (st != SS_OK)
         return st;
     const float rad = (float)(M_PI / 180.0);
@@ -193,8 +196,11 @@ static ss_status band_done(void *user, int pass, int row0, int n_rows)
     for (int k = 0; k < N_SUMS; ++k)
         for (size_t c = 0; c < n; ++c)
             r->sums[(size_t)k * n + c] = isfinite(z[c]) ? r->sums[(size_t)k * n + c] : SS_NODATA;
-    ss_insolation_out rows = {r->sums + 3 * n, r->sums, r->sums + n, r->sums + 2 * n,
-                              r->sums + 4 * n};
+    ss_insolation_out rows = {.global = r->sums + 3 * n,
+                              .beam = r->sums,
+                              .diffuse = r->sums + n,
+                              .reflected = r->sums + 2 * n,
+                              .sun_hours = r->sums + 4 * n};
     if (st == SS_OK)
         st = r->io->write(r->io->user, row0, n_rows, &rows);
     for (size_t c = 0; c < n; ++c)

@@ -21,8 +21,66 @@
  * own error. */
 #define HORIZON_SCALE 100.0f
 
+_Static_assert(SS_SKY_MODEL_ISOTROPIC == SS_SKY_ISOTROPIC &&
+                   SS_SKY_MODEL_HAYDAVIES == SS_SKY_HAYDAVIES && SS_SKY_MODEL_PEREZ == SS_SKY_PEREZ,
+               "ss_sky_model and kernels/ss_sky_diffuse.h agree");
+
+/* Perez's horizon band as each cell sees it: over the sweep's directions,
+ * the share of the band in front of the cell's surface (each direction
+ * weighted by the cosine of its incidence on the cell) where the terrain
+ * horizon is at or below the horizontal. */
+typedef struct {
+    const ss_grid *g;
+    double grid_north_deg; /* the options' */
+    ss_cell_terms *terms;
+    float *open, *weight;
+} band_sums;
+
+static int add_band_direction(int index, double azimuth_deg, const float *angle_deg,
+                              const float *dist_m, const float *cast_height_m, void *user)
+{
+    (void)index, (void)dist_m, (void)cast_height_m;
+    band_sums *b = user;
+    size_t n = (size_t)b->g->width * b->g->height;
+    /* The options' frame: the cells' gradients are in the grid's. */
+    float az = (float)((azimuth_deg - b->grid_north_deg) * M_PI / 180.0);
+    float se = sinf(az), sn = cosf(az);
+    for (size_t c = 0; c < n; ++c) {
+        if (!isfinite(b->g->z[c]))
+            continue;
+        const ss_cell_terms *t = &b->terms[c];
+        float facing = ss_cos_incidence_gradient(se, sn, 0.0f, t->dz_de, t->dz_dn);
+        if (facing <= 0.0f)
+            continue;
+        b->weight[c] += facing;
+        if (angle_deg[c] <= 0.0f)
+            b->open[c] += facing;
+    }
+    return 1;
+}
+/* Sets every cell's band_seen from the horizons at the options'
+ * directions (one more sweep per direction: only Perez's model asks). */
+static ss_status horizon_band_seen(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
+                                   ss_cell_terms *terms)
+{
+    size_t n = (size_t)g->width * g->height;
+    band_sums b = {g, opt->grid_north_deg, terms, ss_calloc(n, sizeof(float)),
+                   ss_calloc(n, sizeof(float))};
+    ss_status st = b.open && b.weight
+                       ? ss_horizon(ctx, g, opt, 0, add_band_direction, &b)
+                       : ss_fail(ctx, SS_ERR_MEMORY,
+                                 "cannot allocate the horizon band's sums for %d x %d cells",
+                                 g->width, g->height);
+    for (size_t c = 0; st == SS_OK && c < n; ++c)
+        if (isfinite(g->z[c]))
+            terms[c].band_seen = b.weight[c] > 0.0f ? b.open[c] / b.weight[c] : 1.0f;
+    free(b.open);
+    free(b.weight);
+    return st;
+}
+
 /* Per-cell quantities that do not change with time (insolation_cell.h). */
-static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
+static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt, int perez,
                             ss_cell_terms **terms)
 {
     size_t n = (size_t)g->width * g->height;
@@ -50,7 +108,7 @@ static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_option
             t[k] = ss_cell_terms_of(dz_de, dz_dn, sky_view[k], g->z[k] + g->z_origin_m);
         }
     free(sky_view);
-    return SS_OK;
+    return perez ? horizon_band_seen(ctx, g, opt, t) : SS_OK;
 }
 
 /* Horizons at the D stored directions, int16 hundredths of a degree. */
@@ -91,8 +149,49 @@ static float stored_horizon(const int16_t *stored, size_t n, const ss_sweep_opti
            HORIZON_SCALE;
 }
 
+/* The step's weather record (W/m^2), or 0 where it is missing (counted).
+ * GHI alone is split by Erbs; a record whose beam on the horizontal exceeds
+ * its global is counted and used as given, one with light while the sun
+ * is below the horizontal over its whole interval (it moves at most 15
+ * degrees an hour) is counted and adds nothing. All at the grid's centre
+ * sun. *light: the record holds any light. */
+static int sky_record_of(ss_ctx *ctx, const ss_sun_step *sun, const ss_insolation_options *io,
+                         ss_sky_record *rec, int *light)
+{
+    double z = (90.0 - sun->elevation_deg) * M_PI / 180.0;
+    double ghi = sun->ghi_w_m2, dni = sun->dni_w_m2, dhi = sun->dhi_w_m2;
+    rec->dni_extra = (float)sun->extraterrestrial_w_m2;
+    rec->albedo = (float)(isfinite(sun->albedo) ? sun->albedo : io->albedo);
+    *light = 0;
+    if (isnan(dni) && isnan(dhi) && isfinite(ghi)) {
+        float b, d;
+        ss_erbs_split((float)ghi, (float)z, rec->dni_extra, &b, &d);
+        dni = b;
+        dhi = d;
+        ctx->counters.records_split++;
+    }
+    if (!isfinite(ghi) || !isfinite(dni) || !isfinite(dhi)) {
+        ctx->counters.records_missing++;
+        return 0;
+    }
+    rec->ghi = (float)ghi;
+    rec->dni = (float)dni;
+    rec->dhi = (float)dhi;
+    *light = ghi > 0 || dni > 0 || dhi > 0;
+    if (*light && sun->elevation_deg + sun->spread_deg < -7.5 * sun->duration_h) {
+        ctx->counters.records_light_at_night++;
+        *light = 0;
+    }
+    double cz = cos(z);
+    if (cz > 0 && dni * cz > ghi + fmax(10.0, 0.05 * ghi))
+        ctx->counters.records_beam_above_global++;
+    return 1;
+}
+
 ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps)
 {
+    if ((unsigned)io->sky_model > SS_SKY_MODEL_PEREZ)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown sky model %d", (int)io->sky_model);
     if (!(io->albedo >= 0 && io->albedo <= 1) || n_steps < 1 ||
         (io->shadow_mode != SS_SHADOW_EXACT && io->shadow_mode != SS_SHADOW_INTERPOLATED))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
@@ -127,7 +226,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     float *step_global = sink ? ss_malloc(n * sizeof(float)) : NULL;
     st = ss_product_begin(ctx, grid, opt, 1, &s);
     if (st == SS_OK)
-        st = make_terms(ctx, grid, opt, &terms);
+        st = make_terms(ctx, grid, opt, io->sky_model == SS_SKY_MODEL_PEREZ, &terms);
     if (st == SS_OK && sink && !step_global)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-step bands");
     if (st == SS_OK && io->shadow_mode == SS_SHADOW_INTERPOLATED)
@@ -136,6 +235,8 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
         float v = isfinite(grid->z[c]) ? 0.0f : SS_NODATA;
         out->global[c] = out->beam[c] = out->diffuse[c] = out->reflected[c] = v;
         out->sun_hours[c] = v;
+        for (int m = 0; out->monthly_global && m < 12; ++m)
+            out->monthly_global[(size_t)m * n + c] = v;
     }
     double bound_deg = ss_horizon_bound_deg(grid, opt->lines);
     for (int k = 0; k < n_steps && st == SS_OK; ++k) {
@@ -148,16 +249,22 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
         if (step_global)
             for (size_t c = 0; c < n; ++c)
                 step_global[c] = isfinite(grid->z[c]) ? 0.0f : SS_NODATA;
-        int night = sun.elevation_deg + sun.spread_deg <= 0.0;
-        if (night) {
+        ss_sky_record rec = {0};
+        int light = 0;
+        int missing = sun.real_sky && !sky_record_of(ctx, &sun, io, &rec, &light);
+        int sun_up = sun.elevation_deg + sun.spread_deg > 0.0;
+        if (missing) {
+            /* counted by sky_record_of */
+        } else if (!sun_up && !light) {
             ctx->counters.night_steps_skipped++;
         } else {
             ctx->counters.time_steps++;
-            /* Shadows: none can fall where the sun is above every horizon. */
+            /* Shadows: none can fall where the sun is above every horizon,
+             * and none is cast by a sun below every cell's horizontal. */
             float *h = NULL;
-            int all_lit = sun.apparent_elevation_deg - sun.spread_deg > bound_deg;
+            int all_lit = !sun_up || sun.apparent_elevation_deg - sun.spread_deg > bound_deg;
             if (all_lit) {
-                ctx->counters.shadow_sweeps_skipped++;
+                ctx->counters.shadow_sweeps_skipped += sun_up;
             } else if (io->shadow_mode == SS_SHADOW_EXACT) {
                 double t0 = ss_seconds_now();
                 st = ss_sun_horizon(s, grid, opt, sun.azimuth_deg, &h);
@@ -178,13 +285,18 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                                                    : (float)sun.elevation_deg) * rad;
                 float app = sun.apparent_per_cell ? sun.apparent_per_cell[c]
                                                   : (float)sun.apparent_elevation_deg;
-                if (h0 <= 0.0f)
+                if (h0 <= 0.0f && !sun.real_sky)
                     continue;
                 float horizon = all_lit ? -90.0f
                                 : h     ? h[c]
                                         : stored_horizon(stored, n, opt, c, sun.azimuth_deg);
-                ss_cell_step add = ss_cell_step_of(&terms[c], az, h0, app, horizon, g0, linke,
-                                                   albedo, dt);
+                ss_cell_step add =
+                    sun.real_sky
+                        ? ss_cell_step_weather(&terms[c], az, h0, app, horizon, &rec,
+                                               (int)io->sky_model, dt)
+                        : ss_cell_step_of(&terms[c], az, h0, app, horizon, g0, linke, albedo, dt);
+                if (out->monthly_global && sun.month >= 1 && sun.month <= 12)
+                    out->monthly_global[(size_t)(sun.month - 1) * n + c] += add.global;
                 out->beam[c] += add.beam;
                 out->diffuse[c] += add.diffuse;
                 out->reflected[c] += add.reflected;

@@ -1,20 +1,22 @@
-/* One cell's clear-sky irradiation for one time step, shared by the
- * whole-grid insolation (insolation.c) and the banded one
- * (banded_insolation.c), so that both compute the same function. */
+/* One cell's irradiation for one time step, clear-sky or from a weather
+ * record, shared by the whole-grid insolation (insolation.c) and the banded
+ * one (banded_insolation.c), so that both compute the same function. */
 #ifndef SS_INSOLATION_CELL_H
 #define SS_INSOLATION_CELL_H
 
 #include <math.h>
 
 #include "ss_insolation.h"
+#include "ss_sky_diffuse.h"
 #include "ss_sun.h"
 #include "ss_terms.h"
 
 /* What a cell keeps for every step: its gradient (Horn), the radiative
- * SVF of the tilted cell, Muneer's F(S), and the air pressure factor
- * exp(-z / 8434.5). */
+ * SVF of the tilted cell, Muneer's F(S), the air pressure factor
+ * exp(-z / 8434.5), the sine of its slope, and the share of Perez's horizon
+ * band in front of it that the terrain leaves open (1 unless computed). */
 typedef struct {
-    float dz_de, dz_dn, sky_view, slope_term, pressure_factor;
+    float dz_de, dz_dn, sky_view, slope_term, pressure_factor, sin_tilt, band_seen;
 } ss_cell_terms;
 
 /* The terms of a cell from its gradient, radiative SVF and height above
@@ -28,6 +30,8 @@ static inline ss_cell_terms ss_cell_terms_of(float dz_de, float dz_dn, float sky
     t.sky_view = sky_view;
     float slope = atanf(sqrtf(dz_de * dz_de + dz_dn * dz_dn));
     t.slope_term = ss_muneer_slope_term(slope);
+    t.sin_tilt = sinf(slope);
+    t.band_seen = 1.0f;
     /* Air pressure relative to sea level (ESRA's p/p0). No dry land lies
      * below -1000 m, and far below it the factor overflows: a DEM of
      * bathymetry or fill values gets the -1000 m air. */
@@ -73,6 +77,41 @@ static inline ss_cell_step ss_cell_step_of(const ss_cell_terms *t, float az, flo
     s.reflected = reflected * dt;
     s.global = (beam + diffuse + reflected) * dt;
     s.sun_hours = lit ? dt : 0.0f;
+    return s;
+}
+
+/* A weather record's irradiance for a step (W/m^2): global and diffuse
+ * horizontal, direct normal, extraterrestrial normal; the ground's albedo. */
+typedef struct {
+    float ghi, dni, dhi, dni_extra, albedo;
+} ss_sky_record;
+
+/* What one weather record adds to a cell, with the sky-diffuse model
+ * (ss_sky_diffuse.h); the sun as for ss_cell_step_of, which may here be
+ * below the horizontal. */
+static inline ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, float az, float h0,
+                                                float apparent_deg, float horizon_deg,
+                                                const ss_sky_record *rec, int model, float dt)
+{
+    ss_cell_step s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    float dni = fmaxf(rec->dni, 0.0f), dhi = fmaxf(rec->dhi, 0.0f), ghi = fmaxf(rec->ghi, 0.0f);
+    float se = cosf(h0) * sinf(az), sn = cosf(h0) * cosf(az);
+    float cos_i = ss_cos_incidence_gradient(se, sn, sinf(h0), t->dz_de, t->dz_dn);
+    int lit = h0 > 0.0f && apparent_deg > horizon_deg && cos_i > 0.0f;
+    float beam = lit ? dni * cos_i : 0.0f;
+    /* With the sun below the horizontal at the record's instant (the hour of
+     * sunrise or sunset), its diffuse light is taken as isotropic. */
+    float z = 0.5f * SS_PI_F - h0;
+    float diffuse = h0 > 0.0f ? ss_sky_diffuse(model, dhi, dni, rec->dni_extra, z, cos_i, lit,
+                                               t->sky_view, t->sin_tilt, t->band_seen)
+                              : dhi * t->sky_view;
+    float reflected = rec->albedo * ghi * (1.0f - t->sky_view);
+    s.beam = beam * dt;
+    s.diffuse = diffuse * dt;
+    s.reflected = reflected * dt;
+    s.global = (beam + diffuse + reflected) * dt;
+    /* Sunshine as the WMO counts it: direct normal of 120 W/m^2 or more. */
+    s.sun_hours = lit && dni >= 120.0f ? dt : 0.0f;
     return s;
 }
 

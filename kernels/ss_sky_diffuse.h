@@ -1,0 +1,106 @@
+/* Real-sky irradiance on a tilted cell in terrain, from a weather record's
+ * global and diffuse horizontal and direct normal irradiance (shared by
+ * kernels and C; doc/insolation.md, "Real sky"). The sky-diffuse models are
+ * pvlib's (irradiance.isotropic, haydavies, perez with the 1990 all-sites
+ * coefficients) with the terrain put in:
+ * - the isotropic part is seen through the cell's tilted sky-view factor
+ *   (Dozier & Frew 1990) instead of (1 + cos tilt) / 2;
+ * - the circumsolar part is shaded exactly like the beam;
+ * - Perez's horizon band counts for the share of it the cell sees;
+ * - the ground reflects albedo x GHI from the terrain the cell sees,
+ *   1 - sky view instead of (1 - cos tilt) / 2.
+ * On an open plane each term is pvlib's. Angles in radians, W/m^2. */
+#ifndef SS_SKY_DIFFUSE_H
+#define SS_SKY_DIFFUSE_H
+
+#include "ss_compat.h"
+
+#define SS_SKY_ISOTROPIC 0
+#define SS_SKY_HAYDAVIES 1
+#define SS_SKY_PEREZ 2
+
+/* Relative optical air mass (Kasten & Young 1989, pvlib's default) at the
+ * true zenith angle z < pi/2; not corrected for pressure, as Perez's
+ * model takes it. */
+SS_FN float ss_kasten_young_air_mass(float z)
+{
+    float zd = z * SS_DEG_PER_RAD_F;
+    return 1.0f / (SS_COS(z) + 0.50572f * SS_POW(96.07995f - zd, -1.6364f));
+}
+
+/* Perez et al. (1990) brightness coefficients F1 (circumsolar) and F2
+ * (horizon band), all-sites composite set, from the sky's clearness bin
+ * (epsilon), brightness (delta) and the zenith angle z, as pvlib. */
+SS_FN void ss_perez_coefficients(float dhi, float dni, float dni_extra, float z, float air_mass,
+                                 float *f1, float *f2)
+{
+    /* F11 F12 F13 F21 F22 F23 per clearness bin (Perez et al. 1990,
+     * table 6; pvlib's 'allsitescomposite1990'). */
+    const float c[8][6] = {{-0.0080f, 0.5880f, -0.0620f, -0.0600f, 0.0720f, -0.0220f},
+                           {0.1300f, 0.6830f, -0.1510f, -0.0190f, 0.0660f, -0.0290f},
+                           {0.3300f, 0.4870f, -0.2210f, 0.0550f, -0.0640f, -0.0260f},
+                           {0.5680f, 0.1870f, -0.2950f, 0.1090f, -0.1520f, -0.0140f},
+                           {0.8730f, -0.3920f, -0.3620f, 0.2260f, -0.4620f, 0.0010f},
+                           {1.1320f, -1.2370f, -0.4120f, 0.2880f, -0.8230f, 0.0560f},
+                           {1.0600f, -1.6000f, -0.3590f, 0.2640f, -1.1270f, 0.1310f},
+                           {0.6780f, -0.3270f, -0.2500f, 0.1560f, -1.3770f, 0.2510f}};
+    const float upper[7] = {1.065f, 1.23f, 1.5f, 1.95f, 2.8f, 4.5f, 6.2f};
+    float kz3 = 1.041f * z * z * z;
+    float eps = ((dhi + dni) / dhi + kz3) / (1.0f + kz3);
+    int bin = 0;
+    while (bin < 7 && eps >= upper[bin])
+        ++bin;
+    float delta = dhi * air_mass / dni_extra;
+    *f1 = SS_FMAX(c[bin][0] + c[bin][1] * delta + c[bin][2] * z, 0.0f);
+    *f2 = c[bin][3] + c[bin][4] * delta + c[bin][5] * z;
+}
+
+/* Sky-diffuse irradiance on the cell (W/m^2) by `model`:
+ * dhi, dni, dni_extra: the record's and the extraterrestrial normal;
+ * z: the sun's true zenith angle; cos_i: cosine of incidence on the cell
+ * (any sign); lit: 1 where the sun is above the cell's terrain horizon and
+ * in front of its surface; sky_view: the cell's tilted radiative SVF;
+ * sin_tilt: sine of its slope; band_seen: the share of the horizon band in
+ * front of the cell that its terrain leaves open (0..1). */
+SS_FN float ss_sky_diffuse(int model, float dhi, float dni, float dni_extra, float z, float cos_i,
+                           int lit, float sky_view, float sin_tilt, float band_seen)
+{
+    if (!(dhi > 0.0f))
+        return 0.0f;
+    float seen = lit ? SS_FMAX(cos_i, 0.0f) : 0.0f;
+    if (model == SS_SKY_HAYDAVIES) {
+        float ai = SS_FMIN(SS_FMAX(dni / dni_extra, 0.0f), 1.0f);
+        float rb = seen / SS_FMAX(SS_COS(z), 0.01745f);
+        return SS_FMAX(dhi * (1.0f - ai) * sky_view, 0.0f) + SS_FMAX(dhi * ai * rb, 0.0f);
+    }
+    if (model == SS_SKY_PEREZ) {
+        float f1, f2;
+        ss_perez_coefficients(dhi, dni, dni_extra, z, ss_kasten_young_air_mass(z), &f1, &f2);
+        float b = SS_FMAX(SS_COS(z), 0.087155743f); /* cos 85 deg */
+        return SS_FMAX(dhi * ((1.0f - f1) * sky_view + f1 * seen / b + f2 * sin_tilt * band_seen),
+                       0.0f);
+    }
+    return dhi * sky_view;
+}
+
+/* Erbs et al. (1982) split of a global horizontal irradiance into direct
+ * normal and diffuse horizontal, as pvlib.irradiance.erbs: clearness index
+ * against the extraterrestrial on the horizontal (cos z at least 0.065),
+ * no beam beyond z = 87 deg. */
+SS_FN void ss_erbs_split(float ghi, float z, float dni_extra, float *dni, float *dhi)
+{
+    float cz = SS_COS(z);
+    float kt = SS_FMIN(SS_FMAX(ghi / (dni_extra * SS_FMAX(cz, 0.065f)), 0.0f), 1.0f);
+    float df = kt <= 0.22f ? 1.0f - 0.09f * kt
+               : kt <= 0.8f
+                   ? 0.9511f + kt * (-0.1604f + kt * (4.388f + kt * (-16.638f + kt * 12.336f)))
+                   : 0.165f;
+    *dhi = df * ghi;
+    *dni = (ghi - *dhi) / cz;
+    if (z > 87.0f / SS_DEG_PER_RAD_F || ghi < 0.0f || *dni < 0.0f) {
+        *dni = 0.0f;
+        *dhi = ghi;
+    }
+}
+
+#endif
