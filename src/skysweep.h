@@ -88,6 +88,7 @@ typedef struct {
      * and with beam or diffuse while the sun is below the horizontal
      * (adding nothing). */
     uint64_t records_missing, records_split, records_beam_above_global, records_light_at_night;
+    uint64_t records_without_temperature; /* PV yield: the options' air temperature or wind used */
 } ss_counters;
 ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
@@ -345,6 +346,19 @@ typedef enum {
     SS_SKY_MODEL_PEREZ = 2      /* Perez et al. 1990: circumsolar and a horizon band */
 } ss_sky_model;
 
+/* PV yield, PVWatts-style (doc/insolation.md, "PV yield"): DC energy per
+ * kWp of modules lying in each cell's surface, from the plane-of-array
+ * global of weather records, the cell temperature and a temperature
+ * coefficient, less system losses. */
+typedef enum { SS_PV_TEMP_FAIMAN = 0, SS_PV_TEMP_SAPM = 1 } ss_pv_temp_model;
+typedef struct {
+    int on;
+    double gamma_pdc;        /* 1/K, e.g. -0.0047 (PVWatts' standard module) */
+    ss_pv_temp_model temp_model;
+    double losses;           /* fraction of DC energy lost, 0..1 */
+    double temp_air_c, wind_speed_m_s; /* where a record gives none */
+} ss_pv_options;
+
 typedef struct {
     double albedo;             /* ground reflectance for the reflected term, 0..1 */
     ss_shadow_mode shadow_mode;
@@ -352,6 +366,7 @@ typedef struct {
                                   or 1: all);
                                   the others add nothing and reach no step sink */
     ss_sky_model sky_model;    /* for weather records */
+    ss_pv_options pv;          /* for weather records */
 } ss_insolation_options;
 
 /* The sun for one time step, supplied by the caller (who knows where the
@@ -374,6 +389,7 @@ typedef struct {
      * none) for the monthly sums. */
     int real_sky;
     double ghi_w_m2, dni_w_m2, dhi_w_m2, albedo;
+    double temp_air_c, wind_speed_m_s; /* NAN: the PV options' */
     int month;
 } ss_sun_step;
 
@@ -386,6 +402,7 @@ typedef struct {
     float *global, *beam, *diffuse, *reflected; /* Wh/m^2 over all steps */
     float *sun_hours; /* hours the cell's surface received direct sun */
     float *monthly_global; /* NULL, or 12 planes: the global of steps in January..December */
+    float *pv_yield;       /* NULL, or kWh/kWp (options' pv.on, weather records) */
 } ss_insolation_out;
 
 /* Clear-sky irradiation (ESRA with Linke turbidity, as GRASS r.sun; sky

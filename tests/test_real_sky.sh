@@ -3,8 +3,10 @@
 # each record's plane-of-array irradiance equals pvlib's
 # get_total_irradiance for the same sun, weather, surface and sky model
 # (isotropic, haydavies, perez), within 0.5 % or 1 W/m^2; a GHI-only file is
-# split by Erbs as pvlib does; the outputs carry the year and the months in
-# kWh/m2, and their sums agree; missing records add nothing and are counted.
+# split by Erbs as pvlib does; over a year the annual and monthly sums and
+# the PV yield (kWh/kWp) equal pvlib's within 0.5 %; the outputs carry the
+# year and the months in kWh/m2, and their sums agree; missing records add
+# nothing and are counted.
 # The planes lie at the PVGIS file's site (45 N, 8 E). pvlib comparisons
 # skip, saying why, without pvlib or the shared weather files.
 set -u
@@ -40,6 +42,18 @@ for model in isotropic haydavies perez; do
     poa east20.tif 20 90 $model 2009-03-20T00:00Z/P3D
 done
 poa level.tif 0 0 perez 2006-06-10T00:00Z/P2D
+
+# A year: the annual and monthly sums and the PV yield (--pv, Faiman and
+# SAPM cell temperatures) against pvlib's per-record sums.
+for temp_model in faiman sapm; do
+    if [ -n "$reason" ]; then
+        tap_skip "a year on south30.tif ($temp_model) sums as pvlib's" "$reason"
+        continue
+    fi
+    "$python" "$top/tests/pvlib/year_open_plane.py" "$SKYSWEEP" "$pvgis" south30.tif 30 180 \
+        perez $temp_model "$work" >year.out 2>&1
+    tap_ok $? "a year on south30.tif, $temp_model: $(grep -c '^ok' year.out) sums agree; $(grep -v '^ok' year.out | head -c 300) $(grep 'PV yield' year.out)"
+done
 
 # GHI alone: the records of June from the PVGIS file without beam and diffuse.
 if [ -f "$pvgis" ]; then
@@ -88,4 +102,8 @@ tap_ok $? "a missing weather file is refused: exit $rc, $(cat err.txt)"
 rc=$?
 [ "$rc" -eq 2 ] && grep -q "no record" err.txt && [ ! -e o.tif ]
 tap_ok $? "--time outside the records is refused: exit $rc, $(cat err.txt)"
+"$SKYSWEEP" insolation --pv --time 2026-06-21T00:00Z/P1D level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && grep -q -- "--pv needs --weather" err.txt && [ ! -e o.tif ]
+tap_ok $? "--pv without weather is refused: exit $rc, $(cat err.txt)"
 tap_done

@@ -31,6 +31,9 @@ typedef struct {
     double solar_constant;
     const char *weather;
     int sky_model; /* index into "perez|haydavies|isotropic" */
+    int pv;
+    double gamma_pdc, losses_percent, temp_air_c, wind_speed_m_s;
+    int temperature_model; /* index into "faiman|sapm" */
 } insolation_settings;
 
 static const ss_sky_model sky_model_of_choice[] = {SS_SKY_MODEL_PEREZ, SS_SKY_MODEL_HAYDAVIES,
@@ -58,6 +61,22 @@ static const opt_spec insolation_options[] = {
      "kWh/m2 for the year and each month (doc/insolation.md)"},
     {"sky-model", OPT_CHOICE, SET(sky_model), NULL, "perez", 0, 0, "perez|haydavies|isotropic",
      "with --weather: sky diffuse on the tilted cell, with the terrain (doc/insolation.md)"},
+    {"pv", OPT_FLAG, SET(pv), NULL, NULL, 0, 0, NULL,
+     "with --weather: add the PV yield (kWh/kWp) of modules lying in each cell's surface, "
+     "PVWatts-style as pvlib"},
+    {"gamma-pdc", OPT_DOUBLE, SET(gamma_pdc), "1/K", "-0.0047", -0.05, 0.05, NULL,
+     "with --pv: the modules' power temperature coefficient (PVWatts' standard module)"},
+    {"temperature-model", OPT_CHOICE, SET(temperature_model), NULL, "faiman", 0, 0,
+     "faiman|sapm",
+     "with --pv: cell temperature (pvlib.temperature.faiman, or sapm_cell open rack "
+     "glass/glass)"},
+    {"losses", OPT_DOUBLE, SET(losses_percent), "PERCENT", "11.42", 0, 99, NULL,
+     "with --pv: system losses; pvlib's pvwatts_losses without its 3 % for shading, which the "
+     "terrain gives exactly"},
+    {"temp-air", OPT_DOUBLE, SET(temp_air_c), "C", "20", -90, 70, NULL,
+     "with --pv: air temperature where a record gives none"},
+    {"wind-speed", OPT_DOUBLE, SET(wind_speed_m_s), "M/S", "0", 0, 99, NULL,
+     "with --pv: wind speed where a record gives none"},
     OPT_END};
 
 /* The run's time steps: each one's instant (where the sun is taken) and
@@ -154,6 +173,8 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
         step->dni_w_m2 = rec->dni;
         step->dhi_w_m2 = rec->dhi;
         step->albedo = rec->albedo;
+        step->temp_air_c = rec->temp_air_c;
+        step->wind_speed_m_s = rec->wind_speed_m_s;
         step->month = ss->month[k];
     }
     return SS_OK;
@@ -423,19 +444,26 @@ static void describe_weather(const ss_weather *w, const char *path, const ss_dem
         snprintf(buf + n, size - (size_t)n, "; %s", w->stamps);
 }
 
-/* Bands of a weather run: the five sums, then the global of each month. */
+/* Bands of a weather run: the five sums, the global of each month, then
+ * (--pv) the PV yield. */
 #define WEATHER_BANDS 17
 static const char *const month_names[12] = {"January", "February", "March",     "April",
                                             "May",     "June",     "July",      "August",
                                             "September", "October", "November", "December"};
 
-/* Writes a weather run's bands in kWh/m^2 (hours stay hours), named for
- * the year where the steps cover one (8700 to 8800 hours), else "period". */
+/* Writes a weather run's bands in kWh/m^2 (hours stay hours, the PV yield
+ * is kWh/kWp already), named for the year where the steps cover one (8700
+ * to 8800 hours), else "period". */
 static ss_status write_weather_bands(ss_raster_writer *w, float *const bands[5], float *monthly,
-                                     size_t n, double hours)
+                                     float *pv_yield, size_t n, double hours)
 {
     const char *span = hours >= 8700 && hours <= 8800 ? "year" : "period";
     ss_status st = SS_OK;
+    if (pv_yield) {
+        char name[64];
+        snprintf(name, sizeof name, "pv_yield, %s", span);
+        st = ss_writer_band(w, WEATHER_BANDS + 1, pv_yield, name, "kWh/kWp");
+    }
     for (int b = 0; b < WEATHER_BANDS && st == SS_OK; ++b) {
         float *v = b < 5 ? bands[b] : monthly + (size_t)(b - 5) * n;
         if (b != 4)
@@ -540,11 +568,17 @@ int cmd_insolation(int argc, char **argv)
     out.sun_hours = bands[4];
     if (st == SS_OK && have_weather && !(out.monthly_global = malloc(12 * n * sizeof(float))))
         st = command_out_of_memory(&job.run);
+    if (st == SS_OK && set.pv && !have_weather)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--pv needs --weather (air temperature and "
+                                                "real-sky irradiance)");
+    if (st == SS_OK && set.pv && !(out.pv_yield = malloc(n * sizeof(float))))
+        st = command_out_of_memory(&job.run);
     ss_raster_writer *w = NULL;
     step_sink_state sink = {NULL, &steps, SS_OK};
     /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
     if (st == SS_OK && share_rank() == 0)
-        st = ss_writer_open(ctx, job.output, &job.dem, have_weather ? WEATHER_BANDS : 5,
+        st = ss_writer_open(ctx, job.output, &job.dem,
+                            have_weather ? WEATHER_BANDS + (set.pv != 0) : 5,
                             set.common.format, set.common.creation_options.items, &w);
     if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
@@ -559,7 +593,14 @@ int cmd_insolation(int argc, char **argv)
                                                                : SS_SHADOW_EXACT,
                                 .first = share_rank(),
                                 .stride = share_size(),
-                                .sky_model = sky_model_of_choice[set.sky_model]};
+                                .sky_model = sky_model_of_choice[set.sky_model],
+                                .pv = {.on = set.pv,
+                                       .gamma_pdc = set.gamma_pdc,
+                                       .temp_model = set.temperature_model ? SS_PV_TEMP_SAPM
+                                                                           : SS_PV_TEMP_FAIMAN,
+                                       .losses = set.losses_percent / 100.0,
+                                       .temp_air_c = set.temp_air_c,
+                                       .wind_speed_m_s = set.wind_speed_m_s}};
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats band_stats = {0};
     if (st == SS_OK && job.source)
@@ -583,6 +624,8 @@ int cmd_insolation(int argc, char **argv)
             months[m] = out.monthly_global + (size_t)m * n;
         if (st == SS_OK && out.monthly_global)
             st = add_shared(&job.run, months, 12, n, mask);
+        if (st == SS_OK && out.pv_yield)
+            st = add_shared(&job.run, &out.pv_yield, 1, n, mask);
         free(mask);
     }
     double hours = 0;
@@ -621,8 +664,20 @@ int cmd_insolation(int argc, char **argv)
                   "view); sun hours where lit with DNI >= 120 W/m2 (doc/insolation.md)"
                 : "ESRA clear sky (r.sun); sky diffuse by Muneer with the cell's radiative "
                   "sky-view factor; reflected = albedo x global horizontal x (1 - sky view)");
+        if (set.pv) {
+            char pv[400];
+            snprintf(pv, sizeof pv,
+                     "DC yield per kWp of modules in each cell's surface (pvlib pvwatts_dc, pdc0 = "
+                     "1): plane-of-array global, no reflection or spectral losses; cell "
+                     "temperature by %s from the records' air temperature and wind (%g C, %g m/s "
+                     "where they give none); gamma_pdc %g /K; system losses %g %%",
+                     set.temperature_model ? "sapm_cell (open rack glass/glass)"
+                                           : "faiman (u0 25, u1 6.84)",
+                     set.temp_air_c, set.wind_speed_m_s, set.gamma_pdc, set.losses_percent);
+            ss_writer_metadata(w, "PV", pv);
+        }
         if (have_weather)
-            st = write_weather_bands(w, bands, out.monthly_global, n, hours);
+            st = write_weather_bands(w, bands, out.monthly_global, out.pv_yield, n, hours);
         for (int b = 0; b < 5 && st == SS_OK && !have_weather; ++b)
             if (job.source)
                 ss_writer_describe(w, b + 1, band_names[b], b == 4 ? "h" : "Wh/m2");
@@ -666,6 +721,15 @@ int cmd_insolation(int argc, char **argv)
         if (have_weather)
             printf("global  min %.1f mean %.1f max %.1f kWh/m2 -> %s\n", lo / 1000.0,
                    mean / 1000.0, hi / 1000.0, job.output);
+        if (out.pv_yield) {
+            double pv_lo, pv_mean, pv_hi;
+            run_stats(out.pv_yield, n, &pv_lo, &pv_mean, &pv_hi);
+            printf("pv      min %.1f mean %.1f max %.1f kWh/kWp (band %d); %llu records without "
+                   "air temperature or wind took %g C, %g m/s\n",
+                   pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 1,
+                   (unsigned long long)c.records_without_temperature, set.temp_air_c,
+                   set.wind_speed_m_s);
+        }
         else
             printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi,
                    job.output);
@@ -677,6 +741,7 @@ int cmd_insolation(int argc, char **argv)
     for (int b = 0; b < 5; ++b)
         free(bands[b]);
     free(out.monthly_global);
+    free(out.pv_yield);
     free(text);
     job_close(&job);
     return rc;

@@ -21,6 +21,8 @@
  * own error. */
 #define HORIZON_SCALE 100.0f
 
+_Static_assert(SS_PV_TEMP_FAIMAN == SS_PV_CELL_TEMP_FAIMAN && SS_PV_TEMP_SAPM == SS_PV_CELL_TEMP_SAPM,
+               "ss_pv_temp_model and kernels/ss_pv.h agree");
 _Static_assert(SS_SKY_MODEL_ISOTROPIC == SS_SKY_ISOTROPIC &&
                    SS_SKY_MODEL_HAYDAVIES == SS_SKY_HAYDAVIES && SS_SKY_MODEL_PEREZ == SS_SKY_PEREZ,
                "ss_sky_model and kernels/ss_sky_diffuse.h agree");
@@ -192,6 +194,15 @@ ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int 
 {
     if ((unsigned)io->sky_model > SS_SKY_MODEL_PEREZ)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown sky model %d", (int)io->sky_model);
+    const ss_pv_options *pv = &io->pv;
+    if (pv->on && (!(pv->gamma_pdc > -0.05 && pv->gamma_pdc < 0.05) || !(pv->losses >= 0 && pv->losses < 1) ||
+                   (unsigned)pv->temp_model > SS_PV_TEMP_SAPM || !(fabs(pv->temp_air_c) < 100) ||
+                   !(pv->wind_speed_m_s >= 0 && pv->wind_speed_m_s < 100)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "PV yield needs a temperature coefficient within +-0.05 /K, losses in "
+                       "0..1, a temperature model, and a plausible air temperature and wind "
+                       "(gamma %g, losses %g, %g C, %g m/s)",
+                       pv->gamma_pdc, pv->losses, pv->temp_air_c, pv->wind_speed_m_s);
     if (!(io->albedo >= 0 && io->albedo <= 1) || n_steps < 1 ||
         (io->shadow_mode != SS_SHADOW_EXACT && io->shadow_mode != SS_SHADOW_INTERPOLATED))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
@@ -237,6 +248,8 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
         out->sun_hours[c] = v;
         for (int m = 0; out->monthly_global && m < 12; ++m)
             out->monthly_global[(size_t)m * n + c] = v;
+        if (out->pv_yield)
+            out->pv_yield[c] = v;
     }
     double bound_deg = ss_horizon_bound_deg(grid, opt->lines);
     for (int k = 0; k < n_steps && st == SS_OK; ++k) {
@@ -274,6 +287,13 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                 break;
             const float rad = (float)(M_PI / 180.0);
             float g0 = (float)sun.extraterrestrial_w_m2, linke = (float)sun.linke;
+            int pv_on = out->pv_yield && sun.real_sky && io->pv.on;
+            if (pv_on && (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
+                ctx->counters.records_without_temperature++;
+            float temp_air = (float)(isnan(sun.temp_air_c) ? io->pv.temp_air_c : sun.temp_air_c);
+            float wind = (float)(isnan(sun.wind_speed_m_s) ? io->pv.wind_speed_m_s
+                                                            : sun.wind_speed_m_s);
+            float gamma = (float)io->pv.gamma_pdc, losses = (float)io->pv.losses;
             float dt = (float)sun.duration_h, albedo = (float)io->albedo;
 #pragma omp parallel for schedule(static)
             for (size_t c = 0; c < n; ++c) {
@@ -297,6 +317,10 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                         : ss_cell_step_of(&terms[c], az, h0, app, horizon, g0, linke, albedo, dt);
                 if (out->monthly_global && sun.month >= 1 && sun.month <= 12)
                     out->monthly_global[(size_t)(sun.month - 1) * n + c] += add.global;
+                if (pv_on && dt > 0.0f)
+                    out->pv_yield[c] += ss_cell_pv_yield(add.global / dt, temp_air, wind,
+                                                         (int)io->pv.temp_model, gamma, losses,
+                                                         dt);
                 out->beam[c] += add.beam;
                 out->diffuse[c] += add.diffuse;
                 out->reflected[c] += add.reflected;

@@ -7,6 +7,7 @@
 #include <math.h>
 
 #include "ss_insolation.h"
+#include "ss_pv.h"
 #include "ss_sky_diffuse.h"
 #include "ss_sun.h"
 #include "ss_terms.h"
@@ -113,6 +114,15 @@ static inline ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, float az
     /* Sunshine as the WMO counts it: direct normal of 120 W/m^2 or more. */
     s.sun_hours = lit && dni >= 120.0f ? dt : 0.0f;
     return s;
+}
+
+/* What a PV module lying in the cell's surface yields over a step, kWh per
+ * kWp, from the step's plane-of-array global (W/m^2) and weather. */
+static inline float ss_cell_pv_yield(float poa, float temp_air, float wind, int temp_model,
+                                     float gamma_pdc, float losses, float dt)
+{
+    float cell = ss_pv_cell_temp(temp_model, poa, temp_air, wind);
+    return fmaxf(ss_pvwatts_dc_per_kwp(poa, cell, gamma_pdc), 0.0f) * (1.0f - losses) * dt;
 }
 
 #endif
