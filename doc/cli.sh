@@ -57,7 +57,7 @@ HEAD
 for command in svf horizon shadow hillshade insolation render quicklook; do
     "$skysweep" "$command" --help-markdown 2>/dev/null || true
 done
-for command in sun info; do
+for command in sun weather info; do
     printf '## `%s`\n\n```\n' "$command"
     "$skysweep" "$command" --help
     printf '```\n\n'
