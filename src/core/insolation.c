@@ -27,10 +27,12 @@ _Static_assert(SS_SKY_MODEL_ISOTROPIC == SS_SKY_ISOTROPIC &&
                    SS_SKY_MODEL_HAYDAVIES == SS_SKY_HAYDAVIES && SS_SKY_MODEL_PEREZ == SS_SKY_PEREZ,
                "ss_sky_model and kernels/ss_sky_diffuse.h agree");
 
-/* Perez's horizon band as each cell sees it: over the sweep's directions,
- * the share of the band in front of the cell's surface (each direction
- * weighted by the cosine of its incidence on the cell) where the terrain
- * horizon is at or below the horizontal. */
+/* Perez's horizon band as each cell sees it: the band spans the 6.5
+ * degrees above the horizontal (Perez et al. 1987); in each of the sweep's
+ * directions the terrain horizon hides its lowest part, and the shares left
+ * open are averaged over the directions in front of the cell's surface,
+ * each weighted by the cosine of its incidence on the cell. */
+#define PEREZ_BAND_DEG 6.5f
 typedef struct {
     const ss_grid *g;
     double grid_north_deg; /* the options' */
@@ -55,8 +57,7 @@ static int add_band_direction(int index, double azimuth_deg, const float *angle_
         if (facing <= 0.0f)
             continue;
         b->weight[c] += facing;
-        if (angle_deg[c] <= 0.0f)
-            b->open[c] += facing;
+        b->open[c] += facing * fminf(fmaxf(1.0f - angle_deg[c] / PEREZ_BAND_DEG, 0.0f), 1.0f);
     }
     return 1;
 }
