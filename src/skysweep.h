@@ -479,6 +479,15 @@ typedef struct {
     double earth_radius_m;
 } ss_place;
 
+/* Insolation from weather records, for the plan to say: what they are
+ * (NULL: clear sky), how far their site lies from the DEM's centre (km;
+ * NAN: the file names none), and whether Perez's horizon band is swept. */
+typedef struct {
+    const char *what;
+    double distance_km;
+    int horizon_band;
+} ss_plan_weather;
+
 typedef struct {
     ss_product product;
     double horizon_tolerance_deg; /* horizon angles, shadows, azimuths */
@@ -492,6 +501,7 @@ typedef struct {
     ss_shadow_mode shadow_mode;
     int n_steps;                /* time steps (shadow, insolation) ... */
     const double *step_unix_s;  /* ... and the instants they are evaluated at */
+    ss_plan_weather weather;    /* insolation: zeros for the clear sky */
 } ss_plan_request;
 
 #define SS_PLAN_MAX_ITEMS 12

@@ -423,6 +423,15 @@ static double distance_km(double lon1, double lat1, double lon2, double lat2)
     return 2.0 * 6371.0088 * asin(sqrt(fmin(1.0, h)));
 }
 
+/* How far the weather file's site lies from the DEM's centre (km), NAN
+ * where it names none. */
+static double weather_distance_km(const ss_weather *w, const ss_dem_frame *frame)
+{
+    return w->has_site ? distance_km(w->longitude_deg, w->latitude_deg, frame->centre_lon_deg,
+                                     frame->centre_lat_deg)
+                       : NAN;
+}
+
 /* The weather file's summary: format, site and its distance from the DEM,
  * what the stamps mean. */
 static void describe_weather(const ss_weather *w, const char *path, const ss_dem_frame *frame,
@@ -431,8 +440,7 @@ static void describe_weather(const ss_weather *w, const char *path, const ss_dem
     int n = snprintf(buf, size, "%s '%s', %zu records (%zu with a value missing)",
                      w->format_name, path, w->n, w->missing);
     if (w->has_site && n > 0 && (size_t)n < size) {
-        double km = distance_km(w->longitude_deg, w->latitude_deg, frame->centre_lon_deg,
-                                frame->centre_lat_deg);
+        double km = weather_distance_km(w, frame);
         n += snprintf(buf + n, size - (size_t)n,
                       "; site %.4f, %.4f (lon, lat), %.1f km from the DEM's centre%s",
                       w->longitude_deg, w->latitude_deg, km,
@@ -518,7 +526,7 @@ int cmd_insolation(int argc, char **argv)
     steps.set = &set;
     ss_weather weather = {0};
     int have_weather = 0;
-    char *text = NULL, weather_note[900] = "";
+    char *text = NULL, weather_note[900] = "", weather_what[300] = "";
     ss_status st = SS_OK;
     if (!job.frame.georeferenced)
         st = ss_ctx_error(ctx, SS_ERR_INPUT,
@@ -532,9 +540,15 @@ int cmd_insolation(int argc, char **argv)
     if (st == SS_OK && set.weather) {
         st = ss_weather_read(ctx, set.weather, &weather);
         have_weather = st == SS_OK;
-        if (have_weather)
+        if (have_weather) {
             describe_weather(&weather, set.weather, &job.frame, weather_note,
                              sizeof weather_note);
+            snprintf(weather_what, sizeof weather_what, "%s '%s'", weather.format_name,
+                     set.weather);
+            job.weather = (ss_plan_weather){
+                weather_what, weather_distance_km(&weather, &job.frame),
+                sky_model_of_choice[set.sky_model] == SS_SKY_MODEL_PEREZ};
+        }
     }
     if (st == SS_OK)
         st = make_steps(&steps, &set, have_weather ? &weather : NULL, &text);

@@ -24,7 +24,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
         double h = job->dem.grid.height * job->dem.grid.cell_y_m;
         place.diagonal_m = sqrt(w * w + h * h);
     }
-    ss_plan_request req;
+    ss_plan_request req = {.weather = job->weather};
     req.product = product;
     req.horizon_tolerance_deg = common->horizon_tolerance_deg;
     req.svf_tolerance = common->svf_tolerance;

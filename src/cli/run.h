@@ -120,6 +120,7 @@ typedef struct {
     band_cost band; /* what a band holds, for its size and the summary */
     unsigned char *rows_counted; /* rows whose nodata cells are counted (bands reread rows) */
     ss_svf_definition svf_definition; /* what the planner chooses directions for (svf) */
+    ss_plan_weather weather;          /* insolation from weather records (the plan says so) */
 } sweep_job;
 
 /* Starts the run, refuses an output that is an input, reads the DEM and its

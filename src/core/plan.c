@@ -197,8 +197,9 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
     if (r->product == SS_PRODUCT_INSOLATION)
         add(p, "night_steps", 1, 0, "",
             "%d of %d time steps have the sun below the horizontal at every cell: skipped "
-            "exactly",
-            p->steps_night, r->n_steps);
+            "exactly%s",
+            p->steps_night, r->n_steps,
+            r->weather.what ? ", unless their record holds light (then isotropic diffuse)" : "");
     if (bound_deg >= 90.0)
         add(p, "shadow_sweeps", 1, 0, "",
             "the DEM is read in bands, so no bound on its horizons is known: every one of the "
@@ -245,6 +246,21 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
             "insolation needs the sky each cell sees: one radiative SVF sweep over %d "
             "directions for the diffuse and reflected terms",
             p->directions);
+    const ss_plan_weather *w = &r->weather;
+    if (r->product == SS_PRODUCT_INSOLATION && w->what) {
+        if (isnan(w->distance_km))
+            add(p, "weather", 1, 0, "", "real sky from %s, which names no site", w->what);
+        else
+            add(p, "weather", 1, 0, "", "real sky from %s, whose site lies %.1f km from the DEM's "
+                "centre%s", w->what, w->distance_km,
+                w->distance_km > 50 ? ": farther than 50 km, its weather may not be the DEM's"
+                                    : "");
+    }
+    if (r->product == SS_PRODUCT_INSOLATION && w->what && w->horizon_band)
+        add(p, "horizon_band", 1, 0, "",
+            "Perez's sky: one more sweep over %d directions for the share of its horizon band "
+            "each cell sees",
+            p->directions);
 
     /* Work: sweeps of all cells, then per-cell arithmetic for each step. */
     double sweeps = 0;
@@ -263,7 +279,8 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     case SS_PRODUCT_INSOLATION:
         sweeps = p->directions + (r->shadow_mode == SS_SHADOW_INTERPOLATED
                                       ? p->directions
-                                      : daylight - p->steps_high_sun);
+                                      : daylight - p->steps_high_sun) +
+                 (r->weather.what && r->weather.horizon_band ? p->directions : 0);
         break;
     }
     p->sweeps = (int)sweeps;
