@@ -597,7 +597,7 @@ static ss_status read_psm(reader *r)
             if (cols[k] >= 0 && !number(f[cols[k]], &v[k]))
                 return fail_at(r, i, "a value of a PSM record is not a number");
         }
-        if (v[0] != floor(v[0]) || v[1] < 1 || v[1] > 12 || v[2] < 1 ||
+        if (v[0] != floor(v[0]) || fabs(v[0]) > 9999 || v[1] < 1 || v[1] > 12 || v[2] < 1 ||
             v[2] > ss_days_in_month((long long)v[0], (int)v[1]) || v[3] < 0 || v[3] > 23 ||
             v[4] < 0 || v[4] > 59)
             return fail_at(r, i, "a PSM record's date or time is not valid");
