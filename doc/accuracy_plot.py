@@ -544,6 +544,10 @@ def main():
                          fmt(r["seconds"]), fmt(ms_per_mcell(r) / 1000)])
         w(table(["setting", "step (min) or D", "global error % mean / p95 / max",
                  "sun hours error (h) mean / p95", "time (s)", "s per Mcell"], body) + "\n")
+        w("For a year of weather records, the cumulative sky (`--shadow cumulative`) replaces "
+          "the shadow sweeps by the directions' stored horizons; its error against the exact "
+          "hourly run and its time, per resolution, are in `doc/cumulative_sky.md` "
+          "(`doc/cumulative_sky.sh`).\n\n")
 
     eff = [r for r in d.rows if r["study"] == "effects"]
     if eff:

@@ -89,6 +89,7 @@ typedef struct {
      * (adding nothing). */
     uint64_t records_missing, records_split, records_beam_above_global, records_light_at_night;
     uint64_t records_without_temperature; /* PV yield: the options' air temperature or wind used */
+    uint64_t sun_bins; /* the cumulative sky's occupied bins of suns */
 } ss_counters;
 ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
@@ -334,8 +335,11 @@ double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines);
 /* ---- insolation --------------------------------------------------------- */
 
 typedef enum {
-    SS_SHADOW_EXACT = 0,       /* a sweep at every daylight step's sun azimuth */
-    SS_SHADOW_INTERPOLATED = 1 /* horizons stored at the sweep's directions, interpolated */
+    SS_SHADOW_EXACT = 0,        /* a sweep at every daylight step's sun azimuth */
+    SS_SHADOW_INTERPOLATED = 1, /* horizons stored at the sweep's directions, interpolated */
+    SS_SHADOW_CUMULATIVE = 2    /* weather records only: the suns binned by direction and
+                                   elevation, each bin lit or not at its direction's stored
+                                   horizon (doc/insolation.md, "Cumulative sky") */
 } ss_shadow_mode;
 
 /* Sky diffuse on a tilted cell for weather records (doc/insolation.md,
@@ -367,6 +371,7 @@ typedef struct {
                                   the others add nothing and reach no step sink */
     ss_sky_model sky_model;    /* for weather records */
     ss_pv_options pv;          /* for weather records */
+    double elevation_step_deg; /* cumulative sky: height of a sun bin (0: 1 degree) */
 } ss_insolation_options;
 
 /* The sun for one time step, supplied by the caller (who knows where the

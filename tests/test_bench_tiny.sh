@@ -4,7 +4,8 @@
 # a minute. Passes when the script exits 0, every skysweep measurement in its
 # table succeeded, and every peer that ran was compared with skysweep; skips
 # when the benchmark's own prerequisites (/usr/bin/time, gdal_translate,
-# python3-gdal) are missing, as the script itself does.
+# python3-gdal) are missing, as the script itself does. Then the cumulative
+# sky's error table in its quick mode.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
@@ -41,4 +42,18 @@ tap_diag "exit $rc after $elapsed s; skysweep rows: $ours; peer runs: $peers; co
 grep '^note:' "$work/stderr" | while read -r line; do tap_diag "$line"; done
 [ "$rc" -eq 0 ] && [ -z "$problems" ] && [ "$ours" -ge 5 ]
 tap_ok $? "doc/performance.sh --tiny runs every product and compares the peers present ($elapsed s)"
+
+# The cumulative sky's error table (doc/cumulative_sky.sh --quick): every
+# row measured, its reference row exact. Needs numpy (tests/pyvenv).
+python=${SKYSWEEP_PVLIB_PYTHON:-${TOP_SRCDIR:-.}/tests/pyvenv/bin/python}
+if "$python" -c "import numpy" 2>/dev/null; then
+    SKYSWEEP=$(realpath "$SKYSWEEP") PYTHON=$python TMPDIR=$work timeout 300 \
+        bash "${TOP_SRCDIR:-.}/doc/cumulative_sky.sh" --quick >"$work/cumulative.md" 2>"$work/stderr"
+    rc=$?
+    rows=$(grep -c '^| cumulative' "$work/cumulative.md")
+    [ "$rc" -eq 0 ] && [ "$rows" -ge 2 ] && ! grep -q 'nan' "$work/cumulative.md"
+    tap_ok $? "doc/cumulative_sky.sh --quick: exit $rc, $rows cumulative rows $(tail -n 2 "$work/stderr" | head -c 200)"
+else
+    tap_skip "doc/cumulative_sky.sh --quick" "no numpy at $python (tests/run.sh installs it)"
+fi
 tap_done

@@ -70,6 +70,34 @@ else
     tap_ok $? "a year in terrain, $(grep -c '^ok' terrain.out) cells within 1 % of the reference: $(grep -v '^ok' terrain.out | head -c 400) $(grep '^ok' terrain.out | head -n 1 | cut -c 1-200)"
 fi
 
+# The cumulative sky against the exact run on the same terrain and year:
+# the annual global per cell within 1 % on average and 5 % at worst, its
+# months adding up to its year, and PV refused with it.
+if [ -f "$pvgis" ]; then
+    for mode in exact cumulative; do
+        "$SKYSWEEP" insolation -q --device reference --weather "$pvgis" --directions 32 \
+            --curvature off --shadow $mode terrain.tif "year_$mode.tif" 2>err.txt
+        gdal_translate -q -of AAIGrid -b 1 "year_$mode.tif" "year_$mode.asc"
+        gdal_translate -q -of ENVI "year_$mode.tif" "year_$mode.raw"
+    done
+    errors=$(paste <(tail -n +7 year_exact.asc | tr -s ' ' '\n' | grep .) \
+        <(tail -n +7 year_cumulative.asc | tr -s ' ' '\n' | grep .) |
+        awk '$1 > 0 { e = ($2 - $1) / $1; if (e < 0) e = -e; s += e; n++; if (e > m) m = e }
+             END { printf "%.4f %.4f", 100 * s / n, 100 * m }')
+    read -r mean_err max_err <<<"$errors"
+    awk -v a="$mean_err" -v b="$max_err" 'BEGIN { exit !(a < 1 && b < 5) }'
+    tap_ok $? "cumulative sky against exact shadows, a year on terrain.tif: annual error mean $mean_err %, max $max_err %"
+    # Band 1 (the year's global) against bands 6..17 (its months), cell by cell.
+    cells=$((120 * 120))
+    od -An -v -f -w4 year_cumulative.raw | awk -v n=$cells '
+        { b = int((NR - 1) / n); c = (NR - 1) % n; if (b == 0) y[c] = $1; else if (b >= 5 && b < 17) m[c] += $1 }
+        END { for (c = 0; c < n; c++) { d = y[c] - m[c]; if (d < 0) d = -d; if (d > 1e-3 * y[c] + 1e-3) bad++ }
+              exit bad > 0 }'
+    tap_ok $? "the cumulative sky's months add up to its year"
+else
+    tap_skip "cumulative sky against exact shadows" "no shared weather data"
+    tap_skip "the cumulative sky's months add up to its year" "no shared weather data"
+fi
 # GHI alone: the records of June from the PVGIS file without beam and diffuse.
 if [ -f "$pvgis" ]; then
     "$SKYSWEEP" weather "$pvgis" | awk -F, 'NR > 5 && $2 >= "2006-06-10" && $2 < "2006-06-13" {
@@ -121,4 +149,13 @@ tap_ok $? "--time outside the records is refused: exit $rc, $(cat err.txt)"
 rc=$?
 [ "$rc" -eq 2 ] && grep -q -- "--pv needs --weather" err.txt && [ ! -e o.tif ]
 tap_ok $? "--pv without weather is refused: exit $rc, $(cat err.txt)"
+"$SKYSWEEP" insolation --weather three.csv --shadow cumulative --pv level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && grep -q "no PV yield" err.txt && [ ! -e o.tif ]
+tap_ok $? "--pv with the cumulative sky is refused: exit $rc, $(cat err.txt)"
+"$SKYSWEEP" insolation --time 2026-06-21T00:00Z/P1D --shadow cumulative level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && grep -q "weather records" err.txt && [ ! -e o.tif ]
+tap_ok $? "the cumulative sky without weather is refused: exit $rc, $(cat err.txt)"
+
 tap_done

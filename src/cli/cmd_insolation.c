@@ -33,11 +33,15 @@ typedef struct {
     int sky_model; /* index into "perez|haydavies|isotropic" */
     int pv;
     double gamma_pdc, losses_percent, temp_air_c, wind_speed_m_s;
+    double elevation_step_deg;
     int temperature_model; /* index into "faiman|sapm" */
 } insolation_settings;
 
 static const ss_sky_model sky_model_of_choice[] = {SS_SKY_MODEL_PEREZ, SS_SKY_MODEL_HAYDAVIES,
                                                    SS_SKY_MODEL_ISOTROPIC};
+static const ss_shadow_mode shadow_mode_of_choice[] = {SS_SHADOW_EXACT, SS_SHADOW_INTERPOLATED,
+                                                       SS_SHADOW_CUMULATIVE};
+static const char *const shadow_mode_names[] = {"exact", "interpolated", "cumulative"};
 static const char *const sky_model_names[] = {"Perez et al. 1990", "Hay & Davies 1980",
                                               "isotropic"};
 
@@ -48,9 +52,13 @@ static const opt_spec insolation_options[] = {
     {"linke", OPT_STRING, SET(linke), "T[,T...]", "3", 0, 0, NULL,
      "Linke turbidity (air mass 2): one value, or 12 for January..December"},
     {"albedo", OPT_DOUBLE, SET(albedo), "A", "0.2", 0, 1, NULL, "ground albedo"},
-    {"shadow", OPT_CHOICE, SET(shadow_mode), NULL, "exact", 0, 0, "exact|interpolated",
+    {"shadow", OPT_CHOICE, SET(shadow_mode), NULL, "exact", 0, 0,
+     "exact|interpolated|cumulative",
      "exact: a sweep at each step's sun azimuth; interpolated: horizons stored at --directions "
-     "and interpolated (doc/insolation.md)"},
+     "and interpolated; cumulative (--weather): the suns binned by direction and "
+     "--elevation-step, each bin lit at its direction's horizon (doc/insolation.md)"},
+    {"elevation-step", OPT_DOUBLE, SET(elevation_step_deg), "DEG", "1", 0.01, 90, NULL,
+     "with --shadow cumulative: height of a sun bin"},
     {"steps", OPT_STRING, SET(steps_path), "FILE", NULL, 0, 0, NULL,
      "also write each step's global irradiation (Wh/m^2), one band per step"},
     {"solar-constant", OPT_DOUBLE, SET(solar_constant), "W/M2", "1367", 1000, 2000, NULL,
@@ -531,6 +539,10 @@ int cmd_insolation(int argc, char **argv)
     if (!job.frame.georeferenced)
         st = ss_ctx_error(ctx, SS_ERR_INPUT,
                           "the DEM has no CRS, so where the sun stands is unknown");
+    if (st == SS_OK && !set.weather &&
+        shadow_mode_of_choice[set.shadow_mode] == SS_SHADOW_CUMULATIVE)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--shadow cumulative needs --weather: it bins weather records' suns");
     if (st == SS_OK && set.weather && job.source)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--weather evaluates the DEM held whole, and its %d x %d cells do not "
@@ -554,10 +566,13 @@ int cmd_insolation(int argc, char **argv)
         st = make_steps(&steps, &set, have_weather ? &weather : NULL, &text);
     if (st == SS_OK)
         st = parse_linke(ctx, set.linke, steps.linke);
+    /* The cumulative sky bins the suns of the DEM's centre. */
+    if (shadow_mode_of_choice[set.shadow_mode] == SS_SHADOW_CUMULATIVE)
+        set.common.sun_per_cell = 2; /* "off" */
     int n_steps = st == SS_OK ? steps.n : 0;
     if (st == SS_OK) {
         rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, steps.mid_s,
-                      set.shadow_mode ? SS_SHADOW_INTERPOLATED : SS_SHADOW_EXACT);
+                      shadow_mode_of_choice[set.shadow_mode]);
         if (rc >= 0) {
             steps_free(&steps);
             ss_weather_free(&weather);
@@ -603,8 +618,8 @@ int cmd_insolation(int argc, char **argv)
                                 set.common.creation_options.items, &sink.w);
     }
     ss_insolation_options io = {.albedo = set.albedo,
-                                .shadow_mode = set.shadow_mode ? SS_SHADOW_INTERPOLATED
-                                                               : SS_SHADOW_EXACT,
+                                .shadow_mode = shadow_mode_of_choice[set.shadow_mode],
+                                .elevation_step_deg = set.elevation_step_deg,
                                 .first = share_rank(),
                                 .stride = share_size(),
                                 .sky_model = sky_model_of_choice[set.sky_model],
@@ -659,14 +674,14 @@ int cmd_insolation(int argc, char **argv)
                      "file gives none; shadows %s; solar constant %g W/m2; %s",
                      n_steps, hours, text ? " inside " : "", text ? text : "",
                      sky_model_names[set.sky_model], set.albedo,
-                     set.shadow_mode ? "interpolated" : "exact", set.solar_constant,
+                     shadow_mode_names[set.shadow_mode], set.solar_constant,
                      weather_note);
         else
             snprintf(meta, sizeof meta,
                      "%s, %d steps of %s evaluated at their middles; Linke %s; albedo %g; "
                      "shadows %s; solar constant %g W/m2",
                      text, n_steps, set.step, set.linke, set.albedo,
-                     set.shadow_mode ? "interpolated" : "exact", set.solar_constant);
+                     shadow_mode_names[set.shadow_mode], set.solar_constant);
         ss_writer_metadata(w, "INSOLATION", meta);
         ss_writer_metadata(
             w, "MODEL",
@@ -728,6 +743,10 @@ int cmd_insolation(int argc, char **argv)
                n_steps, (unsigned long long)c.time_steps,
                (unsigned long long)c.night_steps_skipped,
                (unsigned long long)c.shadow_sweeps_skipped);
+        if (c.sun_bins)
+            printf("sky     cumulative: %llu bins of suns (%d directions x %g deg of elevation x "
+                   "month) in place of a sweep per record\n",
+                   (unsigned long long)c.sun_bins, job.opt.directions, set.elevation_step_deg);
         if (share_size() > 1)
             printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
                    "this one's), sums added at rank 0\n",
@@ -735,6 +754,9 @@ int cmd_insolation(int argc, char **argv)
         if (have_weather)
             printf("global  min %.1f mean %.1f max %.1f kWh/m2 -> %s\n", lo / 1000.0,
                    mean / 1000.0, hi / 1000.0, job.output);
+        else
+            printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi,
+                   job.output);
         if (out.pv_yield) {
             double pv_lo, pv_mean, pv_hi;
             run_stats(out.pv_yield, n, &pv_lo, &pv_mean, &pv_hi);
@@ -744,9 +766,6 @@ int cmd_insolation(int argc, char **argv)
                    (unsigned long long)c.records_without_temperature, set.temp_air_c,
                    set.wind_speed_m_s);
         }
-        else
-            printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi,
-                   job.output);
     }
     if (steps.have_field)
         ss_sun_field_free(&steps.field);

@@ -16,10 +16,8 @@
 #include "lines.h"
 #include "products_internal.h"
 
-/* Stored horizons are int16 hundredths of a degree (shadow mode
- * interpolated): 0.005 degrees of rounding, far below the interpolation's
- * own error. */
-#define HORIZON_SCALE 100.0f
+/* Stored horizons (products_internal.h) are int16 hundredths of a degree:
+ * 0.005 degrees of rounding, far below the interpolation's own error. */
 
 _Static_assert(SS_PV_TEMP_FAIMAN == SS_PV_CELL_TEMP_FAIMAN && SS_PV_TEMP_SAPM == SS_PV_CELL_TEMP_SAPM,
                "ss_pv_temp_model and kernels/ss_pv.h agree");
@@ -83,8 +81,8 @@ static ss_status horizon_band_seen(ss_ctx *ctx, const ss_grid *g, const ss_sweep
 }
 
 /* Per-cell quantities that do not change with time (insolation_cell.h). */
-static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt, int perez,
-                            ss_cell_terms **terms)
+ss_status ss_insolation_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
+                              int perez, ss_cell_terms **terms)
 {
     size_t n = (size_t)g->width * g->height;
     ss_cell_terms *t = *terms = ss_malloc(n * sizeof *t);
@@ -115,8 +113,8 @@ static ss_status make_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_option
 }
 
 /* Horizons at the D stored directions, int16 hundredths of a degree. */
-static ss_status store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
-                                const ss_sweep_options *opt, int16_t **stored)
+ss_status ss_insolation_store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
+                                       const ss_sweep_options *opt, int16_t **stored)
 {
     size_t n = (size_t)g->width * g->height;
     double bytes = (double)n * opt->directions * sizeof(int16_t);
@@ -133,7 +131,7 @@ static ss_status store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
             return st;
         int16_t *dst = *stored + (size_t)i * n;
         for (size_t c = 0; c < n; ++c)
-            dst[c] = isfinite(g->z[c]) ? (int16_t)lrintf(h[c] * HORIZON_SCALE) : 0;
+            dst[c] = isfinite(g->z[c]) ? (int16_t)lrintf(h[c] * SS_HORIZON_SCALE) : 0;
     }
     return SS_OK;
 }
@@ -149,7 +147,7 @@ static float stored_horizon(const int16_t *stored, size_t n, const ss_sweep_opti
     int i0 = (int)pos % opt->directions, i1 = (i0 + 1) % opt->directions;
     float t = (float)(pos - floor(pos));
     return ((1.0f - t) * stored[(size_t)i0 * n + c] + t * stored[(size_t)i1 * n + c]) /
-           HORIZON_SCALE;
+           SS_HORIZON_SCALE;
 }
 
 /* The step's weather record (W/m^2), or 0 where it is missing (counted).
@@ -158,8 +156,8 @@ static float stored_horizon(const int16_t *stored, size_t n, const ss_sweep_opti
  * is below the horizontal over its whole interval (it moves at most 15
  * degrees an hour) is counted and adds nothing. All at the grid's centre
  * sun. *light: the record holds any light. */
-static int sky_record_of(ss_ctx *ctx, const ss_sun_step *sun, const ss_insolation_options *io,
-                         ss_sky_record *rec, int *light)
+int ss_insolation_sky_record(ss_ctx *ctx, const ss_sun_step *sun,
+                             const ss_insolation_options *io, ss_sky_record *rec, int *light)
 {
     double z = (90.0 - sun->elevation_deg) * M_PI / 180.0;
     double ghi = sun->ghi_w_m2, dni = sun->dni_w_m2, dhi = sun->dhi_w_m2;
@@ -205,7 +203,7 @@ ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int 
                        "(gamma %g, losses %g, %g C, %g m/s)",
                        pv->gamma_pdc, pv->losses, pv->temp_air_c, pv->wind_speed_m_s);
     if (!(io->albedo >= 0 && io->albedo <= 1) || n_steps < 1 ||
-        (io->shadow_mode != SS_SHADOW_EXACT && io->shadow_mode != SS_SHADOW_INTERPOLATED))
+        (unsigned)io->shadow_mode > SS_SHADOW_CUMULATIVE)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "insolation needs an albedo in 0..1, at least one step and a shadow mode "
                        "(albedo %g, %d steps)",
@@ -231,6 +229,8 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     ss_status st = ss_insolation_check(ctx, io, n_steps);
     if (st != SS_OK)
         return st;
+    if (io->shadow_mode == SS_SHADOW_CUMULATIVE)
+        return ss_insolation_cumulative(ctx, grid, opt, io, n_steps, sun_at, sun_user, out);
     size_t n = (size_t)grid->width * grid->height;
     ss_cell_terms *terms = NULL;
     ss_session *s = NULL;
@@ -238,11 +238,11 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     float *step_global = sink ? ss_malloc(n * sizeof(float)) : NULL;
     st = ss_product_begin(ctx, grid, opt, 1, &s);
     if (st == SS_OK)
-        st = make_terms(ctx, grid, opt, io->sky_model == SS_SKY_MODEL_PEREZ, &terms);
+        st = ss_insolation_terms(ctx, grid, opt, io->sky_model == SS_SKY_MODEL_PEREZ, &terms);
     if (st == SS_OK && sink && !step_global)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-step bands");
     if (st == SS_OK && io->shadow_mode == SS_SHADOW_INTERPOLATED)
-        st = store_horizons(ctx, s, grid, opt, &stored);
+        st = ss_insolation_store_horizons(ctx, s, grid, opt, &stored);
     for (size_t c = 0; st == SS_OK && c < n; ++c) {
         float v = isfinite(grid->z[c]) ? 0.0f : SS_NODATA;
         out->global[c] = out->beam[c] = out->diffuse[c] = out->reflected[c] = v;
@@ -265,10 +265,10 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                 step_global[c] = isfinite(grid->z[c]) ? 0.0f : SS_NODATA;
         ss_sky_record rec = {0};
         int light = 0;
-        int missing = sun.real_sky && !sky_record_of(ctx, &sun, io, &rec, &light);
+        int missing = sun.real_sky && !ss_insolation_sky_record(ctx, &sun, io, &rec, &light);
         int sun_up = sun.elevation_deg + sun.spread_deg > 0.0;
         if (missing) {
-            /* counted by sky_record_of */
+            /* counted by ss_insolation_sky_record */
         } else if (!sun_up && !light) {
             ctx->counters.night_steps_skipped++;
         } else {

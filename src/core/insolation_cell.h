@@ -16,7 +16,7 @@
  * SVF of the tilted cell, Muneer's F(S), the air pressure factor
  * exp(-z / 8434.5), the sine of its slope, and the share of Perez's horizon
  * band in front of it that the terrain leaves open (1 unless computed). */
-typedef struct {
+typedef struct ss_cell_terms_s {
     float dz_de, dz_dn, sky_view, slope_term, pressure_factor, sin_tilt, band_seen;
 } ss_cell_terms;
 
@@ -83,7 +83,7 @@ static inline ss_cell_step ss_cell_step_of(const ss_cell_terms *t, float az, flo
 
 /* A weather record's irradiance for a step (W/m^2): global and diffuse
  * horizontal, direct normal, extraterrestrial normal; the ground's albedo. */
-typedef struct {
+typedef struct ss_sky_record_s {
     float ghi, dni, dhi, dni_extra, albedo;
 } ss_sky_record;
 

@@ -200,7 +200,13 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
             "exactly%s",
             p->steps_night, r->n_steps,
             r->weather.what ? ", unless their record holds light (then isotropic diffuse)" : "");
-    if (bound_deg >= 90.0)
+    if (r->shadow_mode == SS_SHADOW_CUMULATIVE)
+        add(p, "shadow_sweeps", 1, 0, "",
+            "cumulative sky: the %d daylight records' suns binned by the nearest of the %d "
+            "directions and by elevation, one horizon sweep per direction instead of one per "
+            "record",
+            r->n_steps - p->steps_night, p->directions);
+    else if (bound_deg >= 90.0)
         add(p, "shadow_sweeps", 1, 0, "",
             "the DEM is read in bands, so no bound on its horizons is known: every one of the "
             "%d daylight steps gets its shadow sweep",
@@ -277,7 +283,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
         sweeps = 0;
         break;
     case SS_PRODUCT_INSOLATION:
-        sweeps = p->directions + (r->shadow_mode == SS_SHADOW_INTERPOLATED
+        sweeps = p->directions + (r->shadow_mode != SS_SHADOW_EXACT
                                       ? p->directions
                                       : daylight - p->steps_high_sun) +
                  (r->weather.what && r->weather.horizon_band ? p->directions : 0);

@@ -29,6 +29,27 @@ float ss_product_finish(int term, float sum, int directions);
 ss_status ss_sun_horizon(ss_session *s, const ss_grid *grid, const ss_sweep_options *opt,
                          double azimuth_deg, float **horizon_deg);
 
+/* Insolation's per-cell terms (insolation_cell.h; perez: with the horizon
+ * band) and the horizons stored at the options' directions (int16
+ * hundredths of a degree, direction-major), as insolation.c and
+ * insolation_cumulative.c need them. */
+struct ss_cell_terms_s;
+#define SS_HORIZON_SCALE 100.0f
+ss_status ss_insolation_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
+                              int perez, struct ss_cell_terms_s **terms);
+ss_status ss_insolation_store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
+                                       const ss_sweep_options *opt, int16_t **stored);
+/* A weather step's record (insolation.c's sky_record_of). */
+struct ss_sky_record_s;
+int ss_insolation_sky_record(ss_ctx *ctx, const ss_sun_step *sun,
+                             const ss_insolation_options *io, struct ss_sky_record_s *rec,
+                             int *light);
+/* The cumulative sky (insolation_cumulative.c): what ss_insolation does in
+ * that mode. */
+ss_status ss_insolation_cumulative(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                                   const ss_insolation_options *io, int n_steps,
+                                   ss_sun_step_fn sun_at, void *sun_user, ss_insolation_out *out);
+
 /* The insolation options and step count, as both insolation paths need them. */
 ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps);
 /* Whether step k is this process's (ss_insolation_options' share). */
