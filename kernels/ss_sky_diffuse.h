@@ -55,32 +55,53 @@ SS_FN void ss_perez_coefficients(float dhi, float dni, float dni_extra, float z,
     *f2 = c[bin][3] + c[bin][4] * delta + c[bin][5] * z;
 }
 
-/* Sky-diffuse irradiance on the cell (W/m^2) by `model`:
- * dhi, dni, dni_extra: the record's and the extraterrestrial normal;
- * z: the sun's true zenith angle; cos_i: cosine of incidence on the cell
- * (any sign); lit: 1 where the sun is above the cell's terrain horizon and
- * in front of its surface; sky_view: the cell's tilted radiative SVF;
- * sin_tilt: sine of its slope; band_seen: the share of the horizon band in
- * front of the cell that its terrain leaves open (0..1). */
-SS_FN float ss_sky_diffuse(int model, float dhi, float dni, float dni_extra, float z, float cos_i,
-                           int lit, float sky_view, float sin_tilt, float band_seen)
+/* A record's sky diffuse split by the per-cell factor each part takes
+ * (W/m^2): the isotropic part the cell's tilted sky view, the circumsolar
+ * part cos(incidence) where the cell is lit, the horizon band sin(tilt)
+ * times the band's share the cell sees. They depend on the record and the
+ * sun alone, so a step computes them once for every cell. */
+typedef struct {
+    float isotropic, circumsolar, horizon;
+} ss_sky_parts;
+
+/* The parts by `model` (SS_SKY_*) for the record's dhi and dni, the
+ * extraterrestrial normal irradiance and the sun's true zenith angle z; a
+ * sun at or below the horizontal leaves the diffuse light isotropic. */
+SS_FN ss_sky_parts ss_sky_parts_of(int model, float dhi, float dni, float dni_extra, float z)
 {
+    ss_sky_parts p = {0.0f, 0.0f, 0.0f};
     if (!(dhi > 0.0f))
-        return 0.0f;
-    float seen = lit ? SS_FMAX(cos_i, 0.0f) : 0.0f;
+        return p;
+    p.isotropic = dhi;
+    if (z >= 0.5f * SS_PI_F)
+        return p;
     if (model == SS_SKY_HAYDAVIES) {
         float ai = SS_FMIN(SS_FMAX(dni / dni_extra, 0.0f), 1.0f);
-        float rb = seen / SS_FMAX(SS_COS(z), 0.01745f);
-        return SS_FMAX(dhi * (1.0f - ai) * sky_view, 0.0f) + SS_FMAX(dhi * ai * rb, 0.0f);
-    }
-    if (model == SS_SKY_PEREZ) {
+        p.isotropic = dhi * (1.0f - ai);
+        p.circumsolar = dhi * ai / SS_FMAX(SS_COS(z), 0.01745f);
+    } else if (model == SS_SKY_PEREZ) {
         float f1, f2;
         ss_perez_coefficients(dhi, dni, dni_extra, z, ss_kasten_young_air_mass(z), &f1, &f2);
-        float b = SS_FMAX(SS_COS(z), 0.087155743f); /* cos 85 deg */
-        return SS_FMAX(dhi * ((1.0f - f1) * sky_view + f1 * seen / b + f2 * sin_tilt * band_seen),
-                       0.0f);
+        p.isotropic = dhi * (1.0f - f1);
+        p.circumsolar = dhi * f1 / SS_FMAX(SS_COS(z), 0.087155743f); /* cos 85 deg */
+        p.horizon = dhi * f2;
     }
-    return dhi * sky_view;
+    return p;
+}
+
+/* Sky-diffuse irradiance on a cell (W/m^2) from a record's parts: cos_i,
+ * the cosine of incidence on the cell (any sign); lit, whether the sun is
+ * above its terrain horizon and in front of its surface; sky_view, its
+ * tilted radiative SVF; sin_tilt, the sine of its slope; band_seen, the
+ * share of the horizon band in front of it that its terrain leaves open.
+ * As pvlib, a negative sum (Perez's F2 < 0) counts as none. */
+SS_FN float ss_sky_diffuse_on(ss_sky_parts p, float cos_i, int lit, float sky_view,
+                              float sin_tilt, float band_seen)
+{
+    float seen = lit ? SS_FMAX(cos_i, 0.0f) : 0.0f;
+    return SS_FMAX(p.isotropic * sky_view + p.circumsolar * seen +
+                       p.horizon * sin_tilt * band_seen,
+                   0.0f);
 }
 
 /* Erbs et al. (1982) split of a global horizontal irradiance into direct

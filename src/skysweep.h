@@ -335,6 +335,7 @@ double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines);
 /* ---- insolation --------------------------------------------------------- */
 
 typedef enum {
+    SS_SHADOW_AUTO = -1,        /* the planner's choice (ss_plan_request; not for ss_insolation) */
     SS_SHADOW_EXACT = 0,        /* a sweep at every daylight step's sun azimuth */
     SS_SHADOW_INTERPOLATED = 1, /* horizons stored at the sweep's directions, interpolated */
     SS_SHADOW_CUMULATIVE = 2    /* weather records only: the suns binned by direction and
@@ -491,6 +492,7 @@ typedef struct {
     const char *what;
     double distance_km;
     int horizon_band;
+    int pv; /* PV yield asked for: each record's irradiance is needed */
 } ss_plan_weather;
 
 typedef struct {
@@ -522,6 +524,7 @@ typedef struct {
     ss_plan_item items[SS_PLAN_MAX_ITEMS];
     int n_items;
     int curvature, true_north, sun_per_cell; /* the decisions */
+    ss_shadow_mode shadow_mode;              /* insolation */
     int directions;
     int steps_total, steps_night, steps_high_sun;
     int sweeps;

@@ -39,8 +39,10 @@ typedef struct {
 
 static const ss_sky_model sky_model_of_choice[] = {SS_SKY_MODEL_PEREZ, SS_SKY_MODEL_HAYDAVIES,
                                                    SS_SKY_MODEL_ISOTROPIC};
-static const ss_shadow_mode shadow_mode_of_choice[] = {SS_SHADOW_EXACT, SS_SHADOW_INTERPOLATED,
+static const ss_shadow_mode shadow_mode_of_choice[] = {SS_SHADOW_AUTO, SS_SHADOW_EXACT,
+                                                       SS_SHADOW_INTERPOLATED,
                                                        SS_SHADOW_CUMULATIVE};
+/* Indexed by ss_shadow_mode (the plan's decision). */
 static const char *const shadow_mode_names[] = {"exact", "interpolated", "cumulative"};
 static const char *const sky_model_names[] = {"Perez et al. 1990", "Hay & Davies 1980",
                                               "isotropic"};
@@ -52,11 +54,12 @@ static const opt_spec insolation_options[] = {
     {"linke", OPT_STRING, SET(linke), "T[,T...]", "3", 0, 0, NULL,
      "Linke turbidity (air mass 2): one value, or 12 for January..December"},
     {"albedo", OPT_DOUBLE, SET(albedo), "A", "0.2", 0, 1, NULL, "ground albedo"},
-    {"shadow", OPT_CHOICE, SET(shadow_mode), NULL, "exact", 0, 0,
-     "exact|interpolated|cumulative",
+    {"shadow", OPT_CHOICE, SET(shadow_mode), NULL, "auto", 0, 0,
+     "auto|exact|interpolated|cumulative",
      "exact: a sweep at each step's sun azimuth; interpolated: horizons stored at --directions "
      "and interpolated; cumulative (--weather): the suns binned by direction and "
-     "--elevation-step, each bin lit at its direction's horizon (doc/insolation.md)"},
+     "--elevation-step, each bin lit at its direction's horizon; auto: cumulative for 720 "
+     "weather records or more without --pv, else exact (doc/insolation.md)"},
     {"elevation-step", OPT_DOUBLE, SET(elevation_step_deg), "DEG", "1", 0.01, 90, NULL,
      "with --shadow cumulative: height of a sun bin"},
     {"steps", OPT_STRING, SET(steps_path), "FILE", NULL, 0, 0, NULL,
@@ -559,16 +562,13 @@ int cmd_insolation(int argc, char **argv)
                      set.weather);
             job.weather = (ss_plan_weather){
                 weather_what, weather_distance_km(&weather, &job.frame),
-                sky_model_of_choice[set.sky_model] == SS_SKY_MODEL_PEREZ};
+                sky_model_of_choice[set.sky_model] == SS_SKY_MODEL_PEREZ, set.pv};
         }
     }
     if (st == SS_OK)
         st = make_steps(&steps, &set, have_weather ? &weather : NULL, &text);
     if (st == SS_OK)
         st = parse_linke(ctx, set.linke, steps.linke);
-    /* The cumulative sky bins the suns of the DEM's centre. */
-    if (shadow_mode_of_choice[set.shadow_mode] == SS_SHADOW_CUMULATIVE)
-        set.common.sun_per_cell = 2; /* "off" */
     int n_steps = st == SS_OK ? steps.n : 0;
     if (st == SS_OK) {
         rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, steps.mid_s,
@@ -618,7 +618,7 @@ int cmd_insolation(int argc, char **argv)
                                 set.common.creation_options.items, &sink.w);
     }
     ss_insolation_options io = {.albedo = set.albedo,
-                                .shadow_mode = shadow_mode_of_choice[set.shadow_mode],
+                                .shadow_mode = job.plan.shadow_mode,
                                 .elevation_step_deg = set.elevation_step_deg,
                                 .first = share_rank(),
                                 .stride = share_size(),
@@ -674,14 +674,14 @@ int cmd_insolation(int argc, char **argv)
                      "file gives none; shadows %s; solar constant %g W/m2; %s",
                      n_steps, hours, text ? " inside " : "", text ? text : "",
                      sky_model_names[set.sky_model], set.albedo,
-                     shadow_mode_names[set.shadow_mode], set.solar_constant,
+                     shadow_mode_names[job.plan.shadow_mode], set.solar_constant,
                      weather_note);
         else
             snprintf(meta, sizeof meta,
                      "%s, %d steps of %s evaluated at their middles; Linke %s; albedo %g; "
                      "shadows %s; solar constant %g W/m2",
                      text, n_steps, set.step, set.linke, set.albedo,
-                     shadow_mode_names[set.shadow_mode], set.solar_constant);
+                     shadow_mode_names[job.plan.shadow_mode], set.solar_constant);
         ss_writer_metadata(w, "INSOLATION", meta);
         ss_writer_metadata(
             w, "MODEL",

@@ -264,6 +264,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
             for (size_t c = 0; c < n; ++c)
                 step_global[c] = isfinite(grid->z[c]) ? 0.0f : SS_NODATA;
         ss_sky_record rec = {0};
+        ss_sky_parts sky = {0.0f, 0.0f, 0.0f};
         int light = 0;
         int missing = sun.real_sky && !ss_insolation_sky_record(ctx, &sun, io, &rec, &light);
         int sun_up = sun.elevation_deg + sun.spread_deg > 0.0;
@@ -288,6 +289,11 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                 break;
             const float rad = (float)(M_PI / 180.0);
             float g0 = (float)sun.extraterrestrial_w_m2, linke = (float)sun.linke;
+            /* The sky's parts at the centre's sun serve every cell. */
+            if (sun.real_sky)
+                sky = ss_sky_parts_of((int)io->sky_model, fmaxf(rec.dhi, 0.0f),
+                                      fmaxf(rec.dni, 0.0f), rec.dni_extra,
+                                      (float)((90.0 - sun.elevation_deg) * M_PI / 180.0));
             int pv_on = out->pv_yield && sun.real_sky && io->pv.on;
             if (pv_on && (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
                 ctx->counters.records_without_temperature++;
@@ -313,8 +319,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                                         : stored_horizon(stored, n, opt, c, sun.azimuth_deg);
                 ss_cell_step add =
                     sun.real_sky
-                        ? ss_cell_step_weather(&terms[c], az, h0, app, horizon, &rec,
-                                               (int)io->sky_model, dt)
+                        ? ss_cell_step_weather(&terms[c], az, h0, app, horizon, &rec, sky, dt)
                         : ss_cell_step_of(&terms[c], az, h0, app, horizon, g0, linke, albedo, dt);
                 if (out->monthly_global && sun.month >= 1 && sun.month <= 12)
                     out->monthly_global[(size_t)(sun.month - 1) * n + c] += add.global;

@@ -87,25 +87,21 @@ typedef struct ss_sky_record_s {
     float ghi, dni, dhi, dni_extra, albedo;
 } ss_sky_record;
 
-/* What one weather record adds to a cell, with the sky-diffuse model
- * (ss_sky_diffuse.h); the sun as for ss_cell_step_of, which may here be
- * below the horizontal. */
+/* What one weather record adds to a cell, its sky split into parts
+ * (ss_sky_parts_of, once per step); the sun as for ss_cell_step_of, which
+ * may here be below the horizontal. */
 static inline ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, float az, float h0,
                                                 float apparent_deg, float horizon_deg,
-                                                const ss_sky_record *rec, int model, float dt)
+                                                const ss_sky_record *rec, ss_sky_parts sky,
+                                                float dt)
 {
     ss_cell_step s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    float dni = fmaxf(rec->dni, 0.0f), dhi = fmaxf(rec->dhi, 0.0f), ghi = fmaxf(rec->ghi, 0.0f);
+    float dni = fmaxf(rec->dni, 0.0f), ghi = fmaxf(rec->ghi, 0.0f);
     float se = cosf(h0) * sinf(az), sn = cosf(h0) * cosf(az);
     float cos_i = ss_cos_incidence_gradient(se, sn, sinf(h0), t->dz_de, t->dz_dn);
     int lit = h0 > 0.0f && apparent_deg > horizon_deg && cos_i > 0.0f;
     float beam = lit ? dni * cos_i : 0.0f;
-    /* With the sun below the horizontal at the record's instant (the hour of
-     * sunrise or sunset), its diffuse light is taken as isotropic. */
-    float z = 0.5f * SS_PI_F - h0;
-    float diffuse = h0 > 0.0f ? ss_sky_diffuse(model, dhi, dni, rec->dni_extra, z, cos_i, lit,
-                                               t->sky_view, t->sin_tilt, t->band_seen)
-                              : dhi * t->sky_view;
+    float diffuse = ss_sky_diffuse_on(sky, cos_i, lit, t->sky_view, t->sin_tilt, t->band_seen);
     float reflected = rec->albedo * ghi * (1.0f - t->sky_view);
     s.beam = beam * dt;
     s.diffuse = diffuse * dt;

@@ -34,11 +34,12 @@ typedef struct {
     int month, direction;
 } sun_bin;
 
-/* Per month: sums over records of what multiplies per-cell terms. */
+/* Per month: sums over records of what multiplies per-cell terms
+ * (ss_sky_parts; Wh/m^2). */
 typedef struct {
-    double isotropic; /* Wh/m^2 times the cell's sky view */
-    double band;      /* Wh/m^2 times sin(tilt) times the band the cell sees */
-    double reflected; /* Wh/m^2 times (1 - sky view) */
+    double isotropic; /* times the cell's sky view */
+    double band;      /* times sin(tilt) times the band the cell sees */
+    double reflected; /* times (1 - sky view) */
 } month_sums;
 
 typedef struct {
@@ -107,26 +108,12 @@ static ss_status add_step(ss_ctx *ctx, sun_map *m, const ss_sweep_options *opt,
         ms->isotropic += dhi * dt;
         return SS_OK;
     }
-    float h0 = (float)(sun->elevation_deg * M_PI / 180.0), z = 0.5f * SS_PI_F - h0;
-    float iso = 0.0f, circ = 0.0f, band = 0.0f; /* per W/m^2 of DHI's parts, and the weight
-                                                   of the circumsolar's sun vector */
-    if (dhi > 0 && io->sky_model == SS_SKY_MODEL_HAYDAVIES) {
-        float ai = fminf(fmaxf((float)dni / rec.dni_extra, 0.0f), 1.0f);
-        iso = 1.0f - ai;
-        circ = ai / fmaxf(cosf(z), 0.01745f);
-    } else if (dhi > 0 && io->sky_model == SS_SKY_MODEL_PEREZ) {
-        float f1, f2;
-        ss_perez_coefficients((float)dhi, (float)dni, rec.dni_extra, z,
-                              ss_kasten_young_air_mass(z), &f1, &f2);
-        iso = 1.0f - f1;
-        circ = f1 / fmaxf(cosf(z), 0.087155743f);
-        band = f2;
-    } else {
-        iso = 1.0f;
-    }
-    ms->isotropic += iso * dhi * dt;
-    ms->band += band * dhi * dt;
-    double az = (sun->grid_azimuth_deg) * M_PI / 180.0;
+    float h0 = (float)(sun->elevation_deg * M_PI / 180.0);
+    ss_sky_parts sky = ss_sky_parts_of((int)io->sky_model, (float)dhi, (float)dni, rec.dni_extra,
+                                       0.5f * SS_PI_F - h0);
+    ms->isotropic += sky.isotropic * dt;
+    ms->band += sky.horizon * dt;
+    double az = sun->grid_azimuth_deg * M_PI / 180.0;
     float s[3] = {(float)(cos(h0) * sin(az)), (float)(cos(h0) * cos(az)), sinf(h0)};
     double pos = fmod((sun->azimuth_deg - opt->offset_deg) / (360.0 / m->directions), m->directions);
     int direction = ((int)lround(pos < 0 ? pos + m->directions : pos)) % m->directions;
@@ -134,7 +121,7 @@ static ss_status add_step(ss_ctx *ctx, sun_map *m, const ss_sweep_options *opt,
     if (!b)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the cumulative sky's sun bins");
     add_vector(b->beam, (float)(dni * dt), s);
-    add_vector(b->circumsolar, (float)(circ * dhi * dt), s);
+    add_vector(b->circumsolar, (float)(sky.circumsolar * dt), s);
     if (dni >= 120.0) {
         b->sunshine_hours += (float)dt;
         add_vector(b->sunshine, (float)dt, s);

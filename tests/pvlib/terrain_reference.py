@@ -34,7 +34,8 @@ def run(*args, **kw):
 skysweep, weather, dem_path, work = sys.argv[1:5]
 out = f"{work}/terrain_year.tif"
 run(skysweep, "insolation", "-q", "--device", "reference", "--weather", weather,
-    "--sky-model", "perez", "--directions", "64", "--curvature", "off", "--albedo", "0.2",
+    "--sky-model", "perez", "--shadow", "exact", "--directions", "64", "--curvature", "off",
+    "--albedo", "0.2",
     dem_path, out)
 for lines in ("interpolated", "digital"):
     run(skysweep, "svf", "-q", "--device", "reference", "--directions", "64", "--curvature",
