@@ -10,14 +10,14 @@
 # Perez, the terrain rules of doc/insolation.md); the outputs carry the
 # year and the months in kWh/m2, and their sums agree; missing records add
 # nothing and are counted.
-# The planes lie at the PVGIS file's site (45 N, 8 E). pvlib comparisons
-# skip, saying why, without pvlib or the shared weather files.
+# The planes lie at the PVGIS file's site (45 N, 8 E; the year in
+# samples/weather/). pvlib comparisons skip, saying why, without pvlib.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 top=${TOP_SRCDIR:-$PWD}
 SKYSWEEP=${SKYSWEEP:-./skysweep}
 python=${SKYSWEEP_PVLIB_PYTHON:-$top/tests/pyvenv/bin/python}
-pvgis=$top/../shared/data/weather/tmy_45.000_8.000_2005_2023.csv
+pvgis=$top/samples/weather/pvgis_tmy_45N_8E.csv
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-realsky.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 cd "$work" || exit 1
@@ -27,7 +27,6 @@ sh "$top/tests/data/make_plane.sh" level.tif 0 0
 
 reason=
 "$python" -c "import pvlib" 2>/dev/null || reason="no pvlib at $python (tests/run.sh installs it)"
-[ -f "$pvgis" ] || reason="${reason:-$pvgis is not here}"
 # poa PLANE TILT AZIMUTH MODEL WINDOW [WEATHER]
 poa() {
     local weather=${6:-$pvgis}
@@ -73,39 +72,31 @@ fi
 # The cumulative sky against the exact run on the same terrain and year:
 # the annual global per cell within 1 % on average and 5 % at worst, its
 # months adding up to its year, and PV refused with it.
-if [ -f "$pvgis" ]; then
-    for mode in exact cumulative; do
-        "$SKYSWEEP" insolation -q --device reference --weather "$pvgis" --directions 32 \
-            --curvature off --shadow $mode terrain.tif "year_$mode.tif" 2>err.txt
-        gdal_translate -q -of AAIGrid -b 1 "year_$mode.tif" "year_$mode.asc"
-        gdal_translate -q -of ENVI "year_$mode.tif" "year_$mode.raw"
-    done
-    errors=$(paste <(tail -n +7 year_exact.asc | tr -s ' ' '\n' | grep .) \
-        <(tail -n +7 year_cumulative.asc | tr -s ' ' '\n' | grep .) |
-        awk '$1 > 0 { e = ($2 - $1) / $1; if (e < 0) e = -e; s += e; n++; if (e > m) m = e }
-             END { printf "%.4f %.4f", 100 * s / n, 100 * m }')
-    read -r mean_err max_err <<<"$errors"
-    awk -v a="$mean_err" -v b="$max_err" 'BEGIN { exit !(a < 1 && b < 5) }'
-    tap_ok $? "cumulative sky against exact shadows, a year on terrain.tif: annual error mean $mean_err %, max $max_err %"
-    # Band 1 (the year's global) against bands 6..17 (its months), cell by cell.
-    cells=$((120 * 120))
-    od -An -v -f -w4 year_cumulative.raw | awk -v n=$cells '
-        { b = int((NR - 1) / n); c = (NR - 1) % n; if (b == 0) y[c] = $1; else if (b >= 5 && b < 17) m[c] += $1 }
-        END { for (c = 0; c < n; c++) { d = y[c] - m[c]; if (d < 0) d = -d; if (d > 1e-3 * y[c] + 1e-3) bad++ }
-              exit bad > 0 }'
-    tap_ok $? "the cumulative sky's months add up to its year"
-else
-    tap_skip "cumulative sky against exact shadows" "no shared weather data"
-    tap_skip "the cumulative sky's months add up to its year" "no shared weather data"
-fi
+for mode in exact cumulative; do
+    "$SKYSWEEP" insolation -q --device reference --weather "$pvgis" --directions 32 \
+        --curvature off --shadow $mode terrain.tif "year_$mode.tif" 2>err.txt
+    gdal_translate -q -of AAIGrid -b 1 "year_$mode.tif" "year_$mode.asc"
+    gdal_translate -q -of ENVI "year_$mode.tif" "year_$mode.raw"
+done
+errors=$(paste <(tail -n +7 year_exact.asc | tr -s ' ' '\n' | grep .) \
+    <(tail -n +7 year_cumulative.asc | tr -s ' ' '\n' | grep .) |
+    awk '$1 > 0 { e = ($2 - $1) / $1; if (e < 0) e = -e; s += e; n++; if (e > m) m = e }
+         END { printf "%.4f %.4f", 100 * s / n, 100 * m }')
+read -r mean_err max_err <<<"$errors"
+awk -v a="$mean_err" -v b="$max_err" 'BEGIN { exit !(a < 1 && b < 5) }'
+tap_ok $? "cumulative sky against exact shadows, a year on terrain.tif: annual error mean $mean_err %, max $max_err %"
+# Band 1 (the year's global) against bands 6..17 (its months), cell by cell.
+cells=$((120 * 120))
+od -An -v -f -w4 year_cumulative.raw | awk -v n=$cells '
+    { b = int((NR - 1) / n); c = (NR - 1) % n; if (b == 0) y[c] = $1; else if (b >= 5 && b < 17) m[c] += $1 }
+    END { for (c = 0; c < n; c++) { d = y[c] - m[c]; if (d < 0) d = -d; if (d > 1e-3 * y[c] + 1e-3) bad++ }
+          exit bad > 0 }'
+tap_ok $? "the cumulative sky's months add up to its year"
+
 # GHI alone: the records of June from the PVGIS file without beam and diffuse.
-if [ -f "$pvgis" ]; then
-    "$SKYSWEEP" weather "$pvgis" | awk -F, 'NR > 5 && $2 >= "2006-06-10" && $2 < "2006-06-13" {
-        if (!h++) print "time,ghi"; print $2 "," $4 }' >ghi_only.csv
-    poa south30.tif 30 180 perez 2006-06-10T00:00Z/P3D "$work/ghi_only.csv"
-else
-    tap_skip "POA from GHI alone equals pvlib's Erbs and Perez" "no shared weather data"
-fi
+"$SKYSWEEP" weather "$pvgis" | awk -F, 'NR > 5 && $2 >= "2006-06-10" && $2 < "2006-06-13" {
+    if (!h++) print "time,ghi"; print $2 "," $4 }' >ghi_only.csv
+poa south30.tif 30 180 perez 2006-06-10T00:00Z/P3D "$work/ghi_only.csv"
 
 # A plain CSV of three records, one missing: the year's sums, the months'
 # and the per-record bands agree; the missing record adds nothing.

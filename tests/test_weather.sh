@@ -1,16 +1,19 @@
 #!/bin/bash
 # Weather files: `skysweep weather` returns the records, stamps and values
-# pvlib's readers return on the files in ../shared/data/weather/ (EPW,
-# TMY3, PVGIS TMY CSV and JSON) and on a PSM4 sample (tests/data/); a plain
-# CSV reads as written; malformed files are refused in one line with exit 3.
-# The pvlib comparisons need pvlib (tests/run.sh installs it in a venv) and
-# the shared data; each skips, saying why, without them.
+# pvlib's readers return on EPW, TMY3, PVGIS TMY CSV and JSON files (their
+# January and February in tests/data/weather/, cut from pvlib's test files;
+# the PVGIS CSV whole in samples/weather/, since pvlib reads 8760 rows; and
+# the whole files in ../shared/data/weather/ where present) and on a
+# PSM4 sample (tests/data/); a plain CSV reads as written; malformed files
+# are refused in one line with exit 3. The pvlib comparisons need pvlib
+# (tests/run.sh installs it in a venv); they skip, saying why, without it.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 top=${TOP_SRCDIR:-$PWD}
 SKYSWEEP=${SKYSWEEP:-./skysweep}
 python=${SKYSWEEP_PVLIB_PYTHON:-$top/tests/pyvenv/bin/python}
 weather=$top/../shared/data/weather
+cut=$top/tests/data/weather
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-weather.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
@@ -30,6 +33,11 @@ against_pvlib() {
         tap_ok $rc "$name matches pvlib's $reader reader: $(grep -c '^ok' "$work/out") checks pass, $(grep '^not ok' "$work/out" | head -c 300)$( [ $rc -gt 1 ] && tail -c 300 "$work/out")"
     fi
 }
+against_pvlib "$cut/amsterdam_iwec_jan_feb.epw" epw
+against_pvlib "$cut/pvgis_45N_8E_jan_feb.epw" epw
+against_pvlib "$cut/greensboro_tmy3_jan_feb.csv" tmy3
+against_pvlib "$top/samples/weather/pvgis_tmy_45N_8E.csv" pvgis # pvlib reads 8760 rows
+against_pvlib "$cut/pvgis_45N_8E_jan_feb.json" pvgis
 against_pvlib "$weather/NLD_Amsterdam062400_IWEC.epw" epw
 against_pvlib "$weather/tmy_45.000_8.000_2005_2023.epw" epw
 against_pvlib "$weather/723170TYA.CSV" tmy3
@@ -39,18 +47,13 @@ against_pvlib "$top/tests/data/psm4_sample.csv" psm4
 
 # Where the sun is taken: the middle of an EPW hour; PVGIS's stated offset,
 # also in its EPW export whose zone label is not applied.
-if [ -f "$weather/tmy_45.000_8.000_2005_2023.epw" ]; then
-    epw=$("$SKYSWEEP" weather "$weather/tmy_45.000_8.000_2005_2023.epw" | sed -n 6p | cut -d, -f2)
-    csv=$("$SKYSWEEP" weather "$weather/tmy_45.000_8.000_2005_2023.csv" | sed -n 6p | cut -d, -f2)
-    [ "$epw" = "2018-01-01T00:10:33.96Z" ] && [ "$csv" = "$epw" ]
-    tap_ok $? "PVGIS's EPW and CSV put the first record's sun at the same instant ($epw, $csv)"
-    amsterdam=$("$SKYSWEEP" weather "$weather/NLD_Amsterdam062400_IWEC.epw" | sed -n 6p | cut -d, -f1,2)
-    [ "$amsterdam" = "1994-12-31T23:00:00Z,1994-12-31T23:30:00Z" ]
-    tap_ok $? "an EPW hour's sun is at its middle ($amsterdam)"
-else
-    tap_skip "PVGIS EPW and CSV agree on the sun's instant" "no shared weather data"
-    tap_skip "an EPW hour's sun is at its middle" "no shared weather data"
-fi
+epw=$("$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.epw" | sed -n 6p | cut -d, -f2)
+csv=$("$SKYSWEEP" weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" | sed -n 6p | cut -d, -f2)
+[ "$epw" = "2018-01-01T00:10:33.96Z" ] && [ "$csv" = "$epw" ]
+tap_ok $? "PVGIS's EPW and CSV put the first record's sun at the same instant ($epw, $csv)"
+amsterdam=$("$SKYSWEEP" weather "$cut/amsterdam_iwec_jan_feb.epw" | sed -n 6p | cut -d, -f1,2)
+[ "$amsterdam" = "1994-12-31T23:00:00Z,1994-12-31T23:30:00Z" ]
+tap_ok $? "an EPW hour's sun is at its middle ($amsterdam)"
 
 # A plain CSV, with a missing value and a zone.
 cat >"$work/plain.csv" <<'CSV'

@@ -46,10 +46,16 @@ static const opt_spec info_options[] = {
      "device whose kernel build to check (default: the default device)"},
     OPT_END};
 
+static const char info_usage[] = "skysweep info [options]";
+static const char info_summary[] =
+    "Version, dependency versions, OpenCL devices and kernel build status.";
+
 int cmd_info(int argc, char **argv)
 {
     info_settings set = {0};
     const opt_spec *tables[] = {info_options, NULL};
+    if (opt_print_reference(tables, argc, argv, "info", info_usage, info_summary, ss_version()))
+        return 0;
     const char *pos[1];
     int n_pos = 0;
     char err[512];
@@ -57,8 +63,7 @@ int cmd_info(int argc, char **argv)
     if (r < 0)
         return run_usage_error("info", err);
     if (r > 0) {
-        opt_print_help(tables, "skysweep info [options]",
-                       "Version, dependency versions, OpenCL devices and kernel build status.");
+        opt_print_help(tables, info_usage, info_summary);
         return 0;
     }
     printf("skysweep %s\n", ss_version());

@@ -146,11 +146,20 @@ static void print_head(const sun_settings *set, double lon_deg, double lat_deg,
     printf("  \"rows\": [");
 }
 
+static const char sun_usage[] =
+    "skysweep sun --at LON,LAT --time ISO8601[/ISO8601/STEP] [options]";
+static const char sun_summary[] =
+    "Sun position (NREL SPA) at a site, one row per instant: azimuth, elevation with and\n"
+    "without refraction, zenith, declination, equation of time. doc/sun.md has the "
+    "conventions.";
+
 int cmd_sun(int argc, char **argv)
 {
     sun_settings set = {0};
     set.delta_t_s = set.pressure_hpa = set.altitude_m = NAN; /* NAN: not given */
     const opt_spec *tables[] = {sun_table_options, NULL};
+    if (opt_print_reference(tables, argc, argv, "sun", sun_usage, sun_summary, ss_version()))
+        return 0;
     const char *pos[1];
     int n_pos = 0;
     char err[512];
@@ -158,10 +167,7 @@ int cmd_sun(int argc, char **argv)
     if (r < 0)
         return run_usage_error("sun", err);
     if (r > 0) {
-        opt_print_help(tables, "skysweep sun --at LON,LAT --time ISO8601[/ISO8601/STEP] [options]",
-                       "Sun position (NREL SPA) at a site, one row per instant: azimuth, "
-                       "elevation with and\nwithout refraction, zenith, declination, equation "
-                       "of time. doc/sun.md has the conventions.");
+        opt_print_help(tables, sun_usage, sun_summary);
         return 0;
     }
     double lon_deg, lat_deg;

@@ -23,9 +23,20 @@ static void value(float v)
         printf(",");
 }
 
+static const char weather_usage[] = "skysweep weather FILE";
+static const char weather_summary[] =
+    "The records of a weather file (EPW, TMY3, PVGIS TMY CSV or JSON, NSRDB PSM, or a CSV\n"
+    "with time, ghi, dni, dhi) as skysweep reads them: '#' lines give the format, the site\n"
+    "and what the stamps mean; each row gives the stamp (UTC), the instant the values\n"
+    "stand for (where the sun is taken), the hours it covers and the values (W/m^2, C,\n"
+    "m/s, 0..1, hPa; empty where missing). doc/weather.md has the conventions.";
+
 int cmd_weather(int argc, char **argv)
 {
     const opt_spec *tables[] = {weather_options, NULL};
+    if (opt_print_reference(tables, argc, argv, "weather", weather_usage, weather_summary,
+                            ss_version()))
+        return 0;
     const char *pos[1];
     int n_pos = 0;
     char err[512];
@@ -33,13 +44,7 @@ int cmd_weather(int argc, char **argv)
     if (r < 0)
         return run_usage_error("weather", err);
     if (r > 0) {
-        opt_print_help(tables, "skysweep weather FILE",
-                       "The records of a weather file (EPW, TMY3, PVGIS TMY CSV or JSON, NSRDB "
-                       "PSM, or a CSV\nwith time, ghi, dni, dhi) as skysweep reads them: "
-                       "'#' lines give the format, the site\nand what the stamps mean; each "
-                       "row gives the stamp (UTC), the instant the values\nstand for (where "
-                       "the sun is taken), the hours it covers and the values (W/m^2, C,\nm/s, "
-                       "0..1, hPa; empty where missing). doc/weather.md has the conventions.");
+        opt_print_help(tables, weather_usage, weather_summary);
         return 0;
     }
     if (n_pos != 1)

@@ -85,6 +85,32 @@ static void usage(FILE *to)
                 "clockwise from north.\n");
 }
 
+/* skysweep(1): the commands, from the same table as --help; each has its
+ * own page, skysweep-COMMAND(1), from its option tables. */
+static void man_page(void)
+{
+    printf(".TH SKYSWEEP 1 \"\" \"skysweep %s\" \"skysweep manual\"\n", ss_version());
+    printf(".SH NAME\nskysweep \\- terrain horizons, sky-view factor, shadows, hillshade and "
+           "insolation from DEMs\n");
+    printf(".SH SYNOPSIS\n.B skysweep\n.I COMMAND\n[options]\n.I INPUT... OUTPUT\n");
+    printf(".SH DESCRIPTION\nskysweep computes exact terrain horizons with a convex-hull "
+           "sweep along parallel lines, and the products that follow from them. Azimuths are "
+           "degrees clockwise from north.\n.SH COMMANDS\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i) {
+        printf(".TP\n.B %s\n", commands[i].name);
+        for (const char *c = commands[i].summary; *c; ++c)
+            fputs(*c == '-' ? "\\-" : (char[2]){*c, 0}, stdout);
+        printf("\n");
+    }
+    printf(".SH SEE ALSO\n");
+    for (size_t i = 0, first = 1; i < sizeof commands / sizeof commands[0]; ++i)
+        if (commands[i].run) {
+            printf("%s.BR skysweep\\-%s (1)", first ? "" : ",\n", commands[i].name);
+            first = 0;
+        }
+    printf("\n");
+}
+
 static int dispatch(int argc, char **argv)
 {
     if (argc < 2) {
@@ -94,6 +120,16 @@ static int dispatch(int argc, char **argv)
     const char *name = argv[1];
     if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0 || strcmp(name, "help") == 0) {
         usage(stdout);
+        return 0;
+    }
+    if (strcmp(name, "--help-man") == 0) {
+        man_page();
+        return 0;
+    }
+    if (strcmp(name, "--help-commands") == 0) { /* for doc/completion.sh */
+        for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+            printf("%s%s", i ? " " : "", commands[i].name);
+        printf("\n");
         return 0;
     }
     if (strcmp(name, "--version") == 0 || strcmp(name, "version") == 0) {

@@ -54,6 +54,16 @@ int opt_check(const opt_spec *spec, const char *text, char *err, size_t err_size
 const char *opt_dash(const char *name);
 void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary);
 /* ... and as a Markdown section for doc/cli.md (options_doc.c). */
+/* The command's reference as a man page (roff) and as the words bash
+ * completes (one option per line: the option, then its choices, or <file>
+ * or <value> for what it takes). */
+void opt_print_man(const opt_spec *const *tables, const char *command, const char *usage,
+                   const char *summary, const char *version);
+void opt_print_completion(const opt_spec *const *tables);
+/* argv = {COMMAND, --help-markdown | --help-man | --help-completion}: prints
+ * that reference and returns 1; else 0. */
+int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, const char *command,
+                        const char *usage, const char *summary, const char *version);
 void opt_print_markdown(const opt_spec *const *tables, const char *command, const char *usage,
                         const char *summary);
 

@@ -1,5 +1,7 @@
-/* Markdown reference of a command, generated from its declared option
- * tables, so doc/cli.md never disagrees with --help (doc/cli.sh). */
+/* A command's reference in other forms, generated from its declared option
+ * tables so that none disagrees with --help: Markdown for doc/cli.md
+ * (doc/cli.sh), a man page (man/skysweep-COMMAND.1) and the words bash
+ * completes (completion/skysweep, doc/completion.sh). */
 #include "config.h"
 
 #include <stdio.h>
@@ -33,4 +35,104 @@ void opt_print_markdown(const opt_spec *const *tables, const char *command, cons
             printf(" |\n");
         }
     printf("\n");
+}
+
+/* Text for roff: backslashes escaped, dashes as \-, and a line that
+ * would start with a control character protected. */
+static void roff(const char *text)
+{
+    int line_start = 1;
+    for (const char *p = text ? text : ""; *p; ++p) {
+        if (line_start && (*p == '.' || *p == '\''))
+            fputs("\\&", stdout);
+        if (*p == '\\')
+            fputs("\\e", stdout);
+        else if (*p == '-')
+            fputs("\\-", stdout);
+        else
+            putchar(*p);
+        line_start = *p == '\n';
+    }
+}
+
+void opt_print_man(const opt_spec *const *tables, const char *command, const char *usage,
+                   const char *summary, const char *version)
+{
+    char upper[64];
+    snprintf(upper, sizeof upper, "SKYSWEEP-%s", command);
+    for (char *c = upper; *c; ++c)
+        *c = (char)(*c >= 'a' && *c <= 'z' ? *c - 'a' + 'A' : *c);
+    printf(".TH %s 1 \"\" \"skysweep %s\" \"skysweep manual\"\n", upper, version);
+    printf(".SH NAME\nskysweep\\-%s \\- ", command);
+    /* The summary's first sentence: up to a full stop before a space or a line's end. */
+    const char *end = summary;
+    while ((end = strchr(end, '.')) && end[1] && end[1] != ' ' && end[1] != '\n')
+        ++end;
+    char first[400];
+    snprintf(first, sizeof first, "%.*s", end ? (int)(end - summary) : (int)strlen(summary),
+             summary);
+    for (char *c = first; *c; ++c)
+        *c = *c == '\n' ? ' ' : *c;
+    first[0] = (char)(first[0] >= 'A' && first[0] <= 'Z' ? first[0] - 'A' + 'a' : first[0]);
+    roff(first);
+    printf("\n.SH SYNOPSIS\n.nf\n");
+    roff(usage);
+    printf("\n.fi\n.SH DESCRIPTION\n");
+    roff(summary);
+    printf("\n.SH OPTIONS\n");
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s) {
+            printf(".TP\n.B ");
+            roff(opt_dash(s->name));
+            roff(s->name);
+            if (s->type != OPT_FLAG) {
+                printf(" \\fI");
+                roff(s->type == OPT_CHOICE ? s->choices : s->metavar);
+                printf("\\fR");
+            }
+            printf("\n");
+            roff(s->help);
+            if (s->default_text && s->type != OPT_FLAG) {
+                printf(" (default ");
+                roff(s->default_text);
+                printf(")");
+            }
+            printf("\n");
+        }
+    printf(".TP\n.B \\-\\-help\nshow this help\n");
+    printf(".SH SEE ALSO\n.BR skysweep (1);\n"
+           "doc/cli.md in the source tree has every command's options in one place.\n");
+}
+
+void opt_print_completion(const opt_spec *const *tables)
+{
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s) {
+            printf("%s%s", opt_dash(s->name), s->name);
+            if (s->type == OPT_CHOICE) {
+                putchar(' ');
+                for (const char *c = s->choices; *c; ++c)
+                    putchar(*c == '|' ? ' ' : *c);
+            }
+            else if (s->type != OPT_FLAG)
+                printf(" %s", s->metavar && strstr(s->metavar, "FILE") ? "<file>" : "<value>");
+            printf("\n");
+        }
+    printf("--help\n");
+}
+
+int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, const char *command,
+                        const char *usage, const char *summary, const char *version)
+{
+    if (argc != 2)
+        return 0;
+    if (strcmp(argv[1], "--help-markdown") == 0)
+        opt_print_markdown(tables, command, usage, summary);
+    else if (strcmp(argv[1], "--help-man") == 0)
+        opt_print_man(tables, command, usage, summary, version);
+    else if (strcmp(argv[1], "--help-completion") == 0)
+        opt_print_completion(tables);
+    else
+        return 0;
+    return 1;
 }

@@ -497,10 +497,8 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
               const char *usage, const char *summary, const char *const *device_setting)
 {
     join_projwin(&argc, argv);
-    if (argc == 2 && strcmp(argv[1], "--help-markdown") == 0) {
-        opt_print_markdown(tables, command, usage, summary);
+    if (opt_print_reference(tables, argc, argv, command, usage, summary, ss_version()))
         return 0;
-    }
     char err[512];
     char **scene_argv = NULL;
     int scene_argc;
