@@ -364,6 +364,16 @@ typedef struct {
     double temp_air_c, wind_speed_m_s; /* where a record gives none */
 } ss_pv_options;
 
+/* The surface irradiated in each cell: the cell's own slope (roofs,
+ * terrain), a horizontal one, or a module of fixed tilt and azimuth; the
+ * terrain's horizons and shadows are the cell's in every case. */
+typedef enum { SS_SURFACE_CELL = 0, SS_SURFACE_HORIZONTAL = 1, SS_SURFACE_FIXED = 2 } ss_surface_kind;
+typedef struct {
+    ss_surface_kind kind;
+    double tilt_deg;    /* SS_SURFACE_FIXED: 0..90 from the horizontal ... */
+    double azimuth_deg; /* ... facing this azimuth, clockwise from the options' north */
+} ss_surface;
+
 typedef struct {
     double albedo;             /* ground reflectance for the reflected term, 0..1 */
     ss_shadow_mode shadow_mode;
@@ -373,6 +383,7 @@ typedef struct {
     ss_sky_model sky_model;    /* for weather records */
     ss_pv_options pv;          /* for weather records */
     double elevation_step_deg; /* cumulative sky: height of a sun bin (0: 1 degree) */
+    ss_surface surface;        /* zeros: each cell's own slope */
 } ss_insolation_options;
 
 /* The sun for one time step, supplied by the caller (who knows where the

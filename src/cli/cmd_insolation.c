@@ -35,6 +35,7 @@ typedef struct {
     double gamma_pdc, losses_percent, temp_air_c, wind_speed_m_s;
     double elevation_step_deg;
     int temperature_model; /* index into "faiman|sapm" */
+    const char *surface;
 } insolation_settings;
 
 static const ss_sky_model sky_model_of_choice[] = {SS_SKY_MODEL_PEREZ, SS_SKY_MODEL_HAYDAVIES,
@@ -72,6 +73,10 @@ static const opt_spec insolation_options[] = {
      "kWh/m2 for the year and each month (doc/insolation.md)"},
     {"sky-model", OPT_CHOICE, SET(sky_model), NULL, "perez", 0, 0, "perez|haydavies|isotropic",
      "with --weather: sky diffuse on the tilted cell, with the terrain (doc/insolation.md)"},
+    {"surface", OPT_STRING, SET(surface), "cell|horizontal|TILT,AZIMUTH", "cell", 0, 0, NULL,
+     "the surface irradiated in each cell: its own slope (roofs, terrain), a horizontal one, or "
+     "a module tilted TILT degrees facing AZIMUTH (clockwise from north); shadows and horizons "
+     "stay the cell's"},
     {"pv", OPT_FLAG, SET(pv), NULL, NULL, 0, 0, NULL,
      "with --weather: add the PV yield (kWh/kWp) of modules lying in each cell's surface, "
      "PVWatts-style as pvlib"},
@@ -389,6 +394,31 @@ static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insol
     return st;
 }
 
+/* --surface: cell, horizontal, or TILT,AZIMUTH in degrees. */
+static ss_status parse_surface(ss_ctx *ctx, const char *text, ss_surface *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!text || strcmp(text, "cell") == 0)
+        return SS_OK;
+    if (strcmp(text, "horizontal") == 0) {
+        out->kind = SS_SURFACE_HORIZONTAL;
+        return SS_OK;
+    }
+    char *end;
+    out->kind = SS_SURFACE_FIXED;
+    out->tilt_deg = strtod(text, &end);
+    const char *az = *end == ',' ? end + 1 : NULL;
+    if (az)
+        out->azimuth_deg = strtod(az, &end);
+    if (!az || end == az || *end || !(out->tilt_deg >= 0 && out->tilt_deg <= 90) ||
+        !(out->azimuth_deg >= -360 && out->azimuth_deg <= 360))
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                            "--surface expects cell, horizontal or TILT,AZIMUTH (tilt 0 to 90, "
+                            "azimuth clockwise from north), not '%s'",
+                            text);
+    return SS_OK;
+}
+
 /* The steps from --time (and --step) or --weather; text gets the range
  * as parsed (malloc'ed), for the metadata. */
 static ss_status make_steps(steps_state *steps, const insolation_settings *set,
@@ -569,6 +599,14 @@ int cmd_insolation(int argc, char **argv)
         st = make_steps(&steps, &set, have_weather ? &weather : NULL, &text);
     if (st == SS_OK)
         st = parse_linke(ctx, set.linke, steps.linke);
+    ss_surface surface = {SS_SURFACE_CELL, 0, 0};
+    if (st == SS_OK)
+        st = parse_surface(ctx, set.surface, &surface);
+    if (st == SS_OK && job.source && surface.kind != SS_SURFACE_CELL)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--surface %s needs the DEM held whole; in bands each cell's own "
+                          "surface is the one irradiated",
+                          set.surface);
     int n_steps = st == SS_OK ? steps.n : 0;
     if (st == SS_OK) {
         rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, steps.mid_s,
@@ -620,6 +658,7 @@ int cmd_insolation(int argc, char **argv)
     ss_insolation_options io = {.albedo = set.albedo,
                                 .shadow_mode = job.plan.shadow_mode,
                                 .elevation_step_deg = set.elevation_step_deg,
+                                .surface = surface,
                                 .first = share_rank(),
                                 .stride = share_size(),
                                 .sky_model = sky_model_of_choice[set.sky_model],
@@ -670,17 +709,17 @@ int cmd_insolation(int argc, char **argv)
         job_plan_metadata(&job, w);
         if (have_weather)
             snprintf(meta, sizeof meta,
-                     "%d weather records (%.0f h)%s%s; sky diffuse %s; albedo %g where the "
-                     "file gives none; shadows %s; solar constant %g W/m2; %s",
-                     n_steps, hours, text ? " inside " : "", text ? text : "",
+                     "%d weather records (%.0f h)%s%s; surface %s; sky diffuse %s; albedo %g "
+                     "where the file gives none; shadows %s; solar constant %g W/m2; %s",
+                     n_steps, hours, text ? " inside " : "", text ? text : "", set.surface,
                      sky_model_names[set.sky_model], set.albedo,
                      shadow_mode_names[job.plan.shadow_mode], set.solar_constant,
                      weather_note);
         else
             snprintf(meta, sizeof meta,
-                     "%s, %d steps of %s evaluated at their middles; Linke %s; albedo %g; "
-                     "shadows %s; solar constant %g W/m2",
-                     text, n_steps, set.step, set.linke, set.albedo,
+                     "%s, %d steps of %s evaluated at their middles; surface %s; Linke %s; "
+                     "albedo %g; shadows %s; solar constant %g W/m2",
+                     text, n_steps, set.step, set.surface, set.linke, set.albedo,
                      shadow_mode_names[job.plan.shadow_mode], set.solar_constant);
         ss_writer_metadata(w, "INSOLATION", meta);
         ss_writer_metadata(

@@ -238,6 +238,9 @@ static ss_status check_io(ss_ctx *ctx, const ss_insolation_band_io *io,
     ss_status st = ss_insolation_check(ctx, options, n_steps);
     if (st != SS_OK)
         return st;
+    if (options->surface.kind != SS_SURFACE_CELL)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "a DEM swept in bands takes each cell's own surface only (--surface cell)");
     if (options->shadow_mode != SS_SHADOW_EXACT)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "a DEM swept in bands takes exact shadows only: interpolated shadows "

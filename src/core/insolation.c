@@ -29,20 +29,23 @@ _Static_assert(SS_SKY_MODEL_ISOTROPIC == SS_SKY_ISOTROPIC &&
  * degrees above the horizontal (Perez et al. 1987); in each of the sweep's
  * directions the terrain horizon hides its lowest part, and the shares left
  * open are averaged over the directions in front of the cell's surface,
- * each weighted by the cosine of its incidence on the cell. */
+ * each weighted by the cosine of its incidence on the cell. A surface other
+ * than the cell's own also gets its tilted sky view here, from the same
+ * horizons (the SVF product sweeps with the cell's own gradient). */
 #define PEREZ_BAND_DEG 6.5f
+
 typedef struct {
     const ss_grid *g;
     double grid_north_deg; /* the options' */
     ss_cell_terms *terms;
-    float *open, *weight;
-} band_sums;
+    float *open, *weight, *sky; /* sky: NULL, or the sky-view sums */
+} horizon_sums;
 
-static int add_band_direction(int index, double azimuth_deg, const float *angle_deg,
-                              const float *dist_m, const float *cast_height_m, void *user)
+static int add_horizon_direction(int index, double azimuth_deg, const float *angle_deg,
+                                 const float *dist_m, const float *cast_height_m, void *user)
 {
     (void)index, (void)dist_m, (void)cast_height_m;
-    band_sums *b = user;
+    horizon_sums *b = user;
     size_t n = (size_t)b->g->width * b->g->height;
     /* The options' frame: the cells' gradients are in the grid's. */
     float az = (float)((azimuth_deg - b->grid_north_deg) * M_PI / 180.0);
@@ -51,6 +54,12 @@ static int add_band_direction(int index, double azimuth_deg, const float *angle_
         if (!isfinite(b->g->z[c]))
             continue;
         const ss_cell_terms *t = &b->terms[c];
+        /* ss_svf_tilted_term takes the horizon as a rise over a distance and
+         * clips it at the horizontal; -90 (no terrain ahead) must not reach
+         * tan, whose float pi/2 overshoots to a huge positive rise. */
+        float rise = tanf(fmaxf(angle_deg[c], 0.0f) * (float)(M_PI / 180.0));
+        if (b->sky)
+            b->sky[c] += ss_svf_tilted_term(1.0f, rise, se, sn, t->dz_de, t->dz_dn);
         float facing = ss_cos_incidence_gradient(se, sn, 0.0f, t->dz_de, t->dz_dn);
         if (facing <= 0.0f)
             continue;
@@ -59,57 +68,84 @@ static int add_band_direction(int index, double azimuth_deg, const float *angle_
     }
     return 1;
 }
-/* Sets every cell's band_seen from the horizons at the options'
- * directions (one more sweep per direction: only Perez's model asks). */
-static ss_status horizon_band_seen(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
-                                   ss_cell_terms *terms)
+
+/* Sets every cell's band_seen, and (with_sky) its sky view, from the
+ * horizons at the options' directions: one more sweep per direction. */
+static ss_status horizon_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
+                               int with_sky, ss_cell_terms *terms)
 {
     size_t n = (size_t)g->width * g->height;
-    band_sums b = {g, opt->grid_north_deg, terms, ss_calloc(n, sizeof(float)),
-                   ss_calloc(n, sizeof(float))};
-    ss_status st = b.open && b.weight
-                       ? ss_horizon(ctx, g, opt, 0, add_band_direction, &b)
+    horizon_sums b = {g, opt->grid_north_deg, terms, ss_calloc(n, sizeof(float)),
+                      ss_calloc(n, sizeof(float)), with_sky ? ss_calloc(n, sizeof(float)) : NULL};
+    ss_status st = b.open && b.weight && (b.sky || !with_sky)
+                       ? ss_horizon(ctx, g, opt, 0, add_horizon_direction, &b)
                        : ss_fail(ctx, SS_ERR_MEMORY,
-                                 "cannot allocate the horizon band's sums for %d x %d cells",
+                                 "cannot allocate the horizon terms' sums for %d x %d cells",
                                  g->width, g->height);
-    for (size_t c = 0; st == SS_OK && c < n; ++c)
-        if (isfinite(g->z[c]))
-            terms[c].band_seen = b.weight[c] > 0.0f ? b.open[c] / b.weight[c] : 1.0f;
+    for (size_t c = 0; st == SS_OK && c < n; ++c) {
+        if (!isfinite(g->z[c]))
+            continue;
+        terms[c].band_seen = b.weight[c] > 0.0f ? b.open[c] / b.weight[c] : 1.0f;
+        if (with_sky)
+            terms[c].sky_view = ss_product_finish(SS_SVF_TILTED, b.sky[c], opt->directions);
+    }
     free(b.open);
     free(b.weight);
+    free(b.sky);
     return st;
 }
 
-/* Per-cell quantities that do not change with time (insolation_cell.h). */
+/* The gradient (east, north) of a fixed surface in the grid's frame: it
+ * descends toward the azimuth it faces. */
+static void surface_gradient(const ss_surface *s, const ss_sweep_options *opt, float *dz_de,
+                             float *dz_dn)
+{
+    *dz_de = *dz_dn = 0.0f;
+    if (s->kind != SS_SURFACE_FIXED)
+        return;
+    double rad = M_PI / 180.0, a = (s->azimuth_deg - opt->grid_north_deg) * rad;
+    double slope = tan(fmin(s->tilt_deg, 89.9) * rad);
+    *dz_de = (float)(-slope * sin(a));
+    *dz_dn = (float)(-slope * cos(a));
+}
+
+/* Per-cell quantities that do not change with time (insolation_cell.h):
+ * for the cell's own surface, the radiative SVF product's tilted sky view;
+ * for another surface, its sky view from the cell's horizons. */
 ss_status ss_insolation_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
-                              int perez, ss_cell_terms **terms)
+                              const ss_insolation_options *io, ss_cell_terms **terms)
 {
     size_t n = (size_t)g->width * g->height;
+    int own = io->surface.kind == SS_SURFACE_CELL;
     ss_cell_terms *t = *terms = ss_malloc(n * sizeof *t);
-    float *sky_view = ss_malloc(n * sizeof(float));
+    float *sky_view = own ? ss_malloc(n * sizeof(float)) : NULL;
     ss_status st = SS_OK;
-    if (!t || !sky_view)
+    if (!t || (own && !sky_view))
         st = ss_fail(ctx, SS_ERR_MEMORY, "cannot allocate insolation buffers for %d x %d cells",
                      g->width, g->height);
-    if (st == SS_OK)
+    if (st == SS_OK && own)
         st = ss_svf(ctx, g, opt, SS_SVF_DEF_TILTED, sky_view);
     if (st != SS_OK) {
         free(sky_view);
         return st;
     }
-    float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
+    float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m, fixed_de, fixed_dn;
+    surface_gradient(&io->surface, opt, &fixed_de, &fixed_dn);
 #pragma omp parallel for schedule(static)
     for (int r = 0; r < g->height; ++r)
         for (int c = 0; c < g->width; ++c) {
             size_t k = (size_t)r * g->width + c;
             if (!isfinite(g->z[k]))
                 continue;
-            float dz_de, dz_dn;
-            ss_gradient_horn(g->z, g->width, g->height, c, r, cx, cy, &dz_de, &dz_dn);
-            t[k] = ss_cell_terms_of(dz_de, dz_dn, sky_view[k], g->z[k] + g->z_origin_m);
+            float dz_de = fixed_de, dz_dn = fixed_dn;
+            if (own)
+                ss_gradient_horn(g->z, g->width, g->height, c, r, cx, cy, &dz_de, &dz_dn);
+            t[k] = ss_cell_terms_of(dz_de, dz_dn, own ? sky_view[k] : 0.0f,
+                                    g->z[k] + g->z_origin_m);
         }
     free(sky_view);
-    return perez ? horizon_band_seen(ctx, g, opt, t) : SS_OK;
+    return !own || io->sky_model == SS_SKY_MODEL_PEREZ ? horizon_terms(ctx, g, opt, !own, t)
+                                                        : SS_OK;
 }
 
 /* Horizons at the D stored directions, int16 hundredths of a degree. */
@@ -191,6 +227,14 @@ int ss_insolation_sky_record(ss_ctx *ctx, const ss_sun_step *sun,
 
 ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps)
 {
+    const ss_surface *surf = &io->surface;
+    if ((unsigned)surf->kind > SS_SURFACE_FIXED ||
+        (surf->kind == SS_SURFACE_FIXED &&
+         !(surf->tilt_deg >= 0 && surf->tilt_deg <= 90 && isfinite(surf->azimuth_deg))))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "a fixed surface needs a tilt of 0 to 90 degrees and an azimuth (tilt %g, "
+                       "azimuth %g)",
+                       surf->tilt_deg, surf->azimuth_deg);
     if ((unsigned)io->sky_model > SS_SKY_MODEL_PEREZ)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown sky model %d", (int)io->sky_model);
     const ss_pv_options *pv = &io->pv;
@@ -238,7 +282,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     float *step_global = sink ? ss_malloc(n * sizeof(float)) : NULL;
     st = ss_product_begin(ctx, grid, opt, 1, &s);
     if (st == SS_OK)
-        st = ss_insolation_terms(ctx, grid, opt, io->sky_model == SS_SKY_MODEL_PEREZ, &terms);
+        st = ss_insolation_terms(ctx, grid, opt, io, &terms);
     if (st == SS_OK && sink && !step_global)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-step bands");
     if (st == SS_OK && io->shadow_mode == SS_SHADOW_INTERPOLATED)

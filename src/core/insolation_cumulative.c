@@ -208,7 +208,7 @@ ss_status ss_insolation_cumulative(ss_ctx *ctx, const ss_grid *grid, const ss_sw
     if (st == SS_OK)
         st = ss_product_begin(ctx, grid, opt, 1, &s);
     if (st == SS_OK)
-        st = ss_insolation_terms(ctx, grid, opt, io->sky_model == SS_SKY_MODEL_PEREZ, &terms);
+        st = ss_insolation_terms(ctx, grid, opt, io, &terms);
     if (st == SS_OK) {
         double t0 = ss_seconds_now();
         st = ss_insolation_store_horizons(ctx, s, grid, opt, &stored);

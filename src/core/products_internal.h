@@ -36,7 +36,7 @@ ss_status ss_sun_horizon(ss_session *s, const ss_grid *grid, const ss_sweep_opti
 struct ss_cell_terms_s;
 #define SS_HORIZON_SCALE 100.0f
 ss_status ss_insolation_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
-                              int perez, struct ss_cell_terms_s **terms);
+                              const ss_insolation_options *io, struct ss_cell_terms_s **terms);
 ss_status ss_insolation_store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
                                        const ss_sweep_options *opt, int16_t **stored);
 /* A weather step's record (insolation.c's sky_record_of). */

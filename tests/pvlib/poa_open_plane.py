@@ -4,7 +4,7 @@ pvlib.irradiance.get_total_irradiance for the same sun, weather, surface and
 sky model, within 0.5 % or 1 W/m^2.
 
 Usage: python poa_open_plane.py SKYSWEEP WEATHER PLANE.tif TILT AZIMUTH MODEL
-TIME WORKDIR. The plane faces AZIMUTH (clockwise from grid north), tilted TILT
+TIME WORKDIR [module]. The plane faces AZIMUTH (clockwise from grid north), tilted TILT
 degrees; TIME (ISO 8601 START/DURATION) selects the records. The sun for
 pvlib is pvlib's own SPA at the cell; the extraterrestrial normal
 irradiance is skysweep's (1367 W/m^2 at pvlib's earth-sun distance). A
@@ -20,12 +20,16 @@ import pandas as pd
 import pvlib
 
 skysweep, weather, plane, tilt, azimuth, model, window, work = sys.argv[1:9]
+# With a 9th argument, the plane is level and skysweep is given --surface
+# TILT,AZIMUTH (a fixed module, azimuth from true north) instead.
+module = len(sys.argv) > 9
 tilt, azimuth = float(tilt), float(azimuth)
 col, row = 30, 30
 steps = f"{work}/steps_{model}.tif"
 subprocess.run([skysweep, "insolation", "-q", "--device", "reference", "--weather", weather,
                 "--time", window, "--sky-model", model, "--directions", "64",
-                "--albedo", "0.2", "--steps", steps, plane, f"{work}/out_{model}.tif"],
+                "--albedo", "0.2", "--steps", steps, plane, f"{work}/out_{model}.tif"]
+               + (["--surface", f"{tilt:g},{azimuth:g}"] if module else []),
                check=True)
 values = subprocess.run(["gdallocationinfo", "-valonly", steps, str(col), str(row)],
                         check=True, capture_output=True, text=True).stdout.split()
@@ -56,7 +60,8 @@ lon, lat, lon_n, lat_n = (float(v) for v in lonlat)
 p1, p2, dl = np.radians(lat), np.radians(lat_n), np.radians(lon_n - lon)
 grid_north = np.degrees(np.arctan2(np.sin(dl) * np.cos(p2),
                                    np.cos(p1) * np.sin(p2) - np.sin(p1) * np.cos(p2) * np.cos(dl)))
-azimuth = azimuth + grid_north
+if not module:
+    azimuth = azimuth + grid_north
 sun = pvlib.solarposition.get_solarposition(times, lat, lon, altitude=500)
 r = pvlib.solarposition.nrel_earthsun_distance(times)
 dni_extra = 1367.0 / r ** 2
