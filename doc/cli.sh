@@ -30,7 +30,7 @@ abbreviated to a unique prefix.
   side-car files (ENVI's `.hdr`) needs an extension on the output's name.
 - Heights are converted to metres on reading. Their unit comes from `--z-units`, else the band's
   unit type (`m`, `ft`, `US survey foot`, `ftUS`, `cm`, `mm` and spellings GDAL drivers use),
-  else the vertical axis of a compound CRS (e.g. `EPSG:2227+6360`, NAVD88 height in US survey
+  or its first word (`m a.s.l.`), else the vertical axis of a compound CRS (e.g. `EPSG:2227+6360`, NAVD88 height in US survey
   feet), else metres. A unit it cannot interpret is refused (exit 3) in one line naming
   `--z-units`. The summary says when heights were not metres, or were taken as metres although
   the CRS's horizontal unit is feet (US county lidar); outputs record it as `INPUT_HEIGHT_UNIT`.

@@ -503,7 +503,7 @@ typedef struct {
     const char *what;
     double distance_km;
     int horizon_band;
-    int pv; /* PV yield asked for: each record's irradiance is needed */
+    int per_record; /* PV yield or per-step bands asked for: each record is needed */
 } ss_plan_weather;
 
 typedef struct {

@@ -89,4 +89,10 @@ for format in "GTiff .tif" "ENVI .env"; do
         [ -z "$(ls -A "$work/out" | grep -v -e "^notes.txt$" -e "^svf")" ]
     tap_ok $? "-of $1 beside notes.txt: exit $rc, notes.txt kept, nothing else left: $(ls -A "$work/out" | tr '\n' ' ') $(head -c 200 "$work/stderr")"
 done
+# A hidden name without an extension (.hs) is a name, not an extension.
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$SKYSWEEP" $svf -q "$dem" "$work/out/.hs" 2>"$work/stderr"
+rc=$?
+[ "$rc" -eq 0 ] && [ "$(ls -A "$work/out")" = .hs ] && gdalinfo "$work/out/.hs" >/dev/null 2>&1
+tap_ok $? "an output named .hs is written as .hs: exit $rc, $(ls -A "$work/out" | tr '\n' ' ')"
 tap_done

@@ -174,6 +174,23 @@ rc=$?
 [ "$rc" -eq 2 ] && grep -q "weather records" err.txt && [ ! -e o.tif ]
 tap_ok $? "the cumulative sky without weather is refused: exit $rc, $(cat err.txt)"
 
+# Per-step bands need each record: --shadow auto then keeps exact shadows
+# for a month of records, and an explicit cumulative sky refuses them.
+"$SKYSWEEP" insolation --device reference --directions 8 --weather "$pvgis" \
+    --time 2006-06-01T00:00Z/P31D --steps month_steps.tif level.tif month.tif >month.txt 2>err.txt
+rc=$?
+noon=$(gdallocationinfo -valonly -b 300 month_steps.tif 30 30 2>/dev/null) # 12 June, 12:00 UTC
+[ "$rc" -eq 0 ] && awk -v v="$noon" 'BEGIN { exit !(v > 100) }' && ! grep -q "sky     cumulative" month.txt
+tap_ok $? "a month with --steps keeps exact shadows: exit $rc, noon of 12 June holds $noon Wh/m2"
+"$SKYSWEEP" insolation --weather "$pvgis" --shadow cumulative --steps s.tif level.tif o.tif \
+    >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && grep -q "no per-step bands" err.txt && [ ! -e o.tif ] && [ ! -e s.tif ]
+tap_ok $? "the cumulative sky with --steps is refused: exit $rc, $(cat err.txt)"
+"$SKYSWEEP" insolation --weather three.csv --surface ,180 level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && grep -q -- "--surface expects" err.txt
+tap_ok $? "a surface without a tilt is refused: exit $rc"
 "$SKYSWEEP" insolation --weather three.csv --surface 95,180 level.tif o.tif >/dev/null 2>err.txt
 rc=$?
 [ "$rc" -eq 2 ] && grep -q -- "--surface expects" err.txt && [ ! -e o.tif ]

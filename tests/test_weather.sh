@@ -55,6 +55,14 @@ amsterdam=$("$SKYSWEEP" weather "$cut/amsterdam_iwec_jan_feb.epw" | sed -n 6p | 
 [ "$amsterdam" = "1994-12-31T23:00:00Z,1994-12-31T23:30:00Z" ]
 tap_ok $? "an EPW hour's sun is at its middle ($amsterdam)"
 
+# JSON laid out over many lines reads as the same records as on one.
+sed 's/}, {/},\n {/g' "$cut/pvgis_45N_8E_jan_feb.json" >"$work/pretty.json"
+lines=$(wc -l <"$work/pretty.json")
+"$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.json" | tail -n +5 >"$work/one.csv"
+"$SKYSWEEP" weather "$work/pretty.json" | tail -n +5 >"$work/many.csv"
+[ "$lines" -gt 1000 ] && cmp -s "$work/one.csv" "$work/many.csv" && [ -s "$work/one.csv" ]
+tap_ok $? "PVGIS JSON over $lines lines reads as on one line"
+
 # A plain CSV, with a missing value and a zone.
 cat >"$work/plain.csv" <<'CSV'
 time,ghi,dni,dhi,temp_air
@@ -89,6 +97,7 @@ refused broken.json '{"inputs": {"location": {"latitude": 45'
 refused other.json '{"a": 1}'
 refused bad_time.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n2018011:0000,1,2,3\n'
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
+refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 "$SKYSWEEP" weather "$work/missing.epw" >/dev/null 2>"$work/err"
 rc=$?
 [ "$rc" -eq 3 ] && grep -q "No such file" "$work/err"

@@ -21,6 +21,9 @@ gdal_translate -q -ot Float32 -scale 0 0.3048006096 0 1 m.tif feet_no_unit.tif
 gdal_translate -q -ot Float32 -a_srs EPSG:32605+6360 -scale 0 0.3048006096 0 1 -of VRT m.tif crs.vrt
 sed -i '/<UnitType>/d' crs.vrt # the vertical CRS alone says feet
 sed 's|<UnitType>ft</UnitType>|<UnitType>furlong</UnitType>|' ft.vrt >furlong.vrt
+# A unit written with its datum: its first word names it.
+gdal_translate -q -of VRT m.tif asl.vrt
+sed -i 's|<VRTRasterBand \([^>]*\)>|<VRTRasterBand \1>\n    <UnitType>m a.s.l.</UnitType>|' asl.vrt
 
 svf() { "$SKYSWEEP" svf -q --device reference --directions 16 "$@"; }
 # maxdiff A B: the largest |a - b| over the cells of two rasters.
@@ -37,6 +40,10 @@ for input in ft.tif crs.vrt; do
     awk -v d="$d" 'BEGIN {exit !(d < 1e-5)}'
     tap_ok $? "$input: SVF equals the metre DEM's (max |diff| $d); $unit"
 done
+svf asl.vrt asl.tif
+d=$(maxdiff m_svf.tif asl.tif)
+awk -v d="$d" 'BEGIN {exit !(d == 0)}' && gdalinfo asl.tif | grep -q "unit type 'm a.s.l.'"
+tap_ok $? "a band unit 'm a.s.l.' is metres (max |diff| $d)"
 unit=$(gdalinfo out_crs.vrt.tif | grep -c "CRS's vertical unit 'US survey foot'")
 tap_ok $((unit != 1)) "the CRS's vertical unit is named in the metadata"
 

@@ -174,7 +174,12 @@ static ss_status vertical_unit(ss_ctx *ctx, const char *path, GDALDatasetH ds,
         return SS_OK;
     }
     if (unit && *unit) {
+        /* The whole name, else its first word ("m a.s.l.", "m (EGM96)"). */
+        char word[32];
+        snprintf(word, sizeof word, "%.*s", (int)strcspn(unit, " (,"), unit);
         dem->z_unit_m = metres_per_unit_named(unit);
+        if (!(dem->z_unit_m > 0))
+            dem->z_unit_m = metres_per_unit_named(word);
         if (!(dem->z_unit_m > 0))
             return ss_fail(ctx, SS_ERR_INPUT,
                            "'%s': the band's unit '%s' is not a unit of height skysweep knows: "

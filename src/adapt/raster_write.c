@@ -108,6 +108,16 @@ static int split_path(const char *path, char **dir, char **base)
     return -1;
 }
 
+/* Whether path's file name has an extension: a dot after its first
+ * character (".hs" is a hidden name, not an extension), the one rule of the
+ * temporary's name, its stem and the rename. */
+static int has_extension(const char *path)
+{
+    const char *slash = strrchr(path, '/'), *name = slash ? slash + 1 : path;
+    const char *dot = strrchr(name, '.');
+    return dot && dot > name;
+}
+
 /* The file name of path without its folder and last extension. */
 static char *stem_of(const char *path)
 {
@@ -178,12 +188,11 @@ static char *temporary_name(const char *path, const char *kind)
     if (split_path(path, &dir, &base) != 0)
         return NULL;
     remove_temporaries(dir, base, 0);
-    const char *ext = strrchr(base, '.');
+    const char *ext = has_extension(base) ? strrchr(base, '.') : "";
     size_t n = strlen(dir) + 2 * strlen(base) + strlen(kind) + 40;
     out = malloc(n);
     if (out)
-        snprintf(out, n, "%s/.%s.%ld.%s%s", dir, base, (long)getpid(), kind,
-                 ext && ext != base ? ext : "");
+        snprintf(out, n, "%s/.%s.%ld.%s%s", dir, base, (long)getpid(), kind, ext);
     free(dir);
     free(base);
     return out;
@@ -295,6 +304,8 @@ static int probe_format(GDALDriverH driver, const char *probe_path, int bands, G
         GDALClose(back);
     for (int i = 0; files && files[i]; ++i)
         VSIUnlink(files[i]);
+    if (copy && !back) /* written, but it does not open: its name is all we know */
+        VSIUnlink(probe_path);
     CSLDestroy(files);
     return holds;
 }
@@ -319,12 +330,11 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
     const double float_values[4] = {SS_NODATA, 0.8125, -12.5, 1234.5};
     const double byte_values[4] = {0, 1, 128, 255};
     const double *values = type == GDT_Byte ? byte_values : float_values;
-    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    int has_ext = dot && (!slash || dot > slash), holds = 0, side_cars = 0;
+    int has_ext = has_extension(path), holds = 0, side_cars = 0;
     if (CSLFetchBoolean(GDALGetMetadata(driver, NULL), GDAL_DCAP_VIRTUALIO, FALSE)) {
         char probe[128];
         snprintf(probe, sizeof probe, "/vsimem/skysweep-probe-%ld%.16s", (long)getpid(),
-                 has_ext ? dot : "");
+                 has_ext ? strrchr(path, '.') : "");
         holds = probe_format(driver, probe, bands, type, create_opts, values, &side_cars);
         ss_gdal_errors_reset();
     }
@@ -573,8 +583,7 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
      * output without an extension cannot be paired so; such an output is
      * one file (formats with side-cars refuse it at open) and perhaps its
      * .aux.xml, moved one by one. */
-    const char *slash = strrchr(w->path, '/'), *dot = strrchr(w->path, '.');
-    int has_ext = dot && (!slash || dot > slash);
+    int has_ext = has_extension(w->path);
     if (st == SS_OK && (has_ext ? rename_own_files(w->tmp_path, w->path) != 0
                                 : rename_with_aux(w->tmp_path, w->path) != 0))
         st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,

@@ -27,6 +27,7 @@ typedef struct {
     ss_ctx *ctx;
     const char *path;
     char *text;  /* the file, lines split in place */
+    long size;   /* its bytes */
     char **lines;
     int n_lines;
     ss_weather *w;
@@ -63,6 +64,7 @@ static ss_status load(reader *r)
     if (got != (size_t)size)
         return ss_fail(r->ctx, SS_ERR_INPUT, "cannot read '%s'", r->path);
     r->text[size] = '\0';
+    r->size = size;
     if (size == 0)
         return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is empty, not a weather file", r->path);
     if (memchr(r->text, '\0', (size_t)size))
@@ -239,6 +241,8 @@ static ss_status read_epw(reader *r)
         return fail_at(r, 0, "an EPW file needs its eight header lines (no DATA PERIODS line)");
     int pvgis = isfinite(pvgis_offset_h) && fabs(pvgis_offset_h) <= 1.0;
     if (pvgis)
+        w->utc_offset_h = 0.0; /* its values are UTC hours: months go by UTC, as its CSV's */
+    if (pvgis)
         snprintf(w->stamps, sizeof w->stamps,
                  "EPW exported by PVGIS: its values are PVGIS's UTC hours (its CSV's at the "
                  "same clock hour) although LOCATION says zone %+g, so the zone is not applied: "
@@ -336,7 +340,9 @@ static ss_status read_tmy3(reader *r)
         int month, day, year, hour, minute;
         if (n != n_names)
             return fail_at(r, i, "a TMY3 record has as many fields as the column names");
-        if (sscanf(f[0], "%d/%d/%d", &month, &day, &year) != 3 || month < 1 || month > 12 ||
+        /* Short fields, so that sscanf's numbers cannot overflow. */
+        if (strlen(f[0]) > 10 || strlen(f[1]) > 5 ||
+            sscanf(f[0], "%d/%d/%d", &month, &day, &year) != 3 || month < 1 || month > 12 ||
             day < 1 || day > ss_days_in_month(year, month) ||
             sscanf(f[1], "%d:%d", &hour, &minute) != 2 || hour < 0 || hour > 24 || minute < 0 ||
             minute > 59)
@@ -487,10 +493,15 @@ static int json_number(json_object *obj, const char *key, double *v)
 static ss_status read_pvgis_json(reader *r)
 {
     ss_weather *w = r->w;
+    /* The lines were split in place: their ends become blanks again, which
+     * JSON takes as white space (no string holds a raw line end). */
+    for (long i = 0; i < r->size; ++i)
+        if (r->text[i] == '\0')
+            r->text[i] = ' ';
     json_tokener *tok = json_tokener_new();
     if (!tok)
         return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
-    json_object *root = json_tokener_parse_ex(tok, r->text, (int)strlen(r->text));
+    json_object *root = json_tokener_parse_ex(tok, r->text, (int)r->size);
     enum json_tokener_error err = json_tokener_get_error(tok);
     json_tokener_free(tok);
     if (!root || err != json_tokener_success) {
@@ -684,33 +695,41 @@ static ss_status read_plain_csv(reader *r)
 }
 
 /* Instantaneous values stand for the spacing of their stamps: the smallest
- * positive gap among the first records (a gap can span missing records). */
+ * positive gap (a gap can span missing records). Stamps must increase; in a
+ * PSM file they may go back where the month changes, as a typical year
+ * stitches months of different years. */
 static ss_status set_durations(reader *r)
 {
     ss_weather *w = r->w;
     double step = 0;
-    for (size_t i = 1; i < w->n && i < 200; ++i) {
+    for (size_t i = 1; i < w->n; ++i) {
         double d = w->records[i].stamp_unix_s - w->records[i - 1].stamp_unix_s;
         if (d > 0 && (step == 0 || d < step))
             step = d;
+        if (d <= 0) {
+            ss_civil_time a, b;
+            ss_civil_from_unix(w->records[i - 1].stamp_unix_s, &a);
+            ss_civil_from_unix(w->records[i].stamp_unix_s, &b);
+            if (w->format != SS_WEATHER_PSM || a.month == b.month)
+                return ss_fail(r->ctx, SS_ERR_INPUT,
+                               "'%s': the records' times do not increase (record %zu)", r->path,
+                               i + 1);
+        }
     }
-    if (w->n > 1 && !(step > 0))
-        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s': the records' times do not increase",
-                       r->path);
     if (step > 86400.0)
         return ss_fail(r->ctx, SS_ERR_INPUT,
                        "'%s': records %.0f h apart are too far apart for irradiance (at most a "
                        "day)",
                        r->path, step / 3600.0);
     for (size_t i = 0; i < w->n; ++i)
-        w->records[i].duration_h = w->n > 1 ? step / 3600.0 : 1.0;
+        w->records[i].duration_h = step > 0 ? step / 3600.0 : 1.0;
     return SS_OK;
 }
 
 ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
 {
     memset(w, 0, sizeof *w);
-    reader r = {ctx, path, NULL, NULL, 0, w};
+    reader r = {.ctx = ctx, .path = path, .w = w};
     ss_status st = load(&r);
     const char *first = st == SS_OK && r.n_lines ? r.lines[0] : "";
     const char *second = r.n_lines > 1 ? r.lines[1] : "";

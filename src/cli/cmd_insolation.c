@@ -60,7 +60,7 @@ static const opt_spec insolation_options[] = {
      "exact: a sweep at each step's sun azimuth; interpolated: horizons stored at --directions "
      "and interpolated; cumulative (--weather): the suns binned by direction and "
      "--elevation-step, each bin lit at its direction's horizon; auto: cumulative for 720 "
-     "weather records or more without --pv, else exact (doc/insolation.md)"},
+     "weather records or more without --pv or --steps, else exact (doc/insolation.md)"},
     {"elevation-step", OPT_DOUBLE, SET(elevation_step_deg), "DEG", "1", 0.01, 90, NULL,
      "with --shadow cumulative: height of a sun bin"},
     {"steps", OPT_STRING, SET(steps_path), "FILE", NULL, 0, 0, NULL,
@@ -407,7 +407,7 @@ static ss_status parse_surface(ss_ctx *ctx, const char *text, ss_surface *out)
     char *end;
     out->kind = SS_SURFACE_FIXED;
     out->tilt_deg = strtod(text, &end);
-    const char *az = *end == ',' ? end + 1 : NULL;
+    const char *az = *end == ',' && end != text ? end + 1 : NULL;
     if (az)
         out->azimuth_deg = strtod(az, &end);
     if (!az || end == az || *end || !(out->tilt_deg >= 0 && out->tilt_deg <= 90) ||
@@ -592,7 +592,8 @@ int cmd_insolation(int argc, char **argv)
                      set.weather);
             job.weather = (ss_plan_weather){
                 weather_what, weather_distance_km(&weather, &job.frame),
-                sky_model_of_choice[set.sky_model] == SS_SKY_MODEL_PEREZ, set.pv};
+                sky_model_of_choice[set.sky_model] == SS_SKY_MODEL_PEREZ,
+                set.pv || set.steps_path};
         }
     }
     if (st == SS_OK)

@@ -273,6 +273,10 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
     ss_status st = ss_insolation_check(ctx, io, n_steps);
     if (st != SS_OK)
         return st;
+    if (io->shadow_mode == SS_SHADOW_CUMULATIVE && sink)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the cumulative sky has no per-step bands: use exact or interpolated "
+                       "shadows with them");
     if (io->shadow_mode == SS_SHADOW_CUMULATIVE)
         return ss_insolation_cumulative(ctx, grid, opt, io, n_steps, sun_at, sun_user, out);
     size_t n = (size_t)grid->width * grid->height;

@@ -172,7 +172,7 @@ static ss_shadow_mode choose_shadows(const ss_plan_request *r)
     if (r->shadow_mode != SS_SHADOW_AUTO)
         return r->shadow_mode;
     const ss_plan_weather *w = &r->weather;
-    return r->product == SS_PRODUCT_INSOLATION && w->what && !w->pv &&
+    return r->product == SS_PRODUCT_INSOLATION && w->what && !w->per_record &&
                    r->n_steps >= CUMULATIVE_MIN_RECORDS
                ? SS_SHADOW_CUMULATIVE
                : SS_SHADOW_EXACT;
@@ -200,7 +200,7 @@ static void plan_shadows(ss_plan *p, const ss_plan_request *r)
     }
     add(p, "shadow_mode", 1, 0, "", "exact shadows: %s",
         !w->what ? "the clear sky's steps are swept each"
-        : w->pv  ? "the PV yield needs each record's irradiance on each cell"
+        : w->per_record ? "the PV yield or the per-step bands need each record on each cell"
                  : "too few records for the cumulative sky to pay");
 }
 
