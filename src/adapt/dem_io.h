@@ -36,6 +36,12 @@ typedef struct {
 
 /* Registers GDAL's drivers once. */
 void ss_gdal_init(void);
+/* What the command line asks of GDAL, so that it includes no GDAL header:
+ * its release name; its progress bar on the terminal (returns 1: go on);
+ * a bound on its block cache. */
+const char *ss_gdal_version(void);
+int ss_gdal_term_progress(double complete);
+void ss_gdal_limit_cache(size_t bytes);
 
 ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
                       const ss_dem_read_options *opt, ss_dem *dem);

@@ -32,6 +32,21 @@ void ss_gdal_init(void)
     }
 }
 
+const char *ss_gdal_version(void)
+{
+    return GDALVersionInfo("RELEASE_NAME");
+}
+
+int ss_gdal_term_progress(double complete)
+{
+    return GDALTermProgress(complete, NULL, NULL);
+}
+
+void ss_gdal_limit_cache(size_t bytes)
+{
+    GDALSetCacheMax64((GIntBig)bytes);
+}
+
 typedef struct {
     GDALDatasetH ds;
     double gt[6];

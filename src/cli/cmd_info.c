@@ -6,7 +6,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <gdal.h>
 
 #include "commands.h"
 
@@ -67,7 +66,7 @@ int cmd_info(int argc, char **argv)
         return 0;
     }
     printf("skysweep %s\n", ss_version());
-    printf("GDAL     %s\n", GDALVersionInfo("RELEASE_NAME"));
+    printf("GDAL     %s\n", ss_gdal_version());
     printf("built    OpenImageIO %s, VTK %s, MPI %s, sanitizers %s\n", built_with(HAVE_OIIO_FLAG),
            built_with(HAVE_VTK_FLAG), built_with(HAVE_MPI_FLAG), built_with(HAVE_SANITIZERS_FLAG));
     printf("devices:\n");

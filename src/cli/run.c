@@ -5,10 +5,9 @@
 #include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-#include <gdal.h>
 
 #include "commands.h"
 #include "heightmap_input.h"
@@ -143,7 +142,7 @@ static int progress(double complete, const char *message, void *user)
     if (!run->progress_shown && now() - run->started < 1.0)
         return 1;
     run->progress_shown = 1;
-    return GDALTermProgress(complete, NULL, NULL);
+    return ss_gdal_term_progress(complete);
 }
 
 int run_begin(run_state *run, const char *command, const common_settings *common)
@@ -313,7 +312,7 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         *source = src;
         *band_rows = rows;
         /* GDAL's block cache counts against the bound too. */
-        GDALSetCacheMax64((GIntBig)(16 * 1048576));
+        ss_gdal_limit_cache(16 * 1048576);
         return SS_OK;
     }
     ss_dem_source_close(src);
