@@ -196,12 +196,29 @@ static int find_column(char **fields, int n, const char *name)
     return -1;
 }
 
-/* Counts a record as missing where any of its irradiance values was
- * (missing_values went up from `before` while reading it). */
-static void count_missing(ss_weather *w, size_t before, size_t missing_values)
+/* A record's values as a reader found them: irradiance (W/m^2, or the
+ * format's missing marker), air temperature (C), wind (m/s), albedo and
+ * pressure (hPa), NAN where the format has none. */
+typedef struct {
+    double ghi, dni, dhi, temp_air_c, wind_speed_m_s, albedo, pressure_hpa;
+} raw_values;
+
+/* Stores v into rec, values out of range as missing or not given; counts
+ * the record as missing where an irradiance value is. A file with GHI alone
+ * leaves dni and dhi NAN without counting them. */
+static void set_values(ss_weather *w, ss_weather_record *rec, const raw_values *v, double marker)
 {
-    if (missing_values != before)
-        w->missing++;
+    size_t missing = 0;
+    rec->ghi = irradiance(v->ghi, marker, &missing);
+    if (!w->ghi_only) {
+        rec->dni = irradiance(v->dni, marker, &missing);
+        rec->dhi = irradiance(v->dhi, marker, &missing);
+    }
+    w->missing += missing > 0;
+    rec->temp_air_c = optional(v->temp_air_c, -90, 70);
+    rec->wind_speed_m_s = optional(v->wind_speed_m_s, 0, 100);
+    rec->albedo = albedo(v->albedo);
+    rec->pressure_hpa = optional(v->pressure_hpa, 300, 1200);
 }
 
 /* ---- EPW ---------------------------------------------------------------- */
@@ -255,7 +272,7 @@ static ss_status read_epw(reader *r)
                  "(stamped, as pvlib does, at the hour's start); the sun is taken at the "
                  "middle of the hour",
                  tz);
-    size_t cap = 0, missing_values = 0;
+    size_t cap = 0;
     for (int i = data; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
             continue;
@@ -284,15 +301,8 @@ static ss_status read_epw(reader *r)
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour - 1, 0, 0) - tz * 3600.0;
         rec->sun_unix_s = pvgis ? rec->stamp_unix_s + (tz + 1.0 + pvgis_offset_h) * 3600.0
                                 : rec->stamp_unix_s + 1800.0;
-        size_t before = missing_values;
-        rec->ghi = irradiance(v[13], 9999, &missing_values);
-        rec->dni = irradiance(v[14], 9999, &missing_values);
-        rec->dhi = irradiance(v[15], 9999, &missing_values);
-        count_missing(w, before, missing_values);
-        rec->temp_air_c = optional(v[6], -90, 70);
-        rec->pressure_hpa = optional(v[9] / 100.0, 300, 1200);
-        rec->wind_speed_m_s = optional(v[21], 0, 100);
-        rec->albedo = albedo(v[32]);
+        set_values(w, rec,
+                   &(raw_values){v[13], v[14], v[15], v[6], v[21], v[32], v[9] / 100.0}, 9999);
     }
     return SS_OK;
 }
@@ -332,7 +342,7 @@ static ss_status read_tmy3(reader *r)
     int c_pres = find_column(names, n_names, "Pressure (mbar)");
     if (n_names < 2 || c_ghi < 0 || c_dni < 0 || c_dhi < 0)
         return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2), DNI (W/m^2) or DHI (W/m^2)");
-    size_t cap = 0, missing_values = 0;
+    size_t cap = 0;
     for (int i = 2; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
             continue;
@@ -357,15 +367,7 @@ static ss_status read_tmy3(reader *r)
             return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0) - tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s - 1800.0;
-        size_t before = missing_values;
-        rec->ghi = irradiance(v[0], -9900, &missing_values);
-        rec->dni = irradiance(v[1], -9900, &missing_values);
-        rec->dhi = irradiance(v[2], -9900, &missing_values);
-        count_missing(w, before, missing_values);
-        rec->temp_air_c = optional(v[3], -90, 70);
-        rec->wind_speed_m_s = optional(v[4], 0, 100);
-        rec->albedo = albedo(v[5]);
-        rec->pressure_hpa = optional(v[6], 300, 1200);
+        set_values(w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], v[5], v[6]}, -9900);
     }
     return SS_OK;
 }
@@ -400,8 +402,8 @@ static void pvgis_stamps(ss_weather *w, double offset_h)
 
 /* One PVGIS record from its fields (time, G(h), Gb(n), Gd(h), T2m, WS10m,
  * SP in Pa) on line `line` of a CSV, or (line < 0) from the JSON. */
-static ss_status pvgis_record(reader *r, int line, size_t *cap, size_t *missing_values,
-                              double offset_h, const char *time, const double v[6])
+static ss_status pvgis_record(reader *r, int line, size_t *cap, double offset_h,
+                              const char *time, const double v[6])
 {
     double t;
     if (!pvgis_time(time, &t))
@@ -414,14 +416,7 @@ static ss_status pvgis_record(reader *r, int line, size_t *cap, size_t *missing_
         return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
     rec->stamp_unix_s = t;
     rec->sun_unix_s = t + offset_h * 3600.0;
-    size_t before = *missing_values;
-    rec->ghi = irradiance(v[0], NAN, missing_values);
-    rec->dni = irradiance(v[1], NAN, missing_values);
-    rec->dhi = irradiance(v[2], NAN, missing_values);
-    count_missing(r->w, before, *missing_values);
-    rec->temp_air_c = optional(v[3], -90, 70);
-    rec->wind_speed_m_s = optional(v[4], 0, 100);
-    rec->pressure_hpa = optional(v[5] / 100.0, 300, 1200);
+    set_values(r->w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], NAN, v[5] / 100.0}, NAN);
     return SS_OK;
 }
 
@@ -461,7 +456,7 @@ static ss_status read_pvgis_csv(reader *r)
         cols[k] = find_column(names, n_names, wanted[k]);
     if (cols[0] < 0 || cols[1] < 0 || cols[2] < 0)
         return fail_at(r, header, "the PVGIS columns lack G(h), Gb(n) or Gd(h)");
-    size_t cap = 0, missing_values = 0;
+    size_t cap = 0;
     for (int i = header + 1; i < r->n_lines; ++i) {
         /* The records end where the footer (a blank line, then notes) begins. */
         if (!isdigit((unsigned char)r->lines[i][0]))
@@ -473,7 +468,7 @@ static ss_status read_pvgis_csv(reader *r)
         for (int k = 0; k < 6; ++k)
             if (cols[k] >= 0 && !number(f[cols[k]], &val[k]))
                 return fail_at(r, i, "a value of a PVGIS record is not a number");
-        ss_status st = pvgis_record(r, i, &cap, &missing_values, offset_h, f[0], val);
+        ss_status st = pvgis_record(r, i, &cap, offset_h, f[0], val);
         if (st != SS_OK)
             return st;
     }
@@ -533,7 +528,7 @@ static ss_status read_pvgis_json(reader *r)
             offset_h = 0.5;
         pvgis_stamps(w, offset_h);
     }
-    size_t cap = 0, missing_values = 0, n = st == SS_OK ? json_object_array_length(hourly) : 0;
+    size_t cap = 0, n = st == SS_OK ? json_object_array_length(hourly) : 0;
     const char *keys[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
     for (size_t i = 0; i < n && st == SS_OK; ++i) {
         json_object *rec = json_object_array_get_idx(hourly, i), *time;
@@ -548,7 +543,7 @@ static ss_status read_pvgis_json(reader *r)
                          "'%s': record %zu of tmy_hourly lacks time(UTC), G(h), Gb(n) or Gd(h)",
                          r->path, i + 1);
         else
-            st = pvgis_record(r, -1, &cap, &missing_values, offset_h, json_object_get_string(time),
+            st = pvgis_record(r, -1, &cap, offset_h, json_object_get_string(time),
                               v);
     }
     json_object_put(root);
@@ -595,7 +590,7 @@ static ss_status read_psm(reader *r)
                                  "or DHI");
     cols[10] = find_column(names, n_names, "Surface Albedo");
     cols[11] = find_column(names, n_names, "Pressure");
-    size_t cap = 0, missing_values = 0;
+    size_t cap = 0;
     for (int i = 3; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
             continue;
@@ -619,15 +614,7 @@ static ss_status read_psm(reader *r)
                                                (int)v[4], 0) -
                             tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s;
-        size_t before = missing_values;
-        rec->ghi = irradiance(v[5], -9999, &missing_values);
-        rec->dni = irradiance(v[6], -9999, &missing_values);
-        rec->dhi = irradiance(v[7], -9999, &missing_values);
-        count_missing(w, before, missing_values);
-        rec->temp_air_c = optional(v[8], -90, 70);
-        rec->wind_speed_m_s = optional(v[9], 0, 100);
-        rec->albedo = albedo(v[10]);
-        rec->pressure_hpa = optional(v[11], 300, 1200);
+        set_values(w, rec, &(raw_values){v[5], v[6], v[7], v[8], v[9], v[10], v[11]}, -9999);
     }
     return SS_OK;
 }
@@ -658,7 +645,7 @@ static ss_status read_plain_csv(reader *r)
     snprintf(w->stamps, sizeof w->stamps,
              "CSV: each value stands for its stamp (instantaneous, or a mean centred on it); "
              "the sun is taken at the stamp");
-    size_t cap = 0, missing_values = 0;
+    size_t cap = 0;
     for (int i = 1; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
             continue;
@@ -679,17 +666,7 @@ static ss_status read_plain_csv(reader *r)
         if (!rec)
             return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = rec->sun_unix_s = t;
-        size_t before = missing_values;
-        rec->ghi = irradiance(v[1], NAN, &missing_values);
-        if (!w->ghi_only) {
-            rec->dni = irradiance(v[2], NAN, &missing_values);
-            rec->dhi = irradiance(v[3], NAN, &missing_values);
-        }
-        count_missing(w, before, missing_values);
-        rec->temp_air_c = optional(v[4], -90, 70);
-        rec->wind_speed_m_s = optional(v[5], 0, 100);
-        rec->albedo = albedo(v[6]);
-        rec->pressure_hpa = optional(v[7], 300, 1200);
+        set_values(w, rec, &(raw_values){v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, NAN);
     }
     return SS_OK;
 }
