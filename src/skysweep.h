@@ -11,6 +11,7 @@
  *     be negative; -90 means no terrain lies ahead inside the grid;
  *   - distances are metres along the azimuth;
  *   - outputs hold SS_NODATA where the input is nodata, and never NaN or Inf.
+ * The sun's position is in skysweep_sun.h, site horizons in skysweep_sites.h.
  */
 #ifndef SKYSWEEP_H
 #define SKYSWEEP_H

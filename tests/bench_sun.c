@@ -9,7 +9,7 @@
 #include <time.h>
 
 #include "iso_time.h"
-#include "spa.h"
+#include "skysweep_sun.h"
 
 #define RAD (M_PI / 180.0)
 

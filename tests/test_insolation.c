@@ -12,7 +12,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "spa.h"
+#include "skysweep_sun.h"
 #include "tap.h"
 #include "testlib.h"
 

@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "dem_io.h"
-#include "point_horizon.h"
+#include "skysweep_sites.h"
 #include "tap.h"
 #include "testlib.h"
 

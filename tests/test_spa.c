@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "iso_time.h"
-#include "spa.h"
+#include "skysweep_sun.h"
 #include "ss_sun.h"
 #include "tap.h"
 

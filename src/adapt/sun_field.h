@@ -9,7 +9,7 @@
 #define SS_SUN_FIELD_H
 
 #include "frame.h"
-#include "spa.h"
+#include "skysweep_sun.h"
 
 typedef struct {
     int width, height;

@@ -4,7 +4,7 @@
 #ifndef SS_CLI_HORIZON_POINTS_H
 #define SS_CLI_HORIZON_POINTS_H
 
-#include "point_horizon.h"
+#include "skysweep_sites.h"
 #include "run.h"
 #include "site.h"
 

@@ -6,7 +6,7 @@
 
 #include "dem_io.h"
 #include "frame.h"
-#include "spa.h"
+#include "skysweep_sun.h"
 #include "sun_field.h"
 #include "options.h"
 #include "skysweep.h"

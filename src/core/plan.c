@@ -12,7 +12,7 @@
 
 #include "accuracy_table.h"
 #include "ctx_internal.h"
-#include "spa.h"
+#include "skysweep_sun.h"
 
 #define DEG (180.0 / M_PI)
 

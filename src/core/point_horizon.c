@@ -1,4 +1,4 @@
-/* Point horizons (point_horizon.h). For each direction, the line samples
+/* Point horizons (skysweep_sites.h). For each direction, the line samples
  * that feed the site's cells in the sweep are found, and each one's horizon
  * is the largest elevation over the occluding samples ahead of it on its
  * line: what the sweep's hull gives it (kernels/ss_sweep.h), found here by
@@ -10,7 +10,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "point_horizon.h"
+#include "skysweep_sites.h"
 #include "products_internal.h"
 #include "ss_sweep.h"
 

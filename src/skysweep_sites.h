@@ -3,8 +3,8 @@
  * computed exactly along the same lines of the same line model without
  * sweeping the grid. doc/pv-horizons.md has the conventions and the
  * definition for a site between cell centres. */
-#ifndef SS_POINT_HORIZON_H
-#define SS_POINT_HORIZON_H
+#ifndef SKYSWEEP_SITES_H
+#define SKYSWEEP_SITES_H
 
 #include "skysweep.h"
 
