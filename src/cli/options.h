@@ -60,7 +60,13 @@ void opt_print_help(const opt_spec *const *tables, const char *usage, const char
 void opt_print_man(const opt_spec *const *tables, const char *command, const char *usage,
                    const char *summary, const char *version);
 void opt_print_completion(const opt_spec *const *tables);
-/* argv = {COMMAND, --help-markdown | --help-man | --help-completion}: prints
+/* The command's reference as JSON: command, version, usage, summary and
+ * options (name, dash, type, metavar, default, min and max, choices, help),
+ * for front ends that derive their parameters from the CLI's tables. */
+void opt_print_json(const opt_spec *const *tables, const char *command, const char *usage,
+                    const char *summary, const char *version);
+/* argv = {COMMAND, --help-markdown | --help-man | --help-completion |
+ * --help-json}: prints
  * that reference and returns 1; else 0. */
 int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, const char *command,
                         const char *usage, const char *summary, const char *version);

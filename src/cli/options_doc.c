@@ -1,7 +1,8 @@
 /* A command's reference in other forms, generated from its declared option
  * tables so that none disagrees with --help: Markdown for doc/cli.md
- * (doc/cli.sh), a man page (man/skysweep-COMMAND.1) and the words bash
- * completes (completion/skysweep, doc/completion.sh). */
+ * (doc/cli.sh), a man page (man/skysweep-COMMAND.1), the words bash
+ * completes (completion/skysweep, doc/completion.sh) and JSON for the front
+ * ends (the Python package's file calls). */
 #include "config.h"
 
 #include <stdio.h>
@@ -121,6 +122,68 @@ void opt_print_completion(const opt_spec *const *tables)
     printf("--help\n");
 }
 
+/* A JSON string: quotes, backslashes and control characters escaped. */
+static void json_string(const char *text)
+{
+    putchar('"');
+    for (const unsigned char *p = (const unsigned char *)(text ? text : ""); *p; ++p) {
+        if (*p == '"' || *p == '\\')
+            printf("\\%c", *p);
+        else if (*p == '\n')
+            fputs("\\n", stdout);
+        else if (*p < 0x20)
+            printf("\\u%04x", *p);
+        else
+            putchar(*p);
+    }
+    putchar('"');
+}
+
+void opt_print_json(const opt_spec *const *tables, const char *command, const char *usage,
+                    const char *summary, const char *version)
+{
+    static const char *const type_names[] = {"int", "double", "string", "choice", "flag", "list"};
+    printf("{\"command\": ");
+    json_string(command);
+    printf(", \"version\": ");
+    json_string(version);
+    printf(", \"usage\": ");
+    json_string(usage);
+    printf(", \"summary\": ");
+    json_string(summary);
+    printf(", \"options\": [");
+    const char *sep = "";
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s) {
+            printf("%s\n  {\"name\": ", sep);
+            json_string(s->name);
+            printf(", \"dash\": ");
+            json_string(opt_dash(s->name));
+            printf(", \"type\": \"%s\"", type_names[s->type]);
+            if (s->metavar) {
+                printf(", \"metavar\": ");
+                json_string(s->metavar);
+            }
+            if (s->default_text && s->type != OPT_FLAG) {
+                printf(", \"default\": ");
+                json_string(s->default_text);
+            }
+            if (s->type == OPT_INT || s->type == OPT_DOUBLE)
+                printf(", \"min\": %.17g, \"max\": %.17g", s->min, s->max);
+            if (s->type == OPT_CHOICE) {
+                printf(", \"choices\": [\"");
+                for (const char *c = s->choices; *c; ++c)
+                    fputs(*c == '|' ? "\", \"" : (char[2]){*c, 0}, stdout);
+                printf("\"]");
+            }
+            printf(", \"help\": ");
+            json_string(s->help);
+            printf("}");
+            sep = ",";
+        }
+    printf("\n]}\n");
+}
+
 int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, const char *command,
                         const char *usage, const char *summary, const char *version)
 {
@@ -132,6 +195,8 @@ int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, co
         opt_print_man(tables, command, usage, summary, version);
     else if (strcmp(argv[1], "--help-completion") == 0)
         opt_print_completion(tables);
+    else if (strcmp(argv[1], "--help-json") == 0)
+        opt_print_json(tables, command, usage, summary, version);
     else
         return 0;
     return 1;
