@@ -24,6 +24,8 @@ extern "C" {
 #endif
 
 #define SS_NODATA (-9999.0f)
+/* The earth's mean radius (IUGG R1), metres: curvature where a DEM gives no place. */
+#define SS_EARTH_RADIUS_MEAN_M 6371008.8
 
 /* Status codes double as the CLI's exit codes (doc/cli.md). */
 typedef enum {
@@ -107,6 +109,19 @@ typedef struct {
 ss_status ss_grid_alloc(ss_ctx *ctx, ss_grid *grid, int width, int height, double cell_x_m,
                         double cell_y_m);
 void ss_grid_free(ss_grid *grid);
+/* Heights beyond +-this many metres are not terrain: readers store them as
+ * nodata (and count them). */
+#define SS_Z_PLAUSIBLE_M 1e7
+/* The stored form of height_m (metres) in a grid: relative to z_origin_m,
+ * which the first plausible height sets, rounded to the metre (*have_origin
+ * 0 on entry to a grid, 1 after), so that large offsets keep their float
+ * precision. NAN for nodata: a height that is NaN, infinite or beyond
+ * SS_Z_PLAUSIBLE_M. Every reader fills grids through it. */
+float ss_grid_stored_height(ss_grid *grid, int *have_origin, double height_m);
+/* Fills a grid from ss_grid_alloc with width*height heights in metres (row
+ * by row from the north-west cell) through ss_grid_stored_height; *rejected
+ * (may be NULL) counts the finite heights beyond SS_Z_PLAUSIBLE_M. */
+void ss_grid_set_heights(ss_grid *grid, const double *heights_m, size_t *rejected);
 /* Checks that a grid can be swept: sizes, cell sizes, at least one valid
  * height; a 1x1 grid has no horizon and is refused. *valid_cells may be NULL. */
 ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells);
@@ -545,6 +560,11 @@ typedef struct {
 
 ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                        const ss_plan_request *request, ss_plan *plan);
+/* The sweep options that obey a plan: its directions; curvature (with the
+ * place's earth radius and refraction_k) and true north (the place's grid
+ * north) only where it turned them on. The other fields are kept. */
+void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double refraction_k,
+                           ss_sweep_options *opt);
 /* The plan as text lines ("effect ON/OFF reason [error allowed]") or JSON;
  * returns the length needed, as snprintf. */
 size_t ss_plan_format(const ss_plan *plan, int json, char *buf, size_t size);

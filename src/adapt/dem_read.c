@@ -21,9 +21,6 @@
 #include "dem_io.h"
 #include "gdal_errors.h"
 
-/* Heights beyond this are fill values or corruption, not terrain. */
-#define SS_Z_PLAUSIBLE_M 1e7
-
 void ss_gdal_init(void)
 {
     if (GDALGetDriverCount() == 0) {
@@ -367,19 +364,8 @@ static ss_status read_rows(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row
                 nodata++;
                 continue;
             }
-            v = v * src->scale + src->offset;
-            if (!(fabs(v) <= SS_Z_PLAUSIBLE_M)) {
-                *dst = NAN;
-                rejected++;
-                continue;
-            }
-            /* Heights relative to the first plausible one read keep the
-             * float precision of the local relief. */
-            if (!src->have_origin) {
-                g->z_origin_m = nearbyint(v);
-                src->have_origin = 1;
-            }
-            *dst = (float)(v - g->z_origin_m);
+            *dst = ss_grid_stored_height(g, &src->have_origin, v * src->scale + src->offset);
+            rejected += isnan(*dst);
         }
     }
     free(buf);

@@ -7,13 +7,10 @@
 #include "ctx_internal.h"
 #include "frame.h"
 
-/* Mean earth radius for heightmaps without a CRS (IUGG R1). */
-#define SS_EARTH_RADIUS_MEAN_M 6371008.8
-
 ss_status ss_dem_frame_open(ss_ctx *ctx, ss_dem *dem, ss_dem_frame *frame)
 {
     memset(frame, 0, sizeof *frame);
-    frame->earth_radius_m = SS_EARTH_RADIUS_MEAN_M;
+    frame->earth_radius_m = SS_EARTH_RADIUS_MEAN_M; /* heightmaps without a CRS */
     frame->cell_x_m = dem->grid.cell_x_m;
     frame->cell_y_m = dem->grid.cell_y_m;
     if (!dem->crs_wkt)

@@ -46,10 +46,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
         return job_finish(job, st);
     /* Obey the plan: what it leaves off is not computed. */
     const ss_plan *p = &job->plan;
-    job->opt.directions = p->directions;
-    job->opt.earth_radius_m = p->curvature ? place.earth_radius_m : 0.0;
-    job->opt.refraction_k = p->curvature ? common->refraction_k : 0.0;
-    job->opt.grid_north_deg = p->true_north ? f->grid_north_deg : 0.0;
+    ss_plan_sweep_options(p, &place, common->refraction_k, &job->opt);
     size_t len = ss_plan_format(p, common->plan_json, NULL, 0) + 1;
     char *text = malloc(len);
     if (!text)

@@ -49,6 +49,29 @@ void ss_grid_free(ss_grid *grid)
     }
 }
 
+float ss_grid_stored_height(ss_grid *grid, int *have_origin, double height_m)
+{
+    if (!(fabs(height_m) <= SS_Z_PLAUSIBLE_M))
+        return NAN;
+    if (!*have_origin) {
+        grid->z_origin_m = nearbyint(height_m);
+        *have_origin = 1;
+    }
+    return (float)(height_m - grid->z_origin_m);
+}
+
+void ss_grid_set_heights(ss_grid *grid, const double *heights_m, size_t *rejected)
+{
+    size_t n = (size_t)grid->width * (size_t)grid->height, bad = 0;
+    int have_origin = 0;
+    for (size_t i = 0; i < n; ++i) {
+        grid->z[i] = ss_grid_stored_height(grid, &have_origin, heights_m[i]);
+        bad += isfinite(heights_m[i]) && isnan(grid->z[i]);
+    }
+    if (rejected)
+        *rejected = bad;
+}
+
 ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells)
 {
     if (!grid || !grid->z)

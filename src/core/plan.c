@@ -392,3 +392,12 @@ size_t ss_plan_format(const ss_plan *p, int json, char *buf, size_t size)
 #undef PUT
     return used;
 }
+
+void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double refraction_k,
+                           ss_sweep_options *opt)
+{
+    opt->directions = plan->directions;
+    opt->earth_radius_m = plan->curvature ? place->earth_radius_m : 0.0;
+    opt->refraction_k = plan->curvature ? refraction_k : 0.0;
+    opt->grid_north_deg = plan->true_north ? place->grid_north_deg : 0.0;
+}
