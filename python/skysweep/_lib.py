@@ -1,0 +1,41 @@
+"""The library, its declarations and the command line's option tables, as the
+package was built with them (setup.py generates the three files)."""
+import json
+import os
+import pathlib
+
+from cffi import FFI
+
+_HERE = pathlib.Path(__file__).resolve().parent
+
+ffi = FFI()
+ffi.cdef((_HERE / "_cdef.h").read_text())
+#: SKYSWEEP_LIBRARY overrides the package's own copy (a sanitizer build, say).
+lib = ffi.dlopen(os.environ.get("SKYSWEEP_LIBRARY") or str(_HERE / "libskysweep.so.0"))
+
+BUILD = json.loads((_HERE / "_options.json").read_text())
+#: Numeric constants of the public headers (SS_NODATA, ...).
+CONST = BUILD["constants"]
+#: Each command's option table, as ``skysweep COMMAND --help-json`` prints it.
+COMMANDS = BUILD["commands"]
+
+
+def option(command, name):
+    """The option table's entry for a command's option."""
+    for entry in COMMANDS[command]["options"]:
+        if entry["name"] == name:
+            return entry
+    raise KeyError(f"skysweep {command} has no option --{name}")
+
+
+def default(command, name):
+    """An option's default as its table gives it (a number where it is one)."""
+    entry = option(command, name)
+    text = entry.get("default")
+    if text is None:
+        return None
+    if entry["type"] == "int":
+        return int(text)
+    if entry["type"] == "double":
+        return float(text)
+    return text

@@ -1,0 +1,242 @@
+"""The products on numpy arrays: a DEM in metres in, arrays out.
+
+Parameters share the command line's names (``--svf-tolerance`` is
+``svf_tolerance``), defaults, ranges and meanings: they come from its option
+tables (``skysweep COMMAND --help-json``), and what the command line leaves to
+the planner (``--directions``, ``--curvature auto``) the planner decides here
+too. An array carries no place, so azimuths are grid azimuths (north up the
+columns), the earth's mean radius serves for curvature, and one sun serves the
+whole grid. Results hold NaN where the DEM has no height.
+"""
+import math
+from collections import namedtuple
+
+import numpy as np
+
+from ._context import ArgumentError, context
+from ._grid import Grid, out_buffer
+from ._lib import CONST, default, ffi, lib, option
+
+_SWITCH = {"auto": -1, "on": 1, "off": 0}
+_LINES = {"interpolated": 0, "digital": 1}
+#: The CLI's --definition choices as library definitions.
+_SVF_DEFINITIONS = {"geometric": lib.SS_SVF_DEF_GEOMETRIC, "radiative": lib.SS_SVF_DEF_TILTED,
+                    "horizontal": lib.SS_SVF_DEF_HORIZONTAL}
+
+#: Each sweeping function's options shared with every sweeping command.
+SWEEP_OPTIONS = ("directions", "offset", "curvature", "refraction", "earth_radius", "lines",
+                 "horizon_tolerance", "svf_tolerance")
+
+
+def _checked(command, name, value):
+    """value, checked against the command's table: range for numbers,
+    choices for a choice. Raises ArgumentError as the CLI would refuse it."""
+    entry = option(command, name.replace("_", "-"))
+    flag = f"{entry['dash']}{entry['name']}"
+    if entry["type"] in ("int", "double"):
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise TypeError(f"{name} ({flag}) must be a number, not {value!r}") from None
+        if entry["type"] == "int" and number != int(number):
+            raise ArgumentError(f"{flag} expects a whole number, not {value!r}", 2)
+        if not (math.isfinite(number) and entry["min"] <= number <= entry["max"]):
+            raise ArgumentError(f"{flag} expects {entry['min']:g} to {entry['max']:g}, "
+                                f"not {value!r}", 2)
+        return int(number) if entry["type"] == "int" else number
+    if entry["type"] == "choice":
+        if value not in entry["choices"]:
+            raise ArgumentError(f"{flag} expects one of {', '.join(entry['choices'])}, "
+                                f"not {value!r}", 2)
+    return value
+
+
+def _value(command, name, given):
+    """The given value, or the table's default, checked."""
+    value = default(command, name.replace("_", "-")) if given is None else given
+    return None if value is None else _checked(command, name, value)
+
+
+def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMETRIC):
+    """Sweep options and the plan for a product, as the CLI's job_plan makes
+    them for a DEM without a place."""
+    directions = _value(command, "directions", kw.get("directions"))
+    refraction = _value(command, "refraction", kw.get("refraction"))
+    earth_radius = _value(command, "earth_radius", kw.get("earth_radius"))
+    place = ffi.new("ss_place *")
+    place.diagonal_m = math.hypot(grid.shape[1] * grid.cell_size[0],
+                                  grid.shape[0] * grid.cell_size[1])
+    place.earth_radius_m = earth_radius or CONST["SS_EARTH_RADIUS_MEAN_M"]
+    req = ffi.new("ss_plan_request *")
+    req.product = product
+    req.horizon_tolerance_deg = _value(command, "horizon_tolerance", kw.get("horizon_tolerance"))
+    req.svf_tolerance = _value(command, "svf_tolerance", kw.get("svf_tolerance"))
+    req.sun_tolerance_deg = default(command, "sun-tolerance")
+    req.curvature = _SWITCH[_value(command, "curvature", kw.get("curvature"))]
+    req.true_north = lib.SS_OFF
+    req.sun_per_cell = lib.SS_OFF
+    req.refraction_k = refraction
+    req.directions = directions or 0
+    req.svf_definition = svf_definition
+    req.lines = _LINES[_value(command, "lines", kw.get("lines"))]
+    req.shadow_mode = lib.SS_SHADOW_EXACT
+    plan = ffi.new("ss_plan *")
+    ctx.check(lib.ss_plan_make(ctx.ptr, grid.ptr, place, req, plan))
+    opt = ffi.new("ss_sweep_options *")
+    lib.ss_sweep_options_default(opt)
+    opt.offset_deg = _value(command, "offset", kw.get("offset"))
+    opt.lines = req.lines
+    lib.ss_plan_sweep_options(plan, place, refraction, opt)
+    ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
+    return opt
+
+
+def _begin(dem, cell_size, nodata, kw, allowed):
+    unknown = set(kw) - set(allowed) - {"device", "progress"}
+    if unknown:
+        raise TypeError(f"unexpected keyword argument(s): {', '.join(sorted(unknown))}")
+    ctx = context(kw.get("device"))
+    return ctx, Grid(ctx, dem, cell_size, nodata)
+
+
+def svf(dem, cell_size=None, *, definition=None, radius=None, nodata=None, **kw):
+    """Sky-view factor (0..1) of every cell.
+
+    definition: "geometric" (1 - mean sin h, Zakšek et al. 2011, RVT), "radiative"
+    (Dozier & Frew 1990, the cosine-weighted sky the sloping cell sees) or
+    "horizontal" (cosine-weighted, horizontal surface). radius: metres; horizons
+    only that far (geometric or horizontal), 0: unlimited, exact.
+    """
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    definition = _value("svf", "definition", definition)
+    radius = _value("svf", "radius", radius)
+    code = _SVF_DEFINITIONS[definition]
+    opt = _sweep(ctx, grid, "svf", lib.SS_PRODUCT_SVF, kw, code)
+    out = grid.new_plane()
+    if radius > 0:
+        ctx.call(lib.ss_svf_within, grid.ptr, opt, code, radius, out_buffer(out),
+                 progress=kw.get("progress"))
+    else:
+        ctx.call(lib.ss_svf, grid.ptr, opt, code, out_buffer(out), progress=kw.get("progress"))
+    return grid.finish(out, "svf", {"units": "1", "definition": definition,
+                                    "directions": opt.directions})
+
+
+def openness(dem, cell_size=None, *, kind=None, radius=None, nodata=None, **kw):
+    """Topographic openness (Yokoyama et al. 2002) in degrees: kind "positive"
+    or "negative"; radius in metres (0: unlimited). A flat plane gives 90."""
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    kind = _value("openness", "kind", kind)
+    radius = _value("openness", "radius", radius)
+    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_SVF, kw)
+    out = grid.new_plane()
+    ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius, out_buffer(out),
+             progress=kw.get("progress"))
+    return grid.finish(out, f"{kind} openness", {"units": "deg", "directions": opt.directions})
+
+
+Horizons = namedtuple("Horizons", "azimuth elevation distance cast_height")
+Horizons.__doc__ = """Horizons in every direction: azimuth (degrees clockwise from north, one
+per direction), elevation (degrees above the horizontal, directions x rows x
+columns; -90 where no terrain lies ahead inside the grid), and where asked for
+distance (metres to the casting point, 0: none) and cast_height (that point's
+ground height, metres; NaN: none)."""
+
+
+def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=None, **kw):
+    """Terrain horizon elevation of every cell in each direction (Horizons)."""
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    opt = _sweep(ctx, grid, "horizon", lib.SS_PRODUCT_HORIZON, kw)
+    d, (h, w) = opt.directions, grid.shape
+    azimuth = np.array([lib.ss_direction_azimuth(opt, i) for i in range(d)])
+    angle = np.empty((d, h, w), np.float32)
+    dist = np.empty((d, h, w), np.float32) if distance else None
+    height = np.empty((d, h, w), np.float32) if cast_height else None
+    n = h * w
+
+    @ffi.callback("int(int, double, const float *, const float *, const float *, void *)")
+    def sink(index, azimuth_deg, angle_deg, dist_m, cast_height_m, user):
+        angle[index] = np.frombuffer(ffi.buffer(angle_deg, 4 * n), np.float32).reshape(h, w)
+        if dist is not None:
+            dist[index] = np.frombuffer(ffi.buffer(dist_m, 4 * n), np.float32).reshape(h, w)
+        if height is not None:
+            height[index] = np.frombuffer(ffi.buffer(cast_height_m, 4 * n),
+                                          np.float32).reshape(h, w)
+        return 1
+
+    want = (CONST["SS_HORIZON_DISTANCE"] if distance else 0) | (
+        CONST["SS_HORIZON_CAST_HEIGHT"] if cast_height else 0)
+    ctx.call(lib.ss_horizon, grid.ptr, opt, want, sink, ffi.NULL, progress=kw.get("progress"))
+    nodata_cells = angle[0] == np.float32(CONST["SS_NODATA"])
+    for cube in (angle, dist, height):
+        if cube is not None:
+            cube[:, nodata_cells] = np.nan
+    if height is not None:
+        height[height == np.float32(CONST["SS_NODATA"])] = np.nan
+    lead = {"azimuth": azimuth}
+    return Horizons(azimuth, grid.wrap(angle, "horizon", {"units": "deg"}, lead),
+                    None if dist is None else grid.wrap(dist, "distance", {"units": "m"}, lead),
+                    None if height is None else grid.wrap(height, "cast height",
+                                                          {"units": "m"}, lead))
+
+
+def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, **kw):
+    """Cast shadows for one sun: 1 where a cell is sunlit (its apparent sun
+    elevation above its terrain horizon in the sun's azimuth), 0 in shadow.
+    sun_azimuth: degrees clockwise from north; sun_elevation: apparent
+    (refracted) degrees. Self-shadow (a cell facing away) is not included:
+    see hillshade and sun_incidence."""
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    sun_azimuth = _checked("shadow", "sun_azimuth", sun_azimuth)
+    sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
+    opt = _sweep(ctx, grid, "shadow", lib.SS_PRODUCT_SHADOW, kw)
+    out = grid.new_plane()
+    ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
+             out_buffer(out), ffi.NULL, progress=kw.get("progress"))
+    return grid.finish(out, "sunlit", {"units": "1", "sun_azimuth": sun_azimuth,
+                                       "sun_elevation": sun_elevation})
+
+
+def hillshade(dem, cell_size=None, *, az=None, alt=None, z=None, alg=None,
+              multidirectional=False, nodata=None, device=None):
+    """Hillshade as gdaldem computes it (1..255): light from azimuth `az` and
+    altitude `alt` (degrees), heights scaled by `z`, slope by `alg` "Horn" or
+    "ZevenbergenThorne", or gdaldem's multidirectional blend. The names are
+    gdaldem's and the CLI's. The values are the shade before the Byte
+    rounding of the CLI's file (np.rint gives the file's bytes)."""
+    ctx, grid = _begin(dem, cell_size, nodata, {"device": device}, ())
+    az, alt, z = (_value("hillshade", k, v) for k, v in (("az", az), ("alt", alt), ("z", z)))
+    alg = _value("hillshade", "alg", alg)
+    out = grid.new_plane()
+    ctx.call(lib.ss_hillshade, grid.ptr, az, alt, z, int(alg == "ZevenbergenThorne"),
+             int(bool(multidirectional)), out_buffer(out))
+    return grid.finish(out, "hillshade", {"units": "1", "az": az, "alt": alt})
+
+
+def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, device=None):
+    """Cosine of the angle between the sun and each cell's surface normal
+    (Horn's gradient); <= 0 where the cell faces away from the sun."""
+    ctx, grid = _begin(dem, cell_size, nodata, {"device": device}, ())
+    out = grid.new_plane()
+    ctx.call(lib.ss_sun_incidence, grid.ptr, _checked("shadow", "sun_azimuth", sun_azimuth),
+             _checked("shadow", "sun_elevation", sun_elevation), ffi.NULL, ffi.NULL,
+             out_buffer(out))
+    return grid.finish(out, "cos incidence", {"units": "1"})
+
+
+def _doc_options(function, command, names):
+    """Appends the table's entries for the shared options to a docstring."""
+    lines = ["", "Options shared with `skysweep " + command + "` (defaults from its table):"]
+    for name in names:
+        entry = option(command, name.replace("_", "-"))
+        shown = entry.get("default", "-")
+        lines.append(f"    {name} (default {shown}): {entry['help']}")
+    lines.append("    device: None (the default device), \"reference\" (the C twin) or a "
+                 "device as --device names it")
+    lines.append("    progress: None, True (tqdm or text) or callable(fraction, message); "
+                 "returning False cancels")
+    function.__doc__ = (function.__doc__ or "") + "\n".join(lines)
+
+
+for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shadow, "shadow")):
+    _doc_options(_f, _c, SWEEP_OPTIONS)

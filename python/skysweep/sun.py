@@ -1,0 +1,84 @@
+"""The sun's position (NREL SPA, or PSA) for a place and instants, with
+pvlib's names and units (pvlib.solarposition.spa_python)."""
+import datetime as _dt
+
+import numpy as np
+
+from ._context import context
+from ._lib import ffi, lib
+
+
+def unix_seconds(time):
+    """UTC Unix seconds (float64 array) from instants: numpy datetime64 (taken
+    as UTC), datetime objects (naive ones as UTC, as pvlib does), a pandas
+    DatetimeIndex or Timestamp (converted to UTC), or numbers (Unix seconds)."""
+    if hasattr(time, "tz") and hasattr(time, "tz_convert"):  # pandas DatetimeIndex, Timestamp
+        if time.tz is not None:
+            time = time.tz_convert("UTC").tz_localize(None)
+        if not hasattr(time, "shape"):  # a Timestamp
+            time = [time.to_datetime64()]
+        return np.asarray(time, dtype="datetime64[ns]").astype(np.int64) / 1e9
+    items = np.atleast_1d(np.asarray(time, dtype=object if _has_aware(time) else None))
+    if items.dtype == object:
+        return np.array([_datetime_seconds(t) for t in items.ravel()]).reshape(items.shape)
+    if np.issubdtype(items.dtype, np.datetime64):
+        return items.astype("datetime64[ns]").astype(np.int64).astype(np.float64) / 1e9
+    if items.dtype.kind in "iuf":
+        return items.astype(np.float64)
+    raise TypeError(f"cannot read instants from {type(time).__name__} of dtype {items.dtype}")
+
+
+def _has_aware(time):
+    values = time if isinstance(time, (list, tuple)) else [time]
+    return any(isinstance(t, _dt.datetime) for t in values)
+
+
+def _datetime_seconds(t):
+    if isinstance(t, _dt.datetime):
+        if t.tzinfo is None:
+            t = t.replace(tzinfo=_dt.timezone.utc)
+        return t.timestamp()
+    if isinstance(t, np.datetime64):
+        return float(t.astype("datetime64[ns]").astype(np.int64)) / 1e9
+    return float(t)
+
+
+def sun_position(time, latitude, longitude, altitude=0.0, pressure=101325.0, temperature=12.0,
+                 delta_t=None, atmos_refract=0.5667, algorithm="spa"):
+    """Sun position at `time` for an observer at latitude, longitude (degrees,
+    north and east positive) and altitude (metres).
+
+    pressure in Pa and temperature in degrees C refract the elevation;
+    delta_t (TT - UT1, seconds) None takes the Espenak-Meeus model for the
+    month (pvlib's default is a fixed 67 s). algorithm "spa" (Reda & Andreas,
+    +-0.0003 deg) or "psa" (Blanco et al. 2020, about 0.01 deg).
+
+    Returns a dict of arrays shaped like `time`, keyed as pvlib's
+    spa_python columns: apparent_zenith, zenith, apparent_elevation,
+    elevation, azimuth (clockwise from north), equation_of_time (minutes).
+    """
+    seconds = unix_seconds(time)
+    ctx = context()
+    p = ffi.new("ss_spa_params *")
+    lib.ss_spa_params_default(p)
+    if algorithm not in ("spa", "psa"):
+        raise ValueError(f"algorithm must be 'spa' or 'psa', not {algorithm!r}")
+    p.algorithm = lib.SS_SUN_SPA if algorithm == "spa" else lib.SS_SUN_PSA
+    p.delta_t_s = float("nan") if delta_t is None else float(delta_t)
+    p.pressure_hpa = float(pressure) / 100.0
+    p.temperature_c = float(temperature)
+    p.atmos_refract_deg = float(atmos_refract)
+    p.elevation_m = float(altitude)
+    keys = ("apparent_zenith", "zenith", "apparent_elevation", "elevation", "azimuth",
+            "equation_of_time")
+    out = {k: np.empty(seconds.shape) for k in keys}
+    r = ffi.new("ss_spa_result *")
+    for i, s in np.ndenumerate(seconds):
+        ctx.check(lib.ss_spa(ctx.ptr, float(s), float(latitude), float(longitude), p, r))
+        out["apparent_zenith"][i] = r.zenith_deg
+        out["zenith"][i] = 90.0 - r.elevation_deg
+        out["apparent_elevation"][i] = r.apparent_elevation_deg
+        out["elevation"][i] = r.elevation_deg
+        out["azimuth"][i] = r.azimuth_deg
+        out["equation_of_time"][i] = r.equation_of_time_min
+    return out

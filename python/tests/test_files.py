@@ -1,0 +1,60 @@
+"""File calls: the command line with its own option table."""
+import subprocess
+
+import numpy as np
+import pytest
+
+import skysweep
+from conftest import read_envi, rough_dem, same, write_asc
+from skysweep.files import command_line
+
+
+def test_a_file_call_and_an_array_call_agree(tmp_path):
+    z = rough_dem()
+    dem = write_asc(tmp_path / "dem.asc", z)
+    printed = skysweep.svf_file(dem, tmp_path / "svf.envi", cell_size=10, of="ENVI",
+                                directions=16, definition="radiative")
+    assert printed == ""  # quiet unless progress is asked for
+    assert same(read_envi(tmp_path / "svf.envi")[0],
+                skysweep.svf(z, 10, directions=16, definition="radiative"))
+
+
+def test_options_are_checked_against_the_table_before_the_run(tmp_path):
+    dem = write_asc(tmp_path / "dem.asc", rough_dem())
+    with pytest.raises(TypeError, match="svf_tolerance"):
+        skysweep.svf_file(dem, tmp_path / "o.tif", svf_tolerence=0.1)
+    with pytest.raises(skysweep.ArgumentError, match="geometric"):
+        skysweep.svf_file(dem, tmp_path / "o.tif", definition="sky")
+    assert not (tmp_path / "o.tif").exists()
+
+
+def test_failures_carry_the_cli_message_and_status(tmp_path):
+    (tmp_path / "broken.tif").write_bytes(b"II*\x00 not a tiff")
+    with pytest.raises(skysweep.InputError) as e:
+        skysweep.hillshade_file(tmp_path / "broken.tif", tmp_path / "o.tif")
+    assert e.value.status == 3 and "broken.tif" in str(e.value)
+    assert not (tmp_path / "o.tif").exists()
+    dem = write_asc(tmp_path / "dem.asc", rough_dem())
+    with pytest.raises(skysweep.InputError, match="coordinate reference system"):
+        skysweep.svf_file(dem, tmp_path / "o.tif")
+
+
+def test_docstrings_list_every_option_help_does():
+    for command in ("svf", "horizon", "insolation", "shadow", "hillshade"):
+        text = subprocess.run([command_line(), command, "--help"], capture_output=True,
+                              text=True).stdout
+        names = [line.split()[0].lstrip("-") for line in text.splitlines()
+                 if line.startswith("  -")]
+        doc = getattr(skysweep, f"{command}_file").__doc__
+        missing = [n for n in names if n not in ("q", "help")
+                   and f"    {n.replace('-', '_')} (" not in doc]
+        assert not missing, (command, missing)
+
+
+def test_progress_of_a_file_call(tmp_path):
+    """The CLI shows progress once a run has lasted a second: this one does."""
+    dem = write_asc(tmp_path / "dem.asc", rough_dem(200, 200))
+    seen = []
+    skysweep.svf_file(dem, tmp_path / "o.tif", cell_size=10, directions=3000,
+                      device="reference", progress=lambda f, m: seen.append(f))
+    assert len(seen) > 3 and seen[-1] == 1.0 and seen == sorted(seen)

@@ -1,0 +1,113 @@
+"""Array calls against the command line (cell for cell) and closed forms."""
+import math
+
+import numpy as np
+import pytest
+
+import skysweep
+from conftest import rough_dem, same
+
+DEVICES = [None, "reference"]
+
+
+@pytest.mark.parametrize("definition", ["geometric", "radiative", "horizontal"])
+@pytest.mark.parametrize("device", DEVICES)
+def test_svf_equals_the_cli(cli_run, definition, device):
+    z = rough_dem()
+    mine = skysweep.svf(z, 10, definition=definition, directions=24, device=device)
+    theirs = cli_run("svf", z, "--definition", definition, "--directions", 24,
+                     *(["--device", device] if device else []))[0]
+    assert same(mine, theirs)
+
+
+def test_svf_default_directions_follow_the_planner(cli_run):
+    z = rough_dem()
+    assert same(skysweep.svf(z, 10), cli_run("svf", z)[0])
+
+
+def test_radius_svf_equals_the_cli(cli_run):
+    z = rough_dem()
+    assert same(skysweep.svf(z, 10, radius=120, directions=16),
+                cli_run("svf", z, "--radius", 120, "--directions", 16)[0])
+
+
+@pytest.mark.parametrize("kind", ["positive", "negative"])
+def test_openness_equals_the_cli(cli_run, kind):
+    z = rough_dem()
+    assert same(skysweep.openness(z, 10, kind=kind, directions=16),
+                cli_run("openness", z, "--kind", kind, "--directions", 16)[0])
+
+
+def test_horizon_equals_the_cli(cli_run):
+    z = rough_dem()
+    h = skysweep.horizon(z, 10, directions=8, distance=True, cast_height=True)
+    assert h.elevation.shape == (8,) + z.shape
+    assert np.allclose(h.azimuth, np.arange(8) * 45.0)
+    assert same(h.elevation, cli_run("horizon", z, "--directions", 8))
+    # Something lies ahead exactly where a distance is given.
+    ahead = h.elevation > -90
+    assert np.all(h.distance[ahead] > 0) and np.all(h.distance[~ahead & ~np.isnan(h.elevation)] == 0)
+    assert np.all(np.isnan(h.cast_height[~ahead]))
+
+
+def test_shadow_equals_the_cli(cli_run):
+    z = rough_dem()
+    mine = skysweep.shadow(z, 10, sun_azimuth=250, sun_elevation=12)
+    theirs = cli_run("shadow", z, "--sun-azimuth", 250, "--sun-elevation", 12)[0]
+    assert same(mine, theirs)
+    assert 0 < np.nanmean(mine) < 1
+
+
+@pytest.mark.parametrize("options", [{}, {"az": 100, "alt": 20, "z": 2.5},
+                                     {"alg": "ZevenbergenThorne"}, {"multidirectional": True}])
+def test_hillshade_equals_the_cli(cli_run, options):
+    z = rough_dem()
+    args = []
+    for key, value in options.items():
+        args += [f"--{key}"] if value is True else [f"--{key}", value]
+    assert same(np.rint(skysweep.hillshade(z, 10, **options)),
+                cli_run("hillshade", z, *args)[0])
+
+
+def test_tilted_plane_has_its_closed_form():
+    """On a plane rising east at angle b, every sample ahead in azimuth a
+    lies at elevation atan(tan b sin a): the geometric SVF of each cell is
+    1 - mean over the directions of sin of that, where positive."""
+    b = math.radians(20)
+    cols = np.arange(64) * 10.0
+    z = np.tile(cols * math.tan(b), (40, 1))
+    d = 32
+    v = skysweep.svf(z, 10, directions=d, curvature="off")
+    a = np.radians(np.arange(d) * 360.0 / d)
+    expected = 1 - np.mean(np.sin(np.maximum(0, np.arctan(math.tan(b) * np.sin(a)))))
+    # Interior cells: terrain lies ahead in every direction that rises.
+    assert np.allclose(v[5:-5, 5:-5], expected, atol=2e-6)
+    assert np.all(skysweep.openness(np.zeros((20, 30)), 5, directions=8) == 90)
+
+
+def test_site_horizon_at_a_cell_centre_is_the_grids():
+    z = rough_dem(hole=False)
+    grid = skysweep.horizon(z, 10, directions=36, curvature="off")
+    sites = skysweep.site_horizon(z, 10, col=[17, 30], row=[21, 8], step=10)
+    assert sites["elevation"].shape == (2, 36)
+    assert np.allclose(sites["azimuth"][0], grid.azimuth)
+    assert np.allclose(sites["elevation"][0], grid.elevation[:, 21, 17], atol=1e-4)
+    assert np.allclose(sites["elevation"][1], grid.elevation[:, 8, 30], atol=1e-4)
+    one = skysweep.site_horizon(z, 10, col=17, row=21, step=10, height=30)
+    assert one["elevation"].shape == (36,)
+    assert np.all(one["elevation"] <= sites["elevation"][0] + 1e-9)  # higher eyes see lower
+    assert one["ground_height"] == pytest.approx(z[21, 17], abs=1e-3)
+
+
+def test_dataarray_in_and_out():
+    xr = pytest.importorskip("xarray")
+    z = rough_dem(hole=False)
+    da = xr.DataArray(z, dims=("y", "x"), coords={"y": 5000 - np.arange(z.shape[0]) * 10.0,
+                                                  "x": 300000 + np.arange(z.shape[1]) * 10.0},
+                      attrs={"crs": "EPSG:32633"})
+    out = skysweep.svf(da, directions=16)
+    assert isinstance(out, xr.DataArray) and out.attrs["crs"] == "EPSG:32633"
+    assert np.array_equal(out["x"], da["x"]) and out.attrs["units"] == "1"
+    assert same(out.values, skysweep.svf(z, 10, directions=16))
+    h = skysweep.horizon(da, directions=4)
+    assert h.elevation.dims == ("azimuth", "y", "x")
