@@ -61,6 +61,17 @@ setup_pvlib() {
         echo "the test venv could not be installed (tests/pyvenv.log): its comparisons skip"
 }
 setup_pvlib
+
+# Debian's QGIS 3.22, for the Processing provider's tests (a few minutes, as
+# root); they skip, saying why, where it cannot be installed.
+setup_qgis() {
+    [ -x /usr/bin/qgis_process.bin ] && return
+    [ "$(id -u)" -eq 0 ] || { echo "not root: QGIS is not installed and its tests skip"; return; }
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qgis python3-qgis qgis-providers \
+        >tests/qgis-install.log 2>&1 ||
+        echo "QGIS could not be installed (tests/qgis-install.log): its tests skip"
+}
+setup_qgis
 SKYSWEEP_PVLIB_PYTHON=$PWD/tests/pyvenv/bin/python
 export SKYSWEEP_PVLIB_PYTHON
 

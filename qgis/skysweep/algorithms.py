@@ -1,0 +1,267 @@
+"""One Processing algorithm per skysweep command, made from the command's
+option table: each option becomes a parameter of its type, range, default and
+help. The algorithm runs the command line, so that its outputs are the CLI's
+(georeferencing, band names, metadata); progress goes to the feedback and
+cancelling stops the run, which then leaves no output behind."""
+import queue
+import re
+import signal
+import subprocess
+import threading
+
+from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException,
+                       QgsProcessingParameterBoolean, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFile,
+                       QgsProcessingParameterNumber, QgsProcessingParameterRasterDestination,
+                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString)
+
+from .cli import ALGORITHMS
+
+#: Options that are not parameters: the provider writes GeoTIFF and reports
+#: progress itself; scenes, plans only and heightmaps belong to the CLI.
+NOT_PARAMETERS = {"q", "of", "scene", "plan", "plan-format", "heightmap", "z-scale"}
+#: horizon's site profiles print tables, not rasters: the CLI's --point mode.
+NOT_PARAMETERS_OF = {"horizon": {"point", "points", "point-crs", "format", "step", "height"}}
+#: Options shown under "Advanced parameters".
+ADVANCED = {"device", "co", "cell-size", "z-units", "curvature", "refraction", "earth-radius",
+            "horizon-tolerance", "svf-tolerance", "sun-tolerance", "projwin", "memory",
+            "lines", "offset", "north", "delta-t", "pressure", "temperature", "sun-per-cell",
+            "elevation-step", "solar-constant"}
+
+
+def parameter_name(option):
+    return option.replace("-", "_").upper()
+
+
+def is_output_file(entry):
+    """A FILE option that the command writes ("also write ...")."""
+    return entry.get("metavar") == "FILE" and entry["help"].startswith("also write")
+
+
+def parameters_of(table):
+    """The table's options that become parameters."""
+    skip = NOT_PARAMETERS | NOT_PARAMETERS_OF.get(table["command"], set())
+    return [o for o in table["options"] if o["name"] not in skip]
+
+
+def _description(entry):
+    """"Svf tolerance [SVF]": the option in words, with its unit; the whole
+    help is the parameter's help and in the algorithm's."""
+    label = entry["name"].replace("-", " ").capitalize()
+    unit = entry.get("metavar")
+    if unit and entry["type"] in ("int", "double") and unit not in ("N", "K"):
+        label += f" [{unit}]"
+    return label
+
+
+class SkysweepAlgorithm(QgsProcessingAlgorithm):
+    def __init__(self, cli, table):
+        super().__init__()
+        self.cli = cli
+        self.table = table
+
+    def createInstance(self):
+        return SkysweepAlgorithm(self.cli, self.table)
+
+    def name(self):
+        return self.table["command"]
+
+    def displayName(self):
+        return {"svf": "Sky-view factor", "openness": "Openness", "horizon": "Horizon angles",
+                "hillshade": "Hillshade", "shadow": "Cast shadows",
+                "insolation": "Insolation and PV yield"}.get(self.name(), self.name())
+
+    def group(self):
+        return ALGORITHMS[self.name()]
+
+    def groupId(self):
+        return ALGORITHMS[self.name()].lower()
+
+    def shortHelpString(self):
+        lines = [self.table["summary"].replace("\n", " "), "", f"Runs: {self.table['usage']}", ""]
+        for entry in parameters_of(self.table):
+            what = "|".join(entry["choices"]) if entry["type"] == "choice" else \
+                entry.get("metavar", entry["type"])
+            default = f" (default {entry['default']})" if "default" in entry else ""
+            lines.append(f"{parameter_name(entry['name'])} ({what}){default}: {entry['help']}")
+        return "\n".join(lines)
+
+    def initAlgorithm(self, config=None):
+        self.addParameter(QgsProcessingParameterRasterLayer("INPUT", "DEM (heights)"))
+        for entry in parameters_of(self.table):
+            parameter = self._parameter(entry)
+            parameter.setHelp(entry["help"])
+            if entry["name"] in ADVANCED:
+                parameter.setFlags(parameter.flags()
+                                   | QgsProcessingParameterDefinition.FlagAdvanced)
+            self.addParameter(parameter)
+        self.addParameter(QgsProcessingParameterRasterDestination("OUTPUT", self.displayName()))
+
+    def _parameter(self, entry):
+        name, label = parameter_name(entry["name"]), _description(entry)
+        default = entry.get("default")
+        kind = entry["type"]
+        if kind in ("int", "double"):
+            number = QgsProcessingParameterNumber.Integer if kind == "int" else \
+                QgsProcessingParameterNumber.Double
+            value = None if default is None else (int(default) if kind == "int"
+                                                  else float(default))
+            return QgsProcessingParameterNumber(name, label, number, value, default is None,
+                                                entry["min"], entry["max"])
+        if kind == "choice":
+            return QgsProcessingParameterEnum(name, label, entry["choices"], False, default,
+                                              False, True)  # static strings: the choice's name
+        if kind == "flag":
+            return QgsProcessingParameterBoolean(name, label, False)
+        if is_output_file(entry):
+            return QgsProcessingParameterRasterDestination(name, label, None, True, False)
+        if entry.get("metavar") == "FILE":
+            return QgsProcessingParameterFile(name, label, optional=True)
+        return QgsProcessingParameterString(name, label, default, False, default is None)
+
+    def command(self, parameters, context):
+        """The command line for these parameter values."""
+        args = [self.cli, self.name()]
+        for entry in parameters_of(self.table):
+            name = parameter_name(entry["name"])
+            flag = entry["dash"] + entry["name"]
+            if parameters.get(name) is None:
+                continue
+            kind = entry["type"]
+            if kind == "int":
+                args += [flag, str(self.parameterAsInt(parameters, name, context))]
+            elif kind == "double":
+                args += [flag, repr(self.parameterAsDouble(parameters, name, context))]
+            elif kind == "choice":
+                args += [flag, self.parameterAsEnumString(parameters, name, context)]
+            elif kind == "flag":
+                if self.parameterAsBoolean(parameters, name, context):
+                    args.append(flag)
+            elif is_output_file(entry):
+                path = self.parameterAsOutputLayer(parameters, name, context)
+                if path:
+                    args += [flag, path]
+            else:
+                text = self.parameterAsString(parameters, name, context)
+                if kind == "list":
+                    for item in text.split():
+                        args += [flag, item]
+                elif text:
+                    args += [flag, text]
+        layer = self.parameterAsRasterLayer(parameters, "INPUT", context)
+        if layer is None:
+            raise QgsProcessingException("INPUT is not a raster layer QGIS can open")
+        args.append(layer.source())
+        args.append(self.parameterAsOutputLayer(parameters, "OUTPUT", context))
+        return args
+
+    def processAlgorithm(self, parameters, context, feedback):
+        args = self.command(parameters, context)
+        feedback.pushCommandInfo(" ".join(args))
+        with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              stdin=subprocess.DEVNULL) as proc:
+            cancelled, errors = self._follow(proc, feedback)
+        if cancelled or feedback.isCanceled():
+            feedback.reportError("cancelled: no output written")
+            return {}
+        if proc.returncode != 0:
+            lines = [line for line in "".join(errors).splitlines() if line.strip()]
+            raise QgsProcessingException(lines[-1] if lines else
+                                         f"skysweep {self.name()} failed ({proc.returncode})")
+        outputs = {"OUTPUT": self.parameterAsOutputLayer(parameters, "OUTPUT", context)}
+        for entry in parameters_of(self.table):
+            if is_output_file(entry) and parameters.get(parameter_name(entry["name"])):
+                outputs[parameter_name(entry["name"])] = self.parameterAsOutputLayer(
+                    parameters, parameter_name(entry["name"]), context)
+        return outputs
+
+    @staticmethod
+    def _follow(proc, feedback):
+        """Relays the run's progress and log until it ends; Ctrl-C (SIGINT)
+        when the user cancels. Returns (cancelled, stderr chunks)."""
+        chunks = queue.Queue()
+        readers = [threading.Thread(target=_read, args=(stream, kind, chunks), daemon=True)
+                   for stream, kind in ((proc.stdout, "out"), (proc.stderr, "err"))]
+        for r in readers:
+            r.start()
+        progress = _Progress(feedback)
+        errors = []
+        cancelled = False
+        while proc.poll() is None or not chunks.empty() or any(r.is_alive() for r in readers):
+            if feedback.isCanceled() and not cancelled and proc.poll() is None:
+                proc.send_signal(signal.SIGINT)  # the CLI stops within a second, output removed
+                cancelled = True
+            try:
+                kind, text = chunks.get(timeout=0.1)
+            except queue.Empty:
+                continue
+            if kind == "out":
+                progress.feed(text)
+            else:
+                errors.append(text)
+        progress.flush()
+        return cancelled, errors
+
+
+def _read(stream, kind, chunks):
+    while True:
+        data = stream.read1(256)
+        if not data:
+            break
+        chunks.put((kind, data.decode(errors="replace")))
+
+
+def _mark_arriving(text):
+    """Whether text is the start of a progress mark still arriving."""
+    number = re.match(r"\d+", text)
+    if not number:
+        return False
+    rest = text[number.end():]
+    return re.fullmatch(r"\.*", rest) is not None or " - done."[:len(rest)] == rest
+
+
+class _Progress:
+    """Splits the CLI's stdout into GDAL's progress marks (0...10...20...100 -
+    done., to the progress bar) and the lines of its plan and summary (to the
+    log)."""
+
+    MARK = re.compile(r"(\d+)(\.+| - done\.)")
+    START = re.compile(r"0(\.{0,2}$|\.\.\.)")
+
+    def __init__(self, feedback):
+        self.feedback = feedback
+        self.text = ""
+        self.in_marks = False
+
+    def feed(self, text):
+        self.text += text
+        while self.text:
+            if self.in_marks:
+                mark = self.MARK.match(self.text)
+                if mark and (mark.end() < len(self.text) or mark.group(2).startswith(" ")):
+                    self.feedback.setProgress(min(100, int(mark.group(1))))
+                    self.text = self.text[mark.end():]
+                    continue
+                if self.text.startswith("\n"):
+                    self.in_marks = False
+                    self.text = self.text[1:]
+                    continue
+                if _mark_arriving(self.text):
+                    break
+                self.in_marks = False
+            start = self.START.match(self.text)
+            if start:
+                if start.group(1) == "...":
+                    self.in_marks = True
+                    continue
+                break  # "0", "0." or "0..": perhaps the first mark
+            end = self.text.find("\n")
+            if end < 0:
+                break
+            self.feedback.pushInfo(self.text[:end])
+            self.text = self.text[end + 1:]
+
+    def flush(self):
+        if self.text.strip():
+            self.feedback.pushInfo(self.text.strip())
+        self.text = ""
