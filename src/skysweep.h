@@ -116,7 +116,8 @@ void ss_grid_free(ss_grid *grid);
  * which the first plausible height sets, rounded to the metre (*have_origin
  * 0 on entry to a grid, 1 after), so that large offsets keep their float
  * precision. NAN for nodata: a height that is NaN, infinite or beyond
- * SS_Z_PLAUSIBLE_M. Every reader fills grids through it. */
+ * SS_Z_PLAUSIBLE_M. The GDAL reader and the front ends fill grids through it
+ * (heightmaps keep origin 0: their heights are pixel values times a scale). */
 float ss_grid_stored_height(ss_grid *grid, int *have_origin, double height_m);
 /* Fills a grid from ss_grid_alloc with width*height heights in metres (row
  * by row from the north-west cell) through ss_grid_stored_height; *rejected

@@ -126,6 +126,77 @@ ss_status ss_sun_rise_set(ss_ctx *ctx, double day_start_unix_s, double lat_deg, 
 double ss_sun_incidence_deg(double zenith_deg, double azimuth_deg, double slope_deg,
                             double aspect_deg);
 
+/* The clear-sky insolation step (ss_insolation) of `sun`, ss_spa's result at
+ * the grid's centre for the step's instant: duration_h hours, Linke
+ * turbidity linke, extraterrestrial normal irradiance solar_constant_w_m2 /
+ * R^2 (R: the earth-sun distance in AU), the sun's azimuth in the grid's
+ * frame (grid_azimuth_deg) and in the sweep options' (grid_azimuth_deg +
+ * options_north_deg, the options' grid_north_deg), and its true and
+ * apparent elevations. The rest is zero: no per-cell suns, no spread, no
+ * weather record. */
+void ss_sun_step_clear_sky(const ss_spa_result *sun, double grid_azimuth_deg,
+                           double options_north_deg, double duration_h, double linke,
+                           double solar_constant_w_m2, ss_sun_step *step);
+
+/* ---- instants, durations and time ranges in ISO 8601 -------------------- */
+/* Instants are UTC Unix seconds (doubles: microseconds survive to year
+ * 6000); calendar dates are Gregorian from 1582-10-15, Julian before, as SPA
+ * counts them (doc/sun.md). */
+
+/* A duration as ISO 8601 writes it: years and months stay calendar units so
+ * that P1M steps from month to month; weeks, days, hours, minutes and
+ * seconds are exact seconds (a day is 86400 s: UTC has no daylight saving). */
+typedef struct {
+    long long years, months;
+    double seconds;
+} ss_duration;
+
+/* unix_s + times * d. The calendar part moves the date by whole months and
+ * clamps the day to the month's length (2026-01-31 + P1M = 2026-02-28,
+ * + P2M = 2026-03-31); for times >= 0 it is applied before the seconds
+ * (as RFC 5545 does), for times < 0 after them, so that DURATION/END undoes
+ * START/DURATION where no clamping occurs. */
+double ss_time_add(double unix_s, const ss_duration *d, long long times);
+
+/* 2026-06-21T10:00:00Z, ...T10:00Z, ...T10:00:00.25+10:00, -05:30, +0530,
+ * +05; a bare date is 00:00 UTC. A date and time without a zone is refused. */
+ss_status ss_parse_instant(ss_ctx *ctx, const char *text, double *unix_s);
+/* PnW or PnYnMnDTnHnMnS; only the last unit may carry a fraction, and not
+ * years or months (they have no fixed length). */
+ss_status ss_parse_duration(ss_ctx *ctx, const char *text, ss_duration *out);
+
+#define SS_TIME_RANGE_MAX_STEPS 10000000LL
+
+typedef struct {
+    double start_unix_s;
+    double end_unix_s; /* equals start for a single instant */
+    int has_step;
+    ss_duration step;
+    /* Instants start + k * step (k = 0, 1, ...) before end: the range is
+     * half-open, so consecutive ranges tile without repeating an instant.
+     * 1 for a single instant; 0 for an interval given without a step. */
+    long long count;
+} ss_time_range;
+
+/* START, START/END, START/DURATION or DURATION/END, each optionally followed
+ * by /STEP. Refuses an empty or reversed interval, a zero step, a step on a
+ * single instant and more than SS_TIME_RANGE_MAX_STEPS instants. Steps may
+ * hold years and months: instant k is start + k * step (ss_time_add), so
+ * monthly steps from the 31st keep returning to the 31st where it exists. */
+ss_status ss_parse_time_range(ss_ctx *ctx, const char *text, ss_time_range *out);
+/* Instant k of the range. */
+double ss_time_range_at(const ss_time_range *r, long long k);
+/* Step k of a range with a step, as insolation takes it: from instant k to
+ * instant k + 1 or the range's end, whichever comes first, evaluated at its
+ * middle (*mid_unix_s) and lasting *hours. */
+void ss_time_range_step(const ss_time_range *r, long long k, double *mid_unix_s, double *hours);
+
+/* 2026-06-21T10:00:00Z, with up to 6 decimals of seconds when they are not
+ * zero (rounded to the microsecond); "invalid" for NAN, infinities and
+ * beyond +-9e12 s (year 285000). Returns the length the text needs, as
+ * snprintf does. */
+size_t ss_format_instant(double unix_s, char *buf, size_t size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -13,6 +13,7 @@ from ._context import (ArgumentError, Cancelled, Context, DeviceError, InputErro
 from ._lib import BUILD, lib as _lib, ffi as _ffi
 from .files import FILE_CALLS, run
 from .products import Horizons, hillshade, horizon, openness, shadow, sun_incidence, svf
+from .insolation import insolation
 from .sites import site_horizon
 from .sun import sun_position
 
@@ -21,6 +22,6 @@ globals().update(FILE_CALLS)
 __version__ = _ffi.string(_lib.ss_version()).decode()
 
 __all__ = ["svf", "openness", "horizon", "Horizons", "shadow", "hillshade", "sun_incidence",
-           "site_horizon", "sun_position", "run", "Context", "SkysweepError", "ArgumentError",
+           "site_horizon", "sun_position", "insolation", "run", "Context", "SkysweepError", "ArgumentError",
            "InputError", "OutputError", "DeviceError", "OutOfMemory", "Cancelled",
            "InternalError"] + sorted(FILE_CALLS)

@@ -118,17 +118,28 @@ class Context:
         if threading.current_thread() is not threading.main_thread():
             return function(self._ctx, *args)
         result = []
-        worker = threading.Thread(target=lambda: result.append(function(self._ctx, *args)),
-                                  name="skysweep", daemon=True)
-        worker.start()
-        try:
-            while worker.is_alive():
-                worker.join(0.05)
-        except KeyboardInterrupt:
-            lib.ss_ctx_cancel(self._ctx)
-            worker.join()
+        done = threading.Event()
+
+        def work():
+            try:
+                result.append(function(self._ctx, *args))
+            finally:
+                done.set()
+
+        threading.Thread(target=work, name="skysweep", daemon=True).start()
+        # The worker's own Event, not join(): a KeyboardInterrupt inside
+        # join() can mark a thread finished that is still running.
+        interrupted = False
+        while True:
+            try:
+                if done.wait(0.05):
+                    break
+            except KeyboardInterrupt:
+                interrupted = True
+                lib.ss_ctx_cancel(self._ctx)  # the call ends soon; wait for it
+        if interrupted:
             lib.ss_ctx_cancel_clear(self._ctx)
-            raise
+            raise KeyboardInterrupt
         return result[0]
 
 

@@ -1,5 +1,6 @@
 """numpy (and xarray) DEMs into library grids, and results back."""
 import math
+import warnings
 
 import numpy as np
 
@@ -10,19 +11,40 @@ def _is_dataarray(obj):
     return type(obj).__name__ == "DataArray" and hasattr(obj, "dims") and hasattr(obj, "coords")
 
 
-def _cell_size_of_dataarray(dem):
-    """Cell sizes from a DataArray's last two coordinates (metres: a
-    projected CRS), or None where they cannot be read."""
+_GEOGRAPHIC_DIMS = {"lat", "lon", "latitude", "longitude"}
+
+
+def _north_up(dem, cell_size):
+    """A DataArray's heights with rows north to south and columns west to
+    east (an ascending y, as netCDF often has, is flipped, and flipped back
+    in the results), and its cell sizes from regular x, y coordinates in
+    metres where cell_size is None. Returns (values, cell_size, flips)."""
+    if dem.ndim != 2:
+        raise ValueError(f"the DEM must be a 2-D DataArray (y, x), not dims {dem.dims}")
+    values = np.asarray(dem.values)
+    flips = []
     sizes = []
-    for dim in dem.dims[-1:-3:-1]:
+    for axis, dim in ((1, dem.dims[1]), (0, dem.dims[0])):
         coord = dem.coords.get(dim)
         if coord is None or coord.size < 2:
-            return None
+            sizes.append(None)
+            continue
         steps = np.diff(np.asarray(coord, dtype=np.float64))
-        if not np.allclose(steps, steps[0], rtol=1e-6):
-            return None
-        sizes.append(abs(float(steps[0])))
-    return tuple(sizes)
+        regular = np.allclose(steps, steps[0], rtol=1e-6) and steps[0] != 0
+        sizes.append(abs(float(steps[0])) if regular else None)
+        # Columns must run west to east (x rising), rows north to south (y falling).
+        if regular and ((axis == 1 and steps[0] < 0) or (axis == 0 and steps[0] > 0)):
+            flips.append(axis)
+    if cell_size is None:
+        if _GEOGRAPHIC_DIMS & {str(d).lower() for d in dem.dims}:
+            raise ValueError(f"the DataArray's coordinates {dem.dims} look like degrees: give "
+                             "cell_size in metres (or use a file call, which knows the CRS)")
+        if None in sizes:
+            raise TypeError("cell_size is needed: the DataArray has no regular x, y coordinates")
+        cell_size = tuple(sizes)
+    for axis in flips:
+        values = np.flip(values, axis)
+    return values, cell_size, flips
 
 
 def _cell_sizes(cell_size):
@@ -45,10 +67,9 @@ class Grid:
 
     def __init__(self, ctx, dem, cell_size=None, nodata=None):
         self.template = dem if _is_dataarray(dem) else None
+        self.flips = []
         if self.template is not None:
-            if cell_size is None:
-                cell_size = _cell_size_of_dataarray(dem)
-            dem = dem.values
+            dem, cell_size, self.flips = _north_up(dem, cell_size)
         if cell_size is None:
             raise TypeError("cell_size is needed (metres, one number or (east-west, "
                             "north-south)) unless the DEM is a DataArray with regular x, y "
@@ -61,14 +82,18 @@ class Grid:
             raise ValueError(f"the DEM must be a 2-D array (rows north to south), not {a.ndim}-D "
                              f"of shape {a.shape}")
         heights = np.array(a, dtype=np.float64, order="C")
-        if nodata is not None:
-            heights[heights == nodata] = np.nan
+        if nodata is not None:  # compared as the input holds it (a float32 -9999.9)
+            heights[a == np.asarray(nodata).astype(a.dtype)] = np.nan
         self.ctx = ctx
         self.shape = heights.shape
         grid = ffi.new("ss_grid *")
         ctx.check(lib.ss_grid_alloc(ctx.ptr, grid, heights.shape[1], heights.shape[0], cx, cy))
         self._grid = ffi.gc(grid, lib.ss_grid_free)
-        lib.ss_grid_set_heights(grid, ffi.from_buffer("double[]", heights), ffi.NULL)
+        rejected = ffi.new("size_t *")
+        lib.ss_grid_set_heights(grid, ffi.from_buffer("double[]", heights), rejected)
+        if rejected[0]:
+            warnings.warn(f"{rejected[0]} heights beyond +-{CONST['SS_Z_PLAUSIBLE_M']:g} m are "
+                          "not terrain: taken as nodata", stacklevel=3)
         ctx.check(lib.ss_grid_check(ctx.ptr, grid, ffi.NULL))
         self.cell_size = (cx, cy)
 
@@ -88,6 +113,8 @@ class Grid:
     def wrap(self, values, name=None, attrs=None, leading=None):
         if self.template is None:
             return values
+        for axis in self.flips:  # back to the DataArray's own order
+            values = np.flip(values, axis + values.ndim - 2)
         import xarray as xr
         dims = self.template.dims
         coords = {k: v for k, v in self.template.coords.items() if set(v.dims) <= set(dims)}

@@ -54,7 +54,9 @@ def _arguments(command, options):
             if isinstance(value, bool):
                 raise TypeError(f"{key} takes a value, not {value!r}")
             if entry["type"] in ("int", "double", "choice"):
-                _checked(command, key, value)
+                value = _checked(command, key, value)  # 16.0 for an int option becomes 16
+            elif isinstance(value, (list, tuple)):
+                value = ",".join(str(v) for v in value)  # -projwin (ULX, ULY, LRX, LRY)
             args += [flag, str(value)]
     return args
 

@@ -57,9 +57,10 @@ def _value(command, name, given):
     return None if value is None else _checked(command, name, value)
 
 
-def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMETRIC):
-    """Sweep options and the plan for a product, as the CLI's job_plan makes
-    them for a DEM without a place."""
+def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMETRIC,
+           n_steps=0, step_unix_s=ffi.NULL, shadow_mode=lib.SS_SHADOW_EXACT, with_plan=False):
+    """Sweep options (and where asked the plan) for a product, as the CLI's
+    job_plan makes them for a DEM without a place."""
     directions = _value(command, "directions", kw.get("directions"))
     refraction = _value(command, "refraction", kw.get("refraction"))
     earth_radius = _value(command, "earth_radius", kw.get("earth_radius"))
@@ -79,7 +80,9 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     req.directions = directions or 0
     req.svf_definition = svf_definition
     req.lines = _LINES[_value(command, "lines", kw.get("lines"))]
-    req.shadow_mode = lib.SS_SHADOW_EXACT
+    req.shadow_mode = shadow_mode
+    req.n_steps = n_steps
+    req.step_unix_s = step_unix_s
     plan = ffi.new("ss_plan *")
     ctx.check(lib.ss_plan_make(ctx.ptr, grid.ptr, place, req, plan))
     opt = ffi.new("ss_sweep_options *")
@@ -88,7 +91,7 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     opt.lines = req.lines
     lib.ss_plan_sweep_options(plan, place, refraction, opt)
     ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
-    return opt
+    return (opt, plan) if with_plan else opt
 
 
 def _begin(dem, cell_size, nodata, kw, allowed):
@@ -128,7 +131,7 @@ def openness(dem, cell_size=None, *, kind=None, radius=None, nodata=None, **kw):
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     kind = _value("openness", "kind", kind)
     radius = _value("openness", "radius", radius)
-    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_SVF, kw)
+    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_HORIZON, kw)  # as cmd_openness plans it
     out = grid.new_plane()
     ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius, out_buffer(out),
              progress=kw.get("progress"))

@@ -17,15 +17,22 @@ def unix_seconds(time):
             time = time.tz_convert("UTC").tz_localize(None)
         if not hasattr(time, "shape"):  # a Timestamp
             time = [time.to_datetime64()]
-        return np.asarray(time, dtype="datetime64[ns]").astype(np.int64) / 1e9
+        return _datetime64_seconds(np.asarray(time))
     items = np.atleast_1d(np.asarray(time, dtype=object if _has_aware(time) else None))
     if items.dtype == object:
         return np.array([_datetime_seconds(t) for t in items.ravel()]).reshape(items.shape)
     if np.issubdtype(items.dtype, np.datetime64):
-        return items.astype("datetime64[ns]").astype(np.int64).astype(np.float64) / 1e9
+        return _datetime64_seconds(items)
     if items.dtype.kind in "iuf":
         return items.astype(np.float64)
     raise TypeError(f"cannot read instants from {type(time).__name__} of dtype {items.dtype}")
+
+
+def _datetime64_seconds(items):
+    """Seconds of datetime64 values in their own unit (nanoseconds wrap
+    outside 1678..2262; SPA spans -2000..6000); NaT gives NaN."""
+    seconds = (items - np.datetime64(0, "s")) / np.timedelta64(1, "s")
+    return np.where(np.isnat(items), np.nan, seconds).astype(np.float64)
 
 
 def _has_aware(time):
@@ -39,7 +46,7 @@ def _datetime_seconds(t):
             t = t.replace(tzinfo=_dt.timezone.utc)
         return t.timestamp()
     if isinstance(t, np.datetime64):
-        return float(t.astype("datetime64[ns]").astype(np.int64)) / 1e9
+        return float(_datetime64_seconds(np.asarray(t)))
     return float(t)
 
 
@@ -53,7 +60,7 @@ def sun_position(time, latitude, longitude, altitude=0.0, pressure=101325.0, tem
     month (pvlib's default is a fixed 67 s). algorithm "spa" (Reda & Andreas,
     +-0.0003 deg) or "psa" (Blanco et al. 2020, about 0.01 deg).
 
-    Returns a dict of arrays shaped like `time`, keyed as pvlib's
+    Returns a dict of arrays shaped like `time` (NaN where it is NaT), keyed as pvlib's
     spa_python columns: apparent_zenith, zenith, apparent_elevation,
     elevation, azimuth (clockwise from north), equation_of_time (minutes).
     """
@@ -74,6 +81,10 @@ def sun_position(time, latitude, longitude, altitude=0.0, pressure=101325.0, tem
     out = {k: np.empty(seconds.shape) for k in keys}
     r = ffi.new("ss_spa_result *")
     for i, s in np.ndenumerate(seconds):
+        if np.isnan(s):  # NaT: no instant, no sun
+            for k in keys:
+                out[k][i] = np.nan
+            continue
         ctx.check(lib.ss_spa(ctx.ptr, float(s), float(latitude), float(longitude), p, r))
         out["apparent_zenith"][i] = r.zenith_deg
         out["zenith"][i] = 90.0 - r.elevation_deg

@@ -22,12 +22,17 @@ def rough_dem(rows=48, cols=56, seed=1, hole=True):
     return z.astype(np.float32).astype(np.float64)
 
 
-def write_asc(path, z, cell=10.0):
+def write_asc(path, z, cell=10.0, prj=None, centred=False):
+    """An ESRI ASCII grid; prj (WKT) goes beside it as its CRS, and centred
+    puts the grid's centre on the CRS's origin."""
+    x0, y0 = (-z.shape[1] * cell / 2, -z.shape[0] * cell / 2) if centred else (0.0, 0.0)
     with open(path, "w") as f:
-        f.write(f"ncols {z.shape[1]}\nnrows {z.shape[0]}\nxllcorner 0\nyllcorner 0\n"
+        f.write(f"ncols {z.shape[1]}\nnrows {z.shape[0]}\nxllcorner {x0!r}\nyllcorner {y0!r}\n"
                 f"cellsize {cell!r}\nNODATA_value -9999\n")
         for row in z:
             f.write(" ".join("-9999" if np.isnan(v) else repr(float(v)) for v in row) + "\n")
+    if prj:
+        pathlib.Path(path).with_suffix(".prj").write_text(prj)
     return path
 
 
@@ -53,12 +58,13 @@ def read_envi(path):
 @pytest.fixture
 def cli_run(tmp_path):
     """cli_run(command, dem, *options) -> the bands the CLI writes for dem
-    (10 m cells, no CRS), read back."""
-    def run(command, z, *options, cell=10.0):
-        dem = write_asc(tmp_path / "dem.asc", z, cell)
+    (10 m cells; no CRS unless prj gives one), read back."""
+    def run(command, z, *options, cell=10.0, prj=None, centred=False):
+        dem = write_asc(tmp_path / "dem.asc", z, cell, prj, centred)
         out = tmp_path / f"{command}.envi"
-        proc = subprocess.run([command_line(), command, "-q", "-of", "ENVI", "--cell-size",
-                               repr(cell), *map(str, options), str(dem), str(out)],
+        place = [] if prj else ["--cell-size", repr(cell)]
+        proc = subprocess.run([command_line(), command, "-q", "-of", "ENVI", *place,
+                               *map(str, options), str(dem), str(out)],
                               capture_output=True, text=True)
         assert proc.returncode == 0, proc.stderr
         return read_envi(out)

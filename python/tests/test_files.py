@@ -39,6 +39,16 @@ def test_failures_carry_the_cli_message_and_status(tmp_path):
         skysweep.svf_file(dem, tmp_path / "o.tif")
 
 
+def test_values_reach_the_cli_as_it_reads_them(tmp_path):
+    z = rough_dem(hole=False)
+    dem = write_asc(tmp_path / "dem.asc", z)
+    skysweep.svf_file(dem, tmp_path / "w.envi", cell_size=10, of="ENVI", directions=16.0,
+                      projwin=(100, 400, 300, 200), co={"INTERLEAVE": "BSQ"})
+    window = read_envi(tmp_path / "w.envi")[0]
+    assert window.shape == (20, 20)  # rows 8..27, columns 10..29 of the 10 m grid
+    assert same(window, skysweep.svf(z, 10, directions=16)[8:28, 10:30])
+
+
 def test_docstrings_list_every_option_help_does():
     for command in ("svf", "horizon", "insolation", "shadow", "hillshade"):
         text = subprocess.run([command_line(), command, "--help"], capture_output=True,

@@ -38,6 +38,13 @@ def test_openness_equals_the_cli(cli_run, kind):
                 cli_run("openness", z, "--kind", kind, "--directions", 16)[0])
 
 
+def test_openness_default_directions_follow_the_planner(cli_run):
+    z = rough_dem()
+    assert same(skysweep.openness(z, 10), cli_run("openness", z)[0])
+    assert same(skysweep.openness(z, 10, horizon_tolerance=0.01),
+                cli_run("openness", z, "--horizon-tolerance", 0.01)[0])
+
+
 def test_horizon_equals_the_cli(cli_run):
     z = rough_dem()
     h = skysweep.horizon(z, 10, directions=8, distance=True, cast_height=True)
@@ -111,3 +118,34 @@ def test_dataarray_in_and_out():
     assert same(out.values, skysweep.svf(z, 10, directions=16))
     h = skysweep.horizon(da, directions=4)
     assert h.elevation.dims == ("azimuth", "y", "x")
+
+
+def test_a_dataarray_with_y_rising_is_read_north_up():
+    """netCDF often stores y rising (south first): a wall along the north
+    edge must still stand in azimuth 0, and results keep the input's order."""
+    xr = pytest.importorskip("xarray")
+    z = np.zeros((30, 30))
+    z[0, :] = 100.0  # north edge, rows north to south
+    north_up = skysweep.horizon(z, 10, directions=4).elevation
+    da = xr.DataArray(z[::-1], dims=("y", "x"),
+                      coords={"y": np.arange(30) * 10.0, "x": np.arange(30) * 10.0})
+    h = skysweep.horizon(da, directions=4).elevation
+    assert np.array_equal(h.values, north_up[:, ::-1])
+    # Row 24 of the rising y is 5 rows south of the wall: 100 m seen 50 m away, in the north.
+    assert h.values[0, 24, 15] == pytest.approx(np.degrees(np.arctan(100 / 50)), abs=1e-3)
+    assert h.values[2, 24, 15] < 1
+    with pytest.raises(ValueError, match="degrees"):
+        skysweep.svf(xr.DataArray(z, dims=("lat", "lon"),
+                                  coords={"lat": np.arange(30.0), "lon": np.arange(30.0)}))
+
+
+def test_nodata_and_implausible_heights():
+    z = rough_dem(hole=False).astype(np.float32)
+    z[3, 4] = np.float32(-9999.9)
+    v = skysweep.svf(z, 10, directions=8, nodata=-9999.9)
+    assert np.isnan(v[3, 4]) and np.isfinite(v).sum() == z.size - 1
+    z2 = rough_dem(hole=False)
+    z2[5, 5] = 3e7
+    with pytest.warns(UserWarning, match="1 heights beyond"):
+        v = skysweep.svf(z2, 10, directions=8)
+    assert np.isnan(v[5, 5])

@@ -25,6 +25,19 @@ def test_sun_position_matches_pvlib_spa(lat, lon, alt):
     assert np.max(np.abs(diff)) < 1e-6
 
 
+def test_instants_outside_nanoseconds_and_nat():
+    """datetime64 keeps its own unit (nanoseconds end in 1678 and 2262; SPA
+    spans -2000..6000), and NaT has no sun."""
+    t = np.array(["1500-06-21T12:00", "2300-06-21T12:00", "NaT"], dtype="datetime64[s]")
+    seconds = [(np.datetime64(x, "s") - np.datetime64(0, "s")) / np.timedelta64(1, "s")
+               for x in t[:2]]
+    by_stamp = skysweep.sun_position(t, 45, 8)
+    by_seconds = skysweep.sun_position(np.array(seconds), 45, 8)
+    assert np.array_equal(by_stamp["azimuth"][:2], by_seconds["azimuth"])
+    assert seconds[0] < -1.4e10 and seconds[1] > 1.0e10
+    assert all(np.isnan(v[2]) for v in by_stamp.values())
+
+
 def test_instants_in_any_form_are_the_same_instants():
     aware = dt.datetime(2026, 6, 21, 12, 0, tzinfo=dt.timezone(dt.timedelta(hours=2)))
     forms = [aware, dt.datetime(2026, 6, 21, 10, 0), np.datetime64("2026-06-21T10:00"),

@@ -169,15 +169,9 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     const ss_sun_field *f = &ss->field;
     ss_civil_time civil;
     ss_civil_from_unix(mid, &civil);
-    memset(step, 0, sizeof *step);
-    step->duration_h = ss->hours[k];
-    step->linke = ss->linke[civil.month - 1];
-    double r = f->centre.earth_sun_distance_au;
-    step->extraterrestrial_w_m2 = ss->set->solar_constant / (r * r);
-    step->grid_azimuth_deg = f->centre_grid_azimuth_deg;
-    step->azimuth_deg = f->centre_grid_azimuth_deg + job->opt.grid_north_deg;
-    step->elevation_deg = f->centre.elevation_deg;
-    step->apparent_elevation_deg = f->centre.apparent_elevation_deg;
+    ss_sun_step_clear_sky(&f->centre, f->centre_grid_azimuth_deg, job->opt.grid_north_deg,
+                          ss->hours[k], ss->linke[civil.month - 1], ss->set->solar_constant,
+                          step);
     step->spread_deg = f->spread_deg;
     step->grid_azimuth_per_cell = f->grid_azimuth_deg;
     step->elevation_per_cell = f->elevation_deg;
@@ -228,12 +222,8 @@ static ss_status steps_from_range(steps_state *ss, const ss_time_range *range)
 {
     ss_status st = steps_alloc(ss, (int)range->count, 0);
     for (int k = 0; st == SS_OK && k < ss->n; ++k) {
-        double a = ss_time_range_at(range, k), b = ss_time_range_at(range, k + 1);
-        if (b > range->end_unix_s)
-            b = range->end_unix_s;
-        ss->mid_s[k] = 0.5 * (a + b);
-        ss->hours[k] = (b - a) / 3600.0;
-        ss_format_instant(a, ss->labels[k], 40);
+        ss_time_range_step(range, k, &ss->mid_s[k], &ss->hours[k]);
+        ss_format_instant(ss_time_range_at(range, k), ss->labels[k], 40);
     }
     return st;
 }

@@ -13,7 +13,6 @@
 #endif
 
 /* Heights beyond this are fill values, not terrain (as dem_read.c). */
-#define HEIGHTMAP_PLAUSIBLE_M 1e7
 
 ss_status heightmap_read(run_state *run, const char *const *paths, int n_paths,
                          const common_settings *common, ss_dem *dem)
@@ -46,7 +45,7 @@ ss_status heightmap_read(run_state *run, const char *const *paths, int n_paths,
         float *z = &dem->grid.z[i];
         if (isnan(*z))
             dem->nodata_cells++;
-        else if (!(fabs(*z) <= HEIGHTMAP_PLAUSIBLE_M)) {
+        else if (!(fabs(*z) <= SS_Z_PLAUSIBLE_M)) {
             *z = NAN;
             dem->rejected_cells++;
         }

@@ -5,6 +5,7 @@
  * ends (the Python package's file calls). */
 #include "config.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -139,6 +140,15 @@ static void json_string(const char *text)
     putchar('"');
 }
 
+/* A JSON number, or null where JSON has none (infinities, NaN). */
+static void json_number(double v)
+{
+    if (isfinite(v))
+        printf("%.17g", v);
+    else
+        printf("null");
+}
+
 void opt_print_json(const opt_spec *const *tables, const char *command, const char *usage,
                     const char *summary, const char *version)
 {
@@ -168,13 +178,24 @@ void opt_print_json(const opt_spec *const *tables, const char *command, const ch
                 printf(", \"default\": ");
                 json_string(s->default_text);
             }
-            if (s->type == OPT_INT || s->type == OPT_DOUBLE)
-                printf(", \"min\": %.17g, \"max\": %.17g", s->min, s->max);
+            if (s->type == OPT_INT || s->type == OPT_DOUBLE) {
+                printf(", \"min\": ");
+                json_number(s->min);
+                printf(", \"max\": ");
+                json_number(s->max);
+            }
             if (s->type == OPT_CHOICE) {
-                printf(", \"choices\": [\"");
-                for (const char *c = s->choices; *c; ++c)
-                    fputs(*c == '|' ? "\", \"" : (char[2]){*c, 0}, stdout);
-                printf("\"]");
+                printf(", \"choices\": [");
+                for (const char *c = s->choices; *c;) {
+                    size_t len = strcspn(c, "|");
+                    char choice[64];
+                    snprintf(choice, sizeof choice, "%.*s", (int)len, c);
+                    json_string(choice);
+                    c += len;
+                    if (*c == '|' && *++c)
+                        printf(", ");
+                }
+                printf("]");
             }
             printf(", \"help\": ");
             json_string(s->help);

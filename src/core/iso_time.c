@@ -502,6 +502,15 @@ double ss_time_range_at(const ss_time_range *r, long long k)
     return ss_time_add(r->start_unix_s, &r->step, k);
 }
 
+void ss_time_range_step(const ss_time_range *r, long long k, double *mid_unix_s, double *hours)
+{
+    double a = ss_time_range_at(r, k), b = ss_time_range_at(r, k + 1);
+    if (b > r->end_unix_s)
+        b = r->end_unix_s;
+    *mid_unix_s = 0.5 * (a + b);
+    *hours = (b - a) / 3600.0;
+}
+
 /* ---- formatting ------------------------------------------------------------------------- */
 
 size_t ss_format_instant(double unix_s, char *buf, size_t size)
