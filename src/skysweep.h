@@ -67,8 +67,10 @@ const char *ss_version(void);
 /* Devices. spec NULL or "" picks the default: the environment variable
  * SKYSWEEP_DEVICE where set (same forms as spec), else the first CPU device
  * of a PoCL platform, else the first device found; "reference" runs the plain C
- * twin of the kernels; anything else is "P:D" (platform and device numbers)
- * or a case-insensitive part of "platform name: device name". */
+ * twin of the kernels; "auto" lets each job's plan choose (ss_plan_make's
+ * "device" item, applied by ss_ctx_apply_plan; the C twin until then);
+ * anything else is "P:D" (platform and device numbers) or a
+ * case-insensitive part of "platform name: device name". */
 ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec);
 /* Human-readable name of the selected device, opening it if needed. */
 const char *ss_ctx_device_name(ss_ctx *ctx);
@@ -539,7 +541,7 @@ typedef struct {
     ss_plan_weather weather;    /* insolation: zeros for the clear sky */
 } ss_plan_request;
 
-#define SS_PLAN_MAX_ITEMS 12
+#define SS_PLAN_MAX_ITEMS 16
 typedef struct {
     char key[24];     /* curvature, true_north, cell_sizes, sun_per_cell, directions, ... */
     int on;
@@ -557,6 +559,11 @@ typedef struct {
     int steps_total, steps_night, steps_high_sun;
     int sweeps;
     double cells, estimated_seconds;
+    /* The device estimated_seconds is for: "reference" or, on a context
+     * with device "auto", "P:D" where the cost model chose an OpenCL device
+     * (doc/devices.md); "opencl" for one the caller named (modelled as
+     * PoCL). ss_ctx_apply_plan opens it on an "auto" context. */
+    char device[16];
 } ss_plan;
 
 ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
@@ -566,6 +573,9 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
  * north) only where it turned them on. The other fields are kept. */
 void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double refraction_k,
                            ss_sweep_options *opt);
+/* Opens the device the plan chose where the context's device is "auto"
+ * (the context stays "auto" for the next plan); otherwise does nothing. */
+ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan);
 /* The plan as text lines ("effect ON/OFF reason [error allowed]") or JSON;
  * returns the length needed, as snprintf. */
 size_t ss_plan_format(const ss_plan *plan, int json, char *buf, size_t size);

@@ -334,9 +334,18 @@ done
 # ---- OpenCL faults ---------------------------------------------------------------------------
 # No platform at all: Debian's ocl-icd loader reads the vendor list from
 # OCL_ICD_VENDORS, so a missing folder leaves it with none.
-OCL_ICD_VENDORS=/nonexistent expect_failure 5 "no OpenCL platform" -- svf "$dem" "$o"
-grep -q 'no OpenCL platform' "$work/stderr" && grep -q -- '--device reference' "$work/stderr"
-tap_ok $? "the no-platform message names the way out (--device reference)"
+OCL_ICD_VENDORS=/nonexistent expect_failure 5 "no OpenCL platform for a named device" -- \
+    svf --device Portable "$dem" "$o"
+grep -q "no OpenCL platform found (for 'Portable')" "$work/stderr" &&
+    grep -q -- '--device reference' "$work/stderr"
+tap_ok $? "the no-platform message names the way out (--device reference): $(head -c 200 "$work/stderr")"
+# The default, --device auto, needs no OpenCL: a small job never looks for it,
+# and a large one that finds none runs the C twin.
+OCL_ICD_VENDORS=/nonexistent run svf --directions 8 "$dem" "$work/auto.tif"
+tap_ok $rc "without any OpenCL platform the default device (auto) runs the C twin: $(grep '^device' "$work/stdout" | head -c 200)"
+OCL_ICD_VENDORS=/nonexistent run svf --directions 3000 --plan "$dem" "$work/auto.tif"
+grep -q "no OpenCL device was found" "$work/stdout"
+tap_ok $? "a job large enough to look for OpenCL devices, without a platform, plans the C twin: $(grep '^device' "$work/stdout" | head -c 200)"
 OCL_ICD_VENDORS=/nonexistent run svf --device reference --directions 8 "$dem" "$work/ref.tif"
 tap_ok $rc "--device reference runs without any OpenCL platform: $(head -c 160 "$work/stderr")"
 OCL_ICD_VENDORS=/nonexistent run info
@@ -349,7 +358,7 @@ tap_ok $((rc == 0 || rc == 5 ? 0 : 1)) "info without a platform exits $rc and sa
 if "$SKYSWEEP" info 2>/dev/null | grep -q 'Portable Computing Language'; then
     rm -f "$work/out/"*
     POCL_CACHE_DIR=$work/pocl-broken POCL_EXTRA_BUILD_FLAGS=-DSS_COMPAT_H \
-        run svf --directions 4 "$dem" "$o"
+        run svf --device Portable --directions 4 "$dem" "$o"
     last=$(tail -n 1 "$work/stderr")
     [ "$rc" -eq 5 ] && [ -z "$(ls -A "$work/out")" ] &&
         echo "$last" | grep -q '^skysweep svf: OpenCL kernels failed to build' &&

@@ -288,8 +288,57 @@ static void directions(void)
     ss_ctx_free(ctx);
 }
 
+/* --device auto: a job too small for any device to pay its set-up runs the
+ * C twin without looking for OpenCL; a large one weighs the devices found
+ * (on a machine with OpenCL CPUs only, the C twin still wins: the model
+ * gives PoCL no more speed, and 0.1 s to start). The context stays "auto"
+ * after a plan is applied; a named device gets no "device" item. */
+static void device_auto(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "auto");
+    ss_grid g;
+    ss_grid_alloc(ctx, &g, 64, 64, 10, 10);
+    for (int i = 0; i < 64 * 64; ++i)
+        g.z[i] = (float)(i % 7);
+    ss_place pl = place_of(&g, 0, 45);
+    ss_plan_request r = request(SS_PRODUCT_SVF);
+    r.directions = 16;
+    ss_plan p;
+    ss_status st = ss_plan_make(ctx, &g, &pl, &r, &p);
+    const ss_plan_item *it = item(&p, "device");
+    tap_ok(st == SS_OK && it && strcmp(p.device, "reference") == 0 &&
+               strstr(it->reason, "none was looked for"),
+           "a small job plans the C twin without looking for OpenCL (%s: %s)", p.device,
+           it ? it->reason : "no device item");
+    ss_ctx_apply_plan(ctx, &p);
+    ss_grid big;
+    ss_grid_alloc(ctx, &big, 1024, 1024, 10, 10);
+    for (int i = 0; i < 1024 * 1024; ++i)
+        big.z[i] = (float)(i % 7);
+    ss_place big_place = place_of(&big, 0, 45);
+    r.directions = 64;
+    st = ss_plan_make(ctx, &big, &big_place, &r, &p);
+    it = item(&p, "device");
+    int devices = ss_list_devices(ctx, NULL, 0);
+    tap_ok(st == SS_OK && it && !strstr(it->reason, "none was looked for") &&
+               (devices > 0 ? strstr(it->reason, "(0:0)") != NULL
+                            : strstr(it->reason, "no OpenCL device") != NULL),
+           "64 directions on 1024^2, where a GPU could win: after a plan was applied the "
+           "context is still auto, and the plan weighs the %d OpenCL device(s) found (%s: %s)",
+           devices, p.device, it ? it->reason : "no device item");
+    ss_grid_free(&big);
+    ss_ctx_use_device(ctx, "reference");
+    st = ss_plan_make(ctx, &g, &pl, &r, &p);
+    tap_ok(st == SS_OK && !item(&p, "device") && strcmp(p.device, "reference") == 0,
+           "a named device gets no device item, and the estimate is for it (%s)", p.device);
+    ss_grid_free(&g);
+    ss_ctx_free(ctx);
+}
+
 int main(void)
 {
+    device_auto();
     directions();
     curvature();
     north();

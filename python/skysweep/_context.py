@@ -5,6 +5,7 @@ from the main thread, a call runs in a worker thread while the main thread
 waits, so that Ctrl-C reaches Python: it cancels the library call (the library
 stops within about two directions' sweeps) and raises KeyboardInterrupt.
 """
+import os
 import sys
 import threading
 
@@ -57,10 +58,11 @@ def error_for(status, message):
 
 
 class Context:
-    """One library context (ss_ctx) on one device: device None is the
-    library's default (SKYSWEEP_DEVICE, else PoCL's CPU device), "reference"
-    the C twin. A context serves one call at a time; the module's functions
-    keep one per thread and device."""
+    """One library context (ss_ctx) on one device, as the CLI's --device
+    names it: None is SKYSWEEP_DEVICE where set, else "auto" (each call's
+    plan picks the fastest device for the job, doc/devices.md); "reference"
+    is the C twin. A context serves one call at a time; the module's
+    functions keep one per thread and device."""
 
     def __init__(self, device=None):
         ctx = lib.ss_ctx_new()
@@ -68,8 +70,8 @@ class Context:
             raise MemoryError("cannot create a skysweep context")
         self._ctx = ffi.gc(ctx, lib.ss_ctx_free)
         self.device = device
-        if device:
-            self.check(lib.ss_ctx_use_device(self._ctx, device.encode()))
+        spec = device or (None if os.environ.get("SKYSWEEP_DEVICE") else "auto")
+        self.check(lib.ss_ctx_use_device(self._ctx, spec.encode() if spec else ffi.NULL))
 
     @property
     def ptr(self):

@@ -91,6 +91,7 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     opt.lines = req.lines
     lib.ss_plan_sweep_options(plan, place, refraction, opt)
     ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
+    ctx.check(lib.ss_ctx_apply_plan(ctx.ptr, plan))  # --device auto: the plan's device
     return (opt, plan) if with_plan else opt
 
 
@@ -234,8 +235,8 @@ def _doc_options(function, command, names):
         entry = option(command, name.replace("_", "-"))
         shown = entry.get("default", "-")
         lines.append(f"    {name} (default {shown}): {entry['help']}")
-    lines.append("    device: None (the default device), \"reference\" (the C twin) or a "
-                 "device as --device names it")
+    lines.append("    device: None (SKYSWEEP_DEVICE, else \"auto\": the plan's choice), "
+                 "\"reference\" (the C twin) or a device as --device names it")
     lines.append("    progress: None, True (tqdm or text) or callable(fraction, message); "
                  "returning False cancels")
     function.__doc__ = (function.__doc__ or "") + "\n".join(lines)

@@ -7,7 +7,8 @@ import pytest
 import skysweep
 from conftest import rough_dem, same
 
-DEVICES = [None, "reference"]
+# None is --device auto, as the CLI's default; PoCL's CPU device by name.
+DEVICES = [None, "reference", "Portable"]
 
 
 @pytest.mark.parametrize("definition", ["geometric", "radiative", "horizontal"])

@@ -42,6 +42,8 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     req.n_steps = n_steps;
     req.step_unix_s = step_unix_s;
     ss_status st = ss_plan_make(job->run.ctx, &job->dem.grid, &place, &req, &job->plan);
+    if (st == SS_OK)
+        st = ss_ctx_apply_plan(job->run.ctx, &job->plan);
     if (st != SS_OK)
         return job_finish(job, st);
     /* Obey the plan: what it leaves off is not computed. */

@@ -28,8 +28,9 @@ const opt_spec common_options[] = {
      "the grid's north; auto: true north where they differ by more than "
      "--horizon-tolerance"},
     {"device", OPT_STRING, COMMON(device), "NAME", NULL, 0, 0, NULL,
-     "OpenCL device: 'list', 'P:D', part of its name, or 'reference' (C twin); default "
-     "$SKYSWEEP_DEVICE, else PoCL's CPU"},
+     "'auto' (the plan picks the fastest for the job from a cost model, doc/devices.md), "
+     "'reference' (the C twin), an OpenCL device ('P:D' or part of its name), or 'list'; "
+     "default $SKYSWEEP_DEVICE, else auto"},
     {"q", OPT_FLAG, COMMON(quiet), NULL, NULL, 0, 0, NULL, "quiet: no progress, no summary"},
     {"of", OPT_STRING, COMMON(format), "FORMAT", "GTiff", 0, 0, NULL, "GDAL output format"},
     {"co", OPT_LIST, COMMON(creation_options), "KEY=VALUE", NULL, 0, 0, NULL,
@@ -164,8 +165,10 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     ss_ctx_set_progress(run->ctx, progress, run);
-    if (common && common->device)
-        ss_ctx_use_device(run->ctx, common->device);
+    /* The device follows the job unless one is named here or in the
+     * environment (SKYSWEEP_DEVICE, read by the library). */
+    const char *device = common && common->device ? common->device : NULL;
+    ss_ctx_use_device(run->ctx, device ? device : getenv("SKYSWEEP_DEVICE") ? NULL : "auto");
     return 0;
 }
 

@@ -202,19 +202,58 @@ static int pick_one(const ocl_device_info *info, void *user)
     return 0;
 }
 
-ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
+typedef struct {
+    ss_device_candidate *out;
+    int max, n;
+} candidates_state;
+
+static int add_candidate(const ocl_device_info *info, void *user)
+{
+    candidates_state *cs = user;
+    if (cs->n >= cs->max)
+        return 1;
+    ss_device_candidate *c = &cs->out[cs->n++];
+    snprintf(c->spec, sizeof c->spec, "%d:%d", info->platform_index, info->device_index);
+    snprintf(c->name, sizeof c->name, "%s: %s", info->platform_name, info->device_name);
+    c->is_cpu = (info->type & CL_DEVICE_TYPE_CPU) != 0;
+    return 0;
+}
+
+int ss_opencl_devices(ss_device_candidate *out, int max)
+{
+    candidates_state cs = {out, max, 0};
+    for_each_device(add_candidate, &cs);
+    return cs.n;
+}
+
+/* Points the context at spec without touching its "auto" intent. */
+static void select_device(ss_ctx *ctx, const char *spec)
 {
     ss_ocl_release(ctx->ocl);
     ctx->ocl = NULL;
     ctx->device_name[0] = '\0';
-    /* The environment names the default, so whole test suites and scripts
-     * can be pointed at another device (a GPU) without new options. */
-    if (!spec || !spec[0])
-        spec = getenv("SKYSWEEP_DEVICE");
     snprintf(ctx->device_spec, sizeof ctx->device_spec, "%s", spec ? spec : "");
     ctx->use_reference = spec && strcasecmp(spec, "reference") == 0;
     if (ctx->use_reference)
         snprintf(ctx->device_name, sizeof ctx->device_name, "C reference (host, OpenMP)");
+}
+
+ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
+{
+    /* The environment names the default, so whole test suites and scripts
+     * can be pointed at another device (a GPU) without new options. */
+    if (!spec || !spec[0])
+        spec = getenv("SKYSWEEP_DEVICE");
+    ctx->device_auto = spec && strcasecmp(spec, "auto") == 0;
+    /* "auto" runs the C twin, which needs no set-up, until a plan chooses. */
+    select_device(ctx, ctx->device_auto ? "reference" : spec);
+    return SS_OK;
+}
+
+ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan)
+{
+    if (ctx->device_auto && plan->device[0] && strcmp(ctx->device_spec, plan->device) != 0)
+        select_device(ctx, plan->device);
     return SS_OK;
 }
 
@@ -333,12 +372,14 @@ static ss_status ocl_acquire(ss_ctx *ctx)
     if (for_each_device(pick_one, &ps) < 0)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory listing the OpenCL devices");
     if (!ps.have) {
-        if (ctx->device_spec[0])
+        if (ctx->device_spec[0] && ss_list_devices(ctx, NULL, 0) > 0)
             return ss_fail(ctx, SS_ERR_DEVICE,
                            "no OpenCL device matches '%s' (see --device list)", ctx->device_spec);
         return ss_fail(ctx, SS_ERR_DEVICE,
-                       "no OpenCL platform found: install pocl-opencl-icd, or run the C "
-                       "reference with --device reference");
+                       "no OpenCL platform found%s%s%s: install pocl-opencl-icd, or run the C "
+                       "twin with --device reference (or auto)",
+                       ctx->device_spec[0] ? " (for '" : "", ctx->device_spec,
+                       ctx->device_spec[0] ? "')" : "");
     }
     char why[PATH_MAX + 200];
     if (is_pocl_cpu(&ps.found) && pocl_cannot_write(why, sizeof why)) {

@@ -20,12 +20,22 @@ struct ss_ctx {
     void *progress_user;
     char device_spec[256];
     int use_reference; /* run the C twin instead of OpenCL */
+    int device_auto;   /* "auto": each plan chooses device_spec */
     struct ss_ocl *ocl;
     char device_name[600];
     ss_counters counters;
     volatile sig_atomic_t cancel_requested; /* ss_ctx_cancel; read by every worker */
     unsigned long failures; /* messages recorded: whether a callee said why it failed */
 };
+
+/* An OpenCL device as the planner weighs it (plan.c, doc/devices.md). */
+typedef struct {
+    char spec[16];  /* "P:D" */
+    char name[520]; /* "platform: device" */
+    int is_cpu;
+} ss_device_candidate;
+/* Up to max of the OpenCL devices found (0 without a platform). */
+int ss_opencl_devices(ss_device_candidate *out, int max);
 
 /* Records a one-line message (newlines become spaces) and returns status. */
 ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)

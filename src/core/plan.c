@@ -16,11 +16,19 @@
 
 #define DEG (180.0 / M_PI)
 
-/* Sweep throughput and per-cell step cost used for the cost estimate:
- * measured with make bench on the 2-core EPYC development machine through
- * PoCL (doc/performance.md); a GPU is much faster. */
-#define PLAN_CELL_DIRECTIONS_PER_S 8e7
+/* The cost model of the estimate and of --device auto (doc/devices.md):
+ * whole-process times on the 2-core development machine (doc/devices.sh)
+ * and, for GPUs, the lent H200 (doc/gpu.md). Set-up in seconds, sweep
+ * throughput in cell-directions per second, and the host's per-cell cost
+ * of an insolation step, the same on every device. */
+#define COST_REF_RATE 8e7        /* the C twin, OpenMP on 2 cores: nothing to set up */
+#define COST_CPU_CL_SETUP_S 0.10 /* PoCL: platform, context, cached kernels (and 80 MiB) */
+#define COST_CPU_CL_RATE 8e7     /* PoCL: no faster than the C twin on the same cores */
+#define COST_GPU_SETUP_S 0.25    /* opening the H200 */
+#define COST_GPU_LAUNCH_S 2e-3   /* a sweep is launched per direction */
+#define COST_GPU_RATE 1.5e9
 #define PLAN_CELL_STEP_S 2e-8
+#define PLAN_MAX_CANDIDATES 8
 
 static ss_plan_item *add(ss_plan *p, const char *key, int on, double bound, const char *unit,
                          const char *fmt, ...) __attribute__((format(printf, 6, 7)));
@@ -274,6 +282,74 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
     return SS_OK;
 }
 
+typedef enum { DEVICE_REF, DEVICE_CPU_CL, DEVICE_GPU } device_kind;
+
+/* Seconds a device takes for the sweeps: set-up, launches, throughput. */
+static double device_seconds(device_kind kind, double sweeps, double cells)
+{
+    double work = sweeps * cells;
+    switch (kind) {
+    case DEVICE_REF:
+        return work / COST_REF_RATE;
+    case DEVICE_CPU_CL:
+        return COST_CPU_CL_SETUP_S + work / COST_CPU_CL_RATE;
+    case DEVICE_GPU:
+        break;
+    }
+    return COST_GPU_SETUP_S + sweeps * COST_GPU_LAUNCH_S + work / COST_GPU_RATE;
+}
+
+/* --device auto: the device the cost model finds fastest for this job. The
+ * OpenCL platforms are only looked at when a device of some kind could beat
+ * the C twin: loading them costs 20-30 ms and 60 MiB. */
+static void plan_device(ss_plan *p, double sweeps, double host_s)
+{
+    double ref_s = device_seconds(DEVICE_REF, sweeps, p->cells);
+    double cpu_cl_s = device_seconds(DEVICE_CPU_CL, sweeps, p->cells);
+    double gpu_s = device_seconds(DEVICE_GPU, sweeps, p->cells);
+    snprintf(p->device, sizeof p->device, "reference");
+    p->estimated_seconds = host_s + ref_s;
+    if (ref_s <= fmin(cpu_cl_s, gpu_s)) {
+        add(p, "device", 1, 0, "",
+            "the C twin (host, OpenMP): its sweeps take about %.2g s, where PoCL would take "
+            "%.2g s and a GPU %.2g s with their set-up, so none was looked for",
+            ref_s, cpu_cl_s, gpu_s);
+        return;
+    }
+    ss_device_candidate found[PLAN_MAX_CANDIDATES];
+    int n = ss_opencl_devices(found, PLAN_MAX_CANDIDATES);
+    double best_s = ref_s;
+    int best = -1;
+    char others[300] = "";
+    size_t used = 0;
+    for (int i = 0; i < n; ++i) {
+        double s = device_seconds(found[i].is_cpu ? DEVICE_CPU_CL : DEVICE_GPU, sweeps, p->cells);
+        if (used < sizeof others)
+            used += (size_t)snprintf(others + used, sizeof others - used, "%s%.60s (%s) %.2g s",
+                                     used ? ", " : "", found[i].name, found[i].spec, s);
+        if (s < best_s) {
+            best_s = s;
+            best = i;
+        }
+    }
+    p->estimated_seconds = host_s + best_s;
+    if (best >= 0) {
+        snprintf(p->device, sizeof p->device, "%s", found[best].spec);
+        add(p, "device", 1, 0, "",
+            "%.100s (%s): its sweeps take about %.2g s with its set-up, against the C twin's "
+            "%.2g s (OpenCL devices: %s)",
+            found[best].name, found[best].spec, best_s, ref_s, others);
+    } else if (n) {
+        add(p, "device", 1, 0, "",
+            "the C twin (host, OpenMP): its sweeps take about %.2g s, against %s with set-up",
+            ref_s, others);
+    } else {
+        add(p, "device", 1, 0, "",
+            "the C twin (host, OpenMP): its sweeps take about %.2g s; no OpenCL device was found",
+            ref_s);
+    }
+}
+
 ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                        const ss_plan_request *r, ss_plan *p)
 {
@@ -349,8 +425,14 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
         break;
     }
     p->sweeps = (int)sweeps;
-    p->estimated_seconds = sweeps * p->cells / PLAN_CELL_DIRECTIONS_PER_S +
-                           daylight * p->cells * PLAN_CELL_STEP_S;
+    double host_s = daylight * p->cells * PLAN_CELL_STEP_S;
+    if (ctx->device_auto) {
+        plan_device(p, sweeps, host_s);
+    } else {
+        device_kind kind = ctx->use_reference ? DEVICE_REF : DEVICE_CPU_CL;
+        snprintf(p->device, sizeof p->device, "%s", ctx->use_reference ? "reference" : "opencl");
+        p->estimated_seconds = host_s + device_seconds(kind, sweeps, p->cells);
+    }
     return SS_OK;
 }
 
@@ -365,9 +447,10 @@ size_t ss_plan_format(const ss_plan *p, int json, char *buf, size_t size)
     } while (0)
     if (json) {
         PUT("{\"directions\": %d, \"sweeps\": %d, \"estimated_seconds\": %.3g, "
-            "\"steps\": %d, \"night_steps\": %d, \"high_sun_steps\": %d, \"effects\": [",
-            p->directions, p->sweeps, p->estimated_seconds, p->steps_total, p->steps_night,
-            p->steps_high_sun);
+            "\"device\": \"%s\", \"steps\": %d, \"night_steps\": %d, \"high_sun_steps\": %d, "
+            "\"effects\": [",
+            p->directions, p->sweeps, p->estimated_seconds, p->device, p->steps_total,
+            p->steps_night, p->steps_high_sun);
         for (int i = 0; i < p->n_items; ++i) {
             const ss_plan_item *it = &p->items[i];
             PUT("%s{\"effect\": \"%s\", \"on\": %s, \"bound\": %.6g, \"unit\": \"%s\", "
@@ -386,8 +469,11 @@ size_t ss_plan_format(const ss_plan *p, int json, char *buf, size_t size)
                 PUT(" [error allowed: %.3g %s]", it->bound, it->unit);
             PUT("\n");
         }
-        PUT("%-18s     %d sweeps of %.3g Mcells, about %.2g s on a 2-core CPU (PoCL)\n", "cost",
-            p->sweeps, p->cells / 1e6, p->estimated_seconds);
+        PUT("%-18s     %d sweeps of %.3g Mcells, about %.2g s on %s\n", "cost", p->sweeps,
+            p->cells / 1e6, p->estimated_seconds,
+            strcmp(p->device, "reference") == 0 ? "the C twin (modelled on 2 cores)"
+            : strcmp(p->device, "opencl") == 0  ? "OpenCL (modelled as PoCL on 2 cores)"
+                                                : "the OpenCL device chosen (modelled as the H200)");
     }
 #undef PUT
     return used;
