@@ -1,6 +1,7 @@
 #!/bin/sh
 # Set-up command 2 (README): installs what is needed, builds skysweep with
-# warnings as errors and runs the whole test suite; then, under CI (CI=true)
+# warnings as errors and runs the whole test suite, then the core-only
+# build's (configure --enable-core-only); then, under CI (CI=true)
 # or with --sanitizers, builds a copy with AddressSanitizer and
 # UndefinedBehaviorSanitizer and runs the suite again there. The last line
 # is "N passed, N failed" over everything that ran.
@@ -79,6 +80,22 @@ build-aux/build.sh --enable-werror || exit 1
 check
 total_pass=$pass total_failed=$failed
 echo "tests: $pass passed, $failed failed"
+
+# The core alone (configure --enable-core-only: the library, ss-bench and the
+# core's tests with nothing but OpenCL), as a machine without GDAL builds it,
+# in a copy of the tracked files.
+core=$(mktemp -d "${TMPDIR:-/tmp}/skysweep-core.XXXXXX")
+if git ls-files -z | xargs -0 cp --parents -t "$core" 2>/dev/null &&
+    (cd "$core" && build-aux/build.sh --enable-core-only --enable-werror); then
+    (cd "$core" && check && echo "$pass $failed" >tests/counts)
+    read -r pass failed <"$core/tests/counts" 2>/dev/null || { pass=0 failed=1; }
+else
+    echo "core-only build failed"
+    pass=0 failed=1
+fi
+echo "tests of the core-only build: $pass passed, $failed failed"
+total_pass=$((total_pass + pass)) total_failed=$((total_failed + failed))
+rm -rf "$core"
 
 if [ "$sanitizers" -eq 1 ]; then
     # A copy of the tracked files, so the tree above keeps its build.
