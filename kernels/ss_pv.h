@@ -32,6 +32,19 @@ SS_FN float ss_pvwatts_dc_per_kwp(float poa, float temp_cell, float gamma_pdc)
     return poa / 1000.0f * (1.0f + gamma_pdc * (temp_cell - 25.0f));
 }
 
+/* AC power of an inverter whose DC input limit is pdc0 (same unit as pdc),
+ * as pvlib.inverter.pvwatts: efficiency eta_nom / 0.9637 (-0.0162 zeta -
+ * 0.0059 / zeta + 0.9858) at zeta = pdc / pdc0, clipped at the AC rating
+ * eta_nom pdc0 and at 0. */
+SS_FN float ss_pvwatts_ac(float pdc, float pdc0, float eta_nom)
+{
+    if (!(pdc > 0.0f))
+        return 0.0f;
+    float zeta = pdc / pdc0;
+    float eta = eta_nom / 0.9637f * (-0.0162f * zeta - 0.0059f / zeta + 0.9858f);
+    return SS_FMAX(0.0f, SS_FMIN(eta_nom * pdc0, eta * pdc));
+}
+
 SS_FN float ss_pv_cell_temp(int model, float poa, float temp_air, float wind)
 {
     return model == SS_PV_CELL_TEMP_SAPM ? ss_sapm_cell_temp(poa, temp_air, wind)

@@ -381,6 +381,10 @@ typedef struct {
     ss_pv_temp_model temp_model;
     double losses;           /* fraction of DC energy lost, 0..1 */
     double temp_air_c, wind_speed_m_s; /* where a record gives none */
+    /* The AC yield (ss_insolation_out's pv_ac_yield): pvlib.inverter.pvwatts
+     * with this nominal efficiency (eta_inv_nom, e.g. 0.96) behind modules
+     * of dc_ac_ratio times the inverter's AC rating (PVWatts' 1.2). */
+    double inverter_efficiency, dc_ac_ratio;
 } ss_pv_options;
 
 /* The surface irradiated in each cell: the cell's own slope (roofs,
@@ -439,6 +443,7 @@ typedef struct {
     float *sun_hours; /* hours the cell's surface received direct sun */
     float *monthly_global; /* NULL, or 12 planes: the global of steps in January..December */
     float *pv_yield;       /* NULL, or kWh/kWp (options' pv.on, weather records) */
+    float *pv_ac_yield;    /* NULL, or AC kWh/kWp after the options' inverter (pv.on) */
 } ss_insolation_out;
 
 /* Clear-sky irradiation (ESRA with Linke turbidity, as GRASS r.sun; sky

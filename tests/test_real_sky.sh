@@ -77,9 +77,12 @@ for temp_model in faiman sapm; do
         tap_skip "a year on south30.tif ($temp_model) sums as pvlib's" "$reason"
         continue
     fi
+    # The second run sizes the inverter small, so that bright hours clip.
+    ratio=1.2
+    [ "$temp_model" = sapm ] && ratio=1.7
     "$python" "$top/tests/pvlib/year_open_plane.py" "$SKYSWEEP" "$pvgis" south30.tif 30 180 \
-        perez $temp_model "$work" >year.out 2>&1
-    tap_ok $? "a year on south30.tif, $temp_model: $(grep -c '^ok' year.out) sums agree; $(grep -v '^ok' year.out | head -c 300) $(grep 'PV yield' year.out)"
+        perez $temp_model "$work" $ratio >year.out 2>&1
+    tap_ok $? "a year on south30.tif, $temp_model: $(grep -c '^ok' year.out) sums agree; $(grep -v '^ok' year.out | head -c 300) $(grep 'PV' year.out | tr '\n' ' ')"
 done
 
 # Terrain: Kilauea's caldera rim (the sample, placed at the PVGIS site), a

@@ -33,6 +33,7 @@ typedef struct {
     int sky_model; /* index into "perez|haydavies|isotropic" */
     int pv;
     double gamma_pdc, losses_percent, temp_air_c, wind_speed_m_s;
+    double inverter_efficiency_percent, dc_ac_ratio;
     double elevation_step_deg;
     int temperature_model; /* index into "faiman|sapm" */
     const char *surface;
@@ -93,6 +94,13 @@ static const opt_spec insolation_options[] = {
      "with --pv: air temperature where a record gives none"},
     {"wind-speed", OPT_DOUBLE, SET(wind_speed_m_s), "M/S", "0", 0, 99, NULL,
      "with --pv: wind speed where a record gives none"},
+    {"inverter-efficiency", OPT_DOUBLE, SET(inverter_efficiency_percent), "PERCENT", "96", 1,
+     100, NULL,
+     "with --pv: the inverter's nominal efficiency (pvlib.inverter.pvwatts' eta_inv_nom) for the "
+     "AC yield"},
+    {"dc-ac-ratio", OPT_DOUBLE, SET(dc_ac_ratio), "RATIO", "1.2", 0.1, 10, NULL,
+     "with --pv: the modules' DC nameplate over the inverter's AC rating (PVWatts' 1.2); above "
+     "it the inverter clips"},
     OPT_END};
 
 /* The run's time steps: each one's instant (where the sun is taken) and
@@ -490,11 +498,11 @@ static const char *const month_names[12] = {"January", "February", "March",     
                                             "May",     "June",     "July",      "August",
                                             "September", "October", "November", "December"};
 
-/* Writes a weather run's bands in kWh/m^2 (hours stay hours, the PV yield
- * is kWh/kWp already), named for the year where the steps cover one (8700
- * to 8800 hours), else "period". */
+/* Writes a weather run's bands in kWh/m^2 (hours stay hours, the PV yields,
+ * DC then AC, are kWh/kWp already), named for the year where the steps
+ * cover one (8700 to 8800 hours), else "period". */
 static ss_status write_weather_bands(ss_raster_writer *w, float *const bands[5], float *monthly,
-                                     float *pv_yield, size_t n, double hours)
+                                     float *pv_yield, float *pv_ac_yield, size_t n, double hours)
 {
     const char *span = hours >= 8700 && hours <= 8800 ? "year" : "period";
     ss_status st = SS_OK;
@@ -502,6 +510,9 @@ static ss_status write_weather_bands(ss_raster_writer *w, float *const bands[5],
         char name[64];
         snprintf(name, sizeof name, "pv_yield, %s", span);
         st = ss_writer_band(w, WEATHER_BANDS + 1, pv_yield, name, "kWh/kWp");
+        snprintf(name, sizeof name, "pv_ac_yield, %s", span);
+        if (st == SS_OK)
+            st = ss_writer_band(w, WEATHER_BANDS + 2, pv_ac_yield, name, "kWh/kWp");
     }
     for (int b = 0; b < WEATHER_BANDS && st == SS_OK; ++b) {
         float *v = b < 5 ? bands[b] : monthly + (size_t)(b - 5) * n;
@@ -629,14 +640,15 @@ int cmd_insolation(int argc, char **argv)
     if (st == SS_OK && set.pv && !have_weather)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--pv needs --weather (air temperature and "
                                                 "real-sky irradiance)");
-    if (st == SS_OK && set.pv && !(out.pv_yield = malloc(n * sizeof(float))))
+    if (st == SS_OK && set.pv && (!(out.pv_yield = malloc(n * sizeof(float))) ||
+                                  !(out.pv_ac_yield = malloc(n * sizeof(float)))))
         st = command_out_of_memory(&job.run);
     ss_raster_writer *w = NULL;
     step_sink_state sink = {NULL, &steps, SS_OK};
     /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
     if (st == SS_OK && share_rank() == 0)
         st = ss_writer_open(ctx, job.output, &job.dem,
-                            have_weather ? WEATHER_BANDS + (set.pv != 0) : 5,
+                            have_weather ? WEATHER_BANDS + 2 * (set.pv != 0) : 5,
                             set.common.format, set.common.creation_options.items, &w);
     if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
@@ -659,7 +671,10 @@ int cmd_insolation(int argc, char **argv)
                                                                            : SS_PV_TEMP_FAIMAN,
                                        .losses = set.losses_percent / 100.0,
                                        .temp_air_c = set.temp_air_c,
-                                       .wind_speed_m_s = set.wind_speed_m_s}};
+                                       .wind_speed_m_s = set.wind_speed_m_s,
+                                       .inverter_efficiency =
+                                           set.inverter_efficiency_percent / 100.0,
+                                       .dc_ac_ratio = set.dc_ac_ratio}};
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats band_stats = {0};
     if (st == SS_OK && job.source)
@@ -685,6 +700,8 @@ int cmd_insolation(int argc, char **argv)
             st = add_shared(&job.run, months, 12, n, mask);
         if (st == SS_OK && out.pv_yield)
             st = add_shared(&job.run, &out.pv_yield, 1, n, mask);
+        if (st == SS_OK && out.pv_ac_yield)
+            st = add_shared(&job.run, &out.pv_ac_yield, 1, n, mask);
         free(mask);
     }
     double hours = 0;
@@ -724,19 +741,22 @@ int cmd_insolation(int argc, char **argv)
                 : "ESRA clear sky (r.sun); sky diffuse by Muneer with the cell's radiative "
                   "sky-view factor; reflected = albedo x global horizontal x (1 - sky view)");
         if (set.pv) {
-            char pv[400];
+            char pv[600];
             snprintf(pv, sizeof pv,
                      "DC yield per kWp of modules in each cell's surface (pvlib pvwatts_dc, pdc0 = "
                      "1): plane-of-array global, no reflection or spectral losses; cell "
                      "temperature by %s from the records' air temperature and wind (%g C, %g m/s "
-                     "where they give none); gamma_pdc %g /K; system losses %g %%",
+                     "where they give none); gamma_pdc %g /K; system losses %g %%; AC yield "
+                     "after pvlib.inverter.pvwatts (eta_inv_nom %g, DC/AC ratio %g)",
                      set.temperature_model ? "sapm_cell (open rack glass/glass)"
                                            : "faiman (u0 25, u1 6.84)",
-                     set.temp_air_c, set.wind_speed_m_s, set.gamma_pdc, set.losses_percent);
+                     set.temp_air_c, set.wind_speed_m_s, set.gamma_pdc, set.losses_percent,
+                     set.inverter_efficiency_percent / 100.0, set.dc_ac_ratio);
             ss_writer_metadata(w, "PV", pv);
         }
         if (have_weather)
-            st = write_weather_bands(w, bands, out.monthly_global, out.pv_yield, n, hours);
+            st = write_weather_bands(w, bands, out.monthly_global, out.pv_yield,
+                                     out.pv_ac_yield, n, hours);
         for (int b = 0; b < 5 && st == SS_OK && !have_weather; ++b)
             if (job.source)
                 ss_writer_describe(w, b + 1, band_names[b], b == 4 ? "h" : "Wh/m2");
@@ -795,6 +815,11 @@ int cmd_insolation(int argc, char **argv)
                    pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 1,
                    (unsigned long long)c.records_without_temperature, set.temp_air_c,
                    set.wind_speed_m_s);
+            run_stats(out.pv_ac_yield, n, &pv_lo, &pv_mean, &pv_hi);
+            printf("pv ac   min %.1f mean %.1f max %.1f kWh/kWp (band %d) after an inverter of "
+                   "%g %% at a DC/AC ratio of %g\n",
+                   pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 2, set.inverter_efficiency_percent,
+                   set.dc_ac_ratio);
         }
     }
     if (steps.have_field)
@@ -805,6 +830,7 @@ int cmd_insolation(int argc, char **argv)
         free(bands[b]);
     free(out.monthly_global);
     free(out.pv_yield);
+    free(out.pv_ac_yield);
     free(text);
     job_close(&job);
     return rc;

@@ -246,6 +246,12 @@ ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int 
                        "0..1, a temperature model, and a plausible air temperature and wind "
                        "(gamma %g, losses %g, %g C, %g m/s)",
                        pv->gamma_pdc, pv->losses, pv->temp_air_c, pv->wind_speed_m_s);
+    if (pv->on && (!(pv->inverter_efficiency > 0 && pv->inverter_efficiency <= 1) ||
+                   !(pv->dc_ac_ratio >= 0.1 && pv->dc_ac_ratio <= 10)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the AC yield needs an inverter efficiency in (0, 1] and a DC/AC ratio of "
+                       "0.1 to 10 (efficiency %g, ratio %g)",
+                       pv->inverter_efficiency, pv->dc_ac_ratio);
     if (!(io->albedo >= 0 && io->albedo <= 1) || n_steps < 1 ||
         (unsigned)io->shadow_mode > SS_SHADOW_CUMULATIVE)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
@@ -299,6 +305,8 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
             out->monthly_global[(size_t)m * n + c] = v;
         if (out->pv_yield)
             out->pv_yield[c] = v;
+        if (out->pv_ac_yield)
+            out->pv_ac_yield[c] = v;
     }
     double bound_deg = ss_horizon_bound_deg(grid, opt->lines);
     for (int k = 0; k < n_steps && st == SS_OK; ++k) {
@@ -349,6 +357,11 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
             float wind = (float)(isnan(sun.wind_speed_m_s) ? io->pv.wind_speed_m_s
                                                             : sun.wind_speed_m_s);
             float gamma = (float)io->pv.gamma_pdc, losses = (float)io->pv.losses;
+            /* The inverter's DC input limit per kWp of modules: its AC rating
+             * (1 / the DC/AC ratio) over its nominal efficiency. */
+            float eta_inv = (float)io->pv.inverter_efficiency;
+            float inv_pdc0 = pv_on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency))
+                                   : 1.0f;
             float dt = (float)sun.duration_h, albedo = (float)io->albedo;
 #pragma omp parallel for schedule(static)
             for (size_t c = 0; c < n; ++c) {
@@ -371,10 +384,13 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                         : ss_cell_step_of(&terms[c], az, h0, app, horizon, g0, linke, albedo, dt);
                 if (out->monthly_global && sun.month >= 1 && sun.month <= 12)
                     out->monthly_global[(size_t)(sun.month - 1) * n + c] += add.global;
-                if (pv_on && dt > 0.0f)
-                    out->pv_yield[c] += ss_cell_pv_yield(add.global / dt, temp_air, wind,
-                                                         (int)io->pv.temp_model, gamma, losses,
-                                                         dt);
+                if (pv_on && dt > 0.0f) {
+                    float pdc = ss_cell_pv_power(add.global / dt, temp_air, wind,
+                                                 (int)io->pv.temp_model, gamma, losses);
+                    out->pv_yield[c] += pdc * dt;
+                    if (out->pv_ac_yield)
+                        out->pv_ac_yield[c] += ss_pvwatts_ac(pdc, inv_pdc0, eta_inv) * dt;
+                }
                 out->beam[c] += add.beam;
                 out->diffuse[c] += add.diffuse;
                 out->reflected[c] += add.reflected;

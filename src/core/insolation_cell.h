@@ -114,11 +114,13 @@ static inline ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, float az
 
 /* What a PV module lying in the cell's surface yields over a step, kWh per
  * kWp, from the step's plane-of-array global (W/m^2) and weather. */
-static inline float ss_cell_pv_yield(float poa, float temp_air, float wind, int temp_model,
-                                     float gamma_pdc, float losses, float dt)
+/* DC power per kWp after the system losses, kW (pvwatts_dc, then the
+ * losses, as pvlib's PVWatts chain). */
+static inline float ss_cell_pv_power(float poa, float temp_air, float wind, int temp_model,
+                                     float gamma_pdc, float losses)
 {
     float cell = ss_pv_cell_temp(temp_model, poa, temp_air, wind);
-    return fmaxf(ss_pvwatts_dc_per_kwp(poa, cell, gamma_pdc), 0.0f) * (1.0f - losses) * dt;
+    return fmaxf(ss_pvwatts_dc_per_kwp(poa, cell, gamma_pdc), 0.0f) * (1.0f - losses);
 }
 
 #endif

@@ -175,7 +175,7 @@ ss_status ss_insolation_cumulative(ss_ctx *ctx, const ss_grid *grid, const ss_sw
                                    const ss_insolation_options *io, int n_steps,
                                    ss_sun_step_fn sun_at, void *sun_user, ss_insolation_out *out)
 {
-    if (io->pv.on || out->pv_yield)
+    if (io->pv.on || out->pv_yield || out->pv_ac_yield)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "the cumulative sky gives no PV yield (its cell temperature needs each "
                        "record's irradiance): use exact or interpolated shadows with it");

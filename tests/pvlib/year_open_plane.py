@@ -2,11 +2,11 @@
 (kWh/m^2) and PV yield (kWh/kWp) at the centre of a plane DEM equal the sums
 of pvlib's per-record plane-of-array irradiance (get_total_irradiance) and
 PVWatts DC yield (temperature.faiman or sapm_cell, pvsystem.pvwatts_dc, less
-the losses), within 0.5 %.
+the losses) and AC yield (inverter.pvwatts), within 0.5 %.
 
 Usage: python year_open_plane.py SKYSWEEP WEATHER PLANE.tif TILT AZIMUTH
-SKY_MODEL TEMPERATURE_MODEL WORKDIR. Prints TAP-style lines; exits non-zero
-if any sum disagrees.
+SKY_MODEL TEMPERATURE_MODEL WORKDIR [DC_AC_RATIO]. Prints TAP-style lines;
+exits non-zero if any sum disagrees.
 """
 import io
 import subprocess
@@ -17,6 +17,7 @@ import pandas as pd
 import pvlib
 
 skysweep, weather, plane, tilt, azimuth, model, temp_model, work = sys.argv[1:9]
+ratio = float(sys.argv[9]) if len(sys.argv) > 9 else 1.2
 tilt, azimuth = float(tilt), float(azimuth)
 gamma, losses = -0.0047, 0.1142
 col, row = 30, 30
@@ -24,7 +25,8 @@ out = f"{work}/year_{model}_{temp_model}.tif"
 subprocess.run([skysweep, "insolation", "-q", "--device", "reference", "--weather", weather,
                 "--sky-model", model, "--directions", "64", "--albedo", "0.2", "--pv",
                 "--temperature-model", temp_model, "--gamma-pdc", str(gamma),
-                "--losses", str(100 * losses), plane, out], check=True)
+                "--losses", str(100 * losses), "--dc-ac-ratio", str(ratio), plane, out],
+               check=True)
 ours = [float(v) for v in subprocess.run(["gdallocationinfo", "-valonly", out, str(col),
                                           str(row)], check=True, capture_output=True,
                                          text=True).stdout.split()]
@@ -82,4 +84,10 @@ month = times.month  # the PVGIS file is in UTC, the zone skysweep takes months 
 for m in (1, 6):
     check(f"global, month {m}", ours[4 + m], g[month == m].sum() / 1000)
 check("PV yield, year (kWh/kWp)", ours[17], dc.sum())
+# AC: pvlib's PVWatts inverter, 96 % nominal, modules `ratio` times its AC rating.
+pdc0 = 1.0 / (ratio * 0.96)
+ac = pvlib.inverter.pvwatts(dc, pdc0, eta_inv_nom=0.96)
+clipped = int((ac >= 0.96 * pdc0 - 1e-9).sum())
+check(f"PV AC yield, year (kWh/kWp; DC/AC {ratio:g}, {clipped} records clipped)", ours[18],
+      ac.sum())
 sys.exit(1 if failed else 0)
