@@ -12,7 +12,8 @@ from ._context import (ArgumentError, Cancelled, Context, DeviceError, InputErro
                        InternalError, OutOfMemory, OutputError, SkysweepError)
 from ._lib import BUILD, lib as _lib, ffi as _ffi
 from .files import FILE_CALLS, run
-from .products import Horizons, hillshade, horizon, openness, shadow, sun_incidence, svf
+from .products import (Horizons, hillshade, horizon, openness, plan, shadow, sun_incidence, svf,
+                       vat)
 from .insolation import insolation
 from .sites import site_horizon
 from .sun import sun_position
@@ -21,7 +22,8 @@ globals().update(FILE_CALLS)
 
 __version__ = _ffi.string(_lib.ss_version()).decode()
 
-__all__ = ["svf", "openness", "horizon", "Horizons", "shadow", "hillshade", "sun_incidence",
+__all__ = ["svf", "openness", "horizon", "Horizons", "shadow", "hillshade", "vat", "plan",
+           "sun_incidence",
            "site_horizon", "sun_position", "insolation", "run", "Context", "SkysweepError", "ArgumentError",
            "InputError", "OutputError", "DeviceError", "OutOfMemory", "Cancelled",
            "InternalError"] + sorted(FILE_CALLS)

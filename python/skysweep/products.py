@@ -228,6 +228,44 @@ def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=Non
     return grid.finish(out, "cos incidence", {"units": "1"})
 
 
+def vat(dem, cell_size=None, *, blend_radius=None, nodata=None, **kw):
+    """RVT's VAT relief blend (Kokalj & Somrak 2019), 0..1 (1 = white):
+    gdaldem's hillshade at 315/35 degrees, Horn's slope, and SVF and positive
+    openness from horizons within `blend_radius` cells (RVT's 10; 0:
+    unlimited), as `skysweep hillshade --blend vat` computes it (its file
+    holds 1 + 254 times this, rounded)."""
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    cells = _value("hillshade", "blend_radius", blend_radius)
+    radius_m = cells * math.sqrt(grid.cell_size[0] * grid.cell_size[1])  # as the CLI's
+    opt = _sweep(ctx, grid, "hillshade", lib.SS_PRODUCT_SVF, kw)
+    out = grid.new_plane()
+    ctx.call(lib.ss_vat, grid.ptr, opt, radius_m, out_buffer(out), progress=kw.get("progress"))
+    return grid.finish(out, "vat", {"units": "1", "directions": opt.directions})
+
+
+_PRODUCTS = {"horizon": lib.SS_PRODUCT_HORIZON, "openness": lib.SS_PRODUCT_HORIZON,
+             "svf": lib.SS_PRODUCT_SVF, "shadow": lib.SS_PRODUCT_SHADOW}
+
+
+def plan(dem, cell_size=None, *, product="svf", definition=None, nodata=None, **kw):
+    """What a run of `product` ("svf", "openness", "horizon" or "shadow")
+    would simulate on this DEM, and why: the planner's decisions as a dict
+    (`skysweep COMMAND --plan --plan-format json`): directions, sweeps,
+    estimated_seconds, device, and "effects", each with its on/off, reason
+    and the error it allows."""
+    import json
+    if product not in _PRODUCTS:
+        raise ValueError(f"product must be one of {', '.join(_PRODUCTS)}, not {product!r}")
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    code = _SVF_DEFINITIONS[_value("svf", "definition", definition)] if product == "svf" else \
+        lib.SS_SVF_DEF_GEOMETRIC
+    _, made = _sweep(ctx, grid, product, _PRODUCTS[product], kw, code, with_plan=True)
+    size = lib.ss_plan_format(made, 1, ffi.NULL, 0) + 1
+    text = ffi.new("char[]", size)
+    lib.ss_plan_format(made, 1, text, size)
+    return json.loads(ffi.string(text).decode())
+
+
 def _doc_options(function, command, names):
     """Appends the table's entries for the shared options to a docstring."""
     lines = ["", "Options shared with `skysweep " + command + "` (defaults from its table):"]
@@ -242,5 +280,6 @@ def _doc_options(function, command, names):
     function.__doc__ = (function.__doc__ or "") + "\n".join(lines)
 
 
-for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shadow, "shadow")):
+for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shadow, "shadow"),
+               (vat, "hillshade"), (plan, "svf")):
     _doc_options(_f, _c, SWEEP_OPTIONS)

@@ -150,3 +150,22 @@ def test_nodata_and_implausible_heights():
     with pytest.warns(UserWarning, match="1 heights beyond"):
         v = skysweep.svf(z2, 10, directions=8)
     assert np.isnan(v[5, 5])
+
+
+def test_vat_equals_the_cli(cli_run):
+    z = rough_dem()
+    mine = skysweep.vat(z, 10, directions=16, blend_radius=5)
+    theirs = cli_run("hillshade", z, "--blend", "vat", "--directions", 16, "--blend-radius", 5)[0]
+    assert same(np.rint(1 + 254 * mine), theirs)
+
+
+def test_plan_says_what_the_run_does():
+    z = rough_dem()
+    p = skysweep.plan(z, 10, product="svf", directions=24)
+    effects = {e["effect"]: e for e in p["effects"]}
+    assert p["directions"] == 24 and p["sweeps"] == 24
+    assert effects["directions"]["on"] and "as requested" in effects["directions"]["reason"]
+    assert p["device"] in ("reference",) or ":" in p["device"]
+    assert not effects["curvature"]["on"]  # a 0.7 km grid: curvature is below the tolerance
+    with pytest.raises(ValueError, match="product"):
+        skysweep.plan(z, 10, product="sky")
