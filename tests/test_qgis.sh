@@ -22,6 +22,8 @@ trap 'rm -rf "$work"' EXIT
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$HOME/.cache/pocl/kcache}
 export HOME=$work QT_QPA_PLATFORM=offscreen XDG_RUNTIME_DIR=$work
 export QGIS_PLUGINPATH=$top/qgis SKYSWEEP_CLI=$SKYSWEEP
+# QGIS would write statistics beside the sample (an .aux.xml in the source tree).
+export GDAL_PAM_ENABLED=NO
 export ASAN_OPTIONS=detect_leaks=0:${ASAN_OPTIONS:-}
 
 "$qgis" plugins enable skysweep >"$work/enable.out" 2>&1

@@ -82,8 +82,12 @@ class Grid:
             raise ValueError(f"the DEM must be a 2-D array (rows north to south), not {a.ndim}-D "
                              f"of shape {a.shape}")
         heights = np.array(a, dtype=np.float64, order="C")
-        if nodata is not None:  # compared as the input holds it (a float32 -9999.9)
-            heights[a == np.asarray(nodata).astype(a.dtype)] = np.nan
+        if nodata is not None:
+            # Compared as the input holds it (a float32 -9999.9), where the
+            # input's dtype can hold it at all (-9999 is no uint8 value).
+            held = np.asarray(nodata).astype(a.dtype)
+            if held == nodata or (a.dtype.kind == "f" and np.isfinite(nodata)):
+                heights[a == held] = np.nan
         self.ctx = ctx
         self.shape = heights.shape
         grid = ffi.new("ss_grid *")

@@ -118,7 +118,7 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
         "datetime64[M]").astype(np.int64) % 12
     sun = ffi.new("ss_spa_result *")
 
-    @ffi.callback("ss_status(ss_ctx *, int, ss_sun_step *, void *)")
+    @ffi.callback("ss_status(ss_ctx *, int, ss_sun_step *, void *)", error=lib.SS_ERR_INTERNAL)
     def sun_at(c, k, out, user):
         status = lib.ss_spa(c, float(mids[k]), latitude, longitude, p, sun)
         if status == 0:

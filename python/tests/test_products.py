@@ -169,3 +169,12 @@ def test_plan_says_what_the_run_does():
     assert not effects["curvature"]["on"]  # a 0.7 km grid: curvature is below the tolerance
     with pytest.raises(ValueError, match="product"):
         skysweep.plan(z, 10, product="sky")
+
+
+def test_nodata_that_the_dtype_cannot_hold_masks_nothing():
+    z = np.full((20, 20), 241, dtype=np.uint8)
+    z[3, 3] = 10
+    v = skysweep.svf(z, 10, directions=8, nodata=-9999)  # -9999 would wrap to 241 as uint8
+    assert np.isfinite(v).all()
+    z16 = np.full((20, 20), 3, dtype=np.int16)
+    assert np.isfinite(skysweep.svf(z16, 10, directions=8, nodata=3.5)).all()

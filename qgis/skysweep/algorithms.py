@@ -8,6 +8,7 @@ import re
 import signal
 import subprocess
 import threading
+import time
 
 from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException,
                        QgsProcessingParameterBoolean, QgsProcessingParameterDefinition,
@@ -161,13 +162,15 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
         with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                               stdin=subprocess.DEVNULL) as proc:
             cancelled, errors = self._follow(proc, feedback)
-        if cancelled or feedback.isCanceled():
+        lines = [line for line in "".join(errors).splitlines() if line.strip()]
+        if proc.returncode != 0 and (cancelled or feedback.isCanceled()):
             feedback.reportError("cancelled: no output written")
             return {}
         if proc.returncode != 0:
-            lines = [line for line in "".join(errors).splitlines() if line.strip()]
             raise QgsProcessingException(lines[-1] if lines else
                                          f"skysweep {self.name()} failed ({proc.returncode})")
+        for line in lines:  # the CLI's warnings (e.g. heights taken as nodata)
+            feedback.pushWarning(line)
         outputs = {"OUTPUT": self.parameterAsOutputLayer(parameters, "OUTPUT", context)}
         for entry in parameters_of(self.table):
             if is_output_file(entry) and parameters.get(parameter_name(entry["name"])):
@@ -186,11 +189,13 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             r.start()
         progress = _Progress(feedback)
         errors = []
-        cancelled = False
+        cancelled = None  # when SIGINT was sent
         while proc.poll() is None or not chunks.empty() or any(r.is_alive() for r in readers):
-            if feedback.isCanceled() and not cancelled and proc.poll() is None:
+            if feedback.isCanceled() and cancelled is None and proc.poll() is None:
                 proc.send_signal(signal.SIGINT)  # the CLI stops within a second, output removed
-                cancelled = True
+                cancelled = time.monotonic()
+            elif cancelled is not None and proc.poll() is None and time.monotonic() - cancelled > 10:
+                proc.terminate()  # SIGTERM: the CLI removes its output on it too
             try:
                 kind, text = chunks.get(timeout=0.1)
             except queue.Empty:
@@ -200,7 +205,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             else:
                 errors.append(text)
         progress.flush()
-        return cancelled, errors
+        return cancelled is not None, errors
 
 
 def _read(stream, kind, chunks):

@@ -168,7 +168,8 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     /* The device follows the job unless one is named here or in the
      * environment (SKYSWEEP_DEVICE, read by the library). */
     const char *device = common && common->device ? common->device : NULL;
-    ss_ctx_use_device(run->ctx, device ? device : getenv("SKYSWEEP_DEVICE") ? NULL : "auto");
+    const char *env = getenv("SKYSWEEP_DEVICE");
+    ss_ctx_use_device(run->ctx, device ? device : env && env[0] ? NULL : "auto");
     return 0;
 }
 

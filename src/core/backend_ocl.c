@@ -216,6 +216,9 @@ static int add_candidate(const ocl_device_info *info, void *user)
     snprintf(c->spec, sizeof c->spec, "%d:%d", info->platform_index, info->device_index);
     snprintf(c->name, sizeof c->name, "%s: %s", info->platform_name, info->device_name);
     c->is_cpu = (info->type & CL_DEVICE_TYPE_CPU) != 0;
+    cl_uint units = 0;
+    clGetDeviceInfo(info->device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, NULL);
+    c->compute_units = (int)units;
     return 0;
 }
 
@@ -250,10 +253,17 @@ ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
     return SS_OK;
 }
 
+static ss_status ocl_acquire(ss_ctx *ctx);
+
 ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan)
 {
-    if (ctx->device_auto && plan->device[0] && strcmp(ctx->device_spec, plan->device) != 0)
-        select_device(ctx, plan->device);
+    if (!ctx->device_auto || !plan->device[0] || strcmp(ctx->device_spec, plan->device) == 0)
+        return SS_OK;
+    select_device(ctx, plan->device);
+    /* A device the model chose but that does not open leaves the job to the
+     * C twin, which computes the same (the summary names the device used). */
+    if (!ctx->use_reference && ocl_acquire(ctx) != SS_OK)
+        select_device(ctx, "reference");
     return SS_OK;
 }
 

@@ -33,6 +33,7 @@ typedef struct {
     char spec[16];  /* "P:D" */
     char name[520]; /* "platform: device" */
     int is_cpu;
+    int compute_units; /* CL_DEVICE_MAX_COMPUTE_UNITS */
 } ss_device_candidate;
 /* Up to max of the OpenCL devices found (0 without a platform). */
 int ss_opencl_devices(ss_device_candidate *out, int max);

@@ -350,7 +350,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                 sky = ss_sky_parts_of((int)io->sky_model, fmaxf(rec.dhi, 0.0f),
                                       fmaxf(rec.dni, 0.0f), rec.dni_extra,
                                       (float)((90.0 - sun.elevation_deg) * M_PI / 180.0));
-            int pv_on = out->pv_yield && sun.real_sky && io->pv.on;
+            int pv_on = (out->pv_yield || out->pv_ac_yield) && sun.real_sky && io->pv.on;
             if (pv_on && (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
                 ctx->counters.records_without_temperature++;
             float temp_air = (float)(isnan(sun.temp_air_c) ? io->pv.temp_air_c : sun.temp_air_c);
@@ -387,7 +387,8 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                 if (pv_on && dt > 0.0f) {
                     float pdc = ss_cell_pv_power(add.global / dt, temp_air, wind,
                                                  (int)io->pv.temp_model, gamma, losses);
-                    out->pv_yield[c] += pdc * dt;
+                    if (out->pv_yield)
+                        out->pv_yield[c] += pdc * dt;
                     if (out->pv_ac_yield)
                         out->pv_ac_yield[c] += ss_pvwatts_ac(pdc, inv_pdc0, eta_inv) * dt;
                 }

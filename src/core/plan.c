@@ -26,7 +26,8 @@
 #define COST_CPU_CL_RATE 8e7     /* PoCL: no faster than the C twin on the same cores */
 #define COST_GPU_SETUP_S 0.25    /* opening the H200 */
 #define COST_GPU_LAUNCH_S 2e-3   /* a sweep is launched per direction */
-#define COST_GPU_RATE 1.5e9
+#define COST_GPU_RATE 1.5e9      /* ... with the H200's 132 compute units (scaled by a GPU's own) */
+#define COST_GPU_UNITS 132.0
 #define PLAN_CELL_STEP_S 2e-8
 #define PLAN_MAX_CANDIDATES 8
 
@@ -284,8 +285,9 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
 
 typedef enum { DEVICE_REF, DEVICE_CPU_CL, DEVICE_GPU } device_kind;
 
-/* Seconds a device takes for the sweeps: set-up, launches, throughput. */
-static double device_seconds(device_kind kind, double sweeps, double cells)
+/* Seconds a device takes for the sweeps: set-up, launches, throughput (a
+ * GPU's scaled by its compute units against the H200's, never above it). */
+static double device_seconds(device_kind kind, double sweeps, double cells, int compute_units)
 {
     double work = sweeps * cells;
     switch (kind) {
@@ -296,7 +298,8 @@ static double device_seconds(device_kind kind, double sweeps, double cells)
     case DEVICE_GPU:
         break;
     }
-    return COST_GPU_SETUP_S + sweeps * COST_GPU_LAUNCH_S + work / COST_GPU_RATE;
+    double share = compute_units > 0 ? fmin(1.0, compute_units / COST_GPU_UNITS) : 1.0;
+    return COST_GPU_SETUP_S + sweeps * COST_GPU_LAUNCH_S + work / (COST_GPU_RATE * share);
 }
 
 /* --device auto: the device the cost model finds fastest for this job. The
@@ -304,9 +307,9 @@ static double device_seconds(device_kind kind, double sweeps, double cells)
  * the C twin: loading them costs 20-30 ms and 60 MiB. */
 static void plan_device(ss_plan *p, double sweeps, double host_s)
 {
-    double ref_s = device_seconds(DEVICE_REF, sweeps, p->cells);
-    double cpu_cl_s = device_seconds(DEVICE_CPU_CL, sweeps, p->cells);
-    double gpu_s = device_seconds(DEVICE_GPU, sweeps, p->cells);
+    double ref_s = device_seconds(DEVICE_REF, sweeps, p->cells, 0);
+    double cpu_cl_s = device_seconds(DEVICE_CPU_CL, sweeps, p->cells, 0);
+    double gpu_s = device_seconds(DEVICE_GPU, sweeps, p->cells, 0);
     snprintf(p->device, sizeof p->device, "reference");
     p->estimated_seconds = host_s + ref_s;
     if (ref_s <= fmin(cpu_cl_s, gpu_s)) {
@@ -323,7 +326,8 @@ static void plan_device(ss_plan *p, double sweeps, double host_s)
     char others[300] = "";
     size_t used = 0;
     for (int i = 0; i < n; ++i) {
-        double s = device_seconds(found[i].is_cpu ? DEVICE_CPU_CL : DEVICE_GPU, sweeps, p->cells);
+        double s = device_seconds(found[i].is_cpu ? DEVICE_CPU_CL : DEVICE_GPU, sweeps, p->cells,
+                                  found[i].compute_units);
         if (used < sizeof others)
             used += (size_t)snprintf(others + used, sizeof others - used, "%s%.60s (%s) %.2g s",
                                      used ? ", " : "", found[i].name, found[i].spec, s);
@@ -431,7 +435,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     } else {
         device_kind kind = ctx->use_reference ? DEVICE_REF : DEVICE_CPU_CL;
         snprintf(p->device, sizeof p->device, "%s", ctx->use_reference ? "reference" : "opencl");
-        p->estimated_seconds = host_s + device_seconds(kind, sweeps, p->cells);
+        p->estimated_seconds = host_s + device_seconds(kind, sweeps, p->cells, 0);
     }
     return SS_OK;
 }
