@@ -49,16 +49,16 @@ check() {
 }
 
 # pvlib, the independent reference of the solar tests, and what the Python
-# package builds and tests with (cffi, wheel, pytest; xarray for its
-# DataArrays), in a venv of its own (reference/toolchain.md: its numpy 2
+# package builds and tests with (cffi, wheel, pytest; xarray and rasterio
+# for the objects it takes), in a venv of its own (reference/toolchain.md: its numpy 2
 # must not meet Debian's); the tests that need them skip, saying why, where
 # they cannot be installed.
 setup_pvlib() {
     venv=$PWD/tests/pyvenv
-    "$venv/bin/python" -c "import pvlib, cffi, wheel, pytest, xarray" 2>/dev/null && return
+    "$venv/bin/python" -c "import pvlib, cffi, wheel, pytest, xarray, rasterio" 2>/dev/null && return
     [ -x "$venv/bin/pip" ] || python3 -m venv "$venv" >tests/pyvenv.log 2>&1
     "$venv/bin/pip" install -q --disable-pip-version-check pvlib==0.16.1 cffi==2.1.1 \
-        wheel==0.48.0 pytest==9.2.0 xarray==2026.9.0 >>tests/pyvenv.log 2>&1 ||
+        wheel==0.48.0 pytest==9.2.0 xarray==2026.9.0 rasterio==1.4.4 >>tests/pyvenv.log 2>&1 ||
         echo "the test venv could not be installed (tests/pyvenv.log): its comparisons skip"
 }
 setup_pvlib

@@ -47,6 +47,26 @@ def _north_up(dem, cell_size):
     return values, cell_size, flips
 
 
+def _is_rasterio_dataset(obj):
+    return all(hasattr(obj, a) for a in ("read", "transform", "crs", "res", "nodata"))
+
+
+def _from_rasterio(dataset, cell_size, nodata):
+    """Band 1 of an open rasterio dataset, its nodata, and its cell size
+    where its CRS is projected in metres (rows must run north to south)."""
+    if dataset.transform.b != 0 or dataset.transform.d != 0:
+        raise ValueError("the dataset's grid is rotated: resample it north-up first")
+    if dataset.transform.e > 0:
+        raise ValueError("the dataset's rows run south to north: flip it first")
+    if cell_size is None:
+        crs = dataset.crs
+        if crs is None or not crs.is_projected or abs(crs.linear_units_factor[1] - 1) > 1e-12:
+            raise ValueError("the dataset's CRS is not projected in metres: give cell_size, or use "
+                             "a file call, which knows the CRS")
+        cell_size = (abs(dataset.res[0]), abs(dataset.res[1]))
+    return dataset.read(1), cell_size, dataset.nodata if nodata is None else nodata
+
+
 def _cell_sizes(cell_size):
     try:
         if np.ndim(cell_size) == 0:
@@ -63,13 +83,16 @@ def _cell_sizes(cell_size):
 
 class Grid:
     """A DEM held by the library: heights in metres, rows north to south,
-    NaN (or `nodata`) where there is no height."""
+    NaN (or `nodata`) where there is no height. Taken from a numpy array, an
+    xarray DataArray, or an open rasterio dataset (band 1, its nodata)."""
 
     def __init__(self, ctx, dem, cell_size=None, nodata=None):
         self.template = dem if _is_dataarray(dem) else None
         self.flips = []
         if self.template is not None:
             dem, cell_size, self.flips = _north_up(dem, cell_size)
+        elif _is_rasterio_dataset(dem):
+            dem, cell_size, nodata = _from_rasterio(dem, cell_size, nodata)
         if cell_size is None:
             raise TypeError("cell_size is needed (metres, one number or (east-west, "
                             "north-south)) unless the DEM is a DataArray with regular x, y "

@@ -68,3 +68,24 @@ def test_progress_of_a_file_call(tmp_path):
     skysweep.svf_file(dem, tmp_path / "o.tif", cell_size=10, directions=3000,
                       device="reference", progress=lambda f, m: seen.append(f))
     assert len(seen) > 3 and seen[-1] == 1.0 and seen == sorted(seen)
+
+
+def test_a_rasterio_dataset_is_taken_as_the_cli_takes_its_file(tmp_path):
+    rasterio = pytest.importorskip("rasterio")
+    from test_insolation import TM_45N_8E
+    z = rough_dem()
+    z[np.isnan(z)] = -9999.0
+    path = tmp_path / "dem.tif"
+    h, w = z.shape
+    with rasterio.open(path, "w", driver="GTiff", width=w, height=h, count=1, dtype="float64",
+                       crs=rasterio.crs.CRS.from_wkt(TM_45N_8E), nodata=-9999.0,
+                       transform=rasterio.Affine(10.0, 0, -w * 5.0, 0, -10.0, h * 5.0)) as ds:
+        ds.write(z, 1)
+    skysweep.svf_file(path, tmp_path / "svf.tif", directions=16)
+    with rasterio.open(path) as ds:
+        mine = skysweep.svf(ds, directions=16)
+    with rasterio.open(tmp_path / "svf.tif") as out:
+        theirs = out.read(1, masked=True).filled(np.nan)
+        assert out.crs == rasterio.crs.CRS.from_wkt(TM_45N_8E)
+        assert out.descriptions[0] == "sky-view factor"
+    assert same(mine, theirs)
