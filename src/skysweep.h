@@ -528,6 +528,10 @@ typedef struct {
     double distance_km;
     int horizon_band;
     int per_record; /* PV yield or per-step bands asked for: each record is needed */
+    /* The error a cell's annual and monthly sums may take, percent at p95:
+     * the cumulative sky is chosen (shadow mode auto) only where its
+     * measured error is within it; 0 allows none, so exact shadows. */
+    double tolerance_pct;
 } ss_plan_weather;
 
 typedef struct {

@@ -27,7 +27,8 @@ NOT_PARAMETERS_OF = {"horizon": {"point", "points", "point-crs", "format", "step
 ADVANCED = {"device", "co", "cell-size", "z-units", "curvature", "refraction", "earth-radius",
             "horizon-tolerance", "svf-tolerance", "sun-tolerance", "projwin", "memory",
             "lines", "offset", "north", "delta-t", "pressure", "temperature", "sun-per-cell",
-            "elevation-step", "solar-constant"}
+            "elevation-step", "solar-constant", "insolation-tolerance", "inverter-efficiency",
+            "dc-ac-ratio"}
 
 
 def parameter_name(option):

@@ -34,6 +34,7 @@ typedef struct {
     int pv;
     double gamma_pdc, losses_percent, temp_air_c, wind_speed_m_s;
     double inverter_efficiency_percent, dc_ac_ratio;
+    double tolerance_percent;
     double elevation_step_deg;
     int temperature_model; /* index into "faiman|sapm" */
     const char *surface;
@@ -62,6 +63,10 @@ static const opt_spec insolation_options[] = {
      "and interpolated; cumulative (--weather): the suns binned by direction and "
      "--elevation-step, each bin lit at its direction's horizon; auto: cumulative for 720 "
      "weather records or more without --pv or --steps, else exact (doc/insolation.md)"},
+    {"insolation-tolerance", OPT_DOUBLE, SET(tolerance_percent), "PERCENT", "0.5", 0, 100, NULL,
+     "with --weather and --shadow auto: the error (p95, %) a cell's annual and monthly sums may "
+     "take; the cumulative sky is chosen where its measured error is within it "
+     "(doc/cumulative_sky.md), 0: exact shadows"},
     {"elevation-step", OPT_DOUBLE, SET(elevation_step_deg), "DEG", "1", 0.01, 90, NULL,
      "with --shadow cumulative: height of a sun bin"},
     {"steps", OPT_STRING, SET(steps_path), "FILE", NULL, 0, 0, NULL,
@@ -594,7 +599,7 @@ int cmd_insolation(int argc, char **argv)
             job.weather = (ss_plan_weather){
                 weather_what, weather_distance_km(&weather, &job.frame),
                 sky_model_of_choice[set.sky_model] == SS_SKY_MODEL_PEREZ,
-                set.pv || set.steps_path};
+                set.pv || set.steps_path, set.tolerance_percent};
         }
     }
     if (st == SS_OK)
