@@ -81,36 +81,29 @@ check
 total_pass=$pass total_failed=$failed
 echo "tests: $pass passed, $failed failed"
 
-# The core alone (configure --enable-core-only: the library, ss-bench and the
-# core's tests with nothing but OpenCL), as a machine without GDAL builds it,
-# in a copy of the tracked files.
-core=$(mktemp -d "${TMPDIR:-/tmp}/skysweep-core.XXXXXX")
-if git ls-files -z | xargs -0 cp --parents -t "$core" 2>/dev/null &&
-    (cd "$core" && build-aux/build.sh --enable-core-only --enable-werror); then
-    (cd "$core" && check && echo "$pass $failed" >tests/counts)
-    read -r pass failed <"$core/tests/counts" 2>/dev/null || { pass=0 failed=1; }
-else
-    echo "core-only build failed"
-    pass=0 failed=1
-fi
-echo "tests of the core-only build: $pass passed, $failed failed"
-total_pass=$((total_pass + pass)) total_failed=$((total_failed + failed))
-rm -rf "$core"
-
-if [ "$sanitizers" -eq 1 ]; then
-    # A copy of the tracked files, so the tree above keeps its build.
-    san=$(mktemp -d "${TMPDIR:-/tmp}/skysweep-san.XXXXXX")
-    if git ls-files -z | xargs -0 cp --parents -t "$san" 2>/dev/null &&
-        (cd "$san" && build-aux/build.sh --enable-sanitizers --enable-werror); then
-        (cd "$san" && check && echo "$pass $failed" >tests/counts)
-        read -r pass failed <"$san/tests/counts" 2>/dev/null || { pass=0 failed=1; }
+# Builds a copy of the tracked files with configure options $2..., so the
+# tree above keeps its build, runs the suite there, and adds its counts to
+# the totals under the label $1.
+check_copy() {
+    label=$1
+    shift
+    copy=$(mktemp -d "${TMPDIR:-/tmp}/skysweep-copy.XXXXXX")
+    if git ls-files -z | xargs -0 cp --parents -t "$copy" 2>/dev/null &&
+        (cd "$copy" && build-aux/build.sh "$@" --enable-werror); then
+        (cd "$copy" && check && echo "$pass $failed" >tests/counts)
+        read -r pass failed <"$copy/tests/counts" 2>/dev/null || { pass=0 failed=1; }
     else
-        echo "sanitizer build failed"
+        echo "the build $label failed"
         pass=0 failed=1
     fi
-    echo "tests with sanitizers: $pass passed, $failed failed"
+    echo "tests $label: $pass passed, $failed failed"
     total_pass=$((total_pass + pass)) total_failed=$((total_failed + failed))
-    rm -rf "$san"
-fi
+    rm -rf "$copy"
+}
+
+# The core alone (the library, ss-bench and the core's tests with nothing
+# but OpenCL), as a machine without GDAL builds it.
+check_copy "of the core-only build" --enable-core-only
+[ "$sanitizers" -eq 1 ] && check_copy "with sanitizers" --enable-sanitizers
 echo "$total_pass passed, $total_failed failed"
 [ "$total_failed" -eq 0 ]
