@@ -19,6 +19,9 @@ typedef long ss_i64;
 #define SS_POW(x, y) pow((x), (y))
 #define SS_EXP(x) exp(x)
 #define SS_ISFINITE(x) isfinite(x)
+/* Global int atomics (OpenCL 1.1 core): return the value before. */
+#define SS_ATOMIC_ADD(p, v) atomic_add((p), (v))
+#define SS_ATOMIC_MAX(p, v) atomic_max((p), (v))
 #else
 #include <math.h>
 #include <stdint.h>
@@ -36,6 +39,16 @@ typedef int64_t ss_i64;
 #define SS_POW(x, y) powf((x), (y))
 #define SS_EXP(x) expf(x)
 #define SS_ISFINITE(x) isfinite(x)
+#define SS_ATOMIC_ADD(p, v) __atomic_fetch_add((p), (v), __ATOMIC_RELAXED)
+#define SS_ATOMIC_MAX(p, v) ss_atomic_max_int((p), (v))
+static inline int ss_atomic_max_int(int *p, int v)
+{
+    int old = __atomic_load_n(p, __ATOMIC_RELAXED);
+    while (old < v && !__atomic_compare_exchange_n(p, &old, v, 1, __ATOMIC_RELAXED,
+                                                   __ATOMIC_RELAXED))
+        ;
+    return old;
+}
 #endif
 
 #define SS_PI_F 3.14159265358979323846f

@@ -50,7 +50,7 @@ typedef struct {
     float along_per_minor_m;/* distance walked per +1 of the minor index (digital only) */
     float weight_per_frac;  /* interpolation weight per 1/65536 cell: 2^-16, or 0 for digital */
     int base_major;         /* the buffers' first major and minor index: 0 for the whole */
-    int base_minor;         /* grid; a band of rows starts at row base (src/core/banded.c) */
+    int base_minor;         /* grid; a band of rows starts at its first held row (ss_band.h) */
     int reserved;
 } ss_line_set;
 

@@ -1,9 +1,9 @@
-/* What one work-item does: walk one line of one direction and hand each
- * sample's horizon to a product, which adds it into the receiving cells
- * with their weights. Shared by kernels/sweep.cl (one work-item per line)
- * and the C twin (src/core/backend_ref.c), so both run the same code. A
- * product is a few lines here; the walk and the hull are never written
- * again.
+/* What one work-item does: walk one line of one direction through a band
+ * (ss_band.h) and hand each sample's horizon to a walk's term, which adds
+ * it into the receiving cells with their weights. Shared by
+ * kernels/sweep.cl (one work-item per line and direction of a batch) and
+ * the C twin (src/core/backend_ref.c), so both run the same code. A term
+ * is a few lines here; the walk and the hull are never written again.
  *
  * Interpolated lines feed two cells per sample, and adjacent lines feed the
  * same cells, so lines run in two rounds (even, then odd intercepts); lines
@@ -11,16 +11,14 @@
 #ifndef SS_PASSES_H
 #define SS_PASSES_H
 
-#include "ss_sweep.h"
+#include "ss_band.h"
 #include "ss_terms.h"
 
 /* One direction's term of an SVF definition for a receiving cell. The
- * radiative term needs the cell's surface gradient: from grad (dz/de, dz/dn
- * per cell, ss_gradient_grid), or where grad is null (banded runs, which
- * keep to 12 bytes a cell) by Horn's formula from z on the spot. */
+ * radiative term needs the cell's surface gradient: dz/de, dz/dn per cell
+ * of the band's buffers in grad (ss_gradient_grid); the others read none. */
 SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, int minor,
-                            float d, float dz, float sin_az, float cos_az, float cell_x_m,
-                            float cell_y_m, int height, SS_GLOBAL const float *z,
+                            float d, float dz, float sin_az, float cos_az,
                             SS_GLOBAL const float *grad)
 {
     if (definition == SS_SVF_GEOMETRIC)
@@ -30,26 +28,15 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
     if (definition == SS_TERM_ELEVATION)
         return d > 0.0f ? ss_horizon_deg(d, dz) : 0.0f;
     if (minor < 0 || minor >= ls->minor_len)
-        return 0.0f; /* no such cell: it receives nothing (and z must not be read there) */
-    /* The row within the buffers (the grid, or a band of rows and its halo). */
-    int col = ls->major_is_row ? minor : major;
-    int row = ls->major_is_row ? major - ls->base_major : minor - ls->base_minor;
-    int cell = row * ls->width + col;
-    float dz_de = 0.0f, dz_dn = 0.0f;
-    if (grad) {
-        dz_de = grad[2 * cell];
-        dz_dn = grad[2 * cell + 1];
-    } else if (SS_ISFINITE(z[cell])) {
-        ss_gradient_horn(z, ls->width, height, col, row, cell_x_m, cell_y_m, &dz_de, &dz_dn);
-    }
-    return ss_svf_tilted_term(d, dz, sin_az, cos_az, dz_de, dz_dn);
+        return 0.0f; /* no such cell: it receives nothing */
+    int cell = ss_line_cell(ls, major, minor);
+    return ss_svf_tilted_term(d, dz, sin_az, cos_az, grad[2 * cell], grad[2 * cell + 1]);
 }
 
 /* Adds one direction's SVF term to acc for the cells that steps [s_lo,
  * s_hi) of the walker's line feed. */
 SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi, int definition,
-                        float curv_k, float sin_az, float cos_az, float cell_x_m,
-                        float cell_y_m, int height, SS_GLOBAL const float *z,
+                        float curv_k, float sin_az, float cos_az, SS_GLOBAL const float *z,
                         SS_GLOBAL const float *grad, SS_GLOBAL int *stack,
                         SS_GLOBAL float *acc, int flags)
 {
@@ -59,10 +46,10 @@ SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
             continue;
         /* Only the radiative term depends on the receiving cell (its slope). */
         float term0 = ss_svf_term_for(definition, ls, h.major, h.minor0, h.d, h.dz, sin_az,
-                                      cos_az, cell_x_m, cell_y_m, height, z, grad);
+                                      cos_az, grad);
         float term1 = definition == SS_SVF_TILTED
                           ? ss_svf_term_for(definition, ls, h.major, h.minor0 + 1, h.d, h.dz,
-                                            sin_az, cos_az, cell_x_m, cell_y_m, height, z, grad)
+                                            sin_az, cos_az, grad)
                           : term0;
         if (h.cell0 >= 0)
             acc[h.cell0] += h.w0 * term0;
@@ -70,23 +57,6 @@ SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
             acc[h.cell1] += h.w1 * term1;
     }
 }
-
-/* Adds one direction's SVF term to acc for the cells the line feeds. */
-SS_FN void ss_pass_svf_walk(const ss_line_set *ls, int line, int definition, float curv_k,
-                            float sin_az, float cos_az, float cell_x_m, float cell_y_m,
-                            int height, SS_GLOBAL const float *z, SS_GLOBAL const float *grad,
-                            SS_GLOBAL int *stack, SS_GLOBAL float *acc, int flags)
-{
-    ss_walker w;
-    int n = ss_walker_begin(&w, ls, line);
-    ss_svf_steps(&w, ls, 0, n, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m, height, z,
-                 grad, stack, acc, flags);
-}
-
-/* What ss_pass_horizon writes besides the angles (bits of its `want`):
- * distances, and the casting samples' heights (which need the distances). */
-#define SS_HORIZON_WANT_DIST 1
-#define SS_HORIZON_WANT_CAST 2
 
 /* Gives a cell the distance d (> 0) of a sample with terrain ahead and, if
  * want_cast, the height of that sample's casting point. Each cell is fed
@@ -147,19 +117,6 @@ SS_FN void ss_horizon_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s
     }
 }
 
-/* ss_horizon_steps over the whole line. */
-SS_FN void ss_pass_horizon_walk(const ss_line_set *ls, int line, float curv_k,
-                                SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
-                                SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want,
-                                int flags)
-{
-    ss_walker w;
-    int n = ss_walker_begin(&w, ls, line);
-    ss_horizon_steps(&w, ls, 0, n, curv_k, z, stack, angle_deg, weight, dist_m, cast_z, want,
-                     flags);
-}
-
 /* Turns a cell's sums into its horizon: the weighted mean over the samples
  * that have terrain ahead, or none_deg (-90 for horizon products; shadows
  * take the horizontal, 0) where none has. Weights are exact (16 fractional
@@ -172,32 +129,30 @@ SS_FN void ss_pass_horizon_finish(int cell, float none_deg, SS_GLOBAL float *ang
     angle_deg[cell] = w > 0.0f ? angle_deg[cell] / w : none_deg;
 }
 
-/* Adds, for the cells the line feeds, a term (SS_TERM_ELEVATION,
- * SS_SVF_GEOMETRIC or SS_SVF_HORIZONTAL) of the horizon within radius_m
- * only: the highest terrain ahead no farther than radius_m, nothing where
- * none lies within it. The classical radius-limited horizon of openness
- * (Yokoyama et al. 2002) and of RVT's sky-view factor: a plain scan back
- * along the line, O(samples x radius). */
-SS_FN void ss_pass_radius_terms(const ss_line_set *ls, int line, int definition,
-                                float radius_m, float curv_k, SS_GLOBAL const float *z,
-                                SS_GLOBAL float *acc)
+/* Adds, for the cells that steps [s_lo, s_hi) of the line feed, a term
+ * (SS_TERM_ELEVATION, SS_SVF_GEOMETRIC or SS_SVF_HORIZONTAL) of the horizon
+ * within radius_m only: the highest terrain ahead no farther than
+ * radius_m, nothing where none lies within it. The classical
+ * radius-limited horizon of openness (Yokoyama et al. 2002) and of RVT's
+ * sky-view factor: a plain scan back along the line, O(samples x radius);
+ * no hull, so a band needs the rows within radius_m held, not a hull. */
+SS_FN void ss_radius_steps(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
+                           int definition, float radius_m, float curv_k,
+                           SS_GLOBAL const float *z, SS_GLOBAL float *acc, int flags)
 {
-    ss_walker w;
-    int n = ss_walker_begin(&w, ls, line);
-    int flags = ss_walk_flags(ls, curv_k);
-    for (int s = 0; s < n; ++s) {
+    for (int s = s_lo; s < s_hi; ++s) {
         float zv, offv;
-        ss_line_sample qv = ss_walker_sample(ls, &w, s);
+        ss_line_sample qv = ss_walker_sample(ls, w, s);
         ss_sample_horizon h = ss_sample_cells(ls, qv, z, &zv, &offv);
         if (!h.valid)
             continue;
-        ss_hull_point v = ss_hull_point_at(&w, s, qv, zv, offv);
+        ss_hull_point v = ss_hull_point_at(w, s, qv, zv, offv);
         float best_d = 0.0f, best_dz = -1.0f;
         for (int t = s - 1; t >= 0; --t) {
             float zt, offt;
-            ss_line_sample qt = ss_walker_sample(ls, &w, t);
+            ss_line_sample qt = ss_walker_sample(ls, w, t);
             ss_sample_horizon ht = ss_sample_cells(ls, qt, z, &zt, &offt);
-            ss_hull_point p = ss_hull_point_at(&w, t, qt, zt, offt);
+            ss_hull_point p = ss_hull_point_at(w, t, qt, zt, offt);
             float d = ss_hull_dist(ls, v, p, flags);
             if (d > radius_m)
                 break;
@@ -210,8 +165,7 @@ SS_FN void ss_pass_radius_terms(const ss_line_set *ls, int line, int definition,
             }
         }
         /* Radius terms are never radiative: no gradient is read. */
-        float term = ss_svf_term_for(definition, ls, 0, 0, best_d, best_dz, 0.0f, 0.0f, 0.0f,
-                                     0.0f, 0, z, z);
+        float term = ss_svf_term_for(definition, ls, 0, 0, best_d, best_dz, 0.0f, 0.0f, z);
         if (h.cell0 >= 0)
             acc[h.cell0] += h.w0 * term;
         if (h.cell1 >= 0)
@@ -219,53 +173,15 @@ SS_FN void ss_pass_radius_terms(const ss_line_set *ls, int line, int definition,
     }
 }
 
-/* The walks above, compiled once per kind of line so that each copy does
- * only what its lines need (SS_WALK_DIGITAL, SS_WALK_CURVED). */
-SS_FN void ss_pass_svf(const ss_line_set *ls, int line, int definition, float curv_k,
-                       float sin_az, float cos_az, float cell_x_m, float cell_y_m, int height,
-                       SS_GLOBAL const float *z, SS_GLOBAL const float *grad, SS_GLOBAL int *stack,
-                       SS_GLOBAL float *acc)
-{
-    switch (ss_walk_flags(ls, curv_k)) {
-    case 0:
-        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, grad, stack, acc, 0);
-        break;
-    case SS_WALK_DIGITAL:
-        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, grad, stack, acc, SS_WALK_DIGITAL);
-        break;
-    case SS_WALK_CURVED:
-        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, grad, stack, acc, SS_WALK_CURVED);
-        break;
-    default:
-        ss_pass_svf_walk(ls, line, definition, curv_k, sin_az, cos_az, cell_x_m, cell_y_m,
-                         height, z, grad, stack, acc, SS_WALK_DIGITAL | SS_WALK_CURVED);
-    }
-}
-
-SS_FN void ss_pass_horizon(const ss_line_set *ls, int line, float curv_k,
-                           SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                           SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
-                           SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want)
-{
-    /* Horizon grids are written once per direction: one general copy. */
-    ss_pass_horizon_walk(ls, line, curv_k, z, stack, angle_deg, weight, dist_m, cast_z, want,
-                         ss_walk_flags(ls, curv_k));
-}
-
 /* The bare pass: the same samples read and their cells written, no hull.
  * The yardstick of the sweep's cost (DESIGN.md, speed) and, with z = 1, a
  * count of the weight each cell receives. */
-SS_FN void ss_pass_bare(const ss_line_set *ls, int line, SS_GLOBAL const float *z,
-                        SS_GLOBAL float *out)
+SS_FN void ss_bare_steps(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
+                         SS_GLOBAL const float *z, SS_GLOBAL float *out)
 {
-    ss_walker w;
-    int n = ss_walker_begin(&w, ls, line);
-    for (int s = 0; s < n; ++s) {
+    for (int s = s_lo; s < s_hi; ++s) {
         float base, offset;
-        ss_sample_horizon h = ss_sample_cells(ls, ss_walker_sample(ls, &w, s), z, &base, &offset);
+        ss_sample_horizon h = ss_sample_cells(ls, ss_walker_sample(ls, w, s), z, &base, &offset);
         if (!h.valid)
             continue;
         float v = base + offset;
@@ -276,7 +192,103 @@ SS_FN void ss_pass_bare(const ss_line_set *ls, int line, SS_GLOBAL const float *
     }
 }
 
-/* Lines of one round: all lines for digital lines, else every other one. */
+/* ---- one work-item: a line of a direction in a band --------------------- */
+
+/* A band walk's hulls (ss_band.h): what the band before handed on, and
+ * where each line's state at the band's edge goes. */
+typedef struct {
+    SS_GLOBAL const ss_hull_point *in;
+    SS_GLOBAL const int *in_off, *in_cnt;
+    SS_GLOBAL int *state, *counters;
+} ss_band_hulls;
+
+/* A summed term (SS_SVF_* or SS_TERM_ELEVATION) of a line's band steps
+ * into acc, walked by a copy of the walk compiled for the line's flags
+ * (SS_WALK_DIGITAL, SS_WALK_CURVED), so that each does only what it needs. */
+SS_FN void ss_band_sum_line(const ss_band_dir *d, const ss_band_run *run, int line,
+                            SS_GLOBAL const float *z, SS_GLOBAL const float *grad,
+                            SS_GLOBAL int *stack, SS_GLOBAL float *acc, ss_band_hulls hulls)
+{
+    ss_walker w;
+    int s_lo, s_hi, count;
+    if (!ss_band_line_begin(&w, d, run, line, hulls.in, hulls.in_off, hulls.in_cnt, &s_lo, &s_hi,
+                            &count)) {
+        ss_band_line_untouched(d, run, line, hulls.in_cnt, hulls.state, hulls.counters);
+        return;
+    }
+    const ss_line_set *ls = &d->ls;
+    float k = run->curv_k, sa = d->sin_az, ca = d->cos_az;
+    switch (ss_walk_flags(ls, k)) {
+    case 0:
+        ss_svf_steps(&w, ls, s_lo, s_hi, run->term, k, sa, ca, z, grad, stack, acc, 0);
+        break;
+    case SS_WALK_DIGITAL:
+        ss_svf_steps(&w, ls, s_lo, s_hi, run->term, k, sa, ca, z, grad, stack, acc,
+                     SS_WALK_DIGITAL);
+        break;
+    case SS_WALK_CURVED:
+        ss_svf_steps(&w, ls, s_lo, s_hi, run->term, k, sa, ca, z, grad, stack, acc,
+                     SS_WALK_CURVED);
+        break;
+    default:
+        ss_svf_steps(&w, ls, s_lo, s_hi, run->term, k, sa, ca, z, grad, stack, acc,
+                     SS_WALK_DIGITAL | SS_WALK_CURVED);
+    }
+    ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
+}
+
+/* Output plane p of a horizon walk's direction in batch slot `slot`
+ * (angle sums, weights, distances, casting heights: ss_horizon_steps). */
+SS_FN SS_GLOBAL float *ss_band_plane(SS_GLOBAL float *outs, const ss_band_run *run, int slot,
+                                     int p)
+{
+    return outs + (ss_i64)(slot * run->planes + p) * run->held_rows * run->width;
+}
+
+/* A horizon walk of a line's band steps into its direction's planes
+ * (written once per direction: one general copy of the walk). */
+SS_FN void ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int line,
+                                SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                SS_GLOBAL float *outs, ss_band_hulls hulls)
+{
+    ss_walker w;
+    int s_lo, s_hi, count;
+    if (!ss_band_line_begin(&w, d, run, line, hulls.in, hulls.in_off, hulls.in_cnt, &s_lo, &s_hi,
+                            &count)) {
+        ss_band_line_untouched(d, run, line, hulls.in_cnt, hulls.state, hulls.counters);
+        return;
+    }
+    /* Planes not asked for are never written: the angle plane stands in. */
+    SS_GLOBAL float *angle = ss_band_plane(outs, run, d->slot, 0);
+    SS_GLOBAL float *weight = ss_band_plane(outs, run, d->slot, 1);
+    SS_GLOBAL float *dist = run->planes > 2 ? ss_band_plane(outs, run, d->slot, 2) : angle;
+    SS_GLOBAL float *cast = run->planes > 3 ? ss_band_plane(outs, run, d->slot, 3) : angle;
+    ss_horizon_steps(&w, &d->ls, s_lo, s_hi, run->curv_k, z, stack, angle, weight, dist, cast,
+                     run->want, ss_walk_flags(&d->ls, run->curv_k));
+    ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
+}
+
+/* A radius-limited term of a line's band steps into acc: no hull, the
+ * band holds every row within the radius. */
+SS_FN void ss_band_radius_line(const ss_band_dir *d, const ss_band_run *run, int line,
+                               SS_GLOBAL const float *z, SS_GLOBAL float *acc)
+{
+    ss_walker w;
+    int count = ss_walker_begin(&w, &d->ls, line), s_lo = 0, s_hi = count;
+    if (!run->whole) {
+        int pass = d->pass, h = run->height;
+        s_lo = ss_band_first_step_past(&d->ls, &w, count, pass > 0 ? run->row0 : run->row1 - 1,
+                                       pass, h);
+        s_hi = ss_band_first_step_past(&d->ls, &w, count, pass > 0 ? run->row1 : run->row0 - 1,
+                                       pass, h);
+    }
+    ss_radius_steps(&w, &d->ls, s_lo, s_hi, run->term, run->radius_m, run->curv_k, z, acc,
+                    ss_walk_flags(&d->ls, run->curv_k));
+}
+
+/* Lines of one round: all lines for digital lines, else every other one
+ * (interpolated lines feed two cells per sample and neighbouring lines the
+ * same cells, so lines of one round never touch the same cell). */
 SS_FN int ss_round_lines(const ss_line_set *ls, int round)
 {
     return ls->model == SS_LINE_MODEL_DIGITAL ? (round == 0 ? ls->n_lines : 0)

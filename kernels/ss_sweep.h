@@ -21,8 +21,8 @@
  * SS_RING vertices are also kept whole in private memory, so the pops that
  * follow most pushes need no global reads.
  *
- * A walk can stop after any step and resume later in other buffers (the
- * banded sweep of src/core/banded.c, which never holds the whole grid):
+ * A walk can stop after any step and resume later in other buffers (a
+ * band of rows, kernels/ss_band.h, when the grid is not held whole):
  * the hull so far is then handed on as whole points, the `carried` slots
  * below slot_base, and the slots pushed after the resumption live at the
  * home cells of the samples walked since, counted from sample_base.
@@ -315,12 +315,11 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
     return h;
 }
 
-/* Resumes the walk of line number `line` at step s_lo, with the hull of
- * the steps before handed on as n whole points (ss_walker_slot). */
-SS_FN void ss_walker_resume(ss_walker *w, const ss_line_set *ls, int line, int s_lo,
-                            SS_GLOBAL const ss_hull_point *carried, int n)
+/* Resumes a walk just begun (ss_walker_begin) at step s_lo, with the hull
+ * of the steps before handed on as n whole points (ss_walker_slot). */
+SS_FN void ss_walker_take_hull(ss_walker *w, int s_lo, SS_GLOBAL const ss_hull_point *carried,
+                               int n)
 {
-    ss_walker_begin(w, ls, line);
     w->carried = carried;
     w->slot_base = n;
     w->depth = n;

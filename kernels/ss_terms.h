@@ -6,12 +6,19 @@
 
 #include "ss_compat.h"
 
-/* SVF definitions (the values are part of the kernel interface). */
+/* What a walk takes from every sample (one set of values for the per-sample
+ * terms; part of the kernel interface). SVF definitions: */
 #define SS_SVF_GEOMETRIC 0  /* Zaksek et al. 2011 / RVT: 1 - mean sin h+ */
 #define SS_SVF_HORIZONTAL 1 /* radiative, horizontal surface: mean cos^2 h+ */
 #define SS_SVF_TILTED 2     /* radiative, tilted cell: Dozier & Frew 1990 eq. 7b */
 #define SS_TERM_ELEVATION 3 /* the horizon's elevation in degrees (0 where nothing lies
                                ahead): positive openness is 90 - its mean */
+/* The terms above are summed over directions per cell; this one is not: */
+#define SS_TERM_HORIZON 4   /* each direction's horizon angle (a weighted mean over the
+                               cell's samples), and where wanted its distance and the
+                               casting point's height (SS_HORIZON_WANT_*) */
+#define SS_HORIZON_WANT_DIST 1
+#define SS_HORIZON_WANT_CAST 2 /* needs the distances too */
 
 /* atan(x) for x >= 0 to within about 1e-7 rad: reduced to [0, 1] by
  * atan(x) = pi/2 - atan(1/x), then below tan(15 deg) by atan(x) = pi/6 +

@@ -72,6 +72,11 @@ const char *ss_version(void);
  * anything else is "P:D" (platform and device numbers) or a
  * case-insensitive part of "platform name: device name". */
 ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec);
+/* Directions walked at once on a device (one launch per batch of them and
+ * band): 0, the default, chooses from the device's memory; the C twin walks
+ * a batch one direction after the other, so it gives the same result at
+ * any batch. */
+void ss_ctx_set_batch(ss_ctx *ctx, int directions);
 /* Human-readable name of the selected device, opening it if needed. */
 const char *ss_ctx_device_name(ss_ctx *ctx);
 /* Lists the OpenCL devices, one "P:D platform: device (OpenCL C x.y)" line
@@ -174,63 +179,63 @@ ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
 ss_status ss_openness(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                       int negative, double radius_m, float *out);
 
-/* ---- sums of sky terms: work shared between processes -------------------- */
-
-/* SVF and openness are means over the directions of a per-direction term;
- * processes that share the directions add their sums, then finish. */
-typedef enum {
-    SS_SKY_SVF_GEOMETRIC = 0, /* the values match ss_svf_definition */
-    SS_SKY_SVF_HORIZONTAL = 1,
-    SS_SKY_SVF_TILTED = 2,
-    SS_SKY_OPENNESS_POSITIVE = 3,
-    SS_SKY_OPENNESS_NEGATIVE = 4
-} ss_sky_term;
-
-/* Checks a term, a radius (0: unlimited) and a share of D directions. */
-ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m, int first, int stride,
-                       int directions);
-/* Sums, per cell, the term over directions first, first + stride, ... of
- * opt (horizons within radius_m when > 0; none, so zeros, when first is
- * past the last direction). Nodata cells hold garbage. */
-ss_status ss_sky_sums(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                      ss_sky_term term, double radius_m, int first, int stride, float *sums);
-/* The product from the sum over all `directions`. */
-float ss_sky_value(ss_sky_term term, float sum, int directions);
-
-/* ---- banded sweeps: DEMs that are never held whole ----------------------- */
+/* ---- one driver for every DEM size ---------------------------------------- */
 
 /* Reads rows [row0, row0 + n_rows) of the DEM, all columns, into z (NaN at
  * nodata); returns SS_OK or a status (with a message in the context). */
 typedef ss_status (*ss_rows_read)(void *user, int row0, int n_rows, float *z);
-/* Receives finished rows of the product (SS_NODATA at nodata). */
-typedef ss_status (*ss_rows_write)(void *user, int row0, int n_rows, const float *values);
 
-/* What a banded sweep handed on between bands. */
+/* What a run in bands handed on between bands. */
 typedef struct {
     size_t handoffs;              /* a line's hull handed to the next band */
     size_t hull_points_handed_on; /* summed over the handoffs */
     size_t max_hull_points;       /* the largest hull handed on */
 } ss_band_stats;
 
+/* A DEM for the row-wise calls (ss_*_rows): held whole (z), or read band by
+ * band through read, for a DEM larger than memory. Every product runs
+ * through one driver that walks the DEM in bands of band_rows rows on the
+ * context's device, handing each line's hull on exactly from band to band;
+ * the whole grid is the case of one band. Any band height gives the whole
+ * grid's answer, up to the order of float additions over directions. */
 typedef struct {
-    int width, height;          /* the DEM's size */
-    double cell_x_m, cell_y_m;  /* ground cell sizes */
-    int band_rows;              /* rows held at once (plus 4 halo rows) */
-    ss_rows_read read;
-    ss_rows_write write;        /* rows arrive bottom band first, each once */
+    int width, height;
+    double cell_x_m, cell_y_m; /* ground cell sizes, metres */
+    /* The height of the stored zero, metres (NULL: 0), read when needed, so
+     * that a reader may set it with the first heights it reads. */
+    const double *z_origin_m;
+    const float *z;            /* width*height heights (NaN at nodata), or NULL: */
+    ss_rows_read read;         /* ... the rows are read through this */
+    void *read_user;
+    int band_rows;             /* rows per band; 0: the whole grid in one band */
+    ss_band_stats *stats;      /* filled in at the end; may be NULL */
+} ss_source;
+
+/* Receives finished rows [row0, row0 + n_rows) of one output of a row-wise
+ * product: `output` says which (the product's SS_OUT_* values), `index`
+ * which band of it (a direction, a month, a time step; 0 for outputs of one
+ * band). Every (output, index) receives each row once, band by band.
+ * Values are SS_NODATA at nodata. */
+typedef ss_status (*ss_rows_sink)(void *user, int output, int index, int row0, int n_rows,
+                                  const float *values);
+
+/* Adds up the per-cell sums of a band (n floats) over the processes that
+ * share a run (MPI: src/cli/mpi_share.c), in place, before they are
+ * finished; every process calls it once per band, in the same order. */
+typedef ss_status (*ss_rows_reduce)(void *user, float *sums, size_t n);
+
+/* A run shared between processes: this one takes the directions (or time
+ * steps) first, first + stride, ..., and its band sums meet the others'
+ * through reduce. NULL, or {0, 1, NULL, NULL}: the whole run. */
+typedef struct {
+    int first, stride;
+    ss_rows_reduce reduce;
     void *user;
-    int first, stride;          /* the share of directions (0, 1: all) */
-    int write_sums;             /* 1: write the sums (NaN at nodata), not the product */
-    ss_band_stats *stats;       /* filled in at the end; may be NULL */
-} ss_band_io;
+} ss_share;
 
 /* The bytes a banded sweep holds for its bands (the hulls handed on come
  * on top; ss_band_stats counts them). */
 size_t ss_band_bytes(int width, int band_rows);
-/* Bytes a banded sweep of term holds per cell of a band (halo rows
- * included): ss_band_bytes' three grids, and the radiative SVF's surface
- * gradients. */
-double ss_sky_band_cell_bytes(ss_sky_term term);
 /* About what a whole-grid SVF or openness run needs, buffers included. */
 double ss_whole_sweep_bytes(int width, int height);
 /* Rows per band for a run within budget_bytes: 0 when the whole grid fits,
@@ -245,52 +250,54 @@ int ss_band_rows_within(int width, int height, int directions, double budget_byt
 double ss_band_min_budget(int width, int height, int directions, double band_cell_bytes,
                           double column_bytes);
 
-/* SVF (any definition) or openness (unlimited radius) as ss_svf and
- * ss_openness compute them, reading and writing the grid band by band: the
- * same result (hulls are handed on exactly between bands), in memory set
- * by band_rows. Runs on the host (C, OpenMP), whatever device the context
- * has. */
-ss_status ss_sky_banded(ss_ctx *ctx, const ss_band_io *io, const ss_sweep_options *opt,
-                        ss_sky_term term);
+/* ---- sky-view factor and openness, in rows ---------------------------------- */
 
-/* Receives finished rows [row0, row0 + n_rows) of one direction's horizon
- * (direction: the index into the run's azimuths): angles in degrees
- * (SS_NODATA at nodata, none_deg where no terrain lies ahead), and where
- * asked for distances (metres, 0 where none) and casting heights (metres,
- * in the frame of the heights read, SS_NODATA where none), else NULL.
- * Every direction's rows arrive once each, band by band. */
-typedef ss_status (*ss_horizon_rows_write)(void *user, int direction, int row0, int n_rows,
-                                           const float *angle_deg, const float *dist_m,
-                                           const float *cast_height_m);
+/* SVF and openness are means over the directions of a per-direction term;
+ * processes that share the directions add their sums, then finish. */
+typedef enum {
+    SS_SKY_SVF_GEOMETRIC = 0, /* the values match ss_svf_definition */
+    SS_SKY_SVF_HORIZONTAL = 1,
+    SS_SKY_SVF_TILTED = 2,
+    SS_SKY_OPENNESS_POSITIVE = 3,
+    SS_SKY_OPENNESS_NEGATIVE = 4
+} ss_sky_term;
 
-typedef struct {
-    int width, height;          /* the DEM's size */
-    double cell_x_m, cell_y_m;  /* ground cell sizes */
-    int band_rows;              /* rows held at once (plus 4 halo rows) */
-    ss_rows_read read;
-    ss_horizon_rows_write write;
-    void *user;
-    int n_azimuths;             /* > 0: these azimuths (degrees, the options' frame) */
-    const double *azimuths_deg; /* instead of the options' evenly spaced directions */
-    float none_deg;             /* no terrain ahead: -90 (horizon products) or 0 (shadows) */
-    ss_band_stats *stats;       /* filled in at the end; may be NULL */
-    /* May be NULL. Called for every band in each of the two passes (pass 0,
-     * then 1) once every direction of that pass has written its rows
-     * there, also when the pass has no directions: a band's rows have
-     * then seen all their directions of that pass. */
-    ss_status (*band_done)(void *user, int pass, int row0, int n_rows);
-} ss_horizon_band_io;
+/* Checks a term and a radius (0: unlimited). */
+ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m);
+/* The product from the sum over all `directions`. */
+float ss_sky_value(ss_sky_term term, float sum, int directions);
+/* Bytes a banded sweep of term holds per cell of a band (halo rows
+ * included): heights, stack slots, sums, and the radiative SVF's surface
+ * gradients. */
+double ss_sky_band_cell_bytes(ss_sky_term term);
 
+/* The sky product of term (as ss_svf and ss_openness) of every cell of
+ * src, from horizons at unlimited distance or within radius_m (> 0), into
+ * output 0 of sink (index 0). share (may be NULL) deals out the directions. */
+#define SS_OUT_SKY 0
+ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                      ss_sky_term term, double radius_m, const ss_share *share,
+                      ss_rows_sink sink, void *user);
+
+/* ---- horizons, in rows -------------------------------------------------------- */
+
+/* What ss_horizon gives besides the angles (bits of its `want`). */
+#define SS_HORIZON_DISTANCE 1    /* metres to the horizon-casting point, 0: none */
+#define SS_HORIZON_CAST_HEIGHT 2 /* that point's ground height, metres (z_origin_m
+                                    included), SS_NODATA where none */
+/* Outputs of ss_horizon_rows, each with one band per direction (index). */
+#define SS_OUT_HORIZON_ANGLE 0       /* degrees; -90 where no terrain lies ahead */
+#define SS_OUT_HORIZON_DISTANCE 1    /* with SS_HORIZON_DISTANCE */
+#define SS_OUT_HORIZON_CAST_HEIGHT 2 /* with SS_HORIZON_CAST_HEIGHT */
+
+/* Every direction's horizon as ss_horizon computes it, for src. */
+ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                          int want, ss_rows_sink sink, void *user);
 /* What a banded horizon run holds, with `want` as in ss_horizon: bytes per
  * cell of a band (ss_band_rows_within's band_cell_bytes), and bytes per
  * column and direction for the rows of sums carried between bands. */
 double ss_horizon_band_cell_bytes(int want);
 double ss_horizon_column_bytes(void);
-/* Horizons as ss_horizon (none_deg -90) and ss_sun_horizon (0) compute
- * them, reading the grid band by band: the same result, in memory set by
- * band_rows. Runs on the host (C, OpenMP). */
-ss_status ss_horizon_banded(ss_ctx *ctx, const ss_horizon_band_io *io,
-                            const ss_sweep_options *opt, int want);
 
 /* RVT's VAT relief blend (Kokalj & Somrak 2019) of one cell, 0..1 (1 =
  * white): hillshade 0..1 (cosine of incidence), slope in degrees, positive
@@ -303,10 +310,6 @@ float ss_vat_compose(float hillshade, float slope_deg, float openness_deg, float
 ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, double radius_m,
                  float *out);
 
-/* What ss_horizon gives besides the angles (bits of its `want`). */
-#define SS_HORIZON_DISTANCE 1    /* metres to the horizon-casting point, 0: none */
-#define SS_HORIZON_CAST_HEIGHT 2 /* that point's ground height, metres (z_origin_m
-                                    included), SS_NODATA where none */
 /* Receives the horizon of every cell for one direction; dist_m and
  * cast_height_m are NULL unless asked for. The caster of a cell is that of
  * its nearer sample with terrain ahead (doc/model.md, Edges). Return 0 to
@@ -400,9 +403,6 @@ typedef struct {
 typedef struct {
     double albedo;             /* ground reflectance for the reflected term, 0..1 */
     ss_shadow_mode shadow_mode;
-    int first, stride;         /* this process's steps: first, first + stride, ... (stride 0
-                                  or 1: all);
-                                  the others add nothing and reach no step sink */
     ss_sky_model sky_model;    /* for weather records */
     ss_pv_options pv;          /* for weather records */
     double elevation_step_deg; /* cumulative sky: height of a sun bin (0: 1 degree) */
@@ -461,42 +461,62 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
  * the centre's values alone. */
 typedef ss_status (*ss_sun_rows_fn)(ss_ctx *ctx, int index, int row0, int n_rows,
                                     ss_sun_step *step, void *user);
-/* Finished rows [row0, row0 + n_rows) of the five outputs (the pointers
- * point at those rows). */
-typedef ss_status (*ss_insolation_rows_write)(void *user, int row0, int n_rows,
-                                              const ss_insolation_out *rows);
-/* Rows of one step's global irradiation (Wh/m^2, SS_NODATA at nodata). */
-typedef ss_status (*ss_step_rows_write)(void *user, int step, int row0, int n_rows,
-                                        const float *global_wh_m2);
+/* Outputs of ss_insolation_rows (Wh/m^2 unless said; index 0 unless said). */
+#define SS_OUT_GLOBAL 0
+#define SS_OUT_BEAM 1
+#define SS_OUT_DIFFUSE 2
+#define SS_OUT_REFLECTED 3
+#define SS_OUT_SUN_HOURS 4 /* hours */
+#define SS_OUT_MONTHLY 5   /* the global of each month's steps, index 0..11 */
+#define SS_OUT_PV 6        /* kWh/kWp DC (options' pv.on, weather records) */
+#define SS_OUT_PV_AC 7     /* kWh/kWp AC after the inverter (pv.on) */
+#define SS_OUT_STEP 8      /* each step's global, index the step */
+/* Which of them a run gives besides the first five (bits of `want`). */
+#define SS_INSOLATION_MONTHLY 1
+#define SS_INSOLATION_PV 2
+#define SS_INSOLATION_STEPS 4
 
-typedef struct {
-    int width, height;          /* the DEM's size */
-    double cell_x_m, cell_y_m;  /* ground cell sizes */
-    int band_rows;              /* rows held at once */
-    const double *z_origin_m;   /* the datum height the heights read are relative to */
-    ss_rows_read read;
-    ss_sun_rows_fn sun_rows;
-    ss_insolation_rows_write write;
-    ss_step_rows_write write_step; /* may be NULL */
-    void *user;
-    ss_band_stats *stats;       /* of the shadow sweeps; may be NULL */
-} ss_insolation_band_io;
-
-/* What ss_insolation computes with exact shadows, reading the grid band by
- * band: the radiative SVF by ss_sky_banded into a temporary file, then one
- * banded horizon per daylight step at its sun's azimuth (ss_horizon_banded),
- * each band's rows summed over the steps of both passes. The same result up
- * to the order of float additions, in memory set by band_rows. Runs on the
- * host (C, OpenMP). */
-ss_status ss_insolation_banded(ss_ctx *ctx, const ss_insolation_band_io *io,
-                               const ss_sweep_options *opt, const ss_insolation_options *options,
-                               int n_steps);
-/* Daylight steps swept together in one banded horizon run (each holds its
- * lines' hulls): size the bands for this many directions. */
+/* What ss_insolation computes, for src: sun_rows gives each step's sun for
+ * the rows of a band; share (may be NULL) deals out the time steps. */
+ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                             const ss_insolation_options *io, int n_steps, ss_sun_rows_fn sun_rows,
+                             void *sun_user, int want, const ss_share *share, ss_rows_sink sink,
+                             void *user);
+/* Directions whose hulls a run in bands holds at once: size the bands for
+ * this many. */
 #define SS_INSOLATION_STEPS_PER_RUN 64
-/* Bytes a banded insolation run holds per cell of a band, besides the
- * banded sweeps' own (ss_band_rows_within's band_cell_bytes). */
+/* Bytes an insolation run in bands holds per cell of a band, besides the
+ * sweep's own (ss_band_rows_within's band_cell_bytes). */
 double ss_insolation_band_cell_bytes(void);
+
+/* ---- shadows and shaded relief, in rows ---------------------------------- */
+
+/* Outputs of ss_shadow_rows. */
+#define SS_OUT_SUNLIT 0 /* 1 sunlit, 0 in a cast shadow */
+#define SS_OUT_FACING 1 /* 1 facing the sun, 0 away from it (self-shadow) */
+#define SS_OUT_LIGHT 2  /* cos(incidence) on sunlit cells facing the sun, else 0 */
+/* Cast shadows and illumination for the sun of step 0 of sun_rows: a sweep
+ * along its azimuth_deg, each cell lit where its apparent elevation is
+ * above its terrain horizon (the horizontal where none lies ahead), its
+ * incidence by Horn's gradient with grid_azimuth_deg. */
+ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                         ss_sun_rows_fn sun_rows, void *sun_user, ss_rows_sink sink, void *user);
+
+/* Shaded relief (ss_hillshade_rows): gdaldem's hillshade, or RVT's VAT blend. */
+typedef struct {
+    double azimuth_deg, altitude_deg; /* the light, degrees; azimuth in the raster's frame */
+    double z_factor;                  /* vertical exaggeration */
+    int zevenbergen_thorne;           /* the gradient: Horn's (0) or Zevenbergen-Thorne's */
+    int multidirectional;             /* gdaldem's blend of four lights */
+    int cast_shadows;                 /* cells in the light's cast shadows take 1 */
+    double sky_view;                  /* weight W: (1 - W) shade + W (1 + 254 SVF), geometric */
+    int vat;                          /* RVT's VAT blend instead (1 + 254 x 0..1) */
+    double radius_m;                  /* the VAT's SVF and openness: horizons within it (0:
+                                         unlimited) */
+} ss_hillshade_options;
+#define SS_OUT_SHADE 0 /* 1..255 */
+ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                            const ss_hillshade_options *ho, ss_rows_sink sink, void *user);
 
 /* ---- the effects planner (doc/planner.md) -------------------------------- */
 

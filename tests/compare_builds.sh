@@ -1,12 +1,17 @@
 #!/bin/sh
 # Runs every product with two builds of skysweep on the same DEMs and
-# compares the outputs value for value (each raster turned into raw float32
-# or bytes by gdal_translate, then cmp): the check that a redesign kept
-# behaviour. Usage: tests/compare_builds.sh OLD_SKYSWEEP NEW_SKYSWEEP [DEVICE]
-# DEVICE is passed to --device (default: reference, the C twin, whose outputs
-# must be bit-identical; "default" runs each build's default device). Prints one line per product and "N same, N differ".
+# compares the outputs: the check that a redesign kept behaviour.
+# Usage: tests/compare_builds.sh OLD_SKYSWEEP NEW_SKYSWEEP [DEVICE [NEW_DEVICE]]
+# DEVICE is passed to --device (default: reference, the C twin; "default" runs
+# each build's default device), NEW_DEVICE to the new build's (default: the
+# same). On the same device the outputs must be bit-identical (each raster
+# turned into raw float32 or bytes by gdal_translate, then cmp); on another
+# (an OpenCL device against the C twin's outputs) within 1e-6 of the output's
+# scale (its largest magnitude: a sky view of 0.9999 and an albedo leave 1e-4
+# of the reflected light's smallest values to float rounding), bytes within
+# 1. Prints one line per product and "N same, N differ".
 set -u
-old=$(realpath "$1") new=$(realpath "$2") device=${3:-reference}
+old=$(realpath "$1") new=$(realpath "$2") device=${3:-reference} new_device=${4:-${3:-reference}}
 top=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-compare.XXXXXX")
 trap 'rm -rf "$work"' EXIT
@@ -16,8 +21,30 @@ dem=$top/samples/kilauea_summit_30m.tif
 dem2=$work/kilauea_15m.tif
 gdal_translate -q -outsize 200% 200% -r bilinear "$dem" "$dem2"
 same=0 differ=0
-device_option="--device $device"
-[ "$device" = default ] && device_option=
+option_for() { [ "$1" = default ] || echo "--device $1"; }
+old_option=$(option_for "$device") new_option=$(option_for "$new_device")
+
+# within OLD.raw NEW.raw TYPE: whether two raw float32 rasters agree within
+# 1e-6 of the old one's largest magnitude (nodata -9999 apart; rasters that
+# were bytes: within 1); prints the worst relative difference.
+within() {
+    python3 - "$1" "$2" "$3" <<'PY'
+import array, sys
+a, b = array.array("f"), array.array("f")
+a.frombytes(open(sys.argv[1], "rb").read())
+b.frombytes(open(sys.argv[2], "rb").read())
+byte = sys.argv[3] == "Byte"
+scale = 1.0 if byte else max([abs(u) for u in a if u != -9999.0] + [1e-30])
+worst = 0.0 if len(a) == len(b) else float("inf")
+for u, v in zip(a, b):
+    if (u == -9999.0) != (v == -9999.0):
+        worst = float("inf")
+    e = abs(u - v) / scale
+    worst = max(worst, e if e == e else float("inf"))
+print(worst)
+sys.exit(0 if worst <= (1.0 if byte else 1e-6) else 1)
+PY
+}
 
 # product NAME ARGS... (the last two are DEM and OUTPUT, OUTPUT relative to
 # the build's folder; extra outputs are named with --distance/--cast-height).
@@ -26,19 +53,29 @@ product() {
     shift
     for b in old new; do
         mkdir -p "$work/$b"
-        eval "bin=\$$b"
-        (cd "$work/$b" && "$bin" "$@" -q $device_option >/dev/null 2>"$work/$b.err") ||
+        eval "bin=\$$b option=\$${b}_option"
+        # shellcheck disable=SC2086
+        (cd "$work/$b" && "$bin" "$@" -q $option >/dev/null 2>"$work/$b.err") ||
             { echo "$name: $b build failed: $(head -c 200 "$work/$b.err")"; differ=$((differ + 1)); return; }
     done
     verdict=same
     for f in "$work/old/"*.tif; do
         base=$(basename "$f")
-        gdal_translate -q -of ENVI "$f" "$work/old.raw" &&
-            gdal_translate -q -of ENVI "$work/new/$base" "$work/new.raw" &&
-            cmp -s "$work/old.raw" "$work/new.raw" || verdict="differ ($base)"
+        if [ "$device" = "$new_device" ]; then
+            gdal_translate -q -of ENVI "$f" "$work/old.raw" &&
+                gdal_translate -q -of ENVI "$work/new/$base" "$work/new.raw" &&
+                cmp -s "$work/old.raw" "$work/new.raw" || verdict="differ ($base)"
+            continue
+        fi
+        type=$(gdalinfo "$f" | sed -n 's/.*Type=\([A-Za-z0-9]*\).*/\1/p' | head -n1)
+        gdal_translate -q -ot Float32 -of ENVI "$f" "$work/old.raw" &&
+            gdal_translate -q -ot Float32 -of ENVI "$work/new/$base" "$work/new.raw" &&
+            worst=$(within "$work/old.raw" "$work/new.raw" "$type") ||
+            verdict="differ ($base, worst ${worst:-?})"
+        [ "$verdict" = same ] && verdict="same within 1e-6 (worst $worst)"
     done
     echo "$name: $verdict"
-    if [ "$verdict" = same ]; then same=$((same + 1)); else differ=$((differ + 1)); fi
+    case $verdict in same*) same=$((same + 1)) ;; *) differ=$((differ + 1)) ;; esac
     rm -rf "$work/old" "$work/new"
 }
 

@@ -1,10 +1,11 @@
-/* The banded sweep (src/core/banded.c) against the whole-grid sweep: the
+/* The one driver in bands (src/core/engine.c) against the whole grid: the
  * same SVF (every definition) and openness on random terrain with nodata
  * holes crossing band edges, for bands from 1 row to more than the grid,
  * bands that do not divide the grid, directions on the axes and diagonals
  * and between them in all four quadrants, both line models, curvature on
- * and off. Every row must be written exactly once, and failures of the
- * reader must stop the run with its status. */
+ * and off, on the C twin. Every row must be written exactly once, failures
+ * of the reader must stop the run with its status, and shares of the
+ * directions (MPI) must add up through the reduce hook. */
 #include "config.h"
 
 #include <math.h>
@@ -30,8 +31,10 @@ static ss_status read_rows(void *user, int row0, int n_rows, float *z)
     return SS_OK;
 }
 
-static ss_status write_rows(void *user, int row0, int n_rows, const float *values)
+static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
 {
+    (void)output, (void)index;
     band_io_state *s = user;
     memcpy(s->out + (size_t)row0 * s->g->width, values,
            sizeof(float) * (size_t)n_rows * s->g->width);
@@ -71,14 +74,30 @@ static ss_status whole(const ss_grid *g, const ss_sweep_options *opt, int kind, 
     return st;
 }
 
+/* A source reading g band by band. */
+static ss_source source_of(const ss_grid *g, band_io_state *s, int band_rows,
+                           ss_band_stats *stats)
+{
+    ss_source src = {.width = g->width,
+                     .height = g->height,
+                     .cell_x_m = g->cell_x_m,
+                     .cell_y_m = g->cell_y_m,
+                     .z_origin_m = &g->z_origin_m,
+                     .read = read_rows,
+                     .read_user = s,
+                     .band_rows = band_rows,
+                     .stats = stats};
+    return src;
+}
+
 static ss_status banded(const ss_grid *g, const ss_sweep_options *opt, int kind, int band_rows,
                         float *out, int *writes, ss_band_stats *stats)
 {
     band_io_state s = {g, out, writes, -1};
-    ss_band_io io = {g->width, g->height, g->cell_x_m, g->cell_y_m, band_rows, read_rows,
-                     write_rows, &s, 0, 1, 0, stats};
+    ss_source src = source_of(g, &s, band_rows, stats);
     ss_ctx *ctx = ss_ctx_new();
-    ss_status st = ss_sky_banded(ctx, &io, opt, (ss_sky_term)kind);
+    ss_ctx_use_device(ctx, "reference");
+    ss_status st = ss_sky_rows(ctx, &src, opt, (ss_sky_term)kind, 0.0, NULL, write_rows, &s);
     if (st != SS_OK)
         tap_diag("banded run failed: %s", ss_ctx_message(ctx));
     ss_ctx_free(ctx);
@@ -185,23 +204,48 @@ static void handoffs_and_failures(void)
            stats.handoffs, stats.handoffs ? (double)stats.hull_points_handed_on / stats.handoffs : 0,
            stats.max_hull_points);
     band_io_state s = {&g, out, writes, 33};
-    ss_band_io io = {g.width, g.height, g.cell_x_m, g.cell_y_m, 7, read_rows, write_rows, &s,
-                     0, 1, 0, NULL};
+    ss_source src = source_of(&g, &s, 7, NULL);
     ss_ctx *ctx = ss_ctx_new();
-    st = ss_sky_banded(ctx, &io, &opt, SS_SKY_SVF_GEOMETRIC);
+    ss_ctx_use_device(ctx, "reference");
+    st = ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_GEOMETRIC, 0.0, NULL, write_rows, &s);
     tap_ok(st == SS_ERR_INPUT && ss_ctx_message(ctx)[0],
            "a reader failing at row 33 stops the run: status %d, '%s'", (int)st,
            ss_ctx_message(ctx));
-    io.band_rows = 0;
-    st = ss_sky_banded(ctx, &io, &opt, SS_SKY_SVF_GEOMETRIC);
-    tap_ok(st == SS_ERR_ARGUMENT, "0 rows per band is refused: %s", ss_ctx_message(ctx));
+    src.band_rows = -1;
+    st = ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_GEOMETRIC, 0.0, NULL, write_rows, &s);
+    tap_ok(st == SS_ERR_ARGUMENT, "-1 rows per band is refused: %s", ss_ctx_message(ctx));
     ss_ctx_free(ctx);
     free(out);
     ss_grid_free(&g);
 }
 
+/* What MPI's reduce does, for processes run one after the other: the
+ * first keeps each band's sums in call order, the next adds its own, and
+ * the last adds everyone's into its sums, which the library then finishes. */
+typedef struct {
+    float *kept;
+    size_t at;
+    int process, processes;
+} serial_reduce;
+
+static ss_status reduce_in_turn(void *user, float *sums, size_t n)
+{
+    serial_reduce *r = user;
+    float *kept = r->kept + r->at;
+    for (size_t c = 0; c < n; ++c) {
+        if (r->process == 0)
+            kept[c] = sums[c];
+        else if (r->process < r->processes - 1)
+            kept[c] += sums[c];
+        else
+            sums[c] += kept[c];
+    }
+    r->at += n;
+    return SS_OK;
+}
+
 /* Processes sharing the directions (every 3rd from 0, 1, 2) add their
- * sums: whole-grid and banded sums of the shares must add up to the
+ * sums through the reduce hook: whole-grid and banded shares must give the
  * product of all directions. */
 static void shares(void)
 {
@@ -214,46 +258,43 @@ static void shares(void)
     opt.directions = 11;
     opt.offset_deg = 3;
     for (int term = SS_SKY_SVF_GEOMETRIC; term <= SS_SKY_OPENNESS_NEGATIVE; term += 2) {
-        float *all = malloc(sizeof(float) * n), *part = malloc(sizeof(float) * n);
-        float *whole_sum = calloc(n, sizeof(float)), *band_sum = calloc(n, sizeof(float));
+        float *all = malloc(sizeof(float) * n), *shared = malloc(sizeof(float) * n);
+        float *kept = malloc(sizeof(float) * n);
         int writes[29] = {0};
         ss_ctx *ctx = ss_ctx_new();
         ss_ctx_use_device(ctx, "reference");
         int ok = (term < 3 ? ss_svf(ctx, &g, &opt, (ss_svf_definition)term, all)
                            : ss_openness(ctx, &g, &opt, term == 4, 0, all)) == SS_OK;
-        for (int first = 0; ok && first < 3; ++first) {
-            ok &= ss_sky_sums(ctx, &g, &opt, (ss_sky_term)term, 0, first, 3, part) == SS_OK;
+        double worst[2] = {0, 0};
+        for (int banded_run = 0; banded_run < 2; ++banded_run) {
+            band_io_state s = {&g, shared, writes, -1};
+            ss_source src = source_of(&g, &s, banded_run ? 4 : 0, NULL);
+            for (int first = 0; ok && first < 3; ++first) {
+                serial_reduce r = {kept, 0, first, 3};
+                ss_share share = {first, 3, reduce_in_turn, &r};
+                ok &= ss_sky_rows(ctx, &src, &opt, (ss_sky_term)term, 0.0, &share, write_rows,
+                                  &s) == SS_OK;
+            }
             for (size_t c = 0; ok && c < n; ++c)
-                whole_sum[c] += part[c];
-            band_io_state s = {&g, part, writes, -1};
-            ss_band_io io = {g.width, g.height, g.cell_x_m, g.cell_y_m, 4, read_rows, write_rows,
-                             &s, first, 3, 1, NULL};
-            ok &= ss_sky_banded(ctx, &io, &opt, (ss_sky_term)term) == SS_OK;
-            for (size_t c = 0; ok && c < n; ++c)
-                band_sum[c] += part[c];
-        }
-        double worst_whole = 0, worst_band = 0;
-        for (size_t c = 0; ok && c < n; ++c) {
-            if (all[c] == SS_NODATA)
-                continue;
-            worst_whole = fmax(worst_whole, fabs(ss_sky_value((ss_sky_term)term, whole_sum[c],
-                                                              opt.directions) - all[c]));
-            worst_band = fmax(worst_band, fabs(ss_sky_value((ss_sky_term)term, band_sum[c],
-                                                            opt.directions) - all[c]));
+                if (all[c] != SS_NODATA)
+                    worst[banded_run] = fmax(worst[banded_run], fabs(shared[c] - all[c]));
         }
         double tol = term < 3 ? 2e-6 : 2e-4;
-        tap_ok(ok && worst_whole <= tol && worst_band <= tol,
-               "%s from 3 shares of 11 directions: whole-grid sums worst %.2g, banded sums worst "
-               "%.2g",
-               kind_name[term], worst_whole, worst_band);
-        ss_status st = ss_sky_sums(ctx, &g, &opt, (ss_sky_term)term, 0, 3, 3, part);
+        tap_ok(ok && worst[0] <= tol && worst[1] <= tol,
+               "%s from 3 shares of 11 directions: whole-grid worst %.2g, in bands of 4 rows "
+               "worst %.2g",
+               kind_name[term], worst[0], worst[1]);
+        band_io_state none = {&g, shared, writes, -1};
+        ss_source src = source_of(&g, &none, 0, NULL);
+        ss_share bad = {3, 3, NULL, NULL};
+        ss_status st = ss_sky_rows(ctx, &src, &opt, (ss_sky_term)term, 0.0, &bad, write_rows,
+                                   &none);
         tap_ok(st == SS_ERR_ARGUMENT, "a share with first >= stride is refused: %s",
                ss_ctx_message(ctx));
         ss_ctx_free(ctx);
         free(all);
-        free(part);
-        free(whole_sum);
-        free(band_sum);
+        free(shared);
+        free(kept);
     }
     ss_grid_free(&g);
 }

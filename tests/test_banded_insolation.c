@@ -1,4 +1,4 @@
-/* The banded insolation (src/core/banded_insolation.c) against the
+/* Insolation in bands (ss_insolation_rows, src/core/engine.c) against the
  * whole-grid one (exact shadows): the same five outputs and per-step
  * global bands on random terrain with nodata holes across band edges, for
  * bands from 1 row to more than the grid, with one sun for the grid and
@@ -142,34 +142,26 @@ static ss_status read_rows(void *user, int row0, int n_rows, float *z)
     return SS_OK;
 }
 
-static ss_status banded_sun(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step, void *user)
+/* Rows of the five outputs (SS_OUT_GLOBAL .. SS_OUT_SUN_HOURS; the
+ * globals' counted) and of each step's global. */
+static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
 {
     grids *o = user;
-    return sun_rows(ctx, k, row0, n_rows, step, o->sun);
-}
-
-static ss_status write_rows(void *user, int row0, int n_rows, const ss_insolation_out *rows)
-{
-    grids *o = user;
-    const float *in[5] = {rows->global, rows->beam, rows->diffuse, rows->reflected,
-                          rows->sun_hours};
     size_t at = (size_t)row0 * o->g->width, n = (size_t)n_rows * o->g->width;
-    for (int k = 0; k < 5; ++k)
-        memcpy(o->out[k] + at, in[k], n * sizeof(float));
-    for (int r = row0; r < row0 + n_rows; ++r)
-        o->writes[r]++;
-    return SS_OK;
-}
-
-static ss_status write_step(void *user, int k, int row0, int n_rows, const float *global)
-{
-    grids *o = user;
-    if (k < 0 || k >= N_STEPS)
+    if (output == SS_OUT_STEP) {
+        if (index < 0 || index >= N_STEPS)
+            return SS_ERR_INTERNAL;
+        memcpy(o->steps[index] + at, values, sizeof(float) * n);
+        for (int r = row0; r < row0 + n_rows; ++r)
+            o->writes[(size_t)(index + 1) * o->g->height + r]++;
+        return SS_OK;
+    }
+    if (output < SS_OUT_GLOBAL || output > SS_OUT_SUN_HOURS)
         return SS_ERR_INTERNAL;
-    memcpy(o->steps[k] + (size_t)row0 * o->g->width, global,
-           sizeof(float) * (size_t)n_rows * o->g->width);
-    for (int r = row0; r < row0 + n_rows; ++r)
-        o->writes[(size_t)(k + 1) * o->g->height + r]++;
+    memcpy(o->out[output] + at, values, n * sizeof(float));
+    for (int r = row0; output == SS_OUT_GLOBAL && r < row0 + n_rows; ++r)
+        o->writes[r]++;
     return SS_OK;
 }
 
@@ -196,8 +188,7 @@ static void compare(const ss_grid *g, const char *terrain, int per_cell, int cur
     opt.directions = 12;
     opt.earth_radius_m = curved ? 3e4 : 0;
     opt.refraction_k = 0;
-    ss_insolation_options io = {
-        .albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
+    ss_insolation_options io = {.albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT};
     sun_setup sun;
     grids ref, out;
     int ok = sun_init(&sun, g, per_cell) && grids_init(&ref, g, &sun) && grids_init(&out, g, &sun);
@@ -222,11 +213,17 @@ static void compare(const ss_grid *g, const char *terrain, int per_cell, int cur
     char why[300] = "";
     for (int b = 0; ok && b < n_band_rows; ++b) {
         memset(out.writes, 0, sizeof(int) * (size_t)(N_STEPS + 1) * g->height);
-        double origin = g->z_origin_m;
-        ss_insolation_band_io bio = {g->width,     g->height,  g->cell_x_m, g->cell_y_m,
-                                     band_rows[b], &origin,    read_rows,   banded_sun,
-                                     write_rows,   per_step ? write_step : NULL, &out, NULL};
-        if (ss_insolation_banded(ctx, &bio, &opt, &io, n_steps) != SS_OK) {
+        ss_source src = {.width = g->width,
+                         .height = g->height,
+                         .cell_x_m = g->cell_x_m,
+                         .cell_y_m = g->cell_y_m,
+                         .z_origin_m = &g->z_origin_m,
+                         .read = read_rows,
+                         .read_user = &out,
+                         .band_rows = band_rows[b]};
+        if (ss_insolation_rows(ctx, &src, &opt, &io, n_steps, sun_rows, &sun,
+                               per_step ? SS_INSOLATION_STEPS : 0, NULL, write_rows,
+                               &out) != SS_OK) {
             snprintf(why, sizeof why, "%s", ss_ctx_message(ctx));
             ok = 0;
             break;

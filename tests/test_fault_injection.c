@@ -114,7 +114,7 @@ static ss_status sun_rows(ss_ctx *ctx, int index, int row0, int n_rows, ss_sun_s
 
 static ss_status insolation_mode(ss_ctx *ctx, float *out, ss_shadow_mode mode)
 {
-    ss_insolation_options io = {.albedo = 0.2, .shadow_mode = mode, .first = 0, .stride = 1};
+    ss_insolation_options io = {.albedo = 0.2, .shadow_mode = mode};
     ss_insolation_out o = {.global = out,
                            .beam = out + CELLS,
                            .diffuse = out + 2 * CELLS,
@@ -133,7 +133,7 @@ static ss_status call_insolation_interpolated(ss_ctx *ctx, float *out)
     return insolation_mode(ctx, out, SS_SHADOW_INTERPOLATED);
 }
 
-/* ---- banded calls: rows read from and written into the whole grid ----- */
+/* ---- calls in bands: rows read from and written into the whole grid --- */
 
 static ss_status read_rows(void *user, int row0, int n_rows, float *z)
 {
@@ -142,58 +142,55 @@ static ss_status read_rows(void *user, int row0, int n_rows, float *z)
     return SS_OK;
 }
 
-static ss_status write_rows(void *user, int row0, int n_rows, const float *values)
+static ss_source banded_source(int band_rows)
 {
-    memcpy((float *)user + (size_t)row0 * W, values, (size_t)n_rows * W * sizeof(float));
+    ss_source src = {.width = W,
+                     .height = H,
+                     .cell_x_m = grid.cell_x_m,
+                     .cell_y_m = grid.cell_y_m,
+                     .z_origin_m = &grid.z_origin_m,
+                     .read = read_rows,
+                     .band_rows = band_rows};
+    return src;
+}
+
+/* Output o's band `index` (0: the first) goes to out + o * CELLS, the
+ * others are dropped; horizons keep direction 2. */
+typedef struct {
+    float *out;
+    int index;
+} rows_into;
+
+static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
+{
+    rows_into *r = user;
+    if (index == r->index && output * CELLS + (size_t)H * W <= OUT_MAX)
+        memcpy(r->out + output * CELLS + (size_t)row0 * W, values,
+               (size_t)n_rows * W * sizeof(float));
     return SS_OK;
 }
 
 static ss_status call_sky_banded(ss_ctx *ctx, float *out)
 {
-    ss_band_io io = {W, H, grid.cell_x_m, grid.cell_y_m, 5, read_rows, write_rows, out, 0, 1, 0,
-                     NULL};
-    return ss_sky_banded(ctx, &io, &opt, SS_SKY_SVF_GEOMETRIC);
-}
-
-static ss_status write_horizon_rows(void *user, int direction, int row0, int n_rows,
-                                    const float *angle_deg, const float *dist_m,
-                                    const float *cast_height_m)
-{
-    (void)cast_height_m;
-    float *out = user;
-    if (direction == 2) {
-        memcpy(out + (size_t)row0 * W, angle_deg, (size_t)n_rows * W * sizeof(float));
-        memcpy(out + CELLS + (size_t)row0 * W, dist_m, (size_t)n_rows * W * sizeof(float));
-    }
-    return SS_OK;
+    ss_source src = banded_source(5);
+    rows_into r = {out, 0};
+    return ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_GEOMETRIC, 0.0, NULL, write_rows, &r);
 }
 
 static ss_status call_horizon_banded(ss_ctx *ctx, float *out)
 {
-    ss_horizon_band_io io = {W,    H,   grid.cell_x_m, grid.cell_y_m, 4,    read_rows,
-                             write_horizon_rows, out, 0, NULL, -90.0f, NULL, NULL};
-    return ss_horizon_banded(ctx, &io, &opt, SS_HORIZON_DISTANCE);
-}
-
-static ss_status write_insolation_rows(void *user, int row0, int n_rows,
-                                       const ss_insolation_out *rows)
-{
-    float *out = user;
-    const float *parts[5] = {rows->global, rows->beam, rows->diffuse, rows->reflected,
-                             rows->sun_hours};
-    for (int i = 0; i < 5; ++i)
-        memcpy(out + i * CELLS + (size_t)row0 * W, parts[i], (size_t)n_rows * W * sizeof(float));
-    return SS_OK;
+    ss_source src = banded_source(4);
+    rows_into r = {out, 2};
+    return ss_horizon_rows(ctx, &src, &opt, SS_HORIZON_DISTANCE, write_rows, &r);
 }
 
 static ss_status call_insolation_banded(ss_ctx *ctx, float *out)
 {
-    ss_insolation_band_io io = {W,         H,        grid.cell_x_m,         grid.cell_y_m,
-                                6,         &grid.z_origin_m, read_rows, sun_rows,
-                                write_insolation_rows, NULL, out, NULL};
-    ss_insolation_options o = {
-        .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
-    return ss_insolation_banded(ctx, &io, &opt, &o, 3);
+    ss_source src = banded_source(6);
+    ss_insolation_options o = {.albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT};
+    rows_into r = {out, 0};
+    return ss_insolation_rows(ctx, &src, &opt, &o, 3, sun_rows, NULL, 0, NULL, write_rows, &r);
 }
 
 typedef struct {
@@ -210,9 +207,9 @@ static const call_case cases[] = {
     {"ss_hillshade", call_hillshade},
     {"ss_insolation", call_insolation},
     {"ss_insolation (interpolated)", call_insolation_interpolated},
-    {"ss_sky_banded", call_sky_banded},
-    {"ss_horizon_banded", call_horizon_banded},
-    {"ss_insolation_banded", call_insolation_banded},
+    {"ss_sky_rows in bands", call_sky_banded},
+    {"ss_horizon_rows in bands", call_horizon_banded},
+    {"ss_insolation_rows in bands", call_insolation_banded},
 };
 #define N_CASES (sizeof cases / sizeof cases[0])
 

@@ -170,7 +170,7 @@ static int run_products(int dev, const ss_grid *g, const run_opts *o, products *
         for (int k = 0; k < 5; ++k)
             *b[k] = malloc(n * sizeof(float));
         ss_insolation_options io = {
-            .albedo = 0.2, .shadow_mode = o->shadow_mode, .first = 0, .stride = 1};
+            .albedo = 0.2, .shadow_mode = o->shadow_mode};
         steps_user su = {insol_steps, 3};
         st = ss_insolation(ctx, g, &opt, &io, 3, fixed_sun, &su, NULL, NULL, &p->ins);
         what = "insolation";
@@ -329,7 +329,7 @@ static void expect_refused(const char *label, const ss_grid *g, ss_status want)
             .global = buf, .beam = buf, .diffuse = buf, .reflected = buf, .sun_hours = buf};
         steps_user su = {insol_steps, 3};
         ss_insolation_options io = {
-            .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
+            .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT};
         st[4] = ss_insolation(ctx, g, &opt, &io, 3, fixed_sun, &su, NULL, NULL, &out);
         snprintf(msg[4], 200, "%s", ss_ctx_message(ctx));
         st[5] = ss_sun_incidence(ctx, g, 135, 20, NULL, NULL, buf);
@@ -1051,7 +1051,7 @@ static void sun_positions(void)
             out = (ss_insolation_out){
                 .global = b[0], .beam = b[1], .diffuse = b[2], .reflected = b[3], .sun_hours = b[4]};
             ss_insolation_options io = {
-                .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
+                .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT};
             steps_user su = {&steps[i], 1};
             ss_status si =
                 ss_insolation(ctx, &rough, &opt, &io, 1, fixed_sun, &su, NULL, NULL, &out);

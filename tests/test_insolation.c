@@ -97,7 +97,7 @@ static ss_status run(ss_grid *g, sun_setup *su, int directions, ss_shadow_mode m
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = directions;
-    ss_insolation_options io = {.albedo = 0.2, .shadow_mode = mode, .first = 0, .stride = 1};
+    ss_insolation_options io = {.albedo = 0.2, .shadow_mode = mode};
     ss_status st = ss_insolation(ctx, g, &opt, &io, su->n, sun_at, su, sink, sink_user, out);
     if (st != SS_OK)
         snprintf(err, 300, "%s", ss_ctx_message(ctx));
@@ -107,7 +107,7 @@ static ss_status run(ss_grid *g, sun_setup *su, int directions, ss_shadow_mode m
 
 static ss_insolation_out alloc_out(size_t n)
 {
-    ss_insolation_out o;
+    ss_insolation_out o = {0};
     o.global = malloc(n * sizeof(float));
     o.beam = malloc(n * sizeof(float));
     o.diffuse = malloc(n * sizeof(float));

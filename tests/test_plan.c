@@ -186,7 +186,7 @@ static void skipped_work(void)
     ss_sweep_options_default(&opt);
     opt.directions = 8;
     ss_insolation_options io = {
-        .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT, .first = 0, .stride = 1};
+        .albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT};
     size_t n = 3600;
     ss_insolation_out out = {.global = malloc(n * 4),
                              .beam = malloc(n * 4),

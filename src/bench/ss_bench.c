@@ -1,15 +1,18 @@
-/* ss-bench: times the sweep against the bare pass over the same lines, on
- * a raw float32 grid or a synthetic one. It links only the core library
- * and OpenCL (no GDAL), so it also runs on machines that have nothing else,
- * such as a lent GPU machine (reference/toolchain.md).
+/* ss-bench: times the SVF sweep (the one driver, ss_sky_rows) against the
+ * bare pass over the same lines, on a raw float32 grid or a synthetic one.
+ * It links only the core library and OpenCL (no GDAL), so it also runs on
+ * machines that have nothing else, such as a lent GPU machine
+ * (reference/toolchain.md).
  *
  *   ss-bench [--raw FILE WIDTH HEIGHT] [--synthetic N] [--cell METRES]
  *            [--directions D] [--device SPEC] [--lines interpolated|digital]
- *            [--offset DEG] [--reps R]
+ *            [--offset DEG] [--reps R] [--batch B] [--band-rows R]
  *
  * Prints one line per measurement: cell-directions per second of the bare
- * pass and of the SVF sweep (median over R repetitions), their ratio, the
- * kernel build time and the peak resident memory. */
+ * pass (one launch per direction) and of the SVF sweep (batches of B
+ * directions, 0: the device's choice; in bands of R rows, 0: the whole
+ * grid), medians over R repetitions, their ratio, the kernel build time and
+ * the peak resident memory. */
 #include "config.h"
 
 #include <math.h>
@@ -19,9 +22,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
-#include "lines.h"
 #include "products_internal.h"
-#include "session.h"
 
 typedef struct {
     const char *raw_path;
@@ -33,11 +34,12 @@ typedef struct {
     int lines;
     int reps;
     double offset_deg;
+    int batch, band_rows;
 } bench_args;
 
 static int parse(int argc, char **argv, bench_args *a)
 {
-    *a = (bench_args){NULL, 0, 0, 1024, 30.0, 16, NULL, SS_LINES_INTERPOLATED, 5, 0.0};
+    *a = (bench_args){NULL, 0, 0, 1024, 30.0, 16, NULL, SS_LINES_INTERPOLATED, 5, 0.0, 0, 0};
     for (int i = 1; i < argc; ++i) {
         const char *o = argv[i];
         int more = argc - i - 1;
@@ -58,6 +60,10 @@ static int parse(int argc, char **argv, bench_args *a)
                                                         : SS_LINES_INTERPOLATED;
         } else if (!strcmp(o, "--offset") && more >= 1) {
             a->offset_deg = atof(argv[++i]);
+        } else if (!strcmp(o, "--batch") && more >= 1) {
+            a->batch = atoi(argv[++i]);
+        } else if (!strcmp(o, "--band-rows") && more >= 1) {
+            a->band_rows = atoi(argv[++i]);
         } else if (!strcmp(o, "--reps") && more >= 1) {
             a->reps = atoi(argv[++i]);
         } else {
@@ -122,27 +128,49 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static ss_status keep_nothing(void *user, int output, int index, int row0, int n_rows,
+                               const float *values)
+{
+    (void)user, (void)output, (void)index, (void)row0, (void)n_rows, (void)values;
+    return SS_OK;
+}
+
+/* One run of every direction: the bare pass (a launch per direction, on a
+ * backend of its own b) or the SVF sweep through the driver. */
+static ss_status run_once(ss_ctx *ctx, ss_backend *b, const ss_grid *g,
+                          const ss_sweep_options *opt, int bare, int band_rows)
+{
+    if (!bare) {
+        ss_source src = ss_source_of_grid(g);
+        src.band_rows = band_rows;
+        return ss_sky_rows(ctx, &src, opt, SS_SKY_SVF_GEOMETRIC, 0.0, NULL, keep_nothing, NULL);
+    }
+    ss_band_run run = {.row1 = g->height,
+                       .held_rows = g->height,
+                       .height = g->height,
+                       .width = g->width,
+                       .whole = 1};
+    ss_status st = b->ops->load(b, &run, g->z, NULL);
+    for (int i = 0; i < opt->directions && st == SS_OK; ++i) {
+        ss_band_dir d = {0};
+        ss_product_lines(g, opt, i, &d.ls);
+        float *out;
+        st = b->ops->bare(b, &run, &d, &out);
+    }
+    return st;
+}
+
 /* Median wall seconds of `reps` runs of all directions of one pass kind;
  * *cpu gets the median process CPU seconds (all threads), which a busy
  * machine disturbs much less than wall time. */
-static double time_pass(ss_session *s, const ss_grid *g, const ss_sweep_options *opt, int bare,
-                        int reps, double *cpu)
+static double time_pass(ss_ctx *ctx, ss_backend *b, const ss_grid *g, const ss_sweep_options *opt,
+                        int bare, int band_rows, int reps, double *cpu)
 {
     double *t = malloc(sizeof(double) * reps), *c = malloc(sizeof(double) * reps);
-    float *out;
     for (int r = 0; r < reps; ++r) {
-        ss_session_clear(s, 0);
-        ss_session_view(s, 0, &out); /* waits for the clear */
         double t0 = ss_seconds_now(), c0 = cpu_seconds();
-        for (int i = 0; i < opt->directions; ++i) {
-            ss_line_set ls;
-            double az = ss_product_lines(g, opt, i, &ls);
-            if (bare)
-                ss_session_bare(s, &ls);
-            else
-                ss_session_svf(s, &ls, SS_SVF_DEF_GEOMETRIC, 0.0f, az);
-        }
-        ss_session_view(s, 0, &out); /* waits for the passes */
+        if (run_once(ctx, b, g, opt, bare, band_rows) != SS_OK)
+            fprintf(stderr, "ss-bench: %s\n", ss_ctx_message(ctx));
         t[r] = ss_seconds_now() - t0;
         c[r] = cpu_seconds() - c0;
     }
@@ -171,25 +199,35 @@ int main(int argc, char **argv)
     opt.directions = a.directions;
     opt.lines = a.lines;
     opt.offset_deg = a.offset_deg;
-    ss_session *s;
+    ss_ctx_set_batch(ctx, a.batch);
+    ss_backend b = {.ctx = ctx,
+                    .walk = {.term = SS_SVF_GEOMETRIC},
+                    .width = g.width,
+                    .max_held_rows = g.height,
+                    .batch = 1,
+                    .whole_z = g.z};
     double t0 = ss_seconds_now();
-    if (ss_session_open(ctx, &g, 1, &s) != SS_OK) {
+    if (ss_backend_open(&b) != SS_OK) {
         fprintf(stderr, "ss-bench: %s\n", ss_ctx_message(ctx));
         return 5;
     }
     double open_s = ss_seconds_now() - t0;
     /* One untimed round warms caches, page mappings and the first launch. */
-    time_pass(s, &g, &opt, 0, 1, NULL);
+    time_pass(ctx, &b, &g, &opt, 0, a.band_rows, 1, NULL);
     double bare_cpu, sweep_cpu;
-    double bare = time_pass(s, &g, &opt, 1, a.reps, &bare_cpu);
-    double sweep = time_pass(s, &g, &opt, 0, a.reps, &sweep_cpu);
-    ss_session_close(s);
+    double bare = time_pass(ctx, &b, &g, &opt, 1, 0, a.reps, &bare_cpu);
+    double sweep = time_pass(ctx, &b, &g, &opt, 0, a.band_rows, a.reps, &sweep_cpu);
+    b.ops->close(&b);
     double cd = (double)g.width * g.height * a.directions;
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     printf("device    %s\n", ss_ctx_device_name(ctx));
     printf("grid      %d x %d, %d directions, %s lines, median of %d\n", g.width, g.height,
            a.directions, a.lines == SS_LINES_DIGITAL ? "digital" : "interpolated", a.reps);
+    if (a.band_rows > 0 || a.batch > 0)
+        printf("driver    bands of %d rows, batches of %d directions (0: whole grid; the "
+               "device's choice)\n",
+               a.band_rows, a.batch);
     printf("build     %.3f s (device open %.3f s)\n", ss_ctx_counters(ctx).build_seconds, open_s);
     printf("bare      %.4f s  %7.1f M cell-directions/s  %.2f us/direction  (cpu %.4f s)\n",
            bare, cd / bare / 1e6, bare / a.directions * 1e6, bare_cpu);

@@ -1,4 +1,4 @@
-/* ss-scale: the banded sweep (ss_sky_banded, or ss_horizon_banded with
+/* ss-scale: a sweep in bands (ss_sky_rows, or ss_horizon_rows with
  * --horizon) on a synthetic fractal DEM of any size, generated band by band
  * as it is read, so that nothing but the bands is ever held: the figures of
  * doc/scale.md. Links only the core.
@@ -119,9 +119,11 @@ static ss_status read_rows(void *user, int row0, int n_rows, float *z)
     return SS_OK;
 }
 
-static ss_status write_rows(void *user, int row0, int n_rows, const float *values)
+/* The product's rows (horizons: every direction's angles, degrees). */
+static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
 {
-    (void)row0;
+    (void)output, (void)index, (void)row0;
     scale_io *s = user;
     for (size_t c = 0; c < (size_t)n_rows * s->width; ++c)
         s->checksum += values[c];
@@ -129,21 +131,12 @@ static ss_status write_rows(void *user, int row0, int n_rows, const float *value
     return SS_OK;
 }
 
-/* Horizons: the mean angle (degrees) over cells and directions. */
-static ss_status write_horizon_rows(void *user, int direction, int row0, int n_rows,
-                                    const float *angle_deg, const float *dist_m,
-                                    const float *cast_height_m)
-{
-    (void)direction, (void)dist_m, (void)cast_height_m;
-    return write_rows(user, row0, n_rows, angle_deg);
-}
-
 static int horizon_sink(int index, double azimuth_deg, const float *angle_deg,
                         const float *dist_m, const float *cast_height_m, void *user)
 {
     (void)index, (void)azimuth_deg, (void)dist_m, (void)cast_height_m;
     scale_io *s = user;
-    return write_rows(user, 0, s->width /* a square grid */, angle_deg) == SS_OK;
+    return write_rows(user, 0, 0, 0, s->width /* a square grid */, angle_deg) == SS_OK;
 }
 
 int main(int argc, char **argv)
@@ -172,7 +165,7 @@ int main(int argc, char **argv)
                 st = ss_horizon(ctx, &g, &opt, 0, horizon_sink, &s);
             } else {
                 st = ss_svf(ctx, &g, &opt, SS_SVF_DEF_GEOMETRIC, out);
-                write_rows(&s, 0, n, out);
+                write_rows(&s, 0, 0, 0, n, out);
             }
         }
         free(out);
@@ -193,12 +186,17 @@ int main(int argc, char **argv)
                 return 2;
             }
         }
-        ss_band_io io = {n, n, a.cell_m, a.cell_m, band_rows, read_rows, write_rows, &s,
-                         0, 1, 0, &stats};
-        ss_horizon_band_io hio = {n, n, a.cell_m, a.cell_m, band_rows, read_rows,
-                                  write_horizon_rows, &s, 0, NULL, -90.0f, &stats, NULL};
-        st = a.horizon ? ss_horizon_banded(ctx, &hio, &opt, 0)
-                       : ss_sky_banded(ctx, &io, &opt, SS_SKY_SVF_GEOMETRIC);
+        ss_source src = {.width = n,
+                         .height = n,
+                         .cell_x_m = a.cell_m,
+                         .cell_y_m = a.cell_m,
+                         .read = read_rows,
+                         .read_user = &s,
+                         .band_rows = band_rows,
+                         .stats = &stats};
+        st = a.horizon ? ss_horizon_rows(ctx, &src, &opt, 0, write_rows, &s)
+                       : ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_GEOMETRIC, 0.0, NULL, write_rows,
+                                     &s);
     }
     double wall = seconds_now() - t0;
     if (st != SS_OK) {

@@ -1,7 +1,7 @@
 /* skysweep hillshade: gdaldem's hillshade (same formula, options and byte
  * output), plus what a cartographer wants from the sweep: exact cast
- * shadows of the light, and sky-view shading blended in. A plain hillshade
- * of a DEM that does not fit in --memory is shaded band by band. */
+ * shadows of the light, sky-view shading blended in, or RVT's VAT blend
+ * (ss_hillshade_rows), on the DEM held whole or read band by band. */
 #include "config.h"
 
 #include <math.h>
@@ -45,35 +45,16 @@ static const opt_spec hillshade_options[] = {
      "10); 0: unlimited"},
     OPT_END};
 
-/* A DEM left in its files: bands of rows read with one row either side
- * (the 3 x 3 slope window), shaded as a grid of their own, whose inner
- * rows are then the whole grid's. */
-static ss_status shade_banded(sweep_job *job, const hillshade_settings *set,
-                              ss_raster_writer *w)
+typedef struct {
+    ss_raster_writer *w;
+} shade_out;
+
+static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
 {
-    const ss_grid *g = &job->dem.grid;
-    size_t held = (size_t)(job->band_rows + 2) * (size_t)g->width;
-    float *z = malloc(held * sizeof(float)), *shade = malloc(held * sizeof(float));
-    ss_status st = z && shade ? SS_OK : command_out_of_memory(&job->run);
-    for (int row0 = 0; row0 < g->height && st == SS_OK; row0 += job->band_rows) {
-        int rows = row0 + job->band_rows < g->height ? job->band_rows : g->height - row0;
-        int lo = row0 > 0 ? row0 - 1 : 0;
-        int hi = row0 + rows < g->height ? row0 + rows + 1 : g->height;
-        st = job_read_rows(job, lo, hi - lo, z);
-        ss_grid band = {g->width, hi - lo, g->cell_x_m, g->cell_y_m, g->z_origin_m, z};
-        size_t n = (size_t)(hi - lo) * (size_t)g->width;
-        if (st == SS_OK && !run_any_height(z, n))
-            for (size_t c = 0; c < n; ++c) /* all nodata: nothing to shade */
-                shade[c] = SS_NODATA;
-        else if (st == SS_OK)
-            st = ss_hillshade(job->run.ctx, &band, set->azimuth_deg, set->altitude_deg,
-                              set->z_factor, set->alg == 1, set->multidirectional, shade);
-        if (st == SS_OK)
-            st = ss_writer_rows(w, 1, row0, rows, shade + (size_t)(row0 - lo) * g->width);
-    }
-    free(z);
-    free(shade);
-    return st;
+    (void)output, (void)index;
+    shade_out *o = user;
+    return ss_writer_rows(o->w, 1, row0, n_rows, values);
 }
 
 int cmd_hillshade(int argc, char **argv)
@@ -95,13 +76,15 @@ int cmd_hillshade(int argc, char **argv)
                         "does not take --cast-shadows, --sky-view or --multidirectional\n");
         return SS_ERR_ARGUMENT;
     }
-    /* A plain hillshade reads rows and shades them: heights and shades of
-     * a band. What sweeps needs the whole grid. */
-    int plain = !(set.blend || set.cast_shadows || set.sky_view > 0);
-    band_cost cost = {8.0, 0.0, 1};
+    int sweeps = set.blend || set.cast_shadows || set.sky_view > 0;
+    /* A band holds its heights and a row of shades, SVF and openness;
+     * sweeps add a horizon's band and its rows carried between bands. */
+    band_cost cost = {.cell_bytes = 16.0 + (sweeps ? ss_horizon_band_cell_bytes(0) : 4.0),
+                      .column_bytes = sweeps ? ss_horizon_column_bytes() : 0.0,
+                      .directions = sweeps ? 0 : 1,
+                      .halo_cells = set.blend ? set.blend_radius_cells : 0.0};
     sweep_job job;
-    if ((rc = plain ? job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)
-                    : job_open(&job, "hillshade", &set.common, pos, n_pos)))
+    if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
         return rc;
     /* Plain hillshade reads no horizons; cast shadows and sky view do. */
     ss_product product = set.cast_shadows                 ? SS_PRODUCT_SHADOW
@@ -112,42 +95,23 @@ int cmd_hillshade(int argc, char **argv)
         return rc;
     }
     const ss_grid *g = &job.dem.grid;
-    size_t n = job.source ? 0 : (size_t)g->width * (size_t)g->height;
-    float *shade = job.source ? NULL : malloc(n * sizeof(float));
-    float *extra = (set.cast_shadows || set.sky_view > 0) ? malloc(n * sizeof(float)) : NULL;
-    ss_raster_writer *w = NULL;
-    ss_status st = (shade || job.source) && (extra || !(set.cast_shadows || set.sky_view > 0))
-                       ? ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1,
-                                             set.common.format,
-                                             set.common.creation_options.items, &w)
-                       : command_out_of_memory(&job.run);
     double blend_radius_m = set.blend_radius_cells * sqrt(g->cell_x_m * g->cell_y_m);
-    if (st == SS_OK && job.source) {
-        st = shade_banded(&job, &set, w);
-    } else if (st == SS_OK && set.blend) {
-        st = ss_vat(job.run.ctx, g, &job.opt, blend_radius_m, shade);
-        for (size_t c = 0; st == SS_OK && c < n; ++c)
-            if (shade[c] != SS_NODATA)
-                shade[c] = 1.0f + 254.0f * shade[c];
-    } else if (st == SS_OK)
-        st = ss_hillshade(job.run.ctx, g, set.azimuth_deg, set.altitude_deg, set.z_factor,
-                          set.alg == 1, set.multidirectional, shade);
-    /* The light's azimuth is in the raster's frame; the sweep takes the
-     * options' frame (true north unless --north grid). */
-    if (st == SS_OK && set.cast_shadows) {
-        double az = set.azimuth_deg + job.opt.grid_north_deg;
-        st = ss_cast_shadow(job.run.ctx, g, &job.opt, az, set.altitude_deg, NULL, extra, NULL);
-        for (size_t c = 0; st == SS_OK && c < n; ++c)
-            if (shade[c] != SS_NODATA && extra[c] == 0.0f)
-                shade[c] = 1.0f;
-    }
-    if (st == SS_OK && set.sky_view > 0) {
-        st = ss_svf(job.run.ctx, g, &job.opt, SS_SVF_DEF_GEOMETRIC, extra);
-        for (size_t c = 0; st == SS_OK && c < n; ++c)
-            if (shade[c] != SS_NODATA)
-                shade[c] = (float)((1 - set.sky_view) * shade[c] +
-                                   set.sky_view * (1.0 + 254.0 * extra[c]));
-    }
+    shade_out out = {NULL};
+    ss_status st = ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1, set.common.format,
+                                       set.common.creation_options.items, &out.w);
+    ss_raster_writer *w = out.w;
+    ss_hillshade_options ho = {.azimuth_deg = set.azimuth_deg,
+                               .altitude_deg = set.altitude_deg,
+                               .z_factor = set.z_factor,
+                               .zevenbergen_thorne = set.alg == 1,
+                               .multidirectional = set.multidirectional,
+                               .cast_shadows = set.cast_shadows,
+                               .sky_view = set.sky_view,
+                               .vat = set.blend,
+                               .radius_m = blend_radius_m};
+    ss_source src = job_source(&job, NULL);
+    if (st == SS_OK)
+        st = ss_hillshade_rows(job.run.ctx, &src, &job.opt, &ho, write_rows, &out);
     if (st == SS_OK) {
         char buf[300];
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
@@ -166,10 +130,7 @@ int cmd_hillshade(int argc, char **argv)
                  set.multidirectional ? ", multidirectional" : "",
                  set.cast_shadows ? ", cast shadows" : "", set.sky_view);
         ss_writer_metadata(w, set.blend ? "RELIEF_BLEND" : "HILLSHADE", buf);
-        if (job.source)
-            ss_writer_describe(w, 1, "hillshade", NULL);
-        else
-            st = ss_writer_band(w, 1, shade, set.blend ? "VAT relief blend" : "hillshade", NULL);
+        ss_writer_describe(w, 1, set.blend ? "VAT relief blend" : "hillshade", NULL);
     }
     if (st == SS_OK)
         st = run_commit(&job.run, w);
@@ -178,10 +139,10 @@ int cmd_hillshade(int argc, char **argv)
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);
-        if (set.cast_shadows || set.sky_view > 0 || set.blend)
+        if (sweeps)
             command_print_sweep(&job.run, &job.opt, g->width, g->height);
         if (job.source)
-            printf("bands   %d rows of %d cells at a time, read with a row either side\n",
+            printf("bands   %d rows of %d cells at a time, read with two rows either side\n",
                    job.band_rows, g->width);
         if (set.blend)
             printf("shade   VAT blend, horizons within %g m -> %s\n", blend_radius_m, job.output);
@@ -189,8 +150,6 @@ int cmd_hillshade(int argc, char **argv)
             printf("shade   light %g/%g deg -> %s\n", set.azimuth_deg, set.altitude_deg,
                    job.output);
     }
-    free(shade);
-    free(extra);
     job_close(&job);
     return rc;
 }

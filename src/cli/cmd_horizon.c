@@ -1,9 +1,8 @@
 /* skysweep horizon: one band per azimuth with the horizon elevation angle,
  * optionally files with the distance to the horizon-casting point and its
- * ground height. Bands are written as their directions finish, so memory
- * stays one grid per file; a DEM whose sweep does not fit in --memory is
- * swept in bands of rows (ss_horizon_banded), each direction's rows
- * written as each band finishes them. */
+ * ground height. Each direction's rows are written as soon as the library
+ * has them (ss_horizon_rows), so memory stays a batch of directions' band
+ * of rows, whether the DEM is held whole or read band by band. */
 #include "config.h"
 
 #include <stddef.h>
@@ -46,78 +45,28 @@ static const opt_spec horizon_options[] = {
     OPT_END};
 
 typedef struct {
-    ss_raster_writer *angle, *dist, *cast;
-    ss_status status;
-    sweep_job *job;      /* the DEM: its size; in banded runs its rows and origin */
-    float *cast_scratch; /* banded runs: a band of casting heights with the origin added */
-} horizon_sink_state;
+    ss_raster_writer *out[3]; /* angles, distances, casting heights (by SS_OUT_HORIZON_*) */
+} horizon_writers;
 
-static int store_direction(int index, double azimuth_deg, const float *angle_deg,
-                           const float *dist_m, const float *cast_height_m, void *user)
+static ss_status store_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
 {
-    (void)azimuth_deg;
-    horizon_sink_state *hs = user;
-    int height = hs->job->dem.grid.height;
-    hs->status = ss_writer_rows(hs->angle, index + 1, 0, height, angle_deg);
-    if (hs->status == SS_OK && hs->dist)
-        hs->status = ss_writer_rows(hs->dist, index + 1, 0, height, dist_m);
-    if (hs->status == SS_OK && hs->cast)
-        hs->status = ss_writer_rows(hs->cast, index + 1, 0, height, cast_height_m);
-    return hs->status == SS_OK;
+    horizon_writers *hw = user;
+    return ss_writer_rows(hw->out[output], index + 1, row0, n_rows, values);
 }
 
-static ss_status read_band_rows(void *user, int row0, int n_rows, float *z)
+/* Every direction's horizon, each direction's rows written as they come. */
+static ss_status sweep(sweep_job *job, horizon_writers *hw, int want, ss_band_stats *bands)
 {
-    horizon_sink_state *hs = user;
-    return job_read_rows(hs->job, row0, n_rows, z);
-}
-
-static ss_status store_band_rows(void *user, int direction, int row0, int n_rows,
-                                 const float *angle_deg, const float *dist_m,
-                                 const float *cast_height_m)
-{
-    horizon_sink_state *hs = user;
-    ss_status st = ss_writer_rows(hs->angle, direction + 1, row0, n_rows, angle_deg);
-    if (st == SS_OK && hs->dist)
-        st = ss_writer_rows(hs->dist, direction + 1, row0, n_rows, dist_m);
-    if (st == SS_OK && hs->cast) {
-        /* The band's heights are relative to the DEM's origin, as read. */
-        size_t n = (size_t)n_rows * (size_t)hs->job->dem.grid.width;
-        for (size_t c = 0; c < n; ++c)
-            hs->cast_scratch[c] = cast_height_m[c] == SS_NODATA
-                                      ? SS_NODATA
-                                      : (float)(hs->job->dem.grid.z_origin_m + cast_height_m[c]);
-        st = ss_writer_rows(hs->cast, direction + 1, row0, n_rows, hs->cast_scratch);
-    }
-    return st;
-}
-
-/* Every direction's horizon, on the whole grid or band by band. */
-static ss_status sweep(horizon_sink_state *hs, int want, ss_band_stats *bands)
-{
-    sweep_job *job = hs->job;
-    const ss_grid *g = &job->dem.grid;
-    ss_raster_writer *writers[] = {hs->angle, hs->dist, hs->cast};
     for (int i = 0; i < job->opt.directions; ++i) {
         char desc[64];
         snprintf(desc, sizeof desc, "azimuth %.10g", ss_direction_azimuth(&job->opt, i));
         for (int k = 0; k < 3; ++k)
-            if (writers[k])
-                ss_writer_describe(writers[k], i + 1, desc, k == 0 ? "deg" : "m");
+            if (hw->out[k])
+                ss_writer_describe(hw->out[k], i + 1, desc, k == 0 ? "deg" : "m");
     }
-    if (!job->source) {
-        ss_status st = ss_horizon(job->run.ctx, g, &job->opt, want, store_direction, hs);
-        return hs->status != SS_OK ? hs->status : st;
-    }
-    if (hs->cast && !(hs->cast_scratch = malloc(sizeof(float) * (size_t)job->band_rows *
-                                                (size_t)g->width)))
-        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band");
-    ss_horizon_band_io io = {g->width, g->height, g->cell_x_m, g->cell_y_m, job->band_rows,
-                             read_band_rows, store_band_rows, hs, 0, NULL, -90.0f, bands, NULL};
-    ss_status st = ss_horizon_banded(job->run.ctx, &io, &job->opt, want);
-    free(hs->cast_scratch);
-    hs->cast_scratch = NULL;
-    return st;
+    ss_source src = job_source(job, bands);
+    return ss_horizon_rows(job->run.ctx, &src, &job->opt, want, store_rows, hw);
 }
 
 /* Opens one more horizon output (distance or casting height); its name
@@ -161,7 +110,8 @@ int cmd_horizon(int argc, char **argv)
                                           "different files");
     int want = (set.distance_path ? SS_HORIZON_DISTANCE : 0) |
                (set.cast_height_path ? SS_HORIZON_CAST_HEIGHT : 0);
-    band_cost cost = {ss_horizon_band_cell_bytes(want), ss_horizon_column_bytes(), 0};
+    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(want),
+                      .column_bytes = ss_horizon_column_bytes()};
     sweep_job job;
     if ((rc = job_open_banded(&job, "horizon", &set.common, pos, n_pos, cost)))
         return rc;
@@ -179,47 +129,42 @@ int cmd_horizon(int argc, char **argv)
             return bad;
         }
     }
-    horizon_sink_state hs = {NULL, NULL, NULL, SS_OK, &job, NULL};
+    horizon_writers hw = {{NULL, NULL, NULL}};
     ss_status st = ss_writer_open(job.run.ctx, job.output, &job.dem, job.opt.directions,
-                                  set.common.format, set.common.creation_options.items, &hs.angle);
+                                  set.common.format, set.common.creation_options.items,
+                                  &hw.out[SS_OUT_HORIZON_ANGLE]);
     if (st == SS_OK && set.distance_path)
-        st = open_extra(&job, &set, set.distance_path, &hs.dist);
+        st = open_extra(&job, &set, set.distance_path, &hw.out[SS_OUT_HORIZON_DISTANCE]);
     if (st == SS_OK && set.cast_height_path)
-        st = open_extra(&job, &set, set.cast_height_path, &hs.cast);
+        st = open_extra(&job, &set, set.cast_height_path, &hw.out[SS_OUT_HORIZON_CAST_HEIGHT]);
     ss_band_stats bands = {0};
     if (st == SS_OK)
-        st = sweep(&hs, want, &bands);
-    if (st == SS_OK) {
-        run_common_metadata(&job.run, hs.angle, &job.opt, &job.frame);
-        job_plan_metadata(&job, hs.angle);
-        ss_writer_metadata(hs.angle, "QUANTITY",
-                           "horizon elevation angle, degrees above the horizontal; -90 where "
-                           "no terrain lies ahead");
-        if (hs.dist) {
-            run_common_metadata(&job.run, hs.dist, &job.opt, &job.frame);
-            ss_writer_metadata(hs.dist, "QUANTITY",
-                               "distance along the azimuth to the horizon-casting point, "
-                               "metres; 0 where no terrain lies ahead");
+        st = sweep(&job, &hw, want, &bands);
+    static const char *const quantity[3] = {
+        "horizon elevation angle, degrees above the horizontal; -90 where no terrain lies "
+        "ahead",
+        "distance along the azimuth to the horizon-casting point, metres; 0 where no terrain "
+        "lies ahead",
+        "ground height of the horizon-casting point, metres in the DEM's vertical datum; "
+        "nodata where no terrain lies ahead"};
+    for (int k = 0; k < 3 && st == SS_OK; ++k)
+        if (hw.out[k]) {
+            run_common_metadata(&job.run, hw.out[k], &job.opt, &job.frame);
+            if (k == 0)
+                job_plan_metadata(&job, hw.out[k]);
+            ss_writer_metadata(hw.out[k], "QUANTITY", quantity[k]);
         }
-        if (hs.cast) {
-            run_common_metadata(&job.run, hs.cast, &job.opt, &job.frame);
-            ss_writer_metadata(hs.cast, "QUANTITY",
-                               "ground height of the horizon-casting point, metres in the "
-                               "DEM's vertical datum; nodata where no terrain lies ahead");
-        }
-    }
     /* Committed (closed, renamed into place) in turn; a file that fails
      * to commit, and those after it, are aborted: none is left half-written,
      * but files of an earlier run under the later names stay as they were
      * (the error names the file that failed). */
-    ss_raster_writer **writers[] = {&hs.angle, &hs.dist, &hs.cast};
     for (int w = 0; w < 3 && st == SS_OK; ++w)
-        if (*writers[w]) {
-            st = run_commit(&job.run, *writers[w]);
-            *writers[w] = NULL;
+        if (hw.out[w]) {
+            st = run_commit(&job.run, hw.out[w]);
+            hw.out[w] = NULL;
         }
     for (int w = 0; w < 3; ++w)
-        ss_writer_abort(*writers[w]);
+        ss_writer_abort(hw.out[w]);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);

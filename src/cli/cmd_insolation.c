@@ -1,11 +1,10 @@
 /* skysweep insolation: beam, diffuse, reflected and global irradiation and
  * hours of direct sun, each step's sun from SPA at the DEM (per cell where it
  * matters). Clear sky: steps over a time range, each evaluated at its
- * middle (Wh/m^2); on the whole grid, or band by band
- * (ss_insolation_banded) for a DEM whose sweep does not fit in --memory.
- * Real sky (--weather): one step per record of a weather file, the sun at
- * the instant the record stands for, sums in kWh/m^2 for the year (or the
- * period) and each month; on the whole grid. */
+ * middle (Wh/m^2). Real sky (--weather): one step per record of a weather
+ * file, the sun at the instant the record stands for, sums in kWh/m^2 for
+ * the year (or the period) and each month. The library computes them
+ * (ss_insolation_rows) on the DEM held whole or read band by band. */
 #include "config.h"
 
 #include <math.h>
@@ -149,8 +148,9 @@ static ss_status parse_linke(ss_ctx *ctx, const char *text, double linke[12])
     return SS_OK;
 }
 
-/* The sun of step k for rows [row0, row0 + n_rows) of the DEM (all of
- * them for a DEM in memory); n_rows 0: the centre's sun alone. */
+/* The sun of step k for rows [row0, row0 + n_rows) of the DEM; n_rows 0:
+ * the centre's sun alone, with the spread of the cells' suns over the
+ * whole DEM (from the lattice the cells' suns are interpolated from). */
 static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step,
                                   void *user)
 {
@@ -162,20 +162,16 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     double mid = ss->mid_s[k];
     ss_spa_params p;
     run_spa_params(&ss->set->common, &p);
-    /* The plan decided whether the sun is needed per cell. Without it, or
-     * when only the centre is asked for, the run still allows for the
-     * spread the planner bounded. */
-    int per_cell = job->plan.sun_per_cell && n_rows > 0;
-    ss_status st;
-    if (job->source)
-        st = ss_sun_field_lattice(ctx, &job->dem, &job->frame, mid, &p, per_cell, row0,
-                                  row0 + n_rows, job_rows_reader, job, &ss->field);
-    else
-        st = ss_sun_field_compute(ctx, &job->dem, &job->frame, mid, &p, per_cell, &ss->field);
+    /* The plan decided whether the sun is needed per cell. Without it the
+     * run still allows for the spread the planner bounded. */
+    int per_cell = job->plan.sun_per_cell;
+    int lo = n_rows > 0 ? row0 : 0, hi = n_rows > 0 ? row0 + n_rows : job->dem.grid.height;
+    ss_status st = ss_sun_field_lattice(ctx, &job->dem, &job->frame, mid, &p, per_cell, lo, hi,
+                                        job->source ? job_rows_reader : NULL, job, &ss->field);
     if (st != SS_OK)
         return st;
     ss->have_field = 1;
-    if (job->source && per_cell && (st = ss_sun_field_rows(ctx, &ss->field, row0, n_rows)))
+    if (per_cell && n_rows > 0 && (st = ss_sun_field_rows(ctx, &ss->field, row0, n_rows)))
         return st;
     if (!per_cell)
         ss->field.spread_deg = ss->sun_spread_deg;
@@ -272,129 +268,53 @@ static ss_status steps_from_weather(steps_state *ss, const ss_weather *w,
     return st;
 }
 
-static ss_status sun_of_step(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
-{
-    steps_state *ss = user;
-    return sun_of_step_rows(ctx, k, 0, ss->job->dem.grid.height, step, user);
-}
-
-typedef struct {
-    ss_raster_writer *w;
-    steps_state *steps;
-    ss_status status;
-} step_sink_state;
-
-static int store_step(int k, const float *global_wh_m2, void *user)
-{
-    step_sink_state *sk = user;
-    sk->status = ss_writer_band(sk->w, k + 1, global_wh_m2, sk->steps->labels[k], "Wh/m2");
-    return sk->status == SS_OK;
-}
-
 static const char *const band_names[5] = {"global", "beam", "diffuse", "reflected", "sun_hours"};
+/* Bands of a weather run: the five sums, the global of each month, then
+ * (--pv) the PV yield. */
+#define WEATHER_BANDS 17
+static const char *const month_names[12] = {"January", "February", "March",     "April",
+                                            "May",     "June",     "July",      "August",
+                                            "September", "October", "November", "December"};
 
-/* A banded run: its steps' suns, where its rows go, and the global's
- * statistics. */
+
+/* Where the rows of the run go: rank 0's outputs (a weather run's sums in
+ * kWh/m^2, the band numbers of write_weather_bands), each step's global,
+ * and the statistics of the summary. */
 typedef struct {
-    steps_state *steps;
-    ss_raster_writer *w, *steps_w; /* rank 0's */
-    float *shared;                 /* under mpirun: a band's five planes, added at rank 0 */
-    share_bands agreed;            /* before each band's planes are added */
-    run_tally global;              /* of the finished global rows */
-} band_sink;
+    ss_raster_writer *w, *steps_w; /* NULL on other ranks */
+    int width, weather;
+    run_tally global, pv, pv_ac;   /* Wh/m^2; kWh/kWp */
+    float *row;                    /* a band's rows in kWh/m^2 */
+} insolation_out;
 
-static ss_status band_read(void *user, int row0, int n_rows, float *z)
+static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
 {
-    band_sink *b = user;
-    return job_read_rows(b->steps->job, row0, n_rows, z);
-}
-
-static ss_status band_sun(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step, void *user)
-{
-    band_sink *b = user;
-    return sun_of_step_rows(ctx, k, row0, n_rows, step, b->steps);
-}
-
-static ss_status write_step_rows(void *user, int k, int row0, int n_rows, const float *global)
-{
-    band_sink *b = user;
-    if (row0 == 0)
-        ss_writer_describe(b->steps_w, k + 1, b->steps->labels[k], "Wh/m2");
-    return ss_writer_rows(b->steps_w, k + 1, row0, n_rows, global);
-}
-
-/* Under mpirun: every process's n_planes planes of n cells added into
- * rank 0's. Nodata (SS_NODATA, the same cells in every process) is kept out
- * of the sums and put back at rank 0. mask: n bytes of scratch. */
-static ss_status add_shared(run_state *run, float *const *planes, int n_planes, size_t n,
-                            unsigned char *mask)
-{
-    for (size_t c = 0; c < n; ++c)
-        mask[c] = planes[0][c] == SS_NODATA;
-    for (int k = 0; k < n_planes; ++k) {
+    insolation_out *o = user;
+    size_t n = (size_t)n_rows * (size_t)o->width;
+    if (output == SS_OUT_STEP)
+        return ss_writer_rows(o->steps_w, index + 1, row0, n_rows, values);
+    if (!o->w) /* another process's sums: rank 0 writes */
+        return SS_OK;
+    run_tally *tally = output == SS_OUT_GLOBAL ? &o->global
+                       : output == SS_OUT_PV   ? &o->pv
+                       : output == SS_OUT_PV_AC ? &o->pv_ac
+                                                : NULL;
+    if (tally)
+        run_tally_add(tally, values, n);
+    int band = output == SS_OUT_MONTHLY ? 6 + index
+               : output == SS_OUT_PV    ? WEATHER_BANDS + 1
+               : output == SS_OUT_PV_AC ? WEATHER_BANDS + 2
+                                        : output + 1;
+    /* A weather run's irradiation in kWh/m^2 (hours stay hours, the PV
+     * yields are kWh/kWp already). */
+    if (o->weather && output != SS_OUT_SUN_HOURS && output != SS_OUT_PV &&
+        output != SS_OUT_PV_AC) {
         for (size_t c = 0; c < n; ++c)
-            planes[k][c] = mask[c] ? 0.0f : planes[k][c];
-        if (!share_sum_at_root(planes[k], n))
-            return ss_ctx_error(run->ctx, SS_ERR_INTERNAL,
-                                "MPI could not add the processes' sums");
+            o->row[c] = values[c] == SS_NODATA ? SS_NODATA : values[c] / 1000.0f;
+        values = o->row;
     }
-    for (int k = 0; k < n_planes && share_rank() == 0; ++k)
-        for (size_t c = 0; c < n; ++c)
-            planes[k][c] = mask[c] ? SS_NODATA : planes[k][c];
-    return SS_OK;
-}
-
-static ss_status write_band_rows(void *user, int row0, int n_rows, const ss_insolation_out *rows)
-{
-    band_sink *b = user;
-    const float *planes[5] = {rows->global, rows->beam, rows->diffuse, rows->reflected,
-                              rows->sun_hours};
-    size_t n = (size_t)n_rows * (size_t)b->steps->job->dem.grid.width;
-    if (b->shared) {
-        ss_status agreed = share_band_agree(&b->steps->job->run, &b->agreed);
-        if (agreed != SS_OK)
-            return agreed;
-        float *own[5];
-        for (int k = 0; k < 5; ++k) {
-            own[k] = b->shared + (size_t)k * n;
-            memcpy(own[k], planes[k], n * sizeof(float));
-        }
-        ss_status st = add_shared(&b->steps->job->run, own, 5, n,
-                                  (unsigned char *)(b->shared + 5 * n));
-        if (st != SS_OK || share_rank() > 0)
-            return st;
-        for (int k = 0; k < 5; ++k)
-            planes[k] = own[k];
-    }
-    run_tally_add(&b->global, planes[0], n);
-    ss_status st = SS_OK;
-    for (int k = 0; k < 5 && st == SS_OK; ++k)
-        st = ss_writer_rows(b->w, k + 1, row0, n_rows, planes[k]);
-    return st;
-}
-
-/* A DEM left in its files: band by band, exact shadows. */
-static ss_status insolate_banded(steps_state *steps, int n_steps, const ss_insolation_options *io,
-                                 ss_raster_writer *w, ss_raster_writer *steps_w,
-                                 ss_band_stats *bands, double *lo, double *mean, double *hi)
-{
-    sweep_job *job = steps->job;
-    const ss_grid *g = &job->dem.grid;
-    int n_bands = (g->height + job->band_rows - 1) / job->band_rows;
-    band_sink b = {steps, w, steps_w, NULL, {n_bands, 0}, {0, 0, 0, 0}};
-    /* Five planes and a nodata mask of a band, for adding across processes. */
-    size_t cells = (size_t)job->band_rows * (size_t)g->width;
-    if (share_size() > 1 && !(b.shared = malloc(cells * (5 * sizeof(float) + 1))))
-        return share_bands_finish(&job->run, &b.agreed, command_out_of_memory(&job->run));
-    ss_insolation_band_io bio = {g->width,        g->height,       g->cell_x_m,
-                                 g->cell_y_m,     job->band_rows,  &g->z_origin_m,
-                                 band_read,       band_sun,        write_band_rows,
-                                 steps_w ? write_step_rows : NULL, &b, bands};
-    ss_status st = ss_insolation_banded(job->run.ctx, &bio, &job->opt, io, n_steps);
-    st = share_bands_finish(&job->run, &b.agreed, st);
-    free(b.shared);
-    run_tally_result(&b.global, NAN, lo, mean, hi);
-    return st;
+    return ss_writer_rows(o->w, band, row0, n_rows, values);
 }
 
 /* --surface: cell, horizontal, or TILT,AZIMUTH in degrees. */
@@ -496,40 +416,24 @@ static void describe_weather(const ss_weather *w, const char *path, const ss_dem
         snprintf(buf + n, size - (size_t)n, "; %s", w->stamps);
 }
 
-/* Bands of a weather run: the five sums, the global of each month, then
- * (--pv) the PV yield. */
-#define WEATHER_BANDS 17
-static const char *const month_names[12] = {"January", "February", "March",     "April",
-                                            "May",     "June",     "July",      "August",
-                                            "September", "October", "November", "December"};
-
-/* Writes a weather run's bands in kWh/m^2 (hours stay hours, the PV yields,
- * DC then AC, are kWh/kWp already), named for the year where the steps
- * cover one (8700 to 8800 hours), else "period". */
-static ss_status write_weather_bands(ss_raster_writer *w, float *const bands[5], float *monthly,
-                                     float *pv_yield, float *pv_ac_yield, size_t n, double hours)
+/* Names a run's bands: a weather run's in kWh/m^2 (hours stay hours, the PV
+ * yields, DC then AC, are kWh/kWp) for the year where the steps cover one
+ * (8700 to 8800 hours), else "period"; a clear-sky run's in Wh/m^2. */
+static void describe_bands(ss_raster_writer *w, int weather, int pv, double hours)
 {
     const char *span = hours >= 8700 && hours <= 8800 ? "year" : "period";
-    ss_status st = SS_OK;
-    if (pv_yield) {
-        char name[64];
-        snprintf(name, sizeof name, "pv_yield, %s", span);
-        st = ss_writer_band(w, WEATHER_BANDS + 1, pv_yield, name, "kWh/kWp");
-        snprintf(name, sizeof name, "pv_ac_yield, %s", span);
-        if (st == SS_OK)
-            st = ss_writer_band(w, WEATHER_BANDS + 2, pv_ac_yield, name, "kWh/kWp");
+    char name[64];
+    for (int b = 0; b < (weather ? WEATHER_BANDS : 5); ++b) {
+        if (weather)
+            snprintf(name, sizeof name, "%s, %s", b < 5 ? band_names[b] : "global",
+                     b < 5 ? span : month_names[b - 5]);
+        ss_writer_describe(w, b + 1, weather ? name : band_names[b],
+                           b == 4 ? "h" : weather ? "kWh/m2" : "Wh/m2");
     }
-    for (int b = 0; b < WEATHER_BANDS && st == SS_OK; ++b) {
-        float *v = b < 5 ? bands[b] : monthly + (size_t)(b - 5) * n;
-        if (b != 4)
-            for (size_t c = 0; c < n; ++c)
-                v[c] = v[c] == SS_NODATA ? SS_NODATA : v[c] / 1000.0f;
-        char name[64];
-        snprintf(name, sizeof name, "%s, %s", b < 5 ? band_names[b] : "global",
-                 b < 5 ? span : month_names[b - 5]);
-        st = ss_writer_band(w, b + 1, v, name, b == 4 ? "h" : "kWh/m2");
+    for (int b = 0; b < 2 && pv; ++b) {
+        snprintf(name, sizeof name, "%s, %s", b ? "pv_ac_yield" : "pv_yield", span);
+        ss_writer_describe(w, WEATHER_BANDS + 1 + b, name, "kWh/kWp");
     }
-    return st;
 }
 
 int cmd_insolation(int argc, char **argv)
@@ -561,8 +465,9 @@ int cmd_insolation(int argc, char **argv)
     int directions = set.common.directions > SS_INSOLATION_STEPS_PER_RUN
                          ? set.common.directions
                          : SS_INSOLATION_STEPS_PER_RUN;
-    band_cost cost = {ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
-                      ss_horizon_column_bytes(), directions};
+    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
+                      .column_bytes = ss_horizon_column_bytes(),
+                      .directions = directions};
     sweep_job job;
     if ((rc = job_open_banded(&job, "insolation", &set.common, pos, n_pos, cost)))
         return rc;
@@ -582,12 +487,6 @@ int cmd_insolation(int argc, char **argv)
         shadow_mode_of_choice[set.shadow_mode] == SS_SHADOW_CUMULATIVE)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--shadow cumulative needs --weather: it bins weather records' suns");
-    if (st == SS_OK && set.weather && job.source)
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                          "--weather evaluates the DEM held whole, and its %d x %d cells do not "
-                          "fit in --memory: give it more, or cut the DEM (gdal_translate "
-                          "-srcwin)",
-                          job.dem.grid.width, job.dem.grid.height);
     if (st == SS_OK && set.weather) {
         st = ss_weather_read(ctx, set.weather, &weather);
         have_weather = st == SS_OK;
@@ -609,11 +508,6 @@ int cmd_insolation(int argc, char **argv)
     ss_surface surface = {SS_SURFACE_CELL, 0, 0};
     if (st == SS_OK)
         st = parse_surface(ctx, set.surface, &surface);
-    if (st == SS_OK && job.source && surface.kind != SS_SURFACE_CELL)
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                          "--surface %s needs the DEM held whole; in bands each cell's own "
-                          "surface is the one irradiated",
-                          set.surface);
     int n_steps = st == SS_OK ? steps.n : 0;
     if (st == SS_OK) {
         rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, steps.mid_s,
@@ -628,47 +522,34 @@ int cmd_insolation(int argc, char **argv)
         steps.sun_spread_deg =
             job.frame.diagonal_m / (2.0 * run_earth_radius(&set.common, &job.frame)) * 180 / M_PI;
     }
-    const ss_grid *g = &job.dem.grid;
-    size_t n = (size_t)g->width * (size_t)g->height;
-    ss_insolation_out out = {0};
-    float *bands[5] = {NULL};
-    for (int b = 0; b < 5 && st == SS_OK && !job.source; ++b)
-        if (!(bands[b] = malloc(n * sizeof(float))))
-            st = command_out_of_memory(&job.run);
-    out.global = bands[0];
-    out.beam = bands[1];
-    out.diffuse = bands[2];
-    out.reflected = bands[3];
-    out.sun_hours = bands[4];
-    if (st == SS_OK && have_weather && !(out.monthly_global = malloc(12 * n * sizeof(float))))
-        st = command_out_of_memory(&job.run);
     if (st == SS_OK && set.pv && !have_weather)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--pv needs --weather (air temperature and "
                                                 "real-sky irradiance)");
-    if (st == SS_OK && set.pv && (!(out.pv_yield = malloc(n * sizeof(float))) ||
-                                  !(out.pv_ac_yield = malloc(n * sizeof(float)))))
+    insolation_out out = {.width = job.dem.grid.width, .weather = have_weather};
+    if (st == SS_OK && !(out.row = malloc(sizeof(float) * (size_t)job.dem.grid.width *
+                                          (size_t)(job.source ? job.band_rows
+                                                              : job.dem.grid.height))))
         st = command_out_of_memory(&job.run);
-    ss_raster_writer *w = NULL;
-    step_sink_state sink = {NULL, &steps, SS_OK};
     /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
     if (st == SS_OK && share_rank() == 0)
         st = ss_writer_open(ctx, job.output, &job.dem,
                             have_weather ? WEATHER_BANDS + 2 * (set.pv != 0) : 5,
-                            set.common.format, set.common.creation_options.items, &w);
+                            set.common.format, set.common.creation_options.items, &out.w);
+    ss_raster_writer *w = out.w;
     if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
     if (st == SS_OK && set.steps_path) {
         st = run_check_output(&job.run, set.steps_path, job.inputs, job.n_inputs);
         if (st == SS_OK)
             st = ss_writer_open(ctx, set.steps_path, &job.dem, n_steps, set.common.format,
-                                set.common.creation_options.items, &sink.w);
+                                set.common.creation_options.items, &out.steps_w);
+        for (int k = 0; st == SS_OK && k < n_steps; ++k)
+            ss_writer_describe(out.steps_w, k + 1, steps.labels[k], "Wh/m2");
     }
     ss_insolation_options io = {.albedo = set.albedo,
                                 .shadow_mode = job.plan.shadow_mode,
                                 .elevation_step_deg = set.elevation_step_deg,
                                 .surface = surface,
-                                .first = share_rank(),
-                                .stride = share_size(),
                                 .sky_model = sky_model_of_choice[set.sky_model],
                                 .pv = {.on = set.pv,
                                        .gamma_pdc = set.gamma_pdc,
@@ -682,40 +563,19 @@ int cmd_insolation(int argc, char **argv)
                                        .dc_ac_ratio = set.dc_ac_ratio}};
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats band_stats = {0};
-    if (st == SS_OK && job.source)
-        st = insolate_banded(&steps, n_steps, &io, w, sink.w, &band_stats, &lo, &mean, &hi);
-    else if (st == SS_OK)
-        st = ss_insolation(ctx, g, &job.opt, &io, n_steps, sun_of_step, &steps,
-                           sink.w ? store_step : NULL, &sink, &out);
-    if (!job.source && share_size() > 1) {
-        /* Every process's sums meet at rank 0. */
-        int failed = share_first_failure(st != SS_OK);
-        if (failed >= 0 && st == SS_OK)
-            st = ss_ctx_error(ctx, SS_ERR_INTERNAL, "process %d of %d failed", failed,
-                              share_size());
-        unsigned char *mask = st == SS_OK ? malloc(n) : NULL;
-        if (st == SS_OK && !mask)
-            st = command_out_of_memory(&job.run);
-        if (st == SS_OK)
-            st = add_shared(&job.run, bands, 5, n, mask);
-        float *months[12];
-        for (int m = 0; m < 12 && out.monthly_global; ++m)
-            months[m] = out.monthly_global + (size_t)m * n;
-        if (st == SS_OK && out.monthly_global)
-            st = add_shared(&job.run, months, 12, n, mask);
-        if (st == SS_OK && out.pv_yield)
-            st = add_shared(&job.run, &out.pv_yield, 1, n, mask);
-        if (st == SS_OK && out.pv_ac_yield)
-            st = add_shared(&job.run, &out.pv_ac_yield, 1, n, mask);
-        free(mask);
-    }
+    int want = (have_weather ? SS_INSOLATION_MONTHLY : 0) | (set.pv ? SS_INSOLATION_PV : 0) |
+               (set.steps_path ? SS_INSOLATION_STEPS : 0);
+    ss_source src = job_source(&job, &band_stats);
+    share_reducer reducer;
+    ss_share share = share_of(&reducer, &job.run, job_bands(&job));
+    if (st == SS_OK)
+        st = share_end(&reducer, ss_insolation_rows(ctx, &src, &job.opt, &io, n_steps,
+                                                    sun_of_step_rows, &steps, want, &share,
+                                                    write_rows, &out));
+    run_tally_result(&out.global, NAN, &lo, &mean, &hi);
     double hours = 0;
     for (int k = 0; k < n_steps; ++k)
         hours += steps.hours[k];
-    if (st == SS_OK && !job.source)
-        run_stats(out.global, n, &lo, &mean, &hi);
-    if (st == SS_OK && sink.status != SS_OK)
-        st = sink.status;
     char meta[1400];
     if (st == SS_OK && w) {
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
@@ -759,27 +619,20 @@ int cmd_insolation(int argc, char **argv)
                      set.inverter_efficiency_percent / 100.0, set.dc_ac_ratio);
             ss_writer_metadata(w, "PV", pv);
         }
-        if (have_weather)
-            st = write_weather_bands(w, bands, out.monthly_global, out.pv_yield,
-                                     out.pv_ac_yield, n, hours);
-        for (int b = 0; b < 5 && st == SS_OK && !have_weather; ++b)
-            if (job.source)
-                ss_writer_describe(w, b + 1, band_names[b], b == 4 ? "h" : "Wh/m2");
-            else
-                st = ss_writer_band(w, b + 1, bands[b], band_names[b], b == 4 ? "h" : "Wh/m2");
+        describe_bands(w, have_weather, set.pv, hours);
     }
     if (st == SS_OK && w) {
         st = run_commit(&job.run, w);
         w = NULL;
     }
-    if (st == SS_OK && sink.w) {
-        run_common_metadata(&job.run, sink.w, &job.opt, &job.frame);
-        ss_writer_metadata(sink.w, "INSOLATION", meta);
-        st = run_commit(&job.run, sink.w);
-        sink.w = NULL;
+    if (st == SS_OK && out.steps_w) {
+        run_common_metadata(&job.run, out.steps_w, &job.opt, &job.frame);
+        ss_writer_metadata(out.steps_w, "INSOLATION", meta);
+        st = run_commit(&job.run, out.steps_w);
+        out.steps_w = NULL;
     }
     ss_writer_abort(w);
-    ss_writer_abort(sink.w);
+    ss_writer_abort(out.steps_w);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         ss_counters c = ss_ctx_counters(ctx);
@@ -812,15 +665,15 @@ int cmd_insolation(int argc, char **argv)
         else
             printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi,
                    job.output);
-        if (out.pv_yield) {
+        if (set.pv) {
             double pv_lo, pv_mean, pv_hi;
-            run_stats(out.pv_yield, n, &pv_lo, &pv_mean, &pv_hi);
+            run_tally_result(&out.pv, NAN, &pv_lo, &pv_mean, &pv_hi);
             printf("pv      min %.1f mean %.1f max %.1f kWh/kWp (band %d); %llu records without "
                    "air temperature or wind took %g C, %g m/s\n",
                    pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 1,
                    (unsigned long long)c.records_without_temperature, set.temp_air_c,
                    set.wind_speed_m_s);
-            run_stats(out.pv_ac_yield, n, &pv_lo, &pv_mean, &pv_hi);
+            run_tally_result(&out.pv_ac, NAN, &pv_lo, &pv_mean, &pv_hi);
             printf("pv ac   min %.1f mean %.1f max %.1f kWh/kWp (band %d) after an inverter of "
                    "%g %% at a DC/AC ratio of %g\n",
                    pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 2, set.inverter_efficiency_percent,
@@ -831,11 +684,7 @@ int cmd_insolation(int argc, char **argv)
         ss_sun_field_free(&steps.field);
     steps_free(&steps);
     ss_weather_free(&weather);
-    for (int b = 0; b < 5; ++b)
-        free(bands[b]);
-    free(out.monthly_global);
-    free(out.pv_yield);
-    free(out.pv_ac_yield);
+    free(out.row);
     free(text);
     job_close(&job);
     return rc;

@@ -43,7 +43,9 @@ int cmd_openness(int argc, char **argv)
     if (rc >= 0)
         return rc;
     sweep_job job;
-    if ((rc = job_open_bands(&job, "openness", &set.common, pos, n_pos)))
+    band_cost cost = {.cell_bytes = ss_sky_band_cell_bytes(SS_SKY_OPENNESS_POSITIVE),
+                      .halo_m = set.radius_m};
+    if ((rc = job_open_banded(&job, "openness", &set.common, pos, n_pos, cost)))
         return rc;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);

@@ -1,13 +1,14 @@
 /* skysweep shadow: where the terrain casts shadows for one sun (an exact
  * sweep along the sun's azimuth), where cells face away from it, and the
- * shaded relief that combines both; on the whole grid, or band by band for
- * a DEM whose sweep does not fit in --memory. */
+ * shaded relief that combines both (ss_shadow_rows), on the DEM held whole
+ * or read band by band. */
 #include "config.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "commands.h"
 #include "iso_time.h"
@@ -18,154 +19,60 @@ typedef struct {
     common_settings common;
 } shadow_settings;
 
-/* The three bands of the output for some rows. */
-typedef struct {
-    float *sunlit, *facing, *light;
-    size_t lit, valid;
-} shadow_rows;
-
-/* From sunlit (SS_NODATA at nodata) and light holding cos(incidence):
- * facing, and light zeroed in shadows and on cells facing away. */
-static void finish_rows(shadow_rows *out, size_t n)
-{
-    for (size_t c = 0; c < n; ++c) {
-        if (out->sunlit[c] == SS_NODATA) {
-            out->facing[c] = SS_NODATA;
-            out->light[c] = SS_NODATA;
-            continue;
-        }
-        out->facing[c] = out->light[c] > 0.0f ? 1.0f : 0.0f;
-        out->light[c] = out->light[c] > 0.0f ? out->light[c] * out->sunlit[c] : 0.0f;
-        out->lit += out->sunlit[c] > 0.0f;
-        out->valid++;
-    }
-}
-
-static ss_status write_rows(ss_raster_writer *w, int row0, int n_rows, const shadow_rows *out)
-{
-    ss_status st = ss_writer_rows(w, 1, row0, n_rows, out->sunlit);
-    if (st == SS_OK)
-        st = ss_writer_rows(w, 2, row0, n_rows, out->facing);
-    if (st == SS_OK)
-        st = ss_writer_rows(w, 3, row0, n_rows, out->light);
-    return st;
-}
-
-static int alloc_rows(shadow_rows *out, size_t n)
-{
-    out->sunlit = malloc(n * sizeof(float));
-    out->facing = malloc(n * sizeof(float));
-    out->light = malloc(n * sizeof(float));
-    return out->sunlit && out->facing && out->light;
-}
-
-static void free_rows(shadow_rows *out)
-{
-    free(out->sunlit);
-    free(out->facing);
-    free(out->light);
-}
-
-/* The whole grid in memory: one exact sweep along the sun's azimuth. */
-static ss_status shade_whole(sweep_job *job, ss_sun_field *sun, double sun_az_true,
-                             ss_raster_writer *w, shadow_rows *out)
-{
-    const ss_grid *g = &job->dem.grid;
-    size_t n = (size_t)g->width * (size_t)g->height;
-    if (!alloc_rows(out, n))
-        return command_out_of_memory(&job->run);
-    ss_status st = ss_cast_shadow(job->run.ctx, g, &job->opt, sun_az_true,
-                                  sun->centre.apparent_elevation_deg,
-                                  sun->apparent_elevation_deg, out->sunlit, NULL);
-    if (st == SS_OK)
-        st = ss_sun_incidence(job->run.ctx, g, sun->centre_grid_azimuth_deg,
-                              sun->centre.apparent_elevation_deg, sun->grid_azimuth_deg,
-                              sun->apparent_elevation_deg, out->light);
-    if (st == SS_OK) {
-        finish_rows(out, n);
-        st = write_rows(w, 0, g->height, out);
-    }
-    return st;
-}
-
-/* A DEM swept in bands: the horizon along the sun's azimuth arrives band by
- * band (ss_horizon_banded, the horizontal where nothing lies ahead, as
- * ss_cast_shadow takes it); each band's rows are read again with one row
- * either side for the slopes, given their suns, and written. */
+/* The sun of the run for the library: the centre's, and each cell's for
+ * the rows asked for where the plan put a sun in every cell. */
 typedef struct {
     sweep_job *job;
-    ss_sun_field *sun;
-    ss_raster_writer *w;
-    float *z;        /* the band's rows and one row either side */
-    shadow_rows out; /* the band's rows */
-} band_shade;
+    ss_sun_field *field;
+} shadow_sun;
 
-static ss_status read_band_rows(void *user, int row0, int n_rows, float *z)
+static ss_status sun_rows(ss_ctx *ctx, int index, int row0, int n_rows, ss_sun_step *step,
+                          void *user)
 {
-    band_shade *b = user;
-    return job_read_rows(b->job, row0, n_rows, z);
-}
-
-static ss_status shade_band(void *user, int direction, int row0, int n_rows,
-                            const float *horizon_deg, const float *dist_m,
-                            const float *cast_height_m)
-{
-    (void)direction, (void)dist_m, (void)cast_height_m;
-    band_shade *b = user;
-    ss_ctx *ctx = b->job->run.ctx;
-    const ss_grid *g = &b->job->dem.grid;
-    int lo = row0 > 0 ? row0 - 1 : 0;
-    int hi = row0 + n_rows < g->height ? row0 + n_rows + 1 : g->height;
-    ss_status st = job_read_rows(b->job, lo, hi - lo, b->z);
-    if (st == SS_OK)
-        st = ss_sun_field_rows(ctx, b->sun, lo, hi - lo);
-    /* The rows read as a grid of their own: inside it Horn's slopes are
-     * the whole grid's, and its first and last rows are either the grid's
-     * or only there for the slopes. */
-    ss_grid rows = {g->width, hi - lo, g->cell_x_m, g->cell_y_m, g->z_origin_m, b->z};
-    float *cos_i = b->out.light;
-    size_t read = (size_t)(hi - lo) * g->width;
-    if (st == SS_OK && !run_any_height(b->z, read))
-        for (size_t c = 0; c < read; ++c) /* all nodata: no slopes */
-            cos_i[c] = SS_NODATA;
-    else if (st == SS_OK)
-        st = ss_sun_incidence(ctx, &rows, b->sun->centre_grid_azimuth_deg,
-                              b->sun->centre.apparent_elevation_deg, b->sun->grid_azimuth_deg,
-                              b->sun->apparent_elevation_deg, cos_i);
-    if (st != SS_OK)
-        return st;
-    size_t skip = (size_t)(row0 - lo) * (size_t)g->width, n = (size_t)n_rows * g->width;
-    const float *cell_sun = b->sun->apparent_elevation_deg;
-    for (size_t c = 0; c < n; ++c) {
-        double sun = cell_sun ? cell_sun[skip + c] : b->sun->centre.apparent_elevation_deg;
-        b->out.sunlit[c] = horizon_deg[c] == SS_NODATA ? SS_NODATA
-                           : sun > horizon_deg[c]      ? 1.0f
-                                                       : 0.0f;
-        cos_i[c] = cos_i[skip + c];
+    (void)index;
+    shadow_sun *s = user;
+    ss_sun_field *f = s->field;
+    memset(step, 0, sizeof *step);
+    /* The sweep runs along the sun's azimuth at the DEM's centre. */
+    step->azimuth_deg = f->centre_grid_azimuth_deg + s->job->opt.grid_north_deg;
+    step->grid_azimuth_deg = f->centre_grid_azimuth_deg;
+    step->elevation_deg = f->centre.elevation_deg;
+    step->apparent_elevation_deg = f->centre.apparent_elevation_deg;
+    step->spread_deg = f->spread_deg;
+    if (n_rows == 0 || !ss_sun_field_per_cell(f))
+        return SS_OK;
+    size_t at = 0;
+    if (s->job->source) {
+        ss_status st = ss_sun_field_rows(ctx, f, row0, n_rows);
+        if (st != SS_OK)
+            return st;
+    } else {
+        at = (size_t)row0 * (size_t)s->job->dem.grid.width;
     }
-    finish_rows(&b->out, n);
-    return write_rows(b->w, row0, n_rows, &b->out);
+    step->grid_azimuth_per_cell = f->grid_azimuth_deg + at;
+    step->elevation_per_cell = f->elevation_deg + at;
+    step->apparent_per_cell = f->apparent_elevation_deg + at;
+    return SS_OK;
 }
 
-static ss_status shade_banded(sweep_job *job, ss_sun_field *sun, double sun_az_true,
-                              ss_raster_writer *w, shadow_rows *out, ss_band_stats *bands)
+/* The output's three bands, and how many cells are sunlit. */
+typedef struct {
+    ss_raster_writer *w;
+    int width;
+    size_t lit, valid;
+} shadow_out;
+
+static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
 {
-    const ss_grid *g = &job->dem.grid;
-    band_shade b = {job, sun, w, NULL, {NULL, NULL, NULL, 0, 0}};
-    /* The light band holds cos(i) of the rows read, two more than the band. */
-    size_t n = (size_t)(job->band_rows + 2) * (size_t)g->width;
-    ss_status st = SS_OK;
-    if (!(b.z = malloc(n * sizeof(float))) || !alloc_rows(&b.out, n))
-        st = command_out_of_memory(&job->run);
-    ss_horizon_band_io io = {g->width, g->height, g->cell_x_m, g->cell_y_m, job->band_rows,
-                             read_band_rows, shade_band, &b, 1, &sun_az_true, 0.0f, bands, NULL};
-    if (st == SS_OK)
-        st = ss_horizon_banded(job->run.ctx, &io, &job->opt, 0);
-    out->lit = b.out.lit;
-    out->valid = b.out.valid;
-    free(b.z);
-    free_rows(&b.out);
-    return st;
+    (void)index;
+    shadow_out *o = user;
+    size_t n = (size_t)n_rows * (size_t)o->width;
+    for (size_t c = 0; output == SS_OUT_SUNLIT && c < n; ++c) {
+        o->lit += values[c] == 1.0f;
+        o->valid += values[c] != SS_NODATA;
+    }
+    return ss_writer_rows(o->w, output + 1, row0, n_rows, values);
 }
 
 int cmd_shadow(int argc, char **argv)
@@ -186,7 +93,9 @@ int cmd_shadow(int argc, char **argv)
     if (rc >= 0)
         return rc;
     /* One horizon, along the sun's azimuth. */
-    band_cost cost = {ss_horizon_band_cell_bytes(0), ss_horizon_column_bytes(), 1};
+    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0),
+                      .column_bytes = ss_horizon_column_bytes(),
+                      .directions = 1};
     sweep_job job;
     if ((rc = job_open_banded(&job, "shadow", &set.common, pos, n_pos, cost)))
         return rc;
@@ -198,19 +107,19 @@ int cmd_shadow(int argc, char **argv)
         return rc;
     }
     ss_sun_field sun = {0};
-    shadow_rows out = {NULL, NULL, NULL, 0, 0};
     ss_band_stats bands = {0};
-    ss_raster_writer *w = NULL;
     ss_status st = job_sun(&job, &set.common, &sun);
     int have_sun = st == SS_OK;
+    shadow_out out = {NULL, job.dem.grid.width, 0, 0};
     if (st == SS_OK)
         st = ss_writer_open(job.run.ctx, job.output, &job.dem, 3, set.common.format,
-                            set.common.creation_options.items, &w);
-    /* The sweep runs along the sun's azimuth at the DEM's centre. */
+                            set.common.creation_options.items, &out.w);
+    ss_raster_writer *w = out.w;
     double sun_az_true = sun.centre_grid_azimuth_deg + job.opt.grid_north_deg;
+    shadow_sun ss = {&job, &sun};
+    ss_source src = job_source(&job, &bands);
     if (st == SS_OK)
-        st = job.source ? shade_banded(&job, &sun, sun_az_true, w, &out, &bands)
-                        : shade_whole(&job, &sun, sun_az_true, w, &out);
+        st = ss_shadow_rows(job.run.ctx, &src, &job.opt, sun_rows, &ss, write_rows, &out);
     size_t lit = out.lit, valid = out.valid;
     if (st == SS_OK) {
         char buf[200];
@@ -242,7 +151,6 @@ int cmd_shadow(int argc, char **argv)
     }
     if (have_sun)
         ss_sun_field_free(&sun);
-    free_rows(&out);
     job_close(&job);
     return rc;
 }

@@ -47,7 +47,7 @@ int cmd_svf(int argc, char **argv)
         return rc;
     sweep_job job;
     ss_sky_term term = (ss_sky_term)definition_of_choice[set.definition];
-    band_cost cost = {ss_sky_band_cell_bytes(term), 0.0, 0};
+    band_cost cost = {.cell_bytes = ss_sky_band_cell_bytes(term), .halo_m = set.radius_m};
     if ((rc = job_open_banded(&job, "svf", &set.common, pos, n_pos, cost)))
         return rc;
     job.svf_definition = definition_of_choice[set.definition];

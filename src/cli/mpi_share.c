@@ -131,24 +131,26 @@ int share_sum_at_root(float *values, size_t n)
     return 1;
 }
 
-ss_status share_sky_product(run_state *run, const ss_grid *grid, const ss_sweep_options *opt,
-                            ss_sky_term term, double radius_m, float *out)
+static ss_status reduce_band(void *user, float *sums, size_t n)
 {
-    size_t n = (size_t)grid->width * (size_t)grid->height;
-    /* A rank beyond the directions has nothing to sweep: its sums are 0. */
-    ss_status st = ss_sky_sums(run->ctx, grid, opt, term, radius_m, rank_now, size_now, out);
-    int failed = share_first_failure(st != SS_OK);
-    if (failed >= 0) {
-        if (st == SS_OK)
-            st = ss_ctx_error(run->ctx, SS_ERR_INTERNAL, "process %d of %d failed", failed,
-                              size_now);
-        return st;
-    }
-    if (!share_sum_at_root(out, n))
-        return ss_ctx_error(run->ctx, SS_ERR_INTERNAL, "MPI could not add the processes' sums");
-    if (rank_now == 0)
-        for (size_t c = 0; c < n; ++c)
-            out[c] = isfinite(grid->z[c]) ? ss_sky_value(term, out[c], opt->directions)
-                                          : SS_NODATA;
-    return SS_OK;
+    share_reducer *r = user;
+    ss_status agreed = share_band_agree(r->run, &r->agreed);
+    if (agreed != SS_OK)
+        return agreed;
+    return share_sum_at_root(sums, n) ? SS_OK
+                                      : ss_ctx_error(r->run->ctx, SS_ERR_INTERNAL,
+                                                     "MPI could not add the processes' sums");
+}
+
+ss_share share_of(share_reducer *r, run_state *run, int bands)
+{
+    r->run = run;
+    r->agreed = (share_bands){bands, 0};
+    ss_share share = {rank_now, size_now, size_now > 1 ? reduce_band : NULL, r};
+    return share;
+}
+
+ss_status share_end(share_reducer *r, ss_status st)
+{
+    return share_bands_finish(r->run, &r->agreed, st);
 }

@@ -46,11 +46,17 @@ ss_status share_bands_finish(run_state *run, share_bands *b, ss_status st);
  * are left as they were). Returns 0 if MPI failed. */
 int share_sum_at_root(float *values, size_t n);
 
-/* The sky product (SVF definitions, openness) of every cell into out on
- * rank 0 (other ranks' out is scratch), directions shared between the
- * processes. Collective; on failure every rank returns an error and rank
- * 0's context says which process failed. */
-ss_status share_sky_product(run_state *run, const ss_grid *grid, const ss_sweep_options *opt,
-                            ss_sky_term term, double radius_m, float *out);
+/* A run shared between the processes through the library's hook
+ * (ss_share): before each band's sums are added at rank 0, the processes
+ * agree that none has failed. */
+typedef struct {
+    run_state *run;
+    share_bands agreed;
+} share_reducer;
+/* This process's share of a run of `bands` bands (1: the whole grid):
+ * every N-th direction or time step, sums added at rank 0. */
+ss_share share_of(share_reducer *r, run_state *run, int bands);
+/* Ends a shared run, whatever st is (share_bands_finish). */
+ss_status share_end(share_reducer *r, ss_status st);
 
 #endif

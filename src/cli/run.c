@@ -267,6 +267,15 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                                                  budget, cost->cell_bytes, cost->column_bytes)
                            : ss_band_rows_for(dem->grid.width, dem->grid.height,
                                               common->directions, budget);
+    /* A radius walk holds the rows within its radius beside each band (a
+     * geographic grid's rows, whose sizes come with its frame, counted at
+     * their smallest: a degree of latitude is 110.574 km or more). */
+    if (may_band && rows > 0 && (cost->halo_m > 0 || cost->halo_cells > 0)) {
+        double cell_y = isfinite(dem->grid.cell_y_m) ? dem->grid.cell_y_m
+                                                     : fabs(dem->geotransform[5]) * 110574.0;
+        int halo = (int)ceil(cost->halo_m / cell_y + cost->halo_cells);
+        rows = rows - 2 * halo >= 1 ? rows - 2 * halo : -1;
+    }
     /* Processes sharing a run sweep the same bands (their machines' memory
      * may differ); a process that could not open the DEM stops them all. */
     if (may_band)
@@ -571,10 +580,6 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
         fprintf(stderr,
                 "skysweep %s: warning: %zu heights beyond +-1e7 m were taken as nodata\n",
                 command, job->dem.rejected_cells);
-    /* Banded sweeps run on the host's C twin (ss_sky_banded): no device
-     * is opened, and the outputs say so. */
-    if (st == SS_OK && job->source)
-        ss_ctx_use_device(job->run.ctx, "reference");
     if (st == SS_OK) {
         run_sweep_options(common, &job->frame, &job->opt);
         st = ss_sweep_options_check(job->run.ctx, &job->opt);
@@ -593,13 +598,6 @@ int job_open(sweep_job *job, const char *command, const common_settings *common,
     return open_job(job, command, common, pos, n_pos, NULL);
 }
 
-int job_open_bands(sweep_job *job, const char *command, const common_settings *common,
-                   const char **pos, int n_pos)
-{
-    band_cost sky = {ss_sky_band_cell_bytes(SS_SKY_SVF_GEOMETRIC), 0.0, 0};
-    return open_job(job, command, common, pos, n_pos, &sky);
-}
-
 int job_open_banded(sweep_job *job, const char *command, const common_settings *common,
                     const char **pos, int n_pos, band_cost cost)
 {
@@ -611,12 +609,26 @@ ss_status job_rows_reader(void *job, int row0, int n_rows, float *z)
     return job_read_rows(job, row0, n_rows, z);
 }
 
-int run_any_height(const float *z, size_t n)
+int job_bands(const sweep_job *job)
 {
-    for (size_t c = 0; c < n; ++c)
-        if (isfinite(z[c]))
-            return 1;
-    return 0;
+    int h = job->dem.grid.height;
+    return job->source ? (h + job->band_rows - 1) / job->band_rows : 1;
+}
+
+ss_source job_source(sweep_job *job, ss_band_stats *stats)
+{
+    const ss_grid *g = &job->dem.grid;
+    ss_source src = {.width = g->width,
+                     .height = g->height,
+                     .cell_x_m = g->cell_x_m,
+                     .cell_y_m = g->cell_y_m,
+                     .z_origin_m = &g->z_origin_m,
+                     .z = job->source ? NULL : g->z,
+                     .read = job->source ? job_rows_reader : NULL,
+                     .read_user = job,
+                     .band_rows = job->source ? job->band_rows : 0,
+                     .stats = stats};
+    return src;
 }
 
 ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z)

@@ -99,6 +99,9 @@ ss_status run_commit(run_state *run, ss_raster_writer *w);
 typedef struct {
     double cell_bytes, column_bytes;
     int directions; /* swept at once; 0: those of --directions */
+    /* Held beyond a band's two halo rows on each side (radius walks):
+     * metres, and cells. */
+    double halo_m, halo_cells;
 } band_cost;
 
 /* A sweeping command's input side: the output named last, the DEM tiles
@@ -113,7 +116,7 @@ typedef struct {
     ss_sweep_options opt;
     int have_dem;
     ss_plan plan;
-    /* A banded job (job_open_bands): the DEM stays in its files, dem.grid.z
+    /* A banded job (job_open_banded): the DEM stays in its files, dem.grid.z
      * is NULL, and the sweep reads band_rows rows at a time. */
     ss_dem_source *source;
     int band_rows;
@@ -128,11 +131,6 @@ typedef struct {
  * code after printing the error (the job is then closed). */
 int job_open(sweep_job *job, const char *command, const common_settings *common,
              const char **pos, int n_pos);
-/* The same for commands that can sweep in bands (openness, geometric SVF): when the
- * whole-grid sweep would not fit in --memory (default half the RAM), the
- * DEM is left in its files and job->source and band_rows are set. */
-int job_open_bands(sweep_job *job, const char *command, const common_settings *common,
-                   const char **pos, int n_pos);
 /* The same for any banded product, with what its bands hold. */
 int job_open_banded(sweep_job *job, const char *command, const common_settings *common,
                     const char **pos, int n_pos, band_cost cost);
@@ -147,14 +145,16 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
              const double *step_unix_s, ss_shadow_mode shadow_mode);
 /* The plan as JSON into an output's metadata (PLAN). */
 void job_plan_metadata(sweep_job *job, ss_raster_writer *w);
+/* The job's DEM for the library's row-wise calls: held whole, or read band
+ * by band from its files (stats: the hulls handed on, may be NULL). */
+ss_source job_source(sweep_job *job, ss_band_stats *stats);
+/* How many bands the job's DEM is swept in (1: held whole). */
+int job_bands(const sweep_job *job);
 /* Reads rows of a banded job's DEM (NaN at nodata), counting each row's
  * cells without a height once however often the row is read. */
 ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z);
 /* job_read_rows as an ss_rows_read, for callbacks whose user is the job. */
 ss_status job_rows_reader(void *job, int row0, int n_rows, float *z);
-/* Whether any of n heights is a height (a band can be all nodata, which
- * the whole-grid functions refuse as a grid). */
-int run_any_height(const float *z, size_t n);
 /* Prints the failure (if st is not SS_OK) and returns the exit code. */
 int job_finish(sweep_job *job, ss_status st);
 void job_close(sweep_job *job);

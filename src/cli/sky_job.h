@@ -1,5 +1,5 @@
 /* Sky products (SVF, openness) of a job: the whole grid in memory, or
- * the DEM read in bands (job_open_bands), alone or shared between MPI
+ * the DEM read in bands (job_open_banded), alone or shared between MPI
  * processes (mpi_share.h). */
 #ifndef SS_CLI_SKY_JOB_H
 #define SS_CLI_SKY_JOB_H

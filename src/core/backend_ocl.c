@@ -1,9 +1,11 @@
 /* The OpenCL backend: finds and opens a device, builds kernels/sweep.cl
  * (embedded at build time, so an installed binary needs no kernel files),
- * and runs one work-item per line. Grids shared with the host use
- * CL_MEM_USE_HOST_PTR, which PoCL serves without copies. */
+ * and runs one work-item per line and direction of a batch. A whole grid
+ * held by the caller is used with CL_MEM_USE_HOST_PTR, which PoCL serves
+ * without copies. */
 #include "config.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,7 +17,7 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
-#include "session.h"
+#include "backend.h"
 #include "ss_passes.h"
 
 extern const char ss_kernel_source[];
@@ -25,18 +27,11 @@ struct ss_ocl {
     cl_context context;
     cl_command_queue queue;
     cl_program program;
-    cl_kernel k_svf, k_horizon, k_horizon_finish, k_bare, k_radius;
+    cl_kernel k_sum, k_horizon, k_hand_on, k_radius, k_bare, k_reduce, k_carry, k_finish;
     size_t work_group;
+    cl_ulong global_mem, max_alloc;
+    int is_cpu;
 };
-
-typedef struct {
-    cl_mem z, stack, out[SS_SESSION_MAX_OUTPUTS];
-    cl_mem weight; /* horizon weights (ss_pass_horizon_walk), made on first use */
-    cl_mem grad;   /* gradients for the radiative SVF (ss_gradient_grid), made on first use */
-    float *host[SS_SESSION_MAX_OUTPUTS];
-    int mapped[SS_SESSION_MAX_OUTPUTS];
-    cl_event queued; /* marks the end of the last pass queued (pace) */
-} ocl_session;
 
 static const char *cl_error_name(cl_int err)
 {
@@ -294,18 +289,17 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     struct {
         cl_kernel *k;
         const char *name;
-    } kernels[] = {{&o->k_svf, "sweep_svf"},
-                   {&o->k_horizon, "sweep_horizon"},
-                   {&o->k_horizon_finish, "sweep_horizon_finish"},
-                   {&o->k_bare, "sweep_bare"},
-                   {&o->k_radius, "sweep_radius_terms"}};
+    } kernels[] = {{&o->k_sum, "band_sum"},         {&o->k_horizon, "band_horizon"},
+                   {&o->k_hand_on, "band_hand_on"}, {&o->k_radius, "band_radius"},
+                   {&o->k_bare, "band_bare"},       {&o->k_reduce, "band_reduce"},
+                   {&o->k_carry, "band_carry"},     {&o->k_finish, "band_finish"}};
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i) {
         *kernels[i].k = clCreateKernel(o->program, kernels[i].name, &err);
         if (err != CL_SUCCESS)
             return cl_fail(ctx, err, kernels[i].name);
     }
     size_t max_wg = 64;
-    clGetKernelWorkGroupInfo(o->k_svf, o->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max_wg,
+    clGetKernelWorkGroupInfo(o->k_sum, o->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max_wg,
                              &max_wg, NULL);
     o->work_group = max_wg < 64 ? max_wg : 64;
     return SS_OK;
@@ -365,6 +359,11 @@ static ss_status ocl_open(ss_ctx *ctx, struct ss_ocl *o, const ocl_device_info *
     o->queue = clCreateCommandQueue(o->context, o->device, 0, &err);
     if (err != CL_SUCCESS)
         return cl_fail(ctx, err, "clCreateCommandQueue");
+    clGetDeviceInfo(o->device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem, &o->global_mem,
+                    NULL);
+    clGetDeviceInfo(o->device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof o->max_alloc, &o->max_alloc,
+                    NULL);
+    o->is_cpu = (found->type & CL_DEVICE_TYPE_CPU) != 0;
     return build_program(ctx, o);
 }
 
@@ -429,16 +428,11 @@ void ss_ocl_release(struct ss_ocl *o)
 {
     if (!o)
         return;
-    if (o->k_svf)
-        clReleaseKernel(o->k_svf);
-    if (o->k_horizon)
-        clReleaseKernel(o->k_horizon);
-    if (o->k_horizon_finish)
-        clReleaseKernel(o->k_horizon_finish);
-    if (o->k_bare)
-        clReleaseKernel(o->k_bare);
-    if (o->k_radius)
-        clReleaseKernel(o->k_radius);
+    cl_kernel kernels[] = {o->k_sum,   o->k_horizon, o->k_hand_on, o->k_radius,
+                           o->k_bare,  o->k_reduce,  o->k_carry,   o->k_finish};
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i)
+        if (kernels[i])
+            clReleaseKernel(kernels[i]);
     if (o->program)
         clReleaseProgram(o->program);
     if (o->queue)
@@ -448,304 +442,487 @@ void ss_ocl_release(struct ss_ocl *o)
     free(o);
 }
 
-/* ---- sessions ------------------------------------------------------------ */
+/* ---- band walks ----------------------------------------------------------- */
 
-static ss_status unmap_all(ss_session *s)
-{
-    ocl_session *q = s->impl;
-    for (int i = 0; i < s->n_outputs; ++i) {
-        if (!q->mapped[i])
-            continue;
-        cl_int err = clEnqueueUnmapMemObject(s->ctx->ocl->queue, q->out[i], q->host[i], 0, NULL,
-                                             NULL);
-        q->mapped[i] = 0;
-        if (err != CL_SUCCESS)
-            return cl_fail(s->ctx, err, "clEnqueueUnmapMemObject");
-    }
-    return SS_OK;
-}
+typedef struct {
+    cl_mem z, grad, stacks, sums, parts, outs, carry, dirs;
+    /* Hulls handed on (ss_band.h): in from the band before, out to the next. */
+    cl_mem hull_in, hull_out, in_off, in_cnt, out_off, out_cnt, state, counters;
+    size_t hull_cap_in, hull_cap_out; /* points */
+    int lines_cap;                    /* entries of the per-line arrays */
+    cl_mem mapped;                    /* the buffer the host holds mapped, or NULL */
+    void *mapped_ptr;
+    cl_event queued;                  /* marks the end of the last batch queued (pace) */
+} ocl_backend;
 
-static size_t grid_cells(const ss_session *s)
-{
-    return (size_t)s->grid->width * (size_t)s->grid->height;
-}
-
-static ss_status ocl_clear(ss_session *s, int output)
-{
-    ocl_session *q = s->impl;
-    ss_status st = unmap_all(s);
-    if (st != SS_OK)
-        return st;
-    float zero = 0.0f;
-    cl_int err = clEnqueueFillBuffer(s->ctx->ocl->queue, q->out[output], &zero, sizeof zero, 0,
-                                     grid_cells(s) * sizeof(float), 0, NULL, NULL);
-    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, "clEnqueueFillBuffer");
-}
-
-/* Sets kernel arguments in order from a list of (size, pointer) pairs. */
 typedef struct {
     size_t size;
     const void *value;
 } kernel_arg;
 
-/* Runs kernel k over the lines of a direction, one round after the other;
- * args[1] is the round number, set here. */
-static ss_status launch(ss_session *s, cl_kernel k, kernel_arg *args, int n_args,
-                        const ss_line_set *ls, const char *what)
+#define ARG(x) {sizeof(x), &(x)}
+
+static size_t run_cells(const ss_band_run *run)
 {
-    struct ss_ocl *o = s->ctx->ocl;
-    ss_status st = unmap_all(s);
-    if (st != SS_OK)
-        return st;
-    for (int round = 0; round < 2; ++round) {
-        int n_lines = ss_round_lines(ls, round);
-        if (n_lines == 0)
-            continue;
-        args[1].size = sizeof round;
-        args[1].value = &round;
-        for (int i = 0; i < n_args; ++i) {
-            cl_int err = clSetKernelArg(k, (cl_uint)i, args[i].size, args[i].value);
-            if (err != CL_SUCCESS)
-                return cl_fail(s->ctx, err, what);
-        }
-        size_t local = o->work_group;
-        size_t global = ((size_t)n_lines + local - 1) / local * local;
-        cl_int err = clEnqueueNDRangeKernel(o->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    return (size_t)run->held_rows * (size_t)run->width;
+}
+
+static size_t held_cells(const ss_backend *b)
+{
+    return (size_t)b->max_held_rows * (size_t)b->width;
+}
+
+/* Sets k's arguments and runs it over `items` work-items. */
+static ss_status run_kernel(ss_backend *b, cl_kernel k, const kernel_arg *args, int n_args,
+                            size_t items, const char *what)
+{
+    struct ss_ocl *o = b->ctx->ocl;
+    for (int i = 0; i < n_args; ++i) {
+        cl_int err = clSetKernelArg(k, (cl_uint)i, args[i].size, args[i].value);
         if (err != CL_SUCCESS)
-            return cl_fail(s->ctx, err, what);
+            return cl_fail(b->ctx, err, what);
     }
+    if (items == 0)
+        return SS_OK;
+    size_t local = o->work_group, global = (items + local - 1) / local * local;
+    cl_int err = clEnqueueNDRangeKernel(o->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, what);
+}
+
+static ss_status fill(ss_backend *b, cl_mem buf, size_t bytes)
+{
+    if (bytes == 0)
+        return SS_OK;
+    float zero = 0.0f;
+    cl_int err = clEnqueueFillBuffer(b->ctx->ocl->queue, buf, &zero, sizeof zero, 0, bytes, 0,
+                                     NULL, NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, "clEnqueueFillBuffer");
+}
+
+static ss_status unmap(ss_backend *b)
+{
+    ocl_backend *q = b->impl;
+    if (!q->mapped)
+        return SS_OK;
+    cl_int err = clEnqueueUnmapMemObject(b->ctx->ocl->queue, q->mapped, q->mapped_ptr, 0, NULL,
+                                         NULL);
+    q->mapped = NULL;
+    return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, "clEnqueueUnmapMemObject");
+}
+
+/* Maps bytes of buf for the host (waiting for what is queued before). */
+static ss_status map(ss_backend *b, cl_mem buf, size_t bytes, float **host)
+{
+    ocl_backend *q = b->impl;
+    if (q->mapped != buf) {
+        ss_status st = unmap(b);
+        if (st != SS_OK)
+            return st;
+        cl_int err;
+        q->mapped_ptr = clEnqueueMapBuffer(b->ctx->ocl->queue, buf, CL_TRUE,
+                                           CL_MAP_READ | CL_MAP_WRITE, 0, bytes, 0, NULL, NULL,
+                                           &err);
+        if (err != CL_SUCCESS)
+            return cl_fail(b->ctx, err, "clEnqueueMapBuffer");
+        q->mapped = buf;
+    }
+    *host = q->mapped_ptr;
     return SS_OK;
 }
 
-/* Ends a pass: waits for the pass before it, so that at most one pass is
- * queued behind the running one. The device never idles (the next pass is
- * queued before the wait), and a cancelled run waits for two passes, not for
- * every direction it had queued (an NDRange cannot be stopped once queued). */
-static ss_status pace(ss_session *s, ss_status st)
+static cl_mem new_buffer(ss_backend *b, cl_mem_flags flags, size_t bytes, void *host,
+                         cl_int *err)
 {
-    ocl_session *q = s->impl;
-    cl_command_queue queue = s->ctx->ocl->queue;
+    if (*err != CL_SUCCESS)
+        return NULL;
+    return clCreateBuffer(b->ctx->ocl->context, flags, bytes ? bytes : 4, host, err);
+}
+
+static ss_status upload(ss_backend *b, cl_mem buf, size_t bytes, const void *host)
+{
+    cl_int err = clEnqueueWriteBuffer(b->ctx->ocl->queue, buf, CL_TRUE, 0, bytes, host, 0, NULL,
+                                      NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, "clEnqueueWriteBuffer");
+}
+
+static ss_status ocl_load(ss_backend *b, const ss_band_run *run, const float *z, const float *grad)
+{
+    ocl_backend *q = b->impl;
+    ss_status st = unmap(b);
     if (st != SS_OK)
         return st;
+    if (b->whole_z) {
+        /* The whole grid is loaded once; its gradients come with it. */
+        cl_int err = CL_SUCCESS;
+        if (grad && !q->grad)
+            q->grad = new_buffer(b, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                 2 * run_cells(run) * sizeof(float), (void *)grad, &err);
+        return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, "copying the gradients");
+    }
+    st = upload(b, q->z, run_cells(run) * sizeof(float), z);
+    if (st == SS_OK && grad)
+        st = upload(b, q->grad, 2 * run_cells(run) * sizeof(float), grad);
+    return st;
+}
+
+/* Rows of sums kept between bands: a row per plane and direction carried. */
+static size_t carry_floats(const ss_backend *b)
+{
+    int planes = b->walk.term == SS_TERM_HORIZON ? ss_walk_planes(&b->walk) : 1;
+    return (size_t)(b->carried ? b->carried : 1) * (size_t)planes * (size_t)b->width;
+}
+
+static ss_status ocl_pass_begin(ss_backend *b, int n_lines)
+{
+    ocl_backend *q = b->impl;
+    ss_status st = unmap(b);
+    if (st != SS_OK)
+        return st;
+    if (n_lines > q->lines_cap) {
+        cl_mem *arrays[] = {&q->in_off, &q->in_cnt, &q->out_off, &q->out_cnt, &q->state};
+        cl_int err = CL_SUCCESS;
+        for (int i = 0; i < 5; ++i) {
+            clReleaseMemObject(*arrays[i]);
+            size_t ints = (size_t)n_lines * (i == 4 ? SS_BAND_STATE : 1);
+            *arrays[i] = new_buffer(b, CL_MEM_READ_WRITE, ints * sizeof(int), NULL, &err);
+        }
+        if (err != CL_SUCCESS) {
+            for (int i = 0; i < 5; ++i)
+                *arrays[i] = NULL;
+            return cl_fail(b->ctx, err, "allocating the per-line hull arrays");
+        }
+        q->lines_cap = n_lines;
+    }
+    st = fill(b, q->in_cnt, (size_t)n_lines * sizeof(int));
+    if (st == SS_OK)
+        st = fill(b, q->in_off, (size_t)n_lines * sizeof(int));
+    if (st == SS_OK)
+        st = fill(b, q->counters, SS_BAND_COUNTERS * sizeof(int));
+    if (st == SS_OK)
+        st = fill(b, q->carry, carry_floats(b) * sizeof(float));
+    return st;
+}
+
+/* Rows of sums carried between bands: in to the landing rows, or out of
+ * the fed rows, for n slots of `planes` planes of outs: each direction's
+ * own (per_direction, the batch's directions) or the sums' one. */
+static ss_status carry(ss_backend *b, const ss_band_run *run, int pass, int n, int planes,
+                       int into, int per_direction, cl_mem outs)
+{
+    ocl_backend *q = b->impl;
+    if (!b->carried)
+        return SS_OK;
+    kernel_arg args[] = {ARG(*run),         ARG(pass),    ARG(n),    ARG(planes), ARG(into),
+                         ARG(per_direction), ARG(q->dirs), ARG(outs), ARG(q->carry)};
+    return run_kernel(b, b->ctx->ocl->k_carry, args, 9, (size_t)n * planes * run->width,
+                      "the carrying kernel");
+}
+
+static ss_status ocl_sums_begin(ss_backend *b, const ss_band_run *run, int pass)
+{
+    ocl_backend *q = b->impl;
+    ss_status st = unmap(b);
+    if (st == SS_OK)
+        st = fill(b, q->sums, run_cells(run) * sizeof(float));
+    return st == SS_OK ? carry(b, run, pass, 1, 1, 1, 0, q->sums) : st;
+}
+
+/* Makes room in hull_out for every point the walks so far will hand on,
+ * keeping those already there. */
+static ss_status hull_room(ss_backend *b)
+{
+    ocl_backend *q = b->impl;
+    struct ss_ocl *o = b->ctx->ocl;
+    int counters[SS_BAND_COUNTERS];
+    cl_int err = clEnqueueReadBuffer(o->queue, q->counters, CL_TRUE, 0, sizeof counters, counters,
+                                     0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return cl_fail(b->ctx, err, "reading the hull counters");
+    size_t need = (size_t)counters[SS_BAND_PENDING], used = (size_t)counters[SS_BAND_USED];
+    if (need <= q->hull_cap_out)
+        return SS_OK;
+    size_t cap = need + need / 2 + 1024;
+    cl_mem grown = new_buffer(b, CL_MEM_READ_WRITE, cap * sizeof(ss_hull_point), NULL, &err);
+    if (err == CL_SUCCESS && used > 0)
+        err = clEnqueueCopyBuffer(o->queue, q->hull_out, grown, 0, 0, used * sizeof(ss_hull_point),
+                                  0, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        if (grown)
+            clReleaseMemObject(grown);
+        return cl_fail(b->ctx, err, "growing the hulls handed on");
+    }
+    clReleaseMemObject(q->hull_out);
+    q->hull_out = grown;
+    q->hull_cap_out = cap;
+    return SS_OK;
+}
+
+/* Ends a batch: waits for the batch before it, so that at most one batch is
+ * queued behind the running one. The device never idles (the next batch is
+ * queued before the wait), and a cancelled run waits for two batches, not
+ * for every one it had queued (an NDRange cannot be stopped once queued). */
+static ss_status pace(ss_backend *b)
+{
+    ocl_backend *q = b->impl;
+    cl_command_queue queue = b->ctx->ocl->queue;
     cl_event mark;
     cl_int err = clEnqueueMarkerWithWaitList(queue, 0, NULL, &mark);
     if (err == CL_SUCCESS)
         err = clFlush(queue);
     if (err != CL_SUCCESS)
-        return cl_fail(s->ctx, err, "queueing a pass");
+        return cl_fail(b->ctx, err, "queueing a batch");
     if (q->queued) {
         err = clWaitForEvents(1, &q->queued);
         clReleaseEvent(q->queued);
     }
     q->queued = mark;
     if (err != CL_SUCCESS)
-        return cl_fail(s->ctx, err, "waiting for a pass");
-    return ss_check_cancel(s->ctx, "the sweep");
+        return cl_fail(b->ctx, err, "waiting for a batch");
+    return ss_check_cancel(b->ctx, "the sweep");
 }
 
-/* The radiative SVF's gradient grid, computed on the host (as the C twin
- * does) and copied to the device once per session. */
-static ss_status make_gradients(ss_session *s)
+/* One round of the batch's lines, and their hulls handed on. */
+static ss_status walk_round(ss_backend *b, ss_band_run run, int n, int round, cl_mem sums)
 {
-    ocl_session *q = s->impl;
-    size_t bytes = 2 * grid_cells(s) * sizeof(float);
-    float *host = ss_alloc_grid(bytes);
-    if (!host)
-        return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of surface gradients",
-                       bytes >> 20);
-    ss_gradient_grid(s->grid, host);
-    cl_int err = CL_SUCCESS;
-    q->grad = clCreateBuffer(s->ctx->ocl->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
-                             host, &err);
-    free(host);
-    if (err != CL_SUCCESS) {
-        q->grad = NULL;
-        return cl_fail(s->ctx, err, "allocating the surface gradients");
+    ocl_backend *q = b->impl;
+    struct ss_ocl *o = b->ctx->ocl;
+    const ss_walk *walk = &b->walk;
+    ss_status st = SS_OK;
+    size_t items = (size_t)n * (size_t)run.lines;
+    if (walk->term == SS_TERM_HORIZON) {
+        kernel_arg args[] = {ARG(q->dirs),   ARG(run),       ARG(round),    ARG(q->z),
+                             ARG(q->stacks), ARG(q->outs),   ARG(q->hull_in), ARG(q->in_off),
+                             ARG(q->in_cnt), ARG(q->state),  ARG(q->counters)};
+        st = run_kernel(b, o->k_horizon, args, 11, items, "the horizon kernel");
+    } else if (walk->radius_m > 0) {
+        kernel_arg args[] = {ARG(q->dirs), ARG(run), ARG(round), ARG(q->z), ARG(sums)};
+        return run_kernel(b, o->k_radius, args, 5, items, "the radius-limited horizon kernel");
+    } else {
+        cl_mem grad = q->grad ? q->grad : q->z; /* read by the radiative term only */
+        kernel_arg args[] = {ARG(q->dirs),   ARG(run),      ARG(round),      ARG(q->z),
+                             ARG(grad),      ARG(q->stacks), ARG(sums),      ARG(q->hull_in),
+                             ARG(q->in_off), ARG(q->in_cnt), ARG(q->state),  ARG(q->counters)};
+        st = run_kernel(b, o->k_sum, args, 12, items, "the SVF kernel");
     }
-    return SS_OK;
+    if (st != SS_OK || run.whole)
+        return st;
+    st = hull_room(b);
+    kernel_arg args[] = {ARG(q->dirs),    ARG(run),      ARG(round),       ARG(q->z),
+                         ARG(q->stacks),  ARG(q->hull_in), ARG(q->in_off), ARG(q->state),
+                         ARG(q->hull_out), ARG(q->out_off), ARG(q->out_cnt), ARG(q->counters)};
+    return st == SS_OK ? run_kernel(b, o->k_hand_on, args, 12, items, "the hand-on kernel") : st;
 }
 
-static ss_status ocl_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
-                         float sin_az, float cos_az)
+static ss_status ocl_walk(ss_backend *b, const ss_band_run *run, const ss_band_dir *dirs, int n)
 {
-    ocl_session *q = s->impl;
-    float cx = (float)s->grid->cell_x_m, cy = (float)s->grid->cell_y_m;
-    int height = s->grid->height;
-    if (definition == SS_SVF_TILTED && !q->grad) {
-        ss_status st = make_gradients(s);
-        if (st != SS_OK)
-            return st;
+    ocl_backend *q = b->impl;
+    struct ss_ocl *o = b->ctx->ocl;
+    int horizon = b->walk.term == SS_TERM_HORIZON;
+    ss_status st = unmap(b);
+    if (st == SS_OK)
+        st = upload(b, q->dirs, sizeof *dirs * (size_t)n, dirs);
+    /* Each direction adds into a slot of its own (band_reduce then adds the
+     * slots in order), so the sums are the same whatever the batch. */
+    cl_mem sums = horizon ? q->sums : q->parts;
+    if (st == SS_OK && horizon)
+        st = fill(b, q->outs, (size_t)n * run->planes * run_cells(run) * sizeof(float));
+    if (st == SS_OK && horizon)
+        st = carry(b, run, dirs[0].pass, n, run->planes, 1, 1, q->outs);
+    if (st == SS_OK && !horizon)
+        st = fill(b, q->parts, (size_t)n * run_cells(run) * sizeof(float));
+    for (int round = 0; round < 2 && st == SS_OK; ++round) {
+        ss_band_run r = *run;
+        r.lines = 0;
+        r.slots = n;
+        for (int k = 0; k < n; ++k) {
+            int lines = ss_round_lines(&dirs[k].ls, round);
+            r.lines = lines > r.lines ? lines : r.lines;
+        }
+        if (r.lines > 0)
+            st = walk_round(b, r, n, round, sums);
     }
-    /* The other definitions read no gradient: the heights stand in. */
-    cl_mem grad = definition == SS_SVF_TILTED ? q->grad : q->z;
-    kernel_arg args[] = {{sizeof *ls, ls},          {0, NULL},
-                         {sizeof definition, &definition},
-                         {sizeof curv_k, &curv_k},  {sizeof sin_az, &sin_az},
-                         {sizeof cos_az, &cos_az},  {sizeof cx, &cx},
-                         {sizeof cy, &cy},          {sizeof height, &height},
-                         {sizeof(cl_mem), &q->z},   {sizeof(cl_mem), &grad},
-                         {sizeof(cl_mem), &q->stack}, {sizeof(cl_mem), &q->out[0]}};
-    return pace(s, launch(s, s->ctx->ocl->k_svf, args, 13, ls, "the SVF kernel"));
-}
-
-/* Zeroes the horizon weight grid, creating it on first use: only horizon
- * sessions pay for it. */
-static ss_status clear_weight(ss_session *s)
-{
-    ocl_session *q = s->impl;
-    struct ss_ocl *o = s->ctx->ocl;
-    size_t bytes = grid_cells(s) * sizeof(float);
-    cl_int err = CL_SUCCESS;
-    if (!q->weight)
-        q->weight = clCreateBuffer(o->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
-    if (err != CL_SUCCESS)
-        return cl_fail(s->ctx, err, "allocating the horizon weights");
-    float zero = 0.0f;
-    err = clEnqueueFillBuffer(o->queue, q->weight, &zero, sizeof zero, 0, bytes, 0, NULL, NULL);
-    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, "clEnqueueFillBuffer");
-}
-
-/* Divides the angle sums by their weights (ss_pass_horizon_finish), one
- * work-item per cell. */
-static ss_status finish_horizon(ss_session *s, float none_deg)
-{
-    ocl_session *q = s->impl;
-    struct ss_ocl *o = s->ctx->ocl;
-    int n_cells = (int)grid_cells(s);
-    kernel_arg args[] = {{sizeof n_cells, &n_cells},
-                         {sizeof none_deg, &none_deg},
-                         {sizeof(cl_mem), &q->out[0]},
-                         {sizeof(cl_mem), &q->weight}};
-    for (cl_uint i = 0; i < 4; ++i) {
-        cl_int err = clSetKernelArg(o->k_horizon_finish, i, args[i].size, args[i].value);
-        if (err != CL_SUCCESS)
-            return cl_fail(s->ctx, err, "the horizon finishing kernel");
+    if (st == SS_OK && !horizon) {
+        kernel_arg args[] = {ARG(*run), ARG(n), ARG(q->parts), ARG(q->sums)};
+        st = run_kernel(b, o->k_reduce, args, 4, run_cells(run), "the reducing kernel");
     }
-    size_t local = o->work_group;
-    size_t global = ((size_t)n_cells + local - 1) / local * local;
-    cl_int err = clEnqueueNDRangeKernel(o->queue, o->k_horizon_finish, 1, NULL, &global, &local,
-                                        0, NULL, NULL);
-    return err == CL_SUCCESS ? SS_OK : cl_fail(s->ctx, err, "the horizon finishing kernel");
+    if (st == SS_OK && horizon)
+        st = carry(b, run, dirs[0].pass, n, run->planes, 0, 1, q->outs);
+    if (st == SS_OK && horizon) {
+        kernel_arg args[] = {ARG(*run), ARG(n), ARG(q->outs)};
+        st = run_kernel(b, o->k_finish, args, 3,
+                        (size_t)n * (size_t)(run->row1 - run->row0) * run->width,
+                        "the finishing kernel");
+    }
+    return st == SS_OK ? pace(b) : st;
 }
 
-static ss_status ocl_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
-                             int want)
+static ss_status ocl_sums_end(ss_backend *b, const ss_band_run *run, int pass, float **own)
 {
-    ocl_session *q = s->impl;
-    ss_status st = clear_weight(s);
+    ocl_backend *q = b->impl;
+    ss_status st = carry(b, run, pass, 1, 1, 0, 0, q->sums);
+    float *host = NULL;
+    if (st == SS_OK)
+        st = map(b, q->sums, run_cells(run) * sizeof(float), &host);
+    if (st == SS_OK)
+        *own = host + (size_t)(run->row0 - run->lo) * run->width;
+    return st;
+}
+
+static ss_status ocl_view(ss_backend *b, const ss_band_run *run, int slot, int plane, float **own)
+{
+    ocl_backend *q = b->impl;
+    float *host = NULL;
+    ss_status st = map(b, q->outs, (size_t)b->batch * run->planes * run_cells(run) * sizeof(float),
+                       &host);
+    if (st == SS_OK)
+        *own = ss_band_plane(host, run, slot, plane) + (size_t)(run->row0 - run->lo) * run->width;
+    return st;
+}
+
+static ss_status ocl_hulls_swap(ss_backend *b, ss_band_stats *stats)
+{
+    ocl_backend *q = b->impl;
+    int counters[SS_BAND_COUNTERS];
+    ss_status st = unmap(b);
+    cl_int err = st == SS_OK ? clEnqueueReadBuffer(b->ctx->ocl->queue, q->counters, CL_TRUE, 0,
+                                                   sizeof counters, counters, 0, NULL, NULL)
+                             : CL_SUCCESS;
     if (st != SS_OK)
         return st;
-    /* Grids not asked for are never written: output 0 stands in. */
-    cl_mem dist = want & SS_HORIZON_WANT_DIST ? q->out[1] : q->out[0];
-    cl_mem cast = want & SS_HORIZON_WANT_CAST ? q->out[2] : q->out[0];
-    kernel_arg args[] = {{sizeof *ls, ls},           {0, NULL},
-                         {sizeof curv_k, &curv_k},   {sizeof(cl_mem), &q->z},
-                         {sizeof(cl_mem), &q->stack}, {sizeof(cl_mem), &q->out[0]},
-                         {sizeof(cl_mem), &q->weight}, {sizeof(cl_mem), &dist},
-                         {sizeof(cl_mem), &cast},    {sizeof want, &want}};
-    st = launch(s, s->ctx->ocl->k_horizon, args, 10, ls, "the horizon kernel");
-    return pace(s, st == SS_OK ? finish_horizon(s, none_deg) : st);
-}
-
-static ss_status ocl_bare(ss_session *s, const ss_line_set *ls)
-{
-    ocl_session *q = s->impl;
-    kernel_arg args[] = {
-        {sizeof *ls, ls}, {0, NULL}, {sizeof(cl_mem), &q->z}, {sizeof(cl_mem), &q->out[0]}};
-    return pace(s, launch(s, s->ctx->ocl->k_bare, args, 4, ls, "the bare-pass kernel"));
-}
-
-static ss_status ocl_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
-                                  float radius_m, float curv_k)
-{
-    ocl_session *q = s->impl;
-    kernel_arg args[] = {{sizeof *ls, ls},
-                         {0, NULL},
-                         {sizeof definition, &definition},
-                         {sizeof radius_m, &radius_m},
-                         {sizeof curv_k, &curv_k},
-                         {sizeof(cl_mem), &q->z},
-                         {sizeof(cl_mem), &q->out[0]}};
-    return pace(s,
-                launch(s, s->ctx->ocl->k_radius, args, 7, ls, "the radius-limited horizon kernel"));
-}
-
-static ss_status ocl_view(ss_session *s, int output, float **host)
-{
-    ocl_session *q = s->impl;
-    if (!q->mapped[output]) {
-        cl_int err;
-        void *p = clEnqueueMapBuffer(s->ctx->ocl->queue, q->out[output], CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0,
-                                     grid_cells(s) * sizeof(float), 0, NULL, NULL, &err);
-        if (err != CL_SUCCESS)
-            return cl_fail(s->ctx, err, "clEnqueueMapBuffer");
-        q->host[output] = p;
-        q->mapped[output] = 1;
+    if (err != CL_SUCCESS)
+        return cl_fail(b->ctx, err, "reading the hull counters");
+    if (stats) {
+        stats->handoffs += (size_t)counters[SS_BAND_HANDOFFS];
+        stats->hull_points_handed_on += (size_t)counters[SS_BAND_USED];
+        if ((size_t)counters[SS_BAND_HULL_MAX] > stats->max_hull_points)
+            stats->max_hull_points = (size_t)counters[SS_BAND_HULL_MAX];
     }
-    *host = q->host[output];
-    return SS_OK;
+    cl_mem t = q->hull_in;
+    q->hull_in = q->hull_out;
+    q->hull_out = t;
+    size_t cap = q->hull_cap_in;
+    q->hull_cap_in = q->hull_cap_out;
+    q->hull_cap_out = cap;
+    t = q->in_off;
+    q->in_off = q->out_off;
+    q->out_off = t;
+    t = q->in_cnt;
+    q->in_cnt = q->out_cnt;
+    q->out_cnt = t;
+    return fill(b, q->counters, sizeof counters);
 }
 
-static void ocl_close(ss_session *s)
+static ss_status ocl_bare(ss_backend *b, const ss_band_run *run, const ss_band_dir *dir,
+                          float **out)
 {
-    ocl_session *q = s->impl;
+    ocl_backend *q = b->impl;
+    struct ss_ocl *o = b->ctx->ocl;
+    ss_status st = unmap(b);
+    if (st == SS_OK)
+        st = fill(b, q->sums, run_cells(run) * sizeof(float));
+    if (st == SS_OK)
+        st = upload(b, q->dirs, sizeof *dir, dir);
+    for (int round = 0; round < 2 && st == SS_OK; ++round) {
+        ss_band_run r = *run;
+        r.lines = ss_round_lines(&dir->ls, round);
+        r.slots = 1;
+        kernel_arg args[] = {ARG(q->dirs), ARG(r), ARG(round), ARG(q->z), ARG(q->sums)};
+        st = run_kernel(b, o->k_bare, args, 5, (size_t)r.lines, "the bare-pass kernel");
+    }
+    if (st == SS_OK)
+        st = map(b, q->sums, run_cells(run) * sizeof(float), out);
+    return st;
+}
+
+static void ocl_close(ss_backend *b)
+{
+    ocl_backend *q = b->impl;
     if (!q)
         return;
-    if (s->ctx->ocl) {
-        unmap_all(s);
-        clFinish(s->ctx->ocl->queue);
+    if (b->ctx->ocl) {
+        unmap(b);
+        clFinish(b->ctx->ocl->queue);
     }
     if (q->queued)
         clReleaseEvent(q->queued);
-    if (q->z)
-        clReleaseMemObject(q->z);
-    if (q->stack)
-        clReleaseMemObject(q->stack);
-    if (q->weight)
-        clReleaseMemObject(q->weight);
-    if (q->grad)
-        clReleaseMemObject(q->grad);
-    for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
-        if (q->out[i])
-            clReleaseMemObject(q->out[i]);
+    cl_mem all[] = {q->z,       q->grad,    q->stacks,  q->sums,    q->parts,
+                    q->outs,    q->carry,   q->dirs,    q->hull_in, q->hull_out,
+                    q->in_off,  q->in_cnt,  q->out_off, q->out_cnt, q->state,
+                    q->counters};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
+        if (all[i])
+            clReleaseMemObject(all[i]);
     free(q);
+    b->impl = NULL;
 }
 
-static const ss_backend ocl_backend = {ocl_clear, ocl_svf,  ocl_horizon, ocl_bare,
-                                       ocl_radius_terms, ocl_view, ocl_close};
+static const ss_backend_ops ocl_ops = {ocl_load,     ocl_pass_begin, ocl_sums_begin,
+                                       ocl_walk,     ocl_sums_end,    ocl_view,
+                                       ocl_hulls_swap, ocl_bare,      ocl_close};
 
-ss_status ss_backend_ocl_open(ss_session *s)
+/* The directions a batch can hold: what was asked, within the device's
+ * memory (a quarter of a GPU's; on a CPU device, whose memory is the
+ * host's and which gains little from long batches, at most 64 MiB) and its
+ * largest buffer. */
+static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
 {
-    ss_status st = ocl_acquire(s->ctx);
+    size_t cells = held_cells(b);
+    int horizon = b->walk.term == SS_TERM_HORIZON;
+    double per_slot = (double)cells * (4.0 + (horizon ? 4.0 * ss_walk_planes(&b->walk) : 4.0));
+    double largest = (double)cells * 4.0 * (horizon ? ss_walk_planes(&b->walk) : 1);
+    double budget = (double)o->global_mem / 4.0, alloc = (double)o->max_alloc;
+    if (o->is_cpu && budget > 64.0 * 1048576.0)
+        budget = 64.0 * 1048576.0;
+    int by_memory = per_slot > 0 ? (int)fmin(budget / per_slot, alloc / largest) : b->batch;
+    int n = b->batch < by_memory ? b->batch : by_memory;
+    return n > 0 ? n : 1;
+}
+
+ss_status ss_backend_ocl_open(ss_backend *b)
+{
+    ss_status st = ocl_acquire(b->ctx);
     if (st != SS_OK)
         return st;
-    if (s->ctx->use_reference) /* the default device could not work here */
-        return ss_backend_ref_open(s);
-    struct ss_ocl *o = s->ctx->ocl;
-    ocl_session *q = ss_calloc(1, sizeof *q);
+    if (b->ctx->use_reference) /* the default device could not work here */
+        return ss_backend_ref_open(b);
+    struct ss_ocl *o = b->ctx->ocl;
+    ocl_backend *q = ss_calloc(1, sizeof *q);
     if (!q)
-        return ss_fail(s->ctx, SS_ERR_MEMORY, "out of memory opening a session");
-    s->impl = q;
-    s->backend = &ocl_backend;
-    size_t bytes = grid_cells(s) * sizeof(float);
-    cl_int err;
-    q->z = clCreateBuffer(o->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes,
-                          s->grid->z, &err);
-    if (err == CL_SUCCESS)
-        q->stack = clCreateBuffer(o->context, CL_MEM_READ_WRITE, grid_cells(s) * sizeof(int),
-                                  NULL, &err);
-    for (int i = 0; i < s->n_outputs && err == CL_SUCCESS; ++i)
-        q->out[i] = clCreateBuffer(o->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
+        return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory opening a backend");
+    b->impl = q;
+    b->ops = &ocl_ops;
+    b->batch = fit_batch(b, o);
+    size_t cells = held_cells(b), fbytes = cells * sizeof(float);
+    int horizon = b->walk.term == SS_TERM_HORIZON, planes = ss_walk_planes(&b->walk);
+    cl_int err = CL_SUCCESS;
+    if (b->whole_z)
+        q->z = new_buffer(b, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, fbytes, (void *)b->whole_z,
+                          &err);
+    else
+        q->z = new_buffer(b, CL_MEM_READ_ONLY, fbytes, NULL, &err);
+    if (!b->whole_z && b->walk.term == SS_SVF_TILTED)
+        q->grad = new_buffer(b, CL_MEM_READ_ONLY, 2 * fbytes, NULL, &err);
+    q->stacks = new_buffer(b, CL_MEM_READ_WRITE, (size_t)b->batch * cells * sizeof(int), NULL,
+                           &err);
+    q->sums = new_buffer(b, CL_MEM_READ_WRITE, fbytes, NULL, &err);
+    if (horizon)
+        q->outs = new_buffer(b, CL_MEM_READ_WRITE, (size_t)b->batch * planes * fbytes, NULL, &err);
+    else
+        q->parts = new_buffer(b, CL_MEM_READ_WRITE, (size_t)b->batch * fbytes, NULL, &err);
+    q->carry = new_buffer(b, CL_MEM_READ_WRITE, carry_floats(b) * sizeof(float), NULL, &err);
+    q->dirs = new_buffer(b, CL_MEM_READ_ONLY, (size_t)b->batch * sizeof(ss_band_dir), NULL, &err);
+    q->counters = new_buffer(b, CL_MEM_READ_WRITE, SS_BAND_COUNTERS * sizeof(int), NULL, &err);
+    /* Valid (if empty) hull buffers, so every kernel argument is a buffer. */
+    q->hull_in = new_buffer(b, CL_MEM_READ_WRITE, sizeof(ss_hull_point), NULL, &err);
+    q->hull_out = new_buffer(b, CL_MEM_READ_WRITE, sizeof(ss_hull_point), NULL, &err);
+    q->hull_cap_in = q->hull_cap_out = 1;
+    cl_mem *lines[] = {&q->in_off, &q->in_cnt, &q->out_off, &q->out_cnt, &q->state};
+    for (int i = 0; i < 5; ++i)
+        *lines[i] = new_buffer(b, CL_MEM_READ_WRITE, SS_BAND_STATE * sizeof(int), NULL, &err);
+    q->lines_cap = 1;
     if (err != CL_SUCCESS) {
-        ocl_close(s);
-        s->impl = NULL;
-        return cl_fail(s->ctx, err, "allocating device buffers");
+        ocl_close(b);
+        return cl_fail(b->ctx, err, "allocating device buffers");
     }
-    for (int i = 0; i < s->n_outputs; ++i)
-        if ((st = ocl_clear(s, i)) != SS_OK) {
-            ocl_close(s);
-            s->impl = NULL;
-            return st;
-        }
     return SS_OK;
 }

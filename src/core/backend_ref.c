@@ -1,154 +1,317 @@
-/* The C twin: runs the kernels' own per-line code (kernels/ss_passes.h) on
- * the host, lines in parallel with OpenMP. It is what --device reference
- * selects and what the OpenCL path is tested against alongside the
- * brute-force reference of the tests. */
+/* The C twin: runs the kernels' own per-line code (kernels/ss_passes.h,
+ * ss_band.h) on the host, lines in parallel with OpenMP. It walks a
+ * batch's directions one after the other with one stack grid, adding
+ * summed terms straight into the band's sums, so its results do not depend
+ * on the batch. It is what --device reference selects and what the OpenCL
+ * path is tested against alongside the brute-force references of the
+ * tests. */
 #include "config.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-#include "session.h"
+#include "backend.h"
 #include "ss_passes.h"
 
 typedef struct {
+    const float *z;     /* the band's heights (the whole grid's in place) */
+    float *z_band;      /* bands: their heights */
+    const float *grad;  /* the band's gradients (the radiative SVF) */
+    float *grad_band;
     int *stack;
-    float *out[SS_SESSION_MAX_OUTPUTS];
-    float *weight; /* horizon weights (ss_pass_horizon_walk), made on first use */
-    float *grad;   /* gradients for the radiative SVF (ss_gradient_grid), made on first use */
-} ref_session;
+    float *sums;        /* summed walks: the band's sums */
+    float *outs;        /* horizon walks: planes per batch slot */
+    float *carry;       /* rows of sums kept between bands */
+    /* Hulls handed on (ss_band.h): in from the band before, out to the next. */
+    ss_hull_point *hull_in, *hull_out;
+    size_t hull_cap_in, hull_cap_out;
+    int *in_off, *in_cnt, *out_off, *out_cnt, *state;
+    int n_lines;
+    int counters[SS_BAND_COUNTERS];
+} ref_backend;
 
-static ss_status ref_clear(ss_session *s, int output)
+static size_t held_cells(const ss_backend *b)
 {
-    ref_session *r = s->impl;
-    memset(r->out[output], 0, sizeof(float) * (size_t)s->grid->width * s->grid->height);
+    return (size_t)b->max_held_rows * (size_t)b->width;
+}
+
+static size_t run_cells(const ss_band_run *run)
+{
+    return (size_t)run->held_rows * (size_t)run->width;
+}
+
+static ss_status ref_load(ss_backend *b, const ss_band_run *run, const float *z, const float *grad)
+{
+    ref_backend *r = b->impl;
+    size_t n = run_cells(run);
+    if (b->whole_z) {
+        r->z = z;
+        r->grad = grad;
+        return SS_OK;
+    }
+    memcpy(r->z_band, z, n * sizeof(float));
+    if (grad)
+        memcpy(r->grad_band, grad, 2 * n * sizeof(float));
+    r->z = r->z_band;
+    r->grad = r->grad_band;
     return SS_OK;
 }
 
-static ss_status ref_svf(ss_session *s, const ss_line_set *ls, int definition, float curv_k,
-                         float sin_az, float cos_az)
+/* Rows of sums kept between bands: a row per plane and direction carried. */
+static size_t carry_floats(const ss_backend *b)
 {
-    ref_session *r = s->impl;
-    const ss_grid *g = s->grid;
-    float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
-    if (definition == SS_SVF_TILTED && !r->grad) {
-        size_t bytes = 2 * (size_t)g->width * g->height * sizeof(float);
-        if (!(r->grad = ss_alloc_grid(bytes)))
-            return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of surface gradients",
-                           bytes >> 20);
-        ss_gradient_grid(g, r->grad);
-    }
-    for (int round = 0; round < 2; ++round) {
-        int n = ss_round_lines(ls, round);
-#pragma omp parallel for schedule(dynamic, 16)
-        for (int i = 0; i < n; ++i)
-            if (!s->ctx->cancel_requested)
-                ss_pass_svf(ls, ss_round_line(ls, round, i), definition, curv_k, sin_az, cos_az, cx,
-                            cy, g->height, g->z, r->grad, r->stack, r->out[0]);
-    }
-    return ss_check_cancel(s->ctx, "the sweep");
+    int planes = b->walk.term == SS_TERM_HORIZON ? ss_walk_planes(&b->walk) : 1;
+    return (size_t)b->carried * (size_t)planes * (size_t)b->width;
 }
 
-static ss_status ref_horizon(ss_session *s, const ss_line_set *ls, float curv_k, float none_deg,
-                             int want)
+static ss_status grow_ints(ss_ctx *ctx, int **p, int n)
 {
-    ref_session *r = s->impl;
-    size_t n_cells = (size_t)s->grid->width * s->grid->height;
-    /* Only horizon sessions pay for the weight grid. */
-    if (!r->weight && !(r->weight = ss_alloc_grid(n_cells * sizeof(float))))
-        return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of horizon weights",
-                       (n_cells * sizeof(float)) >> 20);
-    memset(r->weight, 0, n_cells * sizeof(float));
-    /* Grids not asked for are never written: output 0 stands in. */
-    float *dist = want & SS_HORIZON_WANT_DIST ? r->out[1] : r->out[0];
-    float *cast = want & SS_HORIZON_WANT_CAST ? r->out[2] : r->out[0];
-    for (int round = 0; round < 2; ++round) {
-        int n = ss_round_lines(ls, round);
+    int *q = ss_realloc(*p, sizeof(int) * (size_t)(n > 0 ? n : 1));
+    if (!q)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the hulls of %d lines", n);
+    *p = q;
+    return SS_OK;
+}
+
+static ss_status ref_pass_begin(ss_backend *b, int n_lines)
+{
+    ref_backend *r = b->impl;
+    ss_status st = SS_OK;
+    int **arrays[] = {&r->in_off, &r->in_cnt, &r->out_off, &r->out_cnt};
+    for (int i = 0; i < 4 && st == SS_OK; ++i)
+        st = grow_ints(b->ctx, arrays[i], n_lines);
+    if (st == SS_OK)
+        st = grow_ints(b->ctx, &r->state, SS_BAND_STATE * n_lines);
+    if (st != SS_OK)
+        return st;
+    r->n_lines = n_lines;
+    memset(r->in_cnt, 0, sizeof(int) * (size_t)n_lines);
+    memset(r->in_off, 0, sizeof(int) * (size_t)n_lines);
+    memset(r->counters, 0, sizeof r->counters);
+    if (r->carry)
+        memset(r->carry, 0, sizeof(float) * carry_floats(b));
+    return SS_OK;
+}
+
+static ss_status ref_sums_begin(ss_backend *b, const ss_band_run *run, int pass)
+{
+    ref_backend *r = b->impl;
+    memset(r->sums, 0, run_cells(run) * sizeof(float));
+    int row = ss_band_landing_row(run, pass);
+    if (b->carried && row >= 0)
+        memcpy(r->sums + (size_t)row * run->width, r->carry, sizeof(float) * (size_t)run->width);
+    return SS_OK;
+}
+
+/* Makes room in hull_out for every point the walks so far will hand on. */
+static ss_status hull_room(ss_backend *b)
+{
+    ref_backend *r = b->impl;
+    size_t need = (size_t)r->counters[SS_BAND_PENDING];
+    if (need <= r->hull_cap_out)
+        return SS_OK;
+    size_t cap = need + need / 2 + 1024;
+    ss_hull_point *p = ss_realloc(r->hull_out, sizeof *p * cap);
+    if (!p)
+        return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for %zu hull points handed on",
+                       need);
+    r->hull_out = p;
+    r->hull_cap_out = cap;
+    return SS_OK;
+}
+
+/* One round of one direction's lines, and their hulls handed on. */
+static ss_status walk_round(ss_backend *b, const ss_band_run *run, const ss_band_dir *d,
+                            int round)
+{
+    ref_backend *r = b->impl;
+    ss_band_hulls hulls = {r->hull_in, r->in_off, r->in_cnt, r->state, r->counters};
+    int n = ss_round_lines(&d->ls, round), term = b->walk.term;
+    const ss_ctx *ctx = b->ctx;
 #pragma omp parallel for schedule(dynamic, 16)
-        for (int i = 0; i < n; ++i)
-            if (!s->ctx->cancel_requested)
-                ss_pass_horizon(ls, ss_round_line(ls, round, i), curv_k, s->grid->z, r->stack,
-                                r->out[0], r->weight, dist, cast, want);
+    for (int i = 0; i < n; ++i) {
+        if (ctx->cancel_requested)
+            continue;
+        int line = ss_round_line(&d->ls, round, i);
+        if (term == SS_TERM_HORIZON)
+            ss_band_horizon_line(d, run, line, r->z, r->stack, r->outs, hulls);
+        else if (b->walk.radius_m > 0)
+            ss_band_radius_line(d, run, line, r->z, r->sums);
+        else
+            ss_band_sum_line(d, run, line, r->z, r->grad, r->stack, r->sums, hulls);
     }
-    if (s->ctx->cancel_requested)
-        return ss_check_cancel(s->ctx, "the sweep");
+    if (ctx->cancel_requested)
+        return ss_check_cancel(b->ctx, "the sweep");
+    if (run->whole || b->walk.radius_m > 0)
+        return SS_OK;
+    ss_status st = hull_room(b);
+    if (st != SS_OK)
+        return st;
+#pragma omp parallel for schedule(dynamic, 16)
+    for (int i = 0; i < n; ++i)
+        ss_band_hand_on(d, ss_round_line(&d->ls, round, i), r->z, r->stack, r->hull_in,
+                        r->in_off, r->state, r->hull_out, r->out_off, r->out_cnt, r->counters);
+    return SS_OK;
+}
+
+/* A horizon walk's rows of sums in (into) from, or out to, the rows kept
+ * between bands. */
+static void carry_rows(ss_backend *b, const ss_band_run *run, const ss_band_dir *d, int into)
+{
+    ref_backend *r = b->impl;
+    int row = into ? ss_band_landing_row(run, d->pass) : ss_band_fed_row(run, d->pass);
+    if (!b->carried || row < 0)
+        return;
+    size_t w = (size_t)run->width;
+    for (int p = 0; p < run->planes; ++p) {
+        float *plane = ss_band_plane(r->outs, run, d->slot, p) + (size_t)row * w;
+        float *kept = r->carry + ((size_t)d->carry * run->planes + p) * w;
+        memcpy(into ? plane : kept, into ? kept : plane, w * sizeof(float));
+    }
+}
+
+static ss_status ref_walk(ss_backend *b, const ss_band_run *run, const ss_band_dir *dirs, int n)
+{
+    ref_backend *r = b->impl;
+    ss_status st = SS_OK;
+    int horizon = b->walk.term == SS_TERM_HORIZON;
+    for (int k = 0; k < n && st == SS_OK; ++k) {
+        const ss_band_dir *d = &dirs[k];
+        if (horizon) {
+            memset(ss_band_plane(r->outs, run, d->slot, 0), 0,
+                   sizeof(float) * (size_t)run->planes * run_cells(run));
+            carry_rows(b, run, d, 1);
+        }
+        for (int round = 0; round < 2 && st == SS_OK; ++round)
+            st = walk_round(b, run, d, round);
+        if (st != SS_OK || !horizon)
+            continue;
+        carry_rows(b, run, d, 0);
+        float *angle = ss_band_plane(r->outs, run, d->slot, 0);
+        const float *weight = ss_band_plane(r->outs, run, d->slot, 1);
+        int first = (run->row0 - run->lo) * run->width;
+        int last = (run->row1 - run->lo) * run->width;
 #pragma omp parallel for schedule(static)
-    for (int c = 0; c < (int)n_cells; ++c)
-        ss_pass_horizon_finish(c, none_deg, r->out[0], r->weight);
+        for (int c = first; c < last; ++c)
+            ss_pass_horizon_finish(c, run->none_deg, angle, weight);
+    }
+    return st;
+}
+
+static ss_status ref_sums_end(ss_backend *b, const ss_band_run *run, int pass, float **own)
+{
+    ref_backend *r = b->impl;
+    int row = ss_band_fed_row(run, pass);
+    if (b->carried && row >= 0)
+        memcpy(r->carry, r->sums + (size_t)row * run->width, sizeof(float) * (size_t)run->width);
+    *own = r->sums + (size_t)(run->row0 - run->lo) * run->width;
     return SS_OK;
 }
 
-static ss_status ref_bare(ss_session *s, const ss_line_set *ls)
+static ss_status ref_view(ss_backend *b, const ss_band_run *run, int slot, int plane, float **own)
 {
-    ref_session *r = s->impl;
-    for (int round = 0; round < 2; ++round) {
-        int n = ss_round_lines(ls, round);
-#pragma omp parallel for schedule(dynamic, 16)
-        for (int i = 0; i < n; ++i)
-            if (!s->ctx->cancel_requested)
-                ss_pass_bare(ls, ss_round_line(ls, round, i), s->grid->z, r->out[0]);
-    }
-    return ss_check_cancel(s->ctx, "the sweep");
-}
-
-static ss_status ref_radius_terms(ss_session *s, const ss_line_set *ls, int definition,
-                                  float radius_m, float curv_k)
-{
-    ref_session *r = s->impl;
-    for (int round = 0; round < 2; ++round) {
-        int n = ss_round_lines(ls, round);
-#pragma omp parallel for schedule(dynamic, 16)
-        for (int i = 0; i < n; ++i)
-            if (!s->ctx->cancel_requested)
-                ss_pass_radius_terms(ls, ss_round_line(ls, round, i), definition, radius_m,
-                                     curv_k, s->grid->z, r->out[0]);
-    }
-    return ss_check_cancel(s->ctx, "the sweep");
-}
-
-static ss_status ref_view(ss_session *s, int output, float **host)
-{
-    ref_session *r = s->impl;
-    *host = r->out[output];
+    ref_backend *r = b->impl;
+    *own = ss_band_plane(r->outs, run, slot, plane) + (size_t)(run->row0 - run->lo) * run->width;
     return SS_OK;
 }
 
-static void ref_close(ss_session *s)
+static ss_status ref_hulls_swap(ss_backend *b, ss_band_stats *stats)
 {
-    ref_session *r = s->impl;
+    ref_backend *r = b->impl;
+    ss_hull_point *p = r->hull_in;
+    r->hull_in = r->hull_out;
+    r->hull_out = p;
+    size_t cap = r->hull_cap_in;
+    r->hull_cap_in = r->hull_cap_out;
+    r->hull_cap_out = cap;
+    int *t = r->in_off;
+    r->in_off = r->out_off;
+    r->out_off = t;
+    t = r->in_cnt;
+    r->in_cnt = r->out_cnt;
+    r->out_cnt = t;
+    if (stats) {
+        stats->handoffs += (size_t)r->counters[SS_BAND_HANDOFFS];
+        stats->hull_points_handed_on += (size_t)r->counters[SS_BAND_USED];
+        if ((size_t)r->counters[SS_BAND_HULL_MAX] > stats->max_hull_points)
+            stats->max_hull_points = (size_t)r->counters[SS_BAND_HULL_MAX];
+    }
+    memset(r->counters, 0, sizeof r->counters);
+    return SS_OK;
+}
+
+static ss_status ref_bare(ss_backend *b, const ss_band_run *run, const ss_band_dir *d,
+                          float **out)
+{
+    ref_backend *r = b->impl;
+    memset(r->sums, 0, run_cells(run) * sizeof(float));
+    for (int round = 0; round < 2; ++round) {
+        int n = ss_round_lines(&d->ls, round);
+#pragma omp parallel for schedule(dynamic, 16)
+        for (int i = 0; i < n; ++i) {
+            if (b->ctx->cancel_requested)
+                continue;
+            ss_walker w;
+            int count = ss_walker_begin(&w, &d->ls, ss_round_line(&d->ls, round, i));
+            ss_bare_steps(&w, &d->ls, 0, count, r->z, r->sums);
+        }
+    }
+    *out = r->sums;
+    return ss_check_cancel(b->ctx, "the sweep");
+}
+
+static void ref_close(ss_backend *b)
+{
+    ref_backend *r = b->impl;
     if (!r)
         return;
+    free(r->z_band);
+    free(r->grad_band);
     free(r->stack);
-    for (int i = 0; i < SS_SESSION_MAX_OUTPUTS; ++i)
-        free(r->out[i]);
-    free(r->weight);
-    free(r->grad);
+    free(r->sums);
+    free(r->outs);
+    free(r->carry);
+    free(r->hull_in);
+    free(r->hull_out);
+    free(r->in_off);
+    free(r->in_cnt);
+    free(r->out_off);
+    free(r->out_cnt);
+    free(r->state);
     free(r);
+    b->impl = NULL;
 }
 
-static const ss_backend ref_backend = {ref_clear, ref_svf,  ref_horizon, ref_bare,
-                                       ref_radius_terms, ref_view, ref_close};
+static const ss_backend_ops ref_ops = {ref_load,     ref_pass_begin, ref_sums_begin,
+                                       ref_walk,     ref_sums_end,    ref_view,
+                                       ref_hulls_swap, ref_bare,      ref_close};
 
-ss_status ss_backend_ref_open(ss_session *s)
+ss_status ss_backend_ref_open(ss_backend *b)
 {
-    size_t n = (size_t)s->grid->width * (size_t)s->grid->height;
-    ref_session *r = ss_calloc(1, sizeof *r);
-    s->impl = r;
-    s->backend = &ref_backend;
+    ref_backend *r = ss_calloc(1, sizeof *r);
+    b->impl = r;
+    b->ops = &ref_ops;
     if (!r)
-        return ss_fail(s->ctx, SS_ERR_MEMORY, "out of memory opening the C reference");
-    r->stack = ss_alloc_grid(n * sizeof(int));
-    int ok = r->stack != NULL;
-    for (int i = 0; i < s->n_outputs; ++i) {
-        r->out[i] = ss_alloc_grid(n * sizeof(float));
-        ok = ok && r->out[i];
+        return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory opening the C twin");
+    size_t n = held_cells(b);
+    int horizon = b->walk.term == SS_TERM_HORIZON, planes = ss_walk_planes(&b->walk);
+    int ok = (r->stack = ss_alloc_grid(n * sizeof(int))) != NULL;
+    if (ok && !b->whole_z) {
+        ok = (r->z_band = ss_alloc_grid(n * sizeof(float))) != NULL;
+        if (ok && b->walk.term == SS_SVF_TILTED)
+            ok = (r->grad_band = ss_alloc_grid(2 * n * sizeof(float))) != NULL;
     }
+    if (ok && horizon)
+        ok = (r->outs = ss_alloc_grid(n * sizeof(float) * (size_t)planes * b->batch)) != NULL;
+    else if (ok)
+        ok = (r->sums = ss_alloc_grid(n * sizeof(float))) != NULL;
+    if (ok && b->carried)
+        ok = (r->carry = ss_calloc(carry_floats(b), sizeof(float))) != NULL;
     if (!ok) {
-        ref_close(s);
-        s->impl = NULL;
-        return ss_fail(s->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of sweep buffers",
-                       (n * sizeof(float) * (size_t)(1 + s->n_outputs)) >> 20);
+        ref_close(b);
+        return ss_fail(b->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of sweep buffers",
+                       (n * sizeof(float) * (size_t)(2 + (horizon ? planes * b->batch : 1))) >>
+                           20);
     }
-    for (int i = 0; i < s->n_outputs; ++i)
-        memset(r->out[i], 0, n * sizeof(float));
     return SS_OK;
 }

@@ -37,6 +37,11 @@ void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user)
     ctx->progress_user = user;
 }
 
+void ss_ctx_set_batch(ss_ctx *ctx, int directions)
+{
+    ctx->batch = directions > 0 ? directions : 0;
+}
+
 const char *ss_version(void)
 {
     return PACKAGE_VERSION;

@@ -21,6 +21,7 @@ struct ss_ctx {
     char device_spec[256];
     int use_reference; /* run the C twin instead of OpenCL */
     int device_auto;   /* "auto": each plan chooses device_spec */
+    int batch;         /* directions per batch (ss_ctx_set_batch); 0: the device's choice */
     struct ss_ocl *ocl;
     char device_name[600];
     ss_counters counters;

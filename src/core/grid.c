@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "ctx_internal.h"
+#include "backend.h"
 
 /* Beyond these a cell size is not a DEM's (and products of sizes would lose
  * float precision); 1e-6 m to 1e7 m covers microtopography to continents. */
@@ -106,4 +106,20 @@ ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells)
     if (valid_cells)
         *valid_cells = valid;
     return SS_OK;
+}
+
+/* Horn's gradient of every cell (backend.h): computed once per grid or band
+ * instead of for both cells of every sample of every direction. */
+void ss_gradient_grid(const ss_grid *g, float *out)
+{
+    float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m;
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < g->height; ++row)
+        for (int col = 0; col < g->width; ++col) {
+            size_t c = (size_t)row * g->width + col;
+            out[2 * c] = out[2 * c + 1] = 0.0f;
+            if (isfinite(g->z[c]))
+                ss_gradient_horn(g->z, g->width, g->height, col, row, cx, cy, &out[2 * c],
+                                 &out[2 * c + 1]);
+        }
 }

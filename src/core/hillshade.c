@@ -5,12 +5,20 @@
  * multidirectional blend of lights from 225, 270, 315 and 360 degrees.
  * Returned as floats in 1..255 (the writer rounds to bytes, as gdaldem's
  * output does); SS_NODATA at nodata. Edges and holes use one-sided
- * gradients (gdaldem leaves edges nodata unless -compute_edges). */
+ * gradients (gdaldem leaves edges nodata unless -compute_edges).
+ *
+ * ss_hillshade_rows adds what the sweep gives: the light's exact cast
+ * shadows (a horizon walk along it), sky-view shading (the SVF of an
+ * earlier walk, kept in a cell store), or RVT's VAT blend instead
+ * (relief_blend.c). */
 #include "config.h"
 
 #include <math.h>
+#include <stdlib.h>
 
-#include "ctx_internal.h"
+#include "cell_store.h"
+#include "products_internal.h"
+#include "relief_blend.h"
 #include "ss_sun.h"
 #include "ss_terms.h"
 
@@ -32,44 +40,184 @@ static double multidirectional(double x, double y, double alt_rad)
                      sqrt(1.0 + xx_yy);
 }
 
+ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho)
+{
+    if (!isfinite(ho->azimuth_deg) || !(ho->altitude_deg >= 0 && ho->altitude_deg <= 90) ||
+        !(isfinite(ho->z_factor) && ho->z_factor > 0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "hillshade needs a light azimuth, an altitude in 0..90 degrees and a "
+                       "positive z factor (got %g, %g, %g)",
+                       ho->azimuth_deg, ho->altitude_deg, ho->z_factor);
+    if (!(ho->sky_view >= 0 && ho->sky_view <= 1) || !(ho->radius_m >= 0) ||
+        !isfinite(ho->radius_m))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "hillshade needs a sky-view weight in 0..1 and a radius >= 0 (got %g, %g)",
+                       ho->sky_view, ho->radius_m);
+    if (ho->vat && (ho->cast_shadows || ho->sky_view > 0 || ho->multidirectional))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the VAT blend has its own light and layers: no cast shadows, sky view "
+                       "or multidirectional light with it");
+    return SS_OK;
+}
+
+void ss_hillshade_of_rows(const ss_grid *grid, int row0, int row1,
+                          const ss_hillshade_options *ho, float *out)
+{
+    double az = ho->azimuth_deg * M_PI / 180.0, alt = ho->altitude_deg * M_PI / 180.0;
+    float sun_e = (float)(cos(alt) * sin(az)), sun_n = (float)(cos(alt) * cos(az)),
+          sun_u = (float)sin(alt);
+    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m;
+#pragma omp parallel for schedule(static)
+    for (int r = row0; r < row1; ++r)
+        for (int c = 0; c < grid->width; ++c) {
+            size_t k = (size_t)(r - row0) * grid->width + c;
+            if (!isfinite(grid->z[(size_t)r * grid->width + c])) {
+                out[k] = SS_NODATA;
+                continue;
+            }
+            float dz_de, dz_dn;
+            if (ho->zevenbergen_thorne)
+                ss_gradient_zt(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de, &dz_dn);
+            else
+                ss_gradient_horn(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de,
+                                 &dz_dn);
+            dz_de *= (float)ho->z_factor;
+            dz_dn *= (float)ho->z_factor;
+            if (ho->multidirectional) {
+                out[k] = (float)multidirectional(-dz_de, dz_dn, alt);
+            } else {
+                float cang = ss_cos_incidence_gradient(sun_e, sun_n, sun_u, dz_de, dz_dn);
+                out[k] = cang <= 0.0f ? 1.0f : 1.0f + 254.0f * cang;
+            }
+        }
+}
+
 ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_deg,
                        double light_altitude_deg, double z_factor, int zevenbergen_thorne,
                        int multidirectional_light, float *shade)
 {
     if (ss_grid_check(ctx, grid, NULL) != SS_OK)
         return SS_ERR_INPUT;
-    if (!isfinite(light_azimuth_deg) || !(light_altitude_deg >= 0 && light_altitude_deg <= 90) ||
-        !(isfinite(z_factor) && z_factor > 0))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "hillshade needs a light azimuth, an altitude in 0..90 degrees and a "
-                       "positive z factor (got %g, %g, %g)",
-                       light_azimuth_deg, light_altitude_deg, z_factor);
-    double az = light_azimuth_deg * M_PI / 180.0, alt = light_altitude_deg * M_PI / 180.0;
-    float sun_e = (float)(cos(alt) * sin(az)), sun_n = (float)(cos(alt) * cos(az)),
-          sun_u = (float)sin(alt);
-    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m;
-#pragma omp parallel for schedule(static)
-    for (int r = 0; r < grid->height; ++r)
-        for (int c = 0; c < grid->width; ++c) {
-            size_t k = (size_t)r * grid->width + c;
-            if (!isfinite(grid->z[k])) {
-                shade[k] = SS_NODATA;
-                continue;
-            }
-            float dz_de, dz_dn;
-            if (zevenbergen_thorne)
-                ss_gradient_zt(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de, &dz_dn);
-            else
-                ss_gradient_horn(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de,
-                                 &dz_dn);
-            dz_de *= (float)z_factor;
-            dz_dn *= (float)z_factor;
-            if (multidirectional_light) {
-                shade[k] = (float)multidirectional(-dz_de, dz_dn, alt);
-            } else {
-                float cang = ss_cos_incidence_gradient(sun_e, sun_n, sun_u, dz_de, dz_dn);
-                shade[k] = cang <= 0.0f ? 1.0f : 1.0f + 254.0f * cang;
-            }
-        }
-    return SS_OK;
+    ss_hillshade_options ho = {.azimuth_deg = light_azimuth_deg,
+                               .altitude_deg = light_altitude_deg,
+                               .z_factor = z_factor,
+                               .zevenbergen_thorne = zevenbergen_thorne,
+                               .multidirectional = multidirectional_light};
+    ss_status st = ss_hillshade_check(ctx, &ho);
+    if (st == SS_OK)
+        ss_hillshade_of_rows(grid, 0, grid->height, &ho, shade);
+    return st;
+}
+
+/* ---- in rows, with what the sweep gives --------------------------------- */
+
+typedef struct {
+    const ss_source *src;
+    const ss_hillshade_options *ho;
+    ss_cell_store *layers; /* sky view: the SVF; VAT: SVF and openness */
+    float *shade, *svf, *openness; /* a band's rows */
+    ss_rows_sink sink;
+    void *user;
+} shade_run;
+
+/* The band's shade: the hillshade or the VAT blend, darkened in the
+ * light's cast shadows (sunlit: the walk's horizons, else NULL), with the
+ * sky view blended in. */
+static ss_status shade_band(shade_run *s, const ss_band_view *band, const float *horizon)
+{
+    const ss_hillshade_options *ho = s->ho;
+    ss_grid held = ss_band_grid(band, s->src);
+    int first = band->row0 - band->lo;
+    size_t n = (size_t)band->n_rows * band->width;
+    ss_status st = SS_OK;
+    if (s->layers)
+        st = ss_cell_store_get(s->layers, 0, band->row0, band->n_rows, s->svf);
+    if (st == SS_OK && ho->vat)
+        st = ss_cell_store_get(s->layers, 1, band->row0, band->n_rows, s->openness);
+    if (st != SS_OK)
+        return st;
+    if (ho->vat) {
+        ss_vat_rows(&held, first, first + band->n_rows, s->svf, s->openness, s->shade);
+        for (size_t c = 0; c < n; ++c)
+            if (s->shade[c] != SS_NODATA)
+                s->shade[c] = 1.0f + 254.0f * s->shade[c];
+    } else {
+        ss_hillshade_of_rows(&held, first, first + band->n_rows, ho, s->shade);
+    }
+    for (size_t c = 0; horizon && c < n; ++c)
+        if (s->shade[c] != SS_NODATA && !(ho->altitude_deg > horizon[c]))
+            s->shade[c] = 1.0f;
+    for (size_t c = 0; ho->sky_view > 0 && c < n; ++c)
+        if (s->shade[c] != SS_NODATA)
+            s->shade[c] = (float)((1 - ho->sky_view) * s->shade[c] +
+                                  ho->sky_view * (1.0 + 254.0 * s->svf[c]));
+    return s->sink(s->user, SS_OUT_SHADE, 0, band->row0, band->n_rows, s->shade);
+}
+
+static ss_status shade_direction(void *user, int index, const ss_band_view *band,
+                                 const ss_dir_rows *rows, float *planes)
+{
+    (void)index, (void)planes;
+    return shade_band(user, band, rows->angle);
+}
+
+static ss_status shade_finish(void *user, const ss_band_view *band, float *planes)
+{
+    (void)planes;
+    return shade_band(user, band, NULL);
+}
+
+/* The layers the shade needs from summed walks: the SVF (geometric, within
+ * the radius for VAT) and, for VAT, positive openness. */
+static ss_status sky_layers(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                            shade_run *s)
+{
+    const ss_hillshade_options *ho = s->ho;
+    int n = ho->vat ? 2 : 1;
+    ss_status st = ss_cell_store_open(ctx, src, n, sizeof(float), &s->layers);
+    double radius = ho->vat ? ho->radius_m : 0.0;
+    for (int k = 0; k < n && st == SS_OK; ++k) {
+        ss_store_sink sink = {s->layers, k};
+        st = ss_sky_rows(ctx, src, opt, k == 0 ? SS_SKY_SVF_GEOMETRIC : SS_SKY_OPENNESS_POSITIVE,
+                         radius, NULL, ss_store_sink_rows, &sink);
+    }
+    return st;
+}
+
+ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                            const ss_hillshade_options *ho, ss_rows_sink sink, void *user)
+{
+    ss_status st = ss_hillshade_check(ctx, ho);
+    if (st == SS_OK)
+        st = ss_source_check(ctx, src);
+    if (st == SS_OK)
+        st = ss_sweep_options_check(ctx, opt);
+    if (st != SS_OK)
+        return st;
+    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    size_t n = (size_t)rows * (size_t)src->width;
+    shade_run s = {src, ho, NULL, ss_malloc(n * sizeof(float)), ss_malloc(n * sizeof(float)),
+                   ss_malloc(n * sizeof(float)), sink, user};
+    if (!s.shade || !s.svf || !s.openness)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of shades");
+    if (st == SS_OK && (ho->vat || ho->sky_view > 0))
+        st = sky_layers(ctx, src, opt, &s);
+    /* The light's azimuth is in the raster's frame; the walk takes the
+     * options' frame (true north unless the options say grid). */
+    ss_engine_dir light = {ho->azimuth_deg + opt->grid_north_deg, 1, 0};
+    ss_consumer consumer = {0, NULL, shade_direction, ho->cast_shadows ? NULL : shade_finish};
+    ss_engine_job job = {
+        .walk = {.term = ho->cast_shadows ? SS_TERM_HORIZON : SS_TERM_NONE, .none_deg = 0.0f},
+        .dirs = &light,
+        .n_dirs = ho->cast_shadows,
+        .consumer = &consumer,
+        .user = &s,
+        .what = "hillshade"};
+    if (st == SS_OK)
+        st = ss_engine_run(ctx, src, opt, &job);
+    ss_cell_store_close(s.layers);
+    free(s.shade);
+    free(s.svf);
+    free(s.openness);
+    return st;
 }

@@ -1,64 +1,115 @@
-/* Horizon angles: one sweep per direction, each direction's grid handed to
- * the caller's sink at once, so only one direction is held in memory. */
+/* Horizon angles: a horizon walk, each direction's rows handed on as soon
+ * as a band has them, so that only one batch of directions is held. */
 #include "config.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "products_internal.h"
 #include "ss_passes.h"
 
+typedef struct {
+    ss_ctx *ctx;
+    int want;             /* SS_HORIZON_* bits asked for */
+    const ss_source *src; /* the heights' origin, read once a band has been read */
+    const double *azimuths; /* per direction (the whole-grid sink's) */
+    /* Where finished rows go: a rows sink, or the whole-grid call's sink. */
+    ss_rows_sink sink;
+    void *user;
+    ss_horizon_sink whole;
+} horizon_run;
+
+/* Marks nodata (and casting heights without a caster), puts the casting
+ * heights on the DEM's datum, and hands the rows on. */
+static ss_status horizon_rows(void *user, int index, const ss_band_view *band,
+                              const ss_dir_rows *rows, float *planes)
+{
+    (void)planes;
+    horizon_run *h = user;
+    size_t n = (size_t)band->n_rows * (size_t)band->width;
+    float *angle = rows->angle, *dist = rows->dist, *cast = rows->cast;
+    double origin = ss_source_origin(h->src);
+    for (size_t c = 0; c < n; ++c) {
+        int no_height = !isfinite(band->own_z[c]);
+        if (no_height)
+            angle[c] = SS_NODATA;
+        if (cast)
+            cast[c] = no_height || dist[c] == 0.0f ? SS_NODATA
+                                                   : (float)(origin + (double)cast[c]);
+        if (dist && no_height)
+            dist[c] = SS_NODATA;
+    }
+    float *wanted_dist = h->want & SS_HORIZON_DISTANCE ? dist : NULL;
+    if (h->whole)
+        return h->whole(index, h->azimuths[index], angle, wanted_dist, cast, h->user)
+                   ? SS_OK
+                   : ss_fail(h->ctx, SS_ERR_CANCELLED, "stopped while storing direction %d",
+                             index);
+    ss_status st = h->sink(h->user, SS_OUT_HORIZON_ANGLE, index, band->row0, band->n_rows, angle);
+    if (st == SS_OK && wanted_dist)
+        st = h->sink(h->user, SS_OUT_HORIZON_DISTANCE, index, band->row0, band->n_rows, dist);
+    if (st == SS_OK && cast)
+        st = h->sink(h->user, SS_OUT_HORIZON_CAST_HEIGHT, index, band->row0, band->n_rows, cast);
+    return st;
+}
+
+static ss_status run_horizon(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                             horizon_run *h)
+{
+    ss_status st = ss_sweep_options_check(ctx, opt);
+    if (st != SS_OK)
+        return st;
+    int n = opt->directions;
+    ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n);
+    double *azimuths = ss_malloc(sizeof *azimuths * (size_t)n);
+    if (!dirs || !azimuths) {
+        free(dirs);
+        free(azimuths);
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for %d directions", n);
+    }
+    for (int i = 0; i < n; ++i) {
+        azimuths[i] = ss_direction_azimuth(opt, i);
+        dirs[i] = (ss_engine_dir){azimuths[i], 1, i};
+    }
+    h->azimuths = azimuths;
+    /* Casting heights ride on the distances (ss_horizon_caster). */
+    int want_cast = (h->want & SS_HORIZON_CAST_HEIGHT) != 0;
+    int want_dist = want_cast || (h->want & SS_HORIZON_DISTANCE);
+    ss_consumer consumer = {0, NULL, horizon_rows, NULL};
+    ss_engine_job job = {
+        .walk = {.term = SS_TERM_HORIZON,
+                 .want = (want_dist ? SS_HORIZON_WANT_DIST : 0) |
+                         (want_cast ? SS_HORIZON_WANT_CAST : 0),
+                 .none_deg = -90.0f},
+        .dirs = dirs,
+        .n_dirs = n,
+        .consumer = &consumer,
+        .user = h,
+        .what = "horizon"};
+    st = ss_engine_run(ctx, src, opt, &job);
+    free(dirs);
+    free(azimuths);
+    return st;
+}
+
+ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                          int want, ss_rows_sink sink, void *user)
+{
+    horizon_run h = {ctx, want, src, NULL, sink, user, NULL};
+    return run_horizon(ctx, src, opt, &h);
+}
+
 ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, int want,
                      ss_horizon_sink sink, void *user)
 {
-    int want_dist = (want & SS_HORIZON_DISTANCE) != 0;
-    int want_cast = (want & SS_HORIZON_CAST_HEIGHT) != 0;
-    /* Casting heights ride on the distance grid (ss_horizon_caster). */
-    int pass_want = want_cast ? SS_HORIZON_WANT_DIST | SS_HORIZON_WANT_CAST
-                    : want_dist ? SS_HORIZON_WANT_DIST
-                                : 0;
-    int n_outputs = want_cast ? 3 : want_dist ? 2 : 1;
-    ss_session *s;
-    ss_status st = ss_product_begin(ctx, grid, opt, n_outputs, &s);
+    ss_status st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK)
+        st = ss_grid_check(ctx, grid, NULL);
     if (st != SS_OK)
         return st;
-    float curv_k = ss_curvature_k(opt);
-    size_t n_cells = (size_t)grid->width * (size_t)grid->height;
-    for (int i = 0; i < opt->directions && st == SS_OK; ++i) {
-        ss_line_set ls;
-        double t0 = ss_seconds_now();
-        ss_product_lines(grid, opt, i, &ls);
-        for (int out = 0; out < n_outputs && st == SS_OK; ++out)
-            st = ss_session_clear(s, out);
-        if (st == SS_OK)
-            st = ss_session_horizon(s, &ls, curv_k, -90.0f, pass_want);
-        float *angle = NULL, *dist = NULL, *cast = NULL;
-        if (st == SS_OK)
-            st = ss_session_view(s, 0, &angle);
-        if (st == SS_OK && n_outputs > 1)
-            st = ss_session_view(s, 1, &dist);
-        if (st == SS_OK && want_cast)
-            st = ss_session_view(s, 2, &cast);
-        ctx->counters.sweep_seconds += ss_seconds_now() - t0;
-        if (st == SS_OK)
-            for (size_t c = 0; c < n_cells; ++c) {
-                int no_height = !isfinite(grid->z[c]);
-                if (no_height)
-                    angle[c] = SS_NODATA;
-                if (cast)
-                    cast[c] = no_height || dist[c] == 0.0f
-                                  ? SS_NODATA
-                                  : (float)(grid->z_origin_m + (double)cast[c]);
-                if (dist && no_height)
-                    dist[c] = SS_NODATA;
-            }
-        if (st == SS_OK &&
-            !sink(i, ss_direction_azimuth(opt, i), angle, want_dist ? dist : NULL, cast, user))
-            st = ss_fail(ctx, SS_ERR_CANCELLED, "stopped while storing direction %d", i);
-        if (st == SS_OK)
-            st = ss_progress(ctx, (double)(i + 1) / opt->directions, "horizon");
-    }
-    ss_session_close(s);
-    return st;
+    ss_source src = ss_source_of_grid(grid);
+    horizon_run h = {ctx, want, &src, NULL, NULL, user, sink};
+    return run_horizon(ctx, &src, opt, &h);
 }
 
 ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
@@ -69,19 +120,34 @@ ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
     opt.lines = lines;
     opt.directions = 1;
     opt.offset_deg = isfinite(azimuth_deg) ? fmod(azimuth_deg, 360.0) : azimuth_deg;
-    ss_session *s;
-    ss_status st = ss_product_begin(ctx, grid, &opt, 1, &s);
+    ss_status st = ss_sweep_options_check(ctx, &opt);
+    if (st == SS_OK)
+        st = ss_grid_check(ctx, grid, NULL);
     if (st != SS_OK)
         return st;
-    ss_line_set ls;
-    ss_product_lines(grid, &opt, 0, &ls);
+    ss_backend b = {.ctx = ctx,
+                    .walk = {.term = SS_SVF_GEOMETRIC},
+                    .width = grid->width,
+                    .max_held_rows = grid->height,
+                    .batch = 1,
+                    .whole_z = grid->z};
+    st = ss_backend_open(&b);
+    ss_band_dir d = {0};
+    ss_product_lines(grid, &opt, 0, &d.ls);
+    ss_band_run run = {.row1 = grid->height,
+                       .held_rows = grid->height,
+                       .height = grid->height,
+                       .width = grid->width,
+                       .whole = 1};
     float *host = NULL;
-    st = ss_session_bare(s, &ls);
     if (st == SS_OK)
-        st = ss_session_view(s, 0, &host);
+        st = b.ops->load(&b, &run, grid->z, NULL);
+    if (st == SS_OK)
+        st = b.ops->bare(&b, &run, &d, &host);
     if (st == SS_OK)
         for (size_t c = 0; c < (size_t)grid->width * (size_t)grid->height; ++c)
             out[c] += host[c];
-    ss_session_close(s);
+    if (b.impl)
+        b.ops->close(&b);
     return st;
 }

@@ -1,10 +1,15 @@
-/* Clear-sky insolation over a time range: for every daylight step, cast
- * shadows (an exact sweep at the sun's azimuth, or horizons interpolated
- * between stored directions), then beam, sky-diffuse and ground-reflected
- * irradiance on each cell's own slope (kernels/ss_insolation.h), summed in
- * Wh/m^2. Steps are skipped exactly where nothing can happen: at night,
- * and the shadow sweep when the sun stands above any horizon the terrain
- * can cast. */
+/* Insolation over a time range: for every daylight step, cast shadows (an
+ * exact sweep at the sun's azimuth, or horizons interpolated between
+ * stored directions), then beam, sky-diffuse and ground-reflected
+ * irradiance on each cell's surface (insolation_cell.h), summed in Wh/m^2.
+ * Steps are skipped exactly where nothing can happen: at night, and the
+ * shadow sweep when the sun stands above any horizon the terrain can cast.
+ *
+ * A run is a few runs of the one driver: each cell's terms
+ * (insolation_terms.c), the stored horizons where interpolated, then the
+ * steps, each a direction of its own in step order: walked at its sun's
+ * azimuth where it needs an exact shadow sweep, else handed to the cells
+ * without a walk. The cumulative sky is insolation_cumulative.c. */
 #include "config.h"
 
 #include <math.h>
@@ -12,12 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "insolation_cell.h"
+#include "insolation_internal.h"
 #include "lines.h"
-#include "products_internal.h"
-
-/* Stored horizons (products_internal.h) are int16 hundredths of a degree:
- * 0.005 degrees of rounding, far below the interpolation's own error. */
 
 _Static_assert(SS_PV_TEMP_FAIMAN == SS_PV_CELL_TEMP_FAIMAN && SS_PV_TEMP_SAPM == SS_PV_CELL_TEMP_SAPM,
                "ss_pv_temp_model and kernels/ss_pv.h agree");
@@ -25,175 +26,18 @@ _Static_assert(SS_SKY_MODEL_ISOTROPIC == SS_SKY_ISOTROPIC &&
                    SS_SKY_MODEL_HAYDAVIES == SS_SKY_HAYDAVIES && SS_SKY_MODEL_PEREZ == SS_SKY_PEREZ,
                "ss_sky_model and kernels/ss_sky_diffuse.h agree");
 
-/* Perez's horizon band as each cell sees it: the band spans the 6.5
- * degrees above the horizontal (Perez et al. 1987); in each of the sweep's
- * directions the terrain horizon hides its lowest part, and the shares left
- * open are averaged over the directions in front of the cell's surface,
- * each weighted by the cosine of its incidence on the cell. A surface other
- * than the cell's own also gets its tilted sky view here, from the same
- * horizons (the SVF product sweeps with the cell's own gradient). */
-#define PEREZ_BAND_DEG 6.5f
+/* What a step is, decided once before the steps run. */
+enum {
+    STEP_NONE,   /* missing record, or night: adds nothing */
+    STEP_LIT,    /* the sun above every horizon the terrain can cast (or below every cell's
+                    horizontal, with light): no shadows */
+    STEP_SWEPT,  /* exact shadows: a sweep at its sun's azimuth */
+    STEP_STORED  /* interpolated shadows from the stored horizons */
+};
 
-typedef struct {
-    const ss_grid *g;
-    double grid_north_deg; /* the options' */
-    ss_cell_terms *terms;
-    float *open, *weight, *sky; /* sky: NULL, or the sky-view sums */
-} horizon_sums;
-
-static int add_horizon_direction(int index, double azimuth_deg, const float *angle_deg,
-                                 const float *dist_m, const float *cast_height_m, void *user)
-{
-    (void)index, (void)dist_m, (void)cast_height_m;
-    horizon_sums *b = user;
-    size_t n = (size_t)b->g->width * b->g->height;
-    /* The options' frame: the cells' gradients are in the grid's. */
-    float az = (float)((azimuth_deg - b->grid_north_deg) * M_PI / 180.0);
-    float se = sinf(az), sn = cosf(az);
-    for (size_t c = 0; c < n; ++c) {
-        if (!isfinite(b->g->z[c]))
-            continue;
-        const ss_cell_terms *t = &b->terms[c];
-        /* ss_svf_tilted_term takes the horizon as a rise over a distance and
-         * clips it at the horizontal; -90 (no terrain ahead) must not reach
-         * tan, whose float pi/2 overshoots to a huge positive rise. */
-        float rise = tanf(fmaxf(angle_deg[c], 0.0f) * (float)(M_PI / 180.0));
-        if (b->sky)
-            b->sky[c] += ss_svf_tilted_term(1.0f, rise, se, sn, t->dz_de, t->dz_dn);
-        float facing = ss_cos_incidence_gradient(se, sn, 0.0f, t->dz_de, t->dz_dn);
-        if (facing <= 0.0f)
-            continue;
-        b->weight[c] += facing;
-        b->open[c] += facing * fminf(fmaxf(1.0f - angle_deg[c] / PEREZ_BAND_DEG, 0.0f), 1.0f);
-    }
-    return 1;
-}
-
-/* Sets every cell's band_seen, and (with_sky) its sky view, from the
- * horizons at the options' directions: one more sweep per direction. */
-static ss_status horizon_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
-                               int with_sky, ss_cell_terms *terms)
-{
-    size_t n = (size_t)g->width * g->height;
-    horizon_sums b = {g, opt->grid_north_deg, terms, ss_calloc(n, sizeof(float)),
-                      ss_calloc(n, sizeof(float)), with_sky ? ss_calloc(n, sizeof(float)) : NULL};
-    ss_status st = b.open && b.weight && (b.sky || !with_sky)
-                       ? ss_horizon(ctx, g, opt, 0, add_horizon_direction, &b)
-                       : ss_fail(ctx, SS_ERR_MEMORY,
-                                 "cannot allocate the horizon terms' sums for %d x %d cells",
-                                 g->width, g->height);
-    for (size_t c = 0; st == SS_OK && c < n; ++c) {
-        if (!isfinite(g->z[c]))
-            continue;
-        terms[c].band_seen = b.weight[c] > 0.0f ? b.open[c] / b.weight[c] : 1.0f;
-        if (with_sky)
-            terms[c].sky_view = ss_product_finish(SS_SVF_TILTED, b.sky[c], opt->directions);
-    }
-    free(b.open);
-    free(b.weight);
-    free(b.sky);
-    return st;
-}
-
-/* The gradient (east, north) of a fixed surface in the grid's frame: it
- * descends toward the azimuth it faces. */
-static void surface_gradient(const ss_surface *s, const ss_sweep_options *opt, float *dz_de,
-                             float *dz_dn)
-{
-    *dz_de = *dz_dn = 0.0f;
-    if (s->kind != SS_SURFACE_FIXED)
-        return;
-    double rad = M_PI / 180.0, a = (s->azimuth_deg - opt->grid_north_deg) * rad;
-    double slope = tan(fmin(s->tilt_deg, 89.9) * rad);
-    *dz_de = (float)(-slope * sin(a));
-    *dz_dn = (float)(-slope * cos(a));
-}
-
-/* Per-cell quantities that do not change with time (insolation_cell.h):
- * for the cell's own surface, the radiative SVF product's tilted sky view;
- * for another surface, its sky view from the cell's horizons. */
-ss_status ss_insolation_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
-                              const ss_insolation_options *io, ss_cell_terms **terms)
-{
-    size_t n = (size_t)g->width * g->height;
-    int own = io->surface.kind == SS_SURFACE_CELL;
-    ss_cell_terms *t = *terms = ss_malloc(n * sizeof *t);
-    float *sky_view = own ? ss_malloc(n * sizeof(float)) : NULL;
-    ss_status st = SS_OK;
-    if (!t || (own && !sky_view))
-        st = ss_fail(ctx, SS_ERR_MEMORY, "cannot allocate insolation buffers for %d x %d cells",
-                     g->width, g->height);
-    if (st == SS_OK && own)
-        st = ss_svf(ctx, g, opt, SS_SVF_DEF_TILTED, sky_view);
-    if (st != SS_OK) {
-        free(sky_view);
-        return st;
-    }
-    float cx = (float)g->cell_x_m, cy = (float)g->cell_y_m, fixed_de, fixed_dn;
-    surface_gradient(&io->surface, opt, &fixed_de, &fixed_dn);
-#pragma omp parallel for schedule(static)
-    for (int r = 0; r < g->height; ++r)
-        for (int c = 0; c < g->width; ++c) {
-            size_t k = (size_t)r * g->width + c;
-            if (!isfinite(g->z[k]))
-                continue;
-            float dz_de = fixed_de, dz_dn = fixed_dn;
-            if (own)
-                ss_gradient_horn(g->z, g->width, g->height, c, r, cx, cy, &dz_de, &dz_dn);
-            t[k] = ss_cell_terms_of(dz_de, dz_dn, own ? sky_view[k] : 0.0f,
-                                    g->z[k] + g->z_origin_m);
-        }
-    free(sky_view);
-    return !own || io->sky_model == SS_SKY_MODEL_PEREZ ? horizon_terms(ctx, g, opt, !own, t)
-                                                        : SS_OK;
-}
-
-/* Horizons at the D stored directions, int16 hundredths of a degree. */
-ss_status ss_insolation_store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
-                                       const ss_sweep_options *opt, int16_t **stored)
-{
-    size_t n = (size_t)g->width * g->height;
-    double bytes = (double)n * opt->directions * sizeof(int16_t);
-    *stored = bytes < 4e9 ? ss_malloc((size_t)bytes) : NULL;
-    if (!*stored)
-        return ss_fail(ctx, SS_ERR_MEMORY,
-                       "storing %d horizon directions takes %.1f GB: use the exact shadow "
-                       "mode or fewer directions",
-                       opt->directions, bytes / 1e9);
-    for (int i = 0; i < opt->directions; ++i) {
-        float *h;
-        ss_status st = ss_sun_horizon(s, g, opt, ss_direction_azimuth(opt, i), &h);
-        if (st != SS_OK)
-            return st;
-        int16_t *dst = *stored + (size_t)i * n;
-        for (size_t c = 0; c < n; ++c)
-            dst[c] = isfinite(g->z[c]) ? (int16_t)lrintf(h[c] * SS_HORIZON_SCALE) : 0;
-    }
-    return SS_OK;
-}
-
-/* Horizon of cell c at azimuth az (options' frame), linear between the two
- * stored directions around it. */
-static float stored_horizon(const int16_t *stored, size_t n, const ss_sweep_options *opt,
-                            size_t c, double az)
-{
-    double pos = fmod((az - opt->offset_deg) / (360.0 / opt->directions), opt->directions);
-    if (pos < 0)
-        pos += opt->directions;
-    int i0 = (int)pos % opt->directions, i1 = (i0 + 1) % opt->directions;
-    float t = (float)(pos - floor(pos));
-    return ((1.0f - t) * stored[(size_t)i0 * n + c] + t * stored[(size_t)i1 * n + c]) /
-           SS_HORIZON_SCALE;
-}
-
-/* The step's weather record (W/m^2), or 0 where it is missing (counted).
- * GHI alone is split by Erbs; a record whose beam on the horizontal exceeds
- * its global is counted and used as given, one with light while the sun
- * is below the horizontal over its whole interval (it moves at most 15
- * degrees an hour) is counted and adds nothing. All at the grid's centre
- * sun. *light: the record holds any light. */
 int ss_insolation_sky_record(ss_ctx *ctx, const ss_sun_step *sun,
-                             const ss_insolation_options *io, ss_sky_record *rec, int *light)
+                             const ss_insolation_options *io, ss_sky_record *rec, int *light,
+                             int count)
 {
     double z = (90.0 - sun->elevation_deg) * M_PI / 180.0;
     double ghi = sun->ghi_w_m2, dni = sun->dni_w_m2, dhi = sun->dhi_w_m2;
@@ -205,23 +49,25 @@ int ss_insolation_sky_record(ss_ctx *ctx, const ss_sun_step *sun,
         ss_erbs_split((float)ghi, (float)z, rec->dni_extra, &b, &d);
         dni = b;
         dhi = d;
-        ctx->counters.records_split++;
+        ctx->counters.records_split += count;
     }
     if (!isfinite(ghi) || !isfinite(dni) || !isfinite(dhi)) {
-        ctx->counters.records_missing++;
+        ctx->counters.records_missing += count;
         return 0;
     }
     rec->ghi = (float)ghi;
     rec->dni = (float)dni;
     rec->dhi = (float)dhi;
     *light = ghi > 0 || dni > 0 || dhi > 0;
+    /* The sun moves at most 15 degrees an hour: below this, it is down for
+     * the record's whole interval. */
     if (*light && sun->elevation_deg + sun->spread_deg < -7.5 * sun->duration_h) {
-        ctx->counters.records_light_at_night++;
+        ctx->counters.records_light_at_night += count;
         *light = 0;
     }
     double cz = cos(z);
     if (cz > 0 && dni * cz > ghi + fmax(10.0, 0.05 * ghi))
-        ctx->counters.records_beam_above_global++;
+        ctx->counters.records_beam_above_global += count;
     return 1;
 }
 
@@ -258,72 +104,216 @@ ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int 
                        "insolation needs an albedo in 0..1, at least one step and a shadow mode "
                        "(albedo %g, %d steps)",
                        io->albedo, n_steps);
-    if (io->stride < 0 || io->first < 0 || (io->stride > 1 && io->first >= io->stride) ||
-        (io->stride <= 1 && io->first != 0))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "a share of the steps needs 0 <= first < stride (first %d, stride %d)",
-                       io->first, io->stride);
     return SS_OK;
 }
 
-int ss_insolation_step_is_mine(const ss_insolation_options *io, int k)
+ss_insolation_planes ss_insolation_planes_of(int want)
 {
-    return io->stride <= 1 || k % io->stride == io->first;
+    ss_insolation_planes p = {0, 1, 2, 3, 4, -1, -1, -1, 5};
+    if (want & SS_INSOLATION_MONTHLY) {
+        p.monthly = p.count;
+        p.count += 12;
+    }
+    if (want & SS_INSOLATION_PV) {
+        p.pv = p.count++;
+        p.pv_ac = p.count++;
+    }
+    return p;
 }
 
-ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                        const ss_insolation_options *io, int n_steps, ss_sun_step_fn sun_at,
-                        void *sun_user, ss_step_sink sink, void *sink_user,
-                        ss_insolation_out *out)
+ss_status ss_insolation_write_band(const ss_insolation_job *job, const ss_band_view *band,
+                                   float *planes)
 {
-    ss_status st = ss_insolation_check(ctx, io, n_steps);
+    ss_insolation_planes p = ss_insolation_planes_of(job->want);
+    size_t n = (size_t)band->n_rows * band->width;
+    ss_status st = ss_share_reduce(job->share, planes, n * (size_t)p.count);
+    for (int k = 0; k < p.count; ++k)
+        for (size_t c = 0; c < n; ++c)
+            if (!isfinite(band->own_z[c]))
+                planes[(size_t)k * n + c] = SS_NODATA;
+    struct {
+        int output, plane, bands;
+    } outputs[] = {{SS_OUT_GLOBAL, p.global, 1},    {SS_OUT_BEAM, p.beam, 1},
+                   {SS_OUT_DIFFUSE, p.diffuse, 1},  {SS_OUT_REFLECTED, p.reflected, 1},
+                   {SS_OUT_SUN_HOURS, p.hours, 1},  {SS_OUT_MONTHLY, p.monthly, 12},
+                   {SS_OUT_PV, p.pv, 1},            {SS_OUT_PV_AC, p.pv_ac, 1}};
+    for (size_t o = 0; o < sizeof outputs / sizeof outputs[0]; ++o)
+        for (int k = 0; outputs[o].plane >= 0 && k < outputs[o].bands && st == SS_OK; ++k)
+            st = job->sink(job->user, outputs[o].output, k, band->row0, band->n_rows,
+                           planes + (size_t)(outputs[o].plane + k) * n);
+    return st;
+}
+
+/* ---- the steps --------------------------------------------------------------- */
+
+typedef struct {
+    ss_insolation_job *job;
+    unsigned char *kind; /* per step */
+    ss_cell_terms *terms;    /* the band's own cells */
+    const int16_t *stored;   /* interpolated: the band's stored horizons ... */
+    size_t stored_stride;    /* ... D planes this far apart */
+    int16_t *stored_band;    /* where they were read into (bands) */
+    float *step_global;      /* the step's global over the band's rows */
+} steps_run;
+
+/* Horizon of cell c at azimuth az (options' frame), linear between the two
+ * stored directions around it. */
+static float stored_horizon(const steps_run *s, size_t c, double az)
+{
+    const ss_sweep_options *opt = s->job->opt;
+    double pos = fmod((az - opt->offset_deg) / (360.0 / opt->directions), opt->directions);
+    if (pos < 0)
+        pos += opt->directions;
+    int i0 = (int)pos % opt->directions, i1 = (i0 + 1) % opt->directions;
+    float t = (float)(pos - floor(pos));
+    return ((1.0f - t) * s->stored[(size_t)i0 * s->stored_stride + c] +
+            t * s->stored[(size_t)i1 * s->stored_stride + c]) /
+           SS_HORIZON_SCALE;
+}
+
+static ss_status steps_visit(void *user, const ss_band_view *band)
+{
+    steps_run *s = user;
+    ss_insolation_job *job = s->job;
+    ss_status st = ss_insolation_band_terms(job, band, s->terms);
+    if (st != SS_OK || !job->horizons)
+        return st;
+    /* Interpolated shadows read the band's stored horizons, in place where
+     * they are in memory. */
+    s->stored = ss_cell_store_peek(job->horizons, 0, band->row0);
+    s->stored_stride = (size_t)job->src->width * job->src->height;
+    if (s->stored)
+        return SS_OK;
+    size_t n = (size_t)band->n_rows * band->width;
+    for (int d = 0; d < job->opt->directions && st == SS_OK; ++d)
+        st = ss_cell_store_get(job->horizons, d, band->row0, band->n_rows,
+                               s->stored_band + (size_t)d * n);
+    s->stored = s->stored_band;
+    s->stored_stride = n;
+    return st;
+}
+
+/* Step k over a band's own cells: its shadows (rows of the walk at its
+ * sun's azimuth, the stored horizons, or none), irradiance added into the
+ * planes, its global to the step's output where asked for. */
+static ss_status steps_direction(void *user, int k, const ss_band_view *band,
+                                 const ss_dir_rows *rows, float *planes)
+{
+    steps_run *s = user;
+    ss_insolation_job *job = s->job;
+    const ss_insolation_options *io = job->io;
+    size_t n = (size_t)band->n_rows * band->width;
+    int kind = s->kind[k];
+    ss_sun_step sun = {0};
+    ss_sky_record rec = {0};
+    ss_sky_parts sky = {0.0f, 0.0f, 0.0f};
+    int light = 0;
+    ss_status st = kind == STEP_NONE
+                       ? SS_OK
+                       : job->sun_rows(job->ctx, k, band->row0, band->n_rows, &sun, job->sun_user);
+    for (size_t c = 0; c < n; ++c)
+        s->step_global[c] = isfinite(band->own_z[c]) ? 0.0f : SS_NODATA;
+    if (st == SS_OK && kind != STEP_NONE) {
+        if (sun.real_sky) {
+            ss_insolation_sky_record(job->ctx, &sun, io, &rec, &light, 0);
+            /* The sky's parts at the centre's sun serve every cell. */
+            sky = ss_sky_parts_of((int)io->sky_model, fmaxf(rec.dhi, 0.0f), fmaxf(rec.dni, 0.0f),
+                                  rec.dni_extra, (float)((90.0 - sun.elevation_deg) * M_PI / 180.0));
+        }
+        ss_insolation_planes p = ss_insolation_planes_of(job->want);
+        float *beam = planes + (size_t)p.beam * n, *diffuse = planes + (size_t)p.diffuse * n;
+        float *reflected = planes + (size_t)p.reflected * n, *global = planes + (size_t)p.global * n;
+        float *hours = planes + (size_t)p.hours * n;
+        float *month = p.monthly >= 0 && sun.month >= 1 && sun.month <= 12
+                           ? planes + (size_t)(p.monthly + sun.month - 1) * n
+                           : NULL;
+        int pv_on = p.pv >= 0 && sun.real_sky && io->pv.on;
+        float *pv = pv_on ? planes + (size_t)p.pv * n : NULL;
+        float *pv_ac = pv_on ? planes + (size_t)p.pv_ac * n : NULL;
+        float temp_air = (float)(isnan(sun.temp_air_c) ? io->pv.temp_air_c : sun.temp_air_c);
+        float wind = (float)(isnan(sun.wind_speed_m_s) ? io->pv.wind_speed_m_s
+                                                        : sun.wind_speed_m_s);
+        float gamma = (float)io->pv.gamma_pdc, losses = (float)io->pv.losses;
+        /* The inverter's DC input limit per kWp of modules: its AC rating
+         * (1 / the DC/AC ratio) over its nominal efficiency. */
+        float eta_inv = (float)io->pv.inverter_efficiency;
+        float inv_pdc0 =
+            pv_on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
+        float dt = (float)sun.duration_h, albedo = (float)io->albedo;
+        float g0 = (float)sun.extraterrestrial_w_m2, linke = (float)sun.linke;
+        const float rad = (float)(M_PI / 180.0);
+        const float *h = kind == STEP_SWEPT ? rows->angle : NULL;
+#pragma omp parallel for schedule(static)
+        for (size_t c = 0; c < n; ++c) {
+            if (!isfinite(band->own_z[c]))
+                continue;
+            float az = (sun.grid_azimuth_per_cell ? sun.grid_azimuth_per_cell[c]
+                                                  : (float)sun.grid_azimuth_deg) * rad;
+            float h0 = (sun.elevation_per_cell ? sun.elevation_per_cell[c]
+                                               : (float)sun.elevation_deg) * rad;
+            float app = sun.apparent_per_cell ? sun.apparent_per_cell[c]
+                                              : (float)sun.apparent_elevation_deg;
+            if (h0 <= 0.0f && !sun.real_sky)
+                continue;
+            float horizon = kind == STEP_LIT ? -90.0f
+                            : h              ? h[c]
+                                             : stored_horizon(s, c, sun.azimuth_deg);
+            const ss_cell_terms *t = &s->terms[c];
+            ss_cell_step add =
+                sun.real_sky ? ss_cell_step_weather(t, az, h0, app, horizon, &rec, sky, dt)
+                             : ss_cell_step_of(t, az, h0, app, horizon, g0, linke, albedo, dt);
+            if (month)
+                month[c] += add.global;
+            if (pv_on && dt > 0.0f) {
+                float pdc = ss_cell_pv_power(add.global / dt, temp_air, wind,
+                                             (int)io->pv.temp_model, gamma, losses);
+                pv[c] += pdc * dt;
+                pv_ac[c] += ss_pvwatts_ac(pdc, inv_pdc0, eta_inv) * dt;
+            }
+            beam[c] += add.beam;
+            diffuse[c] += add.diffuse;
+            reflected[c] += add.reflected;
+            global[c] += add.global;
+            hours[c] += add.sun_hours;
+            s->step_global[c] = add.global;
+        }
+    }
+    if (st == SS_OK && (job->want & SS_INSOLATION_STEPS))
+        st = job->sink(job->user, SS_OUT_STEP, k, band->row0, band->n_rows, s->step_global);
+    return st;
+}
+
+static ss_status steps_finish(void *user, const ss_band_view *band, float *planes)
+{
+    steps_run *s = user;
+    return ss_insolation_write_band(s->job, band, planes);
+}
+
+/* Decides what every step of this process is (kind), counting the night
+ * steps, the daylight steps and the shadow sweeps skipped, and lists them
+ * as the driver's directions. */
+static ss_status classify_steps(ss_insolation_job *job, int n_steps, unsigned char *kind,
+                                ss_engine_dir *dirs, int *n_dirs)
+{
+    ss_ctx *ctx = job->ctx;
+    const ss_insolation_options *io = job->io;
+    double bound_deg;
+    ss_status st = ss_horizon_bound_of(ctx, job->src, job->opt, &bound_deg);
     if (st != SS_OK)
         return st;
-    if (io->shadow_mode == SS_SHADOW_CUMULATIVE && sink)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "the cumulative sky has no per-step bands: use exact or interpolated "
-                       "shadows with them");
-    if (io->shadow_mode == SS_SHADOW_CUMULATIVE)
-        return ss_insolation_cumulative(ctx, grid, opt, io, n_steps, sun_at, sun_user, out);
-    size_t n = (size_t)grid->width * grid->height;
-    ss_cell_terms *terms = NULL;
-    ss_session *s = NULL;
-    int16_t *stored = NULL;
-    float *step_global = sink ? ss_malloc(n * sizeof(float)) : NULL;
-    st = ss_product_begin(ctx, grid, opt, 1, &s);
-    if (st == SS_OK)
-        st = ss_insolation_terms(ctx, grid, opt, io, &terms);
-    if (st == SS_OK && sink && !step_global)
-        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-step bands");
-    if (st == SS_OK && io->shadow_mode == SS_SHADOW_INTERPOLATED)
-        st = ss_insolation_store_horizons(ctx, s, grid, opt, &stored);
-    for (size_t c = 0; st == SS_OK && c < n; ++c) {
-        float v = isfinite(grid->z[c]) ? 0.0f : SS_NODATA;
-        out->global[c] = out->beam[c] = out->diffuse[c] = out->reflected[c] = v;
-        out->sun_hours[c] = v;
-        for (int m = 0; out->monthly_global && m < 12; ++m)
-            out->monthly_global[(size_t)m * n + c] = v;
-        if (out->pv_yield)
-            out->pv_yield[c] = v;
-        if (out->pv_ac_yield)
-            out->pv_ac_yield[c] = v;
-    }
-    double bound_deg = ss_horizon_bound_deg(grid, opt->lines);
-    for (int k = 0; k < n_steps && st == SS_OK; ++k) {
-        if (!ss_insolation_step_is_mine(io, k))
+    *n_dirs = 0;
+    for (int k = 0; k < n_steps; ++k) {
+        if (!ss_share_has(job->share, k))
             continue; /* another process's step */
         ss_sun_step sun;
-        st = sun_at(ctx, k, &sun, sun_user);
+        st = job->sun_rows(ctx, k, 0, 0, &sun, job->sun_user);
         if (st != SS_OK)
-            break;
-        if (step_global)
-            for (size_t c = 0; c < n; ++c)
-                step_global[c] = isfinite(grid->z[c]) ? 0.0f : SS_NODATA;
-        ss_sky_record rec = {0};
-        ss_sky_parts sky = {0.0f, 0.0f, 0.0f};
+            return st;
+        ss_sky_record rec;
         int light = 0;
-        int missing = sun.real_sky && !ss_insolation_sky_record(ctx, &sun, io, &rec, &light);
+        int missing = sun.real_sky && !ss_insolation_sky_record(ctx, &sun, io, &rec, &light, 1);
         int sun_up = sun.elevation_deg + sun.spread_deg > 0.0;
+        kind[k] = STEP_NONE;
         if (missing) {
             /* counted by ss_insolation_sky_record */
         } else if (!sun_up && !light) {
@@ -332,83 +322,183 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
             ctx->counters.time_steps++;
             /* Shadows: none can fall where the sun is above every horizon,
              * and none is cast by a sun below every cell's horizontal. */
-            float *h = NULL;
             int all_lit = !sun_up || sun.apparent_elevation_deg - sun.spread_deg > bound_deg;
-            if (all_lit) {
+            if (all_lit)
                 ctx->counters.shadow_sweeps_skipped += sun_up;
-            } else if (io->shadow_mode == SS_SHADOW_EXACT) {
-                double t0 = ss_seconds_now();
-                st = ss_sun_horizon(s, grid, opt, sun.azimuth_deg, &h);
-                ctx->counters.sweep_seconds += ss_seconds_now() - t0;
-            }
-            if (st != SS_OK)
-                break;
-            const float rad = (float)(M_PI / 180.0);
-            float g0 = (float)sun.extraterrestrial_w_m2, linke = (float)sun.linke;
-            /* The sky's parts at the centre's sun serve every cell. */
-            if (sun.real_sky)
-                sky = ss_sky_parts_of((int)io->sky_model, fmaxf(rec.dhi, 0.0f),
-                                      fmaxf(rec.dni, 0.0f), rec.dni_extra,
-                                      (float)((90.0 - sun.elevation_deg) * M_PI / 180.0));
-            int pv_on = (out->pv_yield || out->pv_ac_yield) && sun.real_sky && io->pv.on;
-            if (pv_on && (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
+            kind[k] = all_lit                                        ? STEP_LIT
+                      : io->shadow_mode == SS_SHADOW_EXACT ? STEP_SWEPT
+                                                           : STEP_STORED;
+            if ((job->want & SS_INSOLATION_PV) && sun.real_sky && io->pv.on &&
+                (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
                 ctx->counters.records_without_temperature++;
-            float temp_air = (float)(isnan(sun.temp_air_c) ? io->pv.temp_air_c : sun.temp_air_c);
-            float wind = (float)(isnan(sun.wind_speed_m_s) ? io->pv.wind_speed_m_s
-                                                            : sun.wind_speed_m_s);
-            float gamma = (float)io->pv.gamma_pdc, losses = (float)io->pv.losses;
-            /* The inverter's DC input limit per kWp of modules: its AC rating
-             * (1 / the DC/AC ratio) over its nominal efficiency. */
-            float eta_inv = (float)io->pv.inverter_efficiency;
-            float inv_pdc0 = pv_on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency))
-                                   : 1.0f;
-            float dt = (float)sun.duration_h, albedo = (float)io->albedo;
-#pragma omp parallel for schedule(static)
-            for (size_t c = 0; c < n; ++c) {
-                if (!isfinite(grid->z[c]))
-                    continue;
-                float az = (sun.grid_azimuth_per_cell ? sun.grid_azimuth_per_cell[c]
-                                                      : (float)sun.grid_azimuth_deg) * rad;
-                float h0 = (sun.elevation_per_cell ? sun.elevation_per_cell[c]
-                                                   : (float)sun.elevation_deg) * rad;
-                float app = sun.apparent_per_cell ? sun.apparent_per_cell[c]
-                                                  : (float)sun.apparent_elevation_deg;
-                if (h0 <= 0.0f && !sun.real_sky)
-                    continue;
-                float horizon = all_lit ? -90.0f
-                                : h     ? h[c]
-                                        : stored_horizon(stored, n, opt, c, sun.azimuth_deg);
-                ss_cell_step add =
-                    sun.real_sky
-                        ? ss_cell_step_weather(&terms[c], az, h0, app, horizon, &rec, sky, dt)
-                        : ss_cell_step_of(&terms[c], az, h0, app, horizon, g0, linke, albedo, dt);
-                if (out->monthly_global && sun.month >= 1 && sun.month <= 12)
-                    out->monthly_global[(size_t)(sun.month - 1) * n + c] += add.global;
-                if (pv_on && dt > 0.0f) {
-                    float pdc = ss_cell_pv_power(add.global / dt, temp_air, wind,
-                                                 (int)io->pv.temp_model, gamma, losses);
-                    if (out->pv_yield)
-                        out->pv_yield[c] += pdc * dt;
-                    if (out->pv_ac_yield)
-                        out->pv_ac_yield[c] += ss_pvwatts_ac(pdc, inv_pdc0, eta_inv) * dt;
-                }
-                out->beam[c] += add.beam;
-                out->diffuse[c] += add.diffuse;
-                out->reflected[c] += add.reflected;
-                out->global[c] += add.global;
-                out->sun_hours[c] += add.sun_hours;
-                if (step_global)
-                    step_global[c] = add.global;
-            }
         }
-        if (st == SS_OK && sink && !sink(k, step_global, sink_user))
-            st = ss_fail(ctx, SS_ERR_CANCELLED, "stopped while storing time step %d", k);
-        if (st == SS_OK)
-            st = ss_progress(ctx, (double)(k + 1) / n_steps, "insolation");
+        dirs[(*n_dirs)++] = (ss_engine_dir){sun.azimuth_deg, kind[k] == STEP_SWEPT, k};
     }
-    free(stored);
-    free(step_global);
-    free(terms);
-    ss_session_close(s);
+    return SS_OK;
+}
+
+static ss_status run_steps(ss_insolation_job *job, int n_steps)
+{
+    const ss_source *src = job->src;
+    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    size_t n = (size_t)rows * src->width;
+    /* Stored horizons not held in memory are read band by band. */
+    int read_stored = job->horizons && !ss_cell_store_peek(job->horizons, 0, 0);
+    steps_run s = {job,
+                   ss_calloc((size_t)n_steps, 1),
+                   ss_malloc(n * sizeof(ss_cell_terms)),
+                   NULL,
+                   0,
+                   read_stored ? ss_malloc(n * sizeof(int16_t) * (size_t)job->opt->directions)
+                               : NULL,
+                   ss_malloc(n * sizeof(float))};
+    ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n_steps);
+    ss_status st = SS_OK;
+    if (!s.kind || !s.terms || !s.step_global || !dirs || (read_stored && !s.stored_band))
+        st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
+    int n_dirs = 0;
+    if (st == SS_OK)
+        st = classify_steps(job, n_steps, s.kind, dirs, &n_dirs);
+    ss_consumer consumer = {ss_insolation_planes_of(job->want).count, steps_visit,
+                            steps_direction, steps_finish};
+    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
+                         .dirs = dirs,
+                         .n_dirs = n_dirs,
+                         .group = SS_INSOLATION_STEPS_PER_RUN,
+                         .consumer = &consumer,
+                         .user = &s,
+                         .what = "insolation"};
+    if (st == SS_OK)
+        st = ss_engine_run(job->ctx, src, job->opt, &run);
+    free(s.kind);
+    free(s.terms);
+    free(s.stored_band);
+    free(s.step_global);
+    free(dirs);
     return st;
+}
+
+ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                             const ss_insolation_options *io, int n_steps, ss_sun_rows_fn sun_rows,
+                             void *sun_user, int want, const ss_share *share, ss_rows_sink sink,
+                             void *user)
+{
+    ss_status st = ss_insolation_check(ctx, io, n_steps);
+    if (st == SS_OK)
+        st = ss_share_check(ctx, share);
+    if (st == SS_OK)
+        st = ss_source_check(ctx, src);
+    if (st == SS_OK)
+        st = ss_sweep_options_check(ctx, opt);
+    if (st != SS_OK)
+        return st;
+    if (io->shadow_mode == SS_SHADOW_CUMULATIVE && (want & SS_INSOLATION_STEPS))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the cumulative sky has no per-step bands: use exact or interpolated "
+                       "shadows with them");
+    if (io->shadow_mode == SS_SHADOW_CUMULATIVE && (io->pv.on || (want & SS_INSOLATION_PV)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the cumulative sky gives no PV yield (its cell temperature needs each "
+                       "record's irradiance): use exact or interpolated shadows with it");
+    ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
+                             want, sink, user, NULL, NULL};
+    st = ss_insolation_cell_inputs(&job);
+    if (st == SS_OK && io->shadow_mode != SS_SHADOW_EXACT)
+        st = ss_insolation_store_horizons(&job);
+    if (st == SS_OK)
+        st = io->shadow_mode == SS_SHADOW_CUMULATIVE ? ss_insolation_cumulative(&job, n_steps)
+                                                     : run_steps(&job, n_steps);
+    ss_cell_store_close(job.cells);
+    ss_cell_store_close(job.horizons);
+    return st;
+}
+
+/* ---- the whole grid held in memory --------------------------------------------- */
+
+typedef struct {
+    ss_ctx *ctx;
+    ss_sun_step_fn sun_at;
+    void *sun_user;
+    size_t width, cells;
+    ss_insolation_out *out;
+    ss_step_sink step_sink;
+    void *step_user;
+} whole_insolation;
+
+/* The whole grid's sun, for rows of it. */
+static ss_status whole_sun(ss_ctx *ctx, int index, int row0, int n_rows, ss_sun_step *step,
+                           void *user)
+{
+    (void)n_rows;
+    whole_insolation *w = user;
+    ss_status st = w->sun_at(ctx, index, step, w->sun_user);
+    size_t at = (size_t)row0 * w->width;
+    if (st == SS_OK && step->grid_azimuth_per_cell)
+        step->grid_azimuth_per_cell += at;
+    if (st == SS_OK && step->elevation_per_cell)
+        step->elevation_per_cell += at;
+    if (st == SS_OK && step->apparent_per_cell)
+        step->apparent_per_cell += at;
+    return st;
+}
+
+static float *whole_grid_of(const whole_insolation *w, int output, int index)
+{
+    const ss_insolation_out *o = w->out;
+    switch (output) {
+    case SS_OUT_GLOBAL: return o->global;
+    case SS_OUT_BEAM: return o->beam;
+    case SS_OUT_DIFFUSE: return o->diffuse;
+    case SS_OUT_REFLECTED: return o->reflected;
+    case SS_OUT_SUN_HOURS: return o->sun_hours;
+    case SS_OUT_MONTHLY: return o->monthly_global + (size_t)index * w->cells;
+    case SS_OUT_PV: return o->pv_yield;
+    case SS_OUT_PV_AC: return o->pv_ac_yield;
+    default: return NULL;
+    }
+}
+
+/* The rows of the whole grid: each output into its grid, each step's
+ * global to the step sink. */
+static ss_status whole_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
+{
+    whole_insolation *w = user;
+    if (output == SS_OUT_STEP)
+        return w->step_sink(index, values, w->step_user)
+                   ? SS_OK
+                   : ss_fail(w->ctx, SS_ERR_CANCELLED, "stopped while storing time step %d",
+                             index);
+    float *grid = whole_grid_of(w, output, index);
+    if (grid)
+        memcpy(grid + (size_t)row0 * w->width, values, sizeof(float) * (size_t)n_rows * w->width);
+    return SS_OK;
+}
+
+ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+                        const ss_insolation_options *io, int n_steps, ss_sun_step_fn sun_at,
+                        void *sun_user, ss_step_sink sink, void *sink_user,
+                        ss_insolation_out *out)
+{
+    ss_status st = ss_insolation_check(ctx, io, n_steps);
+    if (st == SS_OK)
+        st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK)
+        st = ss_grid_check(ctx, grid, NULL);
+    if (st != SS_OK)
+        return st;
+    int want = (out->monthly_global ? SS_INSOLATION_MONTHLY : 0) |
+               (out->pv_yield || out->pv_ac_yield ? SS_INSOLATION_PV : 0) |
+               (sink ? SS_INSOLATION_STEPS : 0);
+    whole_insolation w = {ctx,
+                          sun_at,
+                          sun_user,
+                          (size_t)grid->width,
+                          (size_t)grid->width * (size_t)grid->height,
+                          out,
+                          sink,
+                          sink_user};
+    ss_source src = ss_source_of_grid(grid);
+    return ss_insolation_rows(ctx, &src, opt, io, n_steps, whole_sun, &w, want, NULL, whole_rows,
+                              &w);
 }

@@ -1,6 +1,7 @@
 /* One cell's irradiation for one time step, clear-sky or from a weather
- * record, shared by the whole-grid insolation (insolation.c) and the banded
- * one (banded_insolation.c), so that both compute the same function. */
+ * record, shared by the exact and interpolated steps (insolation.c) and
+ * the cumulative sky (insolation_cumulative.c), so that all compute the
+ * same function. */
 #ifndef SS_INSOLATION_CELL_H
 #define SS_INSOLATION_CELL_H
 

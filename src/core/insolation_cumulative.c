@@ -20,8 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "insolation_cell.h"
-#include "products_internal.h"
+#include "insolation_internal.h"
 
 /* What a bin of suns holds: the beam's and the circumsolar part's sums of
  * weight x sun vector (grid frame: east, north, up; Wh/m^2 on the normal),
@@ -91,7 +90,7 @@ static ss_status add_step(ss_ctx *ctx, sun_map *m, const ss_sweep_options *opt,
     if (!sun->real_sky)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "the cumulative sky takes weather records, not clear-sky steps");
-    if (!ss_insolation_sky_record(ctx, sun, io, &rec, &light))
+    if (!ss_insolation_sky_record(ctx, sun, io, &rec, &light, 1))
         return SS_OK; /* missing: counted */
     int month = sun->month >= 1 && sun->month <= 12 ? sun->month - 1 : 0;
     month_sums *ms = &m->month[month];
@@ -131,16 +130,18 @@ static ss_status add_step(ss_ctx *ctx, sun_map *m, const ss_sweep_options *opt,
     return SS_OK;
 }
 
-/* A cell's sums over the map: the year's five and each month's global. */
-static void cell_sums(const sun_map *m, const ss_cell_terms *t, const int16_t *stored, size_t n,
-                      size_t c, ss_insolation_out *out)
+/* A cell's sums over the map into the planes (p): the year's five and
+ * each month's global. */
+static void cell_sums(const sun_map *m, const ss_cell_terms *t, const int16_t *stored,
+                      size_t stride, size_t c, const ss_insolation_planes *p, size_t n,
+                      float *planes)
 {
     float norm = sqrtf(1.0f + t->dz_de * t->dz_de + t->dz_dn * t->dz_dn);
     float nv[3] = {-t->dz_de / norm, -t->dz_dn / norm, 1.0f / norm};
     double beam[12] = {0}, circ[12] = {0}, hours = 0;
     for (int k = 0; k < m->n_bins; ++k) {
         const sun_bin *b = &m->bins[k];
-        float horizon = stored[(size_t)b->direction * n + c] / SS_HORIZON_SCALE;
+        float horizon = stored[(size_t)b->direction * stride + c] / SS_HORIZON_SCALE;
         if (!(b->elevation_hours / b->hours > horizon))
             continue;
         float beam_dot = nv[0] * b->beam[0] + nv[1] * b->beam[1] + nv[2] * b->beam[2];
@@ -161,24 +162,55 @@ static void cell_sums(const sun_map *m, const ss_cell_terms *t, const int16_t *s
         year_beam += beam[month];
         year_diffuse += diffuse;
         year_reflected += reflected;
-        if (out->monthly_global)
-            out->monthly_global[(size_t)month * n + c] = (float)(beam[month] + diffuse + reflected);
+        if (p->monthly >= 0)
+            planes[(size_t)(p->monthly + month) * n + c] =
+                (float)(beam[month] + diffuse + reflected);
     }
-    out->beam[c] = (float)year_beam;
-    out->diffuse[c] = (float)year_diffuse;
-    out->reflected[c] = (float)year_reflected;
-    out->global[c] = (float)(year_beam + year_diffuse + year_reflected);
-    out->sun_hours[c] = (float)hours;
+    planes[(size_t)p->beam * n + c] = (float)year_beam;
+    planes[(size_t)p->diffuse * n + c] = (float)year_diffuse;
+    planes[(size_t)p->reflected * n + c] = (float)year_reflected;
+    planes[(size_t)p->global * n + c] = (float)(year_beam + year_diffuse + year_reflected);
+    planes[(size_t)p->hours * n + c] = (float)hours;
 }
 
-ss_status ss_insolation_cumulative(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                                   const ss_insolation_options *io, int n_steps,
-                                   ss_sun_step_fn sun_at, void *sun_user, ss_insolation_out *out)
+typedef struct {
+    ss_insolation_job *job;
+    sun_map *map;
+    ss_cell_terms *terms; /* the band's own cells */
+    int16_t *stored;      /* its stored horizons, read where they are not in memory */
+} cumulative_run;
+
+/* Every own cell of a band against the map. */
+static ss_status cumulative_band(void *user, const ss_band_view *band, float *planes)
 {
-    if (io->pv.on || out->pv_yield || out->pv_ac_yield)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "the cumulative sky gives no PV yield (its cell temperature needs each "
-                       "record's irradiance): use exact or interpolated shadows with it");
+    cumulative_run *r = user;
+    ss_insolation_job *job = r->job;
+    ss_status st = ss_insolation_band_terms(job, band, r->terms);
+    size_t n = (size_t)band->n_rows * band->width;
+    const int16_t *stored = ss_cell_store_peek(job->horizons, 0, band->row0);
+    size_t stride = (size_t)job->src->width * job->src->height;
+    if (!stored) {
+        for (int d = 0; d < job->opt->directions && st == SS_OK; ++d)
+            st = ss_cell_store_get(job->horizons, d, band->row0, band->n_rows,
+                                   r->stored + (size_t)d * n);
+        stored = r->stored;
+        stride = n;
+    }
+    if (st != SS_OK)
+        return st;
+    ss_insolation_planes p = ss_insolation_planes_of(job->want);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (size_t c = 0; c < n; ++c)
+        if (isfinite(band->own_z[c]))
+            cell_sums(r->map, &r->terms[c], stored, stride, c, &p, n, planes);
+    return ss_insolation_write_band(job, band, planes);
+}
+
+ss_status ss_insolation_cumulative(ss_insolation_job *job, int n_steps)
+{
+    ss_ctx *ctx = job->ctx;
+    const ss_insolation_options *io = job->io;
+    const ss_sweep_options *opt = job->opt;
     double step = io->elevation_step_deg > 0 ? io->elevation_step_deg : 1.0;
     if (!(step >= 0.01 && step <= 90.0))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
@@ -192,47 +224,39 @@ ss_status ss_insolation_cumulative(ss_ctx *ctx, const ss_grid *grid, const ss_sw
                            : ss_fail(ctx, SS_ERR_MEMORY,
                                      "out of memory for %d directions of sun bins", m.directions);
     for (int k = 0; k < n_steps && st == SS_OK; ++k) {
-        if (!ss_insolation_step_is_mine(io, k))
+        if (!ss_share_has(job->share, k))
             continue;
         ss_sun_step sun;
-        st = sun_at(ctx, k, &sun, sun_user);
+        st = job->sun_rows(ctx, k, 0, 0, &sun, job->sun_user);
         if (st == SS_OK)
             st = add_step(ctx, &m, opt, io, &sun);
         if (st == SS_OK)
             st = ss_check_cancel(ctx, "the cumulative sky");
     }
-    size_t n = (size_t)grid->width * grid->height;
-    ss_cell_terms *terms = NULL;
-    ss_session *s = NULL;
-    int16_t *stored = NULL;
+    const ss_source *src = job->src;
+    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    size_t n = (size_t)rows * src->width;
+    cumulative_run r = {job, &m, ss_malloc(n * sizeof(ss_cell_terms)),
+                        ss_cell_store_peek(job->horizons, 0, 0)
+                            ? NULL
+                            : ss_malloc(n * sizeof(int16_t) * (size_t)opt->directions)};
+    if (st == SS_OK && (!r.terms || (!r.stored && !ss_cell_store_peek(job->horizons, 0, 0))))
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
+    ss_consumer consumer = {ss_insolation_planes_of(job->want).count, NULL, NULL,
+                            cumulative_band};
+    ss_engine_job run = {.walk = {.term = SS_TERM_NONE},
+                         .consumer = &consumer,
+                         .user = &r,
+                         .what = "insolation"};
     if (st == SS_OK)
-        st = ss_product_begin(ctx, grid, opt, 1, &s);
-    if (st == SS_OK)
-        st = ss_insolation_terms(ctx, grid, opt, io, &terms);
+        st = ss_engine_run(ctx, src, opt, &run);
     if (st == SS_OK) {
-        double t0 = ss_seconds_now();
-        st = ss_insolation_store_horizons(ctx, s, grid, opt, &stored);
-        ctx->counters.sweep_seconds += ss_seconds_now() - t0;
-    }
-    if (st == SS_OK) {
-#pragma omp parallel for schedule(dynamic, 256)
-        for (size_t c = 0; c < n; ++c) {
-            if (isfinite(grid->z[c])) {
-                cell_sums(&m, &terms[c], stored, n, c, out);
-                continue;
-            }
-            out->global[c] = out->beam[c] = out->diffuse[c] = out->reflected[c] = SS_NODATA;
-            out->sun_hours[c] = SS_NODATA;
-            for (int month = 0; out->monthly_global && month < 12; ++month)
-                out->monthly_global[(size_t)month * n + c] = SS_NODATA;
-        }
         ctx->counters.sun_bins = (uint64_t)m.n_bins;
         st = ss_progress(ctx, 1.0, "insolation");
     }
-    free(stored);
-    free(terms);
+    free(r.terms);
+    free(r.stored);
     free(m.bins);
     free(m.index);
-    ss_session_close(s);
     return st;
 }

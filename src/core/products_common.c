@@ -1,7 +1,9 @@
-/* What every sweep product does before its first direction. */
+/* What the products share: curvature, line sets, finishing a sum, shares
+ * of a run, and the sink of the whole-grid calls. */
 #include "config.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "lines.h"
 #include "products_internal.h"
@@ -17,17 +19,6 @@ float ss_curvature_k(const ss_sweep_options *opt)
         return 0.0f;
     double r_eff = opt->earth_radius_m / (1.0 - opt->refraction_k);
     return (float)(0.5 / r_eff);
-}
-
-ss_status ss_product_begin(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                           int n_outputs, ss_session **session)
-{
-    ss_status st = ss_sweep_options_check(ctx, opt);
-    if (st == SS_OK)
-        st = ss_grid_check(ctx, grid, NULL);
-    if (st == SS_OK)
-        st = ss_session_open(ctx, grid, n_outputs, session);
-    return st;
 }
 
 float ss_product_finish(int term, float sum, int directions)
@@ -52,4 +43,43 @@ double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,
                         ss_line_set *ls)
 {
     return ss_product_lines_at(grid, opt, ss_direction_azimuth(opt, i), ls);
+}
+
+ss_status ss_share_check(ss_ctx *ctx, const ss_share *share)
+{
+    if (share && (share->stride < 0 || share->first < 0 ||
+                  (share->stride > 1 && share->first >= share->stride) ||
+                  (share->stride <= 1 && share->first != 0)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "a share of a run needs 0 <= first < stride (first %d, stride %d)",
+                       share->first, share->stride);
+    return SS_OK;
+}
+
+int ss_share_has(const ss_share *share, int k)
+{
+    return !share || share->stride <= 1 || k % share->stride == share->first;
+}
+
+ss_status ss_share_reduce(const ss_share *share, float *sums, size_t n)
+{
+    return share && share->reduce ? share->reduce(share->user, sums, n) : SS_OK;
+}
+
+ss_status ss_grid_sink_rows(void *sink, int output, int index, int row0, int n_rows,
+                            const float *values)
+{
+    ss_grid_sink *g = sink;
+    float *grid = g->grid_of(g->user, output, index);
+    float *dest = grid ? grid + (size_t)row0 * (size_t)g->width : NULL;
+    if (dest && dest != values)
+        memcpy(dest, values, sizeof(float) * (size_t)n_rows * (size_t)g->width);
+    return SS_OK;
+}
+
+ss_grid ss_band_grid(const ss_band_view *band, const ss_source *src)
+{
+    ss_grid g = {band->width,           band->held_rows, src->cell_x_m, src->cell_y_m,
+                 ss_source_origin(src), (float *)band->z};
+    return g;
 }

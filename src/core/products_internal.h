@@ -1,15 +1,12 @@
-/* Helpers shared by the sweep products. */
+/* Helpers shared by the products (each a consumer of the one driver,
+ * engine.h). */
 #ifndef SS_PRODUCTS_INTERNAL_H
 #define SS_PRODUCTS_INTERNAL_H
 
-#include "session.h"
+#include "engine.h"
 
 /* curv_k = 1 / (2 R_eff), R_eff = R / (1 - k); 0 when curvature is off. */
 float ss_curvature_k(const ss_sweep_options *opt);
-
-/* Validates grid and options and opens a session with n_outputs grids. */
-ss_status ss_product_begin(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                           int n_outputs, ss_session **session);
 
 /* Line set of direction i; returns the direction's azimuth in the grid's
  * frame, radians (the frame the sweep and cell slopes live in). */
@@ -23,36 +20,44 @@ double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
  * definitions (SS_SVF_*) or openness (SS_TERM_ELEVATION: 90 - mean). */
 float ss_product_finish(int term, float sum, int directions);
 
-/* Terrain horizon of every cell in one azimuth (options' frame), degrees,
- * 0 where nothing lies ahead, into the session's output 0 (nodata cells
- * hold garbage). */
-ss_status ss_sun_horizon(ss_session *s, const ss_grid *grid, const ss_sweep_options *opt,
-                         double azimuth_deg, float **horizon_deg);
+/* Checks a share of a run's directions or steps (NULL: all). */
+ss_status ss_share_check(ss_ctx *ctx, const ss_share *share);
+/* Whether direction or step k is this process's. */
+int ss_share_has(const ss_share *share, int k);
+/* Adds the processes' sums of a band where the run is shared. */
+ss_status ss_share_reduce(const ss_share *share, float *sums, size_t n);
 
-/* Insolation's per-cell terms (insolation_cell.h; perez: with the horizon
- * band) and the horizons stored at the options' directions (int16
- * hundredths of a degree, direction-major), as insolation.c and
- * insolation_cumulative.c need them. */
-struct ss_cell_terms_s;
-#define SS_HORIZON_SCALE 100.0f
-ss_status ss_insolation_terms(ss_ctx *ctx, const ss_grid *g, const ss_sweep_options *opt,
-                              const ss_insolation_options *io, struct ss_cell_terms_s **terms);
-ss_status ss_insolation_store_horizons(ss_ctx *ctx, ss_session *s, const ss_grid *g,
-                                       const ss_sweep_options *opt, int16_t **stored);
-/* A weather step's record (insolation.c's sky_record_of). */
-struct ss_sky_record_s;
-int ss_insolation_sky_record(ss_ctx *ctx, const ss_sun_step *sun,
-                             const ss_insolation_options *io, struct ss_sky_record_s *rec,
-                             int *light);
-/* The cumulative sky (insolation_cumulative.c): what ss_insolation does in
- * that mode. */
-ss_status ss_insolation_cumulative(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                                   const ss_insolation_options *io, int n_steps,
-                                   ss_sun_step_fn sun_at, void *sun_user, ss_insolation_out *out);
+/* A sink for the whole-grid calls: rows of (output, index) are copied into
+ * the grid grid_of names (NULL: not wanted), rows apart by width. */
+typedef struct {
+    float *(*grid_of)(void *user, int output, int index);
+    void *user;
+    int width;
+} ss_grid_sink;
+ss_status ss_grid_sink_rows(void *sink, int output, int index, int row0, int n_rows,
+                            const float *values);
 
-/* The insolation options and step count, as both insolation paths need them. */
+/* Horn's cos(incidence) of the sun (grid azimuth and elevation, degrees,
+ * per cell where the arrays are given: one value per output cell) for rows
+ * [row0, row1) of grid into out (SS_NODATA at nodata). */
+void ss_incidence_rows(const ss_grid *grid, int row0, int row1, double grid_azimuth_deg,
+                       double elevation_deg, const float *grid_azimuth_per_cell_deg,
+                       const float *elevation_per_cell_deg, float *out);
+/* gdaldem's hillshade of rows [row0, row1) of grid into out (values 1..255,
+ * SS_NODATA at nodata), options checked by ss_hillshade_check. */
+void ss_hillshade_of_rows(const ss_grid *grid, int row0, int row1,
+                          const ss_hillshade_options *ho, float *out);
+ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho);
+
+/* The held rows of a band as a grid of their own (Horn's slopes inside it
+ * are the whole grid's). */
+ss_grid ss_band_grid(const ss_band_view *band, const ss_source *src);
+
+/* ss_horizon_bound_deg for any source: one visit of its bands. */
+ss_status ss_horizon_bound_of(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                              double *deg);
+
+/* The insolation options and step count, as every insolation path needs them. */
 ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps);
-/* Whether step k is this process's (ss_insolation_options' share). */
-int ss_insolation_step_is_mine(const ss_insolation_options *io, int k);
 
 #endif

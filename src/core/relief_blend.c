@@ -15,7 +15,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "ctx_internal.h"
+#include "products_internal.h"
+#include "relief_blend.h"
 #include "ss_terms.h"
 
 static float stretch(float v, float lo, float hi)
@@ -39,37 +40,41 @@ float ss_vat_compose(float hillshade, float slope_deg, float openness_deg, float
     return mix(stretch(svf, 0.7f, 1.0f) * image, image, 0.25f);
 }
 
+void ss_vat_rows(const ss_grid *grid, int row0, int row1, const float *svf,
+                 const float *openness, float *out)
+{
+    /* The light comes from 315 deg in the raster's frame, as RVT's does. */
+    ss_hillshade_options light = {.azimuth_deg = 315.0, .altitude_deg = 35.0, .z_factor = 1.0};
+    ss_hillshade_of_rows(grid, row0, row1, &light, out);
+    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m;
+#pragma omp parallel for schedule(static)
+    for (int r = row0; r < row1; ++r)
+        for (int c = 0; c < grid->width; ++c) {
+            size_t k = (size_t)(r - row0) * grid->width + c;
+            if (!isfinite(grid->z[(size_t)r * grid->width + c])) {
+                out[k] = SS_NODATA;
+                continue;
+            }
+            float dz_de, dz_dn;
+            ss_gradient_horn(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de, &dz_dn);
+            float slope_deg = atanf(sqrtf(dz_de * dz_de + dz_dn * dz_dn)) * (float)(180 / M_PI);
+            float cos_i = (out[k] - 1.0f) / 254.0f; /* gdaldem's 1 + 254 cos(i) */
+            out[k] = ss_vat_compose(cos_i, slope_deg, openness[k], svf[k]);
+        }
+}
+
 ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, double radius_m,
                  float *out)
 {
     size_t n = (size_t)grid->width * grid->height;
     float *svf = ss_malloc(n * sizeof *svf), *openness = ss_malloc(n * sizeof *openness);
     ss_status st = svf && openness ? SS_OK : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for VAT");
-    /* The light comes from 315 deg in the raster's frame, as RVT's does. */
-    if (st == SS_OK)
-        st = ss_hillshade(ctx, grid, 315.0, 35.0, 1.0, 0, 0, out);
     if (st == SS_OK)
         st = ss_svf_within(ctx, grid, opt, SS_SVF_DEF_GEOMETRIC, radius_m, svf);
     if (st == SS_OK)
         st = ss_openness(ctx, grid, opt, 0, radius_m, openness);
-    if (st == SS_OK) {
-        float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m;
-#pragma omp parallel for schedule(static)
-        for (int r = 0; r < grid->height; ++r)
-            for (int c = 0; c < grid->width; ++c) {
-                size_t k = (size_t)r * grid->width + c;
-                if (!isfinite(grid->z[k])) {
-                    out[k] = SS_NODATA;
-                    continue;
-                }
-                float dz_de, dz_dn;
-                ss_gradient_horn(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de,
-                                 &dz_dn);
-                float slope_deg = atanf(sqrtf(dz_de * dz_de + dz_dn * dz_dn)) * (float)(180 / M_PI);
-                float cos_i = (out[k] - 1.0f) / 254.0f; /* gdaldem's 1 + 254 cos(i) */
-                out[k] = ss_vat_compose(cos_i, slope_deg, openness[k], svf[k]);
-            }
-    }
+    if (st == SS_OK)
+        ss_vat_rows(grid, 0, grid->height, svf, openness, out);
     free(svf);
     free(openness);
     return st;

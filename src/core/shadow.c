@@ -8,20 +8,69 @@
 #include "config.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "products_internal.h"
 
-ss_status ss_sun_horizon(ss_session *s, const ss_grid *grid, const ss_sweep_options *opt,
-                         double azimuth_deg, float **horizon_deg)
+typedef struct {
+    ss_ctx *ctx;
+    const ss_source *src;
+    /* ss_cast_shadow: the sun, and where the rows go */
+    double sun_elevation_deg;
+    const float *sun_per_cell; /* whole grid */
+    float *sunlit, *horizon;
+    /* ss_shadow_rows */
+    ss_sun_rows_fn sun_rows;
+    void *sun_user;
+    float *facing, *light; /* a band's rows */
+    ss_rows_sink sink;
+    void *user;
+} shadow_run;
+
+static int sun_position_ok(double azimuth_deg, double elevation_deg)
 {
-    ss_line_set ls;
-    ss_product_lines_at(grid, opt, azimuth_deg, &ls);
-    ss_status st = ss_session_clear(s, 0);
-    if (st == SS_OK)
-        st = ss_session_horizon(s, &ls, ss_curvature_k(opt), 0.0f, 0);
-    if (st == SS_OK)
-        st = ss_session_view(s, 0, horizon_deg);
-    return st;
+    return isfinite(azimuth_deg) && isfinite(elevation_deg) && fabs(elevation_deg) <= 90.0;
+}
+
+/* One horizon walk along azimuth_deg (the horizontal where nothing lies
+ * ahead) handed to direction. */
+static ss_status shadow_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                             double azimuth_deg,
+                             ss_status (*direction)(void *, int, const ss_band_view *,
+                                                    const ss_dir_rows *, float *),
+                             shadow_run *s)
+{
+    ss_engine_dir dir = {azimuth_deg, 1, 0};
+    ss_consumer consumer = {0, NULL, direction, NULL};
+    ss_engine_job job = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
+                         .dirs = &dir,
+                         .n_dirs = 1,
+                         .consumer = &consumer,
+                         .user = s,
+                         .what = "shadow"};
+    return ss_engine_run(ctx, src, opt, &job);
+}
+
+static ss_status cast_rows(void *user, int index, const ss_band_view *band,
+                           const ss_dir_rows *rows, float *planes)
+{
+    (void)index, (void)planes;
+    shadow_run *s = user;
+    size_t n = (size_t)band->n_rows * band->width, at = (size_t)band->row0 * band->width;
+    for (size_t c = 0; c < n; ++c) {
+        float h = rows->angle[c];
+        if (!isfinite(band->own_z[c])) {
+            s->sunlit[at + c] = SS_NODATA;
+            if (s->horizon)
+                s->horizon[at + c] = SS_NODATA;
+            continue;
+        }
+        double sun = s->sun_per_cell ? s->sun_per_cell[at + c] : s->sun_elevation_deg;
+        s->sunlit[at + c] = sun > h ? 1.0f : 0.0f;
+        if (s->horizon)
+            s->horizon[at + c] = h;
+    }
+    return SS_OK;
 }
 
 ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
@@ -29,33 +78,88 @@ ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_option
                          const float *sun_elevation_per_cell_deg, float *sunlit,
                          float *horizon_deg)
 {
-    if (!isfinite(sun_azimuth_deg) || !isfinite(sun_elevation_deg) ||
-        fabs(sun_elevation_deg) > 90.0)
+    if (!sun_position_ok(sun_azimuth_deg, sun_elevation_deg))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "sun azimuth %g / elevation %g degrees is not a sun position",
                        sun_azimuth_deg, sun_elevation_deg);
-    ss_session *s;
-    ss_status st = ss_product_begin(ctx, grid, opt, 1, &s);
+    ss_status st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK)
+        st = ss_grid_check(ctx, grid, NULL);
     if (st != SS_OK)
         return st;
-    float *h = NULL;
-    double t0 = ss_seconds_now();
-    st = ss_sun_horizon(s, grid, opt, sun_azimuth_deg, &h);
-    ctx->counters.sweep_seconds += ss_seconds_now() - t0;
-    size_t n = (size_t)grid->width * (size_t)grid->height;
-    for (size_t c = 0; st == SS_OK && c < n; ++c) {
-        if (!isfinite(grid->z[c])) {
-            sunlit[c] = SS_NODATA;
-            if (horizon_deg)
-                horizon_deg[c] = SS_NODATA;
+    ss_source src = ss_source_of_grid(grid);
+    shadow_run s = {.ctx = ctx,
+                    .src = &src,
+                    .sun_elevation_deg = sun_elevation_deg,
+                    .sun_per_cell = sun_elevation_per_cell_deg,
+                    .sunlit = sunlit,
+                    .horizon = horizon_deg};
+    return shadow_walk(ctx, &src, opt, sun_azimuth_deg, cast_rows, &s);
+}
+
+/* A band's sunlit, facing and light rows: the cast shadows against each
+ * cell's apparent sun, and Horn's incidence from the held rows. */
+static ss_status shade_rows(void *user, int index, const ss_band_view *band,
+                            const ss_dir_rows *rows, float *planes)
+{
+    (void)index, (void)planes;
+    shadow_run *s = user;
+    ss_sun_step sun;
+    ss_status st = s->sun_rows(s->ctx, 0, band->row0, band->n_rows, &sun, s->sun_user);
+    if (st != SS_OK)
+        return st;
+    ss_grid held = ss_band_grid(band, s->src);
+    int first = band->row0 - band->lo;
+    ss_incidence_rows(&held, first, first + band->n_rows, sun.grid_azimuth_deg,
+                      sun.apparent_elevation_deg, sun.grid_azimuth_per_cell,
+                      sun.apparent_per_cell, s->light);
+    size_t n = (size_t)band->n_rows * band->width;
+    float *sunlit = rows->angle; /* each cell's horizon becomes its verdict */
+    for (size_t c = 0; c < n; ++c) {
+        if (!isfinite(band->own_z[c])) {
+            sunlit[c] = s->facing[c] = s->light[c] = SS_NODATA;
             continue;
         }
-        double sun = sun_elevation_per_cell_deg ? sun_elevation_per_cell_deg[c]
-                                                : sun_elevation_deg;
-        sunlit[c] = sun > h[c] ? 1.0f : 0.0f;
-        if (horizon_deg)
-            horizon_deg[c] = h[c];
+        double el = sun.apparent_per_cell ? sun.apparent_per_cell[c]
+                                          : sun.apparent_elevation_deg;
+        sunlit[c] = el > sunlit[c] ? 1.0f : 0.0f;
+        s->facing[c] = s->light[c] > 0.0f ? 1.0f : 0.0f;
+        s->light[c] = s->light[c] > 0.0f ? s->light[c] * sunlit[c] : 0.0f;
     }
-    ss_session_close(s);
+    st = s->sink(s->user, SS_OUT_SUNLIT, 0, band->row0, band->n_rows, sunlit);
+    if (st == SS_OK)
+        st = s->sink(s->user, SS_OUT_FACING, 0, band->row0, band->n_rows, s->facing);
+    if (st == SS_OK)
+        st = s->sink(s->user, SS_OUT_LIGHT, 0, band->row0, band->n_rows, s->light);
+    return st;
+}
+
+ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                         ss_sun_rows_fn sun_rows, void *sun_user, ss_rows_sink sink, void *user)
+{
+    ss_sun_step centre;
+    ss_status st = ss_source_check(ctx, src);
+    if (st == SS_OK)
+        st = sun_rows(ctx, 0, 0, 0, &centre, sun_user);
+    if (st != SS_OK)
+        return st;
+    if (!sun_position_ok(centre.azimuth_deg, centre.apparent_elevation_deg))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "sun azimuth %g / elevation %g degrees is not a sun position",
+                       centre.azimuth_deg, centre.apparent_elevation_deg);
+    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    size_t n = (size_t)rows * (size_t)src->width;
+    shadow_run s = {.ctx = ctx,
+                    .src = src,
+                    .sun_rows = sun_rows,
+                    .sun_user = sun_user,
+                    .facing = ss_malloc(n * sizeof(float)),
+                    .light = ss_malloc(n * sizeof(float)),
+                    .sink = sink,
+                    .user = user};
+    st = s.facing && s.light ? shadow_walk(ctx, src, opt, centre.azimuth_deg, shade_rows, &s)
+                             : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of shadows");
+    free(s.facing);
+    free(s.light);
     return st;
 }

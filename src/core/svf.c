@@ -1,16 +1,15 @@
-/* Sky-view factor and openness: one sweep per direction adds each cell's
- * term into one accumulator grid (never all D horizon grids), then the
- * mean over directions becomes the product (doc/model.md, doc/relief.md).
- * The sums can be taken over a share of the directions (every stride-th
- * from first), so that processes sharing the work add their sums before
- * finishing (src/cli/mpi_share.c). With a radius, each direction's horizon
- * is the highest terrain within it (the radius scan), as RVT and SAGA
- * compute SVF and openness. Negative openness is positive openness of -z. */
+/* Sky-view factor and openness: a summed walk adds each cell's term of
+ * every direction into one grid of sums (never all D horizon grids), then
+ * the mean over directions becomes the product (doc/model.md,
+ * doc/relief.md). The directions can be shared between processes, whose
+ * sums meet before they are finished (ss_share). With a radius, each
+ * direction's horizon is the highest terrain within it (the radius scan),
+ * as RVT and SAGA compute SVF and openness. Negative openness is positive
+ * openness of -z. */
 #include "config.h"
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "products_internal.h"
 #include "ss_terms.h"
@@ -26,8 +25,7 @@ float ss_sky_value(ss_sky_term term, float sum, int directions)
     return ss_product_finish(kernel_term(term), sum, directions);
 }
 
-ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m, int first, int stride,
-                       int directions)
+ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m)
 {
     if ((int)term < (int)SS_SKY_SVF_GEOMETRIC || (int)term > (int)SS_SKY_OPENNESS_NEGATIVE)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown sky product %d", (int)term);
@@ -37,68 +35,86 @@ ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m, int first
     if (radius_m > 0 && term == SS_SKY_SVF_TILTED)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "a radius-limited SVF is geometric or horizontal, not radiative (tilted)");
-    if (stride < 1 || first < 0 || first >= stride || directions < 1)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "a share of directions needs 0 <= first < stride (got first %d, stride "
-                       "%d; %d directions)",
-                       first, stride, directions);
     return SS_OK;
 }
 
-ss_status ss_sky_sums(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
-                      ss_sky_term term, double radius_m, int first, int stride, float *sums)
+typedef struct {
+    ss_sky_term term;
+    int directions;
+    const ss_share *share;
+    ss_rows_sink sink;
+    void *user;
+} sky_run;
+
+/* A band's sums, added over the processes that share the run, become the
+ * product. */
+static ss_status sky_finish(void *user, const ss_band_view *band, float *sums)
 {
-    ss_status st = ss_sky_check(ctx, term, radius_m, first, stride, opt->directions);
+    sky_run *k = user;
+    size_t n = (size_t)band->n_rows * (size_t)band->width;
+    ss_status st = ss_share_reduce(k->share, sums, n);
     if (st != SS_OK)
         return st;
-    size_t n = (size_t)grid->width * grid->height;
-    ss_grid inverted = *grid;
-    if (term == SS_SKY_OPENNESS_NEGATIVE) {
-        inverted.z = ss_alloc_grid(n * sizeof(float));
-        if (!inverted.z)
-            return ss_fail(ctx, SS_ERR_MEMORY, "out of memory inverting the DEM");
-        for (size_t c = 0; c < n; ++c)
-            inverted.z[c] = -grid->z[c];
-    }
-    const ss_grid *g = term == SS_SKY_OPENNESS_NEGATIVE ? &inverted : grid;
-    int k = kernel_term(term);
-    ss_session *s;
-    st = ss_product_begin(ctx, g, opt, 1, &s);
-    if (st == SS_OK) {
-        float curv_k = ss_curvature_k(opt);
-        double t0 = ss_seconds_now();
-        for (int i = first; i < opt->directions && st == SS_OK; i += stride) {
-            ss_line_set ls;
-            double az = ss_product_lines(g, opt, i, &ls);
-            st = radius_m > 0 ? ss_session_radius_terms(s, &ls, k, (float)radius_m, curv_k)
-                              : ss_session_svf(s, &ls, k, curv_k, az);
-            if (st == SS_OK)
-                st = ss_progress(ctx, (double)(i + 1) / opt->directions,
-                                 term >= SS_SKY_OPENNESS_POSITIVE ? "openness"
-                                                                  : "sky-view factor");
-        }
-        float *acc = NULL;
-        if (st == SS_OK)
-            st = ss_session_view(s, 0, &acc);
-        ctx->counters.sweep_seconds += ss_seconds_now() - t0;
-        if (st == SS_OK)
-            memcpy(sums, acc, n * sizeof(float));
-        ss_session_close(s);
-    }
-    if (term == SS_SKY_OPENNESS_NEGATIVE)
-        free(inverted.z);
+    for (size_t c = 0; c < n; ++c)
+        sums[c] = isfinite(band->own_z[c]) ? ss_sky_value(k->term, sums[c], k->directions)
+                                            : SS_NODATA;
+    return k->sink(k->user, SS_OUT_SKY, 0, band->row0, band->n_rows, sums);
+}
+
+ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                      ss_sky_term term, double radius_m, const ss_share *share,
+                      ss_rows_sink sink, void *user)
+{
+    ss_status st = ss_sky_check(ctx, term, radius_m);
+    if (st == SS_OK)
+        st = ss_share_check(ctx, share);
+    if (st == SS_OK)
+        st = ss_sweep_options_check(ctx, opt);
+    if (st != SS_OK)
+        return st;
+    ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)opt->directions);
+    if (!dirs)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for %d directions", opt->directions);
+    int n = 0;
+    for (int i = 0; i < opt->directions; ++i)
+        if (ss_share_has(share, i))
+            dirs[n++] = (ss_engine_dir){ss_direction_azimuth(opt, i), 1, i};
+    sky_run k = {term, opt->directions, share, sink, user};
+    ss_consumer consumer = {1, NULL, NULL, sky_finish};
+    ss_engine_job job = {
+        .walk = {.term = kernel_term(term),
+                 .radius_m = radius_m,
+                 .negate = term == SS_SKY_OPENNESS_NEGATIVE},
+        .dirs = dirs,
+        .n_dirs = n,
+        .consumer = &consumer,
+        .user = &k,
+        .what = term >= SS_SKY_OPENNESS_POSITIVE ? "openness" : "sky-view factor"};
+    st = ss_engine_run(ctx, src, opt, &job);
+    free(dirs);
     return st;
 }
 
-/* The product of every cell from all directions' sums. */
+static float *the_grid(void *user, int output, int index)
+{
+    (void)output, (void)index;
+    return user;
+}
+
+/* The product of every cell of a grid held whole. */
 static ss_status sky_product(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                              ss_sky_term term, double radius_m, float *out)
 {
-    ss_status st = ss_sky_sums(ctx, grid, opt, term, radius_m, 0, 1, out);
-    size_t n = (size_t)grid->width * (size_t)grid->height;
-    for (size_t c = 0; st == SS_OK && c < n; ++c)
-        out[c] = isfinite(grid->z[c]) ? ss_sky_value(term, out[c], opt->directions) : SS_NODATA;
-    return st;
+    ss_status st = ss_sky_check(ctx, term, radius_m);
+    if (st == SS_OK)
+        st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK)
+        st = ss_grid_check(ctx, grid, NULL);
+    if (st != SS_OK)
+        return st;
+    ss_source src = ss_source_of_grid(grid);
+    ss_grid_sink sink = {the_grid, out, grid->width};
+    return ss_sky_rows(ctx, &src, opt, term, radius_m, NULL, ss_grid_sink_rows, &sink);
 }
 
 ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,

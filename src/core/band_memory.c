@@ -1,0 +1,96 @@
+/* What a run in bands holds, so that callers can size bands to a memory
+ * budget (the CLI's --memory, doc/scale.md). */
+#include "config.h"
+
+#include "engine.h"
+
+#define HALO SS_BAND_HALO
+
+size_t ss_band_bytes(int width, int band_rows)
+{
+    return (size_t)(band_rows + 2 * HALO) * (size_t)width * (2 * sizeof(float) + sizeof(int));
+}
+
+double ss_sky_band_cell_bytes(ss_sky_term term)
+{
+    /* Heights, stack slots and sums; the radiative SVF's gradients. */
+    return (double)(ss_band_bytes(1, 1) / (1 + 2 * HALO)) +
+           (term == SS_SKY_SVF_TILTED ? 2.0 * sizeof(float) : 0.0);
+}
+
+double ss_horizon_band_cell_bytes(int want)
+{
+    /* Heights, stack slots, weighted angles and weights; distances, which
+     * casting heights need too; casting heights. */
+    int want_cast = (want & SS_HORIZON_CAST_HEIGHT) != 0;
+    int grids = 4 + (want_cast || (want & SS_HORIZON_DISTANCE)) + want_cast;
+    return 4.0 * grids;
+}
+
+double ss_horizon_column_bytes(void)
+{
+    return 4 * sizeof(float); /* a row each of the four sums carried between bands */
+}
+
+double ss_insolation_band_cell_bytes(void)
+{
+    /* Heights (with a halo row), SVF 4, terms 20, sums and loaded sums 40,
+     * one step's global 4; the horizon sweep's own band comes on top. */
+    return 72.0;
+}
+
+/* A whole-grid SVF or openness holds at most 24 bytes a cell: heights,
+ * hull stack slots, sums and the product, and either an inverted copy
+ * (negative openness) or the surface gradients (radiative SVF, 8 bytes);
+ * besides the sweep's grids a run needs buffers for reading and writing
+ * (GDAL's block cache, capped at 16 MiB by the CLI in banded runs). */
+#define WHOLE_BYTES_PER_CELL 24.0
+#define FIXED_BYTES (48.0 * 1048576.0)
+
+double ss_whole_sweep_bytes(int width, int height)
+{
+    return (double)width * (double)height * WHOLE_BYTES_PER_CELL + FIXED_BYTES;
+}
+
+int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
+{
+    return ss_band_rows_within(width, height, directions, budget_bytes,
+                               (double)ss_band_bytes(1, 1) / (1 + 2 * HALO), 0.0);
+}
+
+/* What a banded run holds besides its band's rows: fixed buffers, the
+ * hulls handed on (about 8 points of 16 bytes per line and direction on
+ * terrain, doc/scale.md measures them) and what it carries per column and
+ * direction between bands. */
+static double band_overhead_bytes(int width, int height, int directions, double column_bytes)
+{
+    int dirs = directions > 0 ? directions : 64;
+    double hulls = ((double)width + height) * dirs * 8.0 * 16.0;
+    double carried = (double)width * dirs * column_bytes;
+    return FIXED_BYTES + hulls + carried;
+}
+
+int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
+                        double band_cell_bytes, double column_bytes)
+{
+    if (ss_whole_sweep_bytes(width, height) <= budget_bytes)
+        return 0;
+    double per_row = band_cell_bytes * width;
+    double rows = (budget_bytes - band_overhead_bytes(width, height, directions, column_bytes)) /
+                      per_row -
+                  2 * HALO;
+    if (rows < 1)
+        return -1;
+    /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
+    int r = rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
+    return r < height ? r : height;
+}
+
+double ss_band_min_budget(int width, int height, int directions, double band_cell_bytes,
+                          double column_bytes)
+{
+    double one_band = band_overhead_bytes(width, height, directions, column_bytes) +
+                      band_cell_bytes * width * (1 + 2 * HALO);
+    double whole = ss_whole_sweep_bytes(width, height);
+    return one_band < whole ? one_band : whole;
+}

@@ -1,0 +1,521 @@
+/* The one sweep driver (engine.h): bands, passes, groups and batches.
+ *
+ * A run visits every band of the DEM. With one band (the whole grid) that is
+ * one visit walking every direction in order. In bands, a direction's lines
+ * meet the bands downward or upward (its pass, kernels/ss_band.h), so the
+ * directions go in groups, each walked in a down pass over the bands and
+ * then an up pass: a band is visited twice per group, and what a visit
+ * leaves in the consumer's planes waits in a temporary file until the next
+ * adds to it; the last visit hands the planes over complete. Within a
+ * visit, consecutive walked directions are walked together in batches of
+ * the backend's size, and each direction reaches the consumer in its turn. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "engine.h"
+#include "lines.h"
+#include "products_internal.h"
+
+int ss_walk_planes(const ss_walk *walk)
+{
+    if (walk->term != SS_TERM_HORIZON)
+        return 1;
+    return walk->want & SS_HORIZON_WANT_CAST ? 4 : walk->want & SS_HORIZON_WANT_DIST ? 3 : 2;
+}
+
+ss_status ss_backend_open(ss_backend *b)
+{
+    return b->ctx->use_reference ? ss_backend_ref_open(b) : ss_backend_ocl_open(b);
+}
+
+ss_source ss_source_of_grid(const ss_grid *grid)
+{
+    ss_source src = {.width = grid->width,
+                     .height = grid->height,
+                     .cell_x_m = grid->cell_x_m,
+                     .cell_y_m = grid->cell_y_m,
+                     .z_origin_m = &grid->z_origin_m,
+                     .z = grid->z};
+    return src;
+}
+
+double ss_source_origin(const ss_source *src)
+{
+    return src->z_origin_m ? *src->z_origin_m : 0.0;
+}
+
+ss_status ss_source_check(ss_ctx *ctx, const ss_source *src)
+{
+    /* Heights in memory are checked as a grid's: sizes, cell sizes and
+     * heights, at least one of them valid. A reader's show themselves as
+     * they are read (ss_engine_run refuses a DEM with no valid height). */
+    if (src && src->z) {
+        ss_grid g = {src->width, src->height, src->cell_x_m, src->cell_y_m,
+                     ss_source_origin(src), (float *)src->z};
+        ss_status st = ss_grid_check(ctx, &g, NULL);
+        if (st != SS_OK)
+            return st;
+    }
+    if (!src || src->width < 1 || src->height < 1 || (src->width < 2 && src->height < 2) ||
+        !(src->cell_x_m > 0) || !(src->cell_y_m > 0) || !isfinite(src->cell_x_m) ||
+        !isfinite(src->cell_y_m) || (!src->z && !src->read) || src->band_rows < 0)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "a DEM needs at least 2 cells, positive cell sizes, heights or a reader of "
+                       "rows, and 0 or more rows per band");
+    if ((double)src->width * (double)src->height > 2147483647.0)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "a DEM of %d x %d cells is beyond 2^31 cells",
+                       src->width, src->height);
+    return SS_OK;
+}
+
+/* What one run keeps besides the backend. */
+typedef struct {
+    ss_ctx *ctx;
+    const ss_source *src;
+    const ss_sweep_options *opt;
+    const ss_engine_job *job;
+    ss_backend b;
+    int band_rows, n_bands, halo, banded;
+    float *z;         /* held rows (bands, or the whole grid negated) */
+    int any_height;   /* a valid height was read */
+    float *grad;      /* their gradients (the radiative SVF) */
+    float *planes;    /* the consumer's planes (horizon walks and no walk) */
+    float *loaded;    /* a band's planes as earlier visits left them */
+    FILE *partial;    /* planes between visits, whole rows */
+    ss_band_dir *dirs;      /* every direction's lines; walk order in `order` */
+    int *order, n_order;    /* the current group's directions, down pass first */
+    int n_down;             /* how many of them walk downward */
+    ss_band_dir *batch;
+    int batch_now;          /* directions walked at once now (adapt_batch) */
+    int visits, visits_done;
+    int delivered;          /* directions handed to the consumer (whole grid) */
+    ss_band_stats stats;
+} engine_run;
+
+static int is_sums(const engine_run *e)
+{
+    return e->job->walk.term != SS_TERM_HORIZON && e->job->walk.term != SS_TERM_NONE;
+}
+
+static int walks(const engine_run *e)
+{
+    return e->job->walk.term != SS_TERM_NONE;
+}
+
+/* Reads the band's held rows [lo, lo + n) into e->z, negated where asked,
+ * with their gradients for the radiative SVF. */
+static ss_status read_band(engine_run *e, int lo, int n)
+{
+    const ss_source *src = e->src;
+    size_t w = (size_t)src->width, cells = (size_t)n * w;
+    ss_status st = SS_OK;
+    if (src->z) {
+        memcpy(e->z, src->z + (size_t)lo * w, cells * sizeof(float));
+    } else {
+        unsigned long failures = e->ctx->failures;
+        st = src->read(src->read_user, lo, n, e->z);
+        if (st != SS_OK) /* the reader's own message, where it gave one */
+            return e->ctx->failures != failures
+                       ? st
+                       : ss_fail(e->ctx, st, "could not read DEM rows %d..%d", lo, lo + n - 1);
+    }
+    for (size_t c = 0; !e->any_height && c < cells; ++c)
+        e->any_height = SS_ISFINITE(e->z[c]);
+    if (e->job->walk.negate)
+        for (size_t c = 0; c < cells; ++c)
+            e->z[c] = -e->z[c];
+    if (e->grad) {
+        ss_grid held = {src->width, n, src->cell_x_m, src->cell_y_m, 0.0, e->z};
+        ss_gradient_grid(&held, e->grad);
+    }
+    return st;
+}
+
+/* The walk's term, curvature and cell sizes for a band [row0, row1). */
+static ss_band_run band_run_of(const engine_run *e, int row0, int row1)
+{
+    const ss_walk *walk = &e->job->walk;
+    int h = e->src->height;
+    ss_band_run run = {0};
+    run.row0 = row0;
+    run.row1 = row1;
+    run.lo = row0 - e->halo > 0 ? row0 - e->halo : 0;
+    run.held_rows = (row1 + e->halo < h ? row1 + e->halo : h) - run.lo;
+    run.height = h;
+    run.width = e->src->width;
+    run.whole = !e->banded;
+    run.term = walk->term;
+    run.want = walk->want;
+    run.planes = ss_walk_planes(walk);
+    run.curv_k = ss_curvature_k(e->opt);
+    run.none_deg = walk->none_deg;
+    run.radius_m = (float)walk->radius_m;
+    run.cell_x_m = (float)e->src->cell_x_m;
+    run.cell_y_m = (float)e->src->cell_y_m;
+    return run;
+}
+
+/* Stores (write) or loads a band's planes in the temporary file. */
+static ss_status partial_rows(engine_run *e, int row0, int n_rows, float *data, int write)
+{
+    size_t per_row = (size_t)e->src->width * (size_t)e->job->consumer->planes;
+    size_t n = per_row * (size_t)n_rows;
+    if (fseeko(e->partial, (off_t)((size_t)row0 * per_row * sizeof(float)), SEEK_SET) != 0)
+        return ss_fail(e->ctx, SS_ERR_OUTPUT, "temporary file: cannot seek");
+    size_t done = write ? fwrite(data, sizeof(float), n, e->partial)
+                        : fread(data, sizeof(float), n, e->partial);
+    return done == n ? SS_OK
+                     : ss_fail(e->ctx, SS_ERR_OUTPUT, "temporary file: %s failed%s",
+                               write ? "write" : "read", write ? " (disk full?)" : "");
+}
+
+/* Hands slots [0, n) of the batch just walked to the consumer, in order. */
+static ss_status deliver(engine_run *e, const ss_band_run *run, const ss_band_view *view, int n,
+                         const int *indices, float *planes)
+{
+    const ss_consumer *c = e->job->consumer;
+    ss_status st = SS_OK;
+    for (int k = 0; k < n && st == SS_OK; ++k) {
+        ss_dir_rows rows = {NULL, NULL, NULL};
+        double t0 = ss_seconds_now(); /* the device's rows come back here */
+        st = e->b.ops->view(&e->b, run, k, 0, &rows.angle);
+        if (st == SS_OK && run->planes > 2)
+            st = e->b.ops->view(&e->b, run, k, 2, &rows.dist);
+        if (st == SS_OK && run->planes > 3)
+            st = e->b.ops->view(&e->b, run, k, 3, &rows.cast);
+        e->ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+        if (st == SS_OK && c->direction)
+            st = c->direction(e->job->user, indices[k], view, &rows, planes);
+    }
+    return st;
+}
+
+static ss_status progress_direction(engine_run *e)
+{
+    e->delivered++;
+    if (e->banded)
+        return SS_OK;
+    return ss_progress(e->ctx, (double)e->delivered / e->job->n_dirs, e->job->what);
+}
+
+/* A batch that runs long keeps a cancelled run waiting (what is queued on
+ * a device cannot be stopped): the next batch is halved past a quarter of a
+ * second and doubled below a sixteenth, within the backend's batch. The
+ * results do not depend on the batch. */
+static void adapt_batch(engine_run *e, double seconds)
+{
+    if (e->ctx->batch > 0)
+        return;
+    if (seconds > 0.25 && e->batch_now > 1)
+        e->batch_now /= 2;
+    else if (seconds < 0.0625 && e->batch_now < e->b.batch)
+        e->batch_now = 2 * e->batch_now < e->b.batch ? 2 * e->batch_now : e->b.batch;
+}
+
+/* Walks the current group's directions of one pass [first, last) of
+ * e->order through the band, batch by batch, each direction reaching the
+ * consumer in its turn; summed walks add into the backend's sums. */
+static ss_status walk_directions(engine_run *e, const ss_band_run *run, const ss_band_view *view,
+                                 int first, int last, float *planes)
+{
+    const ss_engine_job *job = e->job;
+    int *indices = ss_malloc(sizeof(int) * (size_t)e->b.batch);
+    if (!indices)
+        return ss_fail(e->ctx, SS_ERR_MEMORY, "out of memory for a batch");
+    ss_status st = SS_OK;
+    int n = 0;
+    for (int k = first; k <= last && st == SS_OK; ++k) {
+        int d = k < last ? e->order[k] : -1;
+        int walked = d >= 0 && job->dirs[d].walk && walks(e);
+        if (walked) {
+            e->batch[n] = e->dirs[d];
+            e->batch[n].ls = ss_band_lines_of(&e->dirs[d].ls, run->lo);
+            e->batch[n].slot = n;
+            e->batch[n].carry = k;
+            indices[n++] = job->dirs[d].index;
+        }
+        /* A full batch, or one ended by a direction without a walk or by the
+         * pass's end: walked, then handed over. */
+        if (n > 0 && (n == e->batch_now || !walked)) {
+            double t0 = ss_seconds_now();
+            st = e->b.ops->walk(&e->b, run, e->batch, n);
+            double seconds = ss_seconds_now() - t0;
+            e->ctx->counters.sweep_seconds += seconds;
+            adapt_batch(e, seconds);
+            if (st == SS_OK && !is_sums(e))
+                st = deliver(e, run, view, n, indices, planes);
+            for (int j = 0; j < n && st == SS_OK; ++j)
+                st = progress_direction(e);
+            n = 0;
+        }
+        if (st == SS_OK && d >= 0 && !walked) {
+            if (job->consumer->direction)
+                st = job->consumer->direction(job->user, job->dirs[d].index, view, NULL, planes);
+            if (st == SS_OK)
+                st = progress_direction(e);
+        }
+    }
+    free(indices);
+    return st;
+}
+
+/* One visit of band [row0, row1) in a pass (+1, -1; 0 for the whole grid)
+ * for directions [first, last) of e->order. */
+static ss_status visit_band(engine_run *e, int row0, int row1, int pass, int first, int last,
+                            int first_visit, int last_visit)
+{
+    const ss_consumer *c = e->job->consumer;
+    ss_band_run run = band_run_of(e, row0, row1);
+    ss_status st = SS_OK;
+    if (e->banded || !e->b.whole_z)
+        st = read_band(e, run.lo, run.held_rows);
+    const float *z = e->b.whole_z ? e->b.whole_z : e->z;
+    ss_band_view view = {row0,      row1 - row0, run.lo, run.held_rows,
+                         run.width, run.height,  z,      z + (size_t)(row0 - run.lo) * run.width};
+    if (st == SS_OK && walks(e))
+        st = e->b.ops->load(&e->b, &run, z, e->grad);
+    if (st == SS_OK && c->visit)
+        st = c->visit(e->job->user, &view);
+    size_t own = (size_t)(row1 - row0) * run.width;
+    float *planes = e->planes;
+    if (st == SS_OK && is_sums(e))
+        st = e->b.ops->sums_begin(&e->b, &run, pass);
+    else if (planes)
+        memset(planes, 0, sizeof(float) * own * c->planes);
+    if (st == SS_OK)
+        st = walk_directions(e, &run, &view, first, last, planes);
+    if (st == SS_OK && is_sums(e)) {
+        double t0 = ss_seconds_now(); /* waits for the device's last batch */
+        st = e->b.ops->sums_end(&e->b, &run, pass, &planes);
+        e->ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+    }
+    /* What earlier visits left is added in (a + b = b + a in floats, so the
+     * order of the two does not matter), and kept for the next. */
+    size_t n = own * (size_t)c->planes;
+    if (st == SS_OK && e->partial && !first_visit) {
+        st = partial_rows(e, row0, row1 - row0, e->loaded, 0);
+        for (size_t k = 0; st == SS_OK && k < n; ++k)
+            planes[k] = e->loaded[k] + planes[k];
+    }
+    if (st == SS_OK && e->partial && !last_visit)
+        st = partial_rows(e, row0, row1 - row0, planes, 1);
+    if (st == SS_OK && last_visit && c->finish)
+        st = c->finish(e->job->user, &view, planes);
+    if (st == SS_OK && e->banded && walks(e))
+        st = e->b.ops->hulls_swap(&e->b, &e->stats);
+    if (st == SS_OK && e->banded) {
+        e->visits_done++;
+        st = ss_progress(e->ctx, (double)e->visits_done / e->visits, e->job->what);
+    }
+    return st;
+}
+
+/* Orders the group [g0, g1) of the job's directions: down pass first, each
+ * pass in index order. */
+static void order_group(engine_run *e, int g0, int g1)
+{
+    e->n_order = 0;
+    int by_pass = e->banded && walks(e);
+    for (int down = 1; down >= 0; --down)
+        for (int d = g0; d < g1; ++d)
+            if (by_pass ? (e->dirs[d].pass > 0) == down : down)
+                e->order[e->n_order++] = d;
+    e->n_down = 0;
+    for (int k = 0; k < e->n_order; ++k)
+        e->n_down += !by_pass || e->dirs[e->order[k]].pass > 0;
+}
+
+/* The hull arrays' line bases of the walked directions [first, last) of
+ * the order (those of one pass); returns the total of lines. */
+static int line_bases(engine_run *e, int first, int last)
+{
+    int lines = 0;
+    for (int k = first; k < last; ++k) {
+        ss_band_dir *d = &e->dirs[e->order[k]];
+        d->line_base = lines;
+        if (e->job->dirs[e->order[k]].walk)
+            lines += d->ls.n_lines;
+    }
+    return lines;
+}
+
+static ss_status run_groups(engine_run *e)
+{
+    const ss_engine_job *job = e->job;
+    int group = e->banded && job->group > 0 ? job->group : job->n_dirs;
+    int n_groups = job->n_dirs > 0 ? (job->n_dirs + group - 1) / group : 1;
+    int passes = e->banded && walks(e) ? 2 : 1;
+    e->visits = n_groups * passes * e->n_bands;
+    ss_status st = SS_OK;
+    for (int g = 0; g < n_groups && st == SS_OK; ++g) {
+        int g0 = g * group, g1 = g0 + group < job->n_dirs ? g0 + group : job->n_dirs;
+        order_group(e, g0, g1);
+        for (int p = 0; p < passes && st == SS_OK; ++p) {
+            int pass = passes == 2 ? (p == 0 ? 1 : -1) : 0;
+            int first = passes == 2 && p == 1 ? e->n_down : 0;
+            int last = passes == 2 && p == 0 ? e->n_down : e->n_order;
+            /* Each pass's lines start with empty hulls at its first band. */
+            int lines = line_bases(e, first, last);
+            if (e->banded && walks(e))
+                st = e->b.ops->pass_begin(&e->b, lines);
+            for (int k = 0; k < e->n_bands && st == SS_OK; ++k) {
+                int band = p == 0 ? k : e->n_bands - 1 - k;
+                int row0 = band * e->band_rows;
+                int row1 = row0 + e->band_rows < e->src->height ? row0 + e->band_rows
+                                                                 : e->src->height;
+                st = visit_band(e, row0, row1, pass, first, last, g == 0 && p == 0,
+                                g == n_groups - 1 && p == passes - 1);
+            }
+        }
+    }
+    return st;
+}
+
+/* The job's directions: their whole-grid lines and passes. */
+static ss_status make_directions(engine_run *e)
+{
+    const ss_engine_job *job = e->job;
+    ss_grid dims = {e->src->width, e->src->height, e->src->cell_x_m, e->src->cell_y_m, 0.0, NULL};
+    for (int i = 0; i < job->n_dirs; ++i) {
+        if (!isfinite(job->dirs[i].azimuth_deg))
+            return ss_fail(e->ctx, SS_ERR_ARGUMENT, "azimuth %d is not a number", i);
+        ss_band_dir *d = &e->dirs[i];
+        double az = ss_product_lines_at(&dims, e->opt, job->dirs[i].azimuth_deg, &d->ls);
+        d->sin_az = (float)sin(az);
+        d->cos_az = (float)cos(az);
+        d->pass = ss_band_pass_of(&d->ls);
+    }
+    return SS_OK;
+}
+
+/* The directions walked in the largest pass of a group: the batch asked of
+ * the backend unless the context sets one. */
+static int batch_wanted(const engine_run *e)
+{
+    if (e->ctx->batch > 0)
+        return e->ctx->batch;
+    if (e->ctx->use_reference)
+        return 1; /* the C twin walks a batch one direction after the other */
+    int walked = 0;
+    for (int i = 0; i < e->job->n_dirs; ++i)
+        walked += e->job->dirs[i].walk != 0;
+    int group = e->banded && e->job->group > 0 ? e->job->group : walked;
+    int n = walked < group ? walked : group;
+    return n > 0 ? n : 1;
+}
+
+static ss_status open_run(engine_run *e)
+{
+    const ss_source *src = e->src;
+    const ss_engine_job *job = e->job;
+    int h = src->height, w = src->width;
+    e->band_rows = src->band_rows > 0 && src->band_rows < h ? src->band_rows : h;
+    e->n_bands = (h + e->band_rows - 1) / e->band_rows;
+    e->banded = e->n_bands > 1;
+    e->halo = SS_BAND_HALO;
+    if (job->walk.radius_m > 0) /* a radius walk looks back this far: no hulls */
+        e->halo += (int)ceil(job->walk.radius_m / src->cell_y_m);
+    int max_held = e->banded ? (e->band_rows + 2 * e->halo < h ? e->band_rows + 2 * e->halo : h)
+                             : h;
+    size_t held = (size_t)max_held * (size_t)w;
+    int whole_in_place = !e->banded && src->z && !job->walk.negate;
+    e->dirs = ss_calloc((size_t)(job->n_dirs > 0 ? job->n_dirs : 1), sizeof *e->dirs);
+    e->order = ss_malloc(sizeof(int) * (size_t)(job->n_dirs > 0 ? job->n_dirs : 1));
+    if (!e->dirs || !e->order)
+        return ss_fail(e->ctx, SS_ERR_MEMORY, "out of memory for %d directions", job->n_dirs);
+    ss_status st = make_directions(e);
+    if (st != SS_OK)
+        return st;
+    if (!whole_in_place && !(e->z = ss_alloc_grid(held * sizeof(float))))
+        return ss_fail(e->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for a band of heights",
+                       (held * sizeof(float)) >> 20);
+    if (job->walk.term == SS_SVF_TILTED && !(e->grad = ss_alloc_grid(2 * held * sizeof(float))))
+        return ss_fail(e->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of surface gradients",
+                       (2 * held * sizeof(float)) >> 20);
+    int planes = job->consumer->planes;
+    size_t own = (size_t)e->band_rows * (size_t)w * (size_t)planes;
+    if (!is_sums(e) && planes > 0 && !(e->planes = ss_calloc(own, sizeof(float))))
+        return ss_fail(e->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for a band's sums",
+                       (own * sizeof(float)) >> 20);
+    if (e->banded && planes > 0) {
+        if (!(e->loaded = ss_malloc(own * sizeof(float))))
+            return ss_fail(e->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for a band's sums",
+                           (own * sizeof(float)) >> 20);
+        if (!(e->partial = tmpfile()))
+            return ss_fail(e->ctx, SS_ERR_OUTPUT,
+                           "cannot create a temporary file for a DEM in bands");
+    }
+    /* The whole grid is read (or negated) once, and its gradients made once. */
+    if (!e->banded && !whole_in_place) {
+        st = read_band(e, 0, h);
+        if (st != SS_OK)
+            return st;
+    } else if (!e->banded && e->grad) {
+        ss_grid whole = {w, h, src->cell_x_m, src->cell_y_m, 0.0, (float *)src->z};
+        ss_gradient_grid(&whole, e->grad);
+    }
+    e->b.ctx = e->ctx;
+    e->b.walk = job->walk;
+    e->b.width = w;
+    e->b.max_held_rows = max_held;
+    e->b.batch = batch_wanted(e);
+    int group = job->group > 0 && job->group < job->n_dirs ? job->group : job->n_dirs;
+    e->b.carried = !e->banded ? 0 : is_sums(e) ? 1 : (group > 0 ? group : 1);
+    e->b.whole_z = e->banded ? NULL : whole_in_place ? src->z : e->z;
+    if (!walks(e))
+        return SS_OK;
+    st = ss_backend_open(&e->b);
+    if (st == SS_OK && !(e->batch = ss_calloc((size_t)e->b.batch, sizeof *e->batch)))
+        st = ss_fail(e->ctx, SS_ERR_MEMORY, "out of memory for a batch");
+    /* A batch the context sets is kept; the device's choice starts small. */
+    e->batch_now = e->ctx->batch > 0 || e->b.batch < 8 ? e->b.batch : 8;
+    return st;
+}
+
+static void close_run(engine_run *e)
+{
+    if (e->b.impl)
+        e->b.ops->close(&e->b);
+    free(e->z);
+    free(e->grad);
+    free(e->planes);
+    free(e->loaded);
+    if (e->partial)
+        fclose(e->partial);
+    free(e->dirs);
+    free(e->order);
+    free(e->batch);
+}
+
+ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                        const ss_engine_job *job)
+{
+    ss_status st = ss_source_check(ctx, src);
+    if (st == SS_OK)
+        st = ss_sweep_options_check(ctx, opt);
+    if (st != SS_OK)
+        return st;
+    engine_run e = {0};
+    e.ctx = ctx;
+    e.src = src;
+    e.opt = opt;
+    e.job = job;
+    st = open_run(&e);
+    if (st == SS_OK)
+        st = run_groups(&e);
+    if (st == SS_OK && !src->z && !e.any_height)
+        st = ss_fail(ctx, SS_ERR_INPUT, "the DEM holds no valid height: every cell is nodata");
+    int walked = 0;
+    for (int i = 0; i < job->n_dirs; ++i)
+        walked += job->dirs[i].walk != 0;
+    ctx->counters.sweeps += (uint64_t)walked;
+    ctx->counters.cells_swept += (uint64_t)walked * (uint64_t)src->width * (uint64_t)src->height;
+    if (src->stats)
+        *src->stats = e.stats;
+    close_run(&e);
+    return st;
+}

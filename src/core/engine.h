@@ -1,0 +1,78 @@
+/* The one sweep driver. Every product runs through ss_engine_run, on every
+ * DEM size and every device: the DEM is walked in bands of rows (the whole
+ * grid is the case of one band), a band's lines for a batch of directions
+ * at a time on the context's backend, each line's hull handed on exactly
+ * from band to band (kernels/ss_band.h). What a product makes of the walk
+ * is its consumer: what it takes from each sample (the walk, backend.h),
+ * what it keeps per cell (planes), and what it does with each direction's
+ * rows and with each band once complete. */
+#ifndef SS_ENGINE_H
+#define SS_ENGINE_H
+
+#include "backend.h"
+
+/* A band as a consumer sees it. */
+typedef struct {
+    int row0, n_rows;   /* the band's own rows */
+    int lo, held_rows;  /* the rows held in z, from row lo */
+    int width, height;  /* the grid's */
+    const float *z;     /* the held rows' heights: NaN at nodata, relative to the source's
+                           origin, negated for negate walks */
+    const float *own_z; /* z at row0 */
+} ss_band_view;
+
+/* One direction's horizon over the band's own rows (finished: degrees,
+ * the walk's none_deg where no terrain lies ahead, garbage at nodata), its
+ * distances and casting heights where the walk wants them, else NULL. A
+ * consumer may overwrite them. */
+typedef struct {
+    float *angle, *dist, *cast;
+} ss_dir_rows;
+
+typedef struct {
+    /* Per-cell float planes over the band's own rows that the driver keeps
+     * for the consumer: zero at each visit of a band, what earlier visits
+     * (passes, groups of directions) left added in at the end of each, and
+     * complete at the band's last. A summed walk's sums are its one plane. */
+    int planes;
+    /* A visit of a band begins (may be NULL). */
+    ss_status (*visit)(void *user, const ss_band_view *band);
+    /* A direction in its turn (horizon walks, and directions without a walk,
+     * whose rows are NULL); may be NULL for summed walks. */
+    ss_status (*direction)(void *user, int index, const ss_band_view *band,
+                           const ss_dir_rows *rows, float *planes);
+    /* The band's last visit has ended: its planes are complete. */
+    ss_status (*finish)(void *user, const ss_band_view *band, float *planes);
+} ss_consumer;
+
+typedef struct {
+    double azimuth_deg; /* the options' frame */
+    int walk;           /* 0: the consumer sees it in its turn without a walk */
+    int index;          /* what the consumer is told */
+} ss_engine_dir;
+
+typedef struct {
+    ss_walk walk;
+    const ss_engine_dir *dirs;
+    int n_dirs;
+    /* In bands, every line's hull of a direction is held from band to band:
+     * directions go in groups of at most this many (0: all at once). */
+    int group;
+    const ss_consumer *consumer;
+    void *user;
+    const char *what; /* names the run in progress reports */
+} ss_engine_job;
+
+/* Checks a source: sizes, cell sizes, heights or a reader. */
+ss_status ss_source_check(ss_ctx *ctx, const ss_source *src);
+
+ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                        const ss_engine_job *job);
+
+/* The height of a source's stored zero, metres. */
+double ss_source_origin(const ss_source *src);
+
+/* A source for a grid held whole. */
+ss_source ss_source_of_grid(const ss_grid *grid);
+
+#endif
