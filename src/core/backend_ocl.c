@@ -451,6 +451,10 @@ typedef struct {
     size_t hull_cap_in, hull_cap_out; /* points */
     int lines_cap;                    /* entries of the per-line arrays */
     cl_mem mapped;                    /* the buffer the host holds mapped, or NULL */
+    /* The batches' directions as queued (a write not waited for reads them
+     * later): two, since a batch is done before the one after next. */
+    ss_band_dir *staged[2];
+    int stage;
     void *mapped_ptr;
     cl_event queued;                  /* marks the end of the last batch queued (pace) */
 } ocl_backend;
@@ -542,6 +546,18 @@ static ss_status upload(ss_backend *b, cl_mem buf, size_t bytes, const void *hos
 {
     cl_int err = clEnqueueWriteBuffer(b->ctx->ocl->queue, buf, CL_TRUE, 0, bytes, host, 0, NULL,
                                       NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, "clEnqueueWriteBuffer");
+}
+
+/* Queues a batch's directions without waiting for them to be copied. */
+static ss_status upload_dirs(ss_backend *b, const ss_band_dir *dirs, int n)
+{
+    ocl_backend *q = b->impl;
+    ss_band_dir *staged = q->staged[q->stage];
+    q->stage ^= 1;
+    memcpy(staged, dirs, sizeof *dirs * (size_t)n);
+    cl_int err = clEnqueueWriteBuffer(b->ctx->ocl->queue, q->dirs, CL_FALSE, 0,
+                                      sizeof *dirs * (size_t)n, staged, 0, NULL, NULL);
     return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, "clEnqueueWriteBuffer");
 }
 
@@ -720,15 +736,19 @@ static ss_status ocl_walk(ss_backend *b, const ss_band_run *run, const ss_band_d
     int horizon = b->walk.term == SS_TERM_HORIZON;
     ss_status st = unmap(b);
     if (st == SS_OK)
-        st = upload(b, q->dirs, sizeof *dirs * (size_t)n, dirs);
-    /* Each direction adds into a slot of its own (band_reduce then adds the
-     * slots in order), so the sums are the same whatever the batch. */
-    cl_mem sums = horizon ? q->sums : q->parts;
+        st = upload_dirs(b, dirs, n);
+    /* A batch of one adds into the band's sums, as the C twin does; in a
+     * larger batch each direction adds into a slot of its own, which
+     * band_reduce then adds in direction order, so that the sums do not
+     * depend on how directions were batched beyond the float rounding of
+     * adding a direction's two rounds first (1e-7 relative). */
+    int slotted = !horizon && n > 1;
+    cl_mem sums = slotted ? q->parts : q->sums;
     if (st == SS_OK && horizon)
         st = fill(b, q->outs, (size_t)n * run->planes * run_cells(run) * sizeof(float));
     if (st == SS_OK && horizon)
         st = carry(b, run, dirs[0].pass, n, run->planes, 1, 1, q->outs);
-    if (st == SS_OK && !horizon)
+    if (st == SS_OK && slotted)
         st = fill(b, q->parts, (size_t)n * run_cells(run) * sizeof(float));
     for (int round = 0; round < 2 && st == SS_OK; ++round) {
         ss_band_run r = *run;
@@ -741,7 +761,7 @@ static ss_status ocl_walk(ss_backend *b, const ss_band_run *run, const ss_band_d
         if (r.lines > 0)
             st = walk_round(b, r, n, round, sums);
     }
-    if (st == SS_OK && !horizon) {
+    if (st == SS_OK && slotted) {
         kernel_arg args[] = {ARG(*run), ARG(n), ARG(q->parts), ARG(q->sums)};
         st = run_kernel(b, o->k_reduce, args, 4, run_cells(run), "the reducing kernel");
     }
@@ -821,7 +841,7 @@ static ss_status ocl_bare(ss_backend *b, const ss_band_run *run, const ss_band_d
     if (st == SS_OK)
         st = fill(b, q->sums, run_cells(run) * sizeof(float));
     if (st == SS_OK)
-        st = upload(b, q->dirs, sizeof *dir, dir);
+        st = upload_dirs(b, dir, 1);
     for (int round = 0; round < 2 && st == SS_OK; ++round) {
         ss_band_run r = *run;
         r.lines = ss_round_lines(&dir->ls, round);
@@ -852,6 +872,8 @@ static void ocl_close(ss_backend *b)
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (all[i])
             clReleaseMemObject(all[i]);
+    free(q->staged[0]);
+    free(q->staged[1]);
     free(q);
     b->impl = NULL;
 }
@@ -860,19 +882,24 @@ static const ss_backend_ops ocl_ops = {ocl_load,     ocl_pass_begin, ocl_sums_be
                                        ocl_walk,     ocl_sums_end,    ocl_view,
                                        ocl_hulls_swap, ocl_bare,      ocl_close};
 
-/* The directions a batch can hold: what was asked, within the device's
- * memory (a quarter of a GPU's; on a CPU device, whose memory is the
- * host's and which gains little from long batches, at most 64 MiB) and its
- * largest buffer. */
+/* The directions a batch can hold: what was asked, within a quarter of the
+ * device's memory and its largest buffer. A CPU device walks one direction
+ * of a whole grid at a time unless the context asks for more: a launch
+ * costs it about 0.1 ms against milliseconds of work, while a batch's own
+ * sums and stack grids cost memory traffic; in bands, where each round of
+ * a batch waits for its hulls' count, it takes up to 16
+ * (doc/performance.md measures both). */
 static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
 {
+    if (o->is_cpu && b->ctx->batch == 0 && b->whole_z)
+        return 1;
+    if (o->is_cpu && b->ctx->batch == 0 && b->batch > 16)
+        return 16;
     size_t cells = held_cells(b);
     int horizon = b->walk.term == SS_TERM_HORIZON;
     double per_slot = (double)cells * (4.0 + (horizon ? 4.0 * ss_walk_planes(&b->walk) : 4.0));
     double largest = (double)cells * 4.0 * (horizon ? ss_walk_planes(&b->walk) : 1);
     double budget = (double)o->global_mem / 4.0, alloc = (double)o->max_alloc;
-    if (o->is_cpu && budget > 64.0 * 1048576.0)
-        budget = 64.0 * 1048576.0;
     int by_memory = per_slot > 0 ? (int)fmin(budget / per_slot, alloc / largest) : b->batch;
     int n = b->batch < by_memory ? b->batch : by_memory;
     return n > 0 ? n : 1;
@@ -907,11 +934,14 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     q->sums = new_buffer(b, CL_MEM_READ_WRITE, fbytes, NULL, &err);
     if (horizon)
         q->outs = new_buffer(b, CL_MEM_READ_WRITE, (size_t)b->batch * planes * fbytes, NULL, &err);
-    else
+    else if (b->batch > 1)
         q->parts = new_buffer(b, CL_MEM_READ_WRITE, (size_t)b->batch * fbytes, NULL, &err);
     q->carry = new_buffer(b, CL_MEM_READ_WRITE, carry_floats(b) * sizeof(float), NULL, &err);
     q->dirs = new_buffer(b, CL_MEM_READ_ONLY, (size_t)b->batch * sizeof(ss_band_dir), NULL, &err);
     q->counters = new_buffer(b, CL_MEM_READ_WRITE, SS_BAND_COUNTERS * sizeof(int), NULL, &err);
+    for (int k = 0; k < 2 && err == CL_SUCCESS; ++k)
+        if (!(q->staged[k] = ss_malloc(sizeof(ss_band_dir) * (size_t)b->batch)))
+            err = CL_OUT_OF_HOST_MEMORY;
     /* Valid (if empty) hull buffers, so every kernel argument is a buffer. */
     q->hull_in = new_buffer(b, CL_MEM_READ_WRITE, sizeof(ss_hull_point), NULL, &err);
     q->hull_out = new_buffer(b, CL_MEM_READ_WRITE, sizeof(ss_hull_point), NULL, &err);
