@@ -23,6 +23,14 @@
 extern "C" {
 #endif
 
+/* What the library exports: it is built with -fvisibility=hidden, so that
+ * only these calls are its interface. */
+#if defined(__GNUC__) && !defined(SS_API)
+#define SS_API __attribute__((visibility("default")))
+#elif !defined(SS_API)
+#define SS_API
+#endif
+
 #define SS_NODATA (-9999.0f)
 /* The earth's mean radius (IUGG R1), metres: curvature where a DEM gives no place. */
 #define SS_EARTH_RADIUS_MEAN_M 6371008.8
@@ -44,25 +52,25 @@ typedef struct ss_ctx ss_ctx;
 /* Same shape as GDALProgressFunc: return 0 to cancel the run. */
 typedef int (*ss_progress_fn)(double complete, const char *message, void *user);
 
-ss_ctx *ss_ctx_new(void);
-void ss_ctx_free(ss_ctx *ctx);
+SS_API ss_ctx *ss_ctx_new(void);
+SS_API void ss_ctx_free(ss_ctx *ctx);
 /* The one-line message of the last failure; it stays until the next one,
  * so read it only after a call returned a status other than SS_OK. Every
  * call leaves the context usable after a failure of any kind. */
-const char *ss_ctx_message(const ss_ctx *ctx);
+SS_API const char *ss_ctx_message(const ss_ctx *ctx);
 /* Records a failure of the caller's own in the context (one line, printf
  * format) and returns status, so callers report theirs like the library's. */
-ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
+SS_API ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
-void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user);
+SS_API void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user);
 /* Asks the call running on ctx to stop: it returns SS_ERR_CANCELLED within
  * about two directions' sweeps (the C twin checks between lines, an OpenCL
  * device keeps at most one pass queued behind the running one). It only
  * sets a flag, so a signal handler or another thread may call it. The
  * request holds for every later call until ss_ctx_cancel_clear. */
-void ss_ctx_cancel(ss_ctx *ctx);
-void ss_ctx_cancel_clear(ss_ctx *ctx);
-const char *ss_version(void);
+SS_API void ss_ctx_cancel(ss_ctx *ctx);
+SS_API void ss_ctx_cancel_clear(ss_ctx *ctx);
+SS_API const char *ss_version(void);
 
 /* Devices. spec NULL or "" picks the default: the environment variable
  * SKYSWEEP_DEVICE where set (same forms as spec), else the first CPU device
@@ -71,17 +79,17 @@ const char *ss_version(void);
  * "device" item, applied by ss_ctx_apply_plan; the C twin until then);
  * anything else is "P:D" (platform and device numbers) or a
  * case-insensitive part of "platform name: device name". */
-ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec);
+SS_API ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec);
 /* Directions walked at once on a device (one launch per batch of them and
  * band): 0, the default, chooses from the device's memory; the C twin walks
  * a batch one direction after the other, so it gives the same result at
  * any batch. */
-void ss_ctx_set_batch(ss_ctx *ctx, int directions);
+SS_API void ss_ctx_set_batch(ss_ctx *ctx, int directions);
 /* Human-readable name of the selected device, opening it if needed. */
-const char *ss_ctx_device_name(ss_ctx *ctx);
+SS_API const char *ss_ctx_device_name(ss_ctx *ctx);
 /* Lists the OpenCL devices, one "P:D platform: device (OpenCL C x.y)" line
  * each, into buf. Returns the number of devices (0 when none). */
-int ss_list_devices(ss_ctx *ctx, char *buf, size_t buf_size);
+SS_API int ss_list_devices(ss_ctx *ctx, char *buf, size_t buf_size);
 
 /* Work counters since the context was made: products report what they did,
  * and tests check that work planned away really was skipped. */
@@ -101,7 +109,7 @@ typedef struct {
     uint64_t records_without_temperature; /* PV yield: the options' air temperature or wind used */
     uint64_t sun_bins; /* the cumulative sky's occupied bins of suns */
 } ss_counters;
-ss_counters ss_ctx_counters(const ss_ctx *ctx);
+SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
 /* A DEM in memory. Heights are float32 relative to z_origin_m so that large
  * offsets (a plateau at 1e5 m) keep their float precision. */
@@ -113,9 +121,9 @@ typedef struct {
 } ss_grid;
 
 /* Allocates z (filled with NAN) for a width x height grid. */
-ss_status ss_grid_alloc(ss_ctx *ctx, ss_grid *grid, int width, int height, double cell_x_m,
+SS_API ss_status ss_grid_alloc(ss_ctx *ctx, ss_grid *grid, int width, int height, double cell_x_m,
                         double cell_y_m);
-void ss_grid_free(ss_grid *grid);
+SS_API void ss_grid_free(ss_grid *grid);
 /* Heights beyond +-this many metres are not terrain: readers store them as
  * nodata (and count them). */
 #define SS_Z_PLAUSIBLE_M 1e7
@@ -125,14 +133,14 @@ void ss_grid_free(ss_grid *grid);
  * precision. NAN for nodata: a height that is NaN, infinite or beyond
  * SS_Z_PLAUSIBLE_M. The GDAL reader and the front ends fill grids through it
  * (heightmaps keep origin 0: their heights are pixel values times a scale). */
-float ss_grid_stored_height(ss_grid *grid, int *have_origin, double height_m);
+SS_API float ss_grid_stored_height(ss_grid *grid, int *have_origin, double height_m);
 /* Fills a grid from ss_grid_alloc with width*height heights in metres (row
  * by row from the north-west cell) through ss_grid_stored_height; *rejected
  * (may be NULL) counts the finite heights beyond SS_Z_PLAUSIBLE_M. */
-void ss_grid_set_heights(ss_grid *grid, const double *heights_m, size_t *rejected);
+SS_API void ss_grid_set_heights(ss_grid *grid, const double *heights_m, size_t *rejected);
 /* Checks that a grid can be swept: sizes, cell sizes, at least one valid
  * height; a 1x1 grid has no horizon and is refused. *valid_cells may be NULL. */
-ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells);
+SS_API ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells);
 
 /* How lines sample the grid (doc/model.md). The values are part of the
  * kernel interface (kernels/ss_lines.h). */
@@ -153,10 +161,10 @@ typedef struct {
     double grid_north_deg;
 } ss_sweep_options;
 
-void ss_sweep_options_default(ss_sweep_options *opt);
-ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt);
+SS_API void ss_sweep_options_default(ss_sweep_options *opt);
+SS_API ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt);
 /* Azimuth of direction i (in the frame of the options), degrees in [0, 360). */
-double ss_direction_azimuth(const ss_sweep_options *opt, int i);
+SS_API double ss_direction_azimuth(const ss_sweep_options *opt, int i);
 
 typedef enum {
     SS_SVF_DEF_GEOMETRIC = 0,  /* 1 - mean sin h+ (Zaksek et al. 2011, RVT) */
@@ -165,18 +173,18 @@ typedef enum {
 } ss_svf_definition;
 
 /* Sky-view factor of every cell into out (width*height, SS_NODATA at nodata). */
-ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+SS_API ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                  ss_svf_definition definition, float *out);
 /* The same from horizons within radius_m only (0: unlimited, as ss_svf);
  * geometric or horizontal definitions. */
-ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+SS_API ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                         ss_svf_definition definition, double radius_m, float *out);
 
 /* Topographic openness (Yokoyama et al. 2002), degrees: positive (negative
  * nonzero: the openness of the inverted surface), from horizons at
  * unlimited distance, or within radius_m when it is > 0. A flat plane
  * gives 90. SS_NODATA at nodata. */
-ss_status ss_openness(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+SS_API ss_status ss_openness(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                       int negative, double radius_m, float *out);
 
 /* ---- one driver for every DEM size ---------------------------------------- */
@@ -235,19 +243,19 @@ typedef struct {
 
 /* The bytes a banded sweep holds for its bands (the hulls handed on come
  * on top; ss_band_stats counts them). */
-size_t ss_band_bytes(int width, int band_rows);
+SS_API size_t ss_band_bytes(int width, int band_rows);
 /* About what a whole-grid SVF or openness run needs, buffers included. */
-double ss_whole_sweep_bytes(int width, int height);
+SS_API double ss_whole_sweep_bytes(int width, int height);
 /* Rows per band for a run within budget_bytes: 0 when the whole grid fits,
  * -1 when not even one band does (directions 0: not known yet). */
-int ss_band_rows_for(int width, int height, int directions, double budget_bytes);
+SS_API int ss_band_rows_for(int width, int height, int directions, double budget_bytes);
 /* The same for any banded run: band_cell_bytes held per cell of a band
  * (halo rows included), column_bytes per column and direction besides. */
-int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
+SS_API int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
                         double band_cell_bytes, double column_bytes);
 /* The smallest budget_bytes with which ss_band_rows_within does not refuse
  * (returns 0 or more): one band of one row, or the whole grid if less. */
-double ss_band_min_budget(int width, int height, int directions, double band_cell_bytes,
+SS_API double ss_band_min_budget(int width, int height, int directions, double band_cell_bytes,
                           double column_bytes);
 
 /* ---- sky-view factor and openness, in rows ---------------------------------- */
@@ -263,19 +271,19 @@ typedef enum {
 } ss_sky_term;
 
 /* Checks a term and a radius (0: unlimited). */
-ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m);
+SS_API ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m);
 /* The product from the sum over all `directions`. */
-float ss_sky_value(ss_sky_term term, float sum, int directions);
+SS_API float ss_sky_value(ss_sky_term term, float sum, int directions);
 /* Bytes a banded sweep of term holds per cell of a band (halo rows
  * included): heights, stack slots, sums, and the radiative SVF's surface
  * gradients. */
-double ss_sky_band_cell_bytes(ss_sky_term term);
+SS_API double ss_sky_band_cell_bytes(ss_sky_term term);
 
 /* The sky product of term (as ss_svf and ss_openness) of every cell of
  * src, from horizons at unlimited distance or within radius_m (> 0), into
  * output 0 of sink (index 0). share (may be NULL) deals out the directions. */
 #define SS_OUT_SKY 0
-ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+SS_API ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                       ss_sky_term term, double radius_m, const ss_share *share,
                       ss_rows_sink sink, void *user);
 
@@ -291,23 +299,23 @@ ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options 
 #define SS_OUT_HORIZON_CAST_HEIGHT 2 /* with SS_HORIZON_CAST_HEIGHT */
 
 /* Every direction's horizon as ss_horizon computes it, for src. */
-ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+SS_API ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                           int want, ss_rows_sink sink, void *user);
 /* What a banded horizon run holds, with `want` as in ss_horizon: bytes per
  * cell of a band (ss_band_rows_within's band_cell_bytes), and bytes per
  * column and direction for the rows of sums carried between bands. */
-double ss_horizon_band_cell_bytes(int want);
-double ss_horizon_column_bytes(void);
+SS_API double ss_horizon_band_cell_bytes(int want);
+SS_API double ss_horizon_column_bytes(void);
 
 /* RVT's VAT relief blend (Kokalj & Somrak 2019) of one cell, 0..1 (1 =
  * white): hillshade 0..1 (cosine of incidence), slope in degrees, positive
  * openness in degrees, geometric SVF. src/core/relief_blend.c gives the
  * recipe. */
-float ss_vat_compose(float hillshade, float slope_deg, float openness_deg, float svf);
+SS_API float ss_vat_compose(float hillshade, float slope_deg, float openness_deg, float svf);
 /* The VAT blend of every cell (0..1, SS_NODATA at nodata): gdaldem's
  * hillshade at 315/35 deg, Horn's slope, and SVF and positive openness from
  * horizons within radius_m (0: unlimited). */
-ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, double radius_m,
+SS_API ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, double radius_m,
                  float *out);
 
 /* Receives the horizon of every cell for one direction; dist_m and
@@ -316,7 +324,7 @@ ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, 
  * stop the run (it then ends with SS_ERR_CANCELLED). */
 typedef int (*ss_horizon_sink)(int index, double azimuth_deg, const float *angle_deg,
                                const float *dist_m, const float *cast_height_m, void *user);
-ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, int want,
+SS_API ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, int want,
                      ss_horizon_sink sink, void *user);
 
 /* Cast shadows for one sun: a sweep along sun_azimuth_deg (the options'
@@ -325,7 +333,7 @@ ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *o
  * SS_NODATA at nodata. Elevations are apparent (refracted) degrees. If
  * horizon_deg is given it gets the terrain horizon in that azimuth (0 where
  * no terrain lies ahead inside the grid). */
-ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+SS_API ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                          double sun_azimuth_deg, double sun_elevation_deg,
                          const float *sun_elevation_per_cell_deg, float *sunlit,
                          float *horizon_deg);
@@ -334,7 +342,7 @@ ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_option
  * 3x3 gradient; cell azimuths in the grid's frame): <= 0 where the cell
  * faces away from the sun (self-shadow). Per-cell sun arrays may be NULL
  * for one sun. SS_NODATA at nodata. */
-ss_status ss_sun_incidence(ss_ctx *ctx, const ss_grid *grid, double grid_azimuth_deg,
+SS_API ss_status ss_sun_incidence(ss_ctx *ctx, const ss_grid *grid, double grid_azimuth_deg,
                            double elevation_deg, const float *grid_azimuth_per_cell_deg,
                            const float *elevation_per_cell_deg, float *cos_incidence);
 
@@ -344,7 +352,7 @@ ss_status ss_sun_incidence(ss_ctx *ctx, const ss_grid *grid, double grid_azimuth
  * zevenbergen_thorne) Zevenbergen-Thorne's; multidirectional_light uses
  * gdaldem's blend of four lights. Values 1..255 as floats, SS_NODATA at
  * nodata; edges and holes get one-sided gradients. */
-ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_deg,
+SS_API ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_deg,
                        double light_altitude_deg, double z_factor, int zevenbergen_thorne,
                        int multidirectional_light, float *shade);
 
@@ -352,7 +360,7 @@ ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_de
  * line model, curvature or not: no cell is in a cast shadow when the sun is
  * above it (doc/insolation.md gives the proof). 90 for a grid whose heights
  * are not in memory (z NULL). */
-double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines);
+SS_API double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines);
 
 /* ---- insolation --------------------------------------------------------- */
 
@@ -450,7 +458,7 @@ typedef struct {
  * diffuse scaled by the cell's radiative sky-view factor over the options'
  * directions, reflected by albedo times the terrain the cell sees): beam,
  * diffuse and reflected on each cell's slope, summed over n_steps. */
-ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+SS_API ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                         const ss_insolation_options *io, int n_steps, ss_sun_step_fn sun_at,
                         void *sun_user, ss_step_sink sink, void *sink_user,
                         ss_insolation_out *out);
@@ -478,7 +486,7 @@ typedef ss_status (*ss_sun_rows_fn)(ss_ctx *ctx, int index, int row0, int n_rows
 
 /* What ss_insolation computes, for src: sun_rows gives each step's sun for
  * the rows of a band; share (may be NULL) deals out the time steps. */
-ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+SS_API ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                              const ss_insolation_options *io, int n_steps, ss_sun_rows_fn sun_rows,
                              void *sun_user, int want, const ss_share *share, ss_rows_sink sink,
                              void *user);
@@ -487,7 +495,7 @@ ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
 #define SS_INSOLATION_STEPS_PER_RUN 64
 /* Bytes an insolation run in bands holds per cell of a band, besides the
  * sweep's own (ss_band_rows_within's band_cell_bytes). */
-double ss_insolation_band_cell_bytes(void);
+SS_API double ss_insolation_band_cell_bytes(void);
 
 /* ---- shadows and shaded relief, in rows ---------------------------------- */
 
@@ -499,7 +507,7 @@ double ss_insolation_band_cell_bytes(void);
  * along its azimuth_deg, each cell lit where its apparent elevation is
  * above its terrain horizon (the horizontal where none lies ahead), its
  * incidence by Horn's gradient with grid_azimuth_deg. */
-ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+SS_API ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                          ss_sun_rows_fn sun_rows, void *sun_user, ss_rows_sink sink, void *user);
 
 /* Shaded relief (ss_hillshade_rows): gdaldem's hillshade, or RVT's VAT blend. */
@@ -515,7 +523,7 @@ typedef struct {
                                          unlimited) */
 } ss_hillshade_options;
 #define SS_OUT_SHADE 0 /* 1..255 */
-ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+SS_API ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                             const ss_hillshade_options *ho, ss_rows_sink sink, void *user);
 
 /* ---- the effects planner (doc/planner.md) -------------------------------- */
@@ -595,25 +603,25 @@ typedef struct {
     char device[16];
 } ss_plan;
 
-ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
+SS_API ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                        const ss_plan_request *request, ss_plan *plan);
 /* The sweep options that obey a plan: its directions; curvature (with the
  * place's earth radius and refraction_k) and true north (the place's grid
  * north) only where it turned them on. The other fields are kept. */
-void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double refraction_k,
+SS_API void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double refraction_k,
                            ss_sweep_options *opt);
 /* Opens the device the plan chose where the context's device is "auto"
  * (the context stays "auto" for the next plan); otherwise does nothing. */
-ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan);
+SS_API ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan);
 /* The plan as text lines ("effect ON/OFF reason [error allowed]") or JSON;
  * returns the length needed, as snprintf. */
-size_t ss_plan_format(const ss_plan *plan, int json, char *buf, size_t size);
+SS_API size_t ss_plan_format(const ss_plan *plan, int json, char *buf, size_t size);
 
 /* The bare pass along the lines of one azimuth: every sample read and its
  * cells written (out[c] += weight * height), no hull. The yardstick of the
  * sweep's cost, and with z = 1 it adds up the weight each cell receives
  * (exactly 1). out must be width*height floats. */
-ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
+SS_API ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
                        ss_line_model lines, float *out);
 
 #ifdef __cplusplus

@@ -17,8 +17,8 @@ extern "C" {
  * a line that cannot cast the horizon. */
 typedef struct ss_point_grid ss_point_grid;
 
-ss_status ss_point_grid_new(ss_ctx *ctx, const ss_grid *grid, ss_point_grid **out);
-void ss_point_grid_free(ss_point_grid *pg);
+SS_API ss_status ss_point_grid_new(ss_ctx *ctx, const ss_grid *grid, ss_point_grid **out);
+SS_API void ss_point_grid_free(ss_point_grid *pg);
 
 /* A site. col, row: cell-centre position (the centre of cell (c, r) is
  * col = c, row = r; the grid's outer edges are at -0.5 and width - 0.5).
@@ -44,7 +44,7 @@ typedef struct {
 
 /* Ground height at the site (the same bilinear weights), z_origin_m included.
  * Fails with SS_ERR_ARGUMENT off the grid or on nodata. */
-ss_status ss_point_ground_height(ss_ctx *ctx, const ss_point_grid *pg, double col, double row,
+SS_API ss_status ss_point_ground_height(ss_ctx *ctx, const ss_point_grid *pg, double col, double row,
                                  double *height_m);
 
 /* The profile of one site at opt's directions (opt->directions results in
@@ -53,7 +53,7 @@ ss_status ss_point_ground_height(ss_ctx *ctx, const ss_point_grid *pg, double co
  * grid north varies over a projected grid, so each site brings its own. At
  * observer height 0 and a cell centre it equals ss_horizon's value for
  * that cell in each direction. */
-ss_status ss_point_horizon(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_options *opt,
+SS_API ss_status ss_point_horizon(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_options *opt,
                            const ss_point_site *site, ss_point_horizon_result *out);
 
 /* Receives one site's profile (opt->directions results); return 0 to stop
@@ -62,7 +62,7 @@ typedef int (*ss_point_sink)(int site_index, const ss_point_horizon_result *prof
 
 /* Profiles of many sites, one after another, each handed to sink, with
  * progress reported to the context's callback. */
-ss_status ss_point_horizons(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_options *opt,
+SS_API ss_status ss_point_horizons(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_options *opt,
                             const ss_point_site *sites, int n_sites, ss_point_sink sink,
                             void *user);
 

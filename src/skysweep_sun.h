@@ -36,7 +36,7 @@ typedef struct {
 
 /* Delta T from the model, no Delta UT1, 1013.25 hPa, 12 C, refraction at the
  * horizon 0.5667 deg (SPA's value), observer at 0 m, algorithm SPA. */
-void ss_spa_params_default(ss_spa_params *p);
+SS_API void ss_spa_params_default(ss_spa_params *p);
 
 typedef struct {
     double julian_day;             /* of UT1 */
@@ -72,28 +72,28 @@ typedef struct {
 /* Sun position at unix_s for an observer at lat_deg, lon_deg. Refuses
  * inputs outside SPA's limits (years -2000..6000, |lat| <= 90, |lon| <= 180,
  * pressure 0..5000 hPa, temperature > -273 C, |Delta T| <= 8000 s, ...). */
-ss_status ss_spa(ss_ctx *ctx, double unix_s, double lat_deg, double lon_deg, const ss_spa_params *p,
+SS_API ss_status ss_spa(ss_ctx *ctx, double unix_s, double lat_deg, double lon_deg, const ss_spa_params *p,
                  ss_spa_result *out);
 
 /* Julian day of a Unix time (both count days linearly; the calendar rules
  * live in the date conversions of iso_time.h). */
-double ss_julian_day(double unix_s);
+SS_API double ss_julian_day(double unix_s);
 
 /* Delta T = TT - UT1 in seconds from the Espenak-Meeus polynomials (NASA
  * eclipse site, as pvlib's calculate_deltat), decimal_year = year +
  * (month - 0.5) / 12 for the middle of a month. Beyond about 2150 and
  * before -500 it is the long-term parabola, good to minutes at best. */
-double ss_delta_t_model(double decimal_year);
+SS_API double ss_delta_t_model(double decimal_year);
 
 /* SPA's refraction (step 13, Saemundsson's formula scaled by pressure and
  * temperature) for a true elevation e0_deg; 0 when the sun's upper limb is
  * below the horizon (e0 < -(0.26667 + atmos_refract_deg)). */
-double ss_spa_refraction_deg(double e0_deg, double pressure_hpa, double temperature_c,
+SS_API double ss_spa_refraction_deg(double e0_deg, double pressure_hpa, double temperature_c,
                              double atmos_refract_deg);
 
 /* Standard-atmosphere pressure at an altitude (pvlib alt2pres,
  * physics.md sec. 4.2), in hPa; 0 from 44331.514 m up, where it ends. */
-double ss_pressure_from_altitude_hpa(double altitude_m);
+SS_API double ss_pressure_from_altitude_hpa(double altitude_m);
 
 typedef enum {
     SS_SUN_RISES_AND_SETS = 0,
@@ -115,7 +115,7 @@ typedef struct {
  * UTC of a date to match SPA's tables, or local midnight for a local date.
  * Rise and set may fall outside that day (they belong to its transit).
  * Always SPA; p->algorithm, pressure and temperature are not used. */
-ss_status ss_sun_rise_set(ss_ctx *ctx, double day_start_unix_s, double lat_deg, double lon_deg,
+SS_API ss_status ss_sun_rise_set(ss_ctx *ctx, double day_start_unix_s, double lat_deg, double lon_deg,
                           const ss_spa_params *p, ss_sun_day *out);
 
 /* Angle between the sun and the normal of a plane of slope_deg facing
@@ -123,7 +123,7 @@ ss_status ss_sun_rise_set(ss_ctx *ctx, double day_start_unix_s, double lat_deg, 
  * north): cos i = cos Z cos S + sin Z sin S cos(azimuth - aspect), as SPA
  * step 16 with aspect = SPA's azm_rotation + 180. Above 90: the sun is
  * behind the plane. Float twin for kernels: ss_cos_incidence (ss_sun.h). */
-double ss_sun_incidence_deg(double zenith_deg, double azimuth_deg, double slope_deg,
+SS_API double ss_sun_incidence_deg(double zenith_deg, double azimuth_deg, double slope_deg,
                             double aspect_deg);
 
 /* The clear-sky insolation step (ss_insolation) of `sun`, ss_spa's result at
@@ -134,7 +134,7 @@ double ss_sun_incidence_deg(double zenith_deg, double azimuth_deg, double slope_
  * options_north_deg, the options' grid_north_deg), and its true and
  * apparent elevations. The rest is zero: no per-cell suns, no spread, no
  * weather record. */
-void ss_sun_step_clear_sky(const ss_spa_result *sun, double grid_azimuth_deg,
+SS_API void ss_sun_step_clear_sky(const ss_spa_result *sun, double grid_azimuth_deg,
                            double options_north_deg, double duration_h, double linke,
                            double solar_constant_w_m2, ss_sun_step *step);
 
@@ -156,14 +156,14 @@ typedef struct {
  * + P2M = 2026-03-31); for times >= 0 it is applied before the seconds
  * (as RFC 5545 does), for times < 0 after them, so that DURATION/END undoes
  * START/DURATION where no clamping occurs. */
-double ss_time_add(double unix_s, const ss_duration *d, long long times);
+SS_API double ss_time_add(double unix_s, const ss_duration *d, long long times);
 
 /* 2026-06-21T10:00:00Z, ...T10:00Z, ...T10:00:00.25+10:00, -05:30, +0530,
  * +05; a bare date is 00:00 UTC. A date and time without a zone is refused. */
-ss_status ss_parse_instant(ss_ctx *ctx, const char *text, double *unix_s);
+SS_API ss_status ss_parse_instant(ss_ctx *ctx, const char *text, double *unix_s);
 /* PnW or PnYnMnDTnHnMnS; only the last unit may carry a fraction, and not
  * years or months (they have no fixed length). */
-ss_status ss_parse_duration(ss_ctx *ctx, const char *text, ss_duration *out);
+SS_API ss_status ss_parse_duration(ss_ctx *ctx, const char *text, ss_duration *out);
 
 #define SS_TIME_RANGE_MAX_STEPS 10000000LL
 
@@ -183,19 +183,36 @@ typedef struct {
  * single instant and more than SS_TIME_RANGE_MAX_STEPS instants. Steps may
  * hold years and months: instant k is start + k * step (ss_time_add), so
  * monthly steps from the 31st keep returning to the 31st where it exists. */
-ss_status ss_parse_time_range(ss_ctx *ctx, const char *text, ss_time_range *out);
+SS_API ss_status ss_parse_time_range(ss_ctx *ctx, const char *text, ss_time_range *out);
 /* Instant k of the range. */
-double ss_time_range_at(const ss_time_range *r, long long k);
+SS_API double ss_time_range_at(const ss_time_range *r, long long k);
 /* Step k of a range with a step, as insolation takes it: from instant k to
  * instant k + 1 or the range's end, whichever comes first, evaluated at its
  * middle (*mid_unix_s) and lasting *hours. */
-void ss_time_range_step(const ss_time_range *r, long long k, double *mid_unix_s, double *hours);
+SS_API void ss_time_range_step(const ss_time_range *r, long long k, double *mid_unix_s, double *hours);
 
 /* 2026-06-21T10:00:00Z, with up to 6 decimals of seconds when they are not
  * zero (rounded to the microsecond); "invalid" for NAN, infinities and
  * beyond +-9e12 s (year 285000). Returns the length the text needs, as
  * snprintf does. */
-size_t ss_format_instant(double unix_s, char *buf, size_t size);
+SS_API size_t ss_format_instant(double unix_s, char *buf, size_t size);
+
+/* A UTC calendar date and time in the calendar SPA uses: Gregorian from
+ * 1582-10-15, Julian before it, astronomical year numbers (0 = 1 BC). */
+typedef struct {
+    long long year;
+    int month, day, hour, minute;
+    double second; /* [0, 60) */
+} ss_civil_time;
+
+/* Unix seconds of a UTC calendar date and time; fields are not checked, so
+ * day 0 or hour 24 count on as arithmetic would. */
+SS_API double ss_unix_from_civil(long long year, int month, int day, int hour, int minute,
+                                 double second);
+SS_API void ss_civil_from_unix(double unix_s, ss_civil_time *out);
+/* Days in a month of the calendar in force (Julian leap rule before 1582);
+ * 0 for a month outside 1..12. */
+SS_API int ss_days_in_month(long long year, int month);
 
 #ifdef __cplusplus
 }

@@ -8,7 +8,6 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "iso_time.h"
 #include "skysweep_sun.h"
 
 #define RAD (M_PI / 180.0)

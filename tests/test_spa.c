@@ -8,7 +8,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "iso_time.h"
 #include "skysweep_sun.h"
 #include "ss_sun.h"
 #include "tap.h"

@@ -12,7 +12,7 @@
 #include <ogr_srs_api.h>
 
 #include "frame.h"
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "sun_field.h"
 #include "tap.h"
 

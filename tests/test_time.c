@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "tap.h"
 
 static ss_ctx *ctx;

@@ -12,7 +12,7 @@
 #include <gdal.h>
 
 #include "band_read.h"
-#include "ctx_internal.h"
+#include "skysweep.h"
 #include "dem_io.h"
 #include "gdal_errors.h"
 
@@ -30,7 +30,7 @@ static ss_status read_band(ss_ctx *ctx, const char *path, GDALDatasetH ds, int n
     size_t n = (size_t)out->width * (size_t)out->height;
     out->values[k] = malloc(n * sizeof(float));
     if (!out->names[k] || !out->units[k] || !out->values[k])
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading band %d of '%s'", number, path);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading band %d of '%s'", number, path);
     int has_nodata = 0, has_scale = 0, has_offset = 0;
     double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
     double scale = GDALGetRasterScale(band, &has_scale);
@@ -39,14 +39,14 @@ static ss_status read_band(ss_ctx *ctx, const char *path, GDALDatasetH ds, int n
     const int rows_per_chunk = 256;
     double *buf = malloc(sizeof(double) * (size_t)out->width * rows_per_chunk);
     if (!buf)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", path);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", path);
     for (int r0 = 0; r0 < out->height; r0 += rows_per_chunk) {
         int rows = out->height - r0 < rows_per_chunk ? out->height - r0 : rows_per_chunk;
         CPLErrorReset();
         if (GDALRasterIO(band, GF_Read, 0, r0, out->width, rows, buf, out->width, rows, GDT_Float64,
                          0, 0) != CE_None) {
             free(buf);
-            return ss_fail(ctx, SS_ERR_INPUT, "cannot read band %d of '%s': %s", number, path,
+            return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read band %d of '%s': %s", number, path,
                            ss_gdal_message());
         }
         float *dst = out->values[k] + (size_t)r0 * out->width;
@@ -66,14 +66,14 @@ ss_status ss_bands_read(ss_ctx *ctx, const char *path, int first_band, int n_ban
 {
     memset(out, 0, sizeof *out);
     if (access(path, F_OK) != 0 && strncmp(path, "/vsi", 4) != 0)
-        return ss_fail(ctx, SS_ERR_INPUT, "cannot open '%s': no such file", path);
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot open '%s': no such file", path);
     ss_gdal_init();
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
     GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL, NULL);
     ss_status st = SS_OK;
     if (!ds)
-        st = ss_fail(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", path, ss_gdal_message());
+        st = ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", path, ss_gdal_message());
     if (st == SS_OK) {
         out->width = GDALGetRasterXSize(ds);
         out->height = GDALGetRasterYSize(ds);
@@ -85,7 +85,7 @@ ss_status ss_bands_read(ss_ctx *ctx, const char *path, int first_band, int n_ban
         }
         int last = n_bands > 0 ? first_band + n_bands - 1 : out->file_bands;
         if (first_band < 1 || last > out->file_bands || last < first_band)
-            st = ss_fail(ctx, SS_ERR_ARGUMENT, "'%s' has %d band%s: there is no band %d", path,
+            st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "'%s' has %d band%s: there is no band %d", path,
                          out->file_bands, out->file_bands == 1 ? "" : "s",
                          first_band < 1 ? first_band : last);
         else {
@@ -98,7 +98,7 @@ ss_status ss_bands_read(ss_ctx *ctx, const char *path, int first_band, int n_ban
         out->names = calloc((size_t)out->n_bands, sizeof *out->names);
         out->units = calloc((size_t)out->n_bands, sizeof *out->units);
         if (!out->values || !out->names || !out->units)
-            st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", path);
+            st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", path);
     }
     for (int k = 0; st == SS_OK && k < out->n_bands; ++k)
         st = read_band(ctx, path, ds, first_band + k, out, k);

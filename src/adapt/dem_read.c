@@ -17,7 +17,7 @@
 #include <gdal_utils.h>
 #include <ogr_srs_api.h>
 
-#include "ctx_internal.h"
+#include "skysweep.h"
 #include "dem_io.h"
 #include "gdal_errors.h"
 
@@ -58,17 +58,17 @@ static ss_status check_tiles(ss_ctx *ctx, const char *const *paths, tile *tiles,
     for (int i = 1; i < n; ++i) {
         OGRSpatialReferenceH srs = GDALGetSpatialRef(tiles[i].ds);
         if ((srs0 == NULL) != (srs == NULL) || (srs0 && !OSRIsSame(srs0, srs)))
-            return ss_fail(ctx, SS_ERR_INPUT, "tiles '%s' and '%s' have different CRSs",
+            return ss_ctx_error(ctx, SS_ERR_INPUT, "tiles '%s' and '%s' have different CRSs",
                            paths[0], paths[i]);
         for (int k = 1; k <= 5; k += 4)
             if (fabs(tiles[i].gt[k] - tiles[0].gt[k]) > 1e-9 * fabs(tiles[0].gt[k]))
-                return ss_fail(ctx, SS_ERR_INPUT,
+                return ss_ctx_error(ctx, SS_ERR_INPUT,
                                "tiles '%s' and '%s' have different cell sizes", paths[0],
                                paths[i]);
         double off_x = (tiles[i].gt[0] - tiles[0].gt[0]) / tiles[0].gt[1];
         double off_y = (tiles[i].gt[3] - tiles[0].gt[3]) / tiles[0].gt[5];
         if (fabs(off_x - nearbyint(off_x)) > 1e-3 || fabs(off_y - nearbyint(off_y)) > 1e-3)
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "tile '%s' is not aligned on the grid of '%s' (origins differ by a "
                            "fraction of a cell)",
                            paths[i], paths[0]);
@@ -77,7 +77,7 @@ static ss_status check_tiles(ss_ctx *ctx, const char *const *paths, tile *tiles,
      * rectangles overlap or share an edge. */
     int *reached = calloc((size_t)n, sizeof *reached);
     if (!reached)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory checking tiles");
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory checking tiles");
     reached[0] = 1;
     for (int changed = 1; changed;) {
         changed = 0;
@@ -106,7 +106,7 @@ static ss_status check_tiles(ss_ctx *ctx, const char *const *paths, tile *tiles,
             lonely = i;
     free(reached);
     if (lonely >= 0)
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "tile '%s' does not touch the others: tiles must form one connected "
                        "area",
                        paths[lonely]);
@@ -125,7 +125,7 @@ static ss_status cell_size_metres(ss_ctx *ctx, const char *path, GDALDatasetH ds
             *cx = *cy = opt->heightmap_cell_m;
             return SS_OK;
         }
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "'%s' has no %s: it is not a georeferenced DEM (for a plain heightmap, "
                        "give its cell size with --cell-size METRES)",
                        path, georeferenced ? "coordinate reference system" : "georeferencing");
@@ -136,11 +136,11 @@ static ss_status cell_size_metres(ss_ctx *ctx, const char *path, GDALDatasetH ds
     } else if (OSRIsProjected(srs) || OSRIsLocal(srs)) {
         double unit = OSRGetLinearUnits(srs, NULL);
         if (!(unit > 0))
-            return ss_fail(ctx, SS_ERR_INPUT, "'%s': the CRS has no usable linear unit", path);
+            return ss_ctx_error(ctx, SS_ERR_INPUT, "'%s': the CRS has no usable linear unit", path);
         *cx = fabs(gt[1]) * unit;
         *cy = fabs(gt[5]) * unit;
     } else {
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "'%s': unsupported kind of CRS (neither projected nor geographic)", path);
     }
     char *w = NULL;
@@ -193,7 +193,7 @@ static ss_status vertical_unit(ss_ctx *ctx, const char *path, GDALDatasetH ds,
         if (!(dem->z_unit_m > 0))
             dem->z_unit_m = metres_per_unit_named(word);
         if (!(dem->z_unit_m > 0))
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "'%s': the band's unit '%s' is not a unit of height skysweep knows: "
                            "give it with --z-units m|ft|us-ft",
                            path, unit);
@@ -205,7 +205,7 @@ static ss_status vertical_unit(ss_ctx *ctx, const char *path, GDALDatasetH ds,
         char *name = NULL;
         double metres = OSRGetTargetLinearUnits(srs, "VERT_CS", &name);
         if (!(metres > 0))
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "'%s': the CRS's vertical axis has no usable unit: give it with "
                            "--z-units m|ft|us-ft",
                            path);
@@ -229,17 +229,17 @@ static ss_status open_tiles(ss_ctx *ctx, const char *const *paths, int n, tile *
     *georeferenced = 1;
     for (int i = 0; i < n; ++i) {
         if (access(paths[i], F_OK) != 0 && strncmp(paths[i], "/vsi", 4) != 0)
-            return ss_fail(ctx, SS_ERR_INPUT, "cannot open '%s': no such file", paths[i]);
+            return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot open '%s': no such file", paths[i]);
         CPLErrorReset();
         tiles[i].ds = GDALOpenEx(paths[i], GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL, NULL);
         if (!tiles[i].ds)
-            return ss_fail(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", paths[i],
+            return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", paths[i],
                            ss_gdal_message());
         tiles[i].width = GDALGetRasterXSize(tiles[i].ds);
         tiles[i].height = GDALGetRasterYSize(tiles[i].ds);
         int bands = GDALGetRasterCount(tiles[i].ds);
         if (bands != 1)
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "'%s' has %d bands: a DEM has exactly one (height)", paths[i], bands);
         if (GDALGetGeoTransform(tiles[i].ds, tiles[i].gt) != CE_None) {
             *georeferenced = 0;
@@ -248,12 +248,12 @@ static ss_status open_tiles(ss_ctx *ctx, const char *const *paths, int n, tile *
         }
         const double *gt = tiles[i].gt;
         if (gt[2] != 0.0 || gt[4] != 0.0)
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "'%s' has a rotated geotransform, which is not supported: warp it "
                            "north-up first (gdalwarp)",
                            paths[i]);
         if (!(gt[1] > 0.0) || !(gt[5] < 0.0) || !isfinite(gt[0]) || !isfinite(gt[3]))
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "'%s' is not a north-up grid (pixel size %g x %g): warp it north-up "
                            "first (gdalwarp)",
                            paths[i], gt[1], gt[5]);
@@ -345,7 +345,7 @@ static ss_status read_rows(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row
     const int rows_per_chunk = n_rows < 256 ? n_rows : 256;
     double *buf = malloc(sizeof(double) * (size_t)g->width * rows_per_chunk);
     if (!buf)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
     size_t nodata = 0, rejected = 0;
     for (int r0 = row0; r0 < row0 + n_rows; r0 += rows_per_chunk) {
         int rows = row0 + n_rows - r0 < rows_per_chunk ? row0 + n_rows - r0 : rows_per_chunk;
@@ -353,7 +353,7 @@ static ss_status read_rows(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row
         if (GDALRasterIO(src->band, GF_Read, 0, r0, g->width, rows, buf, g->width, rows,
                          GDT_Float64, 0, 0) != CE_None) {
             free(buf);
-            return ss_fail(ctx, SS_ERR_INPUT, "cannot read rows %d..%d of '%s': %s", r0,
+            return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read rows %d..%d of '%s': %s", r0,
                            r0 + rows - 1, src->what, ss_gdal_message());
         }
         for (size_t i = 0; i < (size_t)g->width * rows; ++i) {
@@ -384,7 +384,7 @@ static ss_status find_origin(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int r
 {
     float *row = malloc(sizeof(float) * (size_t)dem->grid.width);
     if (!row)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
     size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
     ss_status st = SS_OK;
     for (int r = 0; r < row0 && !src->have_origin && st == SS_OK; ++r)
@@ -399,7 +399,7 @@ ss_status ss_dem_source_read(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int r
                              float *z)
 {
     if (row0 < 0 || n_rows < 0 || row0 + n_rows > dem->grid.height)
-        return ss_fail(ctx, SS_ERR_INTERNAL, "rows %d..%d are outside '%s'", row0,
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "rows %d..%d are outside '%s'", row0,
                        row0 + n_rows - 1, src->what);
     if (n_rows == 0)
         return SS_OK;
@@ -437,11 +437,11 @@ ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
     memset(dem, 0, sizeof *dem);
     *source = NULL;
     if (n_paths < 1)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "no input DEM given");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "no input DEM given");
     ss_gdal_init();
     ss_dem_source *src = calloc(1, sizeof *src);
     if (!src)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     snprintf(src->what, sizeof src->what, "%s", paths[0]);
     src->fenced = !names_network(paths, n_paths);
     if (src->fenced) {
@@ -455,7 +455,7 @@ ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
     src->n_tiles = n_paths;
     int georeferenced = 1;
     ss_status st = src->tiles ? open_tiles(ctx, paths, n_paths, src->tiles, &georeferenced)
-                              : ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+                              : ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     if (st == SS_OK && n_paths > 1)
         st = check_tiles(ctx, paths, src->tiles, n_paths);
     GDALDatasetH ds = src->tiles ? src->tiles[0].ds : NULL;
@@ -469,7 +469,7 @@ ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
                               : NULL;
         free(handles);
         if (!src->mosaic)
-            st = ss_fail(ctx, SS_ERR_INPUT, "cannot mosaic the %d tiles: %s", n_paths,
+            st = ss_ctx_error(ctx, SS_ERR_INPUT, "cannot mosaic the %d tiles: %s", n_paths,
                          ss_gdal_message());
         ds = src->mosaic;
     }
@@ -530,7 +530,7 @@ ss_status ss_dem_read(ss_ctx *ctx, const char *const *paths, int n_paths,
     double bytes_needed = (double)w * (double)h * 24.0;
     double phys = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
     if (phys > 0 && bytes_needed > 0.8 * phys)
-        st = ss_fail(ctx, SS_ERR_MEMORY,
+        st = ss_ctx_error(ctx, SS_ERR_MEMORY,
                      "'%s' has %d x %d cells: sweeping it whole needs about %.1f GB, more than "
                      "this machine's %.1f GB (svf, openness, horizon, shadow, insolation and "
                      "a plain hillshade take it in bands: --memory)",
@@ -557,7 +557,7 @@ ss_status ss_dem_set_window(ss_ctx *ctx, ss_dem *dem, const double projwin[4])
     rows = floor(rows + 0.5);
     if (!(cols >= 1 && rows >= 1 && col0 >= 0 && row0 >= 0 &&
           col0 + cols <= dem->grid.width && row0 + rows <= dem->grid.height))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "-projwin %g %g %g %g is %s the DEM (columns %.0f..%.0f, rows %.0f..%.0f "
                        "of %d x %d)",
                        projwin[0], projwin[1], projwin[2], projwin[3],

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "ctx_internal.h"
+#include "skysweep.h"
 #include "frame.h"
 
 ss_status ss_dem_frame_open(ss_ctx *ctx, ss_dem *dem, ss_dem_frame *frame)

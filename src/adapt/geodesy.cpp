@@ -19,7 +19,7 @@
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/Math.hpp>
 
-#include "ctx_internal.h"
+#include "skysweep.h"
 #include "gdal_errors.h"
 #include "geodesy.h"
 
@@ -93,13 +93,13 @@ static ss_status guarded(ss_ctx *ctx, ss_status st, const char *what, F body) no
     try {
         return body();
     } catch (const GeographicLib::GeographicErr &e) {
-        return ss_fail(ctx, st, "%s: %s", what, e.what());
+        return ss_ctx_error(ctx, st, "%s: %s", what, e.what());
     } catch (const std::bad_alloc &) {
-        return ss_fail(ctx, SS_ERR_MEMORY, "%s: out of memory", what);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "%s: out of memory", what);
     } catch (const std::exception &e) {
-        return ss_fail(ctx, st, "%s: %s", what, e.what());
+        return ss_ctx_error(ctx, st, "%s: %s", what, e.what());
     } catch (...) {
-        return ss_fail(ctx, SS_ERR_INTERNAL, "%s: unknown exception", what);
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "%s: unknown exception", what);
     }
 }
 
@@ -125,7 +125,7 @@ static ss_status to_lonlat(ss_geo *g, double col, double row, double *lon_deg, d
     double x = g->gt[0] + px * g->gt[1] + ln * g->gt[2];
     double y = g->gt[3] + px * g->gt[4] + ln * g->gt[5];
     if (!std::isfinite(x) || !std::isfinite(y))
-        return ss_fail(g->ctx, SS_ERR_ARGUMENT, "cell position (%g, %g) is not finite", col, row);
+        return ss_ctx_error(g->ctx, SS_ERR_ARGUMENT, "cell position (%g, %g) is not finite", col, row);
     if (g->to_geog) {
         quiet_gdal quiet;
         double z = 0;
@@ -133,7 +133,7 @@ static ss_status to_lonlat(ss_geo *g, double col, double row, double *lon_deg, d
         double cx = x, cy = y;
         if (!OCTTransformEx(g->to_geog, 1, &cx, &cy, &z, &ok) || !ok || !std::isfinite(cx) ||
             !std::isfinite(cy))
-            return ss_fail(g->ctx, SS_ERR_ARGUMENT,
+            return ss_ctx_error(g->ctx, SS_ERR_ARGUMENT,
                            "cell position (%g, %g) at x %.3f, y %.3f cannot be taken to "
                            "longitude/latitude: %s",
                            col, row, x, y, ss_gdal_message());
@@ -142,7 +142,7 @@ static ss_status to_lonlat(ss_geo *g, double col, double row, double *lon_deg, d
     }
     double lat = y * g->deg_per_unit;
     if (!(std::fabs(lat) <= 90.0 + POLE_SLACK_DEG))
-        return ss_fail(g->ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(g->ctx, SS_ERR_ARGUMENT,
                        "cell position (%g, %g) lies beyond a pole (latitude %.9g)", col, row, lat);
     *lat_deg = std::fmax(-90.0, std::fmin(90.0, lat));
     *lon_deg = Math::AngNormalize(x * g->deg_per_unit + g->pm_deg);
@@ -209,16 +209,16 @@ static ss_status open_geo(ss_ctx *ctx, const char *crs_wkt, const double geotran
     quiet_gdal quiet;
     OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
     if (!srs)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory opening the CRS");
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory opening the CRS");
     char *wkt = const_cast<char *>(crs_wkt); /* OSRImportFromWkt only advances it */
     if (OSRImportFromWkt(srs, &wkt) != OGRERR_NONE) {
         OSRDestroySpatialReference(srs);
-        return ss_fail(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS: %s", ss_gdal_message());
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS: %s", ss_gdal_message());
     }
     int geographic = OSRIsGeographic(srs);
     if (!geographic && !OSRIsProjected(srs)) {
         OSRDestroySpatialReference(srs);
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "the DEM's CRS is neither geographic nor projected: its cells cannot be "
                        "placed on the Earth");
     }
@@ -247,7 +247,7 @@ static ss_status open_geo(ss_ctx *ctx, const char *crs_wkt, const double geotran
     g->geog = OSRCloneGeogCS(srs);
     if (!g->geog) {
         delete g;
-        return ss_fail(ctx, SS_ERR_INPUT, "the DEM's CRS has no geographic CRS: %s",
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "the DEM's CRS has no geographic CRS: %s",
                        ss_gdal_message());
     }
     OSRSetAxisMappingStrategy(g->geog, OAMS_TRADITIONAL_GIS_ORDER);
@@ -261,7 +261,7 @@ static ss_status open_geo(ss_ctx *ctx, const char *crs_wkt, const double geotran
         g->to_geog = OCTNewCoordinateTransformation(srs, g->geog);
         if (!g->to_geog) {
             delete g;
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "cannot transform the DEM's CRS to longitude/latitude: %s",
                            ss_gdal_message());
         }
@@ -274,9 +274,9 @@ static ss_status open_geo(ss_ctx *ctx, const char *crs_wkt, const double geotran
     ss_status st = to_lonlat(g, 0.5 * (width - 1), 0.5 * (height - 1), &lon, &lat);
     if (st != SS_OK) {
         delete g;
-        char why[sizeof ctx->message];
+        char why[2048];
         snprintf(why, sizeof why, "%s", ss_ctx_message(ctx));
-        return ss_fail(ctx, SS_ERR_INPUT, "the DEM's grid cannot be placed on the Earth: %s", why);
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "the DEM's grid cannot be placed on the Earth: %s", why);
     }
     *out = g;
     return SS_OK;
@@ -289,17 +289,17 @@ ss_status ss_geo_open(ss_ctx *ctx, const char *crs_wkt, const double geotransfor
 {
     *out = nullptr;
     if (!crs_wkt || !*crs_wkt)
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "the DEM has no CRS: its cells cannot be placed on "
                        "the Earth");
     if (width < 1 || height < 1)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "grid size %d x %d is empty", width, height);
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "grid size %d x %d is empty", width, height);
     for (int i = 0; i < 6; ++i)
         if (!std::isfinite(geotransform[i]))
-            return ss_fail(ctx, SS_ERR_INPUT, "geotransform term %d is not finite", i);
+            return ss_ctx_error(ctx, SS_ERR_INPUT, "geotransform term %d is not finite", i);
     double det = geotransform[1] * geotransform[5] - geotransform[2] * geotransform[4];
     if (det == 0.0)
-        return ss_fail(ctx, SS_ERR_INPUT, "the geotransform is singular (zero cell area)");
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "the geotransform is singular (zero cell area)");
     return guarded(ctx, SS_ERR_INPUT, "opening the DEM's georeferencing",
                    [&] { return open_geo(ctx, crs_wkt, geotransform, width, height, out); });
 }
@@ -334,7 +334,7 @@ ss_status ss_geo_grid_north(ss_geo *geo, double col, double row, double *true_az
         if (st != SS_OK)
             return st;
         if (!(std::hypot(f.row_en[0], f.row_en[1]) > 0))
-            return ss_fail(geo->ctx, SS_ERR_ARGUMENT,
+            return ss_ctx_error(geo->ctx, SS_ERR_ARGUMENT,
                            "the grid's rows have no extent at cell position (%g, %g)", col, row);
         /* "Up" is toward decreasing row. */
         *true_azimuth_deg = Math::atan2d(-f.row_en[0], -f.row_en[1]);
@@ -368,7 +368,7 @@ ss_status ss_geo_inverse(const ss_geo *geo, double lat1_deg, double lon1_deg, do
     return guarded(geo->ctx, SS_ERR_ARGUMENT, "geodesic", [&] {
         if (!valid_lat(lat1_deg) || !valid_lat(lat2_deg) || !std::isfinite(lon1_deg) ||
             !std::isfinite(lon2_deg))
-            return ss_fail(geo->ctx, SS_ERR_ARGUMENT,
+            return ss_ctx_error(geo->ctx, SS_ERR_ARGUMENT,
                            "geodesic between (%g, %g) and (%g, %g): latitudes must lie in "
                            "[-90, 90] and longitudes be finite",
                            lat1_deg, lon1_deg, lat2_deg, lon2_deg);
@@ -392,12 +392,12 @@ ss_status ss_geo_sun_local(const ss_geo *geo, double lat_deg, double lon_deg, do
             std::sqrt(sun_ecef_dir[0] * sun_ecef_dir[0] + sun_ecef_dir[1] * sun_ecef_dir[1] +
                       sun_ecef_dir[2] * sun_ecef_dir[2]);
         if (!valid_lat(lat_deg) || !std::isfinite(lon_deg) || !std::isfinite(height_m))
-            return ss_fail(geo->ctx, SS_ERR_ARGUMENT,
+            return ss_ctx_error(geo->ctx, SS_ERR_ARGUMENT,
                            "sun position at (%g, %g, %g m): latitude must lie in [-90, 90]",
                            lat_deg, lon_deg, height_m);
         if (!(norm > 0) || !std::isfinite(norm) || !(sun_dist_au > 0) ||
             !std::isfinite(sun_dist_au))
-            return ss_fail(geo->ctx, SS_ERR_ARGUMENT,
+            return ss_ctx_error(geo->ctx, SS_ERR_ARGUMENT,
                            "sun direction must be a finite non-zero vector and its distance "
                            "positive (got %g AU)",
                            sun_dist_au);
@@ -465,7 +465,7 @@ ss_status ss_geo_extent_summary(ss_geo *geo, ss_geo_summary *out)
             s.dy_max_m = std::fmax(s.dy_max_m, dy);
         }
         if (!(s.dx_min_m > 0) || !(s.dy_min_m > 0))
-            return ss_fail(geo->ctx, SS_ERR_INPUT,
+            return ss_ctx_error(geo->ctx, SS_ERR_INPUT,
                            "the grid has cells of zero ground size (a row on a pole)");
         s.cell_variation = std::fmax(s.dx_max_m / s.dx_min_m, s.dy_max_m / s.dy_min_m) - 1.0;
         for (int i = 0; i < 2; ++i) {

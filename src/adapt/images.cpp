@@ -17,7 +17,7 @@
 
 #include "colormap.h"
 extern "C" {
-#include "ctx_internal.h"
+#include "skysweep.h"
 }
 #include "images.h"
 
@@ -64,24 +64,24 @@ static ss_status read_image(ss_ctx *ctx, const char *path, ss_image *out)
     config.attribute("oiio:UnassociatedAlpha", 1);
     auto in = ImageInput::open(path, &config);
     if (!in)
-        return ss_fail(ctx, SS_ERR_INPUT, "cannot open image '%s': %s", path,
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot open image '%s': %s", path,
                        one_line(OIIO::geterror()).c_str());
     const ImageSpec &spec = in->spec();
     if (spec.depth > 1)
-        return ss_fail(ctx, SS_ERR_INPUT, "'%s' is a volume image (%d slices), not a picture", path,
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' is a volume image (%d slices), not a picture", path,
                        spec.depth);
     for (const TypeDesc &t : spec.channelformats)
         if (t != spec.format)
-            return ss_fail(ctx, SS_ERR_INPUT,
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "'%s' mixes sample types across channels; save it with one type", path);
     if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 ||
         (double)spec.width * spec.height * spec.nchannels > 4e9)
-        return ss_fail(ctx, SS_ERR_INPUT, "'%s' has an unusable size (%d x %d x %d channels)", path,
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' has an unusable size (%d x %d x %d channels)", path,
                        spec.width, spec.height, spec.nchannels);
     size_t n = (size_t)spec.width * spec.height * spec.nchannels;
     float *pixels = (float *)std::malloc(n * sizeof(float));
     if (!pixels)
-        return ss_fail(ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for '%s'",
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for '%s'",
                        n * sizeof(float) >> 20, path);
     bool ok;
     int is_float = 0;
@@ -97,14 +97,14 @@ static ss_status read_image(ss_ctx *ctx, const char *path, ss_image *out)
         break;
     default:
         std::free(pixels);
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "'%s' stores %s samples; heightmaps and pictures must be 8- or 16-bit "
                        "integers or floating point (read other rasters through GDAL)",
                        path, spec.format.c_str());
     }
     if (!ok) {
         std::free(pixels);
-        return ss_fail(ctx, SS_ERR_INPUT, "cannot read the pixels of '%s': %s", path,
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read the pixels of '%s': %s", path,
                        one_line(in->geterror()).c_str());
     }
     out->width = spec.width;
@@ -122,15 +122,15 @@ extern "C" ss_status ss_image_read(ss_ctx *ctx, const char *path, ss_image *out)
     *out = ss_image{};
     out->alpha_channel = -1;
     if (!path || !*path)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "no image path given");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "no image path given");
     try {
         return read_image(ctx, path, out);
     } catch (const std::bad_alloc &) {
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", path);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", path);
     } catch (const std::exception &e) {
-        return ss_fail(ctx, SS_ERR_INTERNAL, "reading '%s' failed: %s", path, e.what());
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "reading '%s' failed: %s", path, e.what());
     } catch (...) {
-        return ss_fail(ctx, SS_ERR_INTERNAL, "reading '%s' failed (unknown C++ exception)", path);
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "reading '%s' failed (unknown C++ exception)", path);
     }
 }
 
@@ -149,7 +149,7 @@ static int height_channel(ss_ctx *ctx, const char *path, const ss_image *img)
     if (colour == 1)
         return img->alpha_channel == 0 ? 1 : 0;
     if (colour != 3 || (img->alpha_channel >= 0 && img->alpha_channel != 3)) {
-        ss_fail(ctx, SS_ERR_INPUT,
+        ss_ctx_error(ctx, SS_ERR_INPUT,
                 "'%s' has %d channels: a heightmap needs one (grey), grey + alpha, or RGB(A) "
                 "with R = G = B",
                 path, img->channels);
@@ -159,7 +159,7 @@ static int height_channel(ss_ctx *ctx, const char *path, const ss_image *img)
     for (size_t i = 0; i < n; ++i) {
         const float *p = &img->pixels[i * img->channels];
         if (p[0] != p[1] || p[0] != p[2]) {
-            ss_fail(ctx, SS_ERR_INPUT,
+            ss_ctx_error(ctx, SS_ERR_INPUT,
                     "'%s' is a colour image (R, G, B = %g, %g, %g at column %zu, row %zu): a "
                     "heightmap must be single-channel or grey (R = G = B)",
                     path, (double)p[0], (double)p[1], (double)p[2], i % (size_t)img->width,
@@ -175,9 +175,9 @@ extern "C" ss_status ss_image_read_heightmap(ss_ctx *ctx, const char *path, doub
 {
     out->z = nullptr;
     if (!(cell_m > 0 && std::isfinite(cell_m)))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "heightmap cell size %g m must be positive", cell_m);
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "heightmap cell size %g m must be positive", cell_m);
     if (!(std::isfinite(z_scale) && z_scale != 0 && std::isfinite(z_offset)))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "height scale %g and offset %g must be finite, the scale nonzero", z_scale,
                        z_offset);
     ss_image img;
@@ -264,7 +264,7 @@ static ss_status write_quicklook(ss_ctx *ctx, const char *png_path, const float 
 
     auto out = ImageOutput::create("png");
     if (!out)
-        return ss_fail(ctx, SS_ERR_OUTPUT, "OpenImageIO cannot write PNG: %s",
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "OpenImageIO cannot write PNG: %s",
                        one_line(OIIO::geterror()).c_str());
     std::string tmp = temporary_name(png_path);
     const void *data = bits == 8 ? (const void *)px8.data() : (const void *)px16.data();
@@ -273,11 +273,11 @@ static ss_status write_quicklook(ss_ctx *ctx, const char *png_path, const float 
     if (!ok) {
         std::string why = one_line(out->geterror());
         std::remove(tmp.c_str());
-        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", png_path, why.c_str());
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", png_path, why.c_str());
     }
     if (std::rename(tmp.c_str(), png_path) != 0) {
         std::remove(tmp.c_str());
-        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot rename the finished file to '%s'", png_path);
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished file to '%s'", png_path);
     }
     return SS_OK;
 }
@@ -288,28 +288,28 @@ extern "C" ss_status ss_image_write_quicklook(ss_ctx *ctx, const char *png_path,
                                               int bits, int alpha_for_nodata)
 {
     if (!png_path || !*png_path || !values)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "quicklook needs a path and values");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "quicklook needs a path and values");
     if (width < 1 || height < 1 || (double)width * height > 1e9)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "quicklook size %d x %d is not usable", width, height);
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "quicklook size %d x %d is not usable", width, height);
     if (bits != 8 && bits != 16)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "quicklook bit depth %d must be 8 or 16", bits);
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "quicklook bit depth %d must be 8 or 16", bits);
     if (colormap && !ss_colormap_known(colormap))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown colour map '%s' (known: %s)", colormap,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "unknown colour map '%s' (known: %s)", colormap,
                        SS_COLORMAP_NAMES);
     if (bits == 16 && colormap && std::string(colormap) != "grey")
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "16-bit quicklooks are grey; colour map '%s' needs bits 8", colormap);
     if (std::isinf(vmin) || std::isinf(vmax))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "quicklook range must be finite (NaN = automatic)");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "quicklook range must be finite (NaN = automatic)");
     try {
         return write_quicklook(ctx, png_path, values, width, height, vmin, vmax, colormap, bits,
                                alpha_for_nodata != 0);
     } catch (const std::bad_alloc &) {
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory writing '%s'", png_path);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory writing '%s'", png_path);
     } catch (const std::exception &e) {
-        return ss_fail(ctx, SS_ERR_INTERNAL, "writing '%s' failed: %s", png_path, e.what());
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "writing '%s' failed: %s", png_path, e.what());
     } catch (...) {
-        return ss_fail(ctx, SS_ERR_INTERNAL, "writing '%s' failed (unknown C++ exception)",
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "writing '%s' failed (unknown C++ exception)",
                        png_path);
     }
 }

@@ -21,7 +21,7 @@
 #include <cpl_vsi.h>
 #include <gdal.h>
 
-#include "ctx_internal.h"
+#include "skysweep.h"
 #include "dem_io.h"
 #include "gdal_errors.h"
 
@@ -202,15 +202,15 @@ static ss_status check_output_folder(ss_ctx *ctx, const char *path)
 {
     char *copy = strdup(path);
     if (!copy)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     const char *dir = dirname(copy);
     VSIStatBufL st;
     ss_status status = SS_OK;
     if (VSIStatL(dir, &st) != 0 || !VSI_ISDIR(st.st_mode))
-        status = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' does not exist",
+        status = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' does not exist",
                          path, dir);
     else if (strncmp(dir, "/vsi", 4) != 0 && access(dir, W_OK | X_OK) != 0)
-        status = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' is not writable",
+        status = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' is not writable",
                          path, dir);
     free(copy);
     return status;
@@ -323,7 +323,7 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
     const char *types = GDALGetMetadataItem(driver, GDAL_DMD_CREATIONDATATYPES, NULL);
     const char *type_name = GDALGetDataTypeName(type);
     if (types && !strstr(types, type_name))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "the %s format cannot hold this product's %s values (it writes %s); use "
                        "-of %s, or convert afterwards with gdal_translate -ot -scale",
                        format, type_name, types, SS_FORMATS_THAT_HOLD);
@@ -341,22 +341,22 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
     if (!holds) {
         char *probe = temporary_name(path, "probe");
         if (!probe)
-            return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+            return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
         holds = probe_format(driver, probe, bands, type, create_opts, values, &side_cars);
         free(probe);
         char why[1200];
         if (!holds && ss_gdal_io_cause()) /* the folder, not the format, failed it */
-            return ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path,
+            return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path,
                            ss_gdal_failure(why, sizeof why));
         ss_gdal_errors_reset();
     }
     if (holds && side_cars && !has_ext)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "the %s format keeps side-car files named after the output's extension, "
                        "and '%s' has none: add one (e.g. %s.bin)",
                        format, path, path);
     if (!holds)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "the %s format cannot hold this product (%d %s band%s with nodata %g, "
                        "read back unchanged); use -of %s",
                        format, bands, type_name, bands == 1 ? "" : "s", values[0],
@@ -372,23 +372,23 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     ss_gdal_init();
     for (int i = 0; creation_options && creation_options[i]; ++i)
         if (!strchr(creation_options[i], '=') || creation_options[i][0] == '=')
-            return ss_fail(ctx, SS_ERR_ARGUMENT, "-co expects KEY=VALUE, not '%s'",
+            return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "-co expects KEY=VALUE, not '%s'",
                            creation_options[i]);
     GDALDriverH driver = GDALGetDriverByName(format ? format : "GTiff");
     if (!driver)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown output format '%s' (-of)", format);
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "unknown output format '%s' (-of)", format);
     char **meta = GDALGetMetadata(driver, NULL);
     int can_create = CSLFetchBoolean(meta, GDAL_DCAP_CREATE, FALSE);
     int can_copy = CSLFetchBoolean(meta, GDAL_DCAP_CREATECOPY, FALSE);
     if (!can_create && !can_copy)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "GDAL cannot write the '%s' format", format);
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "GDAL cannot write the '%s' format", format);
     ss_status st = check_output_folder(ctx, path);
     if (st != SS_OK)
         return st;
 
     ss_raster_writer *w = calloc(1, sizeof *w);
     if (!w)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     w->ctx = ctx;
     w->byte_pixels = byte_pixels;
     w->driver = driver;
@@ -398,7 +398,7 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     w->create_opts = default_options(driver, bands, byte_pixels, creation_options);
     if (!w->path || !w->tmp_path) {
         ss_writer_abort(w);
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory");
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     }
     GDALDataType type = byte_pixels ? GDT_Byte : GDT_Float32;
     ss_gdal_errors_reset();
@@ -422,7 +422,7 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
         w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", cols, rows, bands, type, NULL);
     if (!w->ds) {
         char why[1200];
-        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path,
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path,
                      ss_gdal_failure(why, sizeof why));
         ss_writer_abort(w);
         return st;
@@ -470,7 +470,7 @@ ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
     for (int r = 0; r < n_rows; ++r)
         for (int c = 0; c < width; ++c)
             if (!isfinite(data[(size_t)r * w->grid_width + c]))
-                return ss_fail(w->ctx, SS_ERR_INTERNAL,
+                return ss_ctx_error(w->ctx, SS_ERR_INTERNAL,
                                "refusing to write a non-finite value into band %d of '%s' "
                                "(a bug: please report it)",
                                band, w->path);
@@ -480,7 +480,7 @@ ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
         /* Values 1..255 round to the nearest byte; nodata becomes 0. */
         bytes = malloc(n);
         if (!bytes)
-            return ss_fail(w->ctx, SS_ERR_MEMORY, "out of memory writing '%s'", w->path);
+            return ss_ctx_error(w->ctx, SS_ERR_MEMORY, "out of memory writing '%s'", w->path);
         for (int r = 0; r < n_rows; ++r)
             for (int c = 0; c < width; ++c) {
                 float v = data[(size_t)r * w->grid_width + c];
@@ -497,7 +497,7 @@ ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
     free(bytes);
     char why[1200];
     if (err != CE_None || ss_gdal_failed())
-        return ss_fail(w->ctx, SS_ERR_OUTPUT, "cannot write band %d of '%s': %s", band, w->path,
+        return ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot write band %d of '%s': %s", band, w->path,
                        ss_gdal_failure(why, sizeof why));
     return SS_OK;
 }
@@ -561,7 +561,7 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
         if (copy)
             GDALClose(copy);
         if (!copy || ss_gdal_failed())
-            st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", w->path,
+            st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", w->path,
                          ss_gdal_failure(why, sizeof why));
     }
     /* GDALClose flushes the file; an error here (disk full) loses the output. */
@@ -569,15 +569,15 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
     GDALClose(w->ds);
     w->ds = NULL;
     if (st == SS_OK && ss_gdal_failed())
-        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': %s", w->path,
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
     /* Some drivers lose a failed write without a word (ENVI's header at
      * close): what was written must open as what was meant. */
     if (st == SS_OK && !reads_back_as(w->tmp_path, cols, rows, w->bands))
-        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': the file written does not "
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': the file written does not "
                      "read back whole: %s", w->path, ss_gdal_failure(why, sizeof why));
     if (st == SS_OK && progress && !progress(1.0, "", user))
-        st = ss_fail(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
+        st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
     /* The side-cars a format keeps beside the file (.aux.xml, an ENVI .hdr,
      * a .prj) move along, named as the format expects. The names of an
      * output without an extension cannot be paired so; such an output is
@@ -586,7 +586,7 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
     int has_ext = has_extension(w->path);
     if (st == SS_OK && (has_ext ? rename_own_files(w->tmp_path, w->path) != 0
                                 : rename_with_aux(w->tmp_path, w->path) != 0))
-        st = ss_fail(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
     ss_writer_abort(w);
     return st;

@@ -8,6 +8,8 @@
 /* The one translation unit that registers VTK's factory overrides: without
  * them vtkRenderWindow::New() returns NULL. FreeType draws the legend and
  * title text. */
+#include <chrono>
+
 #include <vtkAutoInit.h>
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
 VTK_MODULE_INIT(vtkRenderingFreeType);
@@ -57,7 +59,7 @@ VTK_MODULE_INIT(vtkRenderingFreeType);
 
 #include "colormap.h"
 extern "C" {
-#include "ctx_internal.h"
+#include "skysweep.h"
 }
 #include "render.h"
 
@@ -157,7 +159,7 @@ static ss_status commit_file(ss_ctx *ctx, const std::string &tmp, const char *pa
 {
     if (std::rename(tmp.c_str(), path) != 0) {
         std::remove(tmp.c_str());
-        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot rename the finished file to '%s'", path);
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished file to '%s'", path);
     }
     return SS_OK;
 }
@@ -175,14 +177,14 @@ static bool valid_value(float v)
 static ss_status check_grid(ss_ctx *ctx, const ss_render_scene *s)
 {
     if (!s || !s->z)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "no heights given to draw");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "no heights given to draw");
     if (s->width < 2 || s->height < 2 || (double)s->width * s->height >= 2147483647.0)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "a %d x %d grid cannot be drawn as a surface (2 x 2 to 2^31 cells)",
                        s->width, s->height);
     if (!(s->cell_x_m > 0 && s->cell_y_m > 0 && std::isfinite(s->cell_x_m) &&
           std::isfinite(s->cell_y_m)))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "cell size %g x %g m is not positive", s->cell_x_m,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "cell size %g x %g m is not positive", s->cell_x_m,
                        s->cell_y_m);
     return SS_OK;
 }
@@ -193,36 +195,36 @@ static ss_status check_scene(ss_ctx *ctx, const ss_render_scene *s)
     if (st != SS_OK)
         return st;
     if (s->scalar && s->rgb)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "give a scalar drape or an RGB drape, not both");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "give a scalar drape or an RGB drape, not both");
     if (s->colormap && !ss_colormap_known(s->colormap))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown colour map '%s' (known: %s)", s->colormap,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "unknown colour map '%s' (known: %s)", s->colormap,
                        SS_COLORMAP_NAMES);
     if (!std::isnan(s->z_factor) && !(s->z_factor > 0 && std::isfinite(s->z_factor)))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "z factor %g must be positive (NaN = automatic)",
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "z factor %g must be positive (NaN = automatic)",
                        s->z_factor);
     if (!(s->distance_factor > 0 && s->distance_factor <= 100))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "distance factor %g must be in (0, 100]",
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "distance factor %g must be in (0, 100]",
                        s->distance_factor);
     if (s->view != SS_VIEW_OBLIQUE && s->view != SS_VIEW_TOP && s->view != SS_VIEW_CUSTOM)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown view %d", (int)s->view);
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "unknown view %d", (int)s->view);
     if (s->view == SS_VIEW_CUSTOM && !(s->view_elevation_deg > 0 && s->view_elevation_deg <= 90 &&
                                        std::isfinite(s->view_azimuth_deg)))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "view elevation %g deg must be in (0, 90] and the azimuth finite",
                        s->view_elevation_deg);
     if (s->view == SS_VIEW_OBLIQUE && !std::isfinite(s->view_azimuth_deg))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "view azimuth is not a number");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "view azimuth is not a number");
     if (!(s->sun_elevation_deg >= -90 && s->sun_elevation_deg <= 90 &&
           std::isfinite(s->sun_azimuth_deg)))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "sun elevation %g deg must be in [-90, 90] and the azimuth finite",
                        s->sun_elevation_deg);
     if (s->image_width < 16 || s->image_height < 16 || s->image_width > 16384 ||
         s->image_height > 16384)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "image size %d x %d is outside 16..16384 pixels",
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "image size %d x %d is outside 16..16384 pixels",
                        s->image_width, s->image_height);
     if (s->max_points < 0 || (s->max_points > 0 && s->max_points < 4))
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "at most %ld surface points cannot draw a surface (0 = no limit, else >= 4)",
                        s->max_points);
     return SS_OK;
@@ -235,7 +237,7 @@ static ss_status open_display(ss_ctx *ctx, Display **display)
 {
     const char *name = std::getenv("DISPLAY");
     if (!name || !*name)
-        return ss_fail(ctx, SS_ERR_DEVICE,
+        return ss_ctx_error(ctx, SS_ERR_DEVICE,
                        "3D rendering needs an X display: run under xvfb-run -a");
     /* A busy Xvfb turns connections away now and then (EAGAIN, sometimes a
      * reset: about one in ten when connecting in a loop on this 2-core
@@ -251,7 +253,7 @@ static ss_status open_display(ss_ctx *ctx, Display **display)
         *display = XOpenDisplay(name);
     }
     if (!*display)
-        return ss_fail(ctx, SS_ERR_DEVICE,
+        return ss_ctx_error(ctx, SS_ERR_DEVICE,
                        "cannot open X display '%s' (%s): 3D rendering needs an X display: run "
                        "under xvfb-run -a",
                        name, errno ? std::strerror(errno) : "no reason given");
@@ -378,7 +380,7 @@ static ss_status build_surface(ss_ctx *ctx, const ss_render_scene *s, const samp
                 quads->InsertNextCell(4, q);
         }
     if (quads->GetNumberOfCells() == 0)
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "no surface cell has four valid corner heights: nothing to draw");
     out->poly = make<vtkPolyData>();
     out->poly->SetPoints(points);
@@ -505,7 +507,7 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
                             ss_render_report *report, Display *display,
                             const vtk_messages &messages)
 {
-    double t0 = ss_seconds_now();
+    auto t0 = std::chrono::steady_clock::now();
     double z_min = INFINITY, z_max = -INFINITY;
     for (size_t i = 0; i < (size_t)s->width * s->height; ++i)
         if (valid_height(s->z[i])) {
@@ -513,7 +515,7 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
             z_max = s->z[i] > z_max ? s->z[i] : z_max;
         }
     if (!(z_min <= z_max))
-        return ss_fail(ctx, SS_ERR_INPUT, "the DEM has no valid heights: nothing to draw");
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "the DEM has no valid heights: nothing to draw");
     double extent_m = std::fmax((s->width - 1) * s->cell_x_m, (s->height - 1) * s->cell_y_m);
     double z_factor =
         std::isnan(s->z_factor) ? auto_z_factor(z_max - z_min, extent_m) : s->z_factor;
@@ -575,7 +577,7 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
 
     auto window = vtk_ptr<vtkRenderWindow>::Take(vtkRenderWindow::New());
     if (!window)
-        return ss_fail(ctx, SS_ERR_INTERNAL, "VTK has no render window (rendering module missing)");
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "VTK has no render window (rendering module missing)");
     window->SetDisplayId(display);
     window->SetOffScreenRendering(1);
     window->SetSize(s->image_width, s->image_height);
@@ -591,7 +593,7 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
     grab->Update();
     int *dims = grab->GetOutput()->GetDimensions();
     if (dims[0] != s->image_width || dims[1] != s->image_height)
-        return ss_fail(ctx, SS_ERR_DEVICE, "VTK rendered %d x %d pixels instead of %d x %d: %s",
+        return ss_ctx_error(ctx, SS_ERR_DEVICE, "VTK rendered %d x %d pixels instead of %d x %d: %s",
                        dims[0], dims[1], s->image_width, s->image_height, messages.first().c_str());
 
     std::string tmp = temporary_name(png_path);
@@ -601,7 +603,7 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
     writer->Write();
     if (writer->GetErrorCode() != 0) {
         std::remove(tmp.c_str());
-        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", png_path,
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", png_path,
                        messages.first().c_str());
     }
     st = commit_file(ctx, tmp, png_path);
@@ -610,7 +612,8 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
     if (report) {
         report->decimation = smp.k;
         report->z_factor = z_factor;
-        report->render_seconds = ss_seconds_now() - t0;
+        report->render_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     return SS_OK;
 }
@@ -622,7 +625,7 @@ extern "C" ss_status ss_render_png(ss_ctx *ctx, const ss_render_scene *scene, co
     if (st != SS_OK)
         return st;
     if (!png_path || !*png_path)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "no PNG path given");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "no PNG path given");
     Display *display = nullptr;
     st = open_display(ctx, &display);
     if (st != SS_OK)
@@ -633,11 +636,11 @@ extern "C" ss_status ss_render_png(ss_ctx *ctx, const ss_render_scene *scene, co
         vtk_messages messages;
         st = render_png(ctx, scene, png_path, report, display, messages);
     } catch (const std::bad_alloc &) {
-        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory rendering '%s'", png_path);
+        st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory rendering '%s'", png_path);
     } catch (const std::exception &e) {
-        st = ss_fail(ctx, SS_ERR_INTERNAL, "rendering '%s' failed: %s", png_path, e.what());
+        st = ss_ctx_error(ctx, SS_ERR_INTERNAL, "rendering '%s' failed: %s", png_path, e.what());
     } catch (...) {
-        st = ss_fail(ctx, SS_ERR_INTERNAL, "rendering '%s' failed (unknown C++ exception)",
+        st = ss_ctx_error(ctx, SS_ERR_INTERNAL, "rendering '%s' failed (unknown C++ exception)",
                      png_path);
     }
     XCloseDisplay(display);
@@ -655,7 +658,7 @@ static ss_status export_vts(ss_ctx *ctx, const ss_render_scene *s, double origin
         if (valid_height(s->z[c]) && s->z[c] < z_low)
             z_low = s->z[c];
     if (!std::isfinite(z_low))
-        return ss_fail(ctx, SS_ERR_INPUT, "the DEM has no valid heights: nothing to export");
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "the DEM has no valid heights: nothing to export");
 
     auto grid = make<vtkStructuredGrid>();
     grid->SetDimensions(w, h, 1);
@@ -704,7 +707,7 @@ static ss_status export_vts(ss_ctx *ctx, const ss_render_scene *s, double origin
     writer->SetHeaderTypeToUInt64(); /* arrays beyond 4 GB: large DEMs in double */
     if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
         std::remove(tmp.c_str());
-        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path, messages.first().c_str());
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path, messages.first().c_str());
     }
     return commit_file(ctx, tmp, path);
 }
@@ -717,23 +720,23 @@ extern "C" ss_status ss_export_vts(ss_ctx *ctx, const ss_render_scene *scene, do
     if (st != SS_OK)
         return st;
     if (!path || !*path)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "no .vts path given");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "no .vts path given");
     if (!std::isfinite(origin_x) || !std::isfinite(origin_y) || !std::isfinite(scene->z_origin_m))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "the grid origin is not a finite coordinate");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "the grid origin is not a finite coordinate");
     if (n_fields < 0 || (n_fields > 0 && (!field_names || !fields)))
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "fields given without names or values");
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "fields given without names or values");
     for (int f = 0; f < n_fields; ++f)
         if (!field_names[f] || !*field_names[f] || !fields[f])
-            return ss_fail(ctx, SS_ERR_ARGUMENT, "field %d has no name or no values", f + 1);
+            return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "field %d has no name or no values", f + 1);
     try {
         vtk_messages messages;
         return export_vts(ctx, scene, origin_x, origin_y, field_names, fields, n_fields, path,
                           messages);
     } catch (const std::bad_alloc &) {
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory exporting '%s'", path);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory exporting '%s'", path);
     } catch (const std::exception &e) {
-        return ss_fail(ctx, SS_ERR_INTERNAL, "exporting '%s' failed: %s", path, e.what());
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "exporting '%s' failed: %s", path, e.what());
     } catch (...) {
-        return ss_fail(ctx, SS_ERR_INTERNAL, "exporting '%s' failed (unknown C++ exception)", path);
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL, "exporting '%s' failed (unknown C++ exception)", path);
     }
 }

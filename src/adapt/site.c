@@ -8,7 +8,7 @@
 #include <cpl_error.h>
 #include <ogr_srs_api.h>
 
-#include "ctx_internal.h"
+#include "skysweep.h"
 #include "gdal_errors.h"
 #include "site.h"
 
@@ -55,12 +55,12 @@ ss_status ss_site_frame_open(ss_ctx *ctx, const ss_dem *dem, const char *site_cr
 {
     *out = NULL;
     if (!dem->crs_wkt)
-        return ss_fail(ctx, SS_ERR_INPUT,
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
                        "'%s' has no coordinate reference system: sites cannot be placed on it",
                        dem->description);
     ss_site_frame *sf = calloc(1, sizeof *sf);
     if (!sf)
-        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory placing sites");
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory placing sites");
     sf->ctx = ctx;
     sf->dem = dem;
     int in_dem_crs = site_crs && strcmp(site_crs, "dem") == 0;
@@ -74,11 +74,11 @@ ss_status ss_site_frame_open(ss_ctx *ctx, const ss_dem *dem, const char *site_cr
     sf->dem_srs = srs_from(dem->crs_wkt);
     sf->wgs84 = srs_from("EPSG:4326");
     if (!sf->dem_srs || !sf->wgs84)
-        st = ss_fail(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS or WGS84: %s", ss_gdal_message());
+        st = ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read the DEM's CRS or WGS84: %s", ss_gdal_message());
     if (st == SS_OK && !in_dem_crs) {
         sf->site_srs = srs_from(site_text);
         if (!sf->site_srs)
-            st = ss_fail(ctx, SS_ERR_ARGUMENT, "unknown CRS for sites '%s': %s", site_text,
+            st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "unknown CRS for sites '%s': %s", site_text,
                          ss_gdal_message());
     } else if (st == SS_OK) {
         sf->site_srs = sf->dem_srs;
@@ -86,13 +86,13 @@ ss_status ss_site_frame_open(ss_ctx *ctx, const ss_dem *dem, const char *site_cr
     if (st == SS_OK && !in_dem_crs) {
         sf->to_dem = OCTNewCoordinateTransformation(sf->site_srs, sf->dem_srs);
         if (!sf->to_dem)
-            st = ss_fail(ctx, SS_ERR_ARGUMENT, "no transformation from %s to the DEM's CRS: %s",
+            st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "no transformation from %s to the DEM's CRS: %s",
                          site_text, ss_gdal_message());
     }
     if (st == SS_OK) {
         sf->to_wgs84 = OCTNewCoordinateTransformation(sf->dem_srs, sf->wgs84);
         if (!sf->to_wgs84)
-            st = ss_fail(ctx, SS_ERR_INPUT, "no transformation from the DEM's CRS to WGS84: %s",
+            st = ss_ctx_error(ctx, SS_ERR_INPUT, "no transformation from the DEM's CRS to WGS84: %s",
                          ss_gdal_message());
     }
     CPLPopErrorHandler();
@@ -115,13 +115,13 @@ ss_status ss_site_locate(ss_site_frame *sf, double x, double y, double *col, dou
 {
     double dx = x, dy = y;
     if (!isfinite(x) || !isfinite(y))
-        return ss_fail(sf->ctx, SS_ERR_ARGUMENT, "site %g,%g: coordinates must be finite", x, y);
+        return ss_ctx_error(sf->ctx, SS_ERR_ARGUMENT, "site %g,%g: coordinates must be finite", x, y);
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
     int moved = !sf->to_dem || OCTTransform(sf->to_dem, 1, &dx, &dy, NULL);
     CPLPopErrorHandler();
     if (!moved)
-        return ss_fail(sf->ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(sf->ctx, SS_ERR_ARGUMENT,
                        "site %.9g,%.9g (%s) cannot be placed in the "
                        "DEM's CRS: %s",
                        x, y, sf->site_crs_name, ss_gdal_message());
@@ -132,7 +132,7 @@ ss_status ss_site_locate(ss_site_frame *sf, double x, double y, double *col, dou
     if (!(*col >= -0.5 && *col <= g->width - 0.5 && *row >= -0.5 && *row <= g->height - 0.5)) {
         double x0 = gt[0], x1 = gt[0] + g->width * gt[1];
         double y1 = gt[3], y0 = gt[3] + g->height * gt[5];
-        return ss_fail(sf->ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(sf->ctx, SS_ERR_ARGUMENT,
                        "site %.9g,%.9g (%s) lies outside the DEM: it is at x %.3f, y %.3f in "
                        "the DEM's CRS, which covers x %.3f to %.3f, y %.3f to %.3f",
                        x, y, sf->site_crs_name, dx, dy, x0, x1, y0, y1);
@@ -141,7 +141,7 @@ ss_status ss_site_locate(ss_site_frame *sf, double x, double y, double *col, dou
     c = c < g->width ? c : g->width - 1;
     r = r < g->height ? r : g->height - 1;
     if (!isfinite(g->z[(size_t)r * g->width + c]))
-        return ss_fail(sf->ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(sf->ctx, SS_ERR_ARGUMENT,
                        "site %.9g,%.9g (%s) lies on a nodata cell of the DEM (column %d, row %d)",
                        x, y, sf->site_crs_name, c, r);
     return SS_OK;
@@ -166,7 +166,7 @@ ss_status ss_site_lonlat(ss_site_frame *sf, int n, const double *col, const doub
     int moved = m == 0 || OCTTransform(sf->to_wgs84, m, lon_deg, lat_deg, NULL);
     CPLPopErrorHandler();
     if (!moved)
-        return ss_fail(sf->ctx, SS_ERR_INPUT,
+        return ss_ctx_error(sf->ctx, SS_ERR_INPUT,
                        "positions on the DEM have no WGS84 longitude, latitude: %s", ss_gdal_message());
     /* Spread the results back to their slots, from the end. */
     for (int i = n - 1; i >= 0; --i) {

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ctx_internal.h"
+#include "skysweep.h"
 #include "sun_field.h"
 
 /* Lattice spacing on the ground: sun angles change by ~0.009 deg/km, and
@@ -76,7 +76,7 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
     field->width = g->width;
     field->height = g->height;
     if (!frame->georeferenced)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "the DEM has no CRS, so the sun's position for a time is unknown: give "
                        "the sun as --sun-azimuth and --sun-elevation");
     ss_spa_params p = *params;
@@ -103,7 +103,7 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
     double *node_e0 = field->node_elevation_deg = malloc(sizeof(double) * (size_t)nc * nr);
     float *row_z = read ? malloc(sizeof(float) * (size_t)g->width) : NULL;
     if (!cols || !rows || !node_az || !node_e0 || (read && !row_z))
-        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+        st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
     /* Exact positions at the lattice nodes: the centre's geocentric sun
      * direction seen from each node, parallax included. */
     for (int j = 0; j < nr && st == SS_OK; ++j) {
@@ -149,7 +149,7 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
     int last = field->n_lattice_rows - 1;
     if (row0 < 0 || n_rows < 1 || row0 + n_rows > field->height || row0 < lattice[0] ||
         row0 + n_rows - 1 > lattice[last])
-        return ss_fail(ctx, SS_ERR_INTERNAL,
+        return ss_ctx_error(ctx, SS_ERR_INTERNAL,
                        "sun positions asked for rows %d..%d, outside the lattice's %d..%d", row0,
                        row0 + n_rows - 1, lattice[0], lattice[last]);
     size_t n = (size_t)field->width * (size_t)n_rows;
@@ -163,7 +163,7 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
         if (!field->grid_azimuth_deg || !field->elevation_deg ||
             !field->apparent_elevation_deg) {
             ss_sun_field_free(field);
-            return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+            return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
         }
     }
     field->row0 = row0;

@@ -13,8 +13,8 @@
 
 #include <json-c/json.h>
 
-#include "ctx_internal.h"
-#include "iso_time.h"
+#include "skysweep.h"
+#include "skysweep_sun.h"
 #include "weather.h"
 
 #define MAX_FILE_BYTES (512L * 1024 * 1024)
@@ -35,7 +35,7 @@ typedef struct {
 
 static ss_status fail_at(reader *r, int line, const char *what)
 {
-    return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' line %d: %s", r->path, line + 1, what);
+    return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' line %d: %s", r->path, line + 1, what);
 }
 
 /* The file in memory, split into lines (\n or \r\n). */
@@ -43,7 +43,7 @@ static ss_status load(reader *r)
 {
     FILE *f = fopen(r->path, "rb");
     if (!f)
-        return ss_fail(r->ctx, SS_ERR_INPUT, "cannot open weather file '%s': %s", r->path,
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "cannot open weather file '%s': %s", r->path,
                        strerror(errno));
     long size = -1;
     if (fseek(f, 0, SEEK_END) == 0)
@@ -51,30 +51,30 @@ static ss_status load(reader *r)
     rewind(f);
     if (size < 0 || size > MAX_FILE_BYTES) {
         fclose(f);
-        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is not a weather file skysweep reads (%s)",
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is not a weather file skysweep reads (%s)",
                        r->path, size < 0 ? "not a regular file" : "over 512 MiB");
     }
-    r->text = ss_malloc((size_t)size + 1);
+    r->text = malloc((size_t)size + 1);
     if (!r->text) {
         fclose(f);
-        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
     }
     size_t got = fread(r->text, 1, (size_t)size, f);
     fclose(f);
     if (got != (size_t)size)
-        return ss_fail(r->ctx, SS_ERR_INPUT, "cannot read '%s'", r->path);
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "cannot read '%s'", r->path);
     r->text[size] = '\0';
     r->size = size;
     if (size == 0)
-        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is empty, not a weather file", r->path);
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is empty, not a weather file", r->path);
     if (memchr(r->text, '\0', (size_t)size))
-        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is binary, not a weather file", r->path);
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is binary, not a weather file", r->path);
     int cap = 1;
     for (long i = 0; i < size; ++i)
         cap += r->text[i] == '\n';
-    r->lines = ss_malloc(sizeof *r->lines * (size_t)cap);
+    r->lines = malloc(sizeof *r->lines * (size_t)cap);
     if (!r->lines)
-        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
     char *p = r->text;
     while (*p) {
         char *end = strchr(p, '\n');
@@ -175,7 +175,7 @@ static ss_weather_record *add_record(reader *r, size_t *cap)
     ss_weather *w = r->w;
     if (w->n == *cap) {
         size_t c = *cap ? 2 * *cap : 9000;
-        ss_weather_record *grown = ss_realloc(w->records, c * sizeof *grown);
+        ss_weather_record *grown = realloc(w->records, c * sizeof *grown);
         if (!grown)
             return NULL;
         w->records = grown;
@@ -295,7 +295,7 @@ static ss_status read_epw(reader *r)
         }
         ss_weather_record *rec = add_record(r, &cap);
         if (!rec)
-            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         /* As pvlib: the stamp is the start of the hour the record sums
          * (hour 1 is 00:00-01:00). PVGIS's offset counts from its end. */
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour - 1, 0, 0) - tz * 3600.0;
@@ -364,7 +364,7 @@ static ss_status read_tmy3(reader *r)
                 return fail_at(r, i, "a value of a TMY3 record is not a number");
         ss_weather_record *rec = add_record(r, &cap);
         if (!rec)
-            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0) - tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s - 1800.0;
         set_values(w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], v[5], v[6]}, -9900);
@@ -407,13 +407,13 @@ static ss_status pvgis_record(reader *r, int line, size_t *cap, double offset_h,
 {
     double t;
     if (!pvgis_time(time, &t))
-        return line < 0 ? ss_fail(r->ctx, SS_ERR_INPUT,
+        return line < 0 ? ss_ctx_error(r->ctx, SS_ERR_INPUT,
                                   "'%s': a tmy_hourly time(UTC) is written YYYYMMDD:HHMM, not '%.40s'",
                                   r->path, time)
                         : fail_at(r, line, "a PVGIS time is written YYYYMMDD:HHMM");
     ss_weather_record *rec = add_record(r, cap);
     if (!rec)
-        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
     rec->stamp_unix_s = t;
     rec->sun_unix_s = t + offset_h * 3600.0;
     set_values(r->w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], NAN, v[5] / 100.0}, NAN);
@@ -495,13 +495,13 @@ static ss_status read_pvgis_json(reader *r)
             r->text[i] = ' ';
     json_tokener *tok = json_tokener_new();
     if (!tok)
-        return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
     json_object *root = json_tokener_parse_ex(tok, r->text, (int)r->size);
     enum json_tokener_error err = json_tokener_get_error(tok);
     json_tokener_free(tok);
     if (!root || err != json_tokener_success) {
         json_object_put(root);
-        return ss_fail(r->ctx, SS_ERR_INPUT, "'%s' is not valid JSON: %s", r->path,
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is not valid JSON: %s", r->path,
                        err == json_tokener_continue ? "it ends inside a value"
                                                     : json_tokener_error_desc(err));
     }
@@ -516,7 +516,7 @@ static ss_status read_pvgis_json(reader *r)
         !json_object_object_get_ex(root, "outputs", &outputs) ||
         !json_object_object_get_ex(outputs, "tmy_hourly", &hourly) ||
         !json_object_is_type(hourly, json_type_array))
-        st = ss_fail(r->ctx, SS_ERR_INPUT,
+        st = ss_ctx_error(r->ctx, SS_ERR_INPUT,
                      "'%s' is not a PVGIS TMY JSON file (inputs.location with latitude and "
                      "longitude, outputs.tmy_hourly)",
                      r->path);
@@ -539,7 +539,7 @@ static ss_status read_pvgis_json(reader *r)
         for (int k = 0; k < 6 && ok; ++k)
             ok = json_number(rec, keys[k], &v[k]) || k >= 3;
         if (!ok)
-            st = ss_fail(r->ctx, SS_ERR_INPUT,
+            st = ss_ctx_error(r->ctx, SS_ERR_INPUT,
                          "'%s': record %zu of tmy_hourly lacks time(UTC), G(h), Gb(n) or Gd(h)",
                          r->path, i + 1);
         else
@@ -609,7 +609,7 @@ static ss_status read_psm(reader *r)
             return fail_at(r, i, "a PSM record's date or time is not valid");
         ss_weather_record *rec = add_record(r, &cap);
         if (!rec)
-            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = ss_unix_from_civil((long long)v[0], (int)v[1], (int)v[2], (int)v[3],
                                                (int)v[4], 0) -
                             tz * 3600.0;
@@ -636,7 +636,7 @@ static ss_status read_plain_csv(reader *r)
     for (int k = 0; k < 8; ++k)
         cols[k] = n_names > 0 ? find_column(names, n_names, wanted[k]) : -1;
     if (cols[0] < 0 || cols[1] < 0 || (cols[2] < 0) != (cols[3] < 0))
-        return ss_fail(r->ctx, SS_ERR_INPUT,
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                        "'%s' is not a weather file skysweep reads: EPW, TMY3, PVGIS TMY (CSV or "
                        "JSON), NSRDB PSM, or a CSV whose first line names time, ghi, dni and "
                        "dhi (or time and ghi alone)",
@@ -664,7 +664,7 @@ static ss_status read_plain_csv(reader *r)
         }
         ss_weather_record *rec = add_record(r, &cap);
         if (!rec)
-            return ss_fail(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = rec->sun_unix_s = t;
         set_values(w, rec, &(raw_values){v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, NAN);
     }
@@ -688,13 +688,13 @@ static ss_status set_durations(reader *r)
             ss_civil_from_unix(w->records[i - 1].stamp_unix_s, &a);
             ss_civil_from_unix(w->records[i].stamp_unix_s, &b);
             if (w->format != SS_WEATHER_PSM || a.month == b.month)
-                return ss_fail(r->ctx, SS_ERR_INPUT,
+                return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                                "'%s': the records' times do not increase (record %zu)", r->path,
                                i + 1);
         }
     }
     if (step > 86400.0)
-        return ss_fail(r->ctx, SS_ERR_INPUT,
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                        "'%s': records %.0f h apart are too far apart for irradiance (at most a "
                        "day)",
                        r->path, step / 3600.0);
@@ -740,7 +740,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
         }
     }
     if (st == SS_OK && w->n == 0)
-        st = ss_fail(ctx, SS_ERR_INPUT, "'%s' (%s) holds no records", path, w->format_name);
+        st = ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' (%s) holds no records", path, w->format_name);
     if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV))
         st = set_durations(&r);
     free(r.lines);

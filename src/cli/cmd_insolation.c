@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "commands.h"
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "mpi_share.h"
 #include "run.h"
 #include "sun_field.h"

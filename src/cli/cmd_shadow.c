@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "commands.h"
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "run.h"
 #include "sun_field.h"
 

@@ -11,7 +11,6 @@
 
 #include "commands.h"
 #include "horizon_points.h"
-#include "iso_time.h"
 #include "skysweep_sun.h"
 
 #define SUN_MAX_ROWS 1000000LL

@@ -9,7 +9,7 @@
 #include <stdio.h>
 
 #include "commands.h"
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "weather.h"
 
 static const opt_spec weather_options[] = {OPT_END};

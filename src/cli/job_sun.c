@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "run.h"
 #include "sun_field.h"
 

@@ -15,7 +15,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "scene.h"
 
 #define SCENE_MAX_ARGS 256

@@ -1,4 +1,6 @@
-/* Calendar conversions and ISO 8601 parsing and formatting (iso_time.h). */
+/* Calendar conversions and ISO 8601 parsing and formatting (skysweep_sun.h):
+ * instants are UTC Unix seconds (doubles: microseconds survive to year
+ * 6000); calendar dates follow SPA (doc/sun.md). */
 #include "config.h"
 
 #include <math.h>
@@ -6,7 +8,7 @@
 #include <string.h>
 
 #include "ctx_internal.h"
-#include "iso_time.h"
+#include "skysweep_sun.h"
 
 #define SECONDS_PER_DAY 86400.0
 /* Julian day number of 1970-01-01 and of 1582-10-15, the first Gregorian day. */

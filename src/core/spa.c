@@ -6,7 +6,7 @@
 #include <math.h>
 
 #include "ctx_internal.h"
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "spa.h"
 
 #define RAD (M_PI / 180.0)

@@ -27,7 +27,7 @@
 #include <string.h>
 
 #include "commands.h"
-#include "iso_time.h"
+#include "skysweep_sun.h"
 #include "options.h"
 #include "run.h"
 #include "fuzz_check.h"
