@@ -65,9 +65,8 @@ const opt_spec common_options[] = {
      "write the outputs for this window only (the DEM's CRS, as gdal_translate -projwin; "
      "also ULX,ULY,LRX,LRY); horizons still come from the whole DEM"},
     {"memory", OPT_STRING, COMMON(memory), "SIZE", NULL, 0, 0, NULL,
-     "bound on the working set, e.g. 512M or 4G; svf, openness, horizon, shadow, insolation and "
-     "a plain hillshade take larger DEMs in bands of rows (exact, doc/scale.md), the rest "
-     "refuse them (default: half the RAM)"},
+     "bound on the working set, e.g. 512M or 4G; a larger DEM is swept in bands of rows "
+     "(exact, doc/scale.md; render alone refuses it) (default: half the RAM)"},
     {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
     {"plan-format", OPT_CHOICE, COMMON(plan_json), NULL, "text", 0, 0, "text|json",
