@@ -21,7 +21,7 @@ from setuptools.command.build_py import build_py
 
 HERE = pathlib.Path(__file__).resolve().parent
 TREE = pathlib.Path(os.environ.get("SKYSWEEP_BUILD_DIR", HERE.parent)).resolve()
-HEADERS = ["skysweep.h", "skysweep_sun.h", "skysweep_sites.h"]
+HEADERS = ["skysweep.h", "skysweep_sun.h", "skysweep_sites.h", "skysweep_params.h"]
 
 
 def version():

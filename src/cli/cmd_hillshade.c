@@ -13,37 +13,9 @@
 #include "run.h"
 
 typedef struct {
-    common_settings common;
-    double azimuth_deg, altitude_deg, z_factor;
-    int alg, multidirectional, cast_shadows, blend;
-    double sky_view, blend_radius_cells;
+    common_settings common;  /* first: common_options()' offsets are relative to it */
+    ss_hillshade_params hs;  /* the library's "hillshade" table */
 } hillshade_settings;
-
-#define SET(field) offsetof(hillshade_settings, field)
-static const opt_spec hillshade_options[] = {
-    {"az", OPT_DOUBLE, SET(azimuth_deg), "DEG", "315", -360, 360, NULL,
-     "light azimuth, degrees clockwise from the top of the raster (gdaldem's -az)"},
-    {"alt", OPT_DOUBLE, SET(altitude_deg), "DEG", "45", 0, 90, NULL,
-     "light altitude above the horizontal (gdaldem's -alt)"},
-    {"z", OPT_DOUBLE, SET(z_factor), "FACTOR", "1", 1e-6, 1e6, NULL,
-     "vertical exaggeration (gdaldem's -z; ground sizes come from the CRS, so gdaldem's -s "
-     "is not needed)"},
-    {"alg", OPT_CHOICE, SET(alg), NULL, "Horn", 0, 0, "Horn|ZevenbergenThorne",
-     "slope algorithm (gdaldem's -alg)"},
-    {"multidirectional", OPT_FLAG, SET(multidirectional), NULL, NULL, 0, 0, NULL,
-     "gdaldem's multidirectional shading (lights from 225, 270, 315, 360)"},
-    {"cast-shadows", OPT_FLAG, SET(cast_shadows), NULL, NULL, 0, 0, NULL,
-     "darken cells in the light's cast shadows (exact sweep along the light)"},
-    {"sky-view", OPT_DOUBLE, SET(sky_view), "WEIGHT", "0", 0, 1, NULL,
-     "blend in sky-view shading: (1 - W) hillshade + W (1 + 254 SVF), geometric SVF over "
-     "--directions"},
-    {"blend", OPT_CHOICE, SET(blend), NULL, "none", 0, 0, "none|vat",
-     "vat: RVT's relief blend for archaeology and cartography (hillshade 315/35, slope, "
-     "positive openness, SVF; doc/relief.md) instead of the plain hillshade"},
-    {"blend-radius", OPT_DOUBLE, SET(blend_radius_cells), "CELLS", "10", 0, 1e6, NULL,
-     "how far the blend's SVF and openness look for the horizon, in cells (RVT's default "
-     "10); 0: unlimited"},
-    OPT_END};
 
 typedef struct {
     ss_raster_writer *w;
@@ -61,7 +33,9 @@ int cmd_hillshade(int argc, char **argv)
 {
     hillshade_settings set = {0};
     common_settings_init(&set.common);
-    const opt_spec *tables[] = {hillshade_options, common_options, NULL};
+    opt_spec hillshade_options[16];
+    opt_from_params("hillshade", offsetof(hillshade_settings, hs), hillshade_options, 16);
+    const opt_spec *tables[] = {hillshade_options, common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("hillshade", tables, &set, argc, argv, pos, &n_pos,
@@ -71,44 +45,37 @@ int cmd_hillshade(int argc, char **argv)
                        &set.common.device);
     if (rc >= 0)
         return rc;
-    if (set.blend && (set.cast_shadows || set.sky_view > 0 || set.multidirectional)) {
+    if (set.hs.blend && (set.hs.cast_shadows || set.hs.sky_view > 0 || set.hs.multidirectional)) {
         fprintf(stderr, "skysweep hillshade: --blend vat has its own light and layers; it "
                         "does not take --cast-shadows, --sky-view or --multidirectional\n");
         return SS_ERR_ARGUMENT;
     }
-    int sweeps = set.blend || set.cast_shadows || set.sky_view > 0;
+    int sweeps = set.hs.blend || set.hs.cast_shadows || set.hs.sky_view > 0;
     /* A band holds its heights and a row of shades, SVF and openness;
      * sweeps add a horizon's band and its rows carried between bands. */
     band_cost cost = {.cell_bytes = 16.0 + (sweeps ? ss_horizon_band_cell_bytes(0) : 4.0),
                       .column_bytes = sweeps ? ss_horizon_column_bytes() : 0.0,
                       .directions = sweeps ? 0 : 1,
-                      .halo_cells = set.blend ? set.blend_radius_cells : 0.0};
+                      .halo_cells = set.hs.blend ? set.hs.blend_radius_cells : 0.0};
     sweep_job job;
     if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
         return rc;
     /* Plain hillshade reads no horizons; cast shadows and sky view do. */
-    ss_product product = set.cast_shadows                 ? SS_PRODUCT_SHADOW
-                         : set.sky_view > 0 || set.blend ? SS_PRODUCT_SVF
+    ss_product product = set.hs.cast_shadows                 ? SS_PRODUCT_SHADOW
+                         : set.hs.sky_view > 0 || set.hs.blend ? SS_PRODUCT_SVF
                                                          : SS_PRODUCT_HILLSHADE;
     if ((rc = job_plan(&job, &set.common, product, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
     }
     const ss_grid *g = &job.dem.grid;
-    double blend_radius_m = set.blend_radius_cells * sqrt(g->cell_x_m * g->cell_y_m);
+    ss_hillshade_options ho;
+    ss_hillshade_params_options(&set.hs, sqrt(g->cell_x_m * g->cell_y_m), &ho);
+    double blend_radius_m = ho.radius_m;
     shade_out out = {NULL};
     ss_status st = ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1, set.common.format,
                                        set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
-    ss_hillshade_options ho = {.azimuth_deg = set.azimuth_deg,
-                               .altitude_deg = set.altitude_deg,
-                               .z_factor = set.z_factor,
-                               .zevenbergen_thorne = set.alg == 1,
-                               .multidirectional = set.multidirectional,
-                               .cast_shadows = set.cast_shadows,
-                               .sky_view = set.sky_view,
-                               .vat = set.blend,
-                               .radius_m = blend_radius_m};
     ss_source src = job_source(&job, NULL);
     if (st == SS_OK)
         st = ss_hillshade_rows(job.run.ctx, &src, &job.opt, &ho, write_rows, &out);
@@ -116,7 +83,7 @@ int cmd_hillshade(int argc, char **argv)
         char buf[300];
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
         job_plan_metadata(&job, w);
-        if (set.blend)
+        if (set.hs.blend)
             snprintf(buf, sizeof buf,
                      "RVT VAT blend (Kokalj & Somrak 2019): hillshade 315/35 normal 100%%, "
                      "slope 0..50 deg inverted luminosity 50%%, positive openness 68..93 deg "
@@ -126,11 +93,11 @@ int cmd_hillshade(int argc, char **argv)
             snprintf(buf, sizeof buf,
                  "gdaldem hillshade: az %g (raster frame), alt %g, z %g, %s%s%s; sky-view "
                  "weight %g",
-                 set.azimuth_deg, set.altitude_deg, set.z_factor, set.alg ? "ZevenbergenThorne" : "Horn",
-                 set.multidirectional ? ", multidirectional" : "",
-                 set.cast_shadows ? ", cast shadows" : "", set.sky_view);
-        ss_writer_metadata(w, set.blend ? "RELIEF_BLEND" : "HILLSHADE", buf);
-        ss_writer_describe(w, 1, set.blend ? "VAT relief blend" : "hillshade", NULL);
+                 set.hs.azimuth_deg, set.hs.altitude_deg, set.hs.z_factor, set.hs.alg ? "ZevenbergenThorne" : "Horn",
+                 set.hs.multidirectional ? ", multidirectional" : "",
+                 set.hs.cast_shadows ? ", cast shadows" : "", set.hs.sky_view);
+        ss_writer_metadata(w, set.hs.blend ? "RELIEF_BLEND" : "HILLSHADE", buf);
+        ss_writer_describe(w, 1, set.hs.blend ? "VAT relief blend" : "hillshade", NULL);
     }
     if (st == SS_OK)
         st = run_commit(&job.run, w);
@@ -144,10 +111,10 @@ int cmd_hillshade(int argc, char **argv)
         if (job.source)
             printf("bands   %d rows of %d cells at a time, read with two rows either side\n",
                    job.band_rows, g->width);
-        if (set.blend)
+        if (set.hs.blend)
             printf("shade   VAT blend, horizons within %g m -> %s\n", blend_radius_m, job.output);
         else
-            printf("shade   light %g/%g deg -> %s\n", set.azimuth_deg, set.altitude_deg,
+            printf("shade   light %g/%g deg -> %s\n", set.hs.azimuth_deg, set.hs.altitude_deg,
                    job.output);
     }
     job_close(&job);

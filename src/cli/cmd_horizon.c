@@ -81,7 +81,7 @@ static ss_status open_extra(sweep_job *job, const horizon_settings *set, const c
 int cmd_horizon(int argc, char **argv)
 {
     horizon_settings set = {0};
-    const opt_spec *tables[] = {horizon_options, common_options, NULL};
+    const opt_spec *tables[] = {horizon_options, common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("horizon", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 1,

@@ -21,90 +21,20 @@
 #include "weather.h"
 
 typedef struct {
-    common_settings common;
-    const char *step;
-    const char *linke;
-    double albedo;
-    int shadow_mode;
-    const char *steps_path;
-    double solar_constant;
+    common_settings common;   /* first: common_options()' offsets are relative to it */
+    ss_insolation_params ins; /* the library's "insolation" table */
+    const char *steps_path;   /* the command line's files */
     const char *weather;
-    int sky_model; /* index into "perez|haydavies|isotropic" */
-    int pv;
-    double gamma_pdc, losses_percent, temp_air_c, wind_speed_m_s;
-    double inverter_efficiency_percent, dc_ac_ratio;
-    double tolerance_percent;
-    double elevation_step_deg;
-    int temperature_model; /* index into "faiman|sapm" */
-    const char *surface;
 } insolation_settings;
 
-static const ss_sky_model sky_model_of_choice[] = {SS_SKY_MODEL_PEREZ, SS_SKY_MODEL_HAYDAVIES,
-                                                   SS_SKY_MODEL_ISOTROPIC};
-static const ss_shadow_mode shadow_mode_of_choice[] = {SS_SHADOW_AUTO, SS_SHADOW_EXACT,
-                                                       SS_SHADOW_INTERPOLATED,
-                                                       SS_SHADOW_CUMULATIVE};
-/* Indexed by ss_shadow_mode (the plan's decision). */
-static const char *const shadow_mode_names[] = {"exact", "interpolated", "cumulative"};
-static const char *const sky_model_names[] = {"Perez et al. 1990", "Hay & Davies 1980",
-                                              "isotropic"};
-
 #define SET(field) offsetof(insolation_settings, field)
-static const opt_spec insolation_options[] = {
-    {"step", OPT_STRING, SET(step), "DURATION", "PT30M", 0, 0, NULL,
-     "time step (ISO 8601 duration); each step is evaluated at its middle"},
-    {"linke", OPT_STRING, SET(linke), "T[,T...]", "3", 0, 0, NULL,
-     "Linke turbidity (air mass 2): one value, or 12 for January..December"},
-    {"albedo", OPT_DOUBLE, SET(albedo), "A", "0.2", 0, 1, NULL, "ground albedo"},
-    {"shadow", OPT_CHOICE, SET(shadow_mode), NULL, "auto", 0, 0,
-     "auto|exact|interpolated|cumulative",
-     "exact: a sweep at each step's sun azimuth; interpolated: horizons stored at --directions "
-     "and interpolated; cumulative (--weather): the suns binned by direction and "
-     "--elevation-step, each bin lit at its direction's horizon; auto: cumulative for 720 "
-     "weather records or more without --pv or --steps, else exact (doc/insolation.md)"},
-    {"insolation-tolerance", OPT_DOUBLE, SET(tolerance_percent), "PERCENT", "0.5", 0, 100, NULL,
-     "with --weather and --shadow auto: the error (p95, %) a cell's annual and monthly sums may "
-     "take; the cumulative sky is chosen where its measured error is within it "
-     "(doc/cumulative_sky.md), 0: exact shadows"},
-    {"elevation-step", OPT_DOUBLE, SET(elevation_step_deg), "DEG", "1", 0.01, 90, NULL,
-     "with --shadow cumulative: height of a sun bin"},
+static const opt_spec file_options[] = {
     {"steps", OPT_STRING, SET(steps_path), "FILE", NULL, 0, 0, NULL,
      "also write each step's global irradiation (Wh/m^2), one band per step"},
-    {"solar-constant", OPT_DOUBLE, SET(solar_constant), "W/M2", "1367", 1000, 2000, NULL,
-     "extraterrestrial irradiance at 1 AU (r.sun's default)"},
     {"weather", OPT_STRING, SET(weather), "FILE", NULL, 0, 0, NULL,
      "real sky: one step per record of an EPW, TMY3, PVGIS TMY (CSV, JSON), NSRDB PSM or CSV "
      "file (skysweep weather FILE shows them); --time then selects records; outputs in "
      "kWh/m2 for the year and each month (doc/insolation.md)"},
-    {"sky-model", OPT_CHOICE, SET(sky_model), NULL, "perez", 0, 0, "perez|haydavies|isotropic",
-     "with --weather: sky diffuse on the tilted cell, with the terrain (doc/insolation.md)"},
-    {"surface", OPT_STRING, SET(surface), "cell|horizontal|TILT,AZIMUTH", "cell", 0, 0, NULL,
-     "the surface irradiated in each cell: its own slope (roofs, terrain), a horizontal one, or "
-     "a module tilted TILT degrees facing AZIMUTH (clockwise from north); shadows and horizons "
-     "stay the cell's"},
-    {"pv", OPT_FLAG, SET(pv), NULL, NULL, 0, 0, NULL,
-     "with --weather: add the PV yield (kWh/kWp) of modules lying in each cell's surface, "
-     "PVWatts-style as pvlib"},
-    {"gamma-pdc", OPT_DOUBLE, SET(gamma_pdc), "1/K", "-0.0047", -0.05, 0.05, NULL,
-     "with --pv: the modules' power temperature coefficient (PVWatts' standard module)"},
-    {"temperature-model", OPT_CHOICE, SET(temperature_model), NULL, "faiman", 0, 0,
-     "faiman|sapm",
-     "with --pv: cell temperature (pvlib.temperature.faiman, or sapm_cell open rack "
-     "glass/glass)"},
-    {"losses", OPT_DOUBLE, SET(losses_percent), "PERCENT", "11.42", 0, 99, NULL,
-     "with --pv: system losses; pvlib's pvwatts_losses without its 3 % for shading, which the "
-     "terrain gives exactly"},
-    {"temp-air", OPT_DOUBLE, SET(temp_air_c), "C", "20", -90, 70, NULL,
-     "with --pv: air temperature where a record gives none"},
-    {"wind-speed", OPT_DOUBLE, SET(wind_speed_m_s), "M/S", "0", 0, 99, NULL,
-     "with --pv: wind speed where a record gives none"},
-    {"inverter-efficiency", OPT_DOUBLE, SET(inverter_efficiency_percent), "PERCENT", "96", 1,
-     100, NULL,
-     "with --pv: the inverter's nominal efficiency (pvlib.inverter.pvwatts' eta_inv_nom) for the "
-     "AC yield"},
-    {"dc-ac-ratio", OPT_DOUBLE, SET(dc_ac_ratio), "RATIO", "1.2", 0.1, 10, NULL,
-     "with --pv: the modules' DC nameplate over the inverter's AC rating (PVWatts' 1.2); above "
-     "it the inverter clips"},
     OPT_END};
 
 /* The run's time steps: each one's instant (where the sun is taken) and
@@ -123,30 +53,6 @@ typedef struct {
     char **labels; /* ISO time of each step's start (a record's stamp) */
 } steps_state;
 
-static ss_status parse_linke(ss_ctx *ctx, const char *text, double linke[12])
-{
-    int n = 0;
-    const char *p = text;
-    while (*p && n < 13) {
-        char *end;
-        double v = strtod(p, &end);
-        if (end == p || !(v >= 0.5 && v <= 10))
-            return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                                "--linke expects turbidities from 0.5 to 10, not '%s'", text);
-        if (n < 12)
-            linke[n] = v;
-        n++;
-        p = *end == ',' ? end + 1 : end;
-        if (*end && *end != ',')
-            return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--linke: cannot read '%s'", text);
-    }
-    if (n != 1 && n != 12)
-        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                            "--linke expects one value or twelve (one per month), not %d", n);
-    for (int i = n; i < 12; ++i)
-        linke[i] = linke[0];
-    return SS_OK;
-}
 
 /* The sun of step k for rows [row0, row0 + n_rows) of the DEM; n_rows 0:
  * the centre's sun alone, with the spread of the cells' suns over the
@@ -161,7 +67,7 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     ss->have_field = 0;
     double mid = ss->mid_s[k];
     ss_spa_params p;
-    run_spa_params(&ss->set->common, &p);
+    ss_sun_params_spa(&ss->set->common.sun, &p);
     /* The plan decided whether the sun is needed per cell. Without it the
      * run still allows for the spread the planner bounded. */
     int per_cell = job->plan.sun_per_cell;
@@ -179,7 +85,7 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     ss_civil_time civil;
     ss_civil_from_unix(mid, &civil);
     ss_sun_step_clear_sky(&f->centre, f->centre_grid_azimuth_deg, job->opt.grid_north_deg,
-                          ss->hours[k], ss->linke[civil.month - 1], ss->set->solar_constant,
+                          ss->hours[k], ss->linke[civil.month - 1], ss->set->ins.solar_constant,
                           step);
     step->spread_deg = f->spread_deg;
     step->grid_azimuth_per_cell = f->grid_azimuth_deg;
@@ -317,30 +223,6 @@ static ss_status write_rows(void *user, int output, int index, int row0, int n_r
     return ss_writer_rows(o->w, band, row0, n_rows, values);
 }
 
-/* --surface: cell, horizontal, or TILT,AZIMUTH in degrees. */
-static ss_status parse_surface(ss_ctx *ctx, const char *text, ss_surface *out)
-{
-    memset(out, 0, sizeof *out);
-    if (!text || strcmp(text, "cell") == 0)
-        return SS_OK;
-    if (strcmp(text, "horizontal") == 0) {
-        out->kind = SS_SURFACE_HORIZONTAL;
-        return SS_OK;
-    }
-    char *end;
-    out->kind = SS_SURFACE_FIXED;
-    out->tilt_deg = strtod(text, &end);
-    const char *az = *end == ',' && end != text ? end + 1 : NULL;
-    if (az)
-        out->azimuth_deg = strtod(az, &end);
-    if (!az || end == az || *end || !(out->tilt_deg >= 0 && out->tilt_deg <= 90) ||
-        !(out->azimuth_deg >= -360 && out->azimuth_deg <= 360))
-        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                            "--surface expects cell, horizontal or TILT,AZIMUTH (tilt 0 to 90, "
-                            "azimuth clockwise from north), not '%s'",
-                            text);
-    return SS_OK;
-}
 
 /* The steps from --time (and --step) or --weather; text gets the range
  * as parsed (malloc'ed), for the metadata. */
@@ -349,20 +231,20 @@ static ss_status make_steps(steps_state *steps, const insolation_settings *set,
 {
     ss_ctx *ctx = steps->job->run.ctx;
     *text = NULL;
-    if (!set->common.time && !weather)
+    if (!set->common.sun.time && !weather)
         return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                             "--time START/END (or START/DURATION) or --weather FILE is needed");
     ss_time_range range = {0};
-    if (set->common.time) {
+    if (set->common.sun.time) {
         /* --time may carry its own /STEP; otherwise --step applies. */
-        size_t len = strlen(set->common.time) + strlen(set->step) + 2;
+        size_t len = strlen(set->common.sun.time) + strlen(set->ins.step) + 2;
         int slashes = 0;
-        for (const char *p = set->common.time; *p; ++p)
+        for (const char *p = set->common.sun.time; *p; ++p)
             slashes += *p == '/';
         if (!(*text = malloc(len)))
             return command_out_of_memory(&steps->job->run);
-        snprintf(*text, len, "%s%s%s", set->common.time, slashes == 1 && !weather ? "/" : "",
-                 slashes == 1 && !weather ? set->step : "");
+        snprintf(*text, len, "%s%s%s", set->common.sun.time, slashes == 1 && !weather ? "/" : "",
+                 slashes == 1 && !weather ? set->ins.step : "");
         ss_status st = ss_parse_time_range(ctx, *text, &range);
         if (st != SS_OK)
             return st;
@@ -375,7 +257,7 @@ static ss_status make_steps(steps_state *steps, const insolation_settings *set,
                                 range.count);
     }
     if (weather)
-        return steps_from_weather(steps, weather, set->common.time ? &range : NULL);
+        return steps_from_weather(steps, weather, set->common.sun.time ? &range : NULL);
     return steps_from_range(steps, &range);
 }
 
@@ -440,7 +322,10 @@ int cmd_insolation(int argc, char **argv)
 {
     insolation_settings set = {0};
     common_settings_init(&set.common);
-    const opt_spec *tables[] = {insolation_options, sun_options, common_options, NULL};
+    opt_spec insolation_options[32];
+    opt_from_params("insolation", offsetof(insolation_settings, ins), insolation_options, 32);
+    const opt_spec *tables[] = {insolation_options, file_options, sun_options(),
+                                common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse(
@@ -462,8 +347,8 @@ int cmd_insolation(int argc, char **argv)
                                  : 2;
     /* Bands hold a horizon's sums and the cells' insolation terms and sums
      * (more than the radiative SVF's band before them). */
-    int directions = set.common.directions > SS_INSOLATION_STEPS_PER_RUN
-                         ? set.common.directions
+    int directions = set.common.sweep.directions > SS_INSOLATION_STEPS_PER_RUN
+                         ? set.common.sweep.directions
                          : SS_INSOLATION_STEPS_PER_RUN;
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
                       .column_bytes = ss_horizon_column_bytes(),
@@ -483,8 +368,12 @@ int cmd_insolation(int argc, char **argv)
     if (!job.frame.georeferenced)
         st = ss_ctx_error(ctx, SS_ERR_INPUT,
                           "the DEM has no CRS, so where the sun stands is unknown");
+    /* The run's options; the plan chooses the shadow mode below. */
+    ss_insolation_options io = {0};
+    if (st == SS_OK)
+        st = ss_insolation_params_options(ctx, &set.ins, SS_SHADOW_EXACT, &io);
     if (st == SS_OK && !set.weather &&
-        shadow_mode_of_choice[set.shadow_mode] == SS_SHADOW_CUMULATIVE)
+        ss_insolation_params_shadow(&set.ins) == SS_SHADOW_CUMULATIVE)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--shadow cumulative needs --weather: it bins weather records' suns");
     if (st == SS_OK && set.weather) {
@@ -497,21 +386,18 @@ int cmd_insolation(int argc, char **argv)
                      set.weather);
             job.weather = (ss_plan_weather){
                 weather_what, weather_distance_km(&weather, &job.frame),
-                sky_model_of_choice[set.sky_model] == SS_SKY_MODEL_PEREZ,
-                set.pv || set.steps_path, set.tolerance_percent};
+                io.sky_model == SS_SKY_MODEL_PEREZ,
+                set.ins.pv || set.steps_path, set.ins.tolerance_percent};
         }
     }
     if (st == SS_OK)
         st = make_steps(&steps, &set, have_weather ? &weather : NULL, &text);
     if (st == SS_OK)
-        st = parse_linke(ctx, set.linke, steps.linke);
-    ss_surface surface = {SS_SURFACE_CELL, 0, 0};
-    if (st == SS_OK)
-        st = parse_surface(ctx, set.surface, &surface);
+        st = ss_insolation_params_linke(ctx, &set.ins, steps.linke);
     int n_steps = st == SS_OK ? steps.n : 0;
     if (st == SS_OK) {
         rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, steps.mid_s,
-                      shadow_mode_of_choice[set.shadow_mode]);
+                      ss_insolation_params_shadow(&set.ins));
         if (rc >= 0) {
             steps_free(&steps);
             ss_weather_free(&weather);
@@ -522,7 +408,7 @@ int cmd_insolation(int argc, char **argv)
         steps.sun_spread_deg =
             job.frame.diagonal_m / (2.0 * run_earth_radius(&set.common, &job.frame)) * 180 / M_PI;
     }
-    if (st == SS_OK && set.pv && !have_weather)
+    if (st == SS_OK && set.ins.pv && !have_weather)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--pv needs --weather (air temperature and "
                                                 "real-sky irradiance)");
     insolation_out out = {.width = job.dem.grid.width, .weather = have_weather};
@@ -533,7 +419,7 @@ int cmd_insolation(int argc, char **argv)
     /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
     if (st == SS_OK && share_rank() == 0)
         st = ss_writer_open(ctx, job.output, &job.dem,
-                            have_weather ? WEATHER_BANDS + 2 * (set.pv != 0) : 5,
+                            have_weather ? WEATHER_BANDS + 2 * (set.ins.pv != 0) : 5,
                             set.common.format, set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
     if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
@@ -546,24 +432,10 @@ int cmd_insolation(int argc, char **argv)
         for (int k = 0; st == SS_OK && k < n_steps; ++k)
             ss_writer_describe(out.steps_w, k + 1, steps.labels[k], "Wh/m2");
     }
-    ss_insolation_options io = {.albedo = set.albedo,
-                                .shadow_mode = job.plan.shadow_mode,
-                                .elevation_step_deg = set.elevation_step_deg,
-                                .surface = surface,
-                                .sky_model = sky_model_of_choice[set.sky_model],
-                                .pv = {.on = set.pv,
-                                       .gamma_pdc = set.gamma_pdc,
-                                       .temp_model = set.temperature_model ? SS_PV_TEMP_SAPM
-                                                                           : SS_PV_TEMP_FAIMAN,
-                                       .losses = set.losses_percent / 100.0,
-                                       .temp_air_c = set.temp_air_c,
-                                       .wind_speed_m_s = set.wind_speed_m_s,
-                                       .inverter_efficiency =
-                                           set.inverter_efficiency_percent / 100.0,
-                                       .dc_ac_ratio = set.dc_ac_ratio}};
+    io.shadow_mode = job.plan.shadow_mode;
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats band_stats = {0};
-    int want = (have_weather ? SS_INSOLATION_MONTHLY : 0) | (set.pv ? SS_INSOLATION_PV : 0) |
+    int want = (have_weather ? SS_INSOLATION_MONTHLY : 0) | (set.ins.pv ? SS_INSOLATION_PV : 0) |
                (set.steps_path ? SS_INSOLATION_STEPS : 0);
     ss_source src = job_source(&job, &band_stats);
     share_reducer reducer;
@@ -584,16 +456,16 @@ int cmd_insolation(int argc, char **argv)
             snprintf(meta, sizeof meta,
                      "%d weather records (%.0f h)%s%s; surface %s; sky diffuse %s; albedo %g "
                      "where the file gives none; shadows %s; solar constant %g W/m2; %s",
-                     n_steps, hours, text ? " inside " : "", text ? text : "", set.surface,
-                     sky_model_names[set.sky_model], set.albedo,
-                     shadow_mode_names[job.plan.shadow_mode], set.solar_constant,
+                     n_steps, hours, text ? " inside " : "", text ? text : "", set.ins.surface,
+                     ss_sky_model_name(io.sky_model), set.ins.albedo,
+                     ss_shadow_mode_name(job.plan.shadow_mode), set.ins.solar_constant,
                      weather_note);
         else
             snprintf(meta, sizeof meta,
                      "%s, %d steps of %s evaluated at their middles; surface %s; Linke %s; "
                      "albedo %g; shadows %s; solar constant %g W/m2",
-                     text, n_steps, set.step, set.surface, set.linke, set.albedo,
-                     shadow_mode_names[job.plan.shadow_mode], set.solar_constant);
+                     text, n_steps, set.ins.step, set.ins.surface, set.ins.linke, set.ins.albedo,
+                     ss_shadow_mode_name(job.plan.shadow_mode), set.ins.solar_constant);
         ss_writer_metadata(w, "INSOLATION", meta);
         ss_writer_metadata(
             w, "MODEL",
@@ -605,7 +477,7 @@ int cmd_insolation(int argc, char **argv)
                   "view); sun hours where lit with DNI >= 120 W/m2 (doc/insolation.md)"
                 : "ESRA clear sky (r.sun); sky diffuse by Muneer with the cell's radiative "
                   "sky-view factor; reflected = albedo x global horizontal x (1 - sky view)");
-        if (set.pv) {
+        if (set.ins.pv) {
             char pv[600];
             snprintf(pv, sizeof pv,
                      "DC yield per kWp of modules in each cell's surface (pvlib pvwatts_dc, pdc0 = "
@@ -613,13 +485,13 @@ int cmd_insolation(int argc, char **argv)
                      "temperature by %s from the records' air temperature and wind (%g C, %g m/s "
                      "where they give none); gamma_pdc %g /K; system losses %g %%; AC yield "
                      "after pvlib.inverter.pvwatts (eta_inv_nom %g, DC/AC ratio %g)",
-                     set.temperature_model ? "sapm_cell (open rack glass/glass)"
+                     set.ins.temperature_model ? "sapm_cell (open rack glass/glass)"
                                            : "faiman (u0 25, u1 6.84)",
-                     set.temp_air_c, set.wind_speed_m_s, set.gamma_pdc, set.losses_percent,
-                     set.inverter_efficiency_percent / 100.0, set.dc_ac_ratio);
+                     set.ins.temp_air_c, set.ins.wind_speed_m_s, set.ins.gamma_pdc, set.ins.losses_percent,
+                     set.ins.inverter_efficiency_percent / 100.0, set.ins.dc_ac_ratio);
             ss_writer_metadata(w, "PV", pv);
         }
-        describe_bands(w, have_weather, set.pv, hours);
+        describe_bands(w, have_weather, set.ins.pv, hours);
     }
     if (st == SS_OK && w) {
         st = run_commit(&job.run, w);
@@ -654,7 +526,7 @@ int cmd_insolation(int argc, char **argv)
         if (c.sun_bins)
             printf("sky     cumulative: %llu bins of suns (%d directions x %g deg of elevation x "
                    "month) in place of a sweep per record\n",
-                   (unsigned long long)c.sun_bins, job.opt.directions, set.elevation_step_deg);
+                   (unsigned long long)c.sun_bins, job.opt.directions, set.ins.elevation_step_deg);
         if (share_size() > 1)
             printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
                    "this one's), sums added at rank 0\n",
@@ -665,19 +537,19 @@ int cmd_insolation(int argc, char **argv)
         else
             printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi,
                    job.output);
-        if (set.pv) {
+        if (set.ins.pv) {
             double pv_lo, pv_mean, pv_hi;
             run_tally_result(&out.pv, NAN, &pv_lo, &pv_mean, &pv_hi);
             printf("pv      min %.1f mean %.1f max %.1f kWh/kWp (band %d); %llu records without "
                    "air temperature or wind took %g C, %g m/s\n",
                    pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 1,
-                   (unsigned long long)c.records_without_temperature, set.temp_air_c,
-                   set.wind_speed_m_s);
+                   (unsigned long long)c.records_without_temperature, set.ins.temp_air_c,
+                   set.ins.wind_speed_m_s);
             run_tally_result(&out.pv_ac, NAN, &pv_lo, &pv_mean, &pv_hi);
             printf("pv ac   min %.1f mean %.1f max %.1f kWh/kWp (band %d) after an inverter of "
                    "%g %% at a DC/AC ratio of %g\n",
-                   pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 2, set.inverter_efficiency_percent,
-                   set.dc_ac_ratio);
+                   pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 2, set.ins.inverter_efficiency_percent,
+                   set.ins.dc_ac_ratio);
         }
     }
     if (steps.have_field)

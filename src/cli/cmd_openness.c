@@ -12,27 +12,16 @@
 #include "run.h"
 
 typedef struct {
-    common_settings common; /* first: common_options' offsets are relative to it */
-    int kind;
-    double radius_m;
+    common_settings common;  /* first: common_options()' offsets are relative to it */
+    ss_openness_params open; /* the library's "openness" table */
 } openness_settings;
-
-static const char *const kind_names[] = {"positive", "negative"};
-
-static const opt_spec openness_options[] = {
-    {"kind", OPT_CHOICE, offsetof(openness_settings, kind), NULL, "positive", 0, 0,
-     "positive|negative",
-     "positive: 90 deg minus the mean horizon elevation (valleys low, ridges high); negative: "
-     "the same for the inverted surface (ridges low, valleys high)"},
-    {"radius", OPT_DOUBLE, offsetof(openness_settings, radius_m), "METRES", "0", 0, 1e7, NULL,
-     "look for the horizon only this far (the classical radius-limited openness, slower: "
-     "O(radius) per cell); 0: unlimited, the exact sweep horizon"},
-    OPT_END};
 
 int cmd_openness(int argc, char **argv)
 {
     openness_settings set = {0};
-    const opt_spec *tables[] = {openness_options, common_options, NULL};
+    opt_spec openness_options[8];
+    opt_from_params("openness", offsetof(openness_settings, open), openness_options, 8);
+    const opt_spec *tables[] = {openness_options, common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("openness", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1,
@@ -44,7 +33,7 @@ int cmd_openness(int argc, char **argv)
         return rc;
     sweep_job job;
     band_cost cost = {.cell_bytes = ss_sky_band_cell_bytes(SS_SKY_OPENNESS_POSITIVE),
-                      .halo_m = set.radius_m};
+                      .halo_m = set.open.radius_m};
     if ((rc = job_open_banded(&job, "openness", &set.common, pos, n_pos, cost)))
         return rc;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
@@ -62,17 +51,20 @@ int cmd_openness(int argc, char **argv)
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats bands = {0};
     if (st == SS_OK)
-        st = job_sky_product(&job,
-                             set.kind ? SS_SKY_OPENNESS_NEGATIVE : SS_SKY_OPENNESS_POSITIVE,
-                             set.radius_m, w, &bands, &lo, &mean, &hi);
+        st = job_sky_product(&job, ss_openness_params_term(&set.open), set.open.radius_m, w,
+                             &bands, &lo, &mean, &hi);
+    char kind[32];
+    ss_param_choice("openness", "kind", set.open.kind, kind, sizeof kind);
     if (st == SS_OK && w) {
         char radius[32];
-        snprintf(radius, sizeof radius, "%g", set.radius_m);
+        snprintf(radius, sizeof radius, "%g", set.open.radius_m);
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
         job_plan_metadata(&job, w);
-        ss_writer_metadata(w, "OPENNESS_KIND", kind_names[set.kind]);
-        ss_writer_metadata(w, "OPENNESS_RADIUS_M", set.radius_m > 0 ? radius : "unlimited");
-        ss_writer_describe(w, 1, set.kind ? "negative openness" : "positive openness", "deg");
+        char band[48];
+        snprintf(band, sizeof band, "%s openness", kind);
+        ss_writer_metadata(w, "OPENNESS_KIND", kind);
+        ss_writer_metadata(w, "OPENNESS_RADIUS_M", set.open.radius_m > 0 ? radius : "unlimited");
+        ss_writer_describe(w, 1, band, "deg");
     }
     if (st == SS_OK && w)
         st = run_commit(&job.run, w);
@@ -82,8 +74,8 @@ int cmd_openness(int argc, char **argv)
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);
         command_print_job_sweep(&job, &bands);
-        printf("openness %s, min %.2f mean %.2f max %.2f deg -> %s\n", kind_names[set.kind], lo,
-               mean, hi, job.output);
+        printf("openness %s, min %.2f mean %.2f max %.2f deg -> %s\n", kind, lo, mean, hi,
+               job.output);
     }
     job_close(&job);
     return rc;

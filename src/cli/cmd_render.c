@@ -21,7 +21,7 @@
 #endif
 
 typedef struct {
-    common_settings common; /* first: common_options' offsets are relative to it */
+    common_settings common; /* first: common_options()' offsets are relative to it */
     const char *drape;
     int drape_band;
     int rgb;
@@ -295,8 +295,8 @@ static int render_job(const render_settings *set, const char **pos, int n_pos)
      * where the shadow sweep takes its azimuth), else the cartographer's
      * north-west light. One light serves the scene: without a plan,
      * job_sun computes the centre's sun only. */
-    int sun_given = set->common.time || isfinite(set->common.sun_azimuth_deg) ||
-                    isfinite(set->common.sun_elevation_deg);
+    int sun_given = set->common.sun.time || isfinite(set->common.sun.sun_azimuth_deg) ||
+                    isfinite(set->common.sun.sun_elevation_deg);
     ss_sun_field sun;
     int have_sun = 0;
     if (st == SS_OK && sun_given) {
@@ -325,8 +325,8 @@ static int render_job(const render_settings *set, const char **pos, int n_pos)
             printf("light   the sun at azimuth %.4f deg, apparent elevation %.4f deg (as "
                    "skysweep shadow%s%s)\n",
                    sun.centre_grid_azimuth_deg + job.opt.grid_north_deg,
-                   sun.centre.apparent_elevation_deg, set->common.time ? " at " : "",
-                   set->common.time ? set->common.time : "");
+                   sun.centre.apparent_elevation_deg, set->common.sun.time ? " at " : "",
+                   set->common.sun.time ? set->common.sun.time : "");
         else
             printf("light   azimuth %g deg from the raster's top, elevation %g deg (default; "
                    "give --time or --sun-azimuth/--sun-elevation for the sun)\n",
@@ -368,7 +368,7 @@ int cmd_render(int argc, char **argv)
     set.max = NAN;
     set.z_factor = NAN;
     set.camera_elevation_deg = NAN;
-    const opt_spec *tables[] = {render_options, sun_options, common_options, NULL};
+    const opt_spec *tables[] = {render_options, sun_options(), common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("render", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,

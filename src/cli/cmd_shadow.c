@@ -79,7 +79,7 @@ int cmd_shadow(int argc, char **argv)
 {
     shadow_settings set = {0};
     common_settings_init(&set.common);
-    const opt_spec *tables[] = {sun_options, common_options, NULL};
+    const opt_spec *tables[] = {sun_options(), common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("shadow", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
@@ -100,7 +100,7 @@ int cmd_shadow(int argc, char **argv)
     if ((rc = job_open_banded(&job, "shadow", &set.common, pos, n_pos, cost)))
         return rc;
     double when;
-    int timed = set.common.time && ss_parse_instant(job.run.ctx, set.common.time, &when) == SS_OK;
+    int timed = set.common.sun.time && ss_parse_instant(job.run.ctx, set.common.sun.time, &when) == SS_OK;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SHADOW, timed, timed ? &when : NULL,
                        SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
@@ -129,8 +129,8 @@ int cmd_shadow(int argc, char **argv)
                  sun_az_true, sun.centre.apparent_elevation_deg,
                  ss_sun_field_per_cell(&sun) ? "per cell" : "one sun for the DEM");
         ss_writer_metadata(w, "SUN", buf);
-        if (set.common.time)
-            ss_writer_metadata(w, "TIME", set.common.time);
+        if (set.common.sun.time)
+            ss_writer_metadata(w, "TIME", set.common.sun.time);
         ss_writer_describe(w, 1, "sunlit (1) or in a cast shadow (0)", "1");
         ss_writer_describe(w, 2, "facing the sun (1) or away from it (0)", "1");
         ss_writer_describe(w, 3, "illumination cos(incidence), 0 in shadow", "1");

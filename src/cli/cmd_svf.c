@@ -12,30 +12,16 @@
 #include "run.h"
 
 typedef struct {
-    common_settings common; /* first: common_options' offsets are relative to it */
-    int definition;
-    double radius_m;
+    common_settings common; /* first: common_options()' offsets are relative to it */
+    ss_svf_params svf;      /* the library's "svf" table */
 } svf_settings;
-
-static const char *const definition_names[] = {"geometric", "radiative", "horizontal"};
-/* Choice order above -> library definition. */
-static const ss_svf_definition definition_of_choice[] = {
-    SS_SVF_DEF_GEOMETRIC, SS_SVF_DEF_TILTED, SS_SVF_DEF_HORIZONTAL};
-
-static const opt_spec svf_options[] = {
-    {"definition", OPT_CHOICE, offsetof(svf_settings, definition), NULL, "geometric", 0, 0,
-     "geometric|radiative|horizontal",
-     "geometric: 1 - mean sin h (Zaksek/RVT); radiative: cosine-weighted sky seen by the "
-     "sloping cell (Dozier & Frew); horizontal: cosine-weighted, horizontal surface"},
-    {"radius", OPT_DOUBLE, offsetof(svf_settings, radius_m), "METRES", "0", 0, 1e7, NULL,
-     "look for the horizon only this far, as RVT and SAGA do (geometric or horizontal; slower: "
-     "O(radius) per cell); 0: unlimited, the exact sweep horizon"},
-    OPT_END};
 
 int cmd_svf(int argc, char **argv)
 {
     svf_settings set = {0};
-    const opt_spec *tables[] = {svf_options, common_options, NULL};
+    opt_spec svf_options[8];
+    opt_from_params("svf", offsetof(svf_settings, svf), svf_options, 8);
+    const opt_spec *tables[] = {svf_options, common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("svf", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
@@ -46,11 +32,11 @@ int cmd_svf(int argc, char **argv)
     if (rc >= 0)
         return rc;
     sweep_job job;
-    ss_sky_term term = (ss_sky_term)definition_of_choice[set.definition];
-    band_cost cost = {.cell_bytes = ss_sky_band_cell_bytes(term), .halo_m = set.radius_m};
+    ss_sky_term term = ss_svf_params_term(&set.svf);
+    band_cost cost = {.cell_bytes = ss_sky_band_cell_bytes(term), .halo_m = set.svf.radius_m};
     if ((rc = job_open_banded(&job, "svf", &set.common, pos, n_pos, cost)))
         return rc;
-    job.svf_definition = definition_of_choice[set.definition];
+    job.svf_definition = (ss_svf_definition)term;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SVF, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
@@ -66,15 +52,16 @@ int cmd_svf(int argc, char **argv)
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats bands = {0};
     if (st == SS_OK)
-        st = job_sky_product(&job, (ss_sky_term)definition_of_choice[set.definition],
-                             set.radius_m, w, &bands, &lo, &mean, &hi);
+        st = job_sky_product(&job, term, set.svf.radius_m, w, &bands, &lo, &mean, &hi);
+    char definition[32];
+    ss_param_choice("svf", "definition", set.svf.definition, definition, sizeof definition);
     if (st == SS_OK && w) {
         char radius[32];
-        snprintf(radius, sizeof radius, "%g", set.radius_m);
+        snprintf(radius, sizeof radius, "%g", set.svf.radius_m);
         run_common_metadata(&job.run, w, &job.opt, &job.frame);
         job_plan_metadata(&job, w);
-        ss_writer_metadata(w, "SVF_DEFINITION", definition_names[set.definition]);
-        ss_writer_metadata(w, "SVF_RADIUS_M", set.radius_m > 0 ? radius : "unlimited");
+        ss_writer_metadata(w, "SVF_DEFINITION", definition);
+        ss_writer_metadata(w, "SVF_RADIUS_M", set.svf.radius_m > 0 ? radius : "unlimited");
         ss_writer_describe(w, 1, "sky-view factor", "1");
     }
     if (st == SS_OK && w)
@@ -85,8 +72,8 @@ int cmd_svf(int argc, char **argv)
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);
         command_print_job_sweep(&job, &bands);
-        printf("svf     %s, min %.4f mean %.4f max %.4f -> %s\n",
-               definition_names[set.definition], lo, mean, hi, job.output);
+        printf("svf     %s, min %.4f mean %.4f max %.4f -> %s\n", definition, lo, mean, hi,
+               job.output);
     }
     job_close(&job);
     return rc;

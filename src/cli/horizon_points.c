@@ -463,7 +463,7 @@ static ss_status place_sites(run_state *run, const common_settings *common,
             st = ss_point_ground_height(run->ctx, pg, p->col, p->row, &s->ground_m);
         p->observer_height_m = s->height_m;
         p->grid_north_deg = 0.0;
-        if (st == SS_OK && common->north != NORTH_GRID)
+        if (st == SS_OK && common->sweep.north != SS_NORTH_GRID)
             st = ss_geo_grid_north(frame->geo, p->col, p->row, &p->grid_north_deg);
         if (st != SS_OK)
             return n > 1 ? ss_ctx_error(run->ctx, st, "id '%s': %s", s->id, ss_ctx_message(run->ctx)) : st;
@@ -562,7 +562,7 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
     w->n_sites = j->n_sites;
     w->ctx = j->run.ctx;
     w->quiet = common->quiet;
-    w->true_north = common->north != NORTH_GRID;
+    w->true_north = common->sweep.north != SS_NORTH_GRID;
     w->cast_row = w->cast_col + directions;
     w->cast_lon = w->cast_row + directions;
     w->cast_lat = w->cast_lon + directions;

@@ -26,16 +26,16 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     }
     ss_plan_request req = {.weather = job->weather};
     req.product = product;
-    req.horizon_tolerance_deg = common->horizon_tolerance_deg;
-    req.svf_tolerance = common->svf_tolerance;
-    req.sun_tolerance_deg = common->sun_tolerance_deg;
-    req.curvature = switch_of(common->curvature);
-    req.true_north = common->north == NORTH_AUTO   ? SS_AUTO
-                     : common->north == NORTH_TRUE ? SS_ON
+    req.horizon_tolerance_deg = common->sweep.horizon_tolerance_deg;
+    req.svf_tolerance = common->sweep.svf_tolerance;
+    req.sun_tolerance_deg = common->sweep.sun_tolerance_deg;
+    req.curvature = switch_of(common->sweep.curvature);
+    req.true_north = common->sweep.north == SS_NORTH_AUTO   ? SS_AUTO
+                     : common->sweep.north == SS_NORTH_TRUE ? SS_ON
                                                    : SS_OFF;
-    req.sun_per_cell = switch_of(common->sun_per_cell);
-    req.refraction_k = common->refraction_k;
-    req.directions = common->directions;
+    req.sun_per_cell = switch_of(common->sun.sun_per_cell);
+    req.refraction_k = common->sweep.refraction_k;
+    req.directions = common->sweep.directions;
     req.svf_definition = job->svf_definition;
     req.lines = job->opt.lines;
     req.shadow_mode = shadow_mode;
@@ -48,7 +48,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
         return job_finish(job, st);
     /* Obey the plan: what it leaves off is not computed. */
     const ss_plan *p = &job->plan;
-    ss_plan_sweep_options(p, &place, common->refraction_k, &job->opt);
+    ss_plan_sweep_options(p, &place, common->sweep.refraction_k, &job->opt);
     size_t len = ss_plan_format(p, common->plan_json, NULL, 0) + 1;
     char *text = malloc(len);
     if (!text)

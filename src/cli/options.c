@@ -9,6 +9,24 @@
 #include <string.h>
 
 #include "options.h"
+#include "skysweep_params.h"
+
+int opt_from_params(const char *table, size_t base, opt_spec *out, int max)
+{
+    static const opt_type types[] = {[SS_PARAM_INT] = OPT_INT,
+                                     [SS_PARAM_DOUBLE] = OPT_DOUBLE,
+                                     [SS_PARAM_TEXT] = OPT_STRING,
+                                     [SS_PARAM_CHOICE] = OPT_CHOICE,
+                                     [SS_PARAM_FLAG] = OPT_FLAG};
+    const ss_param_table *t = ss_param_table_named(table);
+    int n = 0;
+    for (const ss_param *p = t ? t->params : NULL; p && p->name && n + 1 < max; ++p, ++n)
+        out[n] = (opt_spec){p->name,         types[p->type], base + p->offset, p->metavar,
+                            p->default_text, p->min,         p->max,           p->choices,
+                            p->help};
+    out[n] = (opt_spec)OPT_END;
+    return n;
+}
 
 static int n_specs(const opt_spec *const *tables)
 {

@@ -35,6 +35,12 @@ typedef struct {
 
 #define OPT_END {NULL, OPT_FLAG, 0, NULL, NULL, 0, 0, NULL, NULL}
 
+/* Options from the library's parameter table `table` (skysweep_params.h),
+ * whose parameter struct lies at `base` in the command's settings: written
+ * into out (at most max entries, an OPT_END included); returns how many
+ * options, the OPT_END not counted. */
+int opt_from_params(const char *table, size_t base, opt_spec *out, int max);
+
 /* Sets defaults, then parses argv (after the command word). Positional
  * arguments are returned in order. On error writes one line into err and
  * returns -1; returns 1 if --help was asked for, else 0. */

@@ -17,16 +17,9 @@
 #include "scene.h"
 
 #define COMMON(field) offsetof(common_settings, field)
-const opt_spec common_options[] = {
-    {"directions", OPT_INT, COMMON(directions), "N", NULL, 1, 1000000, NULL,
-     "number of azimuth directions, evenly spaced (default: chosen by the planner from "
-     "--svf-tolerance)"},
-    {"offset", OPT_DOUBLE, COMMON(offset_deg), "DEG", "0", -360, 360, NULL,
-     "azimuth of the first direction, degrees clockwise from north"},
-    {"north", OPT_CHOICE, COMMON(north), NULL, "auto", 0, 0, "auto|true|grid",
-     "azimuths from true north (meridian convergence at the DEM's centre taken out) or from "
-     "the grid's north; auto: true north where they differ by more than "
-     "--horizon-tolerance"},
+/* The command line's own options; the model's come from the library's
+ * "sweep" table. */
+static const opt_spec cli_options[] = {
     {"device", OPT_STRING, COMMON(device), "NAME", NULL, 0, 0, NULL,
      "'auto' (the plan picks the fastest for the job from a cost model, doc/devices.md), "
      "'reference' (the C twin), an OpenCL device ('P:D' or part of its name), or 'list'; "
@@ -46,19 +39,6 @@ const opt_spec common_options[] = {
     {"z-units", OPT_CHOICE, COMMON(z_units), NULL, "auto", 0, 0, "auto|m|ft|us-ft",
      "unit of the stored heights (ft: international foot, us-ft: US survey foot); auto: the "
      "band's unit type, else the CRS's vertical axis, else metres"},
-    {"curvature", OPT_CHOICE, COMMON(curvature), NULL, "auto", 0, 0, "auto|on|off",
-     "earth curvature with terrestrial refraction; auto: on where it moves horizons by more "
-     "than the tolerance"},
-    {"refraction", OPT_DOUBLE, COMMON(refraction_k), "K", "0.13", 0, 0.99, NULL,
-     "terrestrial refraction coefficient k (R_eff = R / (1 - k))"},
-    {"earth-radius", OPT_DOUBLE, COMMON(earth_radius_m), "METRES", NULL, 1e3, 1e9, NULL,
-     "earth radius for curvature (default: the ellipsoid's mean radius at the DEM's centre)"},
-    {"horizon-tolerance", OPT_DOUBLE, COMMON(horizon_tolerance_deg), "DEG", "0.05", 1e-9, 90,
-     NULL, "horizon (and shadow, azimuth) error the run may allow; the planner follows it"},
-    {"svf-tolerance", OPT_DOUBLE, COMMON(svf_tolerance), "SVF", "0.01", 1e-9, 1, NULL,
-     "sky-view factor error the run may allow"},
-    {"sun-tolerance", OPT_DOUBLE, COMMON(sun_tolerance_deg), "DEG", "0.001", 1e-9, 90, NULL,
-     "error in the sun's direction per cell the run may allow"},
     {"scene", OPT_STRING, COMMON(scene), "FILE", NULL, 0, 0, NULL,
      "read the job from a scene file (doc/scenes.md); options given here override it"},
     {"projwin", OPT_STRING, COMMON(projwin), "ULX ULY LRX LRY", NULL, 0, 0, NULL,
@@ -71,42 +51,29 @@ const opt_spec common_options[] = {
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
     {"plan-format", OPT_CHOICE, COMMON(plan_json), NULL, "text", 0, 0, "text|json",
      "format of the plan"},
-    {"lines", OPT_CHOICE, COMMON(lines), NULL, "interpolated", 0, 0, "interpolated|digital",
-     "interpolated: samples on exact lines, heights interpolated across them; digital: lines "
-     "through cell centres (doc/model.md)"},
     OPT_END};
 
-const opt_spec sun_options[] = {
-    {"time", OPT_STRING, COMMON(time), "ISO8601", NULL, 0, 0, NULL,
-     "when: an instant with a zone, e.g. 2026-06-21T10:00Z (the sun from SPA at the DEM)"},
-    {"sun-azimuth", OPT_DOUBLE, COMMON(sun_azimuth_deg), "DEG", NULL, -360, 360, NULL,
-     "or the sun given directly: azimuth clockwise from north ..."},
-    {"sun-elevation", OPT_DOUBLE, COMMON(sun_elevation_deg), "DEG", NULL, -90, 90, NULL,
-     "... and apparent elevation above the horizontal"},
-    {"sun-per-cell", OPT_CHOICE, COMMON(sun_per_cell), NULL, "auto", 0, 0, "auto|on|off",
-     "the sun's position per cell (rotated into each cell's frame) or one for the DEM; auto: "
-     "per cell when they differ by more than --sun-tolerance"},
-    {"delta-t", OPT_DOUBLE, COMMON(delta_t_s), "SECONDS", NULL, -8000, 8000, NULL,
-     "TT - UT1 (default: the Espenak-Meeus model)"},
-    {"pressure", OPT_DOUBLE, COMMON(pressure_hpa), "HPA", "1013.25", 0, 5000, NULL,
-     "air pressure for refraction"},
-    {"temperature", OPT_DOUBLE, COMMON(temperature_c), "C", "12", -273, 100, NULL,
-     "air temperature for refraction"},
-    OPT_END};
+const opt_spec *common_options(void)
+{
+    static opt_spec table[48];
+    if (!table[0].name) {
+        int n = opt_from_params("sweep", COMMON(sweep), table, 32);
+        memcpy(table + n, cli_options, sizeof cli_options);
+    }
+    return table;
+}
+
+const opt_spec *sun_options(void)
+{
+    static opt_spec table[16];
+    if (!table[0].name)
+        opt_from_params("sun", COMMON(sun), table, 16);
+    return table;
+}
 
 void common_settings_init(common_settings *common)
 {
-    common->sun_azimuth_deg = NAN;
-    common->sun_elevation_deg = NAN;
-    common->delta_t_s = NAN;
-}
-
-void run_spa_params(const common_settings *common, ss_spa_params *p)
-{
-    ss_spa_params_default(p);
-    p->delta_t_s = common->delta_t_s;
-    p->pressure_hpa = common->pressure_hpa;
-    p->temperature_c = common->temperature_c;
+    ss_sun_params_init(&common->sun);
 }
 
 static volatile sig_atomic_t interrupted_by = 0;
@@ -262,10 +229,10 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     int rows = st != SS_OK ? -2
                : may_band  ? ss_band_rows_within(dem->grid.width, dem->grid.height,
                                                  cost->directions ? cost->directions
-                                                                  : common->directions,
+                                                                  : common->sweep.directions,
                                                  budget, cost->cell_bytes, cost->column_bytes)
                            : ss_band_rows_for(dem->grid.width, dem->grid.height,
-                                              common->directions, budget);
+                                              common->sweep.directions, budget);
     /* A radius walk holds the rows within its radius beside each band (a
      * geographic grid's rows, whose sizes come with its frame, counted at
      * their smallest: a degree of latitude is 110.574 km or more). */
@@ -292,7 +259,7 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         if (may_band) {
             double least = ss_band_min_budget(
                 dem->grid.width, dem->grid.height,
-                cost->directions ? cost->directions : common->directions, cost->cell_bytes,
+                cost->directions ? cost->directions : common->sweep.directions, cost->cell_bytes,
                 cost->column_bytes);
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "the memory budget (%s) is too small for this DEM and command: "
@@ -353,7 +320,7 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
 
 double run_earth_radius(const common_settings *common, const ss_dem_frame *frame)
 {
-    return common->earth_radius_m > 0 ? common->earth_radius_m : frame->earth_radius_m;
+    return common->sweep.earth_radius_m > 0 ? common->sweep.earth_radius_m : frame->earth_radius_m;
 }
 
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
@@ -361,12 +328,12 @@ void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
 {
     ss_sweep_options_default(opt);
     /* Provisional: job_plan sets directions, curvature and north from the plan. */
-    opt->directions = common->directions ? common->directions : 32;
-    opt->offset_deg = common->offset_deg;
-    opt->earth_radius_m = common->curvature == 1 ? run_earth_radius(common, frame) : 0.0;
-    opt->refraction_k = common->curvature == 1 ? common->refraction_k : 0.0;
-    opt->lines = common->lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
-    opt->grid_north_deg = common->north != 2 ? frame->grid_north_deg : 0.0;
+    opt->directions = common->sweep.directions ? common->sweep.directions : 32;
+    opt->offset_deg = common->sweep.offset_deg;
+    opt->earth_radius_m = common->sweep.curvature == 1 ? run_earth_radius(common, frame) : 0.0;
+    opt->refraction_k = common->sweep.curvature == 1 ? common->sweep.refraction_k : 0.0;
+    opt->lines = common->sweep.lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
+    opt->grid_north_deg = common->sweep.north != 2 ? frame->grid_north_deg : 0.0;
 }
 
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,

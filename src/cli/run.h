@@ -10,10 +10,13 @@
 #include "sun_field.h"
 #include "options.h"
 #include "skysweep.h"
+#include "skysweep_params.h"
 
 typedef struct {
-    int directions;
-    double offset_deg;
+    /* The library's parameters every sweeping command takes
+     * (skysweep_params.h: the "sweep" and "sun" tables). */
+    ss_sweep_params sweep;
+    ss_sun_params sun; /* commands that take sun_options */
     const char *device;
     int quiet;
     const char *format;
@@ -22,20 +25,8 @@ typedef struct {
     int heightmap; /* read the input through OpenImageIO (heightmap_input.h) */
     double z_scale; /* --heightmap: metres per pixel value */
     int z_units;    /* index into "auto|m|ft|us-ft": the stored heights' unit */
-    int curvature; /* index into "auto|on|off" */
-    double refraction_k;
-    double earth_radius_m; /* 0: the DEM's local radius */
-    int lines;             /* index into "interpolated|digital" */
-    int north;             /* NORTH_AUTO, NORTH_TRUE or NORTH_GRID ("auto|true|grid") */
-    double horizon_tolerance_deg, svf_tolerance, sun_tolerance_deg;
     int plan_only, plan_json;
     const char *scene;
-    /* The sun (commands that take sun_options): */
-    const char *time;      /* ISO 8601 instant or range */
-    double sun_azimuth_deg, sun_elevation_deg; /* given instead of a time; NAN if not */
-    double delta_t_s;                          /* NAN: the model */
-    double pressure_hpa, temperature_c;
-    int sun_per_cell;      /* index into "auto|on|off" */
     const char *memory;    /* --memory SIZE: bound on the working set; NULL: half the RAM */
     const char *projwin;   /* "ULX,ULY,LRX,LRY": the outputs' window; NULL: the whole DEM */
 } common_settings;
@@ -43,15 +34,13 @@ typedef struct {
 /* Marks the optional numbers as not given (NAN); call before parsing. */
 void common_settings_init(common_settings *common);
 
-/* The options every sweeping command takes; offsets are relative to a
- * common_settings placed at the start of the command's settings struct. */
-extern const opt_spec common_options[];
-/* The sun's position and the air that refracts it, for shadow, hillshade
- * and insolation. */
-extern const opt_spec sun_options[];
-
-/* SPA parameters from the sun options. */
-void run_spa_params(const common_settings *common, ss_spa_params *p);
+/* The options every sweeping command takes: the library's "sweep" table
+ * and the command line's own. Offsets are relative to a common_settings
+ * placed at the start of the command's settings struct. */
+const opt_spec *common_options(void);
+/* The sun's position and the air that refracts it (the library's "sun"
+ * table), for shadow, hillshade, insolation and render. */
+const opt_spec *sun_options(void);
 
 typedef struct {
     const char *command;
@@ -75,9 +64,6 @@ int run_begin(run_state *run, const char *command, const common_settings *common
 int run_fail(run_state *run, ss_status status);
 int run_usage_error(const char *command, const char *message);
 void run_end(run_state *run);
-
-/* --north's choices, in the order of its table. */
-enum { NORTH_AUTO = 0, NORTH_TRUE = 1, NORTH_GRID = 2 };
 
 /* Reads the DEM and opens its frame (ground cell sizes, true north). */
 ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,

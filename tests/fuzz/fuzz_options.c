@@ -2,8 +2,8 @@
  * The input is an argument vector: arguments separated by NUL bytes (at
  * most 24 of at most 200 bytes). Two consumers:
  *   1. opt_parse (src/cli/options.c) with the shared tables of run.c
- *      (common_options: directions, offset, north, device, -q, -of, -co,
- *      cell-size, curvature, refraction, earth-radius, lines; sun_options:
+ *      (common_options(): directions, offset, north, device, -q, -of, -co,
+ *      cell-size, curvature, refraction, earth-radius, lines; sun_options():
  *      time, sun azimuth and elevation, delta-t, pressure, ...) and a table
  *      with one option of every type. Checked: a refusal is -1 with a
  *      one-line message; an accepted vector gives values inside the
@@ -100,17 +100,17 @@ static void check_parsed(const fuzz_settings *s)
                "-co count %d", c->creation_options.count);
     FUZZ_CHECK(c->cell_size_m == 0 || (c->cell_size_m >= 1e-6 && c->cell_size_m <= 1e7),
                "cell size %g", c->cell_size_m);
-    FUZZ_CHECK(isnan(c->sun_elevation_deg) ||
-                   (c->sun_elevation_deg >= -90 && c->sun_elevation_deg <= 90),
-               "sun elevation %g", c->sun_elevation_deg);
+    FUZZ_CHECK(isnan(c->sun.sun_elevation_deg) ||
+                   (c->sun.sun_elevation_deg >= -90 && c->sun.sun_elevation_deg <= 90),
+               "sun elevation %g", c->sun.sun_elevation_deg);
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
-    opt.directions = c->directions ? c->directions : 32; /* 0: the planner chooses */
-    opt.offset_deg = c->offset_deg;
-    opt.lines = c->lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
-    opt.refraction_k = c->refraction_k;
-    if (c->earth_radius_m > 0)
-        opt.earth_radius_m = c->earth_radius_m;
+    opt.directions = c->sweep.directions ? c->sweep.directions : 32; /* 0: the planner chooses */
+    opt.offset_deg = c->sweep.offset_deg;
+    opt.lines = c->sweep.lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
+    opt.refraction_k = c->sweep.refraction_k;
+    if (c->sweep.earth_radius_m > 0)
+        opt.earth_radius_m = c->sweep.earth_radius_m;
     ss_ctx *ctx = ss_ctx_new();
     ss_status st = ss_sweep_options_check(ctx, &opt);
     FUZZ_CHECK(st == SS_OK, "options accepted by the table, refused by the library: %s",
@@ -142,7 +142,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(&set, 0, sizeof set);
     common_settings_init(&set.common);
     set.ratio = NAN;
-    const opt_spec *tables[] = {fuzz_options, common_options, sun_options, NULL};
+    const opt_spec *tables[] = {fuzz_options, common_options(), sun_options(), NULL};
     const char *pos[4];
     int n_pos = -1;
     char err[512];

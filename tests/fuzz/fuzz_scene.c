@@ -41,7 +41,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fwrite(data, 1, size, f);
     fclose(f);
 
-    const opt_spec *tables[] = {common_options, sun_options, NULL};
+    const opt_spec *tables[] = {common_options(), sun_options(), NULL};
     char *argv[] = {"svf", "--scene", path, NULL};
     int out_argc = 0;
     char **out_argv = NULL, err[512] = "";

@@ -1,0 +1,131 @@
+/* The parameter table (skysweep_params.h): every parameter well formed (a
+ * name, a type, choices for a choice, a default that its own checks
+ * accept), offsets inside their structs, and the calls that turn the
+ * parameters into the products' options. */
+#include "config.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "skysweep_params.h"
+#include "tap.h"
+
+static const struct {
+    const char *name;
+    size_t size;
+} tables[] = {{"sweep", sizeof(ss_sweep_params)},         {"sun", sizeof(ss_sun_params)},
+              {"svf", sizeof(ss_svf_params)},             {"openness", sizeof(ss_openness_params)},
+              {"hillshade", sizeof(ss_hillshade_params)}, {"insolation", sizeof(ss_insolation_params)}};
+
+/* Whether word is one of the '|'-separated choices. */
+static int among(const char *choices, const char *word)
+{
+    size_t n = strlen(word);
+    for (const char *p = choices; p; p = strchr(p, '|') ? strchr(p, '|') + 1 : NULL)
+        if (strncmp(p, word, n) == 0 && (p[n] == '|' || p[n] == '\0'))
+            return 1;
+    return 0;
+}
+
+static void well_formed(void)
+{
+    for (size_t t = 0; t < sizeof tables / sizeof tables[0]; ++t) {
+        const ss_param_table *table = ss_param_table_named(tables[t].name);
+        int n = 0, bad = 0;
+        char why[200] = "";
+        for (const ss_param *p = table ? table->params : NULL; p && p->name; ++p, ++n) {
+            size_t width = p->type == SS_PARAM_DOUBLE ? sizeof(double)
+                           : p->type == SS_PARAM_TEXT ? sizeof(char *)
+                                                      : sizeof(int);
+            const char *fault =
+                !p->name[0] || !p->help || !p->help[0]           ? "no name or help"
+                : (unsigned)p->type > SS_PARAM_FLAG              ? "no type"
+                : p->offset + width > tables[t].size             ? "an offset outside its struct"
+                : p->type == SS_PARAM_CHOICE && !p->choices      ? "a choice without choices"
+                : p->type == SS_PARAM_CHOICE && (!p->default_text || !among(p->choices, p->default_text))
+                    ? "a default that is not a choice"
+                : (p->type == SS_PARAM_DOUBLE || p->type == SS_PARAM_INT) && p->default_text &&
+                        !(atof(p->default_text) >= p->min && atof(p->default_text) <= p->max)
+                    ? "a default outside its range"
+                : (p->type == SS_PARAM_DOUBLE || p->type == SS_PARAM_INT) && !(p->min <= p->max)
+                    ? "an empty range"
+                    : NULL;
+            if (fault && !bad++)
+                snprintf(why, sizeof why, ": '%s' has %s", p->name, fault);
+        }
+        tap_ok(table && n > 0 && !bad, "table '%s': %d parameters well formed%s", tables[t].name, n,
+               why);
+    }
+    tap_ok(!ss_param_table_named("nonsense") && !ss_param_table_named(NULL),
+           "an unknown table is NULL");
+}
+
+static void choices(void)
+{
+    char word[32];
+    tap_ok(!strcmp(ss_param_choice("svf", "definition", 1, word, sizeof word), "radiative") &&
+               !strcmp(ss_param_choice("insolation", "shadow", 3, word, sizeof word),
+                       "cumulative") &&
+               !strcmp(ss_param_choice("svf", "definition", 7, word, sizeof word), "") &&
+               !strcmp(ss_param_choice("svf", "nonsense", 0, word, sizeof word), ""),
+           "choice words by index, '' beyond them");
+    ss_svf_params svf = {1, 0};
+    ss_openness_params open = {1, 0};
+    tap_ok(ss_svf_params_term(&svf) == SS_SKY_SVF_TILTED &&
+               ss_openness_params_term(&open) == SS_SKY_OPENNESS_NEGATIVE,
+           "svf's radiative is the tilted term, openness' negative its inverted term");
+    ss_hillshade_params hs = {.azimuth_deg = 300, .alg = 1, .blend = 1, .blend_radius_cells = 10};
+    ss_hillshade_options ho;
+    ss_hillshade_params_options(&hs, 2.5, &ho);
+    tap_ok(ho.zevenbergen_thorne && ho.vat && fabs(ho.radius_m - 25.0) < 1e-12 &&
+               ho.azimuth_deg == 300,
+           "hillshade: Zevenbergen-Thorne, VAT, a blend radius of 10 cells of 2.5 m is %g m",
+           ho.radius_m);
+}
+
+static void insolation(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_insolation_params p = {.linke = "2,2.5,3,3.5,4,4.5,5,4.5,4,3.5,3,2.5",
+                              .albedo = 0.3,
+                              .shadow = 2,
+                              .sky_model = 1,
+                              .surface = "35,170",
+                              .pv = 1,
+                              .losses_percent = 14,
+                              .inverter_efficiency_percent = 96,
+                              .dc_ac_ratio = 1.2};
+    ss_insolation_options io;
+    double linke[12];
+    ss_status st = ss_insolation_params_options(ctx, &p, ss_insolation_params_shadow(&p), &io);
+    tap_ok(st == SS_OK && io.shadow_mode == SS_SHADOW_INTERPOLATED &&
+               io.sky_model == SS_SKY_MODEL_HAYDAVIES && io.surface.kind == SS_SURFACE_FIXED &&
+               io.surface.tilt_deg == 35 && io.surface.azimuth_deg == 170 &&
+               fabs(io.pv.losses - 0.14) < 1e-12 && fabs(io.pv.inverter_efficiency - 0.96) < 1e-12,
+           "insolation's options: interpolated, Hay-Davies, a module 35 deg facing 170, losses "
+           "and efficiency as fractions");
+    st = ss_insolation_params_linke(ctx, &p, linke);
+    tap_ok(st == SS_OK && linke[0] == 2 && linke[6] == 5 && linke[11] == 2.5,
+           "twelve Linke turbidities, one per month");
+    const char *surfaces[] = {"95,10", "30", "abc", "30,400"};
+    int refused = 0;
+    for (int i = 0; i < 4; ++i) {
+        p.surface = surfaces[i];
+        refused += ss_insolation_params_options(ctx, &p, SS_SHADOW_EXACT, &io) == SS_ERR_ARGUMENT;
+    }
+    p.linke = "3,4";
+    st = ss_insolation_params_linke(ctx, &p, linke);
+    tap_ok(refused == 4 && st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "twelve"),
+           "bad surfaces (4 of 4) and two turbidities are refused: %s", ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+}
+
+int main(void)
+{
+    well_formed();
+    choices();
+    insolation();
+    return tap_done();
+}
