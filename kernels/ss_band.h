@@ -114,14 +114,37 @@ SS_FN int ss_band_first_step_past(const ss_line_set *ls, const ss_walker *w, int
     return lo;
 }
 
+/* A band walk's hulls: what the band before handed on, and where each
+ * line's state at the band's edge goes. */
+typedef struct {
+    SS_GLOBAL const ss_hull_point *in;
+    SS_GLOBAL const int *in_off, *in_cnt;
+    SS_GLOBAL int *state, *counters;
+} ss_band_hulls;
+
+/* A line with no steps in the band keeps its hull (one that has begun
+ * always has steps in the next band; this keeps any other case exact). */
+SS_FN void ss_band_line_untouched(const ss_band_dir *d, const ss_band_run *run, int line,
+                                  SS_GLOBAL const int *in_cnt, SS_GLOBAL int *state,
+                                  SS_GLOBAL int *counters)
+{
+    if (run->whole)
+        return;
+    int k = d->line_base + line;
+    SS_GLOBAL int *st = state + SS_BAND_STATE * k;
+    st[0] = st[1] = in_cnt[k];
+    st[2] = 0;
+    if (st[0] > 0)
+        SS_ATOMIC_ADD(&counters[SS_BAND_PENDING], st[0]);
+}
+
 /* Begins line `line` of direction d in the band: [*s_lo, *s_hi) are the
  * steps whose owner rows lie in the band, and the walk resumes with the
  * hull handed on from the band before. Returns 0 when the band holds
- * none of the line's steps; *count gets the line's step count. */
+ * none of the line's steps (its hull is then kept as it is); *count gets
+ * the line's step count. */
 SS_FN int ss_band_line_begin(ss_walker *w, const ss_band_dir *d, const ss_band_run *run,
-                             int line, SS_GLOBAL const ss_hull_point *hull_in,
-                             SS_GLOBAL const int *in_off, SS_GLOBAL const int *in_cnt, int *s_lo,
-                             int *s_hi, int *count)
+                             int line, ss_band_hulls hulls, int *s_lo, int *s_hi, int *count)
 {
     *count = ss_walker_begin(w, &d->ls, line);
     if (run->whole) {
@@ -135,10 +158,12 @@ SS_FN int ss_band_line_begin(ss_walker *w, const ss_band_dir *d, const ss_band_r
                                     run->height);
     *s_hi = ss_band_first_step_past(&d->ls, w, *count, pass > 0 ? run->row1 : run->row0 - 1, pass,
                                     run->height);
-    if (*s_lo >= *s_hi)
+    if (*s_lo >= *s_hi) {
+        ss_band_line_untouched(d, run, line, hulls.in_cnt, hulls.state, hulls.counters);
         return 0;
+    }
     int k = d->line_base + line;
-    ss_walker_take_hull(w, *s_lo, hull_in + in_off[k], in_cnt[k]);
+    ss_walker_take_hull(w, *s_lo, hulls.in + hulls.in_off[k], hulls.in_cnt[k]);
     return 1;
 }
 
@@ -155,22 +180,6 @@ SS_FN void ss_band_line_end(const ss_walker *w, const ss_band_dir *d, const ss_b
     st[0] = s_hi >= count ? 0 : w->depth;
     st[1] = w->slot_base;
     st[2] = w->sample_base;
-    if (st[0] > 0)
-        SS_ATOMIC_ADD(&counters[SS_BAND_PENDING], st[0]);
-}
-
-/* A line with no steps in the band keeps its hull (one that has begun
- * always has steps in the next band; this keeps any other case exact). */
-SS_FN void ss_band_line_untouched(const ss_band_dir *d, const ss_band_run *run, int line,
-                                  SS_GLOBAL const int *in_cnt, SS_GLOBAL int *state,
-                                  SS_GLOBAL int *counters)
-{
-    if (run->whole)
-        return;
-    int k = d->line_base + line;
-    SS_GLOBAL int *st = state + SS_BAND_STATE * k;
-    st[0] = st[1] = in_cnt[k];
-    st[2] = 0;
     if (st[0] > 0)
         SS_ATOMIC_ADD(&counters[SS_BAND_PENDING], st[0]);
 }

@@ -194,14 +194,6 @@ SS_FN void ss_bare_steps(const ss_walker *w, const ss_line_set *ls, int s_lo, in
 
 /* ---- one work-item: a line of a direction in a band --------------------- */
 
-/* A band walk's hulls (ss_band.h): what the band before handed on, and
- * where each line's state at the band's edge goes. */
-typedef struct {
-    SS_GLOBAL const ss_hull_point *in;
-    SS_GLOBAL const int *in_off, *in_cnt;
-    SS_GLOBAL int *state, *counters;
-} ss_band_hulls;
-
 /* A summed term (SS_SVF_* or SS_TERM_ELEVATION) of a line's band steps
  * into acc, walked by a copy of the walk compiled for the line's flags
  * (SS_WALK_DIGITAL, SS_WALK_CURVED), so that each does only what it needs. */
@@ -211,11 +203,8 @@ SS_FN void ss_band_sum_line(const ss_band_dir *d, const ss_band_run *run, int li
 {
     ss_walker w;
     int s_lo, s_hi, count;
-    if (!ss_band_line_begin(&w, d, run, line, hulls.in, hulls.in_off, hulls.in_cnt, &s_lo, &s_hi,
-                            &count)) {
-        ss_band_line_untouched(d, run, line, hulls.in_cnt, hulls.state, hulls.counters);
+    if (!ss_band_line_begin(&w, d, run, line, hulls, &s_lo, &s_hi, &count))
         return;
-    }
     const ss_line_set *ls = &d->ls;
     float k = run->curv_k, sa = d->sin_az, ca = d->cos_az;
     switch (ss_walk_flags(ls, k)) {
@@ -253,11 +242,8 @@ SS_FN void ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, in
 {
     ss_walker w;
     int s_lo, s_hi, count;
-    if (!ss_band_line_begin(&w, d, run, line, hulls.in, hulls.in_off, hulls.in_cnt, &s_lo, &s_hi,
-                            &count)) {
-        ss_band_line_untouched(d, run, line, hulls.in_cnt, hulls.state, hulls.counters);
+    if (!ss_band_line_begin(&w, d, run, line, hulls, &s_lo, &s_hi, &count))
         return;
-    }
     /* Planes not asked for are never written: the angle plane stands in. */
     SS_GLOBAL float *angle = ss_band_plane(outs, run, d->slot, 0);
     SS_GLOBAL float *weight = ss_band_plane(outs, run, d->slot, 1);

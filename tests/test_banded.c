@@ -74,27 +74,11 @@ static ss_status whole(const ss_grid *g, const ss_sweep_options *opt, int kind, 
     return st;
 }
 
-/* A source reading g band by band. */
-static ss_source source_of(const ss_grid *g, band_io_state *s, int band_rows,
-                           ss_band_stats *stats)
-{
-    ss_source src = {.width = g->width,
-                     .height = g->height,
-                     .cell_x_m = g->cell_x_m,
-                     .cell_y_m = g->cell_y_m,
-                     .z_origin_m = &g->z_origin_m,
-                     .read = read_rows,
-                     .read_user = s,
-                     .band_rows = band_rows,
-                     .stats = stats};
-    return src;
-}
-
 static ss_status banded(const ss_grid *g, const ss_sweep_options *opt, int kind, int band_rows,
                         float *out, int *writes, ss_band_stats *stats)
 {
     band_io_state s = {g, out, writes, -1};
-    ss_source src = source_of(g, &s, band_rows, stats);
+    ss_source src = test_source(g, read_rows, &s, band_rows, stats);
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
     ss_status st = ss_sky_rows(ctx, &src, opt, (ss_sky_term)kind, 0.0, NULL, write_rows, &s);
@@ -204,7 +188,7 @@ static void handoffs_and_failures(void)
            stats.handoffs, stats.handoffs ? (double)stats.hull_points_handed_on / stats.handoffs : 0,
            stats.max_hull_points);
     band_io_state s = {&g, out, writes, 33};
-    ss_source src = source_of(&g, &s, 7, NULL);
+    ss_source src = test_source(&g, read_rows, &s, 7, NULL);
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
     st = ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_GEOMETRIC, 0.0, NULL, write_rows, &s);
@@ -268,7 +252,7 @@ static void shares(void)
         double worst[2] = {0, 0};
         for (int banded_run = 0; banded_run < 2; ++banded_run) {
             band_io_state s = {&g, shared, writes, -1};
-            ss_source src = source_of(&g, &s, banded_run ? 4 : 0, NULL);
+            ss_source src = test_source(&g, read_rows, &s, banded_run ? 4 : 0, NULL);
             for (int first = 0; ok && first < 3; ++first) {
                 serial_reduce r = {kept, 0, first, 3};
                 ss_share share = {first, 3, reduce_in_turn, &r};
@@ -285,7 +269,7 @@ static void shares(void)
                "worst %.2g",
                kind_name[term], worst[0], worst[1]);
         band_io_state none = {&g, shared, writes, -1};
-        ss_source src = source_of(&g, &none, 0, NULL);
+        ss_source src = test_source(&g, read_rows, &none, 0, NULL);
         ss_share bad = {3, 3, NULL, NULL};
         ss_status st = ss_sky_rows(ctx, &src, &opt, (ss_sky_term)term, 0.0, &bad, write_rows,
                                    &none);

@@ -97,21 +97,6 @@ static ss_status write_rows(void *user, int output, int direction, int row0, int
     return SS_OK;
 }
 
-static ss_source source_of(const ss_grid *g, horizon_state *s, int band_rows,
-                           ss_band_stats *stats)
-{
-    ss_source src = {.width = g->width,
-                     .height = g->height,
-                     .cell_x_m = g->cell_x_m,
-                     .cell_y_m = g->cell_y_m,
-                     .z_origin_m = &g->z_origin_m,
-                     .read = read_rows,
-                     .read_user = s,
-                     .band_rows = band_rows,
-                     .stats = stats};
-    return src;
-}
-
 typedef struct {
     int directions;
     double offset;
@@ -133,7 +118,7 @@ static void options_for(const sweep_case *k, ss_sweep_options *opt)
 static ss_status banded(const ss_grid *g, const ss_sweep_options *opt, int want, int band_rows,
                         horizon_state *s, ss_band_stats *stats, char *why, size_t why_size)
 {
-    ss_source src = source_of(g, s, band_rows, stats);
+    ss_source src = test_source(g, read_rows, s, band_rows, stats);
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
     ss_status st = ss_horizon_rows(ctx, &src, opt, want, write_rows, s);
@@ -306,7 +291,7 @@ static void sun_azimuths(void)
     size_t differ = 0, shaded = 0;
     for (int i = 0; ok && i < n_az; ++i) {
         fixed_sun sun = {az[i], opt.grid_north_deg, 10.0};
-        ss_source src = source_of(&g, &out, 6, NULL);
+        ss_source src = test_source(&g, read_rows, &out, 6, NULL);
         ok = ss_cast_shadow(ctx, &g, &opt, az[i], 10.0, NULL, sunlit, NULL) == SS_OK &&
              ss_shadow_rows(ctx, &src, &opt, sun_of, &sun, sunlit_rows, &out) == SS_OK;
         for (size_t c = 0; ok && c < cells(&g); ++c) {
@@ -358,7 +343,7 @@ static void handoffs_and_failures(void)
     st = banded(&g, &opt, 0, -1, &s, NULL, why, sizeof why);
     tap_ok(st == SS_ERR_ARGUMENT, "-1 rows per band is refused: %s", why);
     fixed_sun nan_sun = {NAN, 0.0, 10.0};
-    ss_source src = source_of(&g, &s, 7, NULL);
+    ss_source src = test_source(&g, read_rows, &s, 7, NULL);
     ss_ctx *ctx = ss_ctx_new();
     st = ss_shadow_rows(ctx, &src, &opt, sun_of, &nan_sun, sunlit_rows, &s);
     tap_ok(st == SS_ERR_ARGUMENT, "a NaN sun azimuth is refused: %s", ss_ctx_message(ctx));

@@ -213,14 +213,7 @@ static void compare(const ss_grid *g, const char *terrain, int per_cell, int cur
     char why[300] = "";
     for (int b = 0; ok && b < n_band_rows; ++b) {
         memset(out.writes, 0, sizeof(int) * (size_t)(N_STEPS + 1) * g->height);
-        ss_source src = {.width = g->width,
-                         .height = g->height,
-                         .cell_x_m = g->cell_x_m,
-                         .cell_y_m = g->cell_y_m,
-                         .z_origin_m = &g->z_origin_m,
-                         .read = read_rows,
-                         .read_user = &out,
-                         .band_rows = band_rows[b]};
+        ss_source src = test_source(g, read_rows, &out, band_rows[b], NULL);
         if (ss_insolation_rows(ctx, &src, &opt, &io, n_steps, sun_rows, &sun,
                                per_step ? SS_INSOLATION_STEPS : 0, NULL, write_rows,
                                &out) != SS_OK) {

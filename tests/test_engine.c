@@ -165,13 +165,7 @@ static double tolerance(product p)
 
 static ss_status run_product(ss_ctx *ctx, product p, int band_rows, results *out)
 {
-    ss_source src = {.width = W,
-                     .height = H,
-                     .cell_x_m = terrain.cell_x_m,
-                     .cell_y_m = terrain.cell_y_m,
-                     .z_origin_m = &terrain.z_origin_m,
-                     .read = read_rows,
-                     .band_rows = band_rows};
+    ss_source src = test_source(&terrain, read_rows, NULL, band_rows, NULL);
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = 12;

@@ -142,18 +142,6 @@ static ss_status read_rows(void *user, int row0, int n_rows, float *z)
     return SS_OK;
 }
 
-static ss_source banded_source(int band_rows)
-{
-    ss_source src = {.width = W,
-                     .height = H,
-                     .cell_x_m = grid.cell_x_m,
-                     .cell_y_m = grid.cell_y_m,
-                     .z_origin_m = &grid.z_origin_m,
-                     .read = read_rows,
-                     .band_rows = band_rows};
-    return src;
-}
-
 /* Output o's band `index` (0: the first) goes to out + o * CELLS, the
  * others are dropped; horizons keep direction 2. */
 typedef struct {
@@ -173,21 +161,21 @@ static ss_status write_rows(void *user, int output, int index, int row0, int n_r
 
 static ss_status call_sky_banded(ss_ctx *ctx, float *out)
 {
-    ss_source src = banded_source(5);
+    ss_source src = test_source(&grid, read_rows, NULL, 5, NULL);
     rows_into r = {out, 0};
     return ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_GEOMETRIC, 0.0, NULL, write_rows, &r);
 }
 
 static ss_status call_horizon_banded(ss_ctx *ctx, float *out)
 {
-    ss_source src = banded_source(4);
+    ss_source src = test_source(&grid, read_rows, NULL, 4, NULL);
     rows_into r = {out, 2};
     return ss_horizon_rows(ctx, &src, &opt, SS_HORIZON_DISTANCE, write_rows, &r);
 }
 
 static ss_status call_insolation_banded(ss_ctx *ctx, float *out)
 {
-    ss_source src = banded_source(6);
+    ss_source src = test_source(&grid, read_rows, NULL, 6, NULL);
     ss_insolation_options o = {.albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT};
     rows_into r = {out, 0};
     return ss_insolation_rows(ctx, &src, &opt, &o, 3, sun_rows, NULL, 0, NULL, write_rows, &r);

@@ -313,3 +313,18 @@ const char *test_shared_data(const char *name)
     }
     return NULL;
 }
+
+ss_source test_source(const ss_grid *g, ss_rows_read read, void *user, int band_rows,
+                      ss_band_stats *stats)
+{
+    ss_source src = {.width = g->width,
+                     .height = g->height,
+                     .cell_x_m = g->cell_x_m,
+                     .cell_y_m = g->cell_y_m,
+                     .z_origin_m = &g->z_origin_m,
+                     .read = read,
+                     .read_user = user,
+                     .band_rows = band_rows,
+                     .stats = stats};
+    return src;
+}

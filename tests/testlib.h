@@ -64,6 +64,11 @@ ss_status test_lib_caster(const char *device, const ss_grid *g, double azimuth_d
                           double earth_radius_m, double refraction_k, int model, float *angle_deg,
                           float *dist_m, float *cast_height_m, char *err, size_t err_size);
 
+/* A source for the row-wise calls that reads g's rows through read (user:
+ * what read gets), in bands of band_rows (0: one band). */
+ss_source test_source(const ss_grid *g, ss_rows_read read, void *user, int band_rows,
+                      ss_band_stats *stats);
+
 /* Path of a file in ../shared/data, or NULL if that folder is absent. */
 const char *test_shared_data(const char *name);
 
