@@ -54,9 +54,10 @@ typedef int (*ss_progress_fn)(double complete, const char *message, void *user);
 
 SS_API ss_ctx *ss_ctx_new(void);
 SS_API void ss_ctx_free(ss_ctx *ctx);
-/* The one-line message of the last failure; it stays until the next one,
- * so read it only after a call returned a status other than SS_OK. Every
- * call leaves the context usable after a failure of any kind. */
+/* The one-line message of the last call's failure: each call that can fail
+ * clears it as it begins, so after a call that returned SS_OK it is empty
+ * (or says what a fallback recovered from). Every call leaves the context
+ * usable after a failure of any kind. */
 SS_API const char *ss_ctx_message(const ss_ctx *ctx);
 /* Records a failure of the caller's own in the context (one line, printf
  * format) and returns status, so callers report theirs like the library's. */

@@ -119,6 +119,10 @@ static void insolation(void)
     st = ss_insolation_params_linke(ctx, &p, linke);
     tap_ok(refused == 4 && st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "twelve"),
            "bad surfaces (4 of 4) and two turbidities are refused: %s", ss_ctx_message(ctx));
+    p.linke = "3";
+    st = ss_insolation_params_linke(ctx, &p, linke);
+    tap_ok(st == SS_OK && ss_ctx_message(ctx)[0] == '\0',
+           "the next call that succeeds leaves no message behind");
     ss_ctx_free(ctx);
 }
 

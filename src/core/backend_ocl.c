@@ -238,6 +238,7 @@ static void select_device(ss_ctx *ctx, const char *spec)
 
 ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
 {
+    ss_call_begin(ctx);
     /* The environment names the default, so whole test suites and scripts
      * can be pointed at another device (a GPU) without new options. */
     if (!spec || !spec[0])
@@ -252,6 +253,7 @@ static ss_status ocl_acquire(ss_ctx *ctx);
 
 ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan)
 {
+    ss_call_begin(ctx);
     if (!ctx->device_auto || !plan->device[0] || strcmp(ctx->device_spec, plan->device) == 0)
         return SS_OK;
     select_device(ctx, plan->device);

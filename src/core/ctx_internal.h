@@ -39,6 +39,13 @@ typedef struct {
 /* Up to max of the OpenCL devices found (0 without a platform). */
 int ss_opencl_devices(ss_device_candidate *out, int max);
 
+/* Where a public call begins: the message of an earlier failure is gone
+ * (ss_ctx_message is the last call's). */
+static inline void ss_call_begin(ss_ctx *ctx)
+{
+    ctx->message[0] = '\0';
+}
+
 /* Records a one-line message (newlines become spaces) and returns status. */
 ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

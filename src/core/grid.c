@@ -19,6 +19,7 @@
 ss_status ss_grid_alloc(ss_ctx *ctx, ss_grid *grid, int width, int height, double cell_x_m,
                         double cell_y_m)
 {
+    ss_call_begin(ctx);
     grid->z = NULL;
     grid->width = width;
     grid->height = height;
@@ -74,6 +75,7 @@ void ss_grid_set_heights(ss_grid *grid, const double *heights_m, size_t *rejecte
 
 ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_cells)
 {
+    ss_call_begin(ctx);
     if (!grid || !grid->z)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "no grid given");
     if (grid->width < 1 || grid->height < 1 || grid->width >= SS_AXIS_MAX ||

@@ -96,6 +96,7 @@ ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_de
                        double light_altitude_deg, double z_factor, int zevenbergen_thorne,
                        int multidirectional_light, float *shade)
 {
+    ss_call_begin(ctx);
     if (ss_grid_check(ctx, grid, NULL) != SS_OK)
         return SS_ERR_INPUT;
     ss_hillshade_options ho = {.azimuth_deg = light_azimuth_deg,
@@ -187,6 +188,7 @@ static ss_status sky_layers(ss_ctx *ctx, const ss_source *src, const ss_sweep_op
 ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                             const ss_hillshade_options *ho, ss_rows_sink sink, void *user)
 {
+    ss_call_begin(ctx);
     ss_status st = ss_hillshade_check(ctx, ho);
     if (st == SS_OK)
         st = ss_source_check(ctx, src);

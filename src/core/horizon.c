@@ -95,6 +95,7 @@ static ss_status run_horizon(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
 ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                           int want, ss_rows_sink sink, void *user)
 {
+    ss_call_begin(ctx);
     horizon_run h = {ctx, want, src, NULL, sink, user, NULL};
     return run_horizon(ctx, src, opt, &h);
 }
@@ -102,6 +103,7 @@ ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_opti
 ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, int want,
                      ss_horizon_sink sink, void *user)
 {
+    ss_call_begin(ctx);
     ss_status st = ss_sweep_options_check(ctx, opt);
     if (st == SS_OK)
         st = ss_grid_check(ctx, grid, NULL);
@@ -115,6 +117,7 @@ ss_status ss_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *o
 ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
                        ss_line_model lines, float *out)
 {
+    ss_call_begin(ctx);
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.lines = lines;

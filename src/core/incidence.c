@@ -38,6 +38,7 @@ ss_status ss_sun_incidence(ss_ctx *ctx, const ss_grid *grid, double grid_azimuth
                            double elevation_deg, const float *grid_azimuth_per_cell_deg,
                            const float *elevation_per_cell_deg, float *cos_incidence)
 {
+    ss_call_begin(ctx);
     if (ss_grid_check(ctx, grid, NULL) != SS_OK)
         return SS_ERR_INPUT;
     ss_incidence_rows(grid, 0, grid->height, grid_azimuth_deg, elevation_deg,

@@ -383,6 +383,7 @@ ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
                              void *sun_user, int want, const ss_share *share, ss_rows_sink sink,
                              void *user)
 {
+    ss_call_begin(ctx);
     ss_status st = ss_insolation_check(ctx, io, n_steps);
     if (st == SS_OK)
         st = ss_share_check(ctx, share);
@@ -480,6 +481,7 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                         void *sun_user, ss_step_sink sink, void *sink_user,
                         ss_insolation_out *out)
 {
+    ss_call_begin(ctx);
     ss_status st = ss_insolation_check(ctx, io, n_steps);
     if (st == SS_OK)
         st = ss_sweep_options_check(ctx, opt);

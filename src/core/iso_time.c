@@ -286,6 +286,7 @@ static ss_status parse_zone(ss_ctx *ctx, const char *text, const char **p, doubl
 
 ss_status ss_parse_instant(ss_ctx *ctx, const char *text, double *unix_s)
 {
+    ss_call_begin(ctx);
     const char *p = text;
     long long year = 0;
     int month = 1, day = 1, hour = 0, minute = 0;
@@ -313,6 +314,7 @@ ss_status ss_parse_instant(ss_ctx *ctx, const char *text, double *unix_s)
 
 ss_status ss_parse_duration(ss_ctx *ctx, const char *text, ss_duration *out)
 {
+    ss_call_begin(ctx);
     static const char date_units[] = "YMWD", time_units[] = "HMS";
     static const double unit_s[] = {0, 0, 7 * 86400.0, 86400.0, 3600.0, 60.0, 1.0};
     const char *p = text;
@@ -429,6 +431,7 @@ static int is_duration_text(const char *s)
 
 ss_status ss_parse_time_range(ss_ctx *ctx, const char *text, ss_time_range *out)
 {
+    ss_call_begin(ctx);
     char part[3][128];
     int n = 0;
     memset(out, 0, sizeof *out);

@@ -277,6 +277,7 @@ static ss_status parse_surface(ss_ctx *ctx, const char *text, ss_surface *out)
 ss_status ss_insolation_params_options(ss_ctx *ctx, const ss_insolation_params *p,
                                        ss_shadow_mode shadow, ss_insolation_options *out)
 {
+    ss_call_begin(ctx);
     /* In the choices' order. */
     static const ss_sky_model models[] = {SS_SKY_MODEL_PEREZ, SS_SKY_MODEL_HAYDAVIES,
                                           SS_SKY_MODEL_ISOTROPIC};
@@ -299,6 +300,7 @@ ss_status ss_insolation_params_options(ss_ctx *ctx, const ss_insolation_params *
 ss_status ss_insolation_params_linke(ss_ctx *ctx, const ss_insolation_params *p,
                                      double linke[12])
 {
+    ss_call_begin(ctx);
     const char *text = p->linke ? p->linke : "3";
     int n = 0;
     const char *at = text;

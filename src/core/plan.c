@@ -369,6 +369,7 @@ static void plan_device(ss_plan *p, double sweeps, double host_s)
 ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                        const ss_plan_request *r, ss_plan *p)
 {
+    ss_call_begin(ctx);
     memset(p, 0, sizeof *p);
     if (!(r->horizon_tolerance_deg > 0) || !(r->svf_tolerance > 0) ||
         !(r->sun_tolerance_deg > 0) || r->directions < 0 || r->n_steps < 0)

@@ -63,6 +63,7 @@ typedef struct {
 
 ss_status ss_point_grid_new(ss_ctx *ctx, const ss_grid *grid, ss_point_grid **out)
 {
+    ss_call_begin(ctx);
     *out = NULL;
     ss_status st = ss_grid_check(ctx, grid, NULL);
     if (st != SS_OK)
@@ -156,6 +157,7 @@ static int site_cells(ss_ctx *ctx, const ss_grid *g, double col, double row,
 ss_status ss_point_ground_height(ss_ctx *ctx, const ss_point_grid *pg, double col, double row,
                                  double *height_m)
 {
+    ss_call_begin(ctx);
     site_cell cells[SS_SITE_CELLS];
     const ss_grid *g = pg->grid;
     int n = site_cells(ctx, g, col, row, cells);
@@ -453,6 +455,7 @@ static int site_prepare(ss_ctx *ctx, const ss_point_grid *pg, const ss_point_sit
 ss_status ss_point_horizon(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_options *opt,
                            const ss_point_site *site, ss_point_horizon_result *out)
 {
+    ss_call_begin(ctx);
     ss_status st = ss_sweep_options_check(ctx, opt);
     if (st != SS_OK)
         return st;
@@ -475,6 +478,7 @@ ss_status ss_point_horizon(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_
 ss_status ss_point_horizons(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_options *opt,
                             const ss_point_site *sites, int n_sites, ss_point_sink sink, void *user)
 {
+    ss_call_begin(ctx);
     ss_status st = ss_sweep_options_check(ctx, opt);
     if (st != SS_OK)
         return st;

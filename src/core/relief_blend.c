@@ -66,6 +66,7 @@ void ss_vat_rows(const ss_grid *grid, int row0, int row1, const float *svf,
 ss_status ss_vat(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt, double radius_m,
                  float *out)
 {
+    ss_call_begin(ctx);
     size_t n = (size_t)grid->width * grid->height;
     float *svf = ss_malloc(n * sizeof *svf), *openness = ss_malloc(n * sizeof *openness);
     ss_status st = svf && openness ? SS_OK : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for VAT");

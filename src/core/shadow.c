@@ -78,6 +78,7 @@ ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_option
                          const float *sun_elevation_per_cell_deg, float *sunlit,
                          float *horizon_deg)
 {
+    ss_call_begin(ctx);
     if (!sun_position_ok(sun_azimuth_deg, sun_elevation_deg))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "sun azimuth %g / elevation %g degrees is not a sun position",
@@ -137,6 +138,7 @@ static ss_status shade_rows(void *user, int index, const ss_band_view *band,
 ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                          ss_sun_rows_fn sun_rows, void *sun_user, ss_rows_sink sink, void *user)
 {
+    ss_call_begin(ctx);
     ss_sun_step centre;
     ss_status st = ss_source_check(ctx, src);
     if (st == SS_OK)

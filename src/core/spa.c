@@ -340,6 +340,7 @@ static void psa(double days_ut, double lat_deg, double lon_deg, const ss_spa_par
 ss_status ss_spa(ss_ctx *ctx, double unix_s, double lat_deg, double lon_deg, const ss_spa_params *p,
                  ss_spa_result *out)
 {
+    ss_call_begin(ctx);
     ss_status st = check_inputs(ctx, unix_s, lat_deg, lon_deg, p);
     if (st != SS_OK)
         return st;
@@ -399,6 +400,7 @@ static double event_correction(const double alpha[3], const double delta[3], dou
 ss_status ss_sun_rise_set(ss_ctx *ctx, double day_start_unix_s, double lat_deg, double lon_deg,
                           const ss_spa_params *p, ss_sun_day *out)
 {
+    ss_call_begin(ctx);
     ss_status st = check_inputs(ctx, day_start_unix_s, lat_deg, lon_deg, p);
     if (st != SS_OK)
         return st;

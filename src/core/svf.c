@@ -27,6 +27,7 @@ float ss_sky_value(ss_sky_term term, float sum, int directions)
 
 ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m)
 {
+    ss_call_begin(ctx);
     if ((int)term < (int)SS_SKY_SVF_GEOMETRIC || (int)term > (int)SS_SKY_OPENNESS_NEGATIVE)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown sky product %d", (int)term);
     if (!(radius_m >= 0) || !isfinite(radius_m))
@@ -65,6 +66,7 @@ ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options 
                       ss_sky_term term, double radius_m, const ss_share *share,
                       ss_rows_sink sink, void *user)
 {
+    ss_call_begin(ctx);
     ss_status st = ss_sky_check(ctx, term, radius_m);
     if (st == SS_OK)
         st = ss_share_check(ctx, share);
@@ -120,12 +122,14 @@ static ss_status sky_product(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_op
 ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                  ss_svf_definition definition, float *out)
 {
+    ss_call_begin(ctx);
     return ss_svf_within(ctx, grid, opt, definition, 0.0, out);
 }
 
 ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                         ss_svf_definition definition, double radius_m, float *out)
 {
+    ss_call_begin(ctx);
     if (definition != SS_SVF_DEF_GEOMETRIC && definition != SS_SVF_DEF_HORIZONTAL &&
         definition != SS_SVF_DEF_TILTED)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown SVF definition %d", (int)definition);
@@ -135,6 +139,7 @@ ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
 ss_status ss_openness(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
                       int negative, double radius_m, float *out)
 {
+    ss_call_begin(ctx);
     return sky_product(ctx, grid, opt,
                        negative ? SS_SKY_OPENNESS_NEGATIVE : SS_SKY_OPENNESS_POSITIVE, radius_m,
                        out);

@@ -21,6 +21,7 @@ void ss_sweep_options_default(ss_sweep_options *opt)
 
 ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
 {
+    ss_call_begin(ctx);
     if (opt->directions < 1 || opt->directions > SS_DIRECTIONS_MAX)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "--directions must be 1 to %d, not %d",
                        SS_DIRECTIONS_MAX, opt->directions);
