@@ -318,10 +318,248 @@ static void describe_bands(ss_raster_writer *w, int weather, int pv, double hour
     }
 }
 
+/* A run of the command: its settings, job, steps and weather, the
+ * options the library takes, and where the rows go. */
+typedef struct {
+    insolation_settings set;
+    sweep_job job;
+    steps_state steps;
+    ss_weather weather;
+    int have_weather;
+    char *text; /* --time as parsed (malloc'ed), for the metadata */
+    char weather_note[900], weather_what[300];
+    ss_insolation_options io;
+    insolation_out out;
+    ss_band_stats bands;
+} insolation_run;
+
+/* What the run needs before it is planned: the options, the weather and
+ * the time steps. */
+static ss_status prepare(insolation_run *r)
+{
+    ss_ctx *ctx = r->job.run.ctx;
+    const insolation_settings *set = &r->set;
+    r->steps.job = &r->job;
+    r->steps.set = set;
+    if (!r->job.frame.georeferenced)
+        return ss_ctx_error(ctx, SS_ERR_INPUT,
+                            "the DEM has no CRS, so where the sun stands is unknown");
+    /* The plan chooses the shadow mode (plan_and_open). */
+    ss_status st = ss_insolation_params_options(ctx, &set->ins, SS_SHADOW_EXACT, &r->io);
+    if (st == SS_OK && !set->weather &&
+        ss_insolation_params_shadow(&set->ins) == SS_SHADOW_CUMULATIVE)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--shadow cumulative needs --weather: it bins weather records' suns");
+    if (st == SS_OK && set->weather) {
+        st = ss_weather_read(ctx, set->weather, &r->weather);
+        r->have_weather = st == SS_OK;
+    }
+    if (st == SS_OK && r->have_weather) {
+        describe_weather(&r->weather, set->weather, &r->job.frame, r->weather_note,
+                         sizeof r->weather_note);
+        snprintf(r->weather_what, sizeof r->weather_what, "%s '%s'", r->weather.format_name,
+                 set->weather);
+        r->job.weather = (ss_plan_weather){
+            r->weather_what, weather_distance_km(&r->weather, &r->job.frame),
+            r->io.sky_model == SS_SKY_MODEL_PEREZ, set->ins.pv || set->steps_path,
+            set->ins.tolerance_percent};
+    }
+    if (st == SS_OK)
+        st = make_steps(&r->steps, set, r->have_weather ? &r->weather : NULL, &r->text);
+    if (st == SS_OK)
+        st = ss_insolation_params_linke(ctx, &set->ins, r->steps.linke);
+    if (st == SS_OK && set->ins.pv && !r->have_weather)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--pv needs --weather (air temperature and "
+                                                "real-sky irradiance)");
+    return st;
+}
+
+/* Rank 0's output (and the steps' file), opened before the run, to fail
+ * early. */
+static ss_status open_outputs(insolation_run *r)
+{
+    ss_ctx *ctx = r->job.run.ctx;
+    const insolation_settings *set = &r->set;
+    sweep_job *job = &r->job;
+    r->out = (insolation_out){.width = job->dem.grid.width, .weather = r->have_weather};
+    size_t rows = (size_t)(job->source ? job->band_rows : job->dem.grid.height);
+    if (!(r->out.row = malloc(sizeof(float) * (size_t)job->dem.grid.width * rows)))
+        return command_out_of_memory(&job->run);
+    ss_status st = job_open_output(job, r->have_weather ? WEATHER_BANDS + 2 * (set->ins.pv != 0)
+                                                        : 5,
+                                   &set->common, &r->out.w);
+    if (st == SS_OK && set->steps_path) {
+        st = run_check_output(&job->run, set->steps_path, job->inputs, job->n_inputs);
+        if (st == SS_OK)
+            st = ss_writer_open(ctx, set->steps_path, &job->dem, r->steps.n, set->common.format,
+                                set->common.creation_options.items, &r->out.steps_w);
+        for (int k = 0; st == SS_OK && k < r->steps.n; ++k)
+            ss_writer_describe(r->out.steps_w, k + 1, r->steps.labels[k], "Wh/m2");
+    }
+    return st;
+}
+
+static ss_status run(insolation_run *r)
+{
+    const insolation_settings *set = &r->set;
+    int want = (r->have_weather ? SS_INSOLATION_MONTHLY : 0) |
+               (set->ins.pv ? SS_INSOLATION_PV : 0) | (set->steps_path ? SS_INSOLATION_STEPS : 0);
+    r->io.shadow_mode = r->job.plan.shadow_mode;
+    ss_source src = job_source(&r->job, &r->bands);
+    share_reducer reducer;
+    ss_share share = share_of(&reducer, &r->job.run, job_bands(&r->job));
+    return share_end(&reducer,
+                     ss_insolation_rows(r->job.run.ctx, &src, &r->job.opt, &r->io, r->steps.n,
+                                        sun_of_step_rows, &r->steps, want, &share, write_rows,
+                                        &r->out));
+}
+
+static double steps_hours(const insolation_run *r)
+{
+    double hours = 0;
+    for (int k = 0; k < r->steps.n; ++k)
+        hours += r->steps.hours[k];
+    return hours;
+}
+
+/* The run described in its outputs' metadata, into meta as well. */
+static void describe_run(insolation_run *r, char *meta, size_t size)
+{
+    const insolation_settings *set = &r->set;
+    ss_raster_writer *w = r->out.w;
+    sweep_job *job = &r->job;
+    run_common_metadata(&job->run, w, &job->opt, &job->frame);
+    job_plan_metadata(job, w);
+    const char *shadows = ss_shadow_mode_name(job->plan.shadow_mode);
+    if (r->have_weather)
+        snprintf(meta, size,
+                 "%d weather records (%.0f h)%s%s; surface %s; sky diffuse %s; albedo %g "
+                 "where the file gives none; shadows %s; solar constant %g W/m2; %s",
+                 r->steps.n, steps_hours(r), r->text ? " inside " : "", r->text ? r->text : "",
+                 set->ins.surface, ss_sky_model_name(r->io.sky_model), set->ins.albedo, shadows,
+                 set->ins.solar_constant, r->weather_note);
+    else
+        snprintf(meta, size,
+                 "%s, %d steps of %s evaluated at their middles; surface %s; Linke %s; "
+                 "albedo %g; shadows %s; solar constant %g W/m2",
+                 r->text, r->steps.n, set->ins.step, set->ins.surface, set->ins.linke,
+                 set->ins.albedo, shadows, set->ins.solar_constant);
+    ss_writer_metadata(w, "INSOLATION", meta);
+    ss_writer_metadata(
+        w, "MODEL",
+        r->have_weather
+            ? "real sky from weather records: beam = DNI x cos(incidence) where lit; sky "
+              "diffuse by the chosen model with the terrain (isotropic part x the cell's "
+              "tilted sky-view factor, circumsolar part shaded like the beam, Perez's "
+              "horizon band x the share the cell sees); reflected = albedo x GHI x (1 - sky "
+              "view); sun hours where lit with DNI >= 120 W/m2 (doc/insolation.md)"
+            : "ESRA clear sky (r.sun); sky diffuse by Muneer with the cell's radiative "
+              "sky-view factor; reflected = albedo x global horizontal x (1 - sky view)");
+    if (set->ins.pv) {
+        char pv[600];
+        snprintf(pv, sizeof pv,
+                 "DC yield per kWp of modules in each cell's surface (pvlib pvwatts_dc, pdc0 = "
+                 "1): plane-of-array global, no reflection or spectral losses; cell "
+                 "temperature by %s from the records' air temperature and wind (%g C, %g m/s "
+                 "where they give none); gamma_pdc %g /K; system losses %g %%; AC yield "
+                 "after pvlib.inverter.pvwatts (eta_inv_nom %g, DC/AC ratio %g)",
+                 set->ins.temperature_model ? "sapm_cell (open rack glass/glass)"
+                                            : "faiman (u0 25, u1 6.84)",
+                 set->ins.temp_air_c, set->ins.wind_speed_m_s, set->ins.gamma_pdc,
+                 set->ins.losses_percent, set->ins.inverter_efficiency_percent / 100.0,
+                 set->ins.dc_ac_ratio);
+        ss_writer_metadata(w, "PV", pv);
+    }
+    describe_bands(w, r->have_weather, set->ins.pv, steps_hours(r));
+}
+
+/* Commits rank 0's output, then the steps' file; aborts what is left. */
+static ss_status commit(insolation_run *r, const char *meta)
+{
+    ss_status st = SS_OK;
+    if (r->out.w) {
+        st = run_commit(&r->job.run, r->out.w);
+        r->out.w = NULL;
+    }
+    if (st == SS_OK && r->out.steps_w) {
+        run_common_metadata(&r->job.run, r->out.steps_w, &r->job.opt, &r->job.frame);
+        ss_writer_metadata(r->out.steps_w, "INSOLATION", meta);
+        st = run_commit(&r->job.run, r->out.steps_w);
+        r->out.steps_w = NULL;
+    }
+    ss_writer_abort(r->out.w);
+    ss_writer_abort(r->out.steps_w);
+    r->out.w = r->out.steps_w = NULL;
+    return st;
+}
+
+static void print_summary(insolation_run *r)
+{
+    const insolation_settings *set = &r->set;
+    sweep_job *job = &r->job;
+    ss_counters c = ss_ctx_counters(job->run.ctx);
+    run_print_dem(&job->run, &job->dem, &job->frame);
+    if (r->have_weather)
+        printf("weather %s\n        %llu records missing, %llu split from GHI alone "
+               "(Erbs), %llu with beam on the horizontal above the global (used as "
+               "given), %llu with light while the sun is down (not used)\n",
+               r->weather_note, (unsigned long long)c.records_missing,
+               (unsigned long long)c.records_split,
+               (unsigned long long)c.records_beam_above_global,
+               (unsigned long long)c.records_light_at_night);
+    command_print_job_sweep(job, &r->bands);
+    printf("steps   %d: %llu in daylight, %llu at night skipped, %llu shadow sweeps skipped "
+           "(sun above every horizon)\n",
+           r->steps.n, (unsigned long long)c.time_steps,
+           (unsigned long long)c.night_steps_skipped, (unsigned long long)c.shadow_sweeps_skipped);
+    if (c.sun_bins)
+        printf("sky     cumulative: %llu bins of suns (%d directions x %g deg of elevation x "
+               "month) in place of a sweep per record\n",
+               (unsigned long long)c.sun_bins, job->opt.directions, set->ins.elevation_step_deg);
+    if (share_size() > 1)
+        printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
+               "this one's), sums added at rank 0\n",
+               share_size());
+    double lo, mean, hi, scale = r->have_weather ? 1000.0 : 1.0;
+    run_tally_result(&r->out.global, NAN, &lo, &mean, &hi);
+    printf("global  min %.1f mean %.1f max %.1f %s -> %s\n", lo / scale, mean / scale,
+           hi / scale, r->have_weather ? "kWh/m2" : "Wh/m2", job->output);
+    if (!set->ins.pv)
+        return;
+    run_tally_result(&r->out.pv, NAN, &lo, &mean, &hi);
+    printf("pv      min %.1f mean %.1f max %.1f kWh/kWp (band %d); %llu records without "
+           "air temperature or wind took %g C, %g m/s\n",
+           lo, mean, hi, WEATHER_BANDS + 1, (unsigned long long)c.records_without_temperature,
+           set->ins.temp_air_c, set->ins.wind_speed_m_s);
+    run_tally_result(&r->out.pv_ac, NAN, &lo, &mean, &hi);
+    printf("pv ac   min %.1f mean %.1f max %.1f kWh/kWp (band %d) after an inverter of "
+           "%g %% at a DC/AC ratio of %g\n",
+           lo, mean, hi, WEATHER_BANDS + 2, set->ins.inverter_efficiency_percent,
+           set->ins.dc_ac_ratio);
+}
+
+static void close_run(insolation_run *r)
+{
+    ss_writer_abort(r->out.w);
+    ss_writer_abort(r->out.steps_w);
+    if (r->steps.have_field)
+        ss_sun_field_free(&r->steps.field);
+    steps_free(&r->steps);
+    ss_weather_free(&r->weather);
+    free(r->out.row);
+    free(r->text);
+    job_close(&r->job);
+}
+
 int cmd_insolation(int argc, char **argv)
 {
-    insolation_settings set = {0};
-    common_settings_init(&set.common);
+    insolation_run *r = calloc(1, sizeof *r);
+    if (!r) {
+        fprintf(stderr, "skysweep insolation: out of memory\n");
+        return SS_ERR_MEMORY;
+    }
+    insolation_settings *set = &r->set;
+    common_settings_init(&set->common);
     opt_spec insolation_options[32];
     opt_from_params("insolation", offsetof(insolation_settings, ins), insolation_options, 32);
     const opt_spec *tables[] = {insolation_options, file_options, sun_options(),
@@ -329,235 +567,60 @@ int cmd_insolation(int argc, char **argv)
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse(
-        "insolation", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
+        "insolation", tables, set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
         "skysweep insolation --time START/END|START/DURATION [--step PT30M] [options] DEM... "
         "OUTPUT\n       skysweep insolation --weather FILE [--sky-model M] [options] DEM... OUTPUT",
         "Irradiation on each cell's slope with exact cast shadows. Clear sky over a time range "
         "(ESRA,\nLinke turbidity): bands 1 global, 2 beam, 3 diffuse, 4 reflected (Wh/m2), 5 "
         "hours of direct\nsun. Real sky from a weather file: the same five (kWh/m2, hours) for "
         "the year, then the\nglobal of each month.",
-        &set.common.device);
-    if (rc >= 0)
-        return rc;
+        &set->common.device);
     /* Under mpirun every process evaluates every N-th step; a band per step
      * would have to travel whole to rank 0. */
-    if (share_size() > 1 && set.steps_path)
-        return share_rank() == 0 ? run_usage_error("insolation", "--steps is not shared between "
-                                                                 "MPI processes: run it alone")
-                                 : 2;
+    if (rc < 0 && share_size() > 1 && set->steps_path)
+        rc = share_rank() == 0 ? run_usage_error("insolation", "--steps is not shared between "
+                                                               "MPI processes: run it alone")
+                               : 2;
     /* Bands hold a horizon's sums and the cells' insolation terms and sums
      * (more than the radiative SVF's band before them). */
-    int directions = set.common.sweep.directions > SS_INSOLATION_STEPS_PER_RUN
-                         ? set.common.sweep.directions
+    int directions = set->common.sweep.directions > SS_INSOLATION_STEPS_PER_RUN
+                         ? set->common.sweep.directions
                          : SS_INSOLATION_STEPS_PER_RUN;
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = directions};
-    sweep_job job;
-    if ((rc = job_open_banded(&job, "insolation", &set.common, pos, n_pos, cost)))
+    if (rc < 0)
+        rc = job_open_banded(&r->job, "insolation", &set->common, pos, n_pos, cost);
+    if (rc != 0 || !r->job.run.ctx) { /* --help, or the job failed and is closed */
+        free(r);
         return rc;
-    ss_ctx *ctx = job.run.ctx;
-    steps_state steps;
-    memset(&steps, 0, sizeof steps);
-    steps.job = &job;
-    steps.set = &set;
-    ss_weather weather = {0};
-    int have_weather = 0;
-    char *text = NULL, weather_note[900] = "", weather_what[300] = "";
-    ss_status st = SS_OK;
-    if (!job.frame.georeferenced)
-        st = ss_ctx_error(ctx, SS_ERR_INPUT,
-                          "the DEM has no CRS, so where the sun stands is unknown");
-    /* The run's options; the plan chooses the shadow mode below. */
-    ss_insolation_options io = {0};
-    if (st == SS_OK)
-        st = ss_insolation_params_options(ctx, &set.ins, SS_SHADOW_EXACT, &io);
-    if (st == SS_OK && !set.weather &&
-        ss_insolation_params_shadow(&set.ins) == SS_SHADOW_CUMULATIVE)
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                          "--shadow cumulative needs --weather: it bins weather records' suns");
-    if (st == SS_OK && set.weather) {
-        st = ss_weather_read(ctx, set.weather, &weather);
-        have_weather = st == SS_OK;
-        if (have_weather) {
-            describe_weather(&weather, set.weather, &job.frame, weather_note,
-                             sizeof weather_note);
-            snprintf(weather_what, sizeof weather_what, "%s '%s'", weather.format_name,
-                     set.weather);
-            job.weather = (ss_plan_weather){
-                weather_what, weather_distance_km(&weather, &job.frame),
-                io.sky_model == SS_SKY_MODEL_PEREZ,
-                set.ins.pv || set.steps_path, set.ins.tolerance_percent};
-        }
     }
-    if (st == SS_OK)
-        st = make_steps(&steps, &set, have_weather ? &weather : NULL, &text);
-    if (st == SS_OK)
-        st = ss_insolation_params_linke(ctx, &set.ins, steps.linke);
-    int n_steps = st == SS_OK ? steps.n : 0;
+    ss_status st = prepare(r);
     if (st == SS_OK) {
-        rc = job_plan(&job, &set.common, SS_PRODUCT_INSOLATION, n_steps, steps.mid_s,
-                      ss_insolation_params_shadow(&set.ins));
-        if (rc >= 0) {
-            steps_free(&steps);
-            ss_weather_free(&weather);
-            free(text);
-            job_close(&job);
+        rc = job_plan(&r->job, &set->common, SS_PRODUCT_INSOLATION, r->steps.n, r->steps.mid_s,
+                      ss_insolation_params_shadow(&set->ins));
+        if (rc >= 0) { /* --plan, or a plan that failed */
+            close_run(r);
+            free(r);
             return rc;
         }
-        steps.sun_spread_deg =
-            job.frame.diagonal_m / (2.0 * run_earth_radius(&set.common, &job.frame)) * 180 / M_PI;
+        r->steps.sun_spread_deg = r->job.frame.diagonal_m /
+                                  (2.0 * run_earth_radius(&set->common, &r->job.frame)) * 180 /
+                                  M_PI;
     }
-    if (st == SS_OK && set.ins.pv && !have_weather)
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "--pv needs --weather (air temperature and "
-                                                "real-sky irradiance)");
-    insolation_out out = {.width = job.dem.grid.width, .weather = have_weather};
-    if (st == SS_OK && !(out.row = malloc(sizeof(float) * (size_t)job.dem.grid.width *
-                                          (size_t)(job.source ? job.band_rows
-                                                              : job.dem.grid.height))))
-        st = command_out_of_memory(&job.run);
-    /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
-    if (st == SS_OK && share_rank() == 0)
-        st = ss_writer_open(ctx, job.output, &job.dem,
-                            have_weather ? WEATHER_BANDS + 2 * (set.ins.pv != 0) : 5,
-                            set.common.format, set.common.creation_options.items, &out.w);
-    ss_raster_writer *w = out.w;
-    if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
-    if (st == SS_OK && set.steps_path) {
-        st = run_check_output(&job.run, set.steps_path, job.inputs, job.n_inputs);
-        if (st == SS_OK)
-            st = ss_writer_open(ctx, set.steps_path, &job.dem, n_steps, set.common.format,
-                                set.common.creation_options.items, &out.steps_w);
-        for (int k = 0; st == SS_OK && k < n_steps; ++k)
-            ss_writer_describe(out.steps_w, k + 1, steps.labels[k], "Wh/m2");
-    }
-    io.shadow_mode = job.plan.shadow_mode;
-    double lo = NAN, mean = NAN, hi = NAN;
-    ss_band_stats band_stats = {0};
-    int want = (have_weather ? SS_INSOLATION_MONTHLY : 0) | (set.ins.pv ? SS_INSOLATION_PV : 0) |
-               (set.steps_path ? SS_INSOLATION_STEPS : 0);
-    ss_source src = job_source(&job, &band_stats);
-    share_reducer reducer;
-    ss_share share = share_of(&reducer, &job.run, job_bands(&job));
     if (st == SS_OK)
-        st = share_end(&reducer, ss_insolation_rows(ctx, &src, &job.opt, &io, n_steps,
-                                                    sun_of_step_rows, &steps, want, &share,
-                                                    write_rows, &out));
-    run_tally_result(&out.global, NAN, &lo, &mean, &hi);
-    double hours = 0;
-    for (int k = 0; k < n_steps; ++k)
-        hours += steps.hours[k];
-    char meta[1400];
-    if (st == SS_OK && w) {
-        run_common_metadata(&job.run, w, &job.opt, &job.frame);
-        job_plan_metadata(&job, w);
-        if (have_weather)
-            snprintf(meta, sizeof meta,
-                     "%d weather records (%.0f h)%s%s; surface %s; sky diffuse %s; albedo %g "
-                     "where the file gives none; shadows %s; solar constant %g W/m2; %s",
-                     n_steps, hours, text ? " inside " : "", text ? text : "", set.ins.surface,
-                     ss_sky_model_name(io.sky_model), set.ins.albedo,
-                     ss_shadow_mode_name(job.plan.shadow_mode), set.ins.solar_constant,
-                     weather_note);
-        else
-            snprintf(meta, sizeof meta,
-                     "%s, %d steps of %s evaluated at their middles; surface %s; Linke %s; "
-                     "albedo %g; shadows %s; solar constant %g W/m2",
-                     text, n_steps, set.ins.step, set.ins.surface, set.ins.linke, set.ins.albedo,
-                     ss_shadow_mode_name(job.plan.shadow_mode), set.ins.solar_constant);
-        ss_writer_metadata(w, "INSOLATION", meta);
-        ss_writer_metadata(
-            w, "MODEL",
-            have_weather
-                ? "real sky from weather records: beam = DNI x cos(incidence) where lit; sky "
-                  "diffuse by the chosen model with the terrain (isotropic part x the cell's "
-                  "tilted sky-view factor, circumsolar part shaded like the beam, Perez's "
-                  "horizon band x the share the cell sees); reflected = albedo x GHI x (1 - sky "
-                  "view); sun hours where lit with DNI >= 120 W/m2 (doc/insolation.md)"
-                : "ESRA clear sky (r.sun); sky diffuse by Muneer with the cell's radiative "
-                  "sky-view factor; reflected = albedo x global horizontal x (1 - sky view)");
-        if (set.ins.pv) {
-            char pv[600];
-            snprintf(pv, sizeof pv,
-                     "DC yield per kWp of modules in each cell's surface (pvlib pvwatts_dc, pdc0 = "
-                     "1): plane-of-array global, no reflection or spectral losses; cell "
-                     "temperature by %s from the records' air temperature and wind (%g C, %g m/s "
-                     "where they give none); gamma_pdc %g /K; system losses %g %%; AC yield "
-                     "after pvlib.inverter.pvwatts (eta_inv_nom %g, DC/AC ratio %g)",
-                     set.ins.temperature_model ? "sapm_cell (open rack glass/glass)"
-                                           : "faiman (u0 25, u1 6.84)",
-                     set.ins.temp_air_c, set.ins.wind_speed_m_s, set.ins.gamma_pdc, set.ins.losses_percent,
-                     set.ins.inverter_efficiency_percent / 100.0, set.ins.dc_ac_ratio);
-            ss_writer_metadata(w, "PV", pv);
-        }
-        describe_bands(w, have_weather, set.ins.pv, hours);
-    }
-    if (st == SS_OK && w) {
-        st = run_commit(&job.run, w);
-        w = NULL;
-    }
-    if (st == SS_OK && out.steps_w) {
-        run_common_metadata(&job.run, out.steps_w, &job.opt, &job.frame);
-        ss_writer_metadata(out.steps_w, "INSOLATION", meta);
-        st = run_commit(&job.run, out.steps_w);
-        out.steps_w = NULL;
-    }
-    ss_writer_abort(w);
-    ss_writer_abort(out.steps_w);
-    rc = job_finish(&job, st);
-    if (st == SS_OK && !job.run.quiet) {
-        ss_counters c = ss_ctx_counters(ctx);
-        run_print_dem(&job.run, &job.dem, &job.frame);
-        if (have_weather)
-            printf("weather %s\n        %llu records missing, %llu split from GHI alone "
-                   "(Erbs), %llu with beam on the horizontal above the global (used as "
-                   "given), %llu with light while the sun is down (not used)\n",
-                   weather_note, (unsigned long long)c.records_missing,
-                   (unsigned long long)c.records_split,
-                   (unsigned long long)c.records_beam_above_global,
-                   (unsigned long long)c.records_light_at_night);
-        command_print_job_sweep(&job, &band_stats);
-        printf("steps   %d: %llu in daylight, %llu at night skipped, %llu shadow sweeps skipped "
-               "(sun above every horizon)\n",
-               n_steps, (unsigned long long)c.time_steps,
-               (unsigned long long)c.night_steps_skipped,
-               (unsigned long long)c.shadow_sweeps_skipped);
-        if (c.sun_bins)
-            printf("sky     cumulative: %llu bins of suns (%d directions x %g deg of elevation x "
-                   "month) in place of a sweep per record\n",
-                   (unsigned long long)c.sun_bins, job.opt.directions, set.ins.elevation_step_deg);
-        if (share_size() > 1)
-            printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
-                   "this one's), sums added at rank 0\n",
-                   share_size());
-        if (have_weather)
-            printf("global  min %.1f mean %.1f max %.1f kWh/m2 -> %s\n", lo / 1000.0,
-                   mean / 1000.0, hi / 1000.0, job.output);
-        else
-            printf("global  min %.1f mean %.1f max %.1f Wh/m2 -> %s\n", lo, mean, hi,
-                   job.output);
-        if (set.ins.pv) {
-            double pv_lo, pv_mean, pv_hi;
-            run_tally_result(&out.pv, NAN, &pv_lo, &pv_mean, &pv_hi);
-            printf("pv      min %.1f mean %.1f max %.1f kWh/kWp (band %d); %llu records without "
-                   "air temperature or wind took %g C, %g m/s\n",
-                   pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 1,
-                   (unsigned long long)c.records_without_temperature, set.ins.temp_air_c,
-                   set.ins.wind_speed_m_s);
-            run_tally_result(&out.pv_ac, NAN, &pv_lo, &pv_mean, &pv_hi);
-            printf("pv ac   min %.1f mean %.1f max %.1f kWh/kWp (band %d) after an inverter of "
-                   "%g %% at a DC/AC ratio of %g\n",
-                   pv_lo, pv_mean, pv_hi, WEATHER_BANDS + 2, set.ins.inverter_efficiency_percent,
-                   set.ins.dc_ac_ratio);
-        }
-    }
-    if (steps.have_field)
-        ss_sun_field_free(&steps.field);
-    steps_free(&steps);
-    ss_weather_free(&weather);
-    free(out.row);
-    free(text);
-    job_close(&job);
+        st = open_outputs(r);
+    if (st == SS_OK)
+        st = run(r);
+    char meta[1400] = "";
+    if (st == SS_OK && r->out.w)
+        describe_run(r, meta, sizeof meta);
+    if (st == SS_OK)
+        st = commit(r, meta);
+    rc = job_finish(&r->job, st);
+    if (st == SS_OK && !r->job.run.quiet)
+        print_summary(r);
+    close_run(r);
+    free(r);
     return rc;
 }

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 
 #include "commands.h"
-#include "mpi_share.h"
 #include "sky_job.h"
 #include "run.h"
 
@@ -42,13 +41,7 @@ int cmd_svf(int argc, char **argv)
         return rc;
     }
     ss_raster_writer *w = NULL;
-    /* Rank 0 writes (alone, under mpirun); opened first, to fail early. */
-    ss_status st = share_rank() == 0 ? ss_writer_open(job.run.ctx, job.output, &job.dem, 1,
-                                                      set.common.format,
-                                                      set.common.creation_options.items, &w)
-                                     : SS_OK;
-    if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
-        st = ss_ctx_error(job.run.ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
+    ss_status st = job_open_output(&job, 1, &set.common, &w);
     double lo = NAN, mean = NAN, hi = NAN;
     ss_band_stats bands = {0};
     if (st == SS_OK)

@@ -12,7 +12,6 @@
 #include "commands.h"
 #include "heightmap_input.h"
 #include "mpi_share.h"
-#include "mpi_share.h"
 #include "run.h"
 #include "scene.h"
 
@@ -568,6 +567,19 @@ int job_open_banded(sweep_job *job, const char *command, const common_settings *
                     const char **pos, int n_pos, band_cost cost)
 {
     return open_job(job, command, common, pos, n_pos, &cost);
+}
+
+ss_status job_open_output(sweep_job *job, int n_bands, const common_settings *common,
+                          ss_raster_writer **w)
+{
+    *w = NULL;
+    ss_status st = share_rank() == 0 ? ss_writer_open(job->run.ctx, job->output, &job->dem, n_bands,
+                                                      common->format,
+                                                      common->creation_options.items, w)
+                                     : SS_OK;
+    if (share_first_failure(st != SS_OK) >= 0 && st == SS_OK)
+        st = ss_ctx_error(job->run.ctx, SS_ERR_OUTPUT, "rank 0 could not open the output");
+    return st;
 }
 
 ss_status job_rows_reader(void *job, int row0, int n_rows, float *z)

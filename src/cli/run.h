@@ -129,6 +129,11 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
  * code (0 after --plan). */
 int job_plan(sweep_job *job, const common_settings *common, ss_product product, int n_steps,
              const double *step_unix_s, ss_shadow_mode shadow_mode);
+/* Opens the job's output of n_bands bands on rank 0 (the one that writes,
+ * alone or under mpirun), before the run so that it fails early; the other
+ * ranks leave *w NULL. Every rank learns whether rank 0 failed. */
+ss_status job_open_output(sweep_job *job, int n_bands, const common_settings *common,
+                          ss_raster_writer **w);
 /* The plan as JSON into an output's metadata (PLAN). */
 void job_plan_metadata(sweep_job *job, ss_raster_writer *w);
 /* The job's DEM for the library's row-wise calls: held whole, or read band
