@@ -43,6 +43,9 @@ want bench && for dev in "$gpu" "Portable"; do
     bench --device "$dev" --synthetic 4096 --directions 64 --reps 3 --lines digital
     [ "$dev" = "$gpu" ] || continue
     bench --device "$dev" --synthetic 1024 --directions 256 --reps 5
+    # The batch against one direction per launch, and bands against the whole grid.
+    bench --device "$dev" --synthetic 1024 --directions 256 --reps 5 --batch 1
+    bench --device "$dev" --synthetic 4096 --directions 64 --reps 3 --band-rows 512
     bench --device "$dev" --synthetic 8192 --directions 64 --reps 3
 done
 
