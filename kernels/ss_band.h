@@ -200,6 +200,7 @@ SS_FN void ss_band_hand_on(const ss_band_dir *d, int line,
     SS_GLOBAL const int *st = state + SS_BAND_STATE * k;
     int n = st[0];
     out_cnt[k] = n;
+    out_off[k] = 0; /* where the next band takes none: an offset in bounds all the same */
     if (n == 0)
         return;
     int at = SS_ATOMIC_ADD(&counters[SS_BAND_USED], n);

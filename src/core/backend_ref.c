@@ -73,10 +73,25 @@ static ss_status grow_ints(ss_ctx *ctx, int **p, int n)
     return SS_OK;
 }
 
+/* Grows a hull array to hold at least n points (one at least: offsets are
+ * added to it even where a line takes no points). */
+static ss_status grow_hull(ss_ctx *ctx, ss_hull_point **p, size_t *cap, size_t n)
+{
+    if (n <= *cap && *p)
+        return SS_OK;
+    size_t want = n + n / 2 + 1024;
+    ss_hull_point *q = ss_realloc(*p, sizeof *q * want);
+    if (!q)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for %zu hull points handed on", n);
+    *p = q;
+    *cap = want;
+    return SS_OK;
+}
+
 static ss_status ref_pass_begin(ss_backend *b, int n_lines)
 {
     ref_backend *r = b->impl;
-    ss_status st = SS_OK;
+    ss_status st = grow_hull(b->ctx, &r->hull_in, &r->hull_cap_in, 1);
     int **arrays[] = {&r->in_off, &r->in_cnt, &r->out_off, &r->out_cnt};
     for (int i = 0; i < 4 && st == SS_OK; ++i)
         st = grow_ints(b->ctx, arrays[i], n_lines);
@@ -85,8 +100,8 @@ static ss_status ref_pass_begin(ss_backend *b, int n_lines)
     if (st != SS_OK)
         return st;
     r->n_lines = n_lines;
-    memset(r->in_cnt, 0, sizeof(int) * (size_t)n_lines);
-    memset(r->in_off, 0, sizeof(int) * (size_t)n_lines);
+    for (int i = 0; i < 4; ++i)
+        memset(*arrays[i], 0, sizeof(int) * (size_t)n_lines);
     memset(r->counters, 0, sizeof r->counters);
     if (r->carry)
         memset(r->carry, 0, sizeof(float) * carry_floats(b));
@@ -107,17 +122,8 @@ static ss_status ref_sums_begin(ss_backend *b, const ss_band_run *run, int pass)
 static ss_status hull_room(ss_backend *b)
 {
     ref_backend *r = b->impl;
-    size_t need = (size_t)r->counters[SS_BAND_PENDING];
-    if (need <= r->hull_cap_out)
-        return SS_OK;
-    size_t cap = need + need / 2 + 1024;
-    ss_hull_point *p = ss_realloc(r->hull_out, sizeof *p * cap);
-    if (!p)
-        return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for %zu hull points handed on",
-                       need);
-    r->hull_out = p;
-    r->hull_cap_out = cap;
-    return SS_OK;
+    return grow_hull(b->ctx, &r->hull_out, &r->hull_cap_out,
+                     (size_t)r->counters[SS_BAND_PENDING]);
 }
 
 /* One round of one direction's lines, and their hulls handed on. */
