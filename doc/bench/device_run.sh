@@ -3,17 +3,18 @@
 # core-only tests with SKYSWEEP_DEVICE naming the GPU (so each test's default
 # device is the GPU and its twin the C reference), then ss-bench on the GPU
 # and on PoCL over the machine's CPU cores, one line per measurement, then
-# ss-scale's whole-grid SVF and horizon products on both.
+# ss-scale's whole-grid SVF and horizon products on both, then a week of
+# hourly clear-sky insolation (a year is 52 of them) with exact shadows.
 #
 #   doc/bench/device_run.sh [DIR] [OUTDIR]    (defaults .gpu and $OUT or .)
 #
 # GPU is the part of "platform: device" names to match (default NVIDIA);
-# PARTS the parts to run (default "tests bench scale").
+# PARTS the parts to run (default "tests bench scale solar").
 set -u
 dir=${1:-.gpu}
 out=${2:-${OUT:-.}}
 gpu=${GPU:-NVIDIA}
-parts=${PARTS:-tests bench scale}
+parts=${PARTS:-tests bench scale solar}
 want() { case " $parts " in *" $1 "*) return 0 ;; esac; return 1; }
 export LD_LIBRARY_PATH=$PWD/$dir/lib POCL_CACHE_DIR=${TMPDIR:-/tmp}/ss-pocl-cache
 # CUDA's OpenCL loader reads only /etc/OpenCL/vendors, which lists PoCL alone.
@@ -54,5 +55,18 @@ want scale && for product in "" --horizon; do
         echo "== ss-scale whole grid ${product:-svf} on $dev"
         timeout 150 "$dir/bin/ss-scale" --size 8192 --directions 16 --whole $product \
             --device "$dev" 2>&1 | grep -E '^(grid|device|time|check)' | sed 's/^/  /'
+    done
+done
+
+week=2026-06-01T00:00Z/P7D/PT1H
+want solar && for dev in "$gpu" "Portable"; do
+    echo "== ss-scale insolation, a week of hourly steps, on $dev"
+    for size in 1024 4096; do
+        [ "$dev" = "$gpu" ] || [ "$size" -eq 1024 ] || continue
+        for mode in --whole "--memory 512"; do
+            timeout 300 "$dir/bin/ss-scale" --size $size --directions 16 --insolation $week \
+                $mode --device "$dev" 2>&1 | grep -E '^(grid|steps|bands|time|check)' |
+                sed 's/^/  /'
+        done
     done
 done
