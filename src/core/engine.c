@@ -494,17 +494,12 @@ static void close_run(engine_run *e)
 ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                         const ss_engine_job *job)
 {
-    ss_status st = ss_source_check(ctx, src);
-    if (st == SS_OK)
-        st = ss_sweep_options_check(ctx, opt);
-    if (st != SS_OK)
-        return st;
     engine_run e = {0};
     e.ctx = ctx;
     e.src = src;
     e.opt = opt;
     e.job = job;
-    st = open_run(&e);
+    ss_status st = open_run(&e);
     if (st == SS_OK)
         st = run_groups(&e);
     if (st == SS_OK && !src->z && !e.any_height)

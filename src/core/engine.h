@@ -66,6 +66,8 @@ typedef struct {
 /* Checks a source: sizes, cell sizes, heights or a reader. */
 ss_status ss_source_check(ss_ctx *ctx, const ss_source *src);
 
+/* Runs a job over the source; src and opt as checked by the product's
+ * public call (ss_rows_check, or the whole-grid calls' own checks). */
 ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                         const ss_engine_job *job);
 

@@ -191,9 +191,7 @@ ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_op
     ss_call_begin(ctx);
     ss_status st = ss_hillshade_check(ctx, ho);
     if (st == SS_OK)
-        st = ss_source_check(ctx, src);
-    if (st == SS_OK)
-        st = ss_sweep_options_check(ctx, opt);
+        st = ss_rows_check(ctx, src, opt, NULL);
     if (st != SS_OK)
         return st;
     int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;

@@ -56,9 +56,6 @@ static ss_status horizon_rows(void *user, int index, const ss_band_view *band,
 static ss_status run_horizon(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                              horizon_run *h)
 {
-    ss_status st = ss_sweep_options_check(ctx, opt);
-    if (st != SS_OK)
-        return st;
     int n = opt->directions;
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n);
     double *azimuths = ss_malloc(sizeof *azimuths * (size_t)n);
@@ -86,7 +83,7 @@ static ss_status run_horizon(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
         .consumer = &consumer,
         .user = h,
         .what = "horizon"};
-    st = ss_engine_run(ctx, src, opt, &job);
+    ss_status st = ss_engine_run(ctx, src, opt, &job);
     free(dirs);
     free(azimuths);
     return st;
@@ -96,6 +93,9 @@ ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_opti
                           int want, ss_rows_sink sink, void *user)
 {
     ss_call_begin(ctx);
+    ss_status st = ss_rows_check(ctx, src, opt, NULL);
+    if (st != SS_OK)
+        return st;
     horizon_run h = {ctx, want, src, NULL, sink, user, NULL};
     return run_horizon(ctx, src, opt, &h);
 }

@@ -386,11 +386,7 @@ ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
     ss_call_begin(ctx);
     ss_status st = ss_insolation_check(ctx, io, n_steps);
     if (st == SS_OK)
-        st = ss_share_check(ctx, share);
-    if (st == SS_OK)
-        st = ss_source_check(ctx, src);
-    if (st == SS_OK)
-        st = ss_sweep_options_check(ctx, opt);
+        st = ss_rows_check(ctx, src, opt, share);
     if (st != SS_OK)
         return st;
     if (io->shadow_mode == SS_SHADOW_CUMULATIVE && (want & SS_INSOLATION_STEPS))

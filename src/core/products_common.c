@@ -56,6 +56,17 @@ ss_status ss_share_check(ss_ctx *ctx, const ss_share *share)
     return SS_OK;
 }
 
+ss_status ss_rows_check(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                        const ss_share *share)
+{
+    ss_status st = ss_share_check(ctx, share);
+    if (st == SS_OK)
+        st = ss_source_check(ctx, src);
+    if (st == SS_OK)
+        st = ss_sweep_options_check(ctx, opt);
+    return st;
+}
+
 int ss_share_has(const ss_share *share, int k)
 {
     return !share || share->stride <= 1 || k % share->stride == share->first;

@@ -22,6 +22,11 @@ float ss_product_finish(int term, float sum, int directions);
 
 /* Checks a share of a run's directions or steps (NULL: all). */
 ss_status ss_share_check(ss_ctx *ctx, const ss_share *share);
+/* What every row-wise call checks of its arguments before it runs: the
+ * share, the DEM (held heights are scanned once here) and the options.
+ * ss_engine_run takes them as checked, however often a product runs it. */
+ss_status ss_rows_check(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                        const ss_share *share);
 /* Whether direction or step k is this process's. */
 int ss_share_has(const ss_share *share, int k);
 /* Adds the processes' sums of a band where the run is shared. */

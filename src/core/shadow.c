@@ -140,7 +140,7 @@ ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_optio
 {
     ss_call_begin(ctx);
     ss_sun_step centre;
-    ss_status st = ss_source_check(ctx, src);
+    ss_status st = ss_rows_check(ctx, src, opt, NULL);
     if (st == SS_OK)
         st = sun_rows(ctx, 0, 0, 0, &centre, sun_user);
     if (st != SS_OK)

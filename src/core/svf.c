@@ -69,9 +69,7 @@ ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options 
     ss_call_begin(ctx);
     ss_status st = ss_sky_check(ctx, term, radius_m);
     if (st == SS_OK)
-        st = ss_share_check(ctx, share);
-    if (st == SS_OK)
-        st = ss_sweep_options_check(ctx, opt);
+        st = ss_rows_check(ctx, src, opt, share);
     if (st != SS_OK)
         return st;
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)opt->directions);
