@@ -217,7 +217,7 @@ typedef struct {
     ss_rows_read read;         /* ... the rows are read through this */
     void *read_user;
     int band_rows;             /* rows per band; 0: the whole grid in one band */
-    ss_band_stats *stats;      /* filled in at the end; may be NULL */
+    ss_band_stats *stats;      /* over the whole call, filled in as it runs; may be NULL */
 } ss_source;
 
 /* Receives finished rows [row0, row0 + n_rows) of one output of a row-wise

@@ -58,10 +58,10 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
         return;
     }
     ss_counters c = ss_ctx_counters(job->run.ctx);
-    printf("sweep   %llu sweeps (%s lines), curvature %s, banded on the host (C, OpenMP)\n",
+    printf("sweep   %llu sweeps (%s lines), curvature %s, %s, in bands\n",
            (unsigned long long)c.sweeps,
            job->opt.lines == SS_LINES_DIGITAL ? "digital" : "interpolated",
-           job->opt.earth_radius_m > 0 ? "on" : "off");
+           job->opt.earth_radius_m > 0 ? "on" : "off", ss_ctx_device_name(job->run.ctx));
     printf("time    sweep %.3f s (%.0f M cell-directions/s over %d x %d cells), DEM read in "
            "bands\n",
            c.sweep_seconds,

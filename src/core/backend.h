@@ -34,7 +34,9 @@ typedef struct ss_backend ss_backend;
 
 typedef struct {
     /* Makes a band current: its held rows' heights (NaN at nodata) and,
-     * for the radiative SVF, their gradients (2 floats a cell). */
+     * for the radiative SVF, their gradients (2 floats a cell), which the
+     * caller keeps unchanged until the next load (the C twin reads them in
+     * place; a device copies them). */
     ss_status (*load)(ss_backend *b, const ss_band_run *run, const float *z, const float *grad);
     /* Starts a pass over the bands for directions with n_lines lines in
      * all: every line's hull is empty, every row carried between bands 0. */
@@ -76,6 +78,9 @@ struct ss_backend {
 ss_status ss_backend_open(ss_backend *b);
 ss_status ss_backend_ref_open(ss_backend *b);
 ss_status ss_backend_ocl_open(ss_backend *b);
+/* The floats of the rows kept between bands: a row per plane and
+ * direction carried. */
+size_t ss_backend_carry_floats(const ss_backend *b);
 
 /* The surface gradient of every cell for the radiative SVF: out[2c] =
  * dz/de, out[2c + 1] = dz/dn by Horn's formula (ss_gradient_horn), 0 at

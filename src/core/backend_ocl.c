@@ -583,11 +583,11 @@ static ss_status ocl_load(ss_backend *b, const ss_band_run *run, const float *z,
     return st;
 }
 
-/* Rows of sums kept between bands: a row per plane and direction carried. */
+/* The carried rows' buffer: never empty, so that it can be filled. */
 static size_t carry_floats(const ss_backend *b)
 {
-    int planes = b->walk.term == SS_TERM_HORIZON ? ss_walk_planes(&b->walk) : 1;
-    return (size_t)(b->carried ? b->carried : 1) * (size_t)planes * (size_t)b->width;
+    size_t n = ss_backend_carry_floats(b);
+    return n ? n : (size_t)b->width;
 }
 
 static ss_status ocl_pass_begin(ss_backend *b, int n_lines)
@@ -605,8 +605,12 @@ static ss_status ocl_pass_begin(ss_backend *b, int n_lines)
             *arrays[i] = new_buffer(b, CL_MEM_READ_WRITE, ints * sizeof(int), NULL, &err);
         }
         if (err != CL_SUCCESS) {
-            for (int i = 0; i < 5; ++i)
+            for (int i = 0; i < 5; ++i) {
+                if (*arrays[i])
+                    clReleaseMemObject(*arrays[i]);
                 *arrays[i] = NULL;
+            }
+            q->lines_cap = 0;
             return cl_fail(b->ctx, err, "allocating the per-line hull arrays");
         }
         q->lines_cap = n_lines;
@@ -912,8 +916,12 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     ss_status st = ocl_acquire(b->ctx);
     if (st != SS_OK)
         return st;
-    if (b->ctx->use_reference) /* the default device could not work here */
+    if (b->ctx->use_reference) { /* the default device could not work here */
+        /* The batch was sized for OpenCL; the C twin walks one at a time
+         * (engine.c, batch_wanted) and would hold a batch's planes for nothing. */
+        b->batch = b->ctx->batch > 0 ? b->ctx->batch : 1;
         return ss_backend_ref_open(b);
+    }
     struct ss_ocl *o = b->ctx->ocl;
     ocl_backend *q = ss_calloc(1, sizeof *q);
     if (!q)

@@ -14,10 +14,8 @@
 #include "ss_passes.h"
 
 typedef struct {
-    const float *z;     /* the band's heights (the whole grid's in place) */
-    float *z_band;      /* bands: their heights */
+    const float *z;     /* the band's heights: the caller's (backend.h, load) */
     const float *grad;  /* the band's gradients (the radiative SVF) */
-    float *grad_band;
     int *stack;
     float *sums;        /* summed walks: the band's sums */
     float *outs;        /* horizon walks: planes per batch slot */
@@ -42,26 +40,11 @@ static size_t run_cells(const ss_band_run *run)
 
 static ss_status ref_load(ss_backend *b, const ss_band_run *run, const float *z, const float *grad)
 {
+    (void)run;
     ref_backend *r = b->impl;
-    size_t n = run_cells(run);
-    if (b->whole_z) {
-        r->z = z;
-        r->grad = grad;
-        return SS_OK;
-    }
-    memcpy(r->z_band, z, n * sizeof(float));
-    if (grad)
-        memcpy(r->grad_band, grad, 2 * n * sizeof(float));
-    r->z = r->z_band;
-    r->grad = r->grad_band;
+    r->z = z;
+    r->grad = grad;
     return SS_OK;
-}
-
-/* Rows of sums kept between bands: a row per plane and direction carried. */
-static size_t carry_floats(const ss_backend *b)
-{
-    int planes = b->walk.term == SS_TERM_HORIZON ? ss_walk_planes(&b->walk) : 1;
-    return (size_t)b->carried * (size_t)planes * (size_t)b->width;
 }
 
 static ss_status grow_ints(ss_ctx *ctx, int **p, int n)
@@ -104,7 +87,7 @@ static ss_status ref_pass_begin(ss_backend *b, int n_lines)
         memset(*arrays[i], 0, sizeof(int) * (size_t)n_lines);
     memset(r->counters, 0, sizeof r->counters);
     if (r->carry)
-        memset(r->carry, 0, sizeof(float) * carry_floats(b));
+        memset(r->carry, 0, sizeof(float) * ss_backend_carry_floats(b));
     return SS_OK;
 }
 
@@ -271,8 +254,6 @@ static void ref_close(ss_backend *b)
     ref_backend *r = b->impl;
     if (!r)
         return;
-    free(r->z_band);
-    free(r->grad_band);
     free(r->stack);
     free(r->sums);
     free(r->outs);
@@ -302,21 +283,16 @@ ss_status ss_backend_ref_open(ss_backend *b)
     size_t n = held_cells(b);
     int horizon = b->walk.term == SS_TERM_HORIZON, planes = ss_walk_planes(&b->walk);
     int ok = (r->stack = ss_alloc_grid(n * sizeof(int))) != NULL;
-    if (ok && !b->whole_z) {
-        ok = (r->z_band = ss_alloc_grid(n * sizeof(float))) != NULL;
-        if (ok && b->walk.term == SS_SVF_TILTED)
-            ok = (r->grad_band = ss_alloc_grid(2 * n * sizeof(float))) != NULL;
-    }
     if (ok && horizon)
         ok = (r->outs = ss_alloc_grid(n * sizeof(float) * (size_t)planes * b->batch)) != NULL;
     else if (ok)
         ok = (r->sums = ss_alloc_grid(n * sizeof(float))) != NULL;
     if (ok && b->carried)
-        ok = (r->carry = ss_calloc(carry_floats(b), sizeof(float))) != NULL;
+        ok = (r->carry = ss_calloc(ss_backend_carry_floats(b), sizeof(float))) != NULL;
     if (!ok) {
         ref_close(b);
         return ss_fail(b->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB of sweep buffers",
-                       (n * sizeof(float) * (size_t)(2 + (horizon ? planes * b->batch : 1))) >>
+                       (n * sizeof(float) * (size_t)(1 + (horizon ? planes * b->batch : 1))) >>
                            20);
     }
     return SS_OK;

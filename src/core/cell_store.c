@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cell_store.h"
+#include "engine.h"
 
 struct ss_cell_store {
     ss_ctx *ctx;
@@ -24,7 +25,7 @@ ss_status ss_cell_store_open(ss_ctx *ctx, const ss_source *src, int planes, size
     s->ctx = ctx;
     s->row_bytes = (size_t)src->width * elem_size;
     s->plane_bytes = s->row_bytes * (size_t)src->height;
-    int whole = src->z && (src->band_rows <= 0 || src->band_rows >= src->height);
+    int whole = src->z && ss_source_band_rows(src) == src->height;
     size_t bytes = s->plane_bytes * (size_t)planes;
     if (whole && !(s->memory = ss_malloc(bytes ? bytes : 1))) {
         free(s);

@@ -27,6 +27,11 @@ int ss_walk_planes(const ss_walk *walk)
     return walk->want & SS_HORIZON_WANT_CAST ? 4 : walk->want & SS_HORIZON_WANT_DIST ? 3 : 2;
 }
 
+size_t ss_backend_carry_floats(const ss_backend *b)
+{
+    return (size_t)b->carried * (size_t)ss_walk_planes(&b->walk) * (size_t)b->width;
+}
+
 ss_status ss_backend_open(ss_backend *b)
 {
     return b->ctx->use_reference ? ss_backend_ref_open(b) : ss_backend_ocl_open(b);
@@ -41,6 +46,11 @@ ss_source ss_source_of_grid(const ss_grid *grid)
                      .z_origin_m = &grid->z_origin_m,
                      .z = grid->z};
     return src;
+}
+
+int ss_source_band_rows(const ss_source *src)
+{
+    return src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
 }
 
 double ss_source_origin(const ss_source *src)
@@ -90,6 +100,7 @@ typedef struct {
     int *order, n_order;    /* the current group's directions, down pass first */
     int n_down;             /* how many of them walk downward */
     ss_band_dir *batch;
+    int *batch_index;       /* what the consumer is told of each slot of the batch */
     int batch_now;          /* directions walked at once now (adapt_batch) */
     int visits, visits_done;
     int delivered;          /* directions handed to the consumer (whole grid) */
@@ -175,7 +186,7 @@ static ss_status partial_rows(engine_run *e, int row0, int n_rows, float *data, 
 
 /* Hands slots [0, n) of the batch just walked to the consumer, in order. */
 static ss_status deliver(engine_run *e, const ss_band_run *run, const ss_band_view *view, int n,
-                         const int *indices, float *planes)
+                         float *planes)
 {
     const ss_consumer *c = e->job->consumer;
     ss_status st = SS_OK;
@@ -189,7 +200,7 @@ static ss_status deliver(engine_run *e, const ss_band_run *run, const ss_band_vi
             st = e->b.ops->view(&e->b, run, k, 3, &rows.cast);
         e->ctx->counters.sweep_seconds += ss_seconds_now() - t0;
         if (st == SS_OK && c->direction)
-            st = c->direction(e->job->user, indices[k], view, &rows, planes);
+            st = c->direction(e->job->user, e->batch_index[k], view, &rows, planes);
     }
     return st;
 }
@@ -223,9 +234,6 @@ static ss_status walk_directions(engine_run *e, const ss_band_run *run, const ss
                                  int first, int last, float *planes)
 {
     const ss_engine_job *job = e->job;
-    int *indices = ss_malloc(sizeof(int) * (size_t)e->b.batch);
-    if (!indices)
-        return ss_fail(e->ctx, SS_ERR_MEMORY, "out of memory for a batch");
     ss_status st = SS_OK;
     int n = 0;
     for (int k = first; k <= last && st == SS_OK; ++k) {
@@ -236,7 +244,7 @@ static ss_status walk_directions(engine_run *e, const ss_band_run *run, const ss
             e->batch[n].ls = ss_band_lines_of(&e->dirs[d].ls, run->lo);
             e->batch[n].slot = n;
             e->batch[n].carry = k;
-            indices[n++] = job->dirs[d].index;
+            e->batch_index[n++] = job->dirs[d].index;
         }
         /* A full batch, or one ended by a direction without a walk or by the
          * pass's end: walked, then handed over. */
@@ -247,7 +255,7 @@ static ss_status walk_directions(engine_run *e, const ss_band_run *run, const ss
             e->ctx->counters.sweep_seconds += seconds;
             adapt_batch(e, seconds);
             if (st == SS_OK && !is_sums(e))
-                st = deliver(e, run, view, n, indices, planes);
+                st = deliver(e, run, view, n, planes);
             for (int j = 0; j < n && st == SS_OK; ++j)
                 st = progress_direction(e);
             n = 0;
@@ -259,7 +267,6 @@ static ss_status walk_directions(engine_run *e, const ss_band_run *run, const ss
                 st = progress_direction(e);
         }
     }
-    free(indices);
     return st;
 }
 
@@ -413,7 +420,7 @@ static ss_status open_run(engine_run *e)
     const ss_source *src = e->src;
     const ss_engine_job *job = e->job;
     int h = src->height, w = src->width;
-    e->band_rows = src->band_rows > 0 && src->band_rows < h ? src->band_rows : h;
+    e->band_rows = ss_source_band_rows(src);
     e->n_bands = (h + e->band_rows - 1) / e->band_rows;
     e->banded = e->n_bands > 1;
     e->halo = SS_BAND_HALO;
@@ -469,7 +476,8 @@ static ss_status open_run(engine_run *e)
     if (!walks(e))
         return SS_OK;
     st = ss_backend_open(&e->b);
-    if (st == SS_OK && !(e->batch = ss_calloc((size_t)e->b.batch, sizeof *e->batch)))
+    if (st == SS_OK && (!(e->batch = ss_calloc((size_t)e->b.batch, sizeof *e->batch)) ||
+                        !(e->batch_index = ss_calloc((size_t)e->b.batch, sizeof(int)))))
         st = ss_fail(e->ctx, SS_ERR_MEMORY, "out of memory for a batch");
     /* A batch the context sets is kept; the device's choice starts small. */
     e->batch_now = e->ctx->batch > 0 || e->b.batch < 8 ? e->b.batch : 8;
@@ -489,6 +497,7 @@ static void close_run(engine_run *e)
     free(e->dirs);
     free(e->order);
     free(e->batch);
+    free(e->batch_index);
 }
 
 ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
@@ -509,8 +518,12 @@ ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_option
         walked += job->dirs[i].walk != 0;
     ctx->counters.sweeps += (uint64_t)walked;
     ctx->counters.cells_swept += (uint64_t)walked * (uint64_t)src->width * (uint64_t)src->height;
-    if (src->stats)
-        *src->stats = e.stats;
+    if (src->stats) { /* a product may run the engine more than once */
+        src->stats->handoffs += e.stats.handoffs;
+        src->stats->hull_points_handed_on += e.stats.hull_points_handed_on;
+        if (e.stats.max_hull_points > src->stats->max_hull_points)
+            src->stats->max_hull_points = e.stats.max_hull_points;
+    }
     close_run(&e);
     return st;
 }

@@ -67,10 +67,12 @@ typedef struct {
 ss_status ss_source_check(ss_ctx *ctx, const ss_source *src);
 
 /* Runs a job over the source; src and opt as checked by the product's
- * public call (ss_rows_check, or the whole-grid calls' own checks). */
+ * public call (ss_rows_begin, or the whole-grid calls' own checks). */
 ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                         const ss_engine_job *job);
 
+/* The rows of a source's bands: band_rows, or its height for one band. */
+int ss_source_band_rows(const ss_source *src);
 /* The height of a source's stored zero, metres. */
 double ss_source_origin(const ss_source *src);
 

@@ -179,7 +179,7 @@ static ss_status sky_layers(ss_ctx *ctx, const ss_source *src, const ss_sweep_op
     double radius = ho->vat ? ho->radius_m : 0.0;
     for (int k = 0; k < n && st == SS_OK; ++k) {
         ss_store_sink sink = {s->layers, k};
-        st = ss_sky_rows(ctx, src, opt, k == 0 ? SS_SKY_SVF_GEOMETRIC : SS_SKY_OPENNESS_POSITIVE,
+        st = ss_sky_walk(ctx, src, opt, k == 0 ? SS_SKY_SVF_GEOMETRIC : SS_SKY_OPENNESS_POSITIVE,
                          radius, NULL, ss_store_sink_rows, &sink);
     }
     return st;
@@ -191,16 +191,20 @@ ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_op
     ss_call_begin(ctx);
     ss_status st = ss_hillshade_check(ctx, ho);
     if (st == SS_OK)
-        st = ss_rows_check(ctx, src, opt, NULL);
+        st = ss_rows_begin(ctx, src, opt, NULL);
     if (st != SS_OK)
         return st;
-    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * (size_t)src->width;
-    shade_run s = {src, ho, NULL, ss_malloc(n * sizeof(float)), ss_malloc(n * sizeof(float)),
-                   ss_malloc(n * sizeof(float)), sink, user};
-    if (!s.shade || !s.svf || !s.openness)
+    /* The layers' rows only where the shade needs them. */
+    int sky = ho->vat || ho->sky_view > 0;
+    shade_run s = {src,  ho, NULL, ss_malloc(n * sizeof(float)),
+                   sky ? ss_malloc(n * sizeof(float)) : NULL,
+                   ho->vat ? ss_malloc(n * sizeof(float)) : NULL,
+                   sink, user};
+    if (!s.shade || (sky && !s.svf) || (ho->vat && !s.openness))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of shades");
-    if (st == SS_OK && (ho->vat || ho->sky_view > 0))
+    if (st == SS_OK && sky)
         st = sky_layers(ctx, src, opt, &s);
     /* The light's azimuth is in the raster's frame; the walk takes the
      * options' frame (true north unless the options say grid). */

@@ -93,7 +93,7 @@ ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_opti
                           int want, ss_rows_sink sink, void *user)
 {
     ss_call_begin(ctx);
-    ss_status st = ss_rows_check(ctx, src, opt, NULL);
+    ss_status st = ss_rows_begin(ctx, src, opt, NULL);
     if (st != SS_OK)
         return st;
     horizon_run h = {ctx, want, src, NULL, sink, user, NULL};

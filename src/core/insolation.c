@@ -340,7 +340,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, unsigned ch
 static ss_status run_steps(ss_insolation_job *job, int n_steps)
 {
     const ss_source *src = job->src;
-    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * src->width;
     /* Stored horizons not held in memory are read band by band. */
     int read_stored = job->horizons && !ss_cell_store_peek(job->horizons, 0, 0);
@@ -378,17 +378,12 @@ static ss_status run_steps(ss_insolation_job *job, int n_steps)
     return st;
 }
 
-ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
-                             const ss_insolation_options *io, int n_steps, ss_sun_rows_fn sun_rows,
-                             void *sun_user, int want, const ss_share *share, ss_rows_sink sink,
-                             void *user)
+/* ss_insolation_rows on a DEM and options already checked. */
+static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                                const ss_insolation_options *io, int n_steps,
+                                ss_sun_rows_fn sun_rows, void *sun_user, int want,
+                                const ss_share *share, ss_rows_sink sink, void *user)
 {
-    ss_call_begin(ctx);
-    ss_status st = ss_insolation_check(ctx, io, n_steps);
-    if (st == SS_OK)
-        st = ss_rows_check(ctx, src, opt, share);
-    if (st != SS_OK)
-        return st;
     if (io->shadow_mode == SS_SHADOW_CUMULATIVE && (want & SS_INSOLATION_STEPS))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "the cumulative sky has no per-step bands: use exact or interpolated "
@@ -399,7 +394,7 @@ ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
                        "record's irradiance): use exact or interpolated shadows with it");
     ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
                              want, sink, user, NULL, NULL};
-    st = ss_insolation_cell_inputs(&job);
+    ss_status st = ss_insolation_cell_inputs(&job);
     if (st == SS_OK && io->shadow_mode != SS_SHADOW_EXACT)
         st = ss_insolation_store_horizons(&job);
     if (st == SS_OK)
@@ -408,6 +403,20 @@ ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
     ss_cell_store_close(job.cells);
     ss_cell_store_close(job.horizons);
     return st;
+}
+
+ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                             const ss_insolation_options *io, int n_steps, ss_sun_rows_fn sun_rows,
+                             void *sun_user, int want, const ss_share *share, ss_rows_sink sink,
+                             void *user)
+{
+    ss_call_begin(ctx);
+    ss_status st = ss_insolation_check(ctx, io, n_steps);
+    if (st == SS_OK)
+        st = ss_rows_begin(ctx, src, opt, share);
+    return st == SS_OK ? run_insolation(ctx, src, opt, io, n_steps, sun_rows, sun_user, want,
+                                        share, sink, user)
+                       : st;
 }
 
 /* ---- the whole grid held in memory --------------------------------------------- */
@@ -497,6 +506,5 @@ ss_status ss_insolation(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
                           sink,
                           sink_user};
     ss_source src = ss_source_of_grid(grid);
-    return ss_insolation_rows(ctx, &src, opt, io, n_steps, whole_sun, &w, want, NULL, whole_rows,
-                              &w);
+    return run_insolation(ctx, &src, opt, io, n_steps, whole_sun, &w, want, NULL, whole_rows, &w);
 }

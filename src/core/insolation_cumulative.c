@@ -234,7 +234,7 @@ ss_status ss_insolation_cumulative(ss_insolation_job *job, int n_steps)
             st = ss_check_cancel(ctx, "the cumulative sky");
     }
     const ss_source *src = job->src;
-    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * src->width;
     cumulative_run r = {job, &m, ss_malloc(n * sizeof(ss_cell_terms)),
                         ss_cell_store_peek(job->horizons, 0, 0)

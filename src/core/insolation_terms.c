@@ -152,7 +152,7 @@ static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky)
     const ss_sweep_options *opt = job->opt;
     const ss_source *src = job->src;
     int n_dirs = opt->directions;
-    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * src->width;
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n_dirs);
     double *azimuths = ss_malloc(sizeof *azimuths * (size_t)n_dirs);
@@ -204,7 +204,7 @@ ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
     /* The cell's own surface: the radiative SVF product's tilted sky view. */
     ss_store_sink sky = {job->cells, 0};
     if (st == SS_OK && own)
-        st = ss_sky_rows(job->ctx, job->src, job->opt, SS_SKY_SVF_TILTED, 0.0, NULL,
+        st = ss_sky_walk(job->ctx, job->src, job->opt, SS_SKY_SVF_TILTED, 0.0, NULL,
                          ss_store_sink_rows, &sky);
     if (st != SS_OK)
         return st;
@@ -237,12 +237,12 @@ ss_status ss_insolation_store_horizons(ss_insolation_job *job)
     const ss_sweep_options *opt = job->opt;
     const ss_source *src = job->src;
     double bytes = (double)src->width * src->height * opt->directions * sizeof(int16_t);
-    if (src->z && !(src->band_rows > 0 && src->band_rows < src->height) && bytes >= 4e9)
+    if (src->z && ss_source_band_rows(src) == src->height && bytes >= 4e9)
         return ss_fail(job->ctx, SS_ERR_MEMORY,
                        "storing %d horizon directions takes %.1f GB: use the exact shadow "
                        "mode or fewer directions",
                        opt->directions, bytes / 1e9);
-    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    int rows = ss_source_band_rows(src);
     stored_run s = {job, ss_malloc(sizeof(int16_t) * (size_t)rows * src->width)};
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)opt->directions);
     ss_status st = s.rows && dirs ? ss_cell_store_open(job->ctx, src, opt->directions,

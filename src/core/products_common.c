@@ -56,7 +56,7 @@ ss_status ss_share_check(ss_ctx *ctx, const ss_share *share)
     return SS_OK;
 }
 
-ss_status ss_rows_check(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+ss_status ss_rows_begin(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                         const ss_share *share)
 {
     ss_status st = ss_share_check(ctx, share);
@@ -64,6 +64,8 @@ ss_status ss_rows_check(ss_ctx *ctx, const ss_source *src, const ss_sweep_option
         st = ss_source_check(ctx, src);
     if (st == SS_OK)
         st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK && src->stats)
+        *src->stats = (ss_band_stats){0};
     return st;
 }
 

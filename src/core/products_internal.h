@@ -20,12 +20,18 @@ double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
  * definitions (SS_SVF_*) or openness (SS_TERM_ELEVATION: 90 - mean). */
 float ss_product_finish(int term, float sum, int directions);
 
+/* ss_sky_rows on arguments its caller has checked (ss_rows_begin, or a
+ * product of its own that needs the sky view). */
+ss_status ss_sky_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                      ss_sky_term term, double radius_m, const ss_share *share,
+                      ss_rows_sink sink, void *user);
 /* Checks a share of a run's directions or steps (NULL: all). */
 ss_status ss_share_check(ss_ctx *ctx, const ss_share *share);
-/* What every row-wise call checks of its arguments before it runs: the
- * share, the DEM (held heights are scanned once here) and the options.
- * ss_engine_run takes them as checked, however often a product runs it. */
-ss_status ss_rows_check(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+/* What every row-wise call does before it runs: checks the share, the DEM
+ * (held heights are scanned once here) and the options, which
+ * ss_engine_run takes as checked however often a product runs it; and
+ * zeroes the DEM's band stats, which those runs add to. */
+ss_status ss_rows_begin(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                         const ss_share *share);
 /* Whether direction or step k is this process's. */
 int ss_share_has(const ss_share *share, int k);

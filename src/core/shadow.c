@@ -140,7 +140,7 @@ ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_optio
 {
     ss_call_begin(ctx);
     ss_sun_step centre;
-    ss_status st = ss_rows_check(ctx, src, opt, NULL);
+    ss_status st = ss_rows_begin(ctx, src, opt, NULL);
     if (st == SS_OK)
         st = sun_rows(ctx, 0, 0, 0, &centre, sun_user);
     if (st != SS_OK)
@@ -149,7 +149,7 @@ ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_optio
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "sun azimuth %g / elevation %g degrees is not a sun position",
                        centre.azimuth_deg, centre.apparent_elevation_deg);
-    int rows = src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
+    int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * (size_t)src->width;
     shadow_run s = {.ctx = ctx,
                     .src = src,

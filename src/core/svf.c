@@ -62,16 +62,10 @@ static ss_status sky_finish(void *user, const ss_band_view *band, float *sums)
     return k->sink(k->user, SS_OUT_SKY, 0, band->row0, band->n_rows, sums);
 }
 
-ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+ss_status ss_sky_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                       ss_sky_term term, double radius_m, const ss_share *share,
                       ss_rows_sink sink, void *user)
 {
-    ss_call_begin(ctx);
-    ss_status st = ss_sky_check(ctx, term, radius_m);
-    if (st == SS_OK)
-        st = ss_rows_check(ctx, src, opt, share);
-    if (st != SS_OK)
-        return st;
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)opt->directions);
     if (!dirs)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for %d directions", opt->directions);
@@ -90,9 +84,20 @@ ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options 
         .consumer = &consumer,
         .user = &k,
         .what = term >= SS_SKY_OPENNESS_POSITIVE ? "openness" : "sky-view factor"};
-    st = ss_engine_run(ctx, src, opt, &job);
+    ss_status st = ss_engine_run(ctx, src, opt, &job);
     free(dirs);
     return st;
+}
+
+ss_status ss_sky_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                      ss_sky_term term, double radius_m, const ss_share *share,
+                      ss_rows_sink sink, void *user)
+{
+    ss_call_begin(ctx);
+    ss_status st = ss_sky_check(ctx, term, radius_m);
+    if (st == SS_OK)
+        st = ss_rows_begin(ctx, src, opt, share);
+    return st == SS_OK ? ss_sky_walk(ctx, src, opt, term, radius_m, share, sink, user) : st;
 }
 
 static float *the_grid(void *user, int output, int index)
@@ -114,7 +119,7 @@ static ss_status sky_product(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_op
         return st;
     ss_source src = ss_source_of_grid(grid);
     ss_grid_sink sink = {the_grid, out, grid->width};
-    return ss_sky_rows(ctx, &src, opt, term, radius_m, NULL, ss_grid_sink_rows, &sink);
+    return ss_sky_walk(ctx, &src, opt, term, radius_m, NULL, ss_grid_sink_rows, &sink);
 }
 
 ss_status ss_svf(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
