@@ -276,6 +276,55 @@ static void check_product(product p, ss_ctx *twin, ss_ctx *ocl)
     results_free(&ref);
 }
 
+/* Processes sharing a run add their band sums in turn, so each must finish
+ * its bands in one order whatever steps it holds: one a sun walking down,
+ * one walking up, one none. The order the global's rows arrive in is kept. */
+typedef struct {
+    int row0[64], n, reduced;
+} band_order;
+
+static ss_status keep_order(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
+{
+    band_order *o = user;
+    (void)n_rows, (void)values;
+    if (output == SS_OUT_GLOBAL && index == 0 && o->n < 64)
+        o->row0[o->n++] = row0;
+    return SS_OK;
+}
+
+static ss_status count_reduce(void *user, float *sums, size_t n)
+{
+    (void)sums, (void)n;
+    ((band_order *)user)->reduced++;
+    return SS_OK;
+}
+
+static void check_share_band_order(ss_ctx *ctx)
+{
+    enum { BAND_ROWS = 7, BANDS = (H + BAND_ROWS - 1) / BAND_ROWS };
+    band_order first = {0};
+    int same = 1, shares = 0;
+    for (int k = 0; k <= N_STEPS; ++k) { /* share k = N_STEPS holds no step */
+        ss_source src = test_source(&terrain, read_rows, NULL, BAND_ROWS, NULL);
+        ss_sweep_options opt;
+        ss_sweep_options_default(&opt);
+        opt.directions = 4;
+        ss_insolation_options io = {.albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT};
+        band_order got = {0};
+        ss_share share = {k, N_STEPS + 1, count_reduce, &got};
+        ss_status st = ss_insolation_rows(ctx, &src, &opt, &io, N_STEPS, sun_of, NULL, 0, &share,
+                                          keep_order, &got);
+        if (k == 0)
+            first = got;
+        same &= st == SS_OK && got.n == BANDS && got.reduced == BANDS && got.n == first.n &&
+                !memcmp(got.row0, first.row0, sizeof(int) * (size_t)got.n);
+        shares++;
+    }
+    tap_ok(same, "%d shares of a run in bands of 7 rows (suns walking down, up, none) finish "
+           "their %d bands in one order, each band's sums reduced once", shares, BANDS);
+}
+
 int main(void)
 {
     terrain = test_grid(W, H, 20, 25);
@@ -294,6 +343,7 @@ int main(void)
     }
     for (int p = 0; p < N_PRODUCTS; ++p)
         check_product((product)p, twin, ocl);
+    check_share_band_order(twin);
     ss_ctx_free(twin);
     ss_ctx_free(ocl);
     ss_grid_free(&terrain);

@@ -350,21 +350,51 @@ static int line_bases(engine_run *e, int first, int last)
     return lines;
 }
 
+/* The directions [first, last) of e->order that pass p of a group holds
+ * (of `passes`; two in bands, down then up). */
+static void pass_range(const engine_run *e, int passes, int p, int *first, int *last)
+{
+    *first = passes == 2 && p == 1 ? e->n_down : 0;
+    *last = passes == 2 && p == 0 ? e->n_down : e->n_order;
+}
+
+static int is_last_pass(int n_groups, int passes, int g, int p)
+{
+    return g == n_groups - 1 && p == passes - 1;
+}
+
 static ss_status run_groups(engine_run *e)
 {
     const ss_engine_job *job = e->job;
     int group = e->banded && job->group > 0 ? job->group : job->n_dirs;
     int n_groups = job->n_dirs > 0 ? (job->n_dirs + group - 1) / group : 1;
     int passes = e->banded && walks(e) ? 2 : 1;
-    e->visits = n_groups * passes * e->n_bands;
+    /* A pass that holds no direction is not visited (a single shadow
+     * direction walks one way only), except the run's last: every run then
+     * finishes its bands in the same order, which processes adding their
+     * band sums in turn (MPI) rely on. */
+    int runs = 0;
+    for (int g = 0; g < n_groups; ++g) {
+        int g0 = g * group, g1 = g0 + group < job->n_dirs ? g0 + group : job->n_dirs;
+        order_group(e, g0, g1);
+        for (int p = 0; p < passes; ++p) {
+            int first, last;
+            pass_range(e, passes, p, &first, &last);
+            runs += last > first || is_last_pass(n_groups, passes, g, p);
+        }
+    }
+    e->visits = runs * e->n_bands;
     ss_status st = SS_OK;
+    int first_visit = 1;
     for (int g = 0; g < n_groups && st == SS_OK; ++g) {
         int g0 = g * group, g1 = g0 + group < job->n_dirs ? g0 + group : job->n_dirs;
         order_group(e, g0, g1);
         for (int p = 0; p < passes && st == SS_OK; ++p) {
             int pass = passes == 2 ? (p == 0 ? 1 : -1) : 0;
-            int first = passes == 2 && p == 1 ? e->n_down : 0;
-            int last = passes == 2 && p == 0 ? e->n_down : e->n_order;
+            int first, last;
+            pass_range(e, passes, p, &first, &last);
+            if (last == first && !is_last_pass(n_groups, passes, g, p))
+                continue;
             /* Each pass's lines start with empty hulls at its first band. */
             int lines = line_bases(e, first, last);
             if (e->banded && walks(e))
@@ -374,9 +404,10 @@ static ss_status run_groups(engine_run *e)
                 int row0 = band * e->band_rows;
                 int row1 = row0 + e->band_rows < e->src->height ? row0 + e->band_rows
                                                                  : e->src->height;
-                st = visit_band(e, row0, row1, pass, first, last, g == 0 && p == 0,
-                                g == n_groups - 1 && p == passes - 1);
+                st = visit_band(e, row0, row1, pass, first, last, first_visit,
+                                is_last_pass(n_groups, passes, g, p));
             }
+            first_visit = 0;
         }
     }
     return st;
