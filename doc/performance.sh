@@ -412,8 +412,9 @@ bench_svf() {
             "$case_dir/ours_geo.tif" "$case_dir/rvt.tif" --tol 0.01
     fi
     # Like for like with RVT: skysweep's horizon searched only as far as
-    # RVT's (svf --radius, O(radius) per cell), on the DEMs RVT ran on. RVT's
-    # row is repeated (the same runs) with its speed-up over this one.
+    # RVT's (svf --radius: scanned up to 20 steps, chunked hulls beyond), on
+    # the DEMs RVT ran on. RVT's row is repeated (the same runs) with its
+    # speed-up over this one.
     if [ "$rvt_ok" = 1 ]; then
         local rvt_status=$STATUS rvt_wall=$WALL rvt_rss=$RSS rvt_runs=$RUNS
         radius_m=$(awk -v r="$rvt_radius" -v c="$dem_cell_m" 'BEGIN {printf "%g", r * c}')

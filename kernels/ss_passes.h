@@ -129,16 +129,250 @@ SS_FN void ss_pass_horizon_finish(int cell, float none_deg, SS_GLOBAL float *ang
     angle_deg[cell] = w > 0.0f ? angle_deg[cell] / w : none_deg;
 }
 
-/* Adds, for the cells that steps [s_lo, s_hi) of the line feed, a term
- * (SS_TERM_ELEVATION, SS_SVF_GEOMETRIC or SS_SVF_HORIZONTAL) of the horizon
- * within radius_m only: the highest terrain ahead no farther than
- * radius_m, nothing where none lies within it. The classical
- * radius-limited horizon of openness (Yokoyama et al. 2002) and of RVT's
- * sky-view factor: a plain scan back along the line, O(samples x radius);
- * no hull, so a band needs the rows within radius_m held, not a hull. */
-SS_FN void ss_radius_steps(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
+/* ---- horizons within a radius ------------------------------------------- */
+
+/* Windows of up to this many steps are scanned, longer ones use hulls. */
+#define SS_RADIUS_SCAN_STEPS 20
+
+/* Radius-limited horizons (SS_TERM_ELEVATION, SS_SVF_GEOMETRIC or
+ * SS_SVF_HORIZONTAL within radius_m): the highest terrain ahead no farther
+ * than radius_m, nothing where none lies within it. The classical horizon
+ * of openness (Yokoyama et al. 2002) and of RVT's sky-view factor.
+ *
+ * Scanning back over every sample within the radius costs O(samples x
+ * radius). Instead each sample's window (the samples within the radius
+ * ahead of it) is split in two at a chunk boundary: the window's
+ * farther part is a suffix of the previous chunk, its nearer part a prefix
+ * of the sample's own chunk, and the horizon is the better of the two
+ * parts' tangents (a maximum splits over any partition). Chunks end where
+ * the window start passes the chunk's start, so windows never span more
+ * than two. A chunk's prefix hull grows as the sweep's does (pops are
+ * final: a popped vertex lies under the chord to a nearer one, which every
+ * later window of the chunk holds too); the previous chunk's suffix hulls
+ * are built backward, for the chunk's samples taken backward, and queried
+ * by bisection. Each sample is pushed and popped at most once per hull,
+ * so a line costs O(samples x log(hull)), whatever the radius. Short
+ * windows are scanned instead (ss_radius_scan): on the Kilauea sample the
+ * scan costs less up to about 20 steps (doc/relief.md).
+ *
+ * Hulls are kept as step indices in the stack grid, at the home cells of
+ * the chunk's own samples (ss_sweep.h's scheme): the suffix hull of chunk
+ * [a, b] at the homes of a, a + 1, ...; the suffix tangent found for
+ * sample q at q's home, until the prefix hull overwrites it after q was
+ * walked. Only the held rows within the radius are read, so a band needs
+ * those rows held, not a hull handed on. */
+
+/* The hull point of the sample at step t of the walker's line. */
+SS_FN ss_hull_point ss_radius_point(const ss_line_set *ls, const ss_walker *w,
+                                    SS_GLOBAL const float *z, int t, ss_sample_horizon *h)
+{
+    float base, offset;
+    ss_line_sample q = ss_walker_sample(ls, w, t);
+    *h = ss_sample_cells(ls, q, z, &base, &offset);
+    return ss_hull_point_at(w, t, q, base, offset);
+}
+
+/* Distance from step t back to step s's sample: positions only. */
+SS_FN float ss_radius_dist(const ss_line_set *ls, const ss_walker *w, int s, int t, int flags)
+{
+    ss_hull_point v = ss_hull_point_at(w, s, ss_walker_sample(ls, w, s), 0.0f, 0.0f);
+    ss_hull_point p = ss_hull_point_at(w, t, ss_walker_sample(ls, w, t), 0.0f, 0.0f);
+    return ss_hull_dist(ls, v, p, flags);
+}
+
+/* The stack grid cell where step t keeps a hull slot: its home. */
+SS_FN int ss_radius_home(const ss_line_set *ls, const ss_walker *w, int t)
+{
+    return ss_walker_sample(ls, w, t).home;
+}
+
+/* Whether, seen from v, hull point a rises at least as steeply as b (the
+ * sweep's comparison, bent heights over distance). */
+SS_FN int ss_radius_not_below(const ss_line_set *ls, ss_hull_point v, ss_hull_point a,
+                              ss_hull_point b, float curv_k, int flags)
+{
+    float da = ss_hull_dist(ls, v, a, flags), db = ss_hull_dist(ls, v, b, flags);
+    return ss_hull_rise(ls, v, a, da, curv_k, flags) * db >=
+           ss_hull_rise(ls, v, b, db, curv_k, flags) * da;
+}
+
+/* The hull vertex that the tangent from v touches (its step index; its
+ * point in *touch), of n > 0 vertices ordered from the nearest (i = 0) to
+ * the farthest, vertex i kept at the home of step base + sign * i. Slopes
+ * from v rise along a convex hull to the tangent vertex, then fall:
+ * bisection finds it, the nearer of equal ones. */
+SS_FN int ss_radius_tangent(const ss_line_set *ls, const ss_walker *w, SS_GLOBAL const float *z,
+                            SS_GLOBAL const int *stack, int base, int sign, int n,
+                            ss_hull_point v, float curv_k, int flags, ss_hull_point *touch)
+{
+    int lo = 0, hi = n - 1;
+    ss_sample_horizon unused;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        ss_hull_point p0 = ss_radius_point(ls, w, z, stack[ss_radius_home(ls, w, base + sign * mid)],
+                                           &unused);
+        ss_hull_point p1 = ss_radius_point(
+            ls, w, z, stack[ss_radius_home(ls, w, base + sign * (mid + 1))], &unused);
+        if (ss_radius_not_below(ls, v, p0, p1, curv_k, flags))
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    int t = stack[ss_radius_home(ls, w, base + sign * lo)];
+    *touch = ss_radius_point(ls, w, z, t, &unused);
+    return t;
+}
+
+/* A hull of step indices kept at the homes of steps base, base + 1, ...
+ * (slot 0 the first pushed), its top vertex also held whole. */
+typedef struct {
+    int base, n;
+    ss_hull_point top;
+} ss_radius_hull;
+
+/* The vertex below the top. */
+SS_FN ss_hull_point ss_radius_second(const ss_line_set *ls, const ss_walker *w,
+                                     SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
+                                     const ss_radius_hull *hull)
+{
+    ss_sample_horizon unused;
+    return ss_radius_point(ls, w, z, stack[ss_radius_home(ls, w, hull->base + hull->n - 2)],
+                           &unused);
+}
+
+SS_FN void ss_radius_push(const ss_line_set *ls, const ss_walker *w, SS_GLOBAL int *stack,
+                          ss_radius_hull *hull, int t, ss_hull_point p)
+{
+    stack[ss_radius_home(ls, w, hull->base + hull->n++)] = t;
+    hull->top = p;
+}
+
+/* Pushes p (step t), which lies before every vertex, on a hull that grows
+ * backward: the vertices on or under the chord from p to the vertex after
+ * them (seen from that vertex) are popped first. */
+SS_FN void ss_radius_push_before(const ss_line_set *ls, const ss_walker *w,
+                                 SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                 ss_radius_hull *hull, int t, ss_hull_point p, float curv_k,
+                                 int flags)
+{
+    while (hull->n >= 2) {
+        ss_hull_point second = ss_radius_second(ls, w, z, stack, hull);
+        if (!ss_radius_not_below(ls, second, p, hull->top, curv_k, flags))
+            break;
+        hull->top = second;
+        hull->n--;
+    }
+    ss_radius_push(ls, w, stack, hull, t, p);
+}
+
+/* The tangent from v (step t, after every vertex) to a hull that grows
+ * forward, in *touch (its step index returned, -1 for an empty hull). An
+ * occluding v is pushed, the vertices under its chord popped on the way,
+ * as the sweep does: the tangent is then the top left. */
+SS_FN int ss_radius_tangent_after(const ss_line_set *ls, const ss_walker *w,
+                                  SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                  ss_radius_hull *hull, int t, ss_hull_point v, int occludes,
+                                  float curv_k, int flags, ss_hull_point *touch)
+{
+    int best = -1;
+    if (hull->n > 0 && !occludes) {
+        best = ss_radius_tangent(ls, w, z, stack, hull->base + hull->n - 1, -1, hull->n, v,
+                                 curv_k, flags, touch);
+    } else if (hull->n > 0) {
+        while (hull->n >= 2) {
+            ss_hull_point second = ss_radius_second(ls, w, z, stack, hull);
+            if (!ss_radius_not_below(ls, v, second, hull->top, curv_k, flags))
+                break;
+            hull->top = second;
+            hull->n--;
+        }
+        best = stack[ss_radius_home(ls, w, hull->base + hull->n - 1)];
+        *touch = hull->top;
+    }
+    if (occludes)
+        ss_radius_push(ls, w, stack, hull, t, v);
+    return best;
+}
+
+/* Adds the radius-limited term of steps [s_lo, s_hi) of the walker's line
+ * to the cells they feed; steps before s_lo within the radius are read too
+ * (in a band: the rows held above it). */
+SS_FN void ss_radius_hulls(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
                            int definition, float radius_m, float curv_k,
-                           SS_GLOBAL const float *z, SS_GLOBAL float *acc, int flags)
+                           SS_GLOBAL const float *z, SS_GLOBAL int *stack, SS_GLOBAL float *acc,
+                           int flags)
+{
+    /* The first window's start: the distance back grows with the steps. */
+    int a = 0, hi = s_lo;
+    while (a < hi) {
+        int mid = (a + hi) / 2;
+        if (ss_radius_dist(ls, w, s_lo, mid, flags) <= radius_m)
+            hi = mid;
+        else
+            a = mid + 1;
+    }
+    ss_sample_horizon h, ht;
+    /* Chunk [a, s - 1] serves the samples [s, e) as their windows' farther part. */
+    for (int s = s_lo; s < s_hi;) {
+        int e = s + 1;
+        while (e < s_hi && ss_radius_dist(ls, w, e, s, flags) <= radius_m)
+            e++;
+        /* Backward: the chunk's suffix hull grows to each sample's window;
+         * its tangent waits at the sample's home. */
+        ss_radius_hull far = {a, 0, {0.0f, 0.0f, 0.0f, 0.0f}};
+        int lo = s;
+        for (int q = e - 1; q >= s; --q) {
+            while (lo > a && ss_radius_dist(ls, w, q, lo - 1, flags) <= radius_m) {
+                lo--;
+                ss_hull_point p = ss_radius_point(ls, w, z, lo, &ht);
+                if (ht.occludes)
+                    ss_radius_push_before(ls, w, z, stack, &far, lo, p, curv_k, flags);
+            }
+            ss_hull_point v = ss_radius_point(ls, w, z, q, &h), unused;
+            if (h.valid)
+                stack[ss_radius_home(ls, w, q)] =
+                    far.n > 0 ? ss_radius_tangent(ls, w, z, stack, a, 1, far.n, v, curv_k, flags,
+                                                  &unused)
+                              : -1;
+        }
+        /* Forward: the nearer part from the chunk's own prefix hull, which
+         * overwrites only homes of samples already walked. */
+        ss_radius_hull near = {s, 0, {0.0f, 0.0f, 0.0f, 0.0f}};
+        for (int q = s; q < e; ++q) {
+            ss_hull_point v = ss_radius_point(ls, w, z, q, &h), pn, pf;
+            if (!h.valid)
+                continue;
+            int best = stack[ss_radius_home(ls, w, q)];
+            if (best >= 0)
+                pf = ss_radius_point(ls, w, z, best, &ht);
+            if (ss_radius_tangent_after(ls, w, z, stack, &near, q, v, h.occludes, curv_k, flags,
+                                        &pn) >= 0 &&
+                (best < 0 || ss_radius_not_below(ls, v, pn, pf, curv_k, flags))) {
+                best = 0; /* any step: only its point is used below */
+                pf = pn;
+            }
+            float best_d = 0.0f, best_dz = -1.0f;
+            if (best >= 0) {
+                best_d = ss_hull_dist(ls, v, pf, flags);
+                best_dz = ss_hull_height_above(v, pf, flags) - curv_k * best_d * best_d;
+            }
+            /* Radius terms are never radiative: no gradient is read. */
+            float term = ss_svf_term_for(definition, ls, 0, 0, best_d, best_dz, 0.0f, 0.0f, z);
+            if (h.cell0 >= 0)
+                acc[h.cell0] += h.w0 * term;
+            if (h.cell1 >= 0)
+                acc[h.cell1] += h.w1 * term;
+        }
+        a = s;
+        s = e;
+    }
+}
+
+/* The same by scanning back over each window: cheaper than the hulls
+ * while a window holds at most SS_RADIUS_SCAN_STEPS steps. */
+SS_FN void ss_radius_scan(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
+                          int definition, float radius_m, float curv_k,
+                          SS_GLOBAL const float *z, SS_GLOBAL float *acc, int flags)
 {
     for (int s = s_lo; s < s_hi; ++s) {
         float zv, offv;
@@ -254,10 +488,11 @@ SS_FN void ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, in
     ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
 }
 
-/* A radius-limited term of a line's band steps into acc: no hull, the
- * band holds every row within the radius. */
+/* A radius-limited term of a line's band steps into acc: no hull handed
+ * on, the band holds every row within the radius. */
 SS_FN void ss_band_radius_line(const ss_band_dir *d, const ss_band_run *run, int line,
-                               SS_GLOBAL const float *z, SS_GLOBAL float *acc)
+                               SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                               SS_GLOBAL float *acc)
 {
     ss_walker w;
     int count = ss_walker_begin(&w, &d->ls, line), s_lo = 0, s_hi = count;
@@ -268,8 +503,13 @@ SS_FN void ss_band_radius_line(const ss_band_dir *d, const ss_band_run *run, int
         s_hi = ss_band_first_step_past(&d->ls, &w, count, pass > 0 ? run->row1 : run->row0 - 1,
                                        pass, h);
     }
-    ss_radius_steps(&w, &d->ls, s_lo, s_hi, run->term, run->radius_m, run->curv_k, z, acc,
-                    ss_walk_flags(&d->ls, run->curv_k));
+    int flags = ss_walk_flags(&d->ls, run->curv_k);
+    if (run->radius_m <= SS_RADIUS_SCAN_STEPS * d->ls.along_per_step_m)
+        ss_radius_scan(&w, &d->ls, s_lo, s_hi, run->term, run->radius_m, run->curv_k, z, acc,
+                       flags);
+    else
+        ss_radius_hulls(&w, &d->ls, s_lo, s_hi, run->term, run->radius_m, run->curv_k, z,
+                        stack, acc, flags);
 }
 
 /* Lines of one round: all lines for digital lines, else every other one

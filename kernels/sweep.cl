@@ -71,12 +71,14 @@ __kernel void band_hand_on(__global const ss_band_dir *dirs, ss_band_run run, in
 }
 
 __kernel void band_radius(__global const ss_band_dir *dirs, ss_band_run run, int round,
-                          __global const float *z, __global float *sums)
+                          __global const float *z, __global int *stacks, __global float *sums)
 {
     ss_band_dir d;
     int line = batch_line(&run, dirs, round, &d);
-    if (line >= 0)
-        ss_band_radius_line(&d, &run, line, z, sums + (size_t)d.slot * held_cells(&run));
+    if (line < 0)
+        return;
+    size_t at = (size_t)d.slot * held_cells(&run);
+    ss_band_radius_line(&d, &run, line, z, stacks + at, sums + at);
 }
 
 __kernel void band_bare(__global const ss_band_dir *dirs, ss_band_run run, int round,

@@ -9,7 +9,7 @@
 # (an OpenCL device against the C twin's outputs) within 1e-6 of the output's
 # scale (its largest magnitude: a sky view of 0.9999 and an albedo leave 1e-4
 # of the reflected light's smallest values to float rounding), bytes within
-# 1. Prints one line per product and "N same, N differ".
+# 1; so are products marked loose below, whose method changed. Prints one line per product and "N same, N differ".
 set -u
 old=$(realpath "$1") new=$(realpath "$2") device=${3:-reference} new_device=${4:-${3:-reference}}
 top=$(cd "$(dirname "$0")/.." && pwd)
@@ -20,7 +20,7 @@ dem=$top/samples/kilauea_summit_30m.tif
 # grid takes more than one band does.
 dem2=$work/kilauea_15m.tif
 gdal_translate -q -outsize 200% 200% -r bilinear "$dem" "$dem2"
-same=0 differ=0
+same=0 differ=0 loose=
 option_for() { [ "$1" = default ] || echo "--device $1"; }
 old_option=$(option_for "$device") new_option=$(option_for "$new_device")
 
@@ -61,7 +61,7 @@ product() {
     verdict=same
     for f in "$work/old/"*.tif; do
         base=$(basename "$f")
-        if [ "$device" = "$new_device" ]; then
+        if [ "$device" = "$new_device" ] && [ -z "$loose" ]; then
             gdal_translate -q -of ENVI "$f" "$work/old.raw" &&
                 gdal_translate -q -of ENVI "$work/new/$base" "$work/new.raw" &&
                 cmp -s "$work/old.raw" "$work/new.raw" || verdict="differ ($base)"
@@ -84,7 +84,13 @@ for def in geometric radiative horizontal; do
     product "svf $def" svf --directions 16 --definition "$def" "$dem" out.tif
     product "svf $def, bands" svf --directions 16 --definition "$def" --memory 52M "$dem" out.tif
 done
+# Radius-limited horizons are found by chunked hulls since before-engine, not
+# by a scan: a sample that sees two equally steep horizons may take the
+# other, a float rounding apart, so these are compared within 1e-6.
+loose=1
 product "svf --radius" svf --directions 16 --radius 1000 "$dem" out.tif
+product "openness --radius" openness --directions 16 --radius 600 "$dem" out.tif
+loose=
 product "openness +" openness --directions 16 "$dem" out.tif
 product "openness -" openness --directions 16 --kind negative "$dem" out.tif
 product "horizon" horizon --directions 8 --distance d.tif --cast-height c.tif "$dem" out.tif

@@ -131,8 +131,8 @@ typedef enum {
 } product;
 
 static const char *const product_names[N_PRODUCTS] = {
-    "geometric SVF", "radiative SVF", "SVF within 100 m", "negative openness",
-    "openness within 100 m", "horizons, distances and casting heights", "shadow",
+    "geometric SVF", "radiative SVF", "SVF within 100 m (scan)", "negative openness",
+    "openness within 700 m (hulls)", "horizons, distances and casting heights", "shadow",
     "hillshade", "hillshade with cast shadows and sky view", "VAT blend within 60 m",
     "insolation, exact shadows", "insolation, interpolated shadows",
     "insolation, weather records, Perez, PV", "insolation on a fixed surface, Hay-Davies",
@@ -184,7 +184,7 @@ static ss_status run_product(ss_ctx *ctx, product p, int band_rows, results *out
     case P_OPENNESS_NEGATIVE:
         return ss_sky_rows(ctx, &src, &opt, SS_SKY_OPENNESS_NEGATIVE, 0, NULL, keep_rows, out);
     case P_OPENNESS_RADIUS:
-        return ss_sky_rows(ctx, &src, &opt, SS_SKY_OPENNESS_POSITIVE, 100, NULL, keep_rows, out);
+        return ss_sky_rows(ctx, &src, &opt, SS_SKY_OPENNESS_POSITIVE, 700, NULL, keep_rows, out);
     case P_HORIZON:
         return ss_horizon_rows(ctx, &src, &opt, SS_HORIZON_DISTANCE | SS_HORIZON_CAST_HEIGHT,
                                keep_rows, out);

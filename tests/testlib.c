@@ -88,8 +88,8 @@ typedef enum {
     BRUTE_ALL_TERMS   /* mean over all, none_deg counted as a term (openness) */
 } brute_mean;
 
-static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int model,
-                          double none_deg, brute_mean mean, const float *claimed_dist,
+static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, double radius_m,
+                          int model, double none_deg, brute_mean mean, const float *claimed_dist,
                           double *angle_deg, double *near_angle_rad, double *claimed_angle_rad,
                           double *claimed_height_m)
 {
@@ -160,6 +160,8 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, i
                 if (!occludes[t])
                     continue;
                 double d = pos[v] - pos[t];
+                if (radius_m > 0 && d > radius_m)
+                    continue;
                 double slope = (height[t] - height[v] - d * d * curv_k) / d;
                 if (slope > best || (slope == best && d > best_d)) {
                     best = slope;
@@ -216,7 +218,7 @@ void test_brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, int
                         const float *claimed_dist, double *angle_deg, double *near_angle_rad,
                         double *claimed_angle_rad)
 {
-    brute_horizon(g, azimuth_deg, curv_k, model, -90.0, BRUTE_AHEAD_ONLY, claimed_dist,
+    brute_horizon(g, azimuth_deg, curv_k, 0.0, model, -90.0, BRUTE_AHEAD_ONLY, claimed_dist,
                   angle_deg, near_angle_rad, claimed_angle_rad, NULL);
 }
 
@@ -226,7 +228,7 @@ void test_brute_caster_height(const ss_grid *g, double azimuth_deg, double curv_
     size_t n = (size_t)g->width * g->height;
     double *angle = malloc(n * sizeof(double)), *near = malloc(n * sizeof(double));
     double *claimed = malloc(n * sizeof(double));
-    brute_horizon(g, azimuth_deg, curv_k, model, -90.0, BRUTE_AHEAD_ONLY, claimed_dist, angle,
+    brute_horizon(g, azimuth_deg, curv_k, 0.0, model, -90.0, BRUTE_AHEAD_ONLY, claimed_dist, angle,
                   near, claimed, claimed_height_m);
     free(angle);
     free(near);
@@ -236,17 +238,17 @@ void test_brute_caster_height(const ss_grid *g, double azimuth_deg, double curv_
 void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
                              double *angle_deg, double *near_angle_rad, double *claimed_angle_rad)
 {
-    brute_horizon(g, azimuth_deg, 0.0, model, none_deg, BRUTE_AHEAD_ONLY, NULL, angle_deg,
+    brute_horizon(g, azimuth_deg, 0.0, 0.0, model, none_deg, BRUTE_AHEAD_ONLY, NULL, angle_deg,
                   near_angle_rad, claimed_angle_rad, NULL);
 }
 
-void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, int model, double none_deg,
-                              double *angle_deg)
+void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, double curv_k,
+                              double radius_m, int model, double none_deg, double *angle_deg)
 {
     size_t n = (size_t)g->width * g->height;
     double *near = malloc(n * sizeof(double)), *claimed = malloc(n * sizeof(double));
-    brute_horizon(g, azimuth_deg, 0.0, model, none_deg, BRUTE_ALL_TERMS, NULL, angle_deg, near,
-                  claimed, NULL);
+    brute_horizon(g, azimuth_deg, curv_k, radius_m, model, none_deg, BRUTE_ALL_TERMS, NULL,
+                  angle_deg, near, claimed, NULL);
     free(near);
     free(claimed);
 }

@@ -47,11 +47,12 @@ void test_brute_caster_height(const ss_grid *g, double azimuth_deg, double curv_
 void test_brute_horizon_none(const ss_grid *g, double azimuth_deg, int model, double none_deg,
                              double *angle_deg, double *near_angle_rad, double *claimed_angle_rad);
 
-/* Without curvature, every sample's angle, none_deg where nothing lies
- * ahead, weighted into its cells as a term: the per-direction elevation
- * term of openness, whose mean over samples counts open sky as none_deg. */
-void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, int model, double none_deg,
-                              double *angle_deg);
+/* Every sample's angle, none_deg where nothing lies ahead (within radius_m
+ * if > 0; curv_k as for test_brute_horizon), weighted into its cells as a
+ * term: the per-direction elevation term of openness, whose mean over
+ * samples counts open sky as none_deg. */
+void test_brute_horizon_terms(const ss_grid *g, double azimuth_deg, double curv_k,
+                              double radius_m, int model, double none_deg, double *angle_deg);
 
 /* The library's horizon for one azimuth, on the device given ("reference"
  * or NULL for the default OpenCL device). Returns the status. */

@@ -717,8 +717,9 @@ static ss_status walk_round(ss_backend *b, ss_band_run run, int n, int round, cl
                              ARG(q->in_cnt), ARG(q->state),  ARG(q->counters)};
         st = run_kernel(b, o->k_horizon, args, 11, items, "the horizon kernel");
     } else if (walk->radius_m > 0) {
-        kernel_arg args[] = {ARG(q->dirs), ARG(run), ARG(round), ARG(q->z), ARG(sums)};
-        return run_kernel(b, o->k_radius, args, 5, items, "the radius-limited horizon kernel");
+        kernel_arg args[] = {ARG(q->dirs),   ARG(run), ARG(round),
+                             ARG(q->z),      ARG(q->stacks), ARG(sums)};
+        return run_kernel(b, o->k_radius, args, 6, items, "the radius-limited horizon kernel");
     } else {
         cl_mem grad = q->grad ? q->grad : q->z; /* read by the radiative term only */
         kernel_arg args[] = {ARG(q->dirs),   ARG(run),      ARG(round),      ARG(q->z),

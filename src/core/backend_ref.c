@@ -125,7 +125,7 @@ static ss_status walk_round(ss_backend *b, const ss_band_run *run, const ss_band
         if (term == SS_TERM_HORIZON)
             ss_band_horizon_line(d, run, line, r->z, r->stack, r->outs, hulls);
         else if (b->walk.radius_m > 0)
-            ss_band_radius_line(d, run, line, r->z, r->sums);
+            ss_band_radius_line(d, run, line, r->z, r->stack, r->sums);
         else
             ss_band_sum_line(d, run, line, r->z, r->grad, r->stack, r->sums, hulls);
     }

@@ -69,8 +69,9 @@ static const ss_param svf_params[] = {
      "geometric: 1 - mean sin h (Zaksek/RVT); radiative: cosine-weighted sky seen by the "
      "sloping cell (Dozier & Frew); horizontal: cosine-weighted, horizontal surface"},
     {"radius", SS_PARAM_DOUBLE, offsetof(ss_svf_params, radius_m), "METRES", "0", 0, 1e7, NULL,
-     "look for the horizon only this far, as RVT and SAGA do (geometric or horizontal; slower: "
-     "O(radius) per cell); 0: unlimited, the exact sweep horizon"},
+     "look for the horizon only this far, as RVT and SAGA do (geometric or horizontal; exact, "
+     "about 3x the unlimited sweep's cost whatever the radius); 0: unlimited, the exact sweep "
+     "horizon"},
     END};
 
 static const ss_param openness_params[] = {
@@ -80,8 +81,8 @@ static const ss_param openness_params[] = {
      "the same for the inverted surface (ridges low, valleys high)"},
     {"radius", SS_PARAM_DOUBLE, offsetof(ss_openness_params, radius_m), "METRES", "0", 0, 1e7,
      NULL,
-     "look for the horizon only this far (the classical radius-limited openness, slower: "
-     "O(radius) per cell); 0: unlimited, the exact sweep horizon"},
+     "look for the horizon only this far (the classical radius-limited openness; exact, about "
+     "3x the unlimited sweep's cost whatever the radius); 0: unlimited, the exact sweep horizon"},
     END};
 
 #define SHADE(field) offsetof(ss_hillshade_params, field)
