@@ -103,6 +103,8 @@ product "hillshade --cast-shadows" hillshade --cast-shadows --directions 16 "$de
 product "hillshade --blend vat" hillshade --blend vat --directions 16 "$dem" out.tif
 product "insolation" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H --directions 16 \
     "$dem" out.tif
+product "insolation --shadow interpolated" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H \
+    --directions 16 --shadow interpolated "$dem" out.tif
 product "insolation, bands" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H \
     --directions 16 --memory 76M "$dem2" out.tif
 echo "$same same, $differ differ"

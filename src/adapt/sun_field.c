@@ -173,7 +173,8 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
     const double *node_az = field->node_azimuth_deg, *node_e0 = field->node_elevation_deg;
     const ss_spa_params *p = &field->params;
     /* Bilinear between nodes; refraction per cell, since it bends sharply
-     * near the horizon. */
+     * near the horizon. Rows are independent: the cores share them. */
+#pragma omp parallel for schedule(static)
     for (int r = row0; r < row0 + n_rows; ++r) {
         int j = 0;
         while (j + 2 < nr && rows[j + 1] < r)

@@ -156,18 +156,31 @@ typedef struct {
     float *step_global;      /* the step's global over the band's rows */
 } steps_run;
 
-/* Horizon of cell c at azimuth az (options' frame), linear between the two
- * stored directions around it. */
-static float stored_horizon(const steps_run *s, size_t c, double az)
+/* Where an azimuth (options' frame) falls between the stored directions:
+ * the two around it and the weight of the second. */
+typedef struct {
+    int i0, i1;
+    float t;
+} stored_between;
+
+static stored_between stored_between_of(const ss_sweep_options *opt, double az)
 {
-    const ss_sweep_options *opt = s->job->opt;
     double pos = fmod((az - opt->offset_deg) / (360.0 / opt->directions), opt->directions);
     if (pos < 0)
         pos += opt->directions;
-    int i0 = (int)pos % opt->directions, i1 = (i0 + 1) % opt->directions;
-    float t = (float)(pos - floor(pos));
-    return ((1.0f - t) * s->stored[(size_t)i0 * s->stored_stride + c] +
-            t * s->stored[(size_t)i1 * s->stored_stride + c]) /
+    stored_between b;
+    b.i0 = (int)pos % opt->directions;
+    b.i1 = (b.i0 + 1) % opt->directions;
+    b.t = (float)(pos - floor(pos));
+    return b;
+}
+
+/* Horizon of cell c, linear between the two stored directions around the
+ * sun's azimuth. */
+static float stored_horizon(const steps_run *s, size_t c, stored_between b)
+{
+    return ((1.0f - b.t) * s->stored[(size_t)b.i0 * s->stored_stride + c] +
+            b.t * s->stored[(size_t)b.i1 * s->stored_stride + c]) /
            SS_HORIZON_SCALE;
 }
 
@@ -243,6 +256,8 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         float g0 = (float)sun.extraterrestrial_w_m2, linke = (float)sun.linke;
         const float rad = (float)(M_PI / 180.0);
         const float *h = kind == STEP_SWEPT ? rows->angle : NULL;
+        stored_between between =
+            kind == STEP_STORED ? stored_between_of(job->opt, sun.azimuth_deg) : (stored_between){0};
 #pragma omp parallel for schedule(static)
         for (size_t c = 0; c < n; ++c) {
             if (!isfinite(band->own_z[c]))
@@ -257,7 +272,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                 continue;
             float horizon = kind == STEP_LIT ? -90.0f
                             : h              ? h[c]
-                                             : stored_horizon(s, c, sun.azimuth_deg);
+                                             : stored_horizon(s, c, between);
             const ss_cell_terms *t = &s->terms[c];
             ss_cell_step add =
                 sun.real_sky ? ss_cell_step_weather(t, az, h0, app, horizon, &rec, sky, dt)
