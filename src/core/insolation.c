@@ -153,7 +153,7 @@ typedef struct {
     const int16_t *stored;   /* interpolated: the band's stored horizons ... */
     size_t stored_stride;    /* ... D planes this far apart */
     int16_t *stored_band;    /* where they were read into (bands) */
-    float *step_global;      /* the step's global over the band's rows */
+    float *step_global;      /* the step's global over the band's rows (NULL: no step outputs) */
 } steps_run;
 
 /* Where an azimuth (options' frame) falls between the stored directions:
@@ -224,8 +224,9 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
     ss_status st = kind == STEP_NONE
                        ? SS_OK
                        : job->sun_rows(job->ctx, k, band->row0, band->n_rows, &sun, job->sun_user);
-    for (size_t c = 0; c < n; ++c)
-        s->step_global[c] = isfinite(band->own_z[c]) ? 0.0f : SS_NODATA;
+    float *step_global = s->step_global;
+    for (size_t c = 0; step_global && c < n; ++c)
+        step_global[c] = isfinite(band->own_z[c]) ? 0.0f : SS_NODATA;
     if (st == SS_OK && kind != STEP_NONE) {
         if (sun.real_sky) {
             ss_insolation_sky_record(job->ctx, &sun, io, &rec, &light, 0);
@@ -290,11 +291,12 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             reflected[c] += add.reflected;
             global[c] += add.global;
             hours[c] += add.sun_hours;
-            s->step_global[c] = add.global;
+            if (step_global)
+                step_global[c] = add.global;
         }
     }
-    if (st == SS_OK && (job->want & SS_INSOLATION_STEPS))
-        st = job->sink(job->user, SS_OUT_STEP, k, band->row0, band->n_rows, s->step_global);
+    if (st == SS_OK && step_global)
+        st = job->sink(job->user, SS_OUT_STEP, k, band->row0, band->n_rows, step_global);
     return st;
 }
 
@@ -366,10 +368,12 @@ static ss_status run_steps(ss_insolation_job *job, int n_steps)
                    0,
                    read_stored ? ss_malloc(n * sizeof(int16_t) * (size_t)job->opt->directions)
                                : NULL,
-                   ss_malloc(n * sizeof(float))};
+                   job->want & SS_INSOLATION_STEPS ? ss_malloc(n * sizeof(float)) : NULL};
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n_steps);
     ss_status st = SS_OK;
-    if (!s.kind || !s.terms || !s.step_global || !dirs || (read_stored && !s.stored_band))
+    int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
+    if (!s.kind || !s.terms || (steps_out && !s.step_global) || !dirs ||
+        (read_stored && !s.stored_band))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
     int n_dirs = 0;
     if (st == SS_OK)
