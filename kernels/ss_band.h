@@ -138,6 +138,24 @@ SS_FN void ss_band_line_untouched(const ss_band_dir *d, const ss_band_run *run, 
         SS_ATOMIC_ADD(&counters[SS_BAND_PENDING], st[0]);
 }
 
+/* The steps [s_lo, s_hi) of a line of `count` steps whose owner rows the
+ * band holds (all of them on the whole grid). */
+SS_FN void ss_band_own_steps(const ss_walker *w, const ss_band_dir *d, const ss_band_run *run,
+                             int count, int *s_lo, int *s_hi)
+{
+    if (run->whole) {
+        *s_lo = 0;
+        *s_hi = count;
+        return;
+    }
+    int pass = d->pass;
+    /* Owners in [row0, row1): entered at row0 going down, at row1 - 1 going up. */
+    *s_lo = ss_band_first_step_past(&d->ls, w, count, pass > 0 ? run->row0 : run->row1 - 1, pass,
+                                    run->height);
+    *s_hi = ss_band_first_step_past(&d->ls, w, count, pass > 0 ? run->row1 : run->row0 - 1, pass,
+                                    run->height);
+}
+
 /* Begins line `line` of direction d in the band: [*s_lo, *s_hi) are the
  * steps whose owner rows lie in the band, and the walk resumes with the
  * hull handed on from the band before. Returns 0 when the band holds
@@ -147,17 +165,9 @@ SS_FN int ss_band_line_begin(ss_walker *w, const ss_band_dir *d, const ss_band_r
                              int line, ss_band_hulls hulls, int *s_lo, int *s_hi, int *count)
 {
     *count = ss_walker_begin(w, &d->ls, line);
-    if (run->whole) {
-        *s_lo = 0;
-        *s_hi = *count;
+    ss_band_own_steps(w, d, run, *count, s_lo, s_hi);
+    if (run->whole)
         return *count > 0;
-    }
-    int pass = d->pass;
-    /* Owners in [row0, row1): entered at row0 going down, at row1 - 1 going up. */
-    *s_lo = ss_band_first_step_past(&d->ls, w, *count, pass > 0 ? run->row0 : run->row1 - 1, pass,
-                                    run->height);
-    *s_hi = ss_band_first_step_past(&d->ls, w, *count, pass > 0 ? run->row1 : run->row0 - 1, pass,
-                                    run->height);
     if (*s_lo >= *s_hi) {
         ss_band_line_untouched(d, run, line, hulls.in_cnt, hulls.state, hulls.counters);
         return 0;

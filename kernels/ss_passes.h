@@ -495,14 +495,8 @@ SS_FN void ss_band_radius_line(const ss_band_dir *d, const ss_band_run *run, int
                                SS_GLOBAL float *acc)
 {
     ss_walker w;
-    int count = ss_walker_begin(&w, &d->ls, line), s_lo = 0, s_hi = count;
-    if (!run->whole) {
-        int pass = d->pass, h = run->height;
-        s_lo = ss_band_first_step_past(&d->ls, &w, count, pass > 0 ? run->row0 : run->row1 - 1,
-                                       pass, h);
-        s_hi = ss_band_first_step_past(&d->ls, &w, count, pass > 0 ? run->row1 : run->row0 - 1,
-                                       pass, h);
-    }
+    int count = ss_walker_begin(&w, &d->ls, line), s_lo, s_hi;
+    ss_band_own_steps(&w, d, run, count, &s_lo, &s_hi);
     int flags = ss_walk_flags(&d->ls, run->curv_k);
     if (run->radius_m <= SS_RADIUS_SCAN_STEPS * d->ls.along_per_step_m)
         ss_radius_scan(&w, &d->ls, s_lo, s_hi, run->term, run->radius_m, run->curv_k, z, acc,
