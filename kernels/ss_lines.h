@@ -19,6 +19,13 @@
  *   its own centre; a cell's horizon is the exact maximum over cell centres,
  *   but cells sit up to half a cell beside the exact line, which biases
  *   short-range horizons on slopes.
+ * - box: every cell is a flat-topped column (city DSMs with vertical walls,
+ *   the model of UMEP and SOLWEIG). `families` lines per cell run across
+ *   the grid, in one round per family (family f's intercepts are b + f /
+ *   families); each family's lines are digital lines whose nearest cells
+ *   hold their hull slots. A line meets every column boundary it crosses
+ *   (ss_box.h), and delivers a horizon to the cells whose centres lie
+ *   within half a family spacing of it.
  *
  * Lines are walked from the far end in the azimuth's direction back toward
  * the opposite edge, so when a sample is reached, every sample of its line
@@ -31,27 +38,28 @@
 
 #define SS_LINE_MODEL_INTERPOLATED 0
 #define SS_LINE_MODEL_DIGITAL 1
+#define SS_LINE_MODEL_BOX 2
 
 /* Layout shared with the host: members ordered by size, no implicit padding. */
 typedef struct {
     ss_i64 slope_fx;        /* minor cells per major step, 32.32 fixed point */
-    ss_i64 round_fx;        /* 2^31 for digital lines (round to nearest), else 0 */
-    int model;              /* SS_LINE_MODEL_INTERPOLATED or SS_LINE_MODEL_DIGITAL */
+    ss_i64 round_fx;        /* 2^31 for digital and box lines (round to nearest), else 0 */
+    int model;              /* SS_LINE_MODEL_* */
     int major_len;          /* cells along the major axis */
     int minor_len;          /* cells along the minor axis */
     int major_is_row;       /* 1: major index is the row, 0: the column */
     int step;               /* +1 or -1: walk order along the major axis */
     int line_min;           /* intercept b of line number 0 */
-    int n_lines;            /* lines needed to cover the grid */
+    int n_lines;            /* lines needed to cover the grid (box: per family) */
     int width;              /* grid row length, to form cell indices */
     int stride_major;       /* cell index change per +1 of the major index */
     int stride_minor;       /* ... and per +1 of the minor index */
     float along_per_step_m; /* distance walked per major step (> 0) */
-    float along_per_minor_m;/* distance walked per +1 of the minor index (digital only) */
+    float along_per_minor_m;/* distance walked per +1 of the minor index (digital and box) */
     float weight_per_frac;  /* interpolation weight per 1/65536 cell: 2^-16, or 0 for digital */
     int base_major;         /* the buffers' first major and minor index: 0 for the whole */
     int base_minor;         /* grid; a band of rows starts at its first held row (ss_band.h) */
-    int reserved;
+    int families;           /* box lines: lines per cell across (a power of two); else 1 */
 } ss_line_set;
 
 /* floor(x / 65536) for |x| < 2^48 (positions on grids below 2^24 cells a
@@ -62,19 +70,35 @@ SS_FN ss_i64 ss_floor16(ss_i64 x)
     return ((x + ((ss_i64)1 << 48)) >> 16) - ((ss_i64)1 << 32);
 }
 
-/* Minor position of line b at a major index in [0, major_len), 16.16 fixed
- * point. The 2^56 bias keeps the shifted product non-negative, so the
- * division is a floor on every compiler. */
-SS_FN ss_i64 ss_line_y16(const ss_line_set *ls, int b, int major)
+/* Lines of every round together: families times the lines of one. */
+SS_FN int ss_line_count(const ss_line_set *ls)
+{
+    return ls->n_lines * ls->families;
+}
+
+/* Intercept of line number `line`, 16.16 fixed point: box lines are
+ * numbered family by family. */
+SS_FN ss_i64 ss_line_intercept16(const ss_line_set *ls, int line)
+{
+    int family = line / ls->n_lines;
+    return (ss_i64)(ls->line_min + line - family * ls->n_lines) * 65536 +
+           (ss_i64)family * (65536 / ls->families);
+}
+
+/* Minor position of the line of 16.16 intercept b16 at a major index in
+ * [0, major_len), 16.16 fixed point (plus one half for lines that round to
+ * the nearest cell). The 2^56 bias keeps the shifted product non-negative,
+ * so the division is a floor on every compiler. */
+SS_FN ss_i64 ss_line_y16(const ss_line_set *ls, ss_i64 b16, int major)
 {
     ss_i64 biased = (ss_i64)major * ls->slope_fx + ls->round_fx + ((ss_i64)1 << 56);
-    return (biased >> 16) - ((ss_i64)1 << 40) + (ss_i64)b * 65536;
+    return (biased >> 16) - ((ss_i64)1 << 40) + b16;
 }
 
 /* Minor index of the cell at or below the line (the nearest cell for digital lines). */
-SS_FN int ss_line_minor(const ss_line_set *ls, int b, int major)
+SS_FN int ss_line_minor(const ss_line_set *ls, ss_i64 b16, int major)
 {
-    return (int)ss_floor16(ss_line_y16(ls, b, major));
+    return (int)ss_floor16(ss_line_y16(ls, b16, major));
 }
 
 /* Lowest 16.16 position that still yields a sample: a digital line must
@@ -82,19 +106,20 @@ SS_FN int ss_line_minor(const ss_line_set *ls, int b, int major)
  * cell 0). Positions must stay below minor_len. */
 SS_FN ss_i64 ss_line_y16_low(const ss_line_set *ls)
 {
-    return ls->model == SS_LINE_MODEL_DIGITAL ? 0 : -65535;
+    return ls->model == SS_LINE_MODEL_INTERPOLATED ? -65535 : 0;
 }
 
-/* First major index at which line b's position is on the far side of
- * `target` (>= target when the slope rises, <= target when it falls);
- * major_len if never. The position is monotone in the major index. */
-SS_FN int ss_line_first_reaching(const ss_line_set *ls, int b, ss_i64 target)
+/* First major index at which the position of the line of intercept b16 is
+ * on the far side of `target` (>= target when the slope rises, <= target
+ * when it falls); major_len if never. The position is monotone in the
+ * major index. */
+SS_FN int ss_line_first_reaching(const ss_line_set *ls, ss_i64 b16, ss_i64 target)
 {
     int lo = 0, hi = ls->major_len;
     int rising = ls->slope_fx >= 0;
     while (lo < hi) {
         int mid = lo + (hi - lo) / 2;
-        ss_i64 y = ss_line_y16(ls, b, mid);
+        ss_i64 y = ss_line_y16(ls, b16, mid);
         int reached = rising ? y >= target : y <= target;
         if (reached)
             hi = mid;
@@ -108,11 +133,11 @@ SS_FN int ss_line_first_reaching(const ss_line_set *ls, int b, ss_i64 target)
  * [*first, *first + count). Returns count (0 for an empty line). */
 SS_FN int ss_line_extent(const ss_line_set *ls, int line, int *first)
 {
-    int b = ls->line_min + line;
+    ss_i64 b16 = ss_line_intercept16(ls, line);
     ss_i64 low = ss_line_y16_low(ls), high = (ss_i64)ls->minor_len * 65536 - 1;
     int rising = ls->slope_fx >= 0;
-    int lo = ss_line_first_reaching(ls, b, rising ? low : high);
-    int end = ss_line_first_reaching(ls, b, rising ? high + 1 : low - 1);
+    int lo = ss_line_first_reaching(ls, b16, rising ? low : high);
+    int end = ss_line_first_reaching(ls, b16, rising ? high + 1 : low - 1);
     *first = lo;
     return end > lo ? end - lo : 0;
 }
@@ -150,9 +175,9 @@ SS_FN ss_line_sample ss_line_sample_y16(const ss_line_set *ls, int major, ss_i64
     return p;
 }
 
-SS_FN ss_line_sample ss_line_sample_at(const ss_line_set *ls, int b, int major)
+SS_FN ss_line_sample ss_line_sample_at(const ss_line_set *ls, ss_i64 b16, int major)
 {
-    return ss_line_sample_y16(ls, major, ss_line_y16(ls, b, major));
+    return ss_line_sample_y16(ls, major, ss_line_y16(ls, b16, major));
 }
 
 #endif

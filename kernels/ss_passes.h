@@ -430,7 +430,8 @@ SS_FN void ss_bare_steps(const ss_walker *w, const ss_line_set *ls, int s_lo, in
 
 /* A summed term (SS_SVF_* or SS_TERM_ELEVATION) of a line's band steps
  * into acc, walked by a copy of the walk compiled for the line's flags
- * (SS_WALK_DIGITAL, SS_WALK_CURVED), so that each does only what it needs. */
+ * (SS_WALK_DIGITAL, SS_WALK_CURVED), so that each does only what it needs;
+ * box lines, whose steps cost several points each, share one copy. */
 SS_FN void ss_band_sum_line(const ss_band_dir *d, const ss_band_run *run, int line,
                             SS_GLOBAL const float *z, SS_GLOBAL const float *grad,
                             SS_GLOBAL int *stack, SS_GLOBAL float *acc, ss_band_hulls hulls)
@@ -453,9 +454,13 @@ SS_FN void ss_band_sum_line(const ss_band_dir *d, const ss_band_run *run, int li
         ss_svf_steps(&w, ls, s_lo, s_hi, run->term, k, sa, ca, z, grad, stack, acc,
                      SS_WALK_CURVED);
         break;
-    default:
+    case SS_WALK_DIGITAL | SS_WALK_CURVED:
         ss_svf_steps(&w, ls, s_lo, s_hi, run->term, k, sa, ca, z, grad, stack, acc,
                      SS_WALK_DIGITAL | SS_WALK_CURVED);
+        break;
+    default:
+        ss_svf_steps(&w, ls, s_lo, s_hi, run->term, k, sa, ca, z, grad, stack, acc,
+                     ss_walk_flags(ls, k));
     }
     ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
 }
@@ -506,18 +511,29 @@ SS_FN void ss_band_radius_line(const ss_band_dir *d, const ss_band_run *run, int
                         stack, acc, flags);
 }
 
-/* Lines of one round: all lines for digital lines, else every other one
- * (interpolated lines feed two cells per sample and neighbouring lines the
- * same cells, so lines of one round never touch the same cell). */
-SS_FN int ss_round_lines(const ss_line_set *ls, int round)
+/* Rounds of a direction's lines, so that lines of one round never touch
+ * the same cell: digital lines partition the grid (one round); interpolated
+ * lines feed two cells per sample and neighbouring lines the same cells
+ * (two rounds: even, then odd intercepts); box lines run a round per family
+ * (each family's lines partition the grid's home cells). */
+SS_FN int ss_line_rounds(const ss_line_set *ls)
 {
-    return ls->model == SS_LINE_MODEL_DIGITAL ? (round == 0 ? ls->n_lines : 0)
-                                         : (ls->n_lines - round + 1) / 2;
+    return ls->model == SS_LINE_MODEL_INTERPOLATED ? 2 : ls->families;
 }
 
+/* Lines of one round. */
+SS_FN int ss_round_lines(const ss_line_set *ls, int round)
+{
+    if (ls->model == SS_LINE_MODEL_INTERPOLATED)
+        return (ls->n_lines - round + 1) / 2;
+    return round < ls->families ? ls->n_lines : 0;
+}
+
+/* Line number of a round's index-th line. */
 SS_FN int ss_round_line(const ss_line_set *ls, int round, int index)
 {
-    return ls->model == SS_LINE_MODEL_DIGITAL ? index : 2 * index + round;
+    return ls->model == SS_LINE_MODEL_INTERPOLATED ? 2 * index + round
+                                                   : round * ls->n_lines + index;
 }
 
 #endif

@@ -30,7 +30,7 @@
 #ifndef SS_SWEEP_H
 #define SS_SWEEP_H
 
-#include "ss_lines.h"
+#include "ss_box.h"
 
 /* A sample's height is kept as base + offset (a cell's height and the
  * interpolated step toward its neighbour), so that differences between
@@ -44,17 +44,18 @@ typedef struct {
 } ss_hull_point;
 
 /* What a walk must handle, fixed per line so that the compiler drops what
- * a line does not need (digital lines have no offsets and no minor term;
- * most runs have no curvature). */
+ * a line does not need (interpolated lines have offsets and no minor term,
+ * digital and box lines the reverse; most runs have no curvature). */
 #define SS_WALK_DIGITAL 1
 #define SS_WALK_CURVED 2
+#define SS_WALK_BOX 4 /* with SS_WALK_DIGITAL: a step meets column boundaries (ss_box.h) */
 
 /* Hull vertices kept in private memory: the top SS_RING stack slots (a
  * power of two). */
 #define SS_RING 8
 
 typedef struct {
-    int b;            /* line intercept */
+    ss_i64 b16;       /* line intercept, 16.16 fixed point */
     int first;        /* lowest major index of the line */
     int count;        /* samples on the line */
     int major0;       /* major index of step 0, and its change per step */
@@ -129,11 +130,11 @@ SS_FN ss_line_sample ss_walker_sample(const ss_line_set *ls, const ss_walker *w,
 /* Starts line number `line`; returns its number of samples. */
 SS_FN int ss_walker_begin(ss_walker *w, const ss_line_set *ls, int line)
 {
-    w->b = ls->line_min + line;
+    w->b16 = ss_line_intercept16(ls, line);
     w->count = ss_line_extent(ls, line, &w->first);
     w->dmajor = ls->step;
     w->major0 = ls->step > 0 ? w->first : w->first + w->count - 1;
-    w->y0 = ss_line_y16(ls, w->b, w->major0);
+    w->y0 = ss_line_y16(ls, w->b16, w->major0);
     /* Positions are linear in the major index: the slope has 16 fractional bits. */
     w->dy = (ss_i64)w->dmajor * (ls->slope_fx / 65536);
     w->depth = 0;
@@ -202,17 +203,41 @@ SS_FN ss_hull_point ss_hull_point_at(const ss_walker *w, int s, ss_line_sample q
     return p;
 }
 
-/* The home cell of stack slot `slot` (at or above slot_base): that of the
- * (slot - slot_base)-th sample walked since the walk began or resumed. */
+/* Where stack slot `slot` (at or above slot_base) lives in the stack grid:
+ * at the home cell of the (slot - slot_base)-th sample walked since the
+ * walk began or resumed. A box line pushes up to SS_BOX_EVENTS points a
+ * step, so its stack grid holds that many slots per cell. */
 SS_FN int ss_walker_home(const ss_line_set *ls, const ss_walker *w, int slot)
 {
-    return ss_walker_sample(ls, w, w->sample_base + slot - w->slot_base).home;
+    int k = slot - w->slot_base;
+    if (ls->model != SS_LINE_MODEL_BOX)
+        return ss_walker_sample(ls, w, w->sample_base + k).home;
+    return SS_BOX_EVENTS * ss_walker_sample(ls, w, w->sample_base + k / SS_BOX_EVENTS).home +
+           k % SS_BOX_EVENTS;
+}
+
+/* The points that step s of a box line meets (ss_box.h). */
+SS_FN ss_box_step ss_walker_box_step(const ss_line_set *ls, const ss_walker *w,
+                                     SS_GLOBAL const float *z, int s)
+{
+    return ss_box_step_at(ls, z, w->major0 + s * w->dmajor, w->y0 + (ss_i64)s * w->dy, w->dy,
+                          w->dmajor, (float)(s - w->origin_s));
+}
+
+SS_FN ss_hull_point ss_box_hull_point(ss_box_point b)
+{
+    ss_hull_point p;
+    p.u = b.u;
+    p.m = b.m;
+    p.z = b.z;
+    p.z_off = 0.0f;
+    return p;
 }
 
 /* Rebuilds stack slot `slot` from the stack grid: the slot (at its home
- * cell) holds the vertex's step index; carried slots are whole points.
- * Only occluding samples are pushed, so the vertex is a full
- * interpolation. */
+ * cell) holds the vertex's step index (box lines: SS_BOX_EVENTS times the
+ * step plus the point's kind); carried slots are whole points. Only
+ * occluding samples are pushed, so the vertex is a full interpolation. */
 SS_FN ss_hull_point ss_walker_load(const ss_line_set *ls, const ss_walker *w,
                                    SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
                                    int slot)
@@ -220,6 +245,13 @@ SS_FN ss_hull_point ss_walker_load(const ss_line_set *ls, const ss_walker *w,
     if (slot < w->slot_base)
         return w->carried[slot];
     int s = stack[ss_walker_home(ls, w, slot)];
+    if (ls->model == SS_LINE_MODEL_BOX) {
+        ss_box_step b = ss_walker_box_step(ls, w, z, s / SS_BOX_EVENTS);
+        int k = 0;
+        while (k + 1 < b.n && b.p[k].kind != s % SS_BOX_EVENTS)
+            ++k;
+        return ss_box_hull_point(b.p[k]);
+    }
     ss_line_sample q = ss_walker_sample(ls, w, s);
     float base, offset;
     ss_sample_cells(ls, q, z, &base, &offset);
@@ -255,18 +287,14 @@ SS_FN void ss_walker_push(ss_walker *w, const ss_line_set *ls, SS_GLOBAL int *st
         w->ring_low = slot - SS_RING + 1;
 }
 
-/* Walks sample s (the next one) of the line and returns its horizon. */
-SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
-                                       SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                       float curv_k, int s, int flags)
+/* Takes occluding point v (stack value id) into the hull and gives h its
+ * horizon: the tangent from v over the hull before it, found while popping
+ * what v hides. */
+SS_FN void ss_walker_insert(ss_walker *w, const ss_line_set *ls, SS_GLOBAL const float *z,
+                            SS_GLOBAL int *stack, float curv_k, ss_hull_point v, int id,
+                            ss_sample_horizon *h, int flags)
 {
-    ss_line_sample q = ss_walker_sample(ls, w, s);
-    float base, offset;
-    ss_sample_horizon h = ss_sample_cells(ls, q, z, &base, &offset);
-    if (!h.valid)
-        return h;
-    ss_hull_point v = ss_hull_point_at(w, s, q, base, offset);
-    if (w->depth > 0 && h.occludes) {
+    if (w->depth > 0) {
         ss_hull_point top = w->ring[(w->depth - 1) & (SS_RING - 1)];
         float d1 = ss_hull_dist(ls, v, top, flags);
         float dz1 = ss_hull_rise(ls, v, top, d1, curv_k, flags);
@@ -284,9 +312,60 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
             dz1 = dz2;
             w->depth--;
         }
-        h.d = d1;
-        h.dz = ss_hull_height_above(v, top, flags) - curv_k * d1 * d1;
-        h.zc = ss_hull_height(top, flags);
+        h->d = d1;
+        h->dz = ss_hull_height_above(v, top, flags) - curv_k * d1 * d1;
+        h->zc = ss_hull_height(top, flags);
+    }
+    ss_walker_push(w, ls, stack, v, id);
+}
+
+/* Walks step s of a box line: takes every point the step meets into the
+ * hull, and returns the centre's horizon for its cell if this line is the
+ * cell's nearest. */
+SS_FN ss_sample_horizon ss_walker_box(ss_walker *w, const ss_line_set *ls,
+                                      SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                      float curv_k, int s, int flags)
+{
+    ss_box_step b = ss_walker_box_step(ls, w, z, s);
+    ss_sample_horizon h;
+    h.valid = 0;
+    h.occludes = 1;
+    h.cell0 = b.owned ? b.centre_cell : -1;
+    h.cell1 = -1;
+    h.w0 = 1.0f;
+    h.w1 = 0.0f;
+    h.major = w->major0 + s * w->dmajor;
+    h.minor0 = (int)ss_floor16(w->y0 + (ss_i64)s * w->dy);
+    h.d = 0.0f;
+    h.dz = -1.0f;
+    h.zc = 0.0f;
+    for (int k = 0; k < b.n; ++k) {
+        ss_sample_horizon seen = h;
+        ss_walker_insert(w, ls, z, stack, curv_k, ss_box_hull_point(b.p[k]),
+                         SS_BOX_EVENTS * s + b.p[k].kind, &seen, flags);
+        if (b.p[k].kind == SS_BOX_CENTRE) {
+            h = seen;
+            h.valid = 1;
+        }
+    }
+    return h;
+}
+
+/* Walks sample s (the next one) of the line and returns its horizon. */
+SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
+                                       SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                                       float curv_k, int s, int flags)
+{
+    if (flags & SS_WALK_BOX)
+        return ss_walker_box(w, ls, z, stack, curv_k, s, flags);
+    ss_line_sample q = ss_walker_sample(ls, w, s);
+    float base, offset;
+    ss_sample_horizon h = ss_sample_cells(ls, q, z, &base, &offset);
+    if (!h.valid)
+        return h;
+    ss_hull_point v = ss_hull_point_at(w, s, q, base, offset);
+    if (h.occludes) {
+        ss_walker_insert(w, ls, z, stack, curv_k, v, s, &h, flags);
     } else if (w->depth > 0) {
         /* v will not join the hull, so the hull must stay as it is: walk
          * down from the top while the tangent still rises (the slopes from
@@ -310,8 +389,6 @@ SS_FN ss_sample_horizon ss_walker_step(ss_walker *w, const ss_line_set *ls,
         h.dz = ss_hull_height_above(v, best, flags) - curv_k * d1 * d1;
         h.zc = ss_hull_height(best, flags);
     }
-    if (h.occludes)
-        ss_walker_push(w, ls, stack, v, s);
     return h;
 }
 
@@ -339,8 +416,10 @@ SS_FN ss_hull_point ss_walker_slot(const ss_walker *w, const ss_line_set *ls,
 /* The flags of a line set and curvature (see SS_WALK_DIGITAL). */
 SS_FN int ss_walk_flags(const ss_line_set *ls, float curv_k)
 {
-    return (ls->model == SS_LINE_MODEL_DIGITAL ? SS_WALK_DIGITAL : 0) |
-           (curv_k != 0.0f ? SS_WALK_CURVED : 0);
+    int model = ls->model == SS_LINE_MODEL_DIGITAL ? SS_WALK_DIGITAL
+                : ls->model == SS_LINE_MODEL_BOX   ? SS_WALK_DIGITAL | SS_WALK_BOX
+                                                   : 0;
+    return model | (curv_k != 0.0f ? SS_WALK_CURVED : 0);
 }
 
 #endif

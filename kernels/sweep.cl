@@ -22,6 +22,12 @@ inline size_t held_cells(const ss_band_run *run)
     return (size_t)run->held_rows * (size_t)run->width;
 }
 
+/* Where a batch slot's stack grid starts. */
+inline size_t stack_at(const ss_band_run *run, int slot)
+{
+    return (size_t)slot * held_cells(run) * (size_t)run->stack_per_cell;
+}
+
 /* Summed terms: each slot adds into its own sums, added to the band's in
  * direction order afterwards (band_reduce). */
 __kernel void band_sum(__global const ss_band_dir *dirs, ss_band_run run, int round,
@@ -36,7 +42,7 @@ __kernel void band_sum(__global const ss_band_dir *dirs, ss_band_run run, int ro
         return;
     ss_band_hulls hulls = {hull_in, in_off, in_cnt, state, counters};
     size_t at = (size_t)d.slot * held_cells(&run);
-    ss_band_sum_line(&d, &run, line, z, grad, stacks + at, sums + at, hulls);
+    ss_band_sum_line(&d, &run, line, z, grad, stacks + stack_at(&run, d.slot), sums + at, hulls);
 }
 
 __kernel void band_horizon(__global const ss_band_dir *dirs, ss_band_run run, int round,
@@ -50,8 +56,7 @@ __kernel void band_horizon(__global const ss_band_dir *dirs, ss_band_run run, in
     if (line < 0)
         return;
     ss_band_hulls hulls = {hull_in, in_off, in_cnt, state, counters};
-    ss_band_horizon_line(&d, &run, line, z, stacks + (size_t)d.slot * held_cells(&run), outs,
-                         hulls);
+    ss_band_horizon_line(&d, &run, line, z, stacks + stack_at(&run, d.slot), outs, hulls);
 }
 
 /* Each line of a round hands its hull on (ss_band_hand_on), after the
@@ -66,7 +71,7 @@ __kernel void band_hand_on(__global const ss_band_dir *dirs, ss_band_run run, in
     ss_band_dir d;
     int line = batch_line(&run, dirs, round, &d);
     if (line >= 0)
-        ss_band_hand_on(&d, line, z, stacks + (size_t)d.slot * held_cells(&run), hull_in,
+        ss_band_hand_on(&d, line, z, stacks + stack_at(&run, d.slot), hull_in,
                         in_off, state, hull_out, out_off, out_cnt, counters);
 }
 
@@ -77,8 +82,8 @@ __kernel void band_radius(__global const ss_band_dir *dirs, ss_band_run run, int
     int line = batch_line(&run, dirs, round, &d);
     if (line < 0)
         return;
-    size_t at = (size_t)d.slot * held_cells(&run);
-    ss_band_radius_line(&d, &run, line, z, stacks + at, sums + at);
+    ss_band_radius_line(&d, &run, line, z, stacks + stack_at(&run, d.slot),
+                        sums + (size_t)d.slot * held_cells(&run));
 }
 
 __kernel void band_bare(__global const ss_band_dir *dirs, ss_band_run run, int round,

@@ -146,8 +146,10 @@ SS_API ss_status ss_grid_check(ss_ctx *ctx, const ss_grid *grid, size_t *valid_c
 /* How lines sample the grid (doc/model.md). The values are part of the
  * kernel interface (kernels/ss_lines.h). */
 typedef enum {
+    SS_LINES_AUTO = -1,         /* plan requests only: the planner chooses (walls: box) */
     SS_LINES_INTERPOLATED = 0,  /* samples on exact lines, interpolated across them (default) */
-    SS_LINES_DIGITAL = 1   /* digital lines through cell centres */
+    SS_LINES_DIGITAL = 1,  /* digital lines through cell centres */
+    SS_LINES_BOX = 2       /* cells as flat-topped columns: city DSMs with vertical walls */
 } ss_line_model;
 
 typedef struct {
@@ -160,9 +162,18 @@ typedef struct {
      * given in true azimuths and swept at true - grid_north_deg. 0: the grid
      * frame is taken as true. */
     double grid_north_deg;
+    /* SS_LINES_BOX: lines per cell across (a power of two, 1 to
+     * SS_BOX_LINES_MAX); a cell takes the nearest, at most half a spacing
+     * beside its centre (doc/model.md, "City DSMs"). */
+    int box_lines;
 } ss_sweep_options;
 
+#define SS_BOX_LINES_MAX 64
+#define SS_BOX_LINES_DEFAULT 32
+
 SS_API void ss_sweep_options_default(ss_sweep_options *opt);
+/* "interpolated", "digital" or "box": the --lines word. */
+SS_API const char *ss_line_model_name(ss_line_model lines);
 SS_API ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt);
 /* Azimuth of direction i (in the frame of the options), degrees in [0, 360). */
 SS_API double ss_direction_azimuth(const ss_sweep_options *opt, int i);
@@ -306,6 +317,8 @@ SS_API ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_swe
  * cell of a band (ss_band_rows_within's band_cell_bytes), and bytes per
  * column and direction for the rows of sums carried between bands. */
 SS_API double ss_horizon_band_cell_bytes(int want);
+/* Bytes per cell a line model adds to a band's (box lines: more hull slots). */
+SS_API double ss_lines_extra_cell_bytes(ss_line_model lines);
 SS_API double ss_horizon_column_bytes(void);
 
 /* RVT's VAT relief blend (Kokalj & Somrak 2019) of one cell, 0..1 (1 =
@@ -572,14 +585,15 @@ typedef struct {
     double refraction_k;
     int directions; /* 0: the planner chooses */
     ss_svf_definition svf_definition; /* the SVF product's (insolation uses the radiative) */
-    ss_line_model lines;
+    ss_line_model lines;        /* SS_LINES_AUTO: the planner chooses */
+    int box_lines;              /* box lines per cell (0: SS_BOX_LINES_DEFAULT) */
     ss_shadow_mode shadow_mode;
     int n_steps;                /* time steps (shadow, insolation) ... */
     const double *step_unix_s;  /* ... and the instants they are evaluated at */
     ss_plan_weather weather;    /* insolation: zeros for the clear sky */
 } ss_plan_request;
 
-#define SS_PLAN_MAX_ITEMS 16
+#define SS_PLAN_MAX_ITEMS 20
 typedef struct {
     char key[24];     /* curvature, true_north, cell_sizes, sun_per_cell, directions, ... */
     int on;
@@ -594,6 +608,7 @@ typedef struct {
     int curvature, true_north, sun_per_cell; /* the decisions */
     ss_shadow_mode shadow_mode;              /* insolation */
     int directions;
+    ss_line_model lines;
     int steps_total, steps_night, steps_high_sun;
     int sweeps;
     double cells, estimated_seconds;
@@ -606,9 +621,10 @@ typedef struct {
 
 SS_API ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                        const ss_plan_request *request, ss_plan *plan);
-/* The sweep options that obey a plan: its directions; curvature (with the
- * place's earth radius and refraction_k) and true north (the place's grid
- * north) only where it turned them on. The other fields are kept. */
+/* The sweep options that obey a plan: its directions and line model;
+ * curvature (with the place's earth radius and refraction_k) and true north
+ * (the place's grid north) only where it turned them on. The other fields
+ * are kept. */
 SS_API void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double refraction_k,
                            ss_sweep_options *opt);
 /* Opens the device the plan chose where the context's device is "auto"

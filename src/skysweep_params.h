@@ -59,7 +59,8 @@ typedef struct {
     double refraction_k;
     double earth_radius_m;        /* 0: the ellipsoid's at the DEM's centre */
     double horizon_tolerance_deg, svf_tolerance, sun_tolerance_deg;
-    int lines;                    /* "interpolated|digital" */
+    int lines;                    /* "auto|interpolated|digital|box" (ss_line_model + 1) */
+    int box_lines;                /* box lines per cell across */
 } ss_sweep_params;
 #define SS_NORTH_AUTO 0
 #define SS_NORTH_TRUE 1

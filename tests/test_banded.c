@@ -127,7 +127,7 @@ static void compare(const ss_grid *g, const char *terrain, const sweep_case *k, 
            "%s, %s, %d dirs from %.1f deg, %s lines, curvature %s: banded == whole grid for %d "
            "band heights (worst %.2g at %d rows; every row written once: %s)",
            terrain, kind_name[kind], k->directions, k->offset,
-           k->model == SS_LINES_DIGITAL ? "digital" : "interpolated", k->curved ? "on" : "off",
+           ss_line_model_name(k->model), k->curved ? "on" : "off",
            n_band_rows, worst, worst_rows, rows_ok ? "yes" : "no");
     free(ref);
     free(out);
@@ -141,7 +141,8 @@ static void random_terrain(void)
         {8, 0.0, SS_LINES_INTERPOLATED, 0},  /* axes and diagonals */
         {13, 7.3, SS_LINES_INTERPOLATED, 0}, /* between them, all quadrants */
         {13, 7.3, SS_LINES_INTERPOLATED, 1}, {8, 0.0, SS_LINES_DIGITAL, 0},
-        {13, 7.3, SS_LINES_DIGITAL, 1},
+        {13, 7.3, SS_LINES_DIGITAL, 1}, {13, 7.3, SS_LINES_BOX, 0},
+        {8, 0.0, SS_LINES_BOX, 1},
     };
     struct {
         const char *name;

@@ -30,7 +30,8 @@ static const char *check_geometry(int w, int h, double cx, double cy, double az_
         int prev_minor = 0;
         for (int s = 0; s < n && !why[0]; ++s) {
             ss_line_sample p =
-                ss_line_sample_at(&ls, ls.line_min + line, ss_line_major_at(&ls, first, n, s));
+                ss_line_sample_at(&ls, ss_line_intercept16(&ls, line),
+                                  ss_line_major_at(&ls, first, n, s));
             int major = p.major, minor = p.minor0;
             float wt[2] = {1.0f - p.w1, p.w1};
             for (int k = 0; k < 2; ++k) {

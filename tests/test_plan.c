@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "accuracy_table.h"
+#include "box_march.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -336,8 +337,51 @@ static void device_auto(void)
     ss_ctx_free(ctx);
 }
 
+/* Lines: box lines where neighbouring cells step like walls (a city of
+ * columns on 1 m cells), interpolated on hills sloping up to 45 deg; as
+ * requested when asked; an unknown model is refused. */
+static void lines(void)
+{
+    ss_grid city = box_march_city(120), hills = test_grid(120, 120, 30, 30);
+    for (int r = 0; r < 120; ++r) /* slopes up to 45 deg */
+        for (int c = 0; c < 120; ++c)
+            hills.z[r * 120 + c] =
+                (float)(400 * sin(2 * M_PI * c * 30 / 2500) * cos(2 * M_PI * r * 30 / 2500));
+    ss_ctx *ctx = ss_ctx_new();
+    ss_plan_request r = request(SS_PRODUCT_SHADOW);
+    r.lines = SS_LINES_AUTO;
+    ss_plan p_city, p_hills, p_asked;
+    ss_place pc = place_of(&city, 0, 57), ph = place_of(&hills, 0, 57);
+    int ok = ss_plan_make(ctx, &city, &pc, &r, &p_city) == SS_OK &&
+             ss_plan_make(ctx, &hills, &ph, &r, &p_hills) == SS_OK;
+    const ss_plan_item *ic = ok ? item(&p_city, "lines") : NULL;
+    const ss_plan_item *ih = ok ? item(&p_hills, "lines") : NULL;
+    tap_ok(ic && ih && p_city.lines == SS_LINES_BOX && p_hills.lines == SS_LINES_INTERPOLATED &&
+               strstr(ic->reason, "walls") && strstr(ih->reason, "terrain"),
+           "lines auto: box lines on a city of columns (%s), interpolated on hills (%s)",
+           ic ? ic->reason : "-", ih ? ih->reason : "-");
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    if (ok)
+        ss_plan_sweep_options(&p_city, &pc, 0.13, &opt);
+    tap_ok(opt.lines == SS_LINES_BOX, "the sweep options obey the plan's lines (%s)",
+           ss_line_model_name(opt.lines));
+    r.lines = SS_LINES_DIGITAL;
+    ok = ss_plan_make(ctx, &city, &pc, &r, &p_asked) == SS_OK;
+    tap_ok(ok && p_asked.lines == SS_LINES_DIGITAL,
+           "lines asked for are kept, walls or not (%s)", ss_line_model_name(p_asked.lines));
+    r.lines = (ss_line_model)7;
+    ss_status st = ss_plan_make(ctx, &city, &pc, &r, &p_asked);
+    tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "line model"),
+           "an unknown line model is refused: %s", ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    ss_grid_free(&city);
+    ss_grid_free(&hills);
+}
+
 int main(void)
 {
+    lines();
     device_auto();
     directions();
     curvature();

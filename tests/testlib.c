@@ -117,9 +117,10 @@ static void brute_horizon(const ss_grid *g, double azimuth_deg, double curv_k, d
     int *valid = malloc(sizeof(int) * max_len), *occludes = malloc(sizeof(int) * max_len);
     ss_line_sample *smp = malloc(sizeof(ss_line_sample) * max_len);
     for (int line = 0; line < ls.n_lines; ++line) {
-        int b = ls.line_min + line, first, n = ss_line_extent(&ls, line, &first);
+        int first, n = ss_line_extent(&ls, line, &first);
         for (int s = 0; s < n; ++s) {
-            ss_line_sample p = ss_line_sample_at(&ls, b, ss_line_major_at(&ls, first, n, s));
+            ss_line_sample p = ss_line_sample_at(&ls, ss_line_intercept16(&ls, line),
+                                                 ss_line_major_at(&ls, first, n, s));
             smp[s] = p;
             /* Exact minor position of the sample: the cell itself on digital
              * lines, the point between two cells on interpolated ones. */

@@ -18,14 +18,15 @@ from ._grid import Grid, out_buffer
 from ._lib import CONST, default, ffi, lib, option
 
 _SWITCH = {"auto": -1, "on": 1, "off": 0}
-_LINES = {"interpolated": 0, "digital": 1}
+_LINES = {"auto": lib.SS_LINES_AUTO, "interpolated": lib.SS_LINES_INTERPOLATED,
+          "digital": lib.SS_LINES_DIGITAL, "box": lib.SS_LINES_BOX}
 #: The CLI's --definition choices as library definitions.
 _SVF_DEFINITIONS = {"geometric": lib.SS_SVF_DEF_GEOMETRIC, "radiative": lib.SS_SVF_DEF_TILTED,
                     "horizontal": lib.SS_SVF_DEF_HORIZONTAL}
 
 #: Each sweeping function's options shared with every sweeping command.
 SWEEP_OPTIONS = ("directions", "offset", "curvature", "refraction", "earth_radius", "lines",
-                 "horizon_tolerance", "svf_tolerance")
+                 "box_lines", "horizon_tolerance", "svf_tolerance")
 
 
 def _checked(command, name, value):
@@ -80,6 +81,7 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     req.directions = directions or 0
     req.svf_definition = svf_definition
     req.lines = _LINES[_value(command, "lines", kw.get("lines"))]
+    req.box_lines = _value(command, "box_lines", kw.get("box_lines"))
     req.shadow_mode = shadow_mode
     req.n_steps = n_steps
     req.step_unix_s = step_unix_s
@@ -88,7 +90,7 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     opt = ffi.new("ss_sweep_options *")
     lib.ss_sweep_options_default(opt)
     opt.offset_deg = _value(command, "offset", kw.get("offset"))
-    opt.lines = req.lines
+    opt.box_lines = req.box_lines
     lib.ss_plan_sweep_options(plan, place, refraction, opt)
     ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
     ctx.check(lib.ss_ctx_apply_plan(ctx.ptr, plan))  # --device auto: the plan's device

@@ -37,7 +37,8 @@ def site_horizon(dem, cell_size=None, *, col, row, height=None, step=None, curva
     lib.ss_sweep_options_default(opt)
     opt.directions = int(round(n))
     opt.offset_deg = 0.0
-    opt.lines = _LINES[_value("horizon", "lines", lines)]
+    asked = _LINES[_value("horizon", "lines", lines)]
+    opt.lines = lib.SS_LINES_INTERPOLATED if asked == lib.SS_LINES_AUTO else asked
     if _value("horizon", "curvature", curvature) == "on":
         opt.earth_radius_m = _value("horizon", "earth_radius", earth_radius) or \
             CONST["SS_EARTH_RADIUS_MEAN_M"]

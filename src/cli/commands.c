@@ -31,7 +31,7 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
     double rate = c.sweep_seconds > 0 ? (double)c.cells_swept / c.sweep_seconds / 1e6 : 0;
     printf("sweep   %llu sweeps (%s lines), curvature %s, %s\n",
            (unsigned long long)c.sweeps,
-           opt->lines == SS_LINES_DIGITAL ? "digital" : "interpolated",
+           ss_line_model_name(opt->lines),
            opt->earth_radius_m > 0 ? "on" : "off", ss_ctx_device_name(run->ctx));
     printf("time    sweep %.3f s (%.0f M cell-directions/s over %d x %d cells), kernel build "
            "%.3f s\n",
@@ -60,7 +60,7 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
     ss_counters c = ss_ctx_counters(job->run.ctx);
     printf("sweep   %llu sweeps (%s lines), curvature %s, %s, in bands\n",
            (unsigned long long)c.sweeps,
-           job->opt.lines == SS_LINES_DIGITAL ? "digital" : "interpolated",
+           ss_line_model_name(job->opt.lines),
            job->opt.earth_radius_m > 0 ? "on" : "off", ss_ctx_device_name(job->run.ctx));
     printf("time    sweep %.3f s (%.0f M cell-directions/s over %d x %d cells), DEM read in "
            "bands\n",

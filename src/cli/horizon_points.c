@@ -253,7 +253,7 @@ static void json_string(FILE *f, const char *s)
 static void model_text(const ss_sweep_options *opt, char *buf, size_t n)
 {
     int used =
-        snprintf(buf, n, "%s lines, ", opt->lines == SS_LINES_DIGITAL ? "digital" : "interpolated");
+        snprintf(buf, n, "%s lines, ", ss_line_model_name(opt->lines));
     if (opt->earth_radius_m > 0)
         snprintf(buf + used, n - used,
                  "earth curvature on (R = %.0f m, refraction k = %.3f, R_eff = %.0f m)",
@@ -296,7 +296,7 @@ static void write_head(writer *w)
         fprintf(w->out,
                 "  \"line_model\": \"%s\", \"earth_radius_m\": %.0f, \"refraction_k\": %.3f, "
                 "\"step_deg\": %.10g,\n  \"sites\": [",
-                w->opt->lines == SS_LINES_DIGITAL ? "digital" : "interpolated",
+                ss_line_model_name(w->opt->lines),
                 w->opt->earth_radius_m, w->opt->refraction_k, 360.0 / w->opt->directions);
     }
 }
@@ -657,7 +657,7 @@ ss_status site_horizon_open(site_horizon *sh, ss_ctx *ctx, const char *dem_path,
     sh->site.observer_height_m = set->height_m;
     ss_sweep_options_default(&sh->opt);
     sh->opt.directions = 1;
-    sh->opt.lines = set->lines ? SS_LINES_DIGITAL : SS_LINES_INTERPOLATED;
+    sh->opt.lines = (ss_line_model)set->lines;
     sh->opt.earth_radius_m = set->curvature ? sh->frame.earth_radius_m : 0.0;
     sh->opt.refraction_k = set->curvature ? set->refraction_k : 0.0;
     return st;

@@ -37,7 +37,8 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     req.refraction_k = common->sweep.refraction_k;
     req.directions = common->sweep.directions;
     req.svf_definition = job->svf_definition;
-    req.lines = job->opt.lines;
+    req.lines = run_lines_asked(common);
+    req.box_lines = common->sweep.box_lines;
     req.shadow_mode = shadow_mode;
     req.n_steps = n_steps;
     req.step_unix_s = step_unix_s;

@@ -207,6 +207,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                                ss_dem *dem, ss_dem_source **source, int *band_rows)
 {
     int may_band = cost != NULL;
+    double cell_bytes =
+        may_band ? cost->cell_bytes + ss_lines_extra_cell_bytes(run_lines_asked(common)) : 0.0;
     *source = NULL;
     *band_rows = 0;
     if (common->heightmap)
@@ -229,7 +231,7 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                : may_band  ? ss_band_rows_within(dem->grid.width, dem->grid.height,
                                                  cost->directions ? cost->directions
                                                                   : common->sweep.directions,
-                                                 budget, cost->cell_bytes, cost->column_bytes)
+                                                 budget, cell_bytes, cost->column_bytes)
                            : ss_band_rows_for(dem->grid.width, dem->grid.height,
                                               common->sweep.directions, budget);
     /* A radius walk holds the rows within its radius beside each band (a
@@ -258,7 +260,7 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         if (may_band) {
             double least = ss_band_min_budget(
                 dem->grid.width, dem->grid.height,
-                cost->directions ? cost->directions : common->sweep.directions, cost->cell_bytes,
+                cost->directions ? cost->directions : common->sweep.directions, cell_bytes,
                 cost->column_bytes);
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "the memory budget (%s) is too small for this DEM and command: "
@@ -322,6 +324,11 @@ double run_earth_radius(const common_settings *common, const ss_dem_frame *frame
     return common->sweep.earth_radius_m > 0 ? common->sweep.earth_radius_m : frame->earth_radius_m;
 }
 
+ss_line_model run_lines_asked(const common_settings *common)
+{
+    return (ss_line_model)(common->sweep.lines - 1); /* the choice's words start with auto */
+}
+
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt)
 {
@@ -331,7 +338,9 @@ void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
     opt->offset_deg = common->sweep.offset_deg;
     opt->earth_radius_m = common->sweep.curvature == 1 ? run_earth_radius(common, frame) : 0.0;
     opt->refraction_k = common->sweep.curvature == 1 ? common->sweep.refraction_k : 0.0;
-    opt->lines = common->sweep.lines == 0 ? SS_LINES_INTERPOLATED : SS_LINES_DIGITAL;
+    ss_line_model asked = run_lines_asked(common);
+    opt->lines = asked == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : asked;
+    opt->box_lines = common->sweep.box_lines;
     opt->grid_north_deg = common->sweep.north != 2 ? frame->grid_north_deg : 0.0;
 }
 
@@ -378,10 +387,17 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
              !frame->georeferenced ? "given" : frame->geographic ? "geodesic" : "projected / scale",
              frame->cell_variation);
     ss_writer_metadata(w, "CELL_SIZE_USED", buf);
+    if (opt->lines == SS_LINES_BOX)
+        snprintf(buf, sizeof buf,
+                 "box: cells as flat-topped columns, %d lines per cell, each cell's horizon from "
+                 "the nearest (at most %.3g cell beside its centre)",
+                 opt->box_lines, 0.5 / opt->box_lines);
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
                            ? "digital: lines through cell centres, distance projected on the "
                              "azimuth"
+                       : opt->lines == SS_LINES_BOX
+                           ? buf
                            : "interpolated: samples on exact lines, heights and horizons "
                              "interpolated linearly across lines");
     if (opt->earth_radius_m > 0)

@@ -68,6 +68,8 @@ void run_end(run_state *run);
 /* Reads the DEM and opens its frame (ground cell sizes, true north). */
 ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
                        const common_settings *common, ss_dem *dem, ss_dem_frame *frame);
+/* The line model asked for: SS_LINES_AUTO leaves it to the planner. */
+ss_line_model run_lines_asked(const common_settings *common);
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt);
 double run_earth_radius(const common_settings *common, const ss_dem_frame *frame);

@@ -757,7 +757,7 @@ static ss_status ocl_walk(ss_backend *b, const ss_band_run *run, const ss_band_d
         st = carry(b, run, dirs[0].pass, n, run->planes, 1, 1, q->outs);
     if (st == SS_OK && slotted)
         st = fill(b, q->parts, (size_t)n * run_cells(run) * sizeof(float));
-    for (int round = 0; round < 2 && st == SS_OK; ++round) {
+    for (int round = 0; round < ss_line_rounds(&dirs[0].ls) && st == SS_OK; ++round) {
         ss_band_run r = *run;
         r.lines = 0;
         r.slots = n;
@@ -849,7 +849,7 @@ static ss_status ocl_bare(ss_backend *b, const ss_band_run *run, const ss_band_d
         st = fill(b, q->sums, run_cells(run) * sizeof(float));
     if (st == SS_OK)
         st = upload_dirs(b, dir, 1);
-    for (int round = 0; round < 2 && st == SS_OK; ++round) {
+    for (int round = 0; round < ss_line_rounds(&dir->ls) && st == SS_OK; ++round) {
         ss_band_run r = *run;
         r.lines = ss_round_lines(&dir->ls, round);
         r.slots = 1;
@@ -904,7 +904,8 @@ static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
         return 16;
     size_t cells = held_cells(b);
     int horizon = b->walk.term == SS_TERM_HORIZON;
-    double per_slot = (double)cells * (4.0 + (horizon ? 4.0 * ss_walk_planes(&b->walk) : 4.0));
+    double per_slot = (double)cells * (4.0 * b->stack_per_cell +
+                                       (horizon ? 4.0 * ss_walk_planes(&b->walk) : 4.0));
     double largest = (double)cells * 4.0 * (horizon ? ss_walk_planes(&b->walk) : 1);
     double budget = (double)o->global_mem / 4.0, alloc = (double)o->max_alloc;
     int by_memory = per_slot > 0 ? (int)fmin(budget / per_slot, alloc / largest) : b->batch;
@@ -940,8 +941,8 @@ ss_status ss_backend_ocl_open(ss_backend *b)
         q->z = new_buffer(b, CL_MEM_READ_ONLY, fbytes, NULL, &err);
     if (!b->whole_z && b->walk.term == SS_SVF_TILTED)
         q->grad = new_buffer(b, CL_MEM_READ_ONLY, 2 * fbytes, NULL, &err);
-    q->stacks = new_buffer(b, CL_MEM_READ_WRITE, (size_t)b->batch * cells * sizeof(int), NULL,
-                           &err);
+    q->stacks = new_buffer(b, CL_MEM_READ_WRITE,
+                           (size_t)b->batch * cells * b->stack_per_cell * sizeof(int), NULL, &err);
     q->sums = new_buffer(b, CL_MEM_READ_WRITE, fbytes, NULL, &err);
     if (horizon)
         q->outs = new_buffer(b, CL_MEM_READ_WRITE, (size_t)b->batch * planes * fbytes, NULL, &err);

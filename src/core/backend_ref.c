@@ -171,7 +171,7 @@ static ss_status ref_walk(ss_backend *b, const ss_band_run *run, const ss_band_d
                    sizeof(float) * (size_t)run->planes * run_cells(run));
             carry_rows(b, run, d, 1);
         }
-        for (int round = 0; round < 2 && st == SS_OK; ++round)
+        for (int round = 0; round < ss_line_rounds(&d->ls) && st == SS_OK; ++round)
             st = walk_round(b, run, d, round);
         if (st != SS_OK || !horizon)
             continue;
@@ -234,7 +234,7 @@ static ss_status ref_bare(ss_backend *b, const ss_band_run *run, const ss_band_d
 {
     ref_backend *r = b->impl;
     memset(r->sums, 0, run_cells(run) * sizeof(float));
-    for (int round = 0; round < 2; ++round) {
+    for (int round = 0; round < ss_line_rounds(&d->ls); ++round) {
         int n = ss_round_lines(&d->ls, round);
 #pragma omp parallel for schedule(dynamic, 16)
         for (int i = 0; i < n; ++i) {
@@ -282,7 +282,7 @@ ss_status ss_backend_ref_open(ss_backend *b)
         return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory opening the C twin");
     size_t n = held_cells(b);
     int horizon = b->walk.term == SS_TERM_HORIZON, planes = ss_walk_planes(&b->walk);
-    int ok = (r->stack = ss_alloc_grid(n * sizeof(int))) != NULL;
+    int ok = (r->stack = ss_alloc_grid(n * (size_t)b->stack_per_cell * sizeof(int))) != NULL;
     if (ok && horizon)
         ok = (r->outs = ss_alloc_grid(n * sizeof(float) * (size_t)planes * b->batch)) != NULL;
     else if (ok)

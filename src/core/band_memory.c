@@ -27,6 +27,12 @@ double ss_horizon_band_cell_bytes(int want)
     return 4.0 * grids;
 }
 
+double ss_lines_extra_cell_bytes(ss_line_model lines)
+{
+    /* Box lines keep up to SS_BOX_EVENTS hull slots per home cell. */
+    return lines == SS_LINES_BOX ? (SS_BOX_EVENTS - 1) * sizeof(int) : 0.0;
+}
+
 double ss_horizon_column_bytes(void)
 {
     return 4 * sizeof(float); /* a row each of the four sums carried between bands */

@@ -167,6 +167,7 @@ static ss_band_run band_run_of(const engine_run *e, int row0, int row1)
     run.radius_m = (float)walk->radius_m;
     run.cell_x_m = (float)e->src->cell_x_m;
     run.cell_y_m = (float)e->src->cell_y_m;
+    run.stack_per_cell = e->b.stack_per_cell;
     return run;
 }
 
@@ -345,7 +346,7 @@ static int line_bases(engine_run *e, int first, int last)
         ss_band_dir *d = &e->dirs[e->order[k]];
         d->line_base = lines;
         if (e->job->dirs[e->order[k]].walk)
-            lines += d->ls.n_lines;
+            lines += ss_line_count(&d->ls);
     }
     return lines;
 }
@@ -455,6 +456,9 @@ static ss_status open_run(engine_run *e)
     e->n_bands = (h + e->band_rows - 1) / e->band_rows;
     e->banded = e->n_bands > 1;
     e->halo = SS_BAND_HALO;
+    if (job->walk.radius_m > 0 && e->opt->lines == SS_LINES_BOX)
+        return ss_fail(e->ctx, SS_ERR_ARGUMENT,
+                       "radius-limited horizons take interpolated or digital lines, not box lines");
     if (job->walk.radius_m > 0) /* a radius walk looks back this far: no hulls */
         e->halo += (int)ceil(job->walk.radius_m / src->cell_y_m);
     int max_held = e->banded ? (e->band_rows + 2 * e->halo < h ? e->band_rows + 2 * e->halo : h)
@@ -500,6 +504,7 @@ static ss_status open_run(engine_run *e)
     e->b.walk = job->walk;
     e->b.width = w;
     e->b.max_held_rows = max_held;
+    e->b.stack_per_cell = e->opt->lines == SS_LINES_BOX ? SS_BOX_EVENTS : 1;
     e->b.batch = batch_wanted(e);
     int group = job->group > 0 && job->group < job->n_dirs ? job->group : job->n_dirs;
     e->b.carried = !e->banded ? 0 : is_sums(e) ? 1 : (group > 0 ? group : 1);

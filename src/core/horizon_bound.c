@@ -42,15 +42,24 @@ static void add_rows(bound_parts *b, const float *z, int width, int height, int 
  * and curvature only lowers it. An interpolated sample at the grid's edge
  * takes one cell's height from up to a cell beside it, which can add one
  * more such step: hence twice the bound. Across nodata holes nothing
- * bounds the step, so there the relief over the smallest cell is used. */
-static double bound_deg(const bound_parts *b, double cell_x_m, double cell_y_m, int digital)
+ * bounds the step, so there the relief over the smallest cell is used.
+ * Box lines see a column's face from a point at most half a line spacing
+ * beside the centre: the relief over that nearest distance (none with one
+ * line per cell, whose points can touch a face). */
+static double bound_deg(const bound_parts *b, double cell_x_m, double cell_y_m,
+                        ss_line_model lines, int box_lines)
 {
     double t;
-    if (b->holes) {
+    if (lines == SS_LINES_BOX) {
+        double nearest = 0.5 * fmin(cell_x_m, cell_y_m) - 0.5 / box_lines * fmax(cell_x_m, cell_y_m);
+        if (!(nearest > 0))
+            return 90.0;
+        t = (b->zmax - b->zmin) / nearest;
+    } else if (b->holes) {
         t = (b->zmax - b->zmin) / fmin(cell_x_m, cell_y_m);
     } else {
         double sx = b->gx / cell_x_m, sy = b->gy / cell_y_m;
-        t = digital ? M_SQRT2 * (sx + sy) : 2.0 * sqrt(sx * sx + sy * sy);
+        t = lines == SS_LINES_DIGITAL ? M_SQRT2 * (sx + sy) : 2.0 * sqrt(sx * sx + sy * sy);
     }
     return atan(t) * 180.0 / M_PI;
 }
@@ -61,7 +70,7 @@ double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines)
         return 90.0;
     bound_parts b = {0, 0, INFINITY, -INFINITY, 0};
     add_rows(&b, grid->z, grid->width, grid->height, 0, grid->height);
-    return bound_deg(&b, grid->cell_x_m, grid->cell_y_m, lines == SS_LINES_DIGITAL);
+    return bound_deg(&b, grid->cell_x_m, grid->cell_y_m, lines, 1);
 }
 
 /* Each band's own rows, with the row below them held. */
@@ -83,6 +92,6 @@ ss_status ss_horizon_bound_of(ss_ctx *ctx, const ss_source *src, const ss_sweep_
                          .user = &b,
                          .what = "heights"};
     ss_status st = ss_engine_run(ctx, src, opt, &job);
-    *deg = bound_deg(&b, src->cell_x_m, src->cell_y_m, opt->lines == SS_LINES_DIGITAL);
+    *deg = bound_deg(&b, src->cell_x_m, src->cell_y_m, opt->lines, opt->box_lines);
     return st;
 }

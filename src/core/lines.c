@@ -1,5 +1,5 @@
 /* Chooses, for one azimuth, the major axis, walk order and fixed-point slope
- * of the digital lines, and how far each index step walks along the azimuth. */
+ * of the lines, and how far each index step walks along the azimuth. */
 #include "config.h"
 
 #include <math.h>
@@ -23,9 +23,10 @@ void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell
     ls->width = width;
     ls->model = model;
     ls->base_major = ls->base_minor = 0;
-    ls->reserved = 0;
-    ls->weight_per_frac = model == SS_LINE_MODEL_DIGITAL ? 0.0f : 1.0f / 65536.0f;
-    ls->round_fx = model == SS_LINE_MODEL_DIGITAL ? ((ss_i64)1 << 31) : 0;
+    ls->families = 1;
+    int interpolated = model == SS_LINE_MODEL_INTERPOLATED;
+    ls->weight_per_frac = interpolated ? 1.0f / 65536.0f : 0.0f;
+    ls->round_fx = interpolated ? 0 : ((ss_i64)1 << 31);
     double slope, along_major, along_minor;
     if (fabs(col_speed) >= fabs(row_speed)) {
         ls->major_is_row = 0;
@@ -62,18 +63,22 @@ void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell
         ls->along_per_step_m = (float)(ls->step * along_major);
         ls->along_per_minor_m = (float)along_minor;
     } else {
-        /* Samples lie on the exact line (with the fixed-point slope). */
+        /* Samples (box lines: column boundaries) lie on the exact line, with
+         * the fixed-point slope; a box line's cell centres sit beside it. */
         double m = fx / 4294967296.0;
         ls->along_per_step_m = (float)(ls->step * (along_major + m * along_minor));
-        ls->along_per_minor_m = 0.0f;
+        ls->along_per_minor_m = model == SS_LINE_MODEL_BOX ? (float)along_minor : 0.0f;
     }
 
     /* Intercepts b that reach the grid: the position b + major * slope
      * moves by f_end over the major axis. Lines that turn out empty at the
      * ends cost one extent search each. */
     ls->line_min = 0;
+    ls->n_lines = 1; /* line 0 is intercept 0 */
     int f_end = ss_line_minor(ls, 0, ls->major_len - 1);
     int f_max = f_end > 0 ? f_end : 0, f_min = f_end < 0 ? f_end : 0;
+    /* Interpolated samples reach one cell further; box families sit up to
+     * a cell above the digital lines. */
     int spare = model == SS_LINE_MODEL_DIGITAL ? 0 : 1;
     ls->line_min = -f_max - spare;
     ls->n_lines = (ls->minor_len - 1 - f_min + spare) - ls->line_min + 1;

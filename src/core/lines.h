@@ -1,4 +1,4 @@
-/* Host side of the digital-line model (kernels/ss_lines.h). */
+/* Host side of the line models (kernels/ss_lines.h). */
 #ifndef SS_LINES_HOST_H
 #define SS_LINES_HOST_H
 
@@ -6,7 +6,8 @@
 
 /* The family of parallel lines that sweeps a width x height grid for a
  * direction looking toward azimuth_deg (clockwise from the grid's north),
- * with model SS_LINE_MODEL_INTERPOLATED or SS_LINE_MODEL_DIGITAL. */
+ * with model SS_LINE_MODEL_*. Box lines get one family (one line per cell
+ * across): the caller sets `families`. */
 void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell_x_m,
                              double cell_y_m, double azimuth_deg, int model);
 

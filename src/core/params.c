@@ -39,9 +39,15 @@ static const ss_param sweep_params[] = {
      "sky-view factor error the run may allow"},
     {"sun-tolerance", SS_PARAM_DOUBLE, SWEEP(sun_tolerance_deg), "DEG", "0.001", 1e-9, 90, NULL,
      "error in the sun's direction per cell the run may allow"},
-    {"lines", SS_PARAM_CHOICE, SWEEP(lines), NULL, "interpolated", 0, 0, "interpolated|digital",
+    {"lines", SS_PARAM_CHOICE, SWEEP(lines), NULL, "auto", 0, 0,
+     "auto|interpolated|digital|box",
      "interpolated: samples on exact lines, heights interpolated across them; digital: lines "
-     "through cell centres (doc/model.md)"},
+     "through cell centres; box: cells as flat-topped columns, for city DSMs with vertical "
+     "walls; auto: box where neighbouring cells step like walls, else interpolated "
+     "(doc/model.md)"},
+    {"box-lines", SS_PARAM_INT, SWEEP(box_lines), "N", "32", 1, SS_BOX_LINES_MAX, NULL,
+     "box lines per cell across, a power of two: a cell's line runs at most 1/(2N) cell beside "
+     "its centre; time grows with N (doc/model.md)"},
     END};
 
 #define SUN(field) offsetof(ss_sun_params, field)

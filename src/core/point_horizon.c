@@ -435,6 +435,17 @@ static void point_direction(const ss_point_grid *pg, const ss_sweep_options *opt
         hypot((res->cast_col - site->col) * g->cell_x_m, (res->cast_row - site->row) * g->cell_y_m);
 }
 
+/* Sweep options that point horizons can take: their lines are walked
+ * from the site itself, which box lines do not model. */
+static ss_status point_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
+{
+    ss_status st = ss_sweep_options_check(ctx, opt);
+    if (st == SS_OK && opt->lines == SS_LINES_BOX)
+        st = ss_fail(ctx, SS_ERR_ARGUMENT,
+                     "site horizons take interpolated or digital lines, not box lines");
+    return st;
+}
+
 /* Checks a site and finds its bilinear cells; 0 after a failure. */
 static int site_prepare(ss_ctx *ctx, const ss_point_grid *pg, const ss_point_site *site,
                         site_cell cells[SS_SITE_CELLS])
@@ -456,7 +467,7 @@ ss_status ss_point_horizon(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep_
                            const ss_point_site *site, ss_point_horizon_result *out)
 {
     ss_call_begin(ctx);
-    ss_status st = ss_sweep_options_check(ctx, opt);
+    ss_status st = point_options_check(ctx, opt);
     if (st != SS_OK)
         return st;
     site_cell cells[SS_SITE_CELLS];
@@ -479,7 +490,7 @@ ss_status ss_point_horizons(ss_ctx *ctx, const ss_point_grid *pg, const ss_sweep
                             const ss_point_site *sites, int n_sites, ss_point_sink sink, void *user)
 {
     ss_call_begin(ctx);
-    ss_status st = ss_sweep_options_check(ctx, opt);
+    ss_status st = point_options_check(ctx, opt);
     if (st != SS_OK)
         return st;
     int n_dir = opt->directions;

@@ -12,6 +12,7 @@
 /* The public enum and the kernels' constants must agree. */
 _Static_assert((int)SS_LINES_INTERPOLATED == SS_LINE_MODEL_INTERPOLATED, "line model values");
 _Static_assert((int)SS_LINES_DIGITAL == SS_LINE_MODEL_DIGITAL, "line model values");
+_Static_assert((int)SS_LINES_BOX == SS_LINE_MODEL_BOX, "line model values");
 
 float ss_curvature_k(const ss_sweep_options *opt)
 {
@@ -36,6 +37,8 @@ double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
     double grid_az_deg = azimuth_deg - opt->grid_north_deg;
     ss_line_set_for_azimuth(ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
                             grid_az_deg, (int)opt->lines);
+    if (opt->lines == SS_LINES_BOX)
+        ls->families = opt->box_lines;
     return grid_az_deg * (M_PI / 180.0);
 }
 

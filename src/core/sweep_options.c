@@ -17,6 +17,7 @@ void ss_sweep_options_default(ss_sweep_options *opt)
     opt->refraction_k = 0.0;
     opt->lines = SS_LINES_INTERPOLATED;
     opt->grid_north_deg = 0.0;
+    opt->box_lines = SS_BOX_LINES_DEFAULT;
 }
 
 ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
@@ -39,9 +40,21 @@ ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
     if (!isfinite(opt->grid_north_deg) || fabs(opt->grid_north_deg) > 360.0)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "grid north must be within -360..360 degrees, not %g",
                        opt->grid_north_deg);
-    if (opt->lines != SS_LINES_INTERPOLATED && opt->lines != SS_LINES_DIGITAL)
+    if (opt->lines != SS_LINES_INTERPOLATED && opt->lines != SS_LINES_DIGITAL &&
+        opt->lines != SS_LINES_BOX)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown line model %d", (int)opt->lines);
+    if (opt->lines == SS_LINES_BOX &&
+        (opt->box_lines < 1 || opt->box_lines > SS_BOX_LINES_MAX ||
+         (opt->box_lines & (opt->box_lines - 1)) != 0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "--box-lines must be a power of two from 1 to %d, not %d",
+                       SS_BOX_LINES_MAX, opt->box_lines);
     return SS_OK;
+}
+
+const char *ss_line_model_name(ss_line_model lines)
+{
+    return lines == SS_LINES_DIGITAL ? "digital" : lines == SS_LINES_BOX ? "box" : "interpolated";
 }
 
 double ss_direction_azimuth(const ss_sweep_options *opt, int i)

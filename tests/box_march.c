@@ -1,0 +1,98 @@
+/* The box-model ray march (tests/box_march.h). */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "box_march.h"
+#include "testlib.h"
+
+int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z_max)
+{
+    double z0 = g->z[(size_t)r * g->width + c];
+    double tan_el = tan(el * M_PI / 180);
+    double dx = sin(az * M_PI / 180) / g->cell_x_m;  /* columns per metre */
+    double dy = -cos(az * M_PI / 180) / g->cell_y_m; /* rows per metre (north: up) */
+    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+    /* Distances (metres) to the next column and row boundaries, and between them. */
+    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
+    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
+    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
+    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
+    for (;;) {
+        double t;
+        if (tx < ty) {
+            t = tx;
+            ci += sx;
+            tx += step_x;
+        } else {
+            t = ty;
+            ri += sy;
+            ty += step_y;
+        }
+        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height || z0 + tan_el * t > z_max)
+            return 1;
+        float h = g->z[(size_t)ri * g->width + ci];
+        if (isfinite(h) && h - z0 > tan_el * t)
+            return 0;
+    }
+}
+
+double box_march_top(const ss_grid *g)
+{
+    double z_max = -INFINITY;
+    for (size_t i = 0; i < (size_t)g->width * g->height; ++i)
+        if (isfinite(g->z[i]) && g->z[i] > z_max)
+            z_max = g->z[i];
+    return z_max;
+}
+
+ss_grid box_march_city(int n)
+{
+    ss_grid g = test_grid(n, n, 1, 1);
+    for (size_t i = 0; i < (size_t)n * n; ++i)
+        g.z[i] = 0.0f;
+    unsigned s = 7;
+    for (int b = 0; b < n * n / 600; ++b) {
+        s = s * 1103515245u + 12345u;
+        int w = 6 + (int)(s >> 16) % 35;
+        s = s * 1103515245u + 12345u;
+        int h = 6 + (int)(s >> 16) % 35;
+        s = s * 1103515245u + 12345u;
+        int c0 = (int)(s >> 16) % n, r0 = (int)((s >> 4) % (unsigned)n);
+        s = s * 1103515245u + 12345u;
+        float top = 4.0f + (float)((s >> 16) % 41);
+        for (int r = r0; r < r0 + h && r < n; ++r)
+            for (int c = c0; c < c0 + w && c < n; ++c)
+                g.z[(size_t)r * n + c] = top;
+    }
+    return g;
+}
+
+double box_march_agreement(const ss_grid *g, const ss_sweep_options *opt, double az, double el,
+                           char *err)
+{
+    size_t n = (size_t)g->width * g->height;
+    float *lit = malloc(n * sizeof(float));
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    double z_max = box_march_top(g), share = NAN;
+    if (lit && ss_cast_shadow(ctx, g, opt, az, el, NULL, lit, NULL) == SS_OK) {
+        size_t same = 0, valid = 0;
+        for (int r = 0; r < g->height; ++r)
+            for (int c = 0; c < g->width; ++c) {
+                size_t i = (size_t)r * g->width + c;
+                if (!isfinite(g->z[i]))
+                    continue;
+                valid++;
+                same += (lit[i] == 1.0f) == box_march_lit(g, r, c, az, el, z_max);
+            }
+        share = (double)same / (double)valid;
+    } else {
+        snprintf(err, 300, "%s", lit ? ss_ctx_message(ctx) : "out of memory");
+    }
+    ss_ctx_free(ctx);
+    free(lit);
+    return share;
+}

@@ -1,0 +1,30 @@
+/* City DSMs as flat-topped columns (the box model of UMEP and SOLWEIG):
+ * an independent ray march from a cell's top centre through every column
+ * the sun's ray crosses (an exact cell traversal, Amanatides & Woo 1987),
+ * sharing no code with kernels/ or src/core, and the share of cells on
+ * which skysweep's cast shadows agree with it. Used by tests/test_box_model
+ * and doc/box_lines_driver. */
+#ifndef SS_BOX_MARCH_H
+#define SS_BOX_MARCH_H
+
+#include "skysweep.h"
+
+/* 1 where the box-model ray from cell (r, c) toward the sun (azimuth az
+ * clockwise from the grid's north, elevation el, degrees) passes above
+ * every column it crosses, else 0; z_max: the grid's highest height. */
+int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z_max);
+
+/* The grid's highest finite height. */
+double box_march_top(const ss_grid *g);
+
+/* A synthetic city of n x n 1 m cells: flat ground at 0 with boxes of
+ * 6..40 m sides and 4..45 m heights. */
+ss_grid box_march_city(int n);
+
+/* The share of valid cells where ss_cast_shadow with opt on the C twin
+ * equals the march, for a sun at (az, el); NAN after a failure, whose
+ * message goes to err (300 bytes). */
+double box_march_agreement(const ss_grid *g, const ss_sweep_options *opt, double az, double el,
+                           char *err);
+
+#endif
