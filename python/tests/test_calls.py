@@ -73,7 +73,7 @@ def test_the_gil_is_released_during_a_call():
     counter = threading.Thread(target=count)
     counter.start()
     start = time.perf_counter()
-    skysweep.svf(z, 10, directions=256, device="reference")
+    skysweep.svf(z, 10, directions=256, lines="interpolated", device="reference")
     end = time.perf_counter()
     done.set()
     counter.join()

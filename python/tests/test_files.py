@@ -65,7 +65,7 @@ def test_progress_of_a_file_call(tmp_path):
     """The CLI shows progress once a run has lasted a second: this one does."""
     dem = write_asc(tmp_path / "dem.asc", rough_dem(200, 200))
     seen = []
-    skysweep.svf_file(dem, tmp_path / "o.tif", cell_size=10, directions=3000,
+    skysweep.svf_file(dem, tmp_path / "o.tif", cell_size=10, directions=3000, lines="interpolated",
                       device="reference", progress=lambda f, m: seen.append(f))
     assert len(seen) > 3 and seen[-1] == 1.0 and seen == sorted(seen)
 

@@ -127,10 +127,11 @@ def test_a_dataarray_with_y_rising_is_read_north_up():
     xr = pytest.importorskip("xarray")
     z = np.zeros((30, 30))
     z[0, :] = 100.0  # north edge, rows north to south
-    north_up = skysweep.horizon(z, 10, directions=4).elevation
+    # Interpolated lines: a lone wall would make the planner take box lines.
+    north_up = skysweep.horizon(z, 10, directions=4, lines="interpolated").elevation
     da = xr.DataArray(z[::-1], dims=("y", "x"),
                       coords={"y": np.arange(30) * 10.0, "x": np.arange(30) * 10.0})
-    h = skysweep.horizon(da, directions=4).elevation
+    h = skysweep.horizon(da, directions=4, lines="interpolated").elevation
     assert np.array_equal(h.values, north_up[:, ::-1])
     # Row 24 of the rising y is 5 rows south of the wall: 100 m seen 50 m away, in the north.
     assert h.values[0, 24, 15] == pytest.approx(np.degrees(np.arctan(100 / 50)), abs=1e-3)

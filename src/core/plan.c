@@ -148,9 +148,13 @@ static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid
         p->lines = r->lines == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : r->lines;
         return;
     }
+    int per_cell = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
     if (r->lines != SS_LINES_AUTO) {
         p->lines = r->lines;
-        add(p, "lines", 1, 0, "", "%s lines, as requested", ss_line_model_name(r->lines));
+        if (r->lines == SS_LINES_BOX)
+            add(p, "lines", 1, 0, "", "box lines, %d per cell, as requested", per_cell);
+        else
+            add(p, "lines", 1, 0, "", "%s lines, as requested", ss_line_model_name(r->lines));
         return;
     }
     if (!grid->z) {
@@ -164,9 +168,10 @@ static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid
     p->lines = share > SS_WALL_SHARE ? SS_LINES_BOX : SS_LINES_INTERPOLATED;
     if (p->lines == SS_LINES_BOX)
         add(p, "lines", 1, 0, "",
-            "box lines: %.2f %% of neighbouring cells step by %.0f m or more, steeper than "
-            "%.0f deg: walls, so cells are taken as flat-topped columns (doc/model.md)",
-            100 * share, SS_WALL_STEP_M, atan(SS_WALL_TAN) * DEG);
+            "box lines, %d per cell: %.2f %% of neighbouring cells step by %.0f m or more, "
+            "steeper than %.0f deg: walls, so cells are taken as flat-topped columns "
+            "(doc/model.md)",
+            per_cell, 100 * share, SS_WALL_STEP_M, atan(SS_WALL_TAN) * DEG);
     else
         add(p, "lines", 1, 0, "",
             "interpolated lines: %.3f %% of neighbouring cells step like walls (%.0f m or more, "
