@@ -39,6 +39,36 @@ int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z
     }
 }
 
+double box_march_horizon_deg(const ss_grid *g, int r, int c, double az)
+{
+    double z0 = g->z[(size_t)r * g->width + c];
+    double dx = sin(az * M_PI / 180) / g->cell_x_m, dy = -cos(az * M_PI / 180) / g->cell_y_m;
+    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
+    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
+    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
+    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
+    /* The cell's own top reaches to its edge: 0 deg there. */
+    double best = 0.0, t_in = fmin(tx, ty);
+    for (;;) {
+        if (tx < ty) {
+            ci += sx;
+            tx += step_x;
+        } else {
+            ri += sy;
+            ty += step_y;
+        }
+        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height)
+            return best;
+        double t_out = fmin(tx, ty);
+        float h = g->z[(size_t)ri * g->width + ci];
+        /* A column above the eye shows its near edge, one below its far edge. */
+        if (isfinite(h))
+            best = fmax(best, atan((h - z0) / (h > z0 ? t_in : t_out)) * 180 / M_PI);
+        t_in = t_out;
+    }
+}
+
 double box_march_top(const ss_grid *g)
 {
     double z_max = -INFINITY;
@@ -95,4 +125,35 @@ double box_march_agreement(const ss_grid *g, const ss_sweep_options *opt, double
     ss_ctx_free(ctx);
     free(lit);
     return share;
+}
+
+double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, char *err)
+{
+    size_t n = (size_t)g->width * g->height;
+    float *svf = malloc(n * sizeof(float));
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    double sum = 0, error = NAN;
+    size_t valid = 0;
+    if (svf && ss_svf(ctx, g, opt, SS_SVF_DEF_GEOMETRIC, svf) == SS_OK) {
+#pragma omp parallel for reduction(+ : sum, valid) schedule(dynamic, 4)
+        for (int r = 0; r < g->height; ++r)
+            for (int c = 0; c < g->width; ++c) {
+                size_t i = (size_t)r * g->width + c;
+                if (!isfinite(g->z[i]))
+                    continue;
+                double blocked = 0;
+                for (int k = 0; k < opt->directions; ++k)
+                    blocked += sin(box_march_horizon_deg(g, r, c, ss_direction_azimuth(opt, k)) *
+                                   M_PI / 180);
+                sum += fabs(svf[i] - (1 - blocked / opt->directions));
+                valid++;
+            }
+        error = sum / (double)valid;
+    } else {
+        snprintf(err, 300, "%s", svf ? ss_ctx_message(ctx) : "out of memory");
+    }
+    ss_ctx_free(ctx);
+    free(svf);
+    return error;
 }

@@ -14,6 +14,11 @@
  * every column it crosses, else 0; z_max: the grid's highest height. */
 int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z_max);
 
+/* The box-model horizon (degrees) from cell (r, c) toward azimuth az: the
+ * largest elevation of the column tops its ray crosses, the cell's own top
+ * (0 deg) included. */
+double box_march_horizon_deg(const ss_grid *g, int r, int c, double az);
+
 /* The grid's highest finite height. */
 double box_march_top(const ss_grid *g);
 
@@ -26,5 +31,9 @@ ss_grid box_march_city(int n);
  * message goes to err (300 bytes). */
 double box_march_agreement(const ss_grid *g, const ss_sweep_options *opt, double az, double el,
                            char *err);
+
+/* The mean over valid cells of |geometric SVF - the box model's|, the
+ * latter from box_march_horizon_deg over opt's directions (the C twin). */
+double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, char *err);
 
 #endif
