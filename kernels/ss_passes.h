@@ -42,7 +42,7 @@ SS_FN void ss_svf_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
 {
     for (int i = s_lo; i < s_hi; ++i) {
         ss_sample_horizon h = ss_walker_step(w, ls, z, stack, curv_k, i, flags);
-        if (!h.valid)
+        if (!h.valid || (h.cell0 < 0 && h.cell1 < 0)) /* box lines: not this line's cell */
             continue;
         /* Only the radiative term depends on the receiving cell (its slope). */
         float term0 = ss_svf_term_for(definition, ls, h.major, h.minor0, h.d, h.dz, sin_az,
@@ -101,7 +101,7 @@ SS_FN void ss_horizon_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s
 {
     for (int i = s_lo; i < s_hi; ++i) {
         ss_sample_horizon h = ss_walker_step(w, ls, z, stack, curv_k, i, flags);
-        if (!h.valid || !(h.d > 0.0f))
+        if (!h.valid || !(h.d > 0.0f) || (h.cell0 < 0 && h.cell1 < 0))
             continue;
         float angle = ss_horizon_deg(h.d, h.dz);
         if (h.cell0 >= 0) {

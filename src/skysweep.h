@@ -587,6 +587,7 @@ typedef struct {
     ss_svf_definition svf_definition; /* the SVF product's (insolation uses the radiative) */
     ss_line_model lines;        /* SS_LINES_AUTO: the planner chooses */
     int box_lines;              /* box lines per cell (0: SS_BOX_LINES_DEFAULT) */
+    double radius_m;            /* svf and openness: horizons within it (0: unlimited) */
     ss_shadow_mode shadow_mode;
     int n_steps;                /* time steps (shadow, insolation) ... */
     const double *step_unix_s;  /* ... and the instants they are evaluated at */
@@ -609,6 +610,7 @@ typedef struct {
     ss_shadow_mode shadow_mode;              /* insolation */
     int directions;
     ss_line_model lines;
+    int box_lines;
     int steps_total, steps_night, steps_high_sun;
     int sweeps;
     double cells, estimated_seconds;
@@ -621,7 +623,8 @@ typedef struct {
 
 SS_API ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                        const ss_plan_request *request, ss_plan *plan);
-/* The sweep options that obey a plan: its directions and line model;
+/* The sweep options that obey a plan: its directions and line model (and
+ * box lines per cell);
  * curvature (with the place's earth radius and refraction_k) and true north
  * (the place's grid north) only where it turned them on. The other fields
  * are kept. */

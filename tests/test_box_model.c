@@ -197,6 +197,16 @@ static void box_refusals(const ss_grid *g)
     tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "box"),
            "box lines: site horizons are refused: %s", ss_ctx_message(ctx));
     ss_point_grid_free(pg);
+    st = ss_bare_pass(ctx, g, 30, SS_LINES_BOX, out);
+    tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "box"),
+           "box lines: the bare pass is refused: %s", ss_ctx_message(ctx));
+    ss_grid flat = test_grid(20, 20, 1, 2.5);
+    for (int i = 0; i < 400; ++i)
+        flat.z[i] = 0.0f;
+    st = ss_cast_shadow(ctx, &flat, &opt, 117, 25, NULL, out, NULL);
+    tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "twice"),
+           "box lines: cells 2.5 times as long as wide are refused: %s", ss_ctx_message(ctx));
+    ss_grid_free(&flat);
     free(out);
     ss_ctx_free(ctx);
 }

@@ -366,6 +366,12 @@ static void lines(void)
         ss_plan_sweep_options(&p_city, &pc, 0.13, &opt);
     tap_ok(opt.lines == SS_LINES_BOX, "the sweep options obey the plan's lines (%s)",
            ss_line_model_name(opt.lines));
+    r.radius_m = 50;
+    ok = ss_plan_make(ctx, &city, &pc, &r, &p_asked) == SS_OK;
+    tap_ok(ok && p_asked.lines == SS_LINES_INTERPOLATED,
+           "lines auto with a radius: interpolated lines, which radius walks take (%s)",
+           ss_line_model_name(p_asked.lines));
+    r.radius_m = 0;
     r.lines = SS_LINES_DIGITAL;
     ok = ss_plan_make(ctx, &city, &pc, &r, &p_asked) == SS_OK;
     tap_ok(ok && p_asked.lines == SS_LINES_DIGITAL,

@@ -59,7 +59,8 @@ def _value(command, name, given):
 
 
 def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMETRIC,
-           n_steps=0, step_unix_s=ffi.NULL, shadow_mode=lib.SS_SHADOW_EXACT, with_plan=False):
+           n_steps=0, step_unix_s=ffi.NULL, shadow_mode=lib.SS_SHADOW_EXACT, with_plan=False,
+           radius=0.0):
     """Sweep options (and where asked the plan) for a product, as the CLI's
     job_plan makes them for a DEM without a place."""
     directions = _value(command, "directions", kw.get("directions"))
@@ -82,6 +83,7 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     req.svf_definition = svf_definition
     req.lines = _LINES[_value(command, "lines", kw.get("lines"))]
     req.box_lines = _value(command, "box_lines", kw.get("box_lines"))
+    req.radius_m = radius
     req.shadow_mode = shadow_mode
     req.n_steps = n_steps
     req.step_unix_s = step_unix_s
@@ -90,7 +92,6 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     opt = ffi.new("ss_sweep_options *")
     lib.ss_sweep_options_default(opt)
     opt.offset_deg = _value(command, "offset", kw.get("offset"))
-    opt.box_lines = req.box_lines
     lib.ss_plan_sweep_options(plan, place, refraction, opt)
     ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
     ctx.check(lib.ss_ctx_apply_plan(ctx.ptr, plan))  # --device auto: the plan's device
@@ -117,7 +118,7 @@ def svf(dem, cell_size=None, *, definition=None, radius=None, nodata=None, **kw)
     definition = _value("svf", "definition", definition)
     radius = _value("svf", "radius", radius)
     code = _SVF_DEFINITIONS[definition]
-    opt = _sweep(ctx, grid, "svf", lib.SS_PRODUCT_SVF, kw, code)
+    opt = _sweep(ctx, grid, "svf", lib.SS_PRODUCT_SVF, kw, code, radius=radius)
     out = grid.new_plane()
     if radius > 0:
         ctx.call(lib.ss_svf_within, grid.ptr, opt, code, radius, out_buffer(out),
@@ -134,7 +135,8 @@ def openness(dem, cell_size=None, *, kind=None, radius=None, nodata=None, **kw):
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     kind = _value("openness", "kind", kind)
     radius = _value("openness", "radius", radius)
-    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_HORIZON, kw)  # as cmd_openness plans it
+    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_HORIZON, kw,  # as cmd_openness plans it
+                 radius=radius)
     out = grid.new_plane()
     ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius, out_buffer(out),
              progress=kw.get("progress"))

@@ -35,6 +35,7 @@ int cmd_openness(int argc, char **argv)
                       .halo_m = set.open.radius_m};
     if ((rc = job_open_banded(&job, "openness", &set.common, pos, n_pos, cost)))
         return rc;
+    job.radius_m = set.open.radius_m;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_HORIZON, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;

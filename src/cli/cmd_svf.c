@@ -36,6 +36,7 @@ int cmd_svf(int argc, char **argv)
     if ((rc = job_open_banded(&job, "svf", &set.common, pos, n_pos, cost)))
         return rc;
     job.svf_definition = (ss_svf_definition)term;
+    job.radius_m = set.svf.radius_m;
     if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SVF, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;

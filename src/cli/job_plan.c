@@ -39,6 +39,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     req.svf_definition = job->svf_definition;
     req.lines = run_lines_asked(common);
     req.box_lines = common->sweep.box_lines;
+    req.radius_m = job->radius_m;
     req.shadow_mode = shadow_mode;
     req.n_steps = n_steps;
     req.step_unix_s = step_unix_s;

@@ -209,6 +209,10 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     int may_band = cost != NULL;
     double cell_bytes =
         may_band ? cost->cell_bytes + ss_lines_extra_cell_bytes(run_lines_asked(common)) : 0.0;
+    /* Hulls are handed on per line: box lines have box_lines times as many. */
+    int hull_directions = (may_band && cost->directions ? cost->directions
+                                                        : common->sweep.directions) *
+                          (run_lines_asked(common) == SS_LINES_BOX ? common->sweep.box_lines : 1);
     *source = NULL;
     *band_rows = 0;
     if (common->heightmap)
@@ -229,9 +233,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
     int rows = st != SS_OK ? -2
                : may_band  ? ss_band_rows_within(dem->grid.width, dem->grid.height,
-                                                 cost->directions ? cost->directions
-                                                                  : common->sweep.directions,
-                                                 budget, cell_bytes, cost->column_bytes)
+                                                 hull_directions, budget, cell_bytes,
+                                                 cost->column_bytes)
                            : ss_band_rows_for(dem->grid.width, dem->grid.height,
                                               common->sweep.directions, budget);
     /* A radius walk holds the rows within its radius beside each band (a
@@ -258,10 +261,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     if (rows != 0 && (!may_band || rows < 0)) {
         double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
         if (may_band) {
-            double least = ss_band_min_budget(
-                dem->grid.width, dem->grid.height,
-                cost->directions ? cost->directions : common->sweep.directions, cell_bytes,
-                cost->column_bytes);
+            double least = ss_band_min_budget(dem->grid.width, dem->grid.height,
+                                              hull_directions, cell_bytes, cost->column_bytes);
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "the memory budget (%s) is too small for this DEM and command: "
                               "it needs at least --memory %.0fM (one band of %d cells with "

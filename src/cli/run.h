@@ -111,6 +111,7 @@ typedef struct {
     band_cost band; /* what a band holds, for its size and the summary */
     unsigned char *rows_counted; /* rows whose nodata cells are counted (bands reread rows) */
     ss_svf_definition svf_definition; /* what the planner chooses directions for (svf) */
+    double radius_m;                  /* svf and openness: horizons within it (0: unlimited) */
     ss_plan_weather weather;          /* insolation from weather records (the plan says so) */
 } sweep_job;
 

@@ -906,7 +906,8 @@ static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
     int horizon = b->walk.term == SS_TERM_HORIZON;
     double per_slot = (double)cells * (4.0 * b->stack_per_cell +
                                        (horizon ? 4.0 * ss_walk_planes(&b->walk) : 4.0));
-    double largest = (double)cells * 4.0 * (horizon ? ss_walk_planes(&b->walk) : 1);
+    int planes = horizon ? ss_walk_planes(&b->walk) : 1;
+    double largest = (double)cells * 4.0 * (planes > b->stack_per_cell ? planes : b->stack_per_cell);
     double budget = (double)o->global_mem / 4.0, alloc = (double)o->max_alloc;
     int by_memory = per_slot > 0 ? (int)fmin(budget / per_slot, alloc / largest) : b->batch;
     int n = b->batch < by_memory ? b->batch : by_memory;

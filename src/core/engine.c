@@ -447,6 +447,28 @@ static int batch_wanted(const engine_run *e)
     return n > 0 ? n : 1;
 }
 
+/* What box lines need: stack slots indexed by int (SS_BOX_EVENTS per held
+ * cell), and cells no more than twice as long as wide, so that a cell's
+ * centre projects inside its own cell, behind the boundary with the
+ * previous column (kernels/ss_box.h). */
+static ss_status box_lines_check(const engine_run *e)
+{
+    const ss_source *src = e->src;
+    double rows = e->n_bands > 1 ? e->band_rows + 2.0 * e->halo : src->height;
+    if ((double)SS_BOX_EVENTS * rows * src->width >= 2147483647.0)
+        return ss_fail(e->ctx, SS_ERR_MEMORY,
+                       "box lines hold %d hull slots per cell, too many for %.0f cells at once: "
+                       "give --memory a smaller budget, so that the DEM is swept in bands",
+                       SS_BOX_EVENTS, rows * src->width);
+    double aspect = src->cell_x_m > src->cell_y_m ? src->cell_x_m / src->cell_y_m
+                                                  : src->cell_y_m / src->cell_x_m;
+    if (aspect > 2.0)
+        return ss_fail(e->ctx, SS_ERR_ARGUMENT,
+                       "box lines need cells at most twice as long as wide, not %.4g x %.4g m",
+                       src->cell_x_m, src->cell_y_m);
+    return SS_OK;
+}
+
 static ss_status open_run(engine_run *e)
 {
     const ss_source *src = e->src;
@@ -456,6 +478,11 @@ static ss_status open_run(engine_run *e)
     e->n_bands = (h + e->band_rows - 1) / e->band_rows;
     e->banded = e->n_bands > 1;
     e->halo = SS_BAND_HALO;
+    if (e->opt->lines == SS_LINES_BOX) {
+        ss_status st = box_lines_check(e);
+        if (st != SS_OK)
+            return st;
+    }
     if (job->walk.radius_m > 0 && e->opt->lines == SS_LINES_BOX)
         return ss_fail(e->ctx, SS_ERR_ARGUMENT,
                        "radius-limited horizons take interpolated or digital lines, not box lines");

@@ -118,6 +118,9 @@ ss_status ss_bare_pass(ss_ctx *ctx, const ss_grid *grid, double azimuth_deg,
                        ss_line_model lines, float *out)
 {
     ss_call_begin(ctx);
+    if (lines == SS_LINES_BOX) /* its lines read every cell once per family */
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the bare pass takes interpolated or digital lines, not box lines");
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.lines = lines;

@@ -144,17 +144,25 @@ static double wall_share(const ss_grid *g)
  * city DSM), interpolated lines on terrain. */
 static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid)
 {
+    p->box_lines = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
     if (!uses_horizons(r->product)) {
         p->lines = r->lines == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : r->lines;
         return;
     }
     int per_cell = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
+    p->box_lines = per_cell;
     if (r->lines != SS_LINES_AUTO) {
         p->lines = r->lines;
         if (r->lines == SS_LINES_BOX)
             add(p, "lines", 1, 0, "", "box lines, %d per cell, as requested", per_cell);
         else
             add(p, "lines", 1, 0, "", "%s lines, as requested", ss_line_model_name(r->lines));
+        return;
+    }
+    if (r->radius_m > 0) {
+        p->lines = SS_LINES_INTERPOLATED;
+        add(p, "lines", 1, 0, "",
+            "interpolated lines: radius-limited horizons do not take box lines (doc/model.md)");
         return;
     }
     if (!grid->z) {
@@ -517,7 +525,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     }
     p->sweeps = (int)sweeps;
     if (p->lines == SS_LINES_BOX) /* a box sweep walks box_lines lines per cell */
-        sweeps *= COST_BOX_PER_LINE * (r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT);
+        sweeps *= COST_BOX_PER_LINE * p->box_lines;
     double host_s = daylight * p->cells * PLAN_CELL_STEP_S;
     if (ctx->device_auto) {
         plan_device(p, sweeps, host_s);
@@ -577,6 +585,7 @@ void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double re
 {
     opt->directions = plan->directions;
     opt->lines = plan->lines;
+    opt->box_lines = plan->box_lines;
     opt->earth_radius_m = plan->curvature ? place->earth_radius_m : 0.0;
     opt->refraction_k = plan->curvature ? refraction_k : 0.0;
     opt->grid_north_deg = plan->true_north ? place->grid_north_deg : 0.0;
