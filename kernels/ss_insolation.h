@@ -24,10 +24,12 @@ SS_FN float ss_esra_air_mass_sea_level(float h0)
     return 1.0f / (SS_SIN(h) + 0.50572f * SS_POW(h * SS_DEG_PER_RAD_F + 6.07995f, -1.6364f));
 }
 
-/* Rayleigh optical thickness at air mass m (Kasten 1996). */
+/* Rayleigh optical thickness at air mass m (Kasten 1996), in two pieces
+ * that meet, not quite continuously, at SS_ESRA_RAYLEIGH_SPLIT_M. */
+#define SS_ESRA_RAYLEIGH_SPLIT_M 20.0f
 SS_FN float ss_esra_rayleigh(float m)
 {
-    if (m > 20.0f)
+    if (m > SS_ESRA_RAYLEIGH_SPLIT_M)
         return 1.0f / (10.4f + 0.718f * m);
     return 1.0f / (6.6296f + m * (1.7513f + m * (-0.1202f + m * (0.0065f - 0.00013f * m))));
 }

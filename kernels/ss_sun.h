@@ -21,12 +21,20 @@ SS_FN float ss_cos_incidence(float zenith_rad, float sun_azimuth_rad, float slop
 /* The same from the surface gradient (ss_gradient_horn) and the sun as a unit
  * vector in local east, north, up, without trigonometry per cell: the
  * surface normal is (-dz_de, -dz_dn, 1) / sqrt(1 + dz_de^2 + dz_dn^2), and
- * the unit sun vector is (sin Z sin phi_s, sin Z cos phi_s, cos Z). */
+ * the unit sun vector is (sin Z sin phi_s, sin Z cos phi_s, cos Z); the
+ * normal's norm is given (a cell's, kept over many suns). */
+SS_FN float ss_cos_incidence_normed(float sun_east, float sun_north, float sun_up, float dz_de,
+                                    float dz_dn, float normal_norm)
+{
+    return (sun_up - dz_de * sun_east - dz_dn * sun_north) / normal_norm;
+}
+
+/* The same, the normal's norm computed here. */
 SS_FN float ss_cos_incidence_gradient(float sun_east, float sun_north, float sun_up, float dz_de,
                                       float dz_dn)
 {
-    return (sun_up - dz_de * sun_east - dz_dn * sun_north) /
-           SS_SQRT(1.0f + dz_de * dz_de + dz_dn * dz_dn);
+    return ss_cos_incidence_normed(sun_east, sun_north, sun_up, dz_de, dz_dn,
+                                   SS_SQRT(1.0f + dz_de * dz_de + dz_dn * dz_dn));
 }
 
 #endif

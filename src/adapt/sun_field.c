@@ -101,8 +101,9 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
     field->n_lattice_rows = nr;
     double *node_az = field->node_azimuth_deg = malloc(sizeof(double) * (size_t)nc * nr);
     double *node_e0 = field->node_elevation_deg = malloc(sizeof(double) * (size_t)nc * nr);
+    double *node_refr = field->node_refraction_deg = malloc(sizeof(double) * (size_t)nc * nr);
     float *row_z = read ? malloc(sizeof(float) * (size_t)g->width) : NULL;
-    if (!cols || !rows || !node_az || !node_e0 || (read && !row_z))
+    if (!cols || !rows || !node_az || !node_e0 || !node_refr || (read && !row_z))
         st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
     /* Exact positions at the lattice nodes: the centre's geocentric sun
      * direction seen from each node, parallax included. */
@@ -128,6 +129,8 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
                              wrap180(az - north - field->centre_grid_azimuth_deg);
             node_az[(size_t)j * nc + i] = grid_az;
             node_e0[(size_t)j * nc + i] = e0;
+            node_refr[(size_t)j * nc + i] =
+                ss_spa_refraction_deg(e0, p.pressure_hpa, p.temperature_c, p.atmos_refract_deg);
             double d_e = e0 - field->centre.elevation_deg;
             double d_a = wrap180(grid_az - field->centre_grid_azimuth_deg) *
                          cos(e0 * M_PI / 180.0);
@@ -171,30 +174,45 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
     const int *rows = field->lattice_rows, *cols = field->lattice_cols;
     int nc = field->n_lattice_cols, nr = field->n_lattice_rows;
     const double *node_az = field->node_azimuth_deg, *node_e0 = field->node_elevation_deg;
+    const double *node_refr = field->node_refraction_deg;
     const ss_spa_params *p = &field->params;
-    /* Bilinear between nodes; refraction per cell, since it bends sharply
-     * near the horizon. Rows are independent: the cores share them. */
+    /* Bilinear between nodes. So is refraction where the sun stands above
+     * the horizontal at all four nodes: there it changes by at most 0.1 deg
+     * per deg^2 of elevation, and the nodes' elevations by 0.01 deg, so
+     * interpolation errs by 1e-6 deg or less, 1/1000 of the sun tolerance.
+     * Below, down to the cut-off where refraction stops, it bends sharply:
+     * per cell. Rows are independent: the cores share them. */
 #pragma omp parallel for schedule(static)
     for (int r = row0; r < row0 + n_rows; ++r) {
         int j = 0;
         while (j + 2 < nr && rows[j + 1] < r)
             ++j;
         double ty = between(r, rows[j], rows[j + 1]);
-        for (int i = 0; i + 1 < nc; ++i)
+        float *az_row = field->grid_azimuth_deg + (size_t)(r - row0) * field->width;
+        float *e0_row = field->elevation_deg + (size_t)(r - row0) * field->width;
+        float *app_row = field->apparent_elevation_deg + (size_t)(r - row0) * field->width;
+        for (int i = 0; i + 1 < nc; ++i) {
+            /* The row's values at the segment's two ends, then linear along it. */
+            size_t a = (size_t)j * nc + i, b = a + 1, d = a + nc, e = d + 1;
+            double az0 = (1 - ty) * node_az[a] + ty * node_az[d];
+            double az1 = (1 - ty) * node_az[b] + ty * node_az[e];
+            double e00 = (1 - ty) * node_e0[a] + ty * node_e0[d];
+            double e01 = (1 - ty) * node_e0[b] + ty * node_e0[e];
+            double r0 = (1 - ty) * node_refr[a] + ty * node_refr[d];
+            double r1 = (1 - ty) * node_refr[b] + ty * node_refr[e];
+            int smooth = node_e0[a] > 0 && node_e0[b] > 0 && node_e0[d] > 0 && node_e0[e] > 0;
             for (int c = cols[i]; c <= cols[i + 1]; ++c) {
                 double tx = between(c, cols[i], cols[i + 1]);
-                size_t a = (size_t)j * nc + i, b = a + 1, d = a + nc, e = d + 1;
-                double az = (1 - ty) * ((1 - tx) * node_az[a] + tx * node_az[b]) +
-                            ty * ((1 - tx) * node_az[d] + tx * node_az[e]);
-                double e0 = (1 - ty) * ((1 - tx) * node_e0[a] + tx * node_e0[b]) +
-                            ty * ((1 - tx) * node_e0[d] + tx * node_e0[e]);
-                size_t cell = (size_t)(r - row0) * field->width + c;
-                field->grid_azimuth_deg[cell] = (float)az;
-                field->elevation_deg[cell] = (float)e0;
-                field->apparent_elevation_deg[cell] =
-                    (float)(e0 + ss_spa_refraction_deg(e0, p->pressure_hpa, p->temperature_c,
-                                                       p->atmos_refract_deg));
+                double e0 = (1 - tx) * e00 + tx * e01;
+                double refr = smooth ? (1 - tx) * r0 + tx * r1
+                                     : ss_spa_refraction_deg(e0, p->pressure_hpa,
+                                                             p->temperature_c,
+                                                             p->atmos_refract_deg);
+                az_row[c] = (float)((1 - tx) * az0 + tx * az1);
+                e0_row[c] = (float)e0;
+                app_row[c] = (float)(e0 + refr);
             }
+        }
     }
     return SS_OK;
 }
@@ -220,6 +238,7 @@ void ss_sun_field_free(ss_sun_field *field)
     free(field->lattice_rows);
     free(field->node_azimuth_deg);
     free(field->node_elevation_deg);
+    free(field->node_refraction_deg);
     field->lattice_cols = field->lattice_rows = NULL;
-    field->node_azimuth_deg = field->node_elevation_deg = NULL;
+    field->node_azimuth_deg = field->node_elevation_deg = field->node_refraction_deg = NULL;
 }

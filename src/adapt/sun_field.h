@@ -2,8 +2,10 @@
  * grid's centre for the sun's geocentric direction, then that direction
  * rotated into each cell's local frame (with parallax) by the geodesy
  * adapter on a coarse lattice and interpolated between (the field is
- * smooth: it turns by about 0.009 degrees per km), with refraction applied
- * per cell. Azimuths are given in the grid's frame, ready for cell slopes
+ * smooth: it turns by about 0.009 degrees per km), with refraction
+ * interpolated the same way where the sun stands above the horizontal at
+ * the nodes around a cell, and computed per cell below, where it bends
+ * sharply. Azimuths are given in the grid's frame, ready for cell slopes
  * and the sweep's lines. */
 #ifndef SS_SUN_FIELD_H
 #define SS_SUN_FIELD_H
@@ -25,7 +27,7 @@ typedef struct {
     /* The lattice that per-cell positions are interpolated from (NULL when
      * one sun serves the grid). */
     int *lattice_cols, *lattice_rows, n_lattice_cols, n_lattice_rows;
-    double *node_azimuth_deg, *node_elevation_deg;
+    double *node_azimuth_deg, *node_elevation_deg, *node_refraction_deg;
     ss_spa_params params;
 } ss_sun_field;
 

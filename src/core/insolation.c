@@ -19,6 +19,7 @@
 
 #include "insolation_internal.h"
 #include "lines.h"
+#include "sun_table.h"
 
 _Static_assert(SS_PV_TEMP_FAIMAN == SS_PV_CELL_TEMP_FAIMAN && SS_PV_TEMP_SAPM == SS_PV_CELL_TEMP_SAPM,
                "ss_pv_temp_model and kernels/ss_pv.h agree");
@@ -154,6 +155,8 @@ typedef struct {
     size_t stored_stride;    /* ... D planes this far apart */
     int16_t *stored_band;    /* where they were read into (bands) */
     float *step_global;      /* the step's global over the band's rows (NULL: no step outputs) */
+    ss_step_sun *sun;        /* the step's sun terms over the band's cells */
+    float pressure_lo, pressure_hi; /* the band's range of air pressure factors */
 } steps_run;
 
 /* Where an azimuth (options' frame) falls between the stored directions:
@@ -189,6 +192,14 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
     steps_run *s = user;
     ss_insolation_job *job = s->job;
     ss_status st = ss_insolation_band_terms(job, band, s->terms);
+    size_t n = (size_t)band->n_rows * band->width;
+    s->pressure_lo = INFINITY;
+    s->pressure_hi = -INFINITY;
+    for (size_t c = 0; c < n; ++c)
+        if (isfinite(band->own_z[c])) {
+            s->pressure_lo = fminf(s->pressure_lo, s->terms[c].pressure_factor);
+            s->pressure_hi = fmaxf(s->pressure_hi, s->terms[c].pressure_factor);
+        }
     if (st != SS_OK || !job->horizons)
         return st;
     /* Interpolated shadows read the band's stored horizons, in place where
@@ -197,7 +208,6 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
     s->stored_stride = (size_t)job->src->width * job->src->height;
     if (s->stored)
         return SS_OK;
-    size_t n = (size_t)band->n_rows * band->width;
     for (int d = 0; d < job->opt->directions && st == SS_OK; ++d)
         st = ss_cell_store_get(job->horizons, d, band->row0, band->n_rows,
                                s->stored_band + (size_t)d * n);
@@ -254,8 +264,11 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         float inv_pdc0 =
             pv_on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
         float dt = (float)sun.duration_h, albedo = (float)io->albedo;
-        float g0 = (float)sun.extraterrestrial_w_m2, linke = (float)sun.linke;
+        float g0 = (float)sun.extraterrestrial_w_m2;
         const float rad = (float)(M_PI / 180.0);
+        ss_step_sun_fill(s->sun, sun.elevation_per_cell, sun.grid_azimuth_per_cell, n,
+                         (float)sun.elevation_deg, (float)sun.grid_azimuth_deg, (float)sun.linke,
+                         !sun.real_sky, s->pressure_lo, s->pressure_hi);
         const float *h = kind == STEP_SWEPT ? rows->angle : NULL;
         stored_between between =
             kind == STEP_STORED ? stored_between_of(job->opt, sun.azimuth_deg) : (stored_between){0};
@@ -275,9 +288,10 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                             : h              ? h[c]
                                              : stored_horizon(s, c, between);
             const ss_cell_terms *t = &s->terms[c];
-            ss_cell_step add =
-                sun.real_sky ? ss_cell_step_weather(t, az, h0, app, horizon, &rec, sky, dt)
-                             : ss_cell_step_of(t, az, h0, app, horizon, g0, linke, albedo, dt);
+            ss_cell_sun at = ss_step_sun_at(s->sun, t, h0, az);
+            ss_cell_step add = sun.real_sky
+                                   ? ss_cell_step_weather(t, &at, app, horizon, &rec, sky, dt)
+                                   : ss_cell_step_of(t, &at, app, horizon, g0, albedo, dt);
             if (month)
                 month[c] += add.global;
             if (pv_on && dt > 0.0f) {
@@ -368,11 +382,14 @@ static ss_status run_steps(ss_insolation_job *job, int n_steps)
                    0,
                    read_stored ? ss_malloc(n * sizeof(int16_t) * (size_t)job->opt->directions)
                                : NULL,
-                   job->want & SS_INSOLATION_STEPS ? ss_malloc(n * sizeof(float)) : NULL};
+                   job->want & SS_INSOLATION_STEPS ? ss_malloc(n * sizeof(float)) : NULL,
+                   ss_malloc(sizeof(ss_step_sun)),
+                   0.0f,
+                   0.0f};
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n_steps);
     ss_status st = SS_OK;
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
-    if (!s.kind || !s.terms || (steps_out && !s.step_global) || !dirs ||
+    if (!s.kind || !s.terms || (steps_out && !s.step_global) || !dirs || !s.sun ||
         (read_stored && !s.stored_band))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
     int n_dirs = 0;
@@ -393,6 +410,7 @@ static ss_status run_steps(ss_insolation_job *job, int n_steps)
     free(s.terms);
     free(s.stored_band);
     free(s.step_global);
+    free(s.sun);
     free(dirs);
     return st;
 }

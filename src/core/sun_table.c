@@ -1,0 +1,107 @@
+/* A step's sun terms tabulated over its cells (sun_table.h). */
+#include "config.h"
+
+#include <math.h>
+
+#include "sun_table.h"
+
+/* Node spacings, chosen so that linear interpolation errs by under 1e-6
+ * relative (the error is spacing^2 / 8 times the second derivative;
+ * tests/test_sun_table measures it): 3e-5 rad in elevation and azimuth
+ * (the air mass of a low sun, whose error the transmittance amplifies
+ * twofold, needs that), and 1/2000 of the air mass itself (the
+ * transmittance's exponent changes by at most 0.3 per unit of air mass). */
+#define ANGLE_SPACING_RAD 3e-5f
+#define AIR_MASS_SPACING 5e-4f
+
+void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int terms,
+                       ss_sun_table_fn fn, const void *user)
+{
+    t->terms = terms;
+    t->lo = lo;
+    t->scale = 0.0f;
+    t->last = -1;
+    if (!(isfinite(lo) && isfinite(hi) && hi >= lo))
+        return;
+    double intervals = ceil((double)(hi - lo) / spacing);
+    if (intervals > SS_SUN_TABLE_NODES)
+        return;
+    t->last = (int)intervals;
+    if (t->last > 0)
+        t->scale = (float)(t->last / ((double)hi - lo));
+    for (int i = 0; i <= t->last; ++i) {
+        float x = t->last > 0 ? (float)(lo + (double)i * (hi - (double)lo) / t->last) : lo;
+        fn(x, user, t->node + (size_t)i * terms);
+    }
+}
+
+static void elevation_terms(float h0, const void *user, float *v)
+{
+    const ss_step_sun *s = user;
+    v[0] = sinf(h0);
+    v[1] = cosf(h0);
+    v[2] = s->clear ? ss_esra_air_mass_sea_level(h0) : 0.0f;
+    v[3] = s->clear ? ss_esra_diffuse_fraction(s->linke, v[0]) : 0.0f;
+}
+
+static void azimuth_terms(float az, const void *user, float *v)
+{
+    (void)user;
+    v[0] = sinf(az);
+    v[1] = cosf(az);
+}
+
+static void transmittance(float m, const void *user, float *v)
+{
+    v[0] = ss_esra_beam_transmittance(((const ss_step_sun *)user)->linke, m);
+}
+
+void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
+                      float h0_step_deg, float az_step_deg, float linke, int clear,
+                      float pressure_lo, float pressure_hi)
+{
+    const float rad = (float)(M_PI / 180.0);
+    s->linke = linke;
+    s->clear = clear;
+    /* The range of the values the cells will look up, computed as they will
+     * be (degrees to radians in float); a clear sky's below the horizontal
+     * add nothing and are never looked up. */
+    float h_lo = INFINITY, h_hi = -INFINITY, a_lo = INFINITY, a_hi = -INFINITY;
+    size_t n_h = h0_deg ? n : 1, n_a = az_deg ? n : 1;
+#pragma omp parallel for schedule(static) reduction(min : h_lo) reduction(max : h_hi)
+    for (size_t c = 0; c < n_h; ++c) {
+        float h = (h0_deg ? h0_deg[c] : h0_step_deg) * rad;
+        if (!clear || h > 0.0f) {
+            h_lo = h < h_lo ? h : h_lo;
+            h_hi = h > h_hi ? h : h_hi;
+        }
+    }
+#pragma omp parallel for schedule(static) reduction(min : a_lo) reduction(max : a_hi)
+    for (size_t c = 0; c < n_a; ++c) {
+        float a = (az_deg ? az_deg[c] : az_step_deg) * rad;
+        a_lo = a < a_lo ? a : a_lo;
+        a_hi = a > a_hi ? a : a_hi;
+    }
+    ss_sun_table_fill(&s->elevation, h_lo, h_hi, ANGLE_SPACING_RAD, 4, elevation_terms, s);
+    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, ANGLE_SPACING_RAD, 2, azimuth_terms, s);
+    s->air_mass.last = -1;
+    s->air_mass.terms = 1;
+    if (!clear || s->elevation.last < 0)
+        return;
+    /* The air mass falls as the sun rises: its range over the table's nodes,
+     * times the cells' pressure factors. */
+    float m_lo = INFINITY, m_hi = -INFINITY;
+    for (int i = 0; i <= s->elevation.last; ++i) {
+        float m = s->elevation.node[(size_t)i * 4 + 2];
+        m_lo = fminf(m_lo, m);
+        m_hi = fmaxf(m_hi, m);
+    }
+    m_lo *= pressure_lo;
+    m_hi *= pressure_hi;
+    /* The transmittance steps where the Rayleigh thickness changes form:
+     * a table spanning that air mass ends there, and the air masses beyond
+     * are evaluated exactly. */
+    if (m_lo <= SS_ESRA_RAYLEIGH_SPLIT_M && m_hi > SS_ESRA_RAYLEIGH_SPLIT_M)
+        m_hi = SS_ESRA_RAYLEIGH_SPLIT_M;
+    ss_sun_table_fill(&s->air_mass, m_lo, m_hi, AIR_MASS_SPACING * m_hi, 1, transmittance, s);
+}

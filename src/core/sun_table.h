@@ -1,0 +1,102 @@
+/* A step's sun terms, tabulated over the range its cells span. Per cell the
+ * sun's elevation and azimuth differ from the step's centre by at most the
+ * planner's spread (0.11 deg over the 15 km sample), and what insolation
+ * takes from them are smooth functions: their sines and cosines,
+ * Kasten-Young's air mass, ESRA's diffuse fraction and, of the air mass,
+ * the beam transmittance. Evaluated at nodes across the step's range and
+ * interpolated linearly, a cell costs no transcendental call. The nodes lie
+ * close enough that interpolation errs by under 1e-6 relative
+ * (tests/test_sun_table, doc/insolation.md); a value outside its table, or
+ * a range too wide for one, is evaluated exactly. With one sun for every
+ * cell the table is one node and the terms are the exact ones. */
+#ifndef SS_SUN_TABLE_H
+#define SS_SUN_TABLE_H
+
+#include <stddef.h>
+
+#include "insolation_cell.h"
+
+#define SS_SUN_TABLE_NODES 1024 /* the most intervals a table holds */
+#define SS_SUN_TABLE_TERMS 4   /* the most functions tabulated together */
+
+/* Functions of one variable, tabulated at nodes lo, lo + 1/scale, ...;
+ * last is the last node: 0 holds the values at lo alone, -1 no table. */
+typedef struct {
+    float lo, scale;
+    int last, terms;
+    float node[(SS_SUN_TABLE_NODES + 1) * SS_SUN_TABLE_TERMS];
+} ss_sun_table;
+
+/* The tabulated functions' values at x, into terms[]. */
+typedef void (*ss_sun_table_fn)(float x, const void *user, float *terms);
+
+/* Tabulates fn over [lo, hi] with nodes at most spacing apart; no table
+ * where that takes more than SS_SUN_TABLE_NODES intervals. */
+void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int terms,
+                       ss_sun_table_fn fn, const void *user);
+
+/* The functions at x, linear between the nodes; 0 where the table does
+ * not hold x (the caller evaluates exactly). */
+static inline int ss_sun_table_at(const ss_sun_table *t, float x, float *terms)
+{
+    if (t->last <= 0) {
+        if (t->last < 0 || x != t->lo)
+            return 0;
+        for (int k = 0; k < t->terms; ++k)
+            terms[k] = t->node[k];
+        return 1;
+    }
+    float p = (x - t->lo) * t->scale;
+    if (!(p >= 0.0f && p <= (float)t->last))
+        return 0;
+    int i = (int)p < t->last ? (int)p : t->last - 1;
+    float f = p - (float)i;
+    const float *a = t->node + (size_t)i * t->terms, *b = a + t->terms;
+    for (int k = 0; k < t->terms; ++k)
+        terms[k] = a[k] + f * (b[k] - a[k]);
+    return 1;
+}
+
+/* A step's sun over a band's cells: its tables of the true elevation h0
+ * (sin, cos, sea-level air mass, diffuse fraction), of the grid azimuth
+ * (sin, cos) and of the air mass (beam transmittance), for the step's
+ * Linke turbidity; clear says whether the clear sky's terms are needed. */
+typedef struct {
+    ss_sun_table elevation, azimuth, air_mass;
+    float linke;
+    int clear;
+} ss_step_sun;
+
+/* The tables for a step whose cells' suns (radians) are h0[c] and az[c]
+ * over n cells, or h0_step and az_step for all where those are NULL; the
+ * cells' air pressure factors span [pressure_lo, pressure_hi]. A clear
+ * sky tabulates the sun above the horizontal alone. */
+void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
+                      float h0_step_deg, float az_step_deg, float linke, int clear,
+                      float pressure_lo, float pressure_hi);
+
+/* The sun's terms at a cell whose sun is h0 and az (radians): from the
+ * tables, else exactly. */
+static inline ss_cell_sun ss_step_sun_at(const ss_step_sun *s, const ss_cell_terms *t, float h0,
+                                         float az)
+{
+    float e[SS_SUN_TABLE_TERMS], a[2], kb = 0.0f;
+    ss_cell_sun sun;
+    if (!ss_sun_table_at(&s->elevation, h0, e) || !ss_sun_table_at(&s->azimuth, az, a))
+        return ss_cell_sun_exact(t, h0, az, s->linke, s->clear);
+    sun.h0 = h0;
+    sun.sin_h0 = e[0];
+    sun.cos_h0 = e[1];
+    sun.sin_az = a[0];
+    sun.cos_az = a[1];
+    sun.kb = sun.diffuse_fraction = 0.0f;
+    if (s->clear) {
+        float m = t->pressure_factor * e[2];
+        sun.kb = ss_sun_table_at(&s->air_mass, m, &kb) ? kb
+                                                       : ss_esra_beam_transmittance(s->linke, m);
+        sun.diffuse_fraction = e[3];
+    }
+    return sun;
+}
+
+#endif
