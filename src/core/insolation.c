@@ -149,7 +149,7 @@ ss_status ss_insolation_write_band(const ss_insolation_job *job, const ss_band_v
 
 typedef struct {
     ss_insolation_job *job;
-    unsigned char *kind; /* per step */
+    const unsigned char *kind; /* per step */
     ss_cell_terms *terms;    /* the band's own cells */
     const int16_t *stored;   /* interpolated: the band's stored horizons ... */
     size_t stored_stride;    /* ... D planes this far apart */
@@ -320,19 +320,28 @@ static ss_status steps_finish(void *user, const ss_band_view *band, float *plane
     return ss_insolation_write_band(s->job, band, planes);
 }
 
+/* What every step of this process is, decided before the run: its kind,
+ * the steps as the driver's directions, and whether any is a weather
+ * record. */
+typedef struct {
+    unsigned char *kind; /* per step */
+    ss_engine_dir *dirs;
+    int n_dirs, real_sky;
+} steps_plan;
+
 /* Decides what every step of this process is (kind), counting the night
  * steps, the daylight steps and the shadow sweeps skipped, and lists them
  * as the driver's directions. */
-static ss_status classify_steps(ss_insolation_job *job, int n_steps, unsigned char *kind,
-                                ss_engine_dir *dirs, int *n_dirs)
+static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan *plan)
 {
+    unsigned char *kind = plan->kind;
     ss_ctx *ctx = job->ctx;
     const ss_insolation_options *io = job->io;
     double bound_deg;
     ss_status st = ss_horizon_bound_of(ctx, job->src, job->opt, &bound_deg);
     if (st != SS_OK)
         return st;
-    *n_dirs = 0;
+    plan->n_dirs = 0;
     for (int k = 0; k < n_steps; ++k) {
         if (!ss_share_has(job->share, k))
             continue; /* another process's step */
@@ -343,6 +352,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, unsigned ch
         ss_sky_record rec;
         int light = 0;
         int missing = sun.real_sky && !ss_insolation_sky_record(ctx, &sun, io, &rec, &light, 1);
+        plan->real_sky |= sun.real_sky != 0;
         int sun_up = sun.elevation_deg + sun.spread_deg > 0.0;
         kind[k] = STEP_NONE;
         if (missing) {
@@ -363,12 +373,21 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, unsigned ch
                 (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
                 ctx->counters.records_without_temperature++;
         }
-        dirs[(*n_dirs)++] = (ss_engine_dir){sun.azimuth_deg, kind[k] == STEP_SWEPT, k};
+        plan->dirs[plan->n_dirs++] = (ss_engine_dir){sun.azimuth_deg, kind[k] == STEP_SWEPT, k};
     }
     return SS_OK;
 }
 
-static ss_status run_steps(ss_insolation_job *job, int n_steps)
+static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *plan)
+{
+    plan->kind = ss_calloc((size_t)n_steps, 1);
+    plan->dirs = ss_malloc(sizeof *plan->dirs * (size_t)n_steps);
+    if (!plan->kind || !plan->dirs)
+        return ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for %d time steps", n_steps);
+    return classify_steps(job, n_steps, plan);
+}
+
+static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
 {
     const ss_source *src = job->src;
     int rows = ss_source_band_rows(src);
@@ -376,7 +395,7 @@ static ss_status run_steps(ss_insolation_job *job, int n_steps)
     /* Stored horizons not held in memory are read band by band. */
     int read_stored = job->horizons && !ss_cell_store_peek(job->horizons, 0, 0);
     steps_run s = {job,
-                   ss_calloc((size_t)n_steps, 1),
+                   plan->kind,
                    ss_malloc(n * sizeof(ss_cell_terms)),
                    NULL,
                    0,
@@ -386,32 +405,25 @@ static ss_status run_steps(ss_insolation_job *job, int n_steps)
                    ss_malloc(sizeof(ss_step_sun)),
                    0.0f,
                    0.0f};
-    ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n_steps);
     ss_status st = SS_OK;
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
-    if (!s.kind || !s.terms || (steps_out && !s.step_global) || !dirs || !s.sun ||
-        (read_stored && !s.stored_band))
+    if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
-    int n_dirs = 0;
-    if (st == SS_OK)
-        st = classify_steps(job, n_steps, s.kind, dirs, &n_dirs);
     ss_consumer consumer = {ss_insolation_planes_of(job->want).count, steps_visit,
                             steps_direction, steps_finish};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
-                         .dirs = dirs,
-                         .n_dirs = n_dirs,
+                         .dirs = plan->dirs,
+                         .n_dirs = plan->n_dirs,
                          .group = SS_INSOLATION_STEPS_PER_RUN,
                          .consumer = &consumer,
                          .user = &s,
                          .what = "insolation"};
     if (st == SS_OK)
         st = ss_engine_run(job->ctx, src, job->opt, &run);
-    free(s.kind);
     free(s.terms);
     free(s.stored_band);
     free(s.step_global);
     free(s.sun);
-    free(dirs);
     return st;
 }
 
@@ -430,13 +442,20 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
                        "the cumulative sky gives no PV yield (its cell temperature needs each "
                        "record's irradiance): use exact or interpolated shadows with it");
     ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
-                             want, sink, user, NULL, NULL};
-    ss_status st = ss_insolation_cell_inputs(&job);
+                             want, sink, user, 0,    NULL, NULL};
+    int cumulative = io->shadow_mode == SS_SHADOW_CUMULATIVE;
+    steps_plan plan = {NULL, NULL, 0, 0};
+    ss_status st = cumulative ? SS_OK : plan_steps(&job, n_steps, &plan);
+    /* The clear sky's diffuse light is Muneer's, which takes no horizon band. */
+    job.perez_band = io->sky_model == SS_SKY_MODEL_PEREZ && (cumulative || plan.real_sky);
+    if (st == SS_OK)
+        st = ss_insolation_cell_inputs(&job);
     if (st == SS_OK && io->shadow_mode != SS_SHADOW_EXACT)
         st = ss_insolation_store_horizons(&job);
     if (st == SS_OK)
-        st = io->shadow_mode == SS_SHADOW_CUMULATIVE ? ss_insolation_cumulative(&job, n_steps)
-                                                     : run_steps(&job, n_steps);
+        st = cumulative ? ss_insolation_cumulative(&job, n_steps) : run_steps(&job, &plan);
+    free(plan.kind);
+    free(plan.dirs);
     ss_cell_store_close(job.cells);
     ss_cell_store_close(job.horizons);
     return st;

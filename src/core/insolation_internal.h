@@ -21,6 +21,7 @@ typedef struct {
     int want; /* SS_INSOLATION_* */
     ss_rows_sink sink;
     void *user;
+    int perez_band; /* weather records under Perez's sky: the horizon band each cell sees */
     /* Per cell: the surface's sky view (plane 0) and the share of Perez's
      * horizon band it sees (plane 1). */
     ss_cell_store *cells;

@@ -208,8 +208,7 @@ ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
                          ss_store_sink_rows, &sky);
     if (st != SS_OK)
         return st;
-    return !own || job->io->sky_model == SS_SKY_MODEL_PEREZ ? run_horizon_terms(job, !own)
-                                                             : band_seen_everywhere(job);
+    return !own || job->perez_band ? run_horizon_terms(job, !own) : band_seen_everywhere(job);
 }
 
 /* ---- horizons stored at the directions -------------------------------------- */
