@@ -7,7 +7,12 @@
  *   up to 4000 m. The exact terms are floats too: a low sun's
  *   transmittance, exp(-4.5) in a turbid sky, moves by 5e-7 between
  *   neighbouring floats of its air mass, which the tables smooth out;
- * - one sun for every cell gives the exact terms, bit for bit;
+ * - the tables are made where the suns spread over a DEM's usual 0.1 deg;
+ * - one sun for every cell gives the exact sines, cosines and diffuse
+ *   fraction, bit for bit, and the transmittance over the cells' air
+ *   pressures within 2e-6;
+ * - a weather record's suns, below the horizontal too, get their sines and
+ *   cosines from the tables;
  * - a value outside its table, and a range too wide for one, are
  *   evaluated exactly. */
 #include "config.h"
@@ -69,7 +74,8 @@ static void check_range(float h_deg, float az_deg, float spread_deg, float linke
         ss_cell_step s_want = ss_cell_step_of(&terms[c], &want, h0[c], -90.0f, 1361.0f, 0.2f, 1.0f);
         worst_global = fmax(worst_global, fabs((double)s_got.global - s_want.global) / 1361.0);
     }
-    tap_ok(worst_trig <= 1e-6 && worst_sky <= 2e-6 && worst_global <= 1e-6,
+    int made = spread_deg > 0.2f || (table.elevation.last > 0 && table.azimuth.last > 0);
+    tap_ok(worst_trig <= 1e-6 && worst_sky <= 2e-6 && worst_global <= 1e-6 && made,
            "sun at %.2f deg, spread %.2f deg, Linke %.1f: tables of %d/%d/%d intervals (-1: exact), worst "
            "sine %.2e, transmittance or diffuse fraction %.2e relative, global %.2e of the "
            "extraterrestrial",
@@ -77,23 +83,63 @@ static void check_range(float h_deg, float az_deg, float spread_deg, float linke
            table.air_mass.last, worst_trig, worst_sky, worst_global);
 }
 
-/* One sun for every cell: the table is one node, the exact terms. */
+/* One sun for every cell, over heights from 0 to 3000 m: the elevation
+ * and azimuth tables are one node, their terms exact; the transmittance is
+ * tabulated over the air pressures. */
 static void check_one_sun(void)
 {
     static ss_step_sun table;
-    ss_cell_terms t = ss_cell_terms_of(0.3f, -0.2f, 0.9f, 1200.0);
+    static ss_cell_terms terms[100];
     const float rad = (float)(M_PI / 180.0);
     float h_deg = 23.4f, az_deg = 131.0f, h = h_deg * rad, a = az_deg * rad;
-    ss_step_sun_fill(&table, NULL, NULL, 1000, h_deg, az_deg, 3.0f, 1, t.pressure_factor,
-                     t.pressure_factor);
-    ss_cell_sun got = ss_step_sun_at(&table, &t, h, a);
-    ss_cell_sun want = ss_cell_sun_exact(&t, h, a, 3.0f, 1);
-    tap_ok(table.elevation.last == 0 && table.azimuth.last == 0 && got.sin_h0 == want.sin_h0 &&
-               got.cos_h0 == want.cos_h0 && got.sin_az == want.sin_az &&
-               got.cos_az == want.cos_az && got.diffuse_fraction == want.diffuse_fraction &&
-               relative(got.kb, want.kb) <= 1e-6,
-           "one sun for all cells: one node, the exact terms (kb %.9g against %.9g)", got.kb,
-           want.kb);
+    for (int c = 0; c < 100; ++c)
+        terms[c] = ss_cell_terms_of(0.3f, -0.2f, 0.9f, 30.0 * c);
+    ss_step_sun_fill(&table, NULL, NULL, 100, h_deg, az_deg, 3.0f, 1, terms[99].pressure_factor,
+                     terms[0].pressure_factor);
+    int exact = 1;
+    double worst_kb = 0;
+    for (int c = 0; c < 100; ++c) {
+        ss_cell_sun got = ss_step_sun_at(&table, &terms[c], h, a);
+        ss_cell_sun want = ss_cell_sun_exact(&terms[c], h, a, 3.0f, 1);
+        exact &= got.sin_h0 == want.sin_h0 && got.cos_h0 == want.cos_h0 &&
+                 got.sin_az == want.sin_az && got.cos_az == want.cos_az &&
+                 got.diffuse_fraction == want.diffuse_fraction;
+        worst_kb = fmax(worst_kb, relative(got.kb, want.kb));
+    }
+    tap_ok(table.elevation.last == 0 && table.azimuth.last == 0 && table.air_mass.last > 0 &&
+               exact && worst_kb <= 2e-6,
+           "one sun for all cells: one node, exact sines and diffuse fraction; the "
+           "transmittance over %d intervals of air mass within %.2e relative",
+           table.air_mass.last, worst_kb);
+}
+
+/* A weather record's suns straddle the horizontal: their sines and cosines
+ * come from the tables, and no clear-sky term is made. */
+static void check_weather(void)
+{
+    static ss_step_sun table;
+    static float h0[CELLS], az[CELLS];
+    const float rad = (float)(M_PI / 180.0);
+    ss_cell_terms t = ss_cell_terms_of(0.2f, 0.1f, 0.95f, 500.0);
+    for (int c = 0; c < CELLS; ++c) {
+        h0[c] = uniform(-0.06f, 0.05f);
+        az[c] = 61.0f + uniform(-0.05f, 0.05f);
+    }
+    ss_step_sun_fill(&table, h0, az, CELLS, 0, 0, 3.0f, 0, t.pressure_factor, t.pressure_factor);
+    double worst = 0;
+    int from_tables = 1;
+    for (int c = 0; c < CELLS; ++c) {
+        float e[SS_SUN_TABLE_TERMS];
+        from_tables &= ss_sun_table_at(&table.elevation, h0[c] * rad, e);
+        ss_cell_sun got = ss_step_sun_at(&table, &t, h0[c] * rad, az[c] * rad);
+        ss_cell_sun want = ss_cell_sun_exact(&t, h0[c] * rad, az[c] * rad, 3.0f, 0);
+        worst = fmax(worst, fmax(fabs((double)got.sin_h0 - want.sin_h0),
+                                 fabs((double)got.cos_az - want.cos_az)));
+    }
+    tap_ok(from_tables && table.elevation.last > 0 && table.air_mass.last == -1 && worst <= 1e-6,
+           "a weather record's suns from -0.06 to 0.05 deg: sines from %d intervals within "
+           "%.2e, no air-mass table",
+           table.elevation.last, worst);
 }
 
 static void only_f(float x, const void *user, float *v)
@@ -142,6 +188,7 @@ int main(void)
                         i % 2 ? 6.5f : 2.0f);
     check_range(45.0f, -0.5f, 1.4f, 3.0f); /* azimuths either side of grid north */
     check_one_sun();
+    check_weather();
     check_outside();
     return tap_done();
 }

@@ -187,11 +187,10 @@ static float stored_horizon(const steps_run *s, size_t c, stored_between b)
            SS_HORIZON_SCALE;
 }
 
-static ss_status steps_visit(void *user, const ss_band_view *band)
+/* The range of the air pressure factors of a band's own cells, for the
+ * steps' tables of the air mass. */
+static void band_pressure_range(steps_run *s, const ss_band_view *band)
 {
-    steps_run *s = user;
-    ss_insolation_job *job = s->job;
-    ss_status st = ss_insolation_band_terms(job, band, s->terms);
     size_t n = (size_t)band->n_rows * band->width;
     s->pressure_lo = INFINITY;
     s->pressure_hi = -INFINITY;
@@ -200,7 +199,18 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
             s->pressure_lo = fminf(s->pressure_lo, s->terms[c].pressure_factor);
             s->pressure_hi = fmaxf(s->pressure_hi, s->terms[c].pressure_factor);
         }
-    if (st != SS_OK || !job->horizons)
+}
+
+static ss_status steps_visit(void *user, const ss_band_view *band)
+{
+    steps_run *s = user;
+    ss_insolation_job *job = s->job;
+    ss_status st = ss_insolation_band_terms(job, band, s->terms);
+    size_t n = (size_t)band->n_rows * band->width;
+    if (st != SS_OK)
+        return st;
+    band_pressure_range(s, band);
+    if (!job->horizons)
         return st;
     /* Interpolated shadows read the band's stored horizons, in place where
      * they are in memory. */
@@ -394,17 +404,15 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     size_t n = (size_t)rows * src->width;
     /* Stored horizons not held in memory are read band by band. */
     int read_stored = job->horizons && !ss_cell_store_peek(job->horizons, 0, 0);
-    steps_run s = {job,
-                   plan->kind,
-                   ss_malloc(n * sizeof(ss_cell_terms)),
-                   NULL,
-                   0,
-                   read_stored ? ss_malloc(n * sizeof(int16_t) * (size_t)job->opt->directions)
-                               : NULL,
-                   job->want & SS_INSOLATION_STEPS ? ss_malloc(n * sizeof(float)) : NULL,
-                   ss_malloc(sizeof(ss_step_sun)),
-                   0.0f,
-                   0.0f};
+    steps_run s = {
+        .job = job,
+        .kind = plan->kind,
+        .terms = ss_malloc(n * sizeof(ss_cell_terms)),
+        .stored_band = read_stored
+                           ? ss_malloc(n * sizeof(int16_t) * (size_t)job->opt->directions)
+                           : NULL,
+        .step_global = job->want & SS_INSOLATION_STEPS ? ss_malloc(n * sizeof(float)) : NULL,
+        .sun = ss_malloc(sizeof(ss_step_sun))};
     ss_status st = SS_OK;
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
     if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band))
@@ -450,8 +458,6 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
     job.perez_band = io->sky_model == SS_SKY_MODEL_PEREZ && (cumulative || plan.real_sky);
     if (st == SS_OK)
         st = ss_insolation_cell_inputs(&job);
-    if (st == SS_OK && io->shadow_mode != SS_SHADOW_EXACT)
-        st = ss_insolation_store_horizons(&job);
     if (st == SS_OK)
         st = cumulative ? ss_insolation_cumulative(&job, n_steps) : run_steps(&job, &plan);
     free(plan.kind);

@@ -32,14 +32,14 @@ typedef struct {
 
 /* Each cell's sky view and horizon band into job->cells (a summed walk, and
  * a horizon walk where Perez's band or a surface other than the cell's
- * own needs it). */
+ * own needs it), and, for interpolated shadows and the cumulative sky, the
+ * horizons at the D directions into job->horizons (from that walk where
+ * there is one). */
 ss_status ss_insolation_cell_inputs(ss_insolation_job *job);
 /* The terms of a band's own cells (SVF and band from job->cells, the
  * surface's gradient, the air pressure at the cell's height). */
 ss_status ss_insolation_band_terms(const ss_insolation_job *job, const ss_band_view *band,
                                    ss_cell_terms *terms);
-/* The horizons at the D directions into job->horizons. */
-ss_status ss_insolation_store_horizons(ss_insolation_job *job);
 #define SS_HORIZON_SCALE 100.0f /* stored horizons: 0.005 degrees of rounding */
 
 /* The planes an insolation run sums per cell: the five outputs, and the

@@ -1,7 +1,8 @@
 /* Each cell's terms for insolation (insolation_cell.h): what does not
  * change with time, made once before the time steps by runs of the one
  * driver, and the horizons stored at the sweep's directions for
- * interpolated shadows and the cumulative sky. */
+ * interpolated shadows and the cumulative sky (from the same walk as the
+ * terms where both are needed). */
 #include "config.h"
 
 #include <math.h>
@@ -82,6 +83,76 @@ ss_status ss_insolation_band_terms(const ss_insolation_job *job, const ss_band_v
     return st;
 }
 
+/* ---- horizons stored at the directions -------------------------------------- */
+
+/* Opens job->horizons for the D directions' horizons, where they fit. */
+static ss_status open_horizon_store(ss_insolation_job *job)
+{
+    const ss_sweep_options *opt = job->opt;
+    const ss_source *src = job->src;
+    double bytes = (double)src->width * src->height * opt->directions * sizeof(int16_t);
+    if (src->z && ss_source_band_rows(src) == src->height && bytes >= 4e9)
+        return ss_fail(job->ctx, SS_ERR_MEMORY,
+                       "storing %d horizon directions takes %.1f GB: use the exact shadow "
+                       "mode or fewer directions",
+                       opt->directions, bytes / 1e9);
+    return ss_cell_store_open(job->ctx, src, opt->directions, sizeof(int16_t), &job->horizons);
+}
+
+/* Direction `index`'s horizons (degrees) over a band's own rows into the
+ * store, through rows_buffer (int16 per cell). */
+static ss_status store_horizon_rows(ss_insolation_job *job, int index, const ss_band_view *band,
+                                    const float *angle_deg, int16_t *rows_buffer)
+{
+    size_t n = (size_t)band->n_rows * band->width;
+    for (size_t c = 0; c < n; ++c)
+        rows_buffer[c] = isfinite(band->own_z[c])
+                             ? (int16_t)lrintf(angle_deg[c] * SS_HORIZON_SCALE)
+                             : 0;
+    return ss_cell_store_put(job->horizons, index, band->row0, band->n_rows, rows_buffer);
+}
+
+typedef struct {
+    ss_insolation_job *job;
+    int16_t *rows; /* a band's own rows */
+} stored_run;
+
+static ss_status store_direction(void *user, int index, const ss_band_view *band,
+                                 const ss_dir_rows *rows, float *planes)
+{
+    (void)planes;
+    stored_run *s = user;
+    return store_horizon_rows(s->job, index, band, rows->angle, s->rows);
+}
+
+/* The horizons at the D directions into job->horizons, a walk of their own. */
+static ss_status store_horizons(ss_insolation_job *job)
+{
+    const ss_sweep_options *opt = job->opt;
+    const ss_source *src = job->src;
+    int rows = ss_source_band_rows(src);
+    stored_run s = {job, ss_malloc(sizeof(int16_t) * (size_t)rows * src->width)};
+    ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)opt->directions);
+    ss_status st = s.rows && dirs ? open_horizon_store(job)
+                                  : ss_fail(job->ctx, SS_ERR_MEMORY,
+                                            "out of memory storing %d directions",
+                                            opt->directions);
+    for (int i = 0; st == SS_OK && i < opt->directions; ++i)
+        dirs[i] = (ss_engine_dir){ss_direction_azimuth(opt, i), 1, i};
+    ss_consumer consumer = {0, NULL, store_direction, NULL};
+    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
+                         .dirs = dirs,
+                         .n_dirs = opt->directions,
+                         .consumer = &consumer,
+                         .user = &s,
+                         .what = "horizon"};
+    if (st == SS_OK)
+        st = ss_engine_run(job->ctx, src, opt, &run);
+    free(s.rows);
+    free(dirs);
+    return st;
+}
+
 /* ---- the horizon terms: Perez's band, another surface's sky view ---------- */
 
 typedef struct {
@@ -89,6 +160,7 @@ typedef struct {
     const double *azimuths;
     int with_sky;    /* a surface other than the cell's own: its sky view too */
     float *de, *dn;  /* the band's surface gradients */
+    int16_t *stored; /* storing the horizons too: a band's own rows (else NULL) */
 } horizon_terms;
 
 enum { OPEN, WEIGHT, SKY }; /* the planes of the horizon terms */
@@ -114,8 +186,8 @@ static ss_status terms_direction(void *user, int index, const ss_band_view *band
         if (!isfinite(band->own_z[c]))
             continue;
         /* ss_svf_tilted_term takes the horizon as a rise over a distance and
-         * clips it at the horizontal; -90 (no terrain ahead) must not reach
-         * tan, whose float pi/2 overshoots to a huge positive rise. */
+         * clips it at the horizontal, as this does: a horizon below it
+         * hides no sky and none of the band. */
         float rise = tanf(fmaxf(angle_deg[c], 0.0f) * (float)(M_PI / 180.0));
         if (h->with_sky)
             sky[c] += ss_svf_tilted_term(1.0f, rise, se, sn, h->de[c], h->dn[c]);
@@ -125,7 +197,7 @@ static ss_status terms_direction(void *user, int index, const ss_band_view *band
         weight[c] += facing;
         open[c] += facing * fminf(fmaxf(1.0f - angle_deg[c] / PEREZ_BAND_DEG, 0.0f), 1.0f);
     }
-    return SS_OK;
+    return h->stored ? store_horizon_rows(h->job, index, band, angle_deg, h->stored) : SS_OK;
 }
 
 static ss_status terms_finish(void *user, const ss_band_view *band, float *planes)
@@ -146,8 +218,9 @@ static ss_status terms_finish(void *user, const ss_band_view *band, float *plane
 }
 
 /* Every cell's band seen (and, with_sky, its surface's sky view) from the
- * horizons at the options' directions: one horizon walk. */
-static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky)
+ * horizons at the options' directions, and with store those horizons into
+ * job->horizons: one horizon walk. */
+static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky, int store)
 {
     const ss_sweep_options *opt = job->opt;
     const ss_source *src = job->src;
@@ -157,16 +230,19 @@ static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky)
     ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)n_dirs);
     double *azimuths = ss_malloc(sizeof *azimuths * (size_t)n_dirs);
     horizon_terms h = {job, azimuths, with_sky, ss_malloc(n * sizeof(float)),
-                       ss_malloc(n * sizeof(float))};
+                       ss_malloc(n * sizeof(float)),
+                       store ? ss_malloc(n * sizeof(int16_t)) : NULL};
     ss_status st = SS_OK;
-    if (!dirs || !azimuths || !h.de || !h.dn)
+    if (!dirs || !azimuths || !h.de || !h.dn || (store && !h.stored))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "cannot allocate the horizon terms' sums");
+    if (st == SS_OK && store)
+        st = open_horizon_store(job);
     for (int i = 0; st == SS_OK && i < n_dirs; ++i) {
         azimuths[i] = ss_direction_azimuth(opt, i);
         dirs[i] = (ss_engine_dir){azimuths[i], 1, i};
     }
     ss_consumer consumer = {3, terms_visit, terms_direction, terms_finish};
-    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = -90.0f},
+    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
                          .dirs = dirs,
                          .n_dirs = n_dirs,
                          .consumer = &consumer,
@@ -178,6 +254,7 @@ static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky)
     free(azimuths);
     free(h.de);
     free(h.dn);
+    free(h.stored);
     return st;
 }
 
@@ -200,6 +277,7 @@ static ss_status band_seen_everywhere(ss_insolation_job *job)
 ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
 {
     int own = job->io->surface.kind == SS_SURFACE_CELL;
+    int store = job->io->shadow_mode != SS_SHADOW_EXACT;
     ss_status st = ss_cell_store_open(job->ctx, job->src, 2, sizeof(float), &job->cells);
     /* The cell's own surface: the radiative SVF product's tilted sky view. */
     ss_store_sink sky = {job->cells, 0};
@@ -208,59 +286,9 @@ ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
                          ss_store_sink_rows, &sky);
     if (st != SS_OK)
         return st;
-    return !own || job->perez_band ? run_horizon_terms(job, !own) : band_seen_everywhere(job);
+    if (!own || job->perez_band)
+        return run_horizon_terms(job, !own, store);
+    st = band_seen_everywhere(job);
+    return st == SS_OK && store ? store_horizons(job) : st;
 }
 
-/* ---- horizons stored at the directions -------------------------------------- */
-
-typedef struct {
-    ss_insolation_job *job;
-    int16_t *rows; /* a band's own rows */
-} stored_run;
-
-static ss_status store_direction(void *user, int index, const ss_band_view *band,
-                                 const ss_dir_rows *rows, float *planes)
-{
-    (void)planes;
-    stored_run *s = user;
-    size_t n = (size_t)band->n_rows * band->width;
-    for (size_t c = 0; c < n; ++c)
-        s->rows[c] = isfinite(band->own_z[c])
-                         ? (int16_t)lrintf(rows->angle[c] * SS_HORIZON_SCALE)
-                         : 0;
-    return ss_cell_store_put(s->job->horizons, index, band->row0, band->n_rows, s->rows);
-}
-
-ss_status ss_insolation_store_horizons(ss_insolation_job *job)
-{
-    const ss_sweep_options *opt = job->opt;
-    const ss_source *src = job->src;
-    double bytes = (double)src->width * src->height * opt->directions * sizeof(int16_t);
-    if (src->z && ss_source_band_rows(src) == src->height && bytes >= 4e9)
-        return ss_fail(job->ctx, SS_ERR_MEMORY,
-                       "storing %d horizon directions takes %.1f GB: use the exact shadow "
-                       "mode or fewer directions",
-                       opt->directions, bytes / 1e9);
-    int rows = ss_source_band_rows(src);
-    stored_run s = {job, ss_malloc(sizeof(int16_t) * (size_t)rows * src->width)};
-    ss_engine_dir *dirs = ss_malloc(sizeof *dirs * (size_t)opt->directions);
-    ss_status st = s.rows && dirs ? ss_cell_store_open(job->ctx, src, opt->directions,
-                                                       sizeof(int16_t), &job->horizons)
-                                  : ss_fail(job->ctx, SS_ERR_MEMORY,
-                                            "out of memory storing %d directions",
-                                            opt->directions);
-    for (int i = 0; st == SS_OK && i < opt->directions; ++i)
-        dirs[i] = (ss_engine_dir){ss_direction_azimuth(opt, i), 1, i};
-    ss_consumer consumer = {0, NULL, store_direction, NULL};
-    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
-                         .dirs = dirs,
-                         .n_dirs = opt->directions,
-                         .consumer = &consumer,
-                         .user = &s,
-                         .what = "horizon"};
-    if (st == SS_OK)
-        st = ss_engine_run(job->ctx, src, opt, &run);
-    free(s.rows);
-    free(dirs);
-    return st;
-}

@@ -496,10 +496,15 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                 w->distance_km > 50 ? ": farther than 50 km, its weather may not be the DEM's"
                                     : "");
     }
+    /* Perez's band comes from the sweep that stores the horizons, where
+     * shadows take stored horizons. */
+    int band_sweep = w->what && w->horizon_band && p->shadow_mode == SS_SHADOW_EXACT;
     if (r->product == SS_PRODUCT_INSOLATION && w->what && w->horizon_band)
         add(p, "horizon_band", 1, 0, "",
-            "Perez's sky: one more sweep over %d directions for the share of its horizon band "
-            "each cell sees",
+            band_sweep ? "Perez's sky: one more sweep over %d directions for the share of its "
+                         "horizon band each cell sees"
+                       : "Perez's sky: the share of its horizon band each cell sees, from the "
+                         "sweep over %d directions that stores the horizons",
             p->directions);
 
     /* Work: sweeps of all cells, then per-cell arithmetic for each step. */
@@ -520,7 +525,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
         sweeps = p->directions + (p->shadow_mode != SS_SHADOW_EXACT
                                       ? p->directions
                                       : daylight - p->steps_high_sun) +
-                 (r->weather.what && r->weather.horizon_band ? p->directions : 0);
+                 (band_sweep ? p->directions : 0);
         break;
     }
     p->sweeps = (int)sweeps;

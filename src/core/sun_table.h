@@ -8,7 +8,9 @@
  * close enough that interpolation errs by under 1e-6 relative
  * (tests/test_sun_table, doc/insolation.md); a value outside its table, or
  * a range too wide for one, is evaluated exactly. With one sun for every
- * cell the table is one node and the terms are the exact ones. */
+ * cell the elevation and azimuth tables are one node and their terms the
+ * exact ones; the transmittance is still tabulated over the cells' air
+ * pressures. */
 #ifndef SS_SUN_TABLE_H
 #define SS_SUN_TABLE_H
 
@@ -67,10 +69,12 @@ typedef struct {
     int clear;
 } ss_step_sun;
 
-/* The tables for a step whose cells' suns (radians) are h0[c] and az[c]
- * over n cells, or h0_step and az_step for all where those are NULL; the
- * cells' air pressure factors span [pressure_lo, pressure_hi]. A clear
- * sky tabulates the sun above the horizontal alone. */
+/* The tables for a step whose cells' suns (true elevation and grid
+ * azimuth, degrees) are h0_deg[c] and az_deg[c] over n cells, or
+ * h0_step_deg and az_step_deg for all where those are NULL; the cells' air
+ * pressure factors span [pressure_lo, pressure_hi]. A clear sky tabulates
+ * the sun above the horizontal alone, a weather record's sky its sines and
+ * cosines alone. */
 void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
                       float h0_step_deg, float az_step_deg, float linke, int clear,
                       float pressure_lo, float pressure_hi);
