@@ -57,32 +57,37 @@ static void transmittance(float m, const void *user, float *v)
     v[0] = ss_esra_beam_transmittance(((const ss_step_sun *)user)->linke, m);
 }
 
+/* The range in radians of the angles the cells will look up, converted as
+ * they will be (degrees to radians in float): deg[c] over n cells, or
+ * step_deg for all where deg is NULL; only those above 0 where
+ * above_only (a clear sky's suns below the horizontal add nothing). */
+static void range_rad(const float *deg, size_t n, float step_deg, int above_only, float *lo,
+                      float *hi)
+{
+    const float rad = (float)(M_PI / 180.0);
+    float r_lo = INFINITY, r_hi = -INFINITY;
+    size_t count = deg ? n : 1;
+#pragma omp parallel for schedule(static) reduction(min : r_lo) reduction(max : r_hi)
+    for (size_t c = 0; c < count; ++c) {
+        float x = (deg ? deg[c] : step_deg) * rad;
+        if (!above_only || x > 0.0f) {
+            r_lo = x < r_lo ? x : r_lo;
+            r_hi = x > r_hi ? x : r_hi;
+        }
+    }
+    *lo = r_lo;
+    *hi = r_hi;
+}
+
 void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
                       float h0_step_deg, float az_step_deg, float linke, int clear,
                       float pressure_lo, float pressure_hi)
 {
-    const float rad = (float)(M_PI / 180.0);
     s->linke = linke;
     s->clear = clear;
-    /* The range of the values the cells will look up, computed as they will
-     * be (degrees to radians in float); a clear sky's below the horizontal
-     * add nothing and are never looked up. */
-    float h_lo = INFINITY, h_hi = -INFINITY, a_lo = INFINITY, a_hi = -INFINITY;
-    size_t n_h = h0_deg ? n : 1, n_a = az_deg ? n : 1;
-#pragma omp parallel for schedule(static) reduction(min : h_lo) reduction(max : h_hi)
-    for (size_t c = 0; c < n_h; ++c) {
-        float h = (h0_deg ? h0_deg[c] : h0_step_deg) * rad;
-        if (!clear || h > 0.0f) {
-            h_lo = h < h_lo ? h : h_lo;
-            h_hi = h > h_hi ? h : h_hi;
-        }
-    }
-#pragma omp parallel for schedule(static) reduction(min : a_lo) reduction(max : a_hi)
-    for (size_t c = 0; c < n_a; ++c) {
-        float a = (az_deg ? az_deg[c] : az_step_deg) * rad;
-        a_lo = a < a_lo ? a : a_lo;
-        a_hi = a > a_hi ? a : a_hi;
-    }
+    float h_lo, h_hi, a_lo, a_hi;
+    range_rad(h0_deg, n, h0_step_deg, clear, &h_lo, &h_hi);
+    range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
     ss_sun_table_fill(&s->elevation, h_lo, h_hi, ANGLE_SPACING_RAD, 4, elevation_terms, s);
     ss_sun_table_fill(&s->azimuth, a_lo, a_hi, ANGLE_SPACING_RAD, 2, azimuth_terms, s);
     s->air_mass.last = -1;
