@@ -98,10 +98,11 @@ SS_FN ss_sky_parts ss_sky_parts_of(int model, float dhi, float dni, float dni_ex
 SS_FN float ss_sky_diffuse_on(ss_sky_parts p, float cos_i, int lit, float sky_view,
                               float sin_tilt, float band_seen)
 {
-    float seen = lit ? SS_FMAX(cos_i, 0.0f) : 0.0f;
-    return SS_FMAX(p.isotropic * sky_view + p.circumsolar * seen +
-                       p.horizon * sin_tilt * band_seen,
-                   0.0f);
+    /* Clipped by comparison, not fmax, which is the same here (NaN too
+     * gives 0) and which compilers can run in vector lanes. */
+    float seen = lit && cos_i > 0.0f ? cos_i : 0.0f;
+    float sum = p.isotropic * sky_view + p.circumsolar * seen + p.horizon * sin_tilt * band_seen;
+    return sum > 0.0f ? sum : 0.0f;
 }
 
 /* Erbs et al. (1982) split of a global horizontal irradiance into direct

@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "insolation_internal.h"
+#include "insolation_lanes.h"
 #include "lines.h"
 #include "sun_table.h"
 
@@ -178,13 +179,31 @@ static stored_between stored_between_of(const ss_sweep_options *opt, double az)
     return b;
 }
 
-/* Horizon of cell c, linear between the two stored directions around the
- * sun's azimuth. */
-static float stored_horizon(const steps_run *s, size_t c, stored_between b)
+/* Adds a run's values into its cells' sums (0 where a cell adds nothing). */
+static void add_run(int n, float *sum, const float *add)
 {
-    return ((1.0f - b.t) * s->stored[(size_t)b.i0 * s->stored_stride + c] +
-            b.t * s->stored[(size_t)b.i1 * s->stored_stride + c]) /
-           SS_HORIZON_SCALE;
+#pragma omp simd
+    for (int j = 0; j < n; ++j)
+        sum[j] += add[j];
+}
+
+/* Cell c's step computed cell by cell, its sun's terms exactly where they
+ * fall outside the step's tables (ss_lane_cells leaves those cells). */
+static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_step_sun *tables,
+                                    const ss_cell_terms *t, size_t c)
+{
+    const float rad = (float)(M_PI / 180.0);
+    float az = (l->az_deg ? l->az_deg[c] : l->az_step_deg) * rad;
+    float h0 = (l->h0_deg ? l->h0_deg[c] : l->h0_step_deg) * rad;
+    float app = l->app_deg ? l->app_deg[c] : l->app_step_deg;
+    float horizon = l->swept     ? l->swept[c]
+                    : l->stored0 ? ((1.0f - l->stored_t) * l->stored0[c] +
+                                    l->stored_t * l->stored1[c]) /
+                                       SS_HORIZON_SCALE
+                                 : -90.0f;
+    ss_cell_sun at = ss_step_sun_at(tables, t, h0, az);
+    return l->real_sky ? ss_cell_step_weather(t, &at, app, horizon, &l->rec, l->sky, l->dt)
+                       : ss_cell_step_of(t, &at, app, horizon, l->g0, l->albedo, l->dt);
 }
 
 /* The range of the air pressure factors of a band's own cells, for the
@@ -273,50 +292,64 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         float eta_inv = (float)io->pv.inverter_efficiency;
         float inv_pdc0 =
             pv_on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
-        float dt = (float)sun.duration_h, albedo = (float)io->albedo;
-        float g0 = (float)sun.extraterrestrial_w_m2;
-        const float rad = (float)(M_PI / 180.0);
+        float dt = (float)sun.duration_h;
         ss_step_sun_fill(s->sun, sun.elevation_per_cell, sun.grid_azimuth_per_cell, n,
                          (float)sun.elevation_deg, (float)sun.grid_azimuth_deg, (float)sun.linke,
                          !sun.real_sky, s->pressure_lo, s->pressure_hi);
-        const float *h = kind == STEP_SWEPT ? rows->angle : NULL;
         stored_between between =
             kind == STEP_STORED ? stored_between_of(job->opt, sun.azimuth_deg) : (stored_between){0};
+        ss_lane_step lane = {
+            .tables = s->sun,
+            .h0_deg = sun.elevation_per_cell,
+            .az_deg = sun.grid_azimuth_per_cell,
+            .app_deg = sun.apparent_per_cell,
+            .h0_step_deg = (float)sun.elevation_deg,
+            .az_step_deg = (float)sun.grid_azimuth_deg,
+            .app_step_deg = (float)sun.apparent_elevation_deg,
+            .swept = kind == STEP_SWEPT ? rows->angle : NULL,
+            .stored0 = kind == STEP_STORED ? s->stored + (size_t)between.i0 * s->stored_stride : NULL,
+            .stored1 = kind == STEP_STORED ? s->stored + (size_t)between.i1 * s->stored_stride : NULL,
+            .stored_t = between.t,
+            .real_sky = sun.real_sky,
+            .g0 = (float)sun.extraterrestrial_w_m2,
+            .albedo = (float)io->albedo,
+            .dt = dt,
+            .rec = rec,
+            .sky = sky};
 #pragma omp parallel for schedule(static)
-        for (size_t c = 0; c < n; ++c) {
-            if (!isfinite(band->own_z[c]))
-                continue;
-            float az = (sun.grid_azimuth_per_cell ? sun.grid_azimuth_per_cell[c]
-                                                  : (float)sun.grid_azimuth_deg) * rad;
-            float h0 = (sun.elevation_per_cell ? sun.elevation_per_cell[c]
-                                               : (float)sun.elevation_deg) * rad;
-            float app = sun.apparent_per_cell ? sun.apparent_per_cell[c]
-                                              : (float)sun.apparent_elevation_deg;
-            if (h0 <= 0.0f && !sun.real_sky)
-                continue;
-            float horizon = kind == STEP_LIT ? -90.0f
-                            : h              ? h[c]
-                                             : stored_horizon(s, c, between);
-            const ss_cell_terms *t = &s->terms[c];
-            ss_cell_sun at = ss_step_sun_at(s->sun, t, h0, az);
-            ss_cell_step add = sun.real_sky
-                                   ? ss_cell_step_weather(t, &at, app, horizon, &rec, sky, dt)
-                                   : ss_cell_step_of(t, &at, app, horizon, g0, albedo, dt);
+        for (size_t c0 = 0; c0 < n; c0 += SS_LANE_CELLS) {
+            int m = n - c0 < SS_LANE_CELLS ? (int)(n - c0) : SS_LANE_CELLS;
+            ss_lane_adds a;
+            ss_lane_cells(&lane, band->own_z, s->terms, c0, m, &a);
+            for (int j = 0; j < m; ++j)
+                if (a.what[j] == SS_LANE_EXACT) {
+                    ss_cell_step add = cell_step_exact(&lane, s->sun, &s->terms[c0 + j], c0 + j);
+                    a.beam[j] = add.beam;
+                    a.diffuse[j] = add.diffuse;
+                    a.reflected[j] = add.reflected;
+                    a.global[j] = add.global;
+                    a.sun_hours[j] = add.sun_hours;
+                }
+            add_run(m, beam + c0, a.beam);
+            add_run(m, diffuse + c0, a.diffuse);
+            add_run(m, reflected + c0, a.reflected);
+            add_run(m, global + c0, a.global);
+            add_run(m, hours + c0, a.sun_hours);
             if (month)
-                month[c] += add.global;
-            if (pv_on && dt > 0.0f) {
-                float pdc = ss_cell_pv_power(add.global / dt, temp_air, wind,
-                                             (int)io->pv.temp_model, gamma, losses);
-                pv[c] += pdc * dt;
-                pv_ac[c] += ss_pvwatts_ac(pdc, inv_pdc0, eta_inv) * dt;
+                add_run(m, month + c0, a.global);
+            for (int j = 0; (pv_on || step_global) && j < m; ++j) {
+                size_t c = c0 + (size_t)j;
+                if (a.what[j] == SS_LANE_SKIP)
+                    continue;
+                if (pv_on && dt > 0.0f) {
+                    float pdc = ss_cell_pv_power(a.global[j] / dt, temp_air, wind,
+                                                 (int)io->pv.temp_model, gamma, losses);
+                    pv[c] += pdc * dt;
+                    pv_ac[c] += ss_pvwatts_ac(pdc, inv_pdc0, eta_inv) * dt;
+                }
+                if (step_global)
+                    step_global[c] = a.global[j];
             }
-            beam[c] += add.beam;
-            diffuse[c] += add.diffuse;
-            reflected[c] += add.reflected;
-            global[c] += add.global;
-            hours[c] += add.sun_hours;
-            if (step_global)
-                step_global[c] = add.global;
         }
     }
     if (st == SS_OK && step_global)

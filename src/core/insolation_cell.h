@@ -78,9 +78,6 @@ static inline ss_cell_step ss_cell_step_of(const ss_cell_terms *t, const ss_cell
                                            float apparent_deg, float horizon_deg, float g0,
                                            float albedo, float dt)
 {
-    ss_cell_step s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    if (sun->h0 <= 0.0f)
-        return s;
     float sin_h0 = sun->sin_h0, kb = sun->kb;
     float se = sun->cos_h0 * sun->sin_az, sn = sun->cos_h0 * sun->cos_az;
     float cos_i = ss_cos_incidence_normed(se, sn, sin_h0, t->dz_de, t->dz_dn, t->normal_norm);
@@ -94,11 +91,15 @@ static inline ss_cell_step ss_cell_step_of(const ss_cell_terms *t, const ss_cell
     float diffuse = diff_h * ss_muneer_diffuse_factor(t->sky_view, t->slope_term, kb, lit, level,
                                                       cos_i, sin_h0, sun->h0, side);
     float reflected = albedo * (beam_h + diff_h) * (1.0f - t->sky_view);
-    s.beam = beam * dt;
-    s.diffuse = diffuse * dt;
-    s.reflected = reflected * dt;
-    s.global = (beam + diffuse + reflected) * dt;
-    s.sun_hours = lit ? dt : 0.0f;
+    /* Computed for every sun and then dropped below the horizontal, rather
+     * than branched around: the cells run side by side (insolation_lanes.h). */
+    int up = sun->h0 > 0.0f;
+    ss_cell_step s;
+    s.beam = up ? beam * dt : 0.0f;
+    s.diffuse = up ? diffuse * dt : 0.0f;
+    s.reflected = up ? reflected * dt : 0.0f;
+    s.global = up ? (beam + diffuse + reflected) * dt : 0.0f;
+    s.sun_hours = up && lit ? dt : 0.0f;
     return s;
 }
 
@@ -117,7 +118,7 @@ static inline ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, const ss
                                                 float dt)
 {
     ss_cell_step s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    float dni = fmaxf(rec->dni, 0.0f), ghi = fmaxf(rec->ghi, 0.0f);
+    float dni = rec->dni > 0.0f ? rec->dni : 0.0f, ghi = rec->ghi > 0.0f ? rec->ghi : 0.0f;
     float se = sun->cos_h0 * sun->sin_az, sn = sun->cos_h0 * sun->cos_az;
     float cos_i = ss_cos_incidence_normed(se, sn, sun->sin_h0, t->dz_de, t->dz_dn, t->normal_norm);
     int lit = sun->h0 > 0.0f && apparent_deg > horizon_deg && cos_i > 0.0f;
@@ -129,7 +130,8 @@ static inline ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, const ss
     s.reflected = reflected * dt;
     s.global = (beam + diffuse + reflected) * dt;
     /* Sunshine as the WMO counts it: direct normal of 120 W/m^2 or more. */
-    s.sun_hours = lit && dni >= 120.0f ? dt : 0.0f;
+    float sunny = dni >= 120.0f ? dt : 0.0f; /* one test of the record, then one per cell */
+    s.sun_hours = lit ? sunny : 0.0f;
     return s;
 }
 

@@ -1,0 +1,76 @@
+/* A step's irradiance over a run of cells, in SIMD lanes (insolation_lanes.c).
+ *
+ * Per cell and step the work is the same few dozen float operations:
+ * the sun's terms read from the step's tables (sun_table.h), the shadow
+ * test and beam, diffuse and reflected light (insolation_cell.h). Run cell
+ * by cell, its branches and table reads cost more than its arithmetic;
+ * here every cell of a run computes all of it without a branch, so the
+ * compiler runs eight cells side by side in AVX2's vector lanes where the
+ * CPU has them (chosen at run time). Each cell's values are those of the cell-by-cell
+ * functions to the bit: the same operations in the same order, only
+ * selected instead of branched to. A cell whose sun falls outside a table
+ * is left to the caller, who computes it exactly (ss_step_sun_at). */
+#ifndef SS_INSOLATION_LANES_H
+#define SS_INSOLATION_LANES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "insolation_cell.h"
+#include "sun_table.h"
+
+#define SS_LANE_CELLS 256 /* cells a run holds at most */
+
+/* What a run's cell is: nothing to add, lanes' values to add, or a sun
+ * outside the step's tables (computed exactly by the caller). */
+#define SS_LANE_SKIP 0
+#define SS_LANE_ADD 1
+#define SS_LANE_EXACT 2
+
+/* One step as the lanes take it: its sun per cell (true and apparent
+ * elevation and grid azimuth, degrees), or the step's for every cell; the
+ * cells' horizons in the sun's azimuth (degrees: swept, or stored as
+ * int16 hundredths in the two directions around the sun, blended by
+ * stored_t), or none; and the clear sky's or a weather record's light. */
+typedef struct {
+    const ss_step_sun *tables;
+    const float *h0_deg, *az_deg, *app_deg; /* per cell, or NULL */
+    float h0_step_deg, az_step_deg, app_step_deg;
+    const float *swept;                /* per cell, or NULL */
+    const int16_t *stored0, *stored1;  /* per cell, or NULL */
+    float stored_t;
+    int real_sky;
+    float g0, albedo, dt;              /* clear sky */
+    ss_sky_record rec;                 /* weather */
+    ss_sky_parts sky;
+} ss_lane_step;
+
+/* What the run's cells add (ss_cell_step's members, one array each): 0
+ * where a cell adds nothing or is left to the caller, so that the whole run
+ * can be added into the sums (x + 0 is x for every sum, which is never -0). */
+typedef struct {
+    float beam[SS_LANE_CELLS], diffuse[SS_LANE_CELLS], reflected[SS_LANE_CELLS];
+    float global[SS_LANE_CELLS], sun_hours[SS_LANE_CELLS];
+    unsigned char what[SS_LANE_CELLS]; /* SS_LANE_* */
+} ss_lane_adds;
+
+/* Cells [c0, c0 + n) of the band (n <= SS_LANE_CELLS), whose heights and
+ * terms are own_z and terms (indexed from 0). */
+void ss_lane_cells(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
+                   size_t c0, int n, ss_lane_adds *out);
+
+/* The copy for any CPU, which ss_lane_cells runs where AVX2's cannot. */
+void ss_lane_cells_any(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
+                       size_t c0, int n, ss_lane_adds *out);
+
+/* The AVX2 copy, built by GCC on x86-64 (insolation_lanes_v3.c, which
+ * repeats the condition). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SS_LANES_V3 1
+void ss_lane_cells_v3(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
+                      size_t c0, int n, ss_lane_adds *out);
+#else
+#define SS_LANES_V3 0
+#endif
+
+#endif

@@ -1,0 +1,125 @@
+/* The body of ss_lane_cells (insolation_lanes.h), compiled once per
+ * instruction set: insolation_lanes.c for any x86-64 (or other) CPU,
+ * insolation_lanes_v3.c for AVX2 and FMA; each defines SS_LANE_ENTRY, the
+ * name of its copy, and includes this file after its pragmas.
+ *
+ * Two options let GCC turn the cell functions' branches into selects:
+ * floating-point operations may be computed where a branch would have
+ * skipped them (no-trapping-math: only the flags of results that are then
+ * not selected could differ, and nothing reads the flags), and loads are
+ * not sunk into the branches that use them (no-tree-sink), where they
+ * would need masks. Neither changes a value, and fused multiply-adds stay
+ * off (-std=c11 implies -ffp-contract=off), so every copy computes every
+ * cell's values to the bit as the cell-by-cell functions do. The pragma
+ * precedes the headers so that their inline functions are compiled alike. */
+#pragma GCC optimize("no-trapping-math", "no-tree-sink")
+
+#include "config.h"
+
+#include <math.h>
+
+#include "insolation_internal.h"
+#include "insolation_lanes.h"
+
+/* ss_sun_table_at without a branch: *terms get its values wherever it
+ * returns 1 (the table holds x), and the index stays inside the table
+ * wherever it does not. A table of one node (last 0, scale 0) reads it as
+ * node + 0 * 0, which is the node itself (a -0 would come back as +0, which
+ * no product can tell apart: a sun exactly on the horizontal or due north). */
+static inline __attribute__((always_inline)) int table_lane(const ss_sun_table *t, float x, float *terms, int n_terms)
+{
+    int last = t->last, one_node = last == 0;
+    int top_node = last > 0 ? last : 0, next = last > 0 ? n_terms : 0;
+    float top = (float)top_node, p = (x - t->lo) * t->scale;
+    int ok = (p >= 0.0f) & (p <= top) & (last >= 0) & (!one_node | (x == t->lo));
+    float clamped = p > 0.0f ? p : 0.0f; /* NaN too */
+    clamped = clamped < top ? clamped : top;
+    int i = (int)clamped;
+    i = i < last ? i : last - 1;
+    i = i > 0 ? i : 0;
+    float f = p - (float)i;
+    int a = i * n_terms, b = a + next; /* int offsets from the table: gathers */
+#pragma GCC unroll 4
+    for (int k = 0; k < n_terms; ++k)
+        terms[k] = t->node[a + k] + f * (t->node[b + k] - t->node[a + k]);
+    return ok;
+}
+
+/* One cell: what it adds, and whether the tables held its sun. */
+static inline __attribute__((always_inline)) int lane_cell(const ss_lane_step *s, const ss_cell_terms *t, float h0, float az,
+                            float app, float horizon, int real_sky, ss_cell_step *add)
+{
+    const ss_step_sun *tb = s->tables;
+    float e[SS_SUN_TABLE_TERMS], a[2], kb = 0.0f;
+    int ok = table_lane(&tb->elevation, h0, e, 4) & table_lane(&tb->azimuth, az, a, 2);
+    ss_cell_sun sun = {h0, e[0], e[1], a[0], a[1], 0.0f, 0.0f};
+    if (!real_sky) {
+        ok &= table_lane(&tb->air_mass, t->pressure_factor * e[2], &kb, 1);
+        sun.kb = kb;
+        sun.diffuse_fraction = e[3];
+        *add = ss_cell_step_of(t, &sun, app, horizon, s->g0, s->albedo, s->dt);
+    } else {
+        *add = ss_cell_step_weather(t, &sun, app, horizon, &s->rec, s->sky, s->dt);
+    }
+    return ok;
+}
+
+/* The run's cells for a clear sky (real_sky 0) or a weather record (1):
+ * constant, so each loop is compiled for one. */
+static inline __attribute__((always_inline)) void lane_run(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
+                            const float *h0_deg, const float *az_deg, const float *app_deg,
+                            const float *horizon, int n, int real_sky, ss_lane_adds *out)
+{
+    const float rad = (float)(M_PI / 180.0);
+#pragma omp simd
+    for (int j = 0; j < n; ++j) {
+        float h0 = h0_deg[j] * rad, az = az_deg[j] * rad;
+        ss_cell_step add;
+        int ok = lane_cell(s, &terms[j], h0, az, app_deg[j], horizon[j], real_sky, &add);
+        int live = isfinite(own_z[j]) && (real_sky || h0 > 0.0f), use = live && ok;
+        out->beam[j] = use ? add.beam : 0.0f;
+        out->diffuse[j] = use ? add.diffuse : 0.0f;
+        out->reflected[j] = use ? add.reflected : 0.0f;
+        out->global[j] = use ? add.global : 0.0f;
+        out->sun_hours[j] = use ? add.sun_hours : 0.0f;
+        out->what[j] = !live ? SS_LANE_SKIP : ok ? SS_LANE_ADD : SS_LANE_EXACT;
+    }
+}
+
+/* A per-cell array of the run, or the step's value in each place. */
+static const float *per_cell(const float *v, size_t c0, int n, float step, float *fill)
+{
+    if (v)
+        return v + c0;
+    for (int j = 0; j < n; ++j)
+        fill[j] = step;
+    return fill;
+}
+
+void SS_LANE_ENTRY(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
+                   size_t c0, int n, ss_lane_adds *out)
+{
+    float h0_fill[SS_LANE_CELLS], az_fill[SS_LANE_CELLS], app_fill[SS_LANE_CELLS];
+    float horizon[SS_LANE_CELLS];
+    const float *h0 = per_cell(s->h0_deg, c0, n, s->h0_step_deg, h0_fill);
+    const float *az = per_cell(s->az_deg, c0, n, s->az_step_deg, az_fill);
+    const float *app = per_cell(s->app_deg, c0, n, s->app_step_deg, app_fill);
+    /* The horizon as steps_direction takes it (insolation.c). */
+    if (s->swept) {
+        for (int j = 0; j < n; ++j)
+            horizon[j] = s->swept[c0 + j];
+    } else if (s->stored0) {
+#pragma omp simd
+        for (int j = 0; j < n; ++j)
+            horizon[j] = ((1.0f - s->stored_t) * s->stored0[c0 + j] +
+                          s->stored_t * s->stored1[c0 + j]) /
+                         SS_HORIZON_SCALE;
+    } else {
+        for (int j = 0; j < n; ++j)
+            horizon[j] = -90.0f;
+    }
+    if (s->real_sky)
+        lane_run(s, own_z + c0, terms + c0, h0, az, app, horizon, n, 1, out);
+    else
+        lane_run(s, own_z + c0, terms + c0, h0, az, app, horizon, n, 0, out);
+}

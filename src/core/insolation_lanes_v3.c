@@ -1,0 +1,11 @@
+/* A step's irradiance over a run of cells, the copy for CPUs with AVX2 and
+ * FMA (x86-64-v3), which ss_lane_cells picks at run time
+ * (insolation_lanes_body.h). The condition is SS_LANES_V3's
+ * (insolation_lanes.h), tested before any header so that the pragma covers
+ * every inline function the copy takes in; elsewhere this file compiles to
+ * nothing. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#pragma GCC target("arch=x86-64-v3")
+#define SS_LANE_ENTRY ss_lane_cells_v3
+#include "insolation_lanes_body.h"
+#endif
