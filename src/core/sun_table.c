@@ -66,14 +66,19 @@ static void range_rad(const float *deg, size_t n, float step_deg, int above_only
 {
     const float rad = (float)(M_PI / 180.0);
     float r_lo = INFINITY, r_hi = -INFINITY;
-    size_t count = deg ? n : 1;
-#pragma omp parallel for schedule(static) reduction(min : r_lo) reduction(max : r_hi)
-    for (size_t c = 0; c < count; ++c) {
-        float x = (deg ? deg[c] : step_deg) * rad;
-        if (!above_only || x > 0.0f) {
-            r_lo = x < r_lo ? x : r_lo;
-            r_hi = x > r_hi ? x : r_hi;
-        }
+    if (!deg) {
+        float x = step_deg * rad;
+        if (!above_only || x > 0.0f)
+            r_lo = r_hi = x;
+    }
+    /* Selects, not branches, so that each thread's share runs in vector lanes. */
+#pragma omp parallel for simd schedule(static) reduction(min : r_lo) reduction(max : r_hi)
+    for (size_t c = 0; c < (deg ? n : 0); ++c) {
+        float x = deg[c] * rad;
+        int in = !above_only || x > 0.0f;
+        float x_lo = in ? x : INFINITY, x_hi = in ? x : -INFINITY;
+        r_lo = x_lo < r_lo ? x_lo : r_lo;
+        r_hi = x_hi > r_hi ? x_hi : r_hi;
     }
     *lo = r_lo;
     *hi = r_hi;
