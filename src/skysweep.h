@@ -262,7 +262,9 @@ SS_API double ss_whole_sweep_bytes(int width, int height);
  * -1 when not even one band does (directions 0: not known yet). */
 SS_API int ss_band_rows_for(int width, int height, int directions, double budget_bytes);
 /* The same for any banded run: band_cell_bytes held per cell of a band
- * (halo rows included), column_bytes per column and direction besides. */
+ * (halo rows included), column_bytes per column and direction besides. The
+ * whole grid, one band of all rows, holds band_cell_bytes a cell too (at
+ * least ss_whole_sweep_bytes' 24). */
 SS_API int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
                         double band_cell_bytes, double column_bytes);
 /* The smallest budget_bytes with which ss_band_rows_within does not refuse
@@ -508,8 +510,10 @@ SS_API ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_
  * this many. */
 #define SS_INSOLATION_STEPS_PER_RUN 64
 /* Bytes an insolation run in bands holds per cell of a band, besides the
- * sweep's own (ss_band_rows_within's band_cell_bytes). */
-SS_API double ss_insolation_band_cell_bytes(void);
+ * sweep's own (ss_band_rows_within's band_cell_bytes), for its outputs
+ * (SS_INSOLATION_* bits) and the directions whose horizons it stores
+ * (interpolated shadows, the cumulative sky; 0 with exact shadows). */
+SS_API double ss_insolation_band_cell_bytes(int want, int stored_directions);
 
 /* ---- shadows and shaded relief, in rows ---------------------------------- */
 

@@ -275,7 +275,7 @@ int main(int argc, char **argv)
                                                                   : SS_INSOLATION_STEPS_PER_RUN;
             band_rows = a.insolation ? ss_band_rows_within(n, n, held, budget,
                                                            ss_horizon_band_cell_bytes(0) +
-                                                               ss_insolation_band_cell_bytes(),
+                                                               ss_insolation_band_cell_bytes(0, 0),
                                                            ss_horizon_column_bytes())
                         : a.horizon ? ss_band_rows_within(n, n, a.directions, budget,
                                                           ss_horizon_band_cell_bytes(0),

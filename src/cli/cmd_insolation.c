@@ -586,7 +586,14 @@ int cmd_insolation(int argc, char **argv)
     int directions = set->common.sweep.directions > SS_INSOLATION_STEPS_PER_RUN
                          ? set->common.sweep.directions
                          : SS_INSOLATION_STEPS_PER_RUN;
-    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(),
+    /* Stored horizons are counted wherever the planner may choose them. */
+    int want = (set->weather ? SS_INSOLATION_MONTHLY : 0) | (set->ins.pv ? SS_INSOLATION_PV : 0) |
+               (set->steps_path ? SS_INSOLATION_STEPS : 0);
+    ss_shadow_mode shadow = ss_insolation_params_shadow(&set->ins);
+    int stores = shadow == SS_SHADOW_INTERPOLATED || shadow == SS_SHADOW_CUMULATIVE ||
+                 (shadow == SS_SHADOW_AUTO && set->weather && !set->ins.pv && !set->steps_path);
+    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) +
+                                    ss_insolation_band_cell_bytes(want, stores ? directions : 0),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = directions};
     if (rc < 0)

@@ -3,6 +3,7 @@
 #include "config.h"
 
 #include "engine.h"
+#include "insolation_cell.h"
 
 #define HALO SS_BAND_HALO
 
@@ -38,11 +39,18 @@ double ss_horizon_column_bytes(void)
     return 4 * sizeof(float); /* a row each of the four sums carried between bands */
 }
 
-double ss_insolation_band_cell_bytes(void)
+double ss_insolation_band_cell_bytes(int want, int stored_directions)
 {
-    /* Heights (with a halo row), SVF 4, terms 20, sums and loaded sums 40,
-     * one step's global 4; the horizon sweep's own band comes on top. */
-    return 72.0;
+    /* Heights (with a halo row) 4, the sky view and the share of Perez's
+     * band 8, the cells' terms, the suns per cell (true and apparent
+     * elevation, azimuth) 12, and per output plane its sums and the sums
+     * earlier visits left 8: five planes, twelve months, PV's DC and AC;
+     * a step's global; the stored horizons. Measured: 121 bytes a cell
+     * with the sweep's 16 for a clear sky's exact shadows on a 2048^2 DEM
+     * (peak resident, doc/scale.md), against 112 counted here. */
+    int planes = 5 + (want & SS_INSOLATION_MONTHLY ? 12 : 0) + (want & SS_INSOLATION_PV ? 2 : 0);
+    return 4.0 + 8.0 + (double)sizeof(ss_cell_terms) + 12.0 + 8.0 * planes +
+           (want & SS_INSOLATION_STEPS ? 4.0 : 0.0) + 2.0 * stored_directions;
 }
 
 /* A whole-grid SVF or openness holds at most 24 bytes a cell: heights,
@@ -76,10 +84,19 @@ static double band_overhead_bytes(int width, int height, int directions, double 
     return FIXED_BYTES + hulls + carried;
 }
 
+/* What a run holds on the whole grid: the SVF's bytes a cell, or the
+ * product's per cell of a band where more (a whole grid is one band of all
+ * rows: insolation's terms and sums, horizons' planes, box lines' slots). */
+static double whole_bytes(int width, int height, double band_cell_bytes)
+{
+    double per_cell = band_cell_bytes > WHOLE_BYTES_PER_CELL ? band_cell_bytes : WHOLE_BYTES_PER_CELL;
+    return (double)width * (double)height * per_cell + FIXED_BYTES;
+}
+
 int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
                         double band_cell_bytes, double column_bytes)
 {
-    if (ss_whole_sweep_bytes(width, height) <= budget_bytes)
+    if (whole_bytes(width, height, band_cell_bytes) <= budget_bytes)
         return 0;
     double per_row = band_cell_bytes * width;
     double rows = (budget_bytes - band_overhead_bytes(width, height, directions, column_bytes)) /
@@ -97,6 +114,6 @@ double ss_band_min_budget(int width, int height, int directions, double band_cel
 {
     double one_band = band_overhead_bytes(width, height, directions, column_bytes) +
                       band_cell_bytes * width * (1 + 2 * HALO);
-    double whole = ss_whole_sweep_bytes(width, height);
+    double whole = whole_bytes(width, height, band_cell_bytes);
     return one_band < whole ? one_band : whole;
 }
