@@ -109,6 +109,10 @@ typedef struct {
     uint64_t records_missing, records_split, records_beam_above_global, records_light_at_night;
     uint64_t records_without_temperature; /* PV yield: the options' air temperature or wind used */
     uint64_t sun_bins; /* the cumulative sky's occupied bins of suns */
+    /* Insolation's cells x daylight steps, and of them those whose sun's
+     * terms were computed exactly, outside the step's tables (a sun per
+     * cell spread too wide for them, doc/insolation.md). */
+    uint64_t cell_steps, cell_steps_exact_sun;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 

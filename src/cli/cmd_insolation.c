@@ -512,6 +512,11 @@ static void print_summary(insolation_run *r)
            "(sun above every horizon)\n",
            r->steps.n, (unsigned long long)c.time_steps,
            (unsigned long long)c.night_steps_skipped, (unsigned long long)c.shadow_sweeps_skipped);
+    if (c.cell_steps)
+        printf("cells   %llu cell-steps, %llu (%.1f %%) with the sun's terms computed exactly "
+               "(spread wider than the step's tables)\n",
+               (unsigned long long)c.cell_steps, (unsigned long long)c.cell_steps_exact_sun,
+               100.0 * (double)c.cell_steps_exact_sun / (double)c.cell_steps);
     if (c.sun_bins)
         printf("sky     cumulative: %llu bins of suns (%d directions x %g deg of elevation x "
                "month) in place of a sweep per record\n",

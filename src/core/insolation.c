@@ -316,11 +316,16 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             .dt = dt,
             .rec = rec,
             .sky = sky};
-#pragma omp parallel for schedule(static)
+        uint64_t cells = 0, exact = 0;
+#pragma omp parallel for schedule(static) reduction(+ : cells, exact)
         for (size_t c0 = 0; c0 < n; c0 += SS_LANE_CELLS) {
             int m = n - c0 < SS_LANE_CELLS ? (int)(n - c0) : SS_LANE_CELLS;
             ss_lane_adds a;
             ss_lane_cells(&lane, band->own_z, s->terms, c0, m, &a);
+            for (int j = 0; j < m; ++j) {
+                cells += a.what[j] != SS_LANE_SKIP;
+                exact += a.what[j] == SS_LANE_EXACT;
+            }
             for (int j = 0; j < m; ++j)
                 if (a.what[j] == SS_LANE_EXACT) {
                     ss_cell_step add = cell_step_exact(&lane, s->sun, &s->terms[c0 + j], c0 + j);
@@ -351,6 +356,8 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                     step_global[c] = a.global[j];
             }
         }
+        job->ctx->counters.cell_steps += cells;
+        job->ctx->counters.cell_steps_exact_sun += exact;
     }
     if (st == SS_OK && step_global)
         st = job->sink(job->user, SS_OUT_STEP, k, band->row0, band->n_rows, step_global);

@@ -7,12 +7,17 @@
 
 /* Node spacings, chosen so that linear interpolation errs by under 1e-6
  * relative (the error is spacing^2 / 8 times the second derivative;
- * tests/test_sun_table measures it): 3e-5 rad in elevation and azimuth
- * (the air mass of a low sun, whose error the transmittance amplifies
- * twofold, needs that), and 1/2000 of the air mass itself (the
+ * tests/test_sun_table measures it): 3e-5 rad in elevation (the air mass
+ * of a low sun, whose error the transmittance amplifies twofold, needs
+ * that); 1e-3 rad in azimuth, whose table holds a sine and a cosine alone
+ * (1.25e-7 at most, about a float's rounding), so that 1024 intervals span
+ * 58 degrees: a sun near the zenith spreads over tens of degrees of azimuth
+ * across a DEM (Hawaii in June, where 3e-5 rad left 7.7 % of a month's
+ * cell-steps to the exact path); and 1/2000 of the air mass itself (the
  * transmittance's exponent changes by at most about 0.1 T_LK per unit of
  * air mass: 0.67 at a Linke turbidity of 6.5, so 1e-8 relative). */
-#define ANGLE_SPACING_RAD 3e-5f
+#define ELEVATION_SPACING_RAD 3e-5f
+#define AZIMUTH_SPACING_RAD 1e-3f
 #define AIR_MASS_SPACING 5e-4f
 
 void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int terms,
@@ -93,8 +98,8 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     float h_lo, h_hi, a_lo, a_hi;
     range_rad(h0_deg, n, h0_step_deg, clear, &h_lo, &h_hi);
     range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
-    ss_sun_table_fill(&s->elevation, h_lo, h_hi, ANGLE_SPACING_RAD, 4, elevation_terms, s);
-    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, ANGLE_SPACING_RAD, 2, azimuth_terms, s);
+    ss_sun_table_fill(&s->elevation, h_lo, h_hi, ELEVATION_SPACING_RAD, 4, elevation_terms, s);
+    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, AZIMUTH_SPACING_RAD, 2, azimuth_terms, s);
     s->air_mass.last = -1;
     s->air_mass.terms = 1;
     if (!clear || s->elevation.last < 0)
