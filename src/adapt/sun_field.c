@@ -202,16 +202,29 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
             double r0 = (1 - ty) * node_refr[a] + ty * node_refr[d];
             double r1 = (1 - ty) * node_refr[b] + ty * node_refr[e];
             int smooth = node_e0[a] > 0 && node_e0[b] > 0 && node_e0[d] > 0 && node_e0[e] > 0;
-            for (int c = cols[i]; c <= cols[i + 1]; ++c) {
-                double tx = between(c, cols[i], cols[i + 1]);
+            int c0 = cols[i], c1 = cols[i + 1];
+            if (smooth) {
+                /* No call and no branch (between()'s, for a segment of one
+                 * column, is span 1 here): the cells run in vector lanes. */
+                double span = c1 > c0 ? c1 - c0 : 1;
+#pragma omp simd
+                for (int c = c0; c <= c1; ++c) {
+                    double tx = (c - c0) / span;
+                    double e0 = (1 - tx) * e00 + tx * e01;
+                    az_row[c] = (float)((1 - tx) * az0 + tx * az1);
+                    e0_row[c] = (float)e0;
+                    app_row[c] = (float)(e0 + ((1 - tx) * r0 + tx * r1));
+                }
+                continue;
+            }
+            for (int c = c0; c <= c1; ++c) {
+                double tx = between(c, c0, c1);
                 double e0 = (1 - tx) * e00 + tx * e01;
-                double refr = smooth ? (1 - tx) * r0 + tx * r1
-                                     : ss_spa_refraction_deg(e0, p->pressure_hpa,
-                                                             p->temperature_c,
-                                                             p->atmos_refract_deg);
                 az_row[c] = (float)((1 - tx) * az0 + tx * az1);
                 e0_row[c] = (float)e0;
-                app_row[c] = (float)(e0 + refr);
+                app_row[c] = (float)(e0 + ss_spa_refraction_deg(e0, p->pressure_hpa,
+                                                                p->temperature_c,
+                                                                p->atmos_refract_deg));
             }
         }
     }
