@@ -5,7 +5,10 @@
  * every inline function the copy takes in; elsewhere this file compiles to
  * nothing. */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#pragma GCC target("arch=x86-64-v3")
+/* Tuned for Haswell, whose tuning lets GCC use AVX2's gather loads for the
+ * sun's tables (the generic tuning emulates them element by element): an
+ * interpolated month on the sample took 1.99 s against 2.08 s here. */
+#pragma GCC target("arch=x86-64-v3,tune=haswell")
 #define SS_LANE_ENTRY ss_lane_cells_v3
 #include "insolation_lanes_body.h"
 #endif
