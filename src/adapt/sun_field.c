@@ -51,24 +51,65 @@ static double between(int x, int a, int b)
     return b > a ? (double)(x - a) / (b - a) : 0.0;
 }
 
-/* Keeps the lattice rows that rows [row_lo, row_hi) lie between (at least
- * two): moves them to the front of rows[]; returns how many. */
-static int lattice_rows_for(int *rows, int nr, int row_lo, int row_hi)
+ss_status ss_sun_nodes_make(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
+                            ss_rows_read read, void *user, ss_sun_nodes *nodes)
 {
-    int j_lo = 0, j_hi = nr - 1;
-    while (j_lo + 1 < nr && rows[j_lo + 1] <= row_lo)
-        ++j_lo;
-    while (j_hi - 1 >= 0 && rows[j_hi - 1] >= row_hi - 1)
-        --j_hi;
-    if (j_hi == j_lo)
-        j_hi < nr - 1 ? ++j_hi : --j_lo;
-    memmove(rows, rows + j_lo, sizeof(int) * (size_t)(j_hi - j_lo + 1));
-    return j_hi - j_lo + 1;
+    memset(nodes, 0, sizeof *nodes);
+    const ss_grid *g = &dem->grid;
+    if (!frame->georeferenced)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                       "the DEM has no CRS, so the sun's position for a time is unknown: give "
+                       "the sun as --sun-azimuth and --sun-elevation");
+    int step_c = (int)fmax(1.0, floor(SS_SUN_LATTICE_M / g->cell_x_m));
+    int step_r = (int)fmax(1.0, floor(SS_SUN_LATTICE_M / g->cell_y_m));
+    int *cols = nodes->cols = malloc(sizeof(int) * (g->width / step_c + 3));
+    int *rows = nodes->rows = malloc(sizeof(int) * (g->height / step_r + 3));
+    int nc = nodes->n_cols = cols ? lattice_nodes(g->width, step_c, cols) : 0;
+    int nr = nodes->n_rows = rows ? lattice_nodes(g->height, step_r, rows) : 0;
+    size_t n = (size_t)nc * nr;
+    nodes->lon_deg = malloc(sizeof(double) * n);
+    nodes->lat_deg = malloc(sizeof(double) * n);
+    nodes->north_deg = malloc(sizeof(double) * n);
+    nodes->height_m = malloc(sizeof(double) * n);
+    float *row_z = read ? malloc(sizeof(float) * (size_t)g->width) : NULL;
+    ss_status st = SS_OK;
+    if (!cols || !rows || !nodes->lon_deg || !nodes->lat_deg || !nodes->north_deg ||
+        !nodes->height_m || (read && !row_z))
+        st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+    for (int j = 0; j < nr && st == SS_OK; ++j) {
+        const float *z = g->z + (read ? 0 : (size_t)rows[j] * g->width);
+        if (read && (st = read(user, rows[j], 1, row_z)) != SS_OK)
+            break;
+        if (read)
+            z = row_z;
+        for (int i = 0; i < nc && st == SS_OK; ++i) {
+            size_t k = (size_t)j * nc + i;
+            nodes->height_m[k] = isfinite(z[cols[i]]) ? z[cols[i]] + g->z_origin_m : g->z_origin_m;
+            st = ss_geo_lonlat(frame->geo, cols[i], rows[j], &nodes->lon_deg[k], &nodes->lat_deg[k]);
+            if (st == SS_OK)
+                st = ss_geo_grid_north(frame->geo, cols[i], rows[j], &nodes->north_deg[k]);
+        }
+    }
+    free(row_z);
+    if (st != SS_OK)
+        ss_sun_nodes_free(nodes);
+    return st;
+}
+
+void ss_sun_nodes_free(ss_sun_nodes *nodes)
+{
+    free(nodes->cols);
+    free(nodes->rows);
+    free(nodes->lon_deg);
+    free(nodes->lat_deg);
+    free(nodes->north_deg);
+    free(nodes->height_m);
+    memset(nodes, 0, sizeof *nodes);
 }
 
 ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
                                double unix_s, const ss_spa_params *params, int per_cell,
-                               int row_lo, int row_hi, ss_rows_read read, void *user,
+                               int row_lo, int row_hi, const ss_sun_nodes *nodes,
                                ss_sun_field *field)
 {
     memset(field, 0, sizeof *field);
@@ -90,46 +131,46 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
     if (!per_cell)
         return SS_OK;
 
-    int step_c = (int)fmax(1.0, floor(SS_SUN_LATTICE_M / g->cell_x_m));
-    int step_r = (int)fmax(1.0, floor(SS_SUN_LATTICE_M / g->cell_y_m));
-    int *cols = field->lattice_cols = malloc(sizeof(int) * (g->width / step_c + 3));
-    int *rows = field->lattice_rows = malloc(sizeof(int) * (g->height / step_r + 3));
-    int nc = field->n_lattice_cols = cols ? lattice_nodes(g->width, step_c, cols) : 0;
-    int nr = rows ? lattice_nodes(g->height, step_r, rows) : 0;
-    if (nr > 1)
-        nr = lattice_rows_for(rows, nr, row_lo, row_hi);
-    field->n_lattice_rows = nr;
-    double *node_az = field->node_azimuth_deg = malloc(sizeof(double) * (size_t)nc * nr);
-    double *node_e0 = field->node_elevation_deg = malloc(sizeof(double) * (size_t)nc * nr);
-    double *node_refr = field->node_refraction_deg = malloc(sizeof(double) * (size_t)nc * nr);
-    float *row_z = read ? malloc(sizeof(float) * (size_t)g->width) : NULL;
-    if (!cols || !rows || !node_az || !node_e0 || !node_refr || (read && !row_z))
-        st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+    /* The lattice rows that rows [row_lo, row_hi) lie between. */
+    int nc = nodes->n_cols, nr = nodes->n_rows;
+    int j_lo = 0, j_hi = nr - 1;
+    while (j_lo + 1 < nr && nodes->rows[j_lo + 1] <= row_lo)
+        ++j_lo;
+    while (j_hi - 1 >= 0 && nodes->rows[j_hi - 1] >= row_hi - 1)
+        --j_hi;
+    if (j_hi == j_lo && nr > 1)
+        j_hi < nr - 1 ? ++j_hi : --j_lo;
+    int n_rows = j_hi - j_lo + 1;
+    int *cols = field->lattice_cols = malloc(sizeof(int) * (size_t)nc);
+    int *rows = field->lattice_rows = malloc(sizeof(int) * (size_t)n_rows);
+    field->n_lattice_cols = nc;
+    field->n_lattice_rows = n_rows;
+    double *node_az = field->node_azimuth_deg = malloc(sizeof(double) * (size_t)nc * n_rows);
+    double *node_e0 = field->node_elevation_deg = malloc(sizeof(double) * (size_t)nc * n_rows);
+    double *node_refr = field->node_refraction_deg = malloc(sizeof(double) * (size_t)nc * n_rows);
+    if (!cols || !rows || !node_az || !node_e0 || !node_refr) {
+        ss_sun_field_free(field);
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+    }
+    memcpy(cols, nodes->cols, sizeof(int) * (size_t)nc);
+    memcpy(rows, nodes->rows + j_lo, sizeof(int) * (size_t)n_rows);
     /* Exact positions at the lattice nodes: the centre's geocentric sun
      * direction seen from each node, parallax included. */
-    for (int j = 0; j < nr && st == SS_OK; ++j) {
-        const float *z = g->z + (read ? 0 : (size_t)rows[j] * g->width);
-        if (read && (st = read(user, rows[j], 1, row_z)) != SS_OK)
-            break;
-        if (read)
-            z = row_z;
+    for (int j = 0; j < n_rows && st == SS_OK; ++j) {
         for (int i = 0; i < nc && st == SS_OK; ++i) {
-            double lon, lat, north, az, e0;
-            double h = isfinite(z[cols[i]]) ? z[cols[i]] + g->z_origin_m : g->z_origin_m;
-            st = ss_geo_lonlat(frame->geo, cols[i], rows[j], &lon, &lat);
-            if (st == SS_OK)
-                st = ss_geo_grid_north(frame->geo, cols[i], rows[j], &north);
-            if (st == SS_OK)
-                st = ss_geo_sun_local(frame->geo, lat, lon, h, field->centre.sun_ecef,
-                                      field->centre.earth_sun_distance_au, &az, &e0);
+            size_t at = (size_t)(j_lo + j) * nc + i, k = (size_t)j * nc + i;
+            double az, e0;
+            st = ss_geo_sun_local(frame->geo, nodes->lat_deg[at], nodes->lon_deg[at],
+                                  nodes->height_m[at], field->centre.sun_ecef,
+                                  field->centre.earth_sun_distance_au, &az, &e0);
             if (st != SS_OK)
                 break;
             /* Unwrapped around the centre's, so interpolation never crosses 0/360. */
             double grid_az = field->centre_grid_azimuth_deg +
-                             wrap180(az - north - field->centre_grid_azimuth_deg);
-            node_az[(size_t)j * nc + i] = grid_az;
-            node_e0[(size_t)j * nc + i] = e0;
-            node_refr[(size_t)j * nc + i] =
+                             wrap180(az - nodes->north_deg[at] - field->centre_grid_azimuth_deg);
+            node_az[k] = grid_az;
+            node_e0[k] = e0;
+            node_refr[k] =
                 ss_spa_refraction_deg(e0, p.pressure_hpa, p.temperature_c, p.atmos_refract_deg);
             double d_e = e0 - field->centre.elevation_deg;
             double d_a = wrap180(grid_az - field->centre_grid_azimuth_deg) *
@@ -138,7 +179,6 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
             field->spread_deg = spread > field->spread_deg ? spread : field->spread_deg;
         }
     }
-    free(row_z);
     if (st != SS_OK)
         ss_sun_field_free(field);
     return st;
@@ -235,8 +275,12 @@ ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
                                double unix_s, const ss_spa_params *params, int per_cell,
                                ss_sun_field *field)
 {
-    ss_status st = ss_sun_field_lattice(ctx, dem, frame, unix_s, params, per_cell, 0,
-                                        dem->grid.height, NULL, NULL, field);
+    ss_sun_nodes nodes = {0};
+    ss_status st = per_cell ? ss_sun_nodes_make(ctx, dem, frame, NULL, NULL, &nodes) : SS_OK;
+    if (st == SS_OK)
+        st = ss_sun_field_lattice(ctx, dem, frame, unix_s, params, per_cell, 0,
+                                  dem->grid.height, &nodes, field);
+    ss_sun_nodes_free(&nodes);
     if (st == SS_OK && per_cell)
         st = ss_sun_field_rows(ctx, field, 0, dem->grid.height);
     return st;

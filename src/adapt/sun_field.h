@@ -31,19 +31,32 @@ typedef struct {
     ss_spa_params params;
 } ss_sun_field;
 
+/* The lattice's nodes as they stay from one instant to the next: where
+ * they lie, and each node's longitude, latitude, grid north (the true
+ * azimuth of the grid's north) and height. Made once for a run of many
+ * instants, so that an instant costs each node's sun direction alone; the
+ * heights come from read (NULL: from dem->grid.z). */
+typedef struct {
+    int *cols, *rows, n_cols, n_rows; /* the whole grid's lattice */
+    double *lon_deg, *lat_deg, *north_deg, *height_m; /* per node, row by row */
+} ss_sun_nodes;
+ss_status ss_sun_nodes_make(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
+                            ss_rows_read read, void *user, ss_sun_nodes *nodes);
+void ss_sun_nodes_free(ss_sun_nodes *nodes);
+
 /* per_cell 0 fills only the centre (one sun for the scene); else every
  * cell. A DEM without a CRS has no place on Earth: it needs an explicit
  * sun (ss_sun_field_fixed). */
 ss_status ss_sun_field_compute(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
                                double unix_s, const ss_spa_params *params, int per_cell,
                                ss_sun_field *field);
-/* The same without filling cells, for a DEM read in bands: only the
- * lattice rows that rows [row_lo, row_hi) lie between, their heights from
- * read (NULL: from dem->grid.z); ss_sun_field_rows then fills rows in that
- * range. spread_deg covers those lattice rows only. */
+/* The same without filling cells, from the nodes made before (per_cell
+ * only): the lattice rows that rows [row_lo, row_hi) lie between;
+ * ss_sun_field_rows then fills rows in that range. spread_deg covers those
+ * lattice rows only. */
 ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
                                double unix_s, const ss_spa_params *params, int per_cell,
-                               int row_lo, int row_hi, ss_rows_read read, void *user,
+                               int row_lo, int row_hi, const ss_sun_nodes *nodes,
                                ss_sun_field *field);
 /* Per-cell positions for rows [row0, row0 + rows) only (nothing to do for
  * one sun). */

@@ -49,6 +49,8 @@ typedef struct {
     double linke[12];
     ss_sun_field field;
     int have_field;
+    ss_sun_nodes nodes; /* the sun lattice's nodes, made at the first step that needs them */
+    int have_nodes;
     double sun_spread_deg; /* the planner's bound when one sun serves all cells */
     char **labels; /* ISO time of each step's start (a record's stamp) */
 } steps_state;
@@ -72,8 +74,15 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
      * run still allows for the spread the planner bounded. */
     int per_cell = job->plan.sun_per_cell;
     int lo = n_rows > 0 ? row0 : 0, hi = n_rows > 0 ? row0 + n_rows : job->dem.grid.height;
-    ss_status st = ss_sun_field_lattice(ctx, &job->dem, &job->frame, mid, &p, per_cell, lo, hi,
-                                        job->source ? job_rows_reader : NULL, job, &ss->field);
+    ss_status st = SS_OK;
+    if (per_cell && !ss->have_nodes) {
+        st = ss_sun_nodes_make(ctx, &job->dem, &job->frame, job->source ? job_rows_reader : NULL,
+                               job, &ss->nodes);
+        ss->have_nodes = st == SS_OK;
+    }
+    if (st == SS_OK)
+        st = ss_sun_field_lattice(ctx, &job->dem, &job->frame, mid, &p, per_cell, lo, hi,
+                                  &ss->nodes, &ss->field);
     if (st != SS_OK)
         return st;
     ss->have_field = 1;
@@ -123,6 +132,8 @@ static ss_status steps_alloc(steps_state *ss, int n, int weather)
 
 static void steps_free(steps_state *ss)
 {
+    if (ss->have_nodes)
+        ss_sun_nodes_free(&ss->nodes);
     for (int k = 0; ss->labels && k < ss->n; ++k)
         free(ss->labels[k]);
     free(ss->labels);

@@ -41,10 +41,17 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
     ss_sun_params_spa(&common->sun, &p);
     /* The plan decided whether the sun is needed per cell. A DEM left in
      * its files gets the lattice only; the bands fill their rows. */
-    if (job->source)
-        return ss_sun_field_lattice(ctx, &job->dem, &job->frame, unix_s, &p,
-                                    job->plan.sun_per_cell, 0, job->dem.grid.height,
-                                    job_rows_reader, job, field);
+    if (job->source) {
+        ss_sun_nodes nodes = {0};
+        if (job->plan.sun_per_cell)
+            st = ss_sun_nodes_make(ctx, &job->dem, &job->frame, job_rows_reader, job, &nodes);
+        if (st == SS_OK)
+            st = ss_sun_field_lattice(ctx, &job->dem, &job->frame, unix_s, &p,
+                                      job->plan.sun_per_cell, 0, job->dem.grid.height, &nodes,
+                                      field);
+        ss_sun_nodes_free(&nodes);
+        return st;
+    }
     return ss_sun_field_compute(ctx, &job->dem, &job->frame, unix_s, &p, job->plan.sun_per_cell,
                                 field);
 }
