@@ -9,16 +9,32 @@
  * relative (the error is spacing^2 / 8 times the second derivative;
  * tests/test_sun_table measures it): 3e-5 rad in elevation (the air mass
  * of a low sun, whose error the transmittance amplifies twofold, needs
- * that); 1e-3 rad in azimuth, whose table holds a sine and a cosine alone
- * (1.25e-7 at most, about a float's rounding), so that 1024 intervals span
- * 58 degrees: a sun near the zenith spreads over tens of degrees of azimuth
- * across a DEM (Hawaii in June, where 3e-5 rad left 7.7 % of a month's
- * cell-steps to the exact path); and 1/2000 of the air mass itself (the
- * transmittance's exponent changes by at most about 0.1 T_LK per unit of
- * air mass: 0.67 at a Linke turbidity of 6.5, so 1e-8 relative). */
+ * that), wider in azimuth for a high sun (azimuth_spacing), and 1/2000 of
+ * the air mass itself (the transmittance's exponent changes by at most
+ * about 0.1 T_LK per unit of air mass: 0.67 at a Linke turbidity of 6.5, so
+ * 1e-8 relative). */
 #define ELEVATION_SPACING_RAD 3e-5f
-#define AZIMUTH_SPACING_RAD 1e-3f
+#define AZIMUTH_SPACING_MAX_RAD 1e-3f
 #define AIR_MASS_SPACING 5e-4f
+
+/* The azimuth's sine and cosine enter a cell's terms times cos h0 (the
+ * sun's east and north components), except in r.sun's circumsolar form on a
+ * slope with the sun below 0.1 rad, where cos h0 is 0.995 or more: nodes
+ * 1 / cos h0 farther apart than the elevation's err no more there, for the
+ * elevation nearest the horizontal among the step's cells; at most 1e-3
+ * rad apart, where the sine and cosine themselves err by 1.25e-7. A sun
+ * near the zenith spreads over tens of degrees of azimuth across a DEM
+ * (Hawaii in June), which 1024 intervals of 3e-5 rad (1.7 deg) could not
+ * hold: 7.7 % of a June month's cell-steps on the Kilauea sample were
+ * computed per cell. */
+static float azimuth_spacing(float h_lo, float h_hi)
+{
+    float nearest = h_lo > 0.0f ? h_lo : h_hi < 0.0f ? -h_hi : 0.0f;
+    float c = cosf(nearest);
+    if (!(c > ELEVATION_SPACING_RAD / AZIMUTH_SPACING_MAX_RAD))
+        return c > 0.0f ? AZIMUTH_SPACING_MAX_RAD : ELEVATION_SPACING_RAD; /* NaN: no cells */
+    return ELEVATION_SPACING_RAD / c;
+}
 
 void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int terms,
                        ss_sun_table_fn fn, const void *user)
@@ -99,7 +115,8 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     range_rad(h0_deg, n, h0_step_deg, clear, &h_lo, &h_hi);
     range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
     ss_sun_table_fill(&s->elevation, h_lo, h_hi, ELEVATION_SPACING_RAD, 4, elevation_terms, s);
-    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, AZIMUTH_SPACING_RAD, 2, azimuth_terms, s);
+    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, azimuth_spacing(h_lo, h_hi), 2, azimuth_terms,
+                      s);
     s->air_mass.last = -1;
     s->air_mass.terms = 1;
     if (!clear || s->elevation.last < 0)
