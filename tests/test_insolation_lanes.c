@@ -6,6 +6,7 @@
  * - a sun per cell tabulated, one sun for every cell, and suns outside the
  *   tables (which the lanes leave to the caller, and only those);
  * - horizons swept, stored as int16 between two directions, and none;
+ * - the values are added into the band's sums, with and without a month's;
  * - nodata cells and suns below the horizontal add nothing, and runs of
  *   every length up to SS_LANE_CELLS. */
 #include "config.h"
@@ -32,6 +33,9 @@ static float uniform(float lo, float hi)
 }
 
 static float own_z[CELLS], h0_deg[CELLS], az_deg[CELLS], app_deg[CELLS], swept[CELLS];
+/* The band's sums the lanes add into: beam, diffuse, reflected, global,
+ * sun hours, the month's global. */
+static float sums[6][CELLS];
 static int16_t stored0[CELLS], stored1[CELLS];
 static ss_cell_terms terms[CELLS];
 static ss_step_sun tables;
@@ -62,39 +66,41 @@ static int same_bits(float a, float b)
     return memcmp(&a, &b, sizeof a) == 0;
 }
 
-/* Runs of lengths 1, 2, ... over the cells through fn; counts the cells
- * whose values differ from by_cell's, those left exact, and those the
- * lanes left exact that the tables hold. */
+/* Runs of lengths 1, 2, ... over the cells through fn, into sums that start
+ * at 0; counts the cells whose sums or global differ from by_cell's values
+ * (added to 0 as the lanes add them), those left exact (which must add
+ * nothing), and those the lanes left exact that the tables hold. */
 static void compare(lane_fn fn, const char *copy, const ss_lane_step *l, const char *what)
 {
     int differ = 0, exact = 0, wrongly_exact = 0, adds = 0;
+    memset(sums, 0, sizeof sums);
     size_t c0 = 0;
     for (int len = 1; c0 < CELLS; len = len % SS_LANE_CELLS + 1) {
         int n = CELLS - c0 < (size_t)len ? (int)(CELLS - c0) : len;
         ss_lane_adds out;
         fn(l, own_z, terms, c0, n, &out);
         for (int j = 0; j < n; ++j) {
+            size_t c = c0 + (size_t)j;
             int want_adds;
-            ss_cell_step want = by_cell(l, c0 + j, &want_adds);
+            ss_cell_step want = by_cell(l, c, &want_adds);
             adds += want_adds;
+            int lanes_add = out.what[j] == SS_LANE_ADD;
+            float v[6] = {want.beam, want.diffuse, want.reflected, want.global, want.sun_hours,
+                          l->month ? want.global : 0.0f};
+            int same = out.what[j] == SS_LANE_EXACT ? want_adds : lanes_add == want_adds;
+            for (int k = 0; k < 6; ++k)
+                same &= same_bits(sums[k][c], lanes_add ? 0.0f + v[k] : 0.0f);
+            same &= same_bits(out.global[j], lanes_add ? want.global : 0.0f);
+            differ += !same;
             if (out.what[j] == SS_LANE_EXACT) {
                 exact++;
                 float e[4], a[2];
                 const float rad = (float)(M_PI / 180.0);
-                float h = (l->h0_deg ? l->h0_deg[c0 + j] : l->h0_step_deg) * rad;
-                float z = (l->az_deg ? l->az_deg[c0 + j] : l->az_step_deg) * rad;
+                float h = (l->h0_deg ? l->h0_deg[c] : l->h0_step_deg) * rad;
+                float z = (l->az_deg ? l->az_deg[c] : l->az_step_deg) * rad;
                 wrongly_exact += ss_sun_table_at(&tables.elevation, h, e) &&
                                  ss_sun_table_at(&tables.azimuth, z, a) && l->real_sky;
-                differ += !want_adds || out.beam[j] != 0.0f || out.global[j] != 0.0f;
-                continue;
             }
-            int same = (out.what[j] == SS_LANE_ADD) == want_adds &&
-                       same_bits(out.beam[j], want.beam) &&
-                       same_bits(out.diffuse[j], want.diffuse) &&
-                       same_bits(out.reflected[j], want.reflected) &&
-                       same_bits(out.global[j], want.global) &&
-                       same_bits(out.sun_hours[j], want.sun_hours);
-            differ += !same;
         }
         c0 += (size_t)n;
     }
@@ -170,7 +176,13 @@ static void check_copy(lane_fn fn, const char *copy)
                                   .g0 = 1361.0f,
                                   .albedo = 0.2f,
                                   .dt = 0.5f,
-                                  .rec = {600.0f, sky == 3 ? 80.0f : 700.0f, 150.0f, 1361.0f, 0.25f}};
+                                  .rec = {600.0f, sky == 3 ? 80.0f : 700.0f, 150.0f, 1361.0f, 0.25f},
+                                  .beam = sums[0],
+                                  .diffuse = sums[1],
+                                  .reflected = sums[2],
+                                  .global = sums[3],
+                                  .sun_hours = sums[4],
+                                  .month = shadow != 2 ? sums[5] : NULL};
                 if (sky > 0)
                     l.sky = ss_sky_parts_of(sky - 1, l.rec.dhi, l.rec.dni, l.rec.dni_extra,
                                             (float)((90.0 - h) * M_PI / 180.0));

@@ -179,14 +179,6 @@ static stored_between stored_between_of(const ss_sweep_options *opt, double az)
     return b;
 }
 
-/* Adds a run's values into its cells' sums (0 where a cell adds nothing). */
-static void add_run(int n, float *sum, const float *add)
-{
-#pragma omp simd
-    for (int j = 0; j < n; ++j)
-        sum[j] += add[j];
-}
-
 /* Cell c's step computed cell by cell, its sun's terms exactly where they
  * fall outside the step's tables (ss_lane_cells leaves those cells). */
 static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_step_sun *tables,
@@ -315,7 +307,13 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             .albedo = (float)io->albedo,
             .dt = dt,
             .rec = rec,
-            .sky = sky};
+            .sky = sky,
+            .beam = beam,
+            .diffuse = diffuse,
+            .reflected = reflected,
+            .global = global,
+            .sun_hours = hours,
+            .month = month};
         uint64_t cells = 0, exact = 0;
 #pragma omp parallel for schedule(static) reduction(+ : cells, exact)
         for (size_t c0 = 0; c0 < n; c0 += SS_LANE_CELLS) {
@@ -328,20 +326,17 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             }
             for (int j = 0; j < m; ++j)
                 if (a.what[j] == SS_LANE_EXACT) {
-                    ss_cell_step add = cell_step_exact(&lane, s->sun, &s->terms[c0 + j], c0 + j);
-                    a.beam[j] = add.beam;
-                    a.diffuse[j] = add.diffuse;
-                    a.reflected[j] = add.reflected;
+                    size_t c = c0 + (size_t)j;
+                    ss_cell_step add = cell_step_exact(&lane, s->sun, &s->terms[c], c);
+                    beam[c] += add.beam;
+                    diffuse[c] += add.diffuse;
+                    reflected[c] += add.reflected;
+                    global[c] += add.global;
+                    hours[c] += add.sun_hours;
+                    if (month)
+                        month[c] += add.global;
                     a.global[j] = add.global;
-                    a.sun_hours[j] = add.sun_hours;
                 }
-            add_run(m, beam + c0, a.beam);
-            add_run(m, diffuse + c0, a.diffuse);
-            add_run(m, reflected + c0, a.reflected);
-            add_run(m, global + c0, a.global);
-            add_run(m, hours + c0, a.sun_hours);
-            if (month)
-                add_run(m, month + c0, a.global);
             for (int j = 0; (pv_on || step_global) && j < m; ++j) {
                 size_t c = c0 + (size_t)j;
                 if (a.what[j] == SS_LANE_SKIP)

@@ -31,7 +31,8 @@
  * elevation and grid azimuth, degrees), or the step's for every cell; the
  * cells' horizons in the sun's azimuth (degrees: swept, or stored as
  * int16 hundredths in the two directions around the sun, blended by
- * stored_t), or none; and the clear sky's or a weather record's light. */
+ * stored_t), or none; the clear sky's or a weather record's light; and the
+ * band's sums the cells' values are added into (month NULL: none). */
 typedef struct {
     const ss_step_sun *tables;
     const float *h0_deg, *az_deg, *app_deg; /* per cell, or NULL */
@@ -43,19 +44,21 @@ typedef struct {
     float g0, albedo, dt;              /* clear sky */
     ss_sky_record rec;                 /* weather */
     ss_sky_parts sky;
+    float *beam, *diffuse, *reflected, *global, *sun_hours, *month; /* per cell */
 } ss_lane_step;
 
-/* What the run's cells add (ss_cell_step's members, one array each): 0
- * where a cell adds nothing or is left to the caller, so that the whole run
- * can be added into the sums (x + 0 is x for every sum, which is never -0). */
+/* What became of the run's cells: their global (Wh/m^2; 0 where a cell
+ * adds nothing or is left to the caller), for the outputs that take it. */
 typedef struct {
-    float beam[SS_LANE_CELLS], diffuse[SS_LANE_CELLS], reflected[SS_LANE_CELLS];
-    float global[SS_LANE_CELLS], sun_hours[SS_LANE_CELLS];
+    float global[SS_LANE_CELLS];
     unsigned char what[SS_LANE_CELLS]; /* SS_LANE_* */
 } ss_lane_adds;
 
 /* Cells [c0, c0 + n) of the band (n <= SS_LANE_CELLS), whose heights and
- * terms are own_z and terms (indexed from 0). */
+ * terms are own_z and terms (indexed from 0): adds each SS_LANE_ADD cell's
+ * values into the step's sums (x + 0 is x for every sum, which is never -0,
+ * so the others are added 0), and leaves the SS_LANE_EXACT ones to the
+ * caller. */
 void ss_lane_cells(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
                    size_t c0, int n, ss_lane_adds *out);
 

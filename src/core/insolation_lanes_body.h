@@ -65,10 +65,13 @@ static inline __attribute__((always_inline)) int lane_cell(const ss_lane_step *s
 }
 
 /* The run's cells for a clear sky (real_sky 0) or a weather record (1):
- * constant, so each loop is compiled for one. */
+ * constant, so each loop is compiled for one. Sums and inputs count from
+ * the run's first cell; month is never NULL here. */
 static inline __attribute__((always_inline)) void lane_run(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
                             const float *h0_deg, const float *az_deg, const float *app_deg,
-                            const float *horizon, int n, int real_sky, ss_lane_adds *out)
+                            const float *horizon, int n, int real_sky, float *beam,
+                            float *diffuse, float *reflected, float *global, float *sun_hours,
+                            float *month, ss_lane_adds *out)
 {
     const float rad = (float)(M_PI / 180.0);
 #pragma omp simd
@@ -77,11 +80,14 @@ static inline __attribute__((always_inline)) void lane_run(const ss_lane_step *s
         ss_cell_step add;
         int ok = lane_cell(s, &terms[j], h0, az, app_deg[j], horizon[j], real_sky, &add);
         int live = isfinite(own_z[j]) && (real_sky || h0 > 0.0f), use = live && ok;
-        out->beam[j] = use ? add.beam : 0.0f;
-        out->diffuse[j] = use ? add.diffuse : 0.0f;
-        out->reflected[j] = use ? add.reflected : 0.0f;
-        out->global[j] = use ? add.global : 0.0f;
-        out->sun_hours[j] = use ? add.sun_hours : 0.0f;
+        float g = use ? add.global : 0.0f;
+        beam[j] += use ? add.beam : 0.0f;
+        diffuse[j] += use ? add.diffuse : 0.0f;
+        reflected[j] += use ? add.reflected : 0.0f;
+        global[j] += g;
+        sun_hours[j] += use ? add.sun_hours : 0.0f;
+        month[j] += g;
+        out->global[j] = g;
         out->what[j] = !live ? SS_LANE_SKIP : ok ? SS_LANE_ADD : SS_LANE_EXACT;
     }
 }
@@ -118,8 +124,14 @@ void SS_LANE_ENTRY(const ss_lane_step *s, const float *own_z, const ss_cell_term
         for (int j = 0; j < n; ++j)
             horizon[j] = -90.0f;
     }
+    float no_month[SS_LANE_CELLS] = {0};
+    float *month = s->month ? s->month + c0 : no_month;
     if (s->real_sky)
-        lane_run(s, own_z + c0, terms + c0, h0, az, app, horizon, n, 1, out);
+        lane_run(s, own_z + c0, terms + c0, h0, az, app, horizon, n, 1, s->beam + c0,
+                 s->diffuse + c0, s->reflected + c0, s->global + c0, s->sun_hours + c0, month,
+                 out);
     else
-        lane_run(s, own_z + c0, terms + c0, h0, az, app, horizon, n, 0, out);
+        lane_run(s, own_z + c0, terms + c0, h0, az, app, horizon, n, 0, s->beam + c0,
+                 s->diffuse + c0, s->reflected + c0, s->global + c0, s->sun_hours + c0, month,
+                 out);
 }
