@@ -77,11 +77,9 @@ ss_status ss_sun_nodes_make(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *
         !nodes->height_m || (read && !row_z))
         st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
     for (int j = 0; j < nr && st == SS_OK; ++j) {
-        const float *z = g->z + (read ? 0 : (size_t)rows[j] * g->width);
         if (read && (st = read(user, rows[j], 1, row_z)) != SS_OK)
             break;
-        if (read)
-            z = row_z;
+        const float *z = read ? row_z : g->z + (size_t)rows[j] * g->width;
         for (int i = 0; i < nc && st == SS_OK; ++i) {
             size_t k = (size_t)j * nc + i;
             nodes->height_m[k] = isfinite(z[cols[i]]) ? z[cols[i]] + g->z_origin_m : g->z_origin_m;

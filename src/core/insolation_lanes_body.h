@@ -9,10 +9,12 @@
  * not selected could differ, and nothing reads the flags), and loads are
  * not sunk into the branches that use them (no-tree-sink), where they
  * would need masks. Neither changes a value, and fused multiply-adds stay
- * off (-std=c11 implies -ffp-contract=off), so every copy computes every
- * cell's values to the bit as the cell-by-cell functions do. The pragma
+ * off (whatever CFLAGS say), so every copy computes every cell's values to
+ * the bit as the cell-by-cell functions do. The pragma
  * precedes the headers so that their inline functions are compiled alike. */
-#pragma GCC optimize("no-trapping-math", "no-tree-sink")
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-trapping-math", "no-tree-sink", "fp-contract=off")
+#endif
 
 #include "config.h"
 

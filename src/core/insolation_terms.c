@@ -74,6 +74,10 @@ ss_status ss_insolation_band_terms(const ss_insolation_job *job, const ss_band_v
             if (isfinite(band->own_z[c])) {
                 terms[c] = ss_cell_terms_of(de[c], dn[c], sky[c], band->own_z[c] + origin);
                 terms[c].band_seen = seen[c];
+            } else {
+                /* Nodata: a level cell at the datum, which the steps compute
+                 * side by side with the others and then drop (insolation_lanes.h). */
+                terms[c] = ss_cell_terms_of(0.0f, 0.0f, 1.0f, 0.0);
             }
     }
     free(sky);

@@ -40,11 +40,16 @@ void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int t
                        ss_sun_table_fn fn, const void *user)
 {
     t->terms = terms;
-    t->lo = lo;
+    t->lo = 0.0f;
     t->scale = 0.0f;
     t->last = -1;
+    /* Without a table its first nodes are still defined: the lanes read
+     * them and then drop what they read (insolation_lanes.h). */
+    for (int k = 0; k < 2 * terms; ++k)
+        t->node[k] = 0.0f;
     if (!(isfinite(lo) && isfinite(hi) && hi >= lo))
         return;
+    t->lo = lo;
     double intervals = ceil((double)(hi - lo) / spacing);
     if (intervals > SS_SUN_TABLE_NODES)
         return;
@@ -117,10 +122,10 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     ss_sun_table_fill(&s->elevation, h_lo, h_hi, ELEVATION_SPACING_RAD, 4, elevation_terms, s);
     ss_sun_table_fill(&s->azimuth, a_lo, a_hi, azimuth_spacing(h_lo, h_hi), 2, azimuth_terms,
                       s);
-    s->air_mass.last = -1;
-    s->air_mass.terms = 1;
-    if (!clear || s->elevation.last < 0)
+    if (!clear || s->elevation.last < 0) {
+        ss_sun_table_fill(&s->air_mass, NAN, NAN, AIR_MASS_SPACING, 1, transmittance, s);
         return;
+    }
     /* The air mass falls as the sun rises: its range over the table's nodes,
      * times the cells' pressure factors. */
     float m_lo = INFINITY, m_hi = -INFINITY;
