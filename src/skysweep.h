@@ -110,7 +110,7 @@ typedef struct {
     uint64_t records_without_temperature; /* PV yield: the options' air temperature or wind used */
     uint64_t sun_bins; /* the cumulative sky's occupied bins of suns */
     /* Insolation's cells x daylight steps, and of them those whose sun's
-     * terms were computed exactly, outside the step's tables (suns spread
+     * terms were computed per cell, outside the step's tables (suns spread
      * too wide for them, air masses past r.sun's Rayleigh split at 20,
      * doc/insolation.md). */
     uint64_t cell_steps, cell_steps_exact_sun;

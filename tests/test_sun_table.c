@@ -76,8 +76,7 @@ static void check_range(float h_deg, float az_deg, float spread_deg, float az_sp
         ss_cell_step s_want = ss_cell_step_of(&terms[c], &want, h0[c], -90.0f, 1361.0f, 0.2f, 1.0f);
         worst_global = fmax(worst_global, fabs((double)s_got.global - s_want.global) / 1361.0);
     }
-    /* Elevations spread over 1.4 deg take 815 intervals; azimuths fit
-     * 1.7 deg / cos h0, up to 58 deg. */
+    /* Spreads of 1.4 deg take 815 intervals. */
     int made = table.elevation.last > 0 && table.azimuth.last > 0;
     tap_ok(worst_trig <= 1e-6 && worst_sky <= 2e-6 && worst_global <= 1e-6 && made,
            "sun at %.2f deg, spread %.2f deg in elevation and %.2f deg in azimuth, Linke %.1f: tables of %d/%d/%d intervals (-1: exact), worst "
@@ -191,9 +190,7 @@ int main(void)
             check_range(elevations[i], 35.0f + 40.0f * (float)i, spreads[j], spreads[j],
                         i % 2 ? 6.5f : 2.0f);
     check_range(45.0f, -0.5f, 1.4f, 1.4f, 3.0f); /* azimuths either side of grid north */
-    /* A sun near the zenith spreads over tens of degrees of azimuth across a
-     * DEM (Hawaii in June): still tabulated. */
-    check_range(88.6f, 200.0f, 0.14f, 40.0f, 3.0f);
+
     check_one_sun();
     check_weather();
     check_outside();

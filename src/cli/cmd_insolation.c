@@ -524,7 +524,7 @@ static void print_summary(insolation_run *r)
            r->steps.n, (unsigned long long)c.time_steps,
            (unsigned long long)c.night_steps_skipped, (unsigned long long)c.shadow_sweeps_skipped);
     if (c.cell_steps)
-        printf("cells   %llu cell-steps, %llu (%.1f %%) with the sun's terms computed exactly "
+        printf("cells   %llu cell-steps, %llu (%.1f %%) with the sun's terms computed per cell "
                "(outside the step's tables)\n",
                (unsigned long long)c.cell_steps, (unsigned long long)c.cell_steps_exact_sun,
                100.0 * (double)c.cell_steps_exact_sun / (double)c.cell_steps);

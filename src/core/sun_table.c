@@ -7,34 +7,22 @@
 
 /* Node spacings, chosen so that linear interpolation errs by under 1e-6
  * relative (the error is spacing^2 / 8 times the second derivative;
- * tests/test_sun_table measures it): 3e-5 rad in elevation (the air mass
- * of a low sun, whose error the transmittance amplifies twofold, needs
- * that), wider in azimuth for a high sun (azimuth_spacing), and 1/2000 of
- * the air mass itself (the transmittance's exponent changes by at most
- * about 0.1 T_LK per unit of air mass: 0.67 at a Linke turbidity of 6.5, so
- * 1e-8 relative). */
-#define ELEVATION_SPACING_RAD 3e-5f
-#define AZIMUTH_SPACING_MAX_RAD 1e-3f
+ * tests/test_sun_table measures it): 3e-5 rad in elevation and azimuth
+ * (the air mass of a low sun, whose error the transmittance amplifies
+ * twofold, needs that), and 1/2000 of the air mass itself (the
+ * transmittance's exponent changes by at most about 0.1 T_LK per unit of
+ * air mass: 0.67 at a Linke turbidity of 6.5, so 1e-8 relative).
+ *
+ * The azimuth's table could be far coarser for a high sun (its sine and
+ * cosine enter the terms times cos h0), which would tabulate the spread of
+ * a sun near the zenith (Hawaii in June: 7.7 % of a month's cell-steps are
+ * computed per cell). It is not: each band tabulates its own cells' suns,
+ * and a cell lit at grazing incidence (cos i within 1e-7 of 0) then flips
+ * between Muneer's lit and shaded diffuse from a band to the whole grid
+ * (48.9 Wh/m^2 at one cell of tests/test_memory.sh's DEM). Tables whose
+ * nodes do not depend on the band would allow it; they are not built. */
+#define ANGLE_SPACING_RAD 3e-5f
 #define AIR_MASS_SPACING 5e-4f
-
-/* The azimuth's sine and cosine enter a cell's terms times cos h0 (the
- * sun's east and north components), except in r.sun's circumsolar form on a
- * slope with the sun below 0.1 rad, where cos h0 is 0.995 or more: nodes
- * 1 / cos h0 farther apart than the elevation's err no more there, for the
- * elevation nearest the horizontal among the step's cells; at most 1e-3
- * rad apart, where the sine and cosine themselves err by 1.25e-7. A sun
- * near the zenith spreads over tens of degrees of azimuth across a DEM
- * (Hawaii in June), which 1024 intervals of 3e-5 rad (1.7 deg) could not
- * hold: 7.7 % of a June month's cell-steps on the Kilauea sample were
- * computed per cell. */
-static float azimuth_spacing(float h_lo, float h_hi)
-{
-    float nearest = h_lo > 0.0f ? h_lo : h_hi < 0.0f ? -h_hi : 0.0f;
-    float c = cosf(nearest);
-    if (!(c > ELEVATION_SPACING_RAD / AZIMUTH_SPACING_MAX_RAD))
-        return c > 0.0f ? AZIMUTH_SPACING_MAX_RAD : ELEVATION_SPACING_RAD; /* NaN: no cells */
-    return ELEVATION_SPACING_RAD / c;
-}
 
 void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int terms,
                        ss_sun_table_fn fn, const void *user)
@@ -119,9 +107,8 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     float h_lo, h_hi, a_lo, a_hi;
     range_rad(h0_deg, n, h0_step_deg, clear, &h_lo, &h_hi);
     range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
-    ss_sun_table_fill(&s->elevation, h_lo, h_hi, ELEVATION_SPACING_RAD, 4, elevation_terms, s);
-    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, azimuth_spacing(h_lo, h_hi), 2, azimuth_terms,
-                      s);
+    ss_sun_table_fill(&s->elevation, h_lo, h_hi, ANGLE_SPACING_RAD, 4, elevation_terms, s);
+    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, ANGLE_SPACING_RAD, 2, azimuth_terms, s);
     if (!clear || s->elevation.last < 0) {
         ss_sun_table_fill(&s->air_mass, NAN, NAN, AIR_MASS_SPACING, 1, transmittance, s);
         return;

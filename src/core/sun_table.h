@@ -84,10 +84,17 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
 static inline ss_cell_sun ss_step_sun_at(const ss_step_sun *s, const ss_cell_terms *t, float h0,
                                          float az)
 {
-    float e[SS_SUN_TABLE_TERMS], a[2], kb = 0.0f;
+    float e[SS_SUN_TABLE_TERMS], a[2] = {0.0f, 0.0f}, kb = 0.0f;
     ss_cell_sun sun;
-    if (!ss_sun_table_at(&s->elevation, h0, e) || !ss_sun_table_at(&s->azimuth, az, a))
+    if (!ss_sun_table_at(&s->elevation, h0, e))
         return ss_cell_sun_exact(t, h0, az, s->linke, s->clear);
+    /* A sun near the zenith spreads over degrees of azimuth: its sine and
+     * cosine alone are then computed per cell (sun_table.c says why the
+     * table is not made coarser). */
+    if (!ss_sun_table_at(&s->azimuth, az, a)) {
+        a[0] = sinf(az);
+        a[1] = cosf(az);
+    }
     sun.h0 = h0;
     sun.sin_h0 = e[0];
     sun.cos_h0 = e[1];
