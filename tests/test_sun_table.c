@@ -58,7 +58,7 @@ static void check_range(float h_deg, float az_deg, float spread_deg, float az_sp
         p_lo = fminf(p_lo, terms[c].pressure_factor);
         p_hi = fmaxf(p_hi, terms[c].pressure_factor);
     }
-    ss_step_sun_fill(&table, h0, az, CELLS, 0, 0, linke, 1, p_lo, p_hi);
+    ss_step_sun_fill(&table, h0, az, CELLS, h_deg, az_deg, linke, 1, p_lo, p_hi);
     double worst_trig = 0, worst_sky = 0, worst_global = 0;
     for (int c = 0; c < CELLS; ++c) {
         float h = h0[c] * rad, a = az[c] * rad;
@@ -109,10 +109,10 @@ static void check_one_sun(void)
                  got.diffuse_fraction == want.diffuse_fraction;
         worst_kb = fmax(worst_kb, relative(got.kb, want.kb));
     }
-    tap_ok(table.elevation.last == 0 && table.azimuth.last == 0 && table.air_mass.last > 0 &&
+    tap_ok(table.elevation.last == 1 && table.azimuth.last == 1 && table.air_mass.last > 0 &&
                exact && worst_kb <= 2e-6,
-           "one sun for all cells: one node, exact sines and diffuse fraction; the "
-           "transmittance over %d intervals of air mass within %.2e relative",
+           "one sun for all cells: the lattice's node at it, exact sines and diffuse fraction; "
+           "the transmittance over %d intervals of air mass within %.2e relative",
            table.air_mass.last, worst_kb);
 }
 
@@ -128,7 +128,8 @@ static void check_weather(void)
         h0[c] = uniform(-0.06f, 0.05f);
         az[c] = 61.0f + uniform(-0.05f, 0.05f);
     }
-    ss_step_sun_fill(&table, h0, az, CELLS, 0, 0, 3.0f, 0, t.pressure_factor, t.pressure_factor);
+    ss_step_sun_fill(&table, h0, az, CELLS, 0.0f, 61.0f, 3.0f, 0, t.pressure_factor,
+                     t.pressure_factor);
     double worst = 0;
     int from_tables = 1;
     for (int c = 0; c < CELLS; ++c) {
@@ -151,34 +152,96 @@ static void only_f(float x, const void *user, float *v)
     v[0] = x * x;
 }
 
-/* Outside its range, or where the range needs too many nodes, a table
- * answers nothing and the cell is evaluated exactly. */
+/* Outside the band's range (one node past its top aside) or the step's
+ * window, a table answers nothing and the cell is evaluated exactly. */
 static void check_outside(void)
 {
     static ss_sun_table t;
     float v = -1.0f;
-    ss_sun_table_fill(&t, 1.0f, 2.0f, 0.01f, 1, only_f, NULL);
+    /* nodes 0.01 apart from 0.9 to 2.1 */
+    ss_sun_table_fill(&t, 0.9f, 0.01f, 120, 1.0f, 2.0f, 1, only_f, NULL);
     int inside = ss_sun_table_at(&t, 1.5f, &v);
     float at_inside = v;
-    int below = ss_sun_table_at(&t, 0.999f, &v), above = ss_sun_table_at(&t, 2.001f, &v);
+    int top = ss_sun_table_at(&t, 2.005f, &v);
+    int below = ss_sun_table_at(&t, 0.995f, &v), above = ss_sun_table_at(&t, 2.011f, &v);
     int nan = ss_sun_table_at(&t, NAN, &v);
-    tap_ok(t.last >= 100 && t.last <= 101 && inside && fabsf(at_inside - 2.25f) < 1e-4f && !below &&
+    tap_ok(t.last == 101 && inside && fabsf(at_inside - 2.25f) < 1e-4f && top && !below &&
                !above && !nan,
-           "a table answers inside its range alone (%d intervals; x^2 at 1.5: %g)", t.last,
-           at_inside);
-    ss_sun_table_fill(&t, 0.0f, 1.0f, 1e-4f, 1, only_f, NULL);
+           "a table answers inside its range and one node past it alone (%d intervals; x^2 at "
+           "1.5: %g)",
+           t.last, at_inside);
+    ss_sun_table_fill(&t, 0.9f, 0.01f, 120, 0.0f, 3.0f, 1, only_f, NULL);
+    int clipped = t.last == 120 && ss_sun_table_at(&t, 0.905f, &v) &&
+                  !ss_sun_table_at(&t, 0.895f, &v) && !ss_sun_table_at(&t, 2.11f, &v);
+    ss_sun_table_fill(&t, 0.9f, 0.01f, 120, 1.0f, INFINITY, 1, only_f, NULL);
+    clipped &= t.last == 110 && ss_sun_table_at(&t, 2.05f, &v);
+    tap_ok(clipped, "a range wider than the step's window is tabulated over the window alone");
+    ss_sun_table_fill(&t, 0.0f, 1e-4f, 10000, 0.0f, 1.0f, 1, only_f, NULL);
     tap_ok(t.last == -1 && !ss_sun_table_at(&t, 0.5f, &v),
-           "a range needing 10000 intervals makes no table");
+           "a window of 10000 intervals makes no table");
 
     static ss_step_sun table;
     static float h0[2] = {10.0f, 30.0f}, az[2] = {100.0f, 101.0f};
     ss_cell_terms terms = ss_cell_terms_of(0.1f, 0.1f, 1.0f, 0.0);
     const float rad = (float)(M_PI / 180.0);
-    ss_step_sun_fill(&table, h0, az, 2, 0, 0, 3.0f, 1, 1.0f, 1.0f);
-    ss_cell_sun got = ss_step_sun_at(&table, &terms, h0[1] * rad, az[1] * rad);
-    ss_cell_sun want = ss_cell_sun_exact(&terms, h0[1] * rad, az[1] * rad, 3.0f, 1);
-    tap_ok(table.elevation.last == -1 && got.kb == want.kb && got.sin_h0 == want.sin_h0,
-           "suns 20 deg apart: no elevation table, the exact terms");
+    ss_step_sun_fill(&table, h0, az, 2, 20.0f, 100.5f, 3.0f, 1, 1.0f, 1.0f);
+    int exact = 1;
+    for (int c = 0; c < 2; ++c) {
+        ss_cell_sun got = ss_step_sun_at(&table, &terms, h0[c] * rad, az[c] * rad);
+        ss_cell_sun want = ss_cell_sun_exact(&terms, h0[c] * rad, az[c] * rad, 3.0f, 1);
+        exact &= got.kb == want.kb && got.sin_h0 == want.sin_h0 && got.cos_az == want.cos_az;
+    }
+    tap_ok(exact, "suns 10 deg either side of the centre's: beyond the window, the exact terms");
+}
+
+/* A band's tables give its cells the whole grid's terms to the bit: the
+ * lattice is the step's. The cells' suns spread over 2 deg of elevation
+ * (beyond the elevation's window) and 40 deg of azimuth (beyond the
+ * azimuth's), so bands hold cells both inside and outside the tables. */
+static void check_bands(void)
+{
+    static float h0[CELLS], az[CELLS];
+    static ss_cell_terms terms[CELLS];
+    static ss_step_sun whole, band;
+    const float rad = (float)(M_PI / 180.0);
+    const float h_deg[] = {0.3f, 8.0f, 60.0f}, az_deg = 170.0f;
+    int same = 1, inside = 0, outside = 0;
+    for (int k = 0; k < 3; ++k) {
+        for (int c = 0; c < CELLS; ++c) {
+            /* rows of cells: the sun changes along them */
+            float along = (float)c / CELLS;
+            h0[c] = h_deg[k] + 2.0f * (along - 0.5f) + uniform(-0.01f, 0.01f);
+            az[c] = az_deg + 40.0f * (along - 0.5f);
+            terms[c] = ss_cell_terms_of(uniform(-1, 1), uniform(-1, 1), uniform(0.5f, 1),
+                                        uniform(0, 4000));
+        }
+        ss_step_sun_fill(&whole, h0, az, CELLS, h_deg[k], az_deg, 4.0f, 1, 0.6f, 1.0f);
+        for (int row0 = 0; row0 < CELLS; row0 += 700) {
+            int n = CELLS - row0 < 700 ? CELLS - row0 : 700;
+            float p_lo = INFINITY, p_hi = -INFINITY;
+            for (int c = row0; c < row0 + n; ++c) {
+                p_lo = fminf(p_lo, terms[c].pressure_factor);
+                p_hi = fmaxf(p_hi, terms[c].pressure_factor);
+            }
+            ss_step_sun_fill(&band, h0 + row0, az + row0, (size_t)n, h_deg[k], az_deg, 4.0f, 1,
+                             p_lo, p_hi);
+            for (int c = row0; c < row0 + n; ++c) {
+                float h = h0[c] * rad, a = az[c] * rad, e[SS_SUN_TABLE_TERMS];
+                ss_cell_sun w = ss_step_sun_at(&whole, &terms[c], h, a);
+                ss_cell_sun b = ss_step_sun_at(&band, &terms[c], h, a);
+                same &= w.sin_h0 == b.sin_h0 && w.cos_h0 == b.cos_h0 && w.sin_az == b.sin_az &&
+                        w.cos_az == b.cos_az && w.kb == b.kb &&
+                        w.diffuse_fraction == b.diffuse_fraction;
+                int held = ss_sun_table_at(&band.elevation, h, e);
+                inside += held;
+                outside += !held;
+            }
+        }
+    }
+    tap_ok(same && inside > 0 && outside > 0,
+           "bands of 700 cells get the whole grid's terms to the bit (%d cell suns from the "
+           "tables, %d beyond them)",
+           inside, outside);
 }
 
 int main(void)
@@ -194,5 +257,6 @@ int main(void)
     check_one_sun();
     check_weather();
     check_outside();
+    check_bands();
     return tap_done();
 }

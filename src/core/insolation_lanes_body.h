@@ -25,25 +25,22 @@
 
 /* ss_sun_table_at without a branch: *terms get its values wherever it
  * returns 1 (the table holds x), and the index stays inside the table
- * wherever it does not. A table of one node (last 0, scale 0) reads it as
- * node + 0 * 0, which is the node itself (a -0 would come back as +0, which
- * no product can tell apart: a sun exactly on the horizontal or due north). */
+ * wherever it does not (a table has two nodes or none, whose first two are
+ * still defined). */
 static inline __attribute__((always_inline)) int table_lane(const ss_sun_table *t, float x, float *terms, int n_terms)
 {
-    int last = t->last, one_node = last == 0;
-    int top_node = last > 0 ? last : 0, next = last > 0 ? n_terms : 0;
-    float top = (float)top_node, p = (x - t->lo) * t->scale;
-    int ok = (p >= 0.0f) & (p <= top) & (last >= 0) & (!one_node | (x == t->lo));
-    float clamped = p > 0.0f ? p : 0.0f; /* NaN too */
+    float lo = (float)t->first, hi = (float)(t->first + t->last), top = hi - 1.0f > lo ? hi - 1.0f : lo;
+    float p = ss_sun_table_position(t, x);
+    int ok = (p >= lo) & (p < hi);
+    float clamped = p > lo ? p : lo; /* NaN too */
     clamped = clamped < top ? clamped : top;
-    int i = (int)clamped;
-    i = i < last ? i : last - 1;
-    i = i > 0 ? i : 0;
-    float f = p - (float)i;
-    int a = i * n_terms, b = a + next; /* int offsets from the table: gathers */
+    int k = (int)clamped;
+    float f = p - (float)k;
+    int i = k - t->first;
+    int a = i * n_terms, b = a + n_terms; /* int offsets from the table: gathers */
 #pragma GCC unroll 4
-    for (int k = 0; k < n_terms; ++k)
-        terms[k] = t->node[a + k] + f * (t->node[b + k] - t->node[a + k]);
+    for (int j = 0; j < n_terms; ++j)
+        terms[j] = t->node[a + j] + f * (t->node[b + j] - t->node[a + j]);
     return ok;
 }
 

@@ -7,47 +7,62 @@
 
 /* Node spacings, chosen so that linear interpolation errs by under 1e-6
  * relative (the error is spacing^2 / 8 times the second derivative;
- * tests/test_sun_table measures it): 3e-5 rad in elevation and azimuth
- * (the air mass of a low sun, whose error the transmittance amplifies
- * twofold, needs that), and 1/2000 of the air mass itself (the
+ * tests/test_sun_table measures it): 3e-5 rad in elevation (the air mass
+ * of a low sun, whose error the transmittance amplifies twofold, needs
+ * that); 1e-3 rad in azimuth, whose table holds a sine and a cosine alone
+ * (1.25e-7 at most, about a float's rounding), so that the window spans
+ * 29 degrees either side of the centre's sun: a sun near the zenith
+ * spreads over tens of degrees of azimuth across a DEM (Hawaii in June,
+ * where 3e-5 rad left 7.7 % of a month's cell-steps to be computed per
+ * cell); and 1/2000 of the air mass at the centre's sun (the
  * transmittance's exponent changes by at most about 0.1 T_LK per unit of
  * air mass: 0.67 at a Linke turbidity of 6.5, so 1e-8 relative).
  *
- * The azimuth's table could be far coarser for a high sun (its sine and
- * cosine enter the terms times cos h0), which would tabulate the spread of
- * a sun near the zenith (Hawaii in June: 7.7 % of a month's cell-steps are
- * computed per cell). It is not: each band tabulates its own cells' suns,
- * and a cell lit at grazing incidence (cos i within 1e-7 of 0) then flips
- * between Muneer's lit and shaded diffuse from a band to the whole grid
- * (48.9 Wh/m^2 at one cell of tests/test_memory.sh's DEM). Tables whose
- * nodes do not depend on the band would allow it; they are not built. */
-#define ANGLE_SPACING_RAD 3e-5f
+ * The lattices are the step's, not the band's. When each band tabulated
+ * its own cells' range, a cell lit at grazing incidence (cos i within 1e-7
+ * of 0) could flip between Muneer's lit and shaded diffuse from a band to
+ * the whole grid (48.9 Wh/m^2 at one cell of tests/test_memory.sh's DEM,
+ * with azimuth nodes 3e-5 / cos h0 rad apart); on one lattice it cannot. */
+#define ELEVATION_SPACING_RAD 3e-5f
+#define AZIMUTH_SPACING_RAD 1e-3f
 #define AIR_MASS_SPACING 5e-4f
+/* The windows, in nodes: SS_SUN_TABLE_NODES intervals centred on the
+ * centre's sun for the angles; for the air mass, from 0.6 to 1.112 times
+ * the centre's at sea level (the cells' air pressure down to 0.6 of sea
+ * level's, at 4000 m, and lower suns than the centre's), up to where
+ * Rayleigh's thickness changes form. */
+#define ANGLE_WINDOW_BELOW (SS_SUN_TABLE_NODES / 2)
+#define AIR_MASS_WINDOW_BELOW 800
 
-void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int terms,
-                       ss_sun_table_fn fn, const void *user)
+void ss_sun_table_fill(ss_sun_table *t, float origin, float spacing, int window, float lo,
+                       float hi, int terms, ss_sun_table_fn fn, const void *user)
 {
     t->terms = terms;
-    t->lo = 0.0f;
+    t->origin = 0.0f;
     t->scale = 0.0f;
+    t->first = 0;
     t->last = -1;
     /* Without a table its first nodes are still defined: the lanes read
      * them and then drop what they read (insolation_lanes.h). */
     for (int k = 0; k < 2 * terms; ++k)
         t->node[k] = 0.0f;
-    if (!(isfinite(lo) && isfinite(hi) && hi >= lo))
+    /* An infinite end of the range (an air mass of no finite bound) is
+     * clipped to the window; a NaN one, or an empty range, makes none. */
+    if (!(isfinite(origin) && hi >= lo && window <= SS_SUN_TABLE_NODES))
         return;
-    t->lo = lo;
-    double intervals = ceil((double)(hi - lo) / spacing);
-    if (intervals > SS_SUN_TABLE_NODES)
+    t->origin = origin;
+    t->scale = 1.0f / spacing;
+    /* The band's range on the lattice, as ss_sun_table_position places a
+     * value, and one node past its top so that every value in it lies below
+     * the last node. */
+    float p_lo = (lo - origin) * t->scale, p_hi = (hi - origin) * t->scale;
+    double first = fmax(floor(p_lo), 0.0), top = fmin(floor(p_hi) + 1.0, window);
+    if (!(top > first))
         return;
-    t->last = (int)intervals;
-    if (t->last > 0)
-        t->scale = (float)(t->last / ((double)hi - lo));
-    for (int i = 0; i <= t->last; ++i) {
-        float x = t->last > 0 ? (float)(lo + (double)i * (hi - (double)lo) / t->last) : lo;
-        fn(x, user, t->node + (size_t)i * terms);
-    }
+    t->first = (int)first;
+    t->last = (int)(top - first);
+    for (int i = 0; i <= t->last; ++i)
+        fn((float)(origin + (first + i) / t->scale), user, t->node + (size_t)i * terms);
 }
 
 static void elevation_terms(float h0, const void *user, float *v)
@@ -102,15 +117,27 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
                       float h0_step_deg, float az_step_deg, float linke, int clear,
                       float pressure_lo, float pressure_hi)
 {
+    const float rad = (float)(M_PI / 180.0);
     s->linke = linke;
     s->clear = clear;
-    float h_lo, h_hi, a_lo, a_hi;
+    float h_lo, h_hi, a_lo, a_hi, h_step = h0_step_deg * rad;
     range_rad(h0_deg, n, h0_step_deg, clear, &h_lo, &h_hi);
     range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
-    ss_sun_table_fill(&s->elevation, h_lo, h_hi, ANGLE_SPACING_RAD, 4, elevation_terms, s);
-    ss_sun_table_fill(&s->azimuth, a_lo, a_hi, ANGLE_SPACING_RAD, 2, azimuth_terms, s);
-    if (!clear || s->elevation.last < 0) {
-        ss_sun_table_fill(&s->air_mass, NAN, NAN, AIR_MASS_SPACING, 1, transmittance, s);
+    /* Cells' suns: SS_SUN_TABLE_NODES intervals centred on the centre's.
+     * One sun for every cell: a lattice that starts on it, whose first node
+     * holds its exact terms. */
+    float h_origin = h0_deg ? (float)(h_step - ANGLE_WINDOW_BELOW * (double)ELEVATION_SPACING_RAD)
+                            : h_step;
+    float a_step = az_step_deg * rad;
+    float a_origin = az_deg ? (float)(a_step - ANGLE_WINDOW_BELOW * (double)AZIMUTH_SPACING_RAD)
+                            : a_step;
+    ss_sun_table_fill(&s->elevation, h_origin, ELEVATION_SPACING_RAD,
+                      h0_deg ? SS_SUN_TABLE_NODES : 1, h_lo, h_hi, 4, elevation_terms, s);
+    ss_sun_table_fill(&s->azimuth, a_origin, AZIMUTH_SPACING_RAD, az_deg ? SS_SUN_TABLE_NODES : 1,
+                      a_lo, a_hi, 2, azimuth_terms, s);
+    float m_ref = ss_esra_air_mass_sea_level(h_step > 0.0f ? h_step : 0.0f);
+    if (!clear || s->elevation.last < 0 || !(m_ref > 0.0f)) {
+        ss_sun_table_fill(&s->air_mass, NAN, 1.0f, 0, NAN, NAN, 1, transmittance, s);
         return;
     }
     /* The air mass falls as the sun rises: its range over the table's nodes,
@@ -123,10 +150,15 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     }
     m_lo *= pressure_lo;
     m_hi *= pressure_hi;
-    /* The transmittance steps where the Rayleigh thickness changes form:
-     * a table spanning that air mass ends there, and the air masses beyond
-     * are evaluated exactly. */
-    if (m_lo <= SS_ESRA_RAYLEIGH_SPLIT_M && m_hi > SS_ESRA_RAYLEIGH_SPLIT_M)
-        m_hi = SS_ESRA_RAYLEIGH_SPLIT_M;
-    ss_sun_table_fill(&s->air_mass, m_lo, m_hi, AIR_MASS_SPACING * m_hi, 1, transmittance, s);
+    /* The window on the lattice of multiples of the spacing. The
+     * transmittance steps where the Rayleigh thickness changes form, so the
+     * window ends at the last node below that air mass, and the air masses
+     * beyond are evaluated exactly. */
+    float spacing = AIR_MASS_SPACING * m_ref;
+    double k_origin = floor(m_ref / (double)spacing) - AIR_MASS_WINDOW_BELOW;
+    double k_split = floor(SS_ESRA_RAYLEIGH_SPLIT_M / (double)spacing);
+    /* (one node short of it, whatever the origin's rounding) */
+    int window = (int)fmin(SS_SUN_TABLE_NODES, k_split - k_origin - 1.0);
+    ss_sun_table_fill(&s->air_mass, (float)(k_origin * spacing), spacing, window, m_lo, m_hi, 1,
+                      transmittance, s);
 }

@@ -6,11 +6,11 @@
  * the beam transmittance. Evaluated at nodes across the step's range and
  * interpolated linearly, a cell costs no transcendental call. The nodes lie
  * close enough that interpolation errs by under 1e-6 relative
- * (tests/test_sun_table, doc/insolation.md); a value outside its table, or
- * a range too wide for one, is evaluated exactly. With one sun for every
- * cell the elevation and azimuth tables are one node and their terms the
- * exact ones; the transmittance is still tabulated over the cells' air
- * pressures. */
+ * (tests/test_sun_table, doc/insolation.md); a value beyond the step's
+ * window of nodes is evaluated exactly. The nodes lie on a lattice around
+ * the step's centre, the same for every band, so that bands give the
+ * whole grid's values to the bit. With one sun for every cell a node lies
+ * on it: its terms are the exact ones. */
 #ifndef SS_SUN_TABLE_H
 #define SS_SUN_TABLE_H
 
@@ -21,41 +21,48 @@
 #define SS_SUN_TABLE_NODES 1024 /* the most intervals a table holds */
 #define SS_SUN_TABLE_TERMS 4   /* the most functions tabulated together */
 
-/* Functions of one variable, tabulated at nodes lo, lo + 1/scale, ...;
- * last is the last node: 0 holds the values at lo alone, -1 no table. */
+/* Functions of one variable, tabulated on a lattice: node k lies at
+ * origin + k / scale, and the table holds nodes first to first + last
+ * (last -1: no table). The origin and spacing are the step's, never the
+ * band's, and where a value lies on the lattice depends on them alone: so
+ * a cell's terms are the same to the bit in any band and in the whole
+ * grid. */
 typedef struct {
-    float lo, scale;
-    int last, terms;
+    float origin, scale;
+    int first, last, terms;
     float node[(SS_SUN_TABLE_NODES + 1) * SS_SUN_TABLE_TERMS];
 } ss_sun_table;
 
 /* The tabulated functions' values at x, into terms[]. */
 typedef void (*ss_sun_table_fn)(float x, const void *user, float *terms);
 
-/* Tabulates fn over [lo, hi] with nodes at most spacing apart; no table
- * where that takes more than SS_SUN_TABLE_NODES intervals. */
-void ss_sun_table_fill(ss_sun_table *t, float lo, float hi, float spacing, int terms,
-                       ss_sun_table_fn fn, const void *user);
+/* Tabulates fn on the lattice of nodes origin + k * spacing, for the
+ * nodes k from 0 to window (at most SS_SUN_TABLE_NODES: the step's window)
+ * that the values in [lo, hi] (the band's) need; no table where there are
+ * none. */
+void ss_sun_table_fill(ss_sun_table *t, float origin, float spacing, int window, float lo,
+                       float hi, int terms, ss_sun_table_fn fn, const void *user);
+
+/* Where x lies on t's lattice: node (int)p, and the fraction p - (int)p
+ * towards the next (exact: p lies within [0, 2^23) where a table holds
+ * it). */
+static inline float ss_sun_table_position(const ss_sun_table *t, float x)
+{
+    return (x - t->origin) * t->scale;
+}
 
 /* The functions at x, linear between the nodes; 0 where the table does
  * not hold x (the caller evaluates exactly). */
 static inline int ss_sun_table_at(const ss_sun_table *t, float x, float *terms)
 {
-    if (t->last <= 0) {
-        if (t->last < 0 || x != t->lo)
-            return 0;
-        for (int k = 0; k < t->terms; ++k)
-            terms[k] = t->node[k];
-        return 1;
-    }
-    float p = (x - t->lo) * t->scale;
-    if (!(p >= 0.0f && p <= (float)t->last))
+    float p = ss_sun_table_position(t, x);
+    if (!(p >= (float)t->first && p < (float)(t->first + t->last)))
         return 0;
-    int i = (int)p < t->last ? (int)p : t->last - 1;
-    float f = p - (float)i;
-    const float *a = t->node + (size_t)i * t->terms, *b = a + t->terms;
-    for (int k = 0; k < t->terms; ++k)
-        terms[k] = a[k] + f * (b[k] - a[k]);
+    int k = (int)p;
+    float f = p - (float)k;
+    const float *a = t->node + (size_t)(k - t->first) * t->terms, *b = a + t->terms;
+    for (int j = 0; j < t->terms; ++j)
+        terms[j] = a[j] + f * (b[j] - a[j]);
     return 1;
 }
 
@@ -69,12 +76,13 @@ typedef struct {
     int clear;
 } ss_step_sun;
 
-/* The tables for a step whose cells' suns (true elevation and grid
- * azimuth, degrees) are h0_deg[c] and az_deg[c] over n cells, or
- * h0_step_deg and az_step_deg for all where those are NULL; the cells' air
- * pressure factors span [pressure_lo, pressure_hi]. A clear sky tabulates
- * the sun above the horizontal alone, a weather record's sky its sines and
- * cosines alone. */
+/* The tables for a step whose centre's sun (true elevation and grid
+ * azimuth, degrees) is h0_step_deg and az_step_deg, and whose cells' suns
+ * are h0_deg[c] and az_deg[c] over n cells, or the centre's for all where
+ * those are NULL; the cells' air pressure factors span [pressure_lo,
+ * pressure_hi]. The lattices lie around the centre's sun, so every band of
+ * a step gets the same values. A clear sky tabulates the sun above the
+ * horizontal alone, a weather record's sky its sines and cosines alone. */
 void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
                       float h0_step_deg, float az_step_deg, float linke, int clear,
                       float pressure_lo, float pressure_hi);
@@ -88,9 +96,8 @@ static inline ss_cell_sun ss_step_sun_at(const ss_step_sun *s, const ss_cell_ter
     ss_cell_sun sun;
     if (!ss_sun_table_at(&s->elevation, h0, e))
         return ss_cell_sun_exact(t, h0, az, s->linke, s->clear);
-    /* A sun near the zenith spreads over degrees of azimuth: its sine and
-     * cosine alone are then computed per cell (sun_table.c says why the
-     * table is not made coarser). */
+    /* A sun near the zenith spreads over tens of degrees of azimuth: beyond
+     * the table's window its sine and cosine alone are computed per cell. */
     if (!ss_sun_table_at(&s->azimuth, az, a)) {
         a[0] = sinf(az);
         a[1] = cosf(az);
