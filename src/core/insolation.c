@@ -188,11 +188,7 @@ static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_step_sun *ta
     float az = (l->az_deg ? l->az_deg[c] : l->az_step_deg) * rad;
     float h0 = (l->h0_deg ? l->h0_deg[c] : l->h0_step_deg) * rad;
     float app = l->app_deg ? l->app_deg[c] : l->app_step_deg;
-    float horizon = l->swept     ? l->swept[c]
-                    : l->stored0 ? ((1.0f - l->stored_t) * l->stored0[c] +
-                                    l->stored_t * l->stored1[c]) /
-                                       SS_HORIZON_SCALE
-                                 : -90.0f;
+    float horizon = ss_lane_horizon(l, c);
     ss_cell_sun at = ss_step_sun_at(tables, t, h0, az);
     return l->real_sky ? ss_cell_step_weather(t, &at, app, horizon, &l->rec, l->sky, l->dt)
                        : ss_cell_step_of(t, &at, app, horizon, l->g0, l->albedo, l->dt);

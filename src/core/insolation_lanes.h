@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "insolation_cell.h"
+#include "insolation_internal.h"
 #include "sun_table.h"
 
 #define SS_LANE_CELLS 256 /* cells a run holds at most */
@@ -46,6 +47,18 @@ typedef struct {
     ss_sky_parts sky;
     float *beam, *diffuse, *reflected, *global, *sun_hours, *month; /* per cell */
 } ss_lane_step;
+
+/* Cell c's horizon in the sun's azimuth (degrees) as the step gives it:
+ * swept, blended between the two stored directions, or none (-90). */
+static inline float ss_lane_horizon(const ss_lane_step *s, size_t c)
+{
+    if (s->swept)
+        return s->swept[c];
+    if (s->stored0)
+        return ((1.0f - s->stored_t) * s->stored0[c] + s->stored_t * s->stored1[c]) /
+               SS_HORIZON_SCALE;
+    return -90.0f;
+}
 
 /* What became of the run's cells: their global (Wh/m^2; 0 where a cell
  * adds nothing or is left to the caller), for the outputs that take it. */

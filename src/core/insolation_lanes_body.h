@@ -109,20 +109,9 @@ void SS_LANE_ENTRY(const ss_lane_step *s, const float *own_z, const ss_cell_term
     const float *h0 = per_cell(s->h0_deg, c0, n, s->h0_step_deg, h0_fill);
     const float *az = per_cell(s->az_deg, c0, n, s->az_step_deg, az_fill);
     const float *app = per_cell(s->app_deg, c0, n, s->app_step_deg, app_fill);
-    /* The horizon as steps_direction takes it (insolation.c). */
-    if (s->swept) {
-        for (int j = 0; j < n; ++j)
-            horizon[j] = s->swept[c0 + j];
-    } else if (s->stored0) {
 #pragma omp simd
-        for (int j = 0; j < n; ++j)
-            horizon[j] = ((1.0f - s->stored_t) * s->stored0[c0 + j] +
-                          s->stored_t * s->stored1[c0 + j]) /
-                         SS_HORIZON_SCALE;
-    } else {
-        for (int j = 0; j < n; ++j)
-            horizon[j] = -90.0f;
-    }
+    for (int j = 0; j < n; ++j)
+        horizon[j] = ss_lane_horizon(s, c0 + (size_t)j);
     float no_month[SS_LANE_CELLS] = {0};
     float *month = s->month ? s->month + c0 : no_month;
     if (s->real_sky)
