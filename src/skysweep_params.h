@@ -79,6 +79,15 @@ typedef struct {
 SS_API void ss_sun_params_init(ss_sun_params *p);
 /* SPA's parameters from the sun's. */
 SS_API void ss_sun_params_spa(const ss_sun_params *p, ss_spa_params *spa);
+/* The line model asked for (SS_LINES_AUTO: the planner's choice). */
+SS_API ss_line_model ss_sweep_params_lines(const ss_sweep_params *p);
+/* What the planner is asked for a sweeping product: the sweep's tolerances,
+ * curvature, true north, refraction, directions and lines, and the sun per
+ * cell from sun (NULL: one sun for the grid), as the parameters give them.
+ * The caller adds the product and what the job adds (its SVF definition,
+ * radius, steps, weather). */
+SS_API void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_params *sun,
+                                    ss_plan_request *req);
 
 /* ---- sky-view factor ("svf") and openness ("openness") ------------------------ */
 

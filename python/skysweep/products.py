@@ -17,12 +17,39 @@ from ._context import ArgumentError, context
 from ._grid import Grid, out_buffer
 from ._lib import CONST, default, ffi, lib, option
 
-_SWITCH = {"auto": -1, "on": 1, "off": 0}
-_LINES = {"auto": lib.SS_LINES_AUTO, "interpolated": lib.SS_LINES_INTERPOLATED,
-          "digital": lib.SS_LINES_DIGITAL, "box": lib.SS_LINES_BOX}
-#: The CLI's --definition choices as library definitions.
-_SVF_DEFINITIONS = {"geometric": lib.SS_SVF_DEF_GEOMETRIC, "radiative": lib.SS_SVF_DEF_TILTED,
-                    "horizontal": lib.SS_SVF_DEF_HORIZONTAL}
+
+
+def _choice(command, name, given):
+    """The index of a choice among the table's words (the given one, or the
+    default), which is how the library's parameter structs hold it."""
+    return option(command, name.replace("_", "-"))["choices"].index(
+        _value(command, name, given))
+
+
+def _sweep_params(command, kw):
+    """The library's sweep parameters (skysweep_params.h) from keywords:
+    choices as their indices, north as the grid's (an array has no place)."""
+    p = ffi.new("ss_sweep_params *")
+    p.directions = _value(command, "directions", kw.get("directions")) or 0
+    p.offset_deg = _value(command, "offset", kw.get("offset"))
+    p.north = CONST["SS_NORTH_GRID"]
+    p.curvature = _choice(command, "curvature", kw.get("curvature"))
+    p.refraction_k = _value(command, "refraction", kw.get("refraction"))
+    p.earth_radius_m = _value(command, "earth_radius", kw.get("earth_radius")) or 0.0
+    p.horizon_tolerance_deg = _value(command, "horizon_tolerance", kw.get("horizon_tolerance"))
+    p.svf_tolerance = _value(command, "svf_tolerance", kw.get("svf_tolerance"))
+    p.sun_tolerance_deg = default(command, "sun-tolerance")
+    p.lines = _choice(command, "lines", kw.get("lines"))
+    p.box_lines = _value(command, "box_lines", kw.get("box_lines"))
+    return p
+
+
+def _svf_definition(definition):
+    """The library's SVF definition for a --definition word, as its table maps it."""
+    p = ffi.new("ss_svf_params *")
+    p.definition = _choice("svf", "definition", definition)
+    return lib.ss_svf_params_term(p)
+
 
 #: Each sweeping function's options shared with every sweeping command.
 SWEEP_OPTIONS = ("directions", "offset", "curvature", "refraction", "earth_radius", "lines",
@@ -63,26 +90,15 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
            radius=0.0):
     """Sweep options (and where asked the plan) for a product, as the CLI's
     job_plan makes them for a DEM without a place."""
-    directions = _value(command, "directions", kw.get("directions"))
-    refraction = _value(command, "refraction", kw.get("refraction"))
-    earth_radius = _value(command, "earth_radius", kw.get("earth_radius"))
+    params = _sweep_params(command, kw)
     place = ffi.new("ss_place *")
     place.diagonal_m = math.hypot(grid.shape[1] * grid.cell_size[0],
                                   grid.shape[0] * grid.cell_size[1])
-    place.earth_radius_m = earth_radius or CONST["SS_EARTH_RADIUS_MEAN_M"]
+    place.earth_radius_m = params.earth_radius_m or CONST["SS_EARTH_RADIUS_MEAN_M"]
     req = ffi.new("ss_plan_request *")
+    lib.ss_sweep_params_request(params, ffi.NULL, req)
     req.product = product
-    req.horizon_tolerance_deg = _value(command, "horizon_tolerance", kw.get("horizon_tolerance"))
-    req.svf_tolerance = _value(command, "svf_tolerance", kw.get("svf_tolerance"))
-    req.sun_tolerance_deg = default(command, "sun-tolerance")
-    req.curvature = _SWITCH[_value(command, "curvature", kw.get("curvature"))]
-    req.true_north = lib.SS_OFF
-    req.sun_per_cell = lib.SS_OFF
-    req.refraction_k = refraction
-    req.directions = directions or 0
     req.svf_definition = svf_definition
-    req.lines = _LINES[_value(command, "lines", kw.get("lines"))]
-    req.box_lines = _value(command, "box_lines", kw.get("box_lines"))
     req.radius_m = radius
     req.shadow_mode = shadow_mode
     req.n_steps = n_steps
@@ -91,8 +107,8 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     ctx.check(lib.ss_plan_make(ctx.ptr, grid.ptr, place, req, plan))
     opt = ffi.new("ss_sweep_options *")
     lib.ss_sweep_options_default(opt)
-    opt.offset_deg = _value(command, "offset", kw.get("offset"))
-    lib.ss_plan_sweep_options(plan, place, refraction, opt)
+    opt.offset_deg = params.offset_deg
+    lib.ss_plan_sweep_options(plan, place, params.refraction_k, opt)
     ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
     ctx.check(lib.ss_ctx_apply_plan(ctx.ptr, plan))  # --device auto: the plan's device
     return (opt, plan) if with_plan else opt
@@ -117,7 +133,7 @@ def svf(dem, cell_size=None, *, definition=None, radius=None, nodata=None, **kw)
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     definition = _value("svf", "definition", definition)
     radius = _value("svf", "radius", radius)
-    code = _SVF_DEFINITIONS[definition]
+    code = _svf_definition(definition)
     opt = _sweep(ctx, grid, "svf", lib.SS_PRODUCT_SVF, kw, code, radius=radius)
     out = grid.new_plane()
     if radius > 0:
@@ -261,8 +277,7 @@ def plan(dem, cell_size=None, *, product="svf", definition=None, nodata=None, **
     if product not in _PRODUCTS:
         raise ValueError(f"product must be one of {', '.join(_PRODUCTS)}, not {product!r}")
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    code = _SVF_DEFINITIONS[_value("svf", "definition", definition)] if product == "svf" else \
-        lib.SS_SVF_DEF_GEOMETRIC
+    code = _svf_definition(definition) if product == "svf" else lib.SS_SVF_DEF_GEOMETRIC
     _, made = _sweep(ctx, grid, product, _PRODUCTS[product], kw, code, with_plan=True)
     size = lib.ss_plan_format(made, 1, ffi.NULL, 0) + 1
     text = ffi.new("char[]", size)

@@ -6,7 +6,7 @@ import numpy as np
 from ._context import context
 from ._grid import Grid
 from ._lib import CONST, ffi, lib
-from .products import _LINES, _value
+from .products import _sweep_params, _value
 
 _FIELDS = ("azimuth", "elevation", "distance", "cast_col", "cast_row", "cast_height")
 
@@ -37,7 +37,7 @@ def site_horizon(dem, cell_size=None, *, col, row, height=None, step=None, curva
     lib.ss_sweep_options_default(opt)
     opt.directions = int(round(n))
     opt.offset_deg = 0.0
-    asked = _LINES[_value("horizon", "lines", lines)]
+    asked = lib.ss_sweep_params_lines(_sweep_params("horizon", {"lines": lines}))
     opt.lines = lib.SS_LINES_INTERPOLATED if asked == lib.SS_LINES_AUTO else asked
     if _value("horizon", "curvature", curvature) == "on":
         opt.earth_radius_m = _value("horizon", "earth_radius", earth_radius) or \

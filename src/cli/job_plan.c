@@ -7,11 +7,6 @@
 
 #include "run.h"
 
-static ss_switch switch_of(int choice_auto_on_off)
-{
-    return choice_auto_on_off == 0 ? SS_AUTO : choice_auto_on_off == 1 ? SS_ON : SS_OFF;
-}
-
 int job_plan(sweep_job *job, const common_settings *common, ss_product product, int n_steps,
              const double *step_unix_s, ss_shadow_mode shadow_mode)
 {
@@ -25,20 +20,9 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
         place.diagonal_m = sqrt(w * w + h * h);
     }
     ss_plan_request req = {.weather = job->weather};
+    ss_sweep_params_request(&common->sweep, &common->sun, &req);
     req.product = product;
-    req.horizon_tolerance_deg = common->sweep.horizon_tolerance_deg;
-    req.svf_tolerance = common->sweep.svf_tolerance;
-    req.sun_tolerance_deg = common->sweep.sun_tolerance_deg;
-    req.curvature = switch_of(common->sweep.curvature);
-    req.true_north = common->sweep.north == SS_NORTH_AUTO   ? SS_AUTO
-                     : common->sweep.north == SS_NORTH_TRUE ? SS_ON
-                                                   : SS_OFF;
-    req.sun_per_cell = switch_of(common->sun.sun_per_cell);
-    req.refraction_k = common->sweep.refraction_k;
-    req.directions = common->sweep.directions;
     req.svf_definition = job->svf_definition;
-    req.lines = run_lines_asked(common);
-    req.box_lines = common->sweep.box_lines;
     req.radius_m = job->radius_m;
     req.shadow_mode = shadow_mode;
     req.n_steps = n_steps;

@@ -327,7 +327,7 @@ double run_earth_radius(const common_settings *common, const ss_dem_frame *frame
 
 ss_line_model run_lines_asked(const common_settings *common)
 {
-    return (ss_line_model)(common->sweep.lines - 1); /* the choice's words start with auto */
+    return ss_sweep_params_lines(&common->sweep);
 }
 
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,

@@ -221,6 +221,32 @@ void ss_sun_params_spa(const ss_sun_params *p, ss_spa_params *spa)
     spa->temperature_c = p->temperature_c;
 }
 
+/* "auto|on|off" as the planner's switch. */
+static ss_switch switch_of(int choice)
+{
+    return choice == 0 ? SS_AUTO : choice == 1 ? SS_ON : SS_OFF;
+}
+
+ss_line_model ss_sweep_params_lines(const ss_sweep_params *p)
+{
+    return (ss_line_model)(p->lines - 1); /* the choices' words start with auto */
+}
+
+void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_params *sun,
+                             ss_plan_request *req)
+{
+    req->horizon_tolerance_deg = p->horizon_tolerance_deg;
+    req->svf_tolerance = p->svf_tolerance;
+    req->sun_tolerance_deg = p->sun_tolerance_deg;
+    req->curvature = switch_of(p->curvature);
+    req->true_north = p->north == SS_NORTH_AUTO ? SS_AUTO : p->north == SS_NORTH_TRUE ? SS_ON : SS_OFF;
+    req->sun_per_cell = sun ? switch_of(sun->sun_per_cell) : SS_OFF;
+    req->refraction_k = p->refraction_k;
+    req->directions = p->directions;
+    req->lines = ss_sweep_params_lines(p);
+    req->box_lines = p->box_lines;
+}
+
 ss_sky_term ss_svf_params_term(const ss_svf_params *p)
 {
     /* In the choices' order. */
