@@ -256,7 +256,7 @@ gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/big.asc" "$work/big.tif"
 # AddressSanitizer slows those passes two to three times: the sanitizer
 # build gets 3 s (its CI run once took 1.64 s to stop a PoCL horizon).
 stop_ms=1500
-ldd "$(dirname "$SKYSWEEP")/.libs/skysweep" 2>/dev/null | grep -q libasan && stop_ms=3000
+grep -qs '^#define HAVE_SANITIZERS 1' config.h && stop_ms=3000
 signal_run() { # SIG DEVICE ARGS...
     local sig=$1 device=$2
     shift 2

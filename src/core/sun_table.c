@@ -26,12 +26,17 @@
 #define ELEVATION_SPACING_RAD 3e-5f
 #define AZIMUTH_SPACING_RAD 1e-3f
 #define AIR_MASS_SPACING 5e-4f
-/* The windows, in nodes: SS_SUN_TABLE_NODES intervals centred on the
- * centre's sun for the angles; for the air mass, from 0.6 to 1.112 times
- * the centre's at sea level (the cells' air pressure down to 0.6 of sea
- * level's, at 4000 m, and lower suns than the centre's), up to where
- * Rayleigh's thickness changes form. */
-#define ANGLE_WINDOW_BELOW (SS_SUN_TABLE_NODES / 2)
+/* The windows, in intervals, centred on the centre's sun for the angles:
+ * elevations within 3.5 degrees of it (cells up to about 390 km from the
+ * DEM's centre), azimuths within 29 degrees. A cell's offset from the
+ * window's start (x - origin) rounds to a float, so a wider azimuth window
+ * would lose precision (2.4e-7 rad at 117 degrees, against 6e-8). For the
+ * air mass, from 0.6 to 2.6 times the centre's at sea level (the cells'
+ * air pressure down to 0.6 of sea level's, at 4000 m, and lower suns than
+ * the centre's), up to where Rayleigh's thickness changes form. A band
+ * fills the nodes its cells need, so wide windows cost only memory. */
+#define ELEVATION_WINDOW SS_SUN_TABLE_NODES
+#define AZIMUTH_WINDOW 1024
 #define AIR_MASS_WINDOW_BELOW 800
 
 void ss_sun_table_fill(ss_sun_table *t, float origin, float spacing, int window, float lo,
@@ -126,14 +131,14 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     /* Cells' suns: SS_SUN_TABLE_NODES intervals centred on the centre's.
      * One sun for every cell: a lattice that starts on it, whose first node
      * holds its exact terms. */
-    float h_origin = h0_deg ? (float)(h_step - ANGLE_WINDOW_BELOW * (double)ELEVATION_SPACING_RAD)
-                            : h_step;
+    float h_origin =
+        h0_deg ? (float)(h_step - ELEVATION_WINDOW / 2 * (double)ELEVATION_SPACING_RAD) : h_step;
     float a_step = az_step_deg * rad;
-    float a_origin = az_deg ? (float)(a_step - ANGLE_WINDOW_BELOW * (double)AZIMUTH_SPACING_RAD)
-                            : a_step;
-    ss_sun_table_fill(&s->elevation, h_origin, ELEVATION_SPACING_RAD,
-                      h0_deg ? SS_SUN_TABLE_NODES : 1, h_lo, h_hi, 4, elevation_terms, s);
-    ss_sun_table_fill(&s->azimuth, a_origin, AZIMUTH_SPACING_RAD, az_deg ? SS_SUN_TABLE_NODES : 1,
+    float a_origin =
+        az_deg ? (float)(a_step - AZIMUTH_WINDOW / 2 * (double)AZIMUTH_SPACING_RAD) : a_step;
+    ss_sun_table_fill(&s->elevation, h_origin, ELEVATION_SPACING_RAD, h0_deg ? ELEVATION_WINDOW : 1,
+                      h_lo, h_hi, 4, elevation_terms, s);
+    ss_sun_table_fill(&s->azimuth, a_origin, AZIMUTH_SPACING_RAD, az_deg ? AZIMUTH_WINDOW : 1,
                       a_lo, a_hi, 2, azimuth_terms, s);
     float m_ref = ss_esra_air_mass_sea_level(h_step > 0.0f ? h_step : 0.0f);
     if (!clear || s->elevation.last < 0 || !(m_ref > 0.0f)) {

@@ -9,8 +9,10 @@
  * (tests/test_sun_table, doc/insolation.md); a value beyond the step's
  * window of nodes is evaluated exactly. The nodes lie on a lattice around
  * the step's centre, the same for every band, so that bands give the
- * whole grid's values to the bit. With one sun for every cell a node lies
- * on it: its terms are the exact ones. */
+ * whole grid's values to the bit, for every cell that adds light (a clear
+ * sky's suns below the horizontal add nothing, and are left out of the
+ * range). With one sun for every cell a node lies on it: its terms are the
+ * exact ones. */
 #ifndef SS_SUN_TABLE_H
 #define SS_SUN_TABLE_H
 
@@ -18,15 +20,15 @@
 
 #include "insolation_cell.h"
 
-#define SS_SUN_TABLE_NODES 1024 /* the most intervals a table holds */
+#define SS_SUN_TABLE_NODES 4096 /* the most intervals a table holds */
 #define SS_SUN_TABLE_TERMS 4   /* the most functions tabulated together */
 
 /* Functions of one variable, tabulated on a lattice: node k lies at
  * origin + k / scale, and the table holds nodes first to first + last
  * (last -1: no table). The origin and spacing are the step's, never the
  * band's, and where a value lies on the lattice depends on them alone: so
- * a cell's terms are the same to the bit in any band and in the whole
- * grid. */
+ * the terms of a cell whose value the band's range holds are the same to
+ * the bit in any band and in the whole grid. */
 typedef struct {
     float origin, scale;
     int first, last, terms;
@@ -82,7 +84,8 @@ typedef struct {
  * those are NULL; the cells' air pressure factors span [pressure_lo,
  * pressure_hi]. The lattices lie around the centre's sun, so every band of
  * a step gets the same values. A clear sky tabulates the sun above the
- * horizontal alone, a weather record's sky its sines and cosines alone. */
+ * horizontal alone (below it a cell adds nothing, whatever its terms), a
+ * weather record's sky its sines and cosines alone. */
 void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
                       float h0_step_deg, float az_step_deg, float linke, int clear,
                       float pressure_lo, float pressure_hi);
