@@ -116,6 +116,11 @@ typedef struct {
 /* The shading's options, the blend's radius from cells to metres. */
 SS_API void ss_hillshade_params_options(const ss_hillshade_params *p, double cell_size_m,
                                         ss_hillshade_options *out);
+/* What the planner is asked to plan: plain shading reads no horizons
+ * (SS_PRODUCT_HILLSHADE); cast shadows sweep along the light
+ * (SS_PRODUCT_SHADOW); sky view and the VAT blend sweep around the sky
+ * (SS_PRODUCT_SVF). */
+SS_API ss_product ss_hillshade_params_product(const ss_hillshade_params *p);
 
 /* ---- insolation ("insolation") ------------------------------------------------- */
 

@@ -128,6 +128,15 @@ class Grid:
     def ptr(self):
         return self._grid
 
+    def source(self):
+        """The grid as the row-wise calls (ss_*_rows) take it: held whole,
+        in one band. The grid must outlive it."""
+        grid = self._grid
+        return ffi.new("ss_source *", {"width": grid.width, "height": grid.height,
+                                       "cell_x_m": grid.cell_x_m, "cell_y_m": grid.cell_y_m,
+                                       "z_origin_m": ffi.addressof(grid[0], "z_origin_m"),
+                                       "z": grid.z})
+
     def new_plane(self):
         return np.empty(self.shape, dtype=np.float32)
 

@@ -7,41 +7,23 @@ import numpy as np
 
 from ._context import ArgumentError
 from ._lib import ffi, lib
-from .products import SWEEP_OPTIONS, _begin, _checked, _doc_options, _sweep, _value
+from .products import SWEEP_OPTIONS, _begin, _doc_options, _params, _sweep, _value
 from .sun import unix_seconds
 
-_SHADOW = {"auto": lib.SS_SHADOW_AUTO, "exact": lib.SS_SHADOW_EXACT,
-           "interpolated": lib.SS_SHADOW_INTERPOLATED, "cumulative": lib.SS_SHADOW_CUMULATIVE}
 _PARTS = ("global", "beam", "diffuse", "reflected", "sun_hours")
 
 
-def _linke_by_month(linke):
-    values = [float(v) for v in str(linke).split(",")] if isinstance(linke, str) else \
-        [float(v) for v in np.atleast_1d(linke)]
-    if len(values) not in (1, 12) or not all(0.5 <= v <= 10 for v in values):
-        raise ArgumentError(f"--linke expects one turbidity or twelve (January..December), "
-                            f"each 0.5 to 10, not {linke!r}", 2)
-    return values * 12 if len(values) == 1 else values
-
-
-def _surface(surface):
-    out = ffi.new("ss_surface *")
-    if surface in (None, "cell"):
-        out.kind = lib.SS_SURFACE_CELL
-    elif surface == "horizontal":
-        out.kind = lib.SS_SURFACE_HORIZONTAL
-    else:
-        try:
-            tilt, azimuth = (float(v) for v in (surface.split(",") if isinstance(surface, str)
-                                                else surface))
-        except (TypeError, ValueError):
-            raise ArgumentError("--surface expects cell, horizontal or TILT,AZIMUTH, not "
-                                f"{surface!r}", 2) from None
-        if not (0 <= tilt <= 90 and -360 <= azimuth <= 360):
-            raise ArgumentError(f"--surface expects tilt 0 to 90 and azimuth -360 to 360, not "
-                                f"{surface!r}", 2)
-        out.kind, out.tilt_deg, out.azimuth_deg = lib.SS_SURFACE_FIXED, tilt, azimuth
-    return out
+def _clear_sky_params(ctx, given):
+    """The library's insolation parameters from keywords (as --linke takes
+    them, or a sequence of one or twelve turbidities), and the Linke
+    turbidity of each month they give."""
+    linke = given.get("linke")
+    if linke is not None and not isinstance(linke, str):
+        given = dict(given, linke=",".join(str(float(v)) for v in np.atleast_1d(linke)))
+    params, texts = _params("insolation", "insolation", given)
+    by_month = ffi.new("double[12]")
+    ctx.check(lib.ss_insolation_params_linke(ctx.ptr, params, by_month))
+    return params, texts, by_month
 
 
 def _steps(ctx, time, step):
@@ -91,20 +73,19 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
     insolation_file (--weather, --pv).
     """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    step = _value("insolation", "step", step)
-    linke = _linke_by_month(_value("insolation", "linke", linke))
-    albedo = _value("insolation", "albedo", albedo)
-    shadow = _value("insolation", "shadow", shadow)
-    if shadow == "cumulative":
+    params, texts, linke = _clear_sky_params(
+        ctx, {"step": step, "linke": linke, "albedo": albedo, "shadow": shadow,
+              "solar_constant": solar_constant, "surface": surface})
+    shadow = lib.ss_insolation_params_shadow(params)
+    if shadow == lib.SS_SHADOW_CUMULATIVE:
         raise ArgumentError("--shadow cumulative bins the suns of weather records: use "
                             "insolation_file with --weather", 2)
-    solar_constant = _value("insolation", "solar_constant", solar_constant)
     temperature = _value("insolation", "temperature", temperature)
     latitude, longitude = float(latitude), float(longitude)
-    mids, hours = _steps(ctx, time, step)
+    mids, hours = _steps(ctx, time, ffi.string(params.step).decode())
     steps = ffi.new("double[]", list(mids))
     opt, plan = _sweep(ctx, grid, "insolation", lib.SS_PRODUCT_INSOLATION, kw,
-                       n_steps=len(mids), step_unix_s=steps, shadow_mode=_SHADOW[shadow],
+                       n_steps=len(mids), step_unix_s=steps, shadow_mode=shadow,
                        with_plan=True)
     p = ffi.new("ss_spa_params *")
     lib.ss_spa_params_default(p)
@@ -112,24 +93,20 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
     p.pressure_hpa = float(pressure) / 100.0
     p.temperature_c = temperature
     p.elevation_m = grid.ptr.z_origin_m if altitude is None else float(altitude)
-    # Linke by the UTC month of a step's middle (proleptic Gregorian: the CLI
-    # counts Julian months before 1582).
-    months = np.floor(mids).astype(np.int64).astype("datetime64[s]").astype(
-        "datetime64[M]").astype(np.int64) % 12
     sun = ffi.new("ss_spa_result *")
+    civil = ffi.new("ss_civil_time *")
 
     @ffi.callback("ss_status(ss_ctx *, int, ss_sun_step *, void *)", error=lib.SS_ERR_INTERNAL)
     def sun_at(c, k, out, user):
         status = lib.ss_spa(c, float(mids[k]), latitude, longitude, p, sun)
         if status == 0:
+            lib.ss_civil_from_unix(float(mids[k]), civil)  # Linke by the UTC month, as the CLI
             lib.ss_sun_step_clear_sky(sun, sun.azimuth_deg, opt.grid_north_deg, float(hours[k]),
-                                      linke[months[k]], solar_constant, out)
+                                      linke[civil.month - 1], params.solar_constant, out)
         return status
 
     options = ffi.new("ss_insolation_options *")
-    options.albedo = albedo
-    options.shadow_mode = plan.shadow_mode
-    options.surface = _surface(surface)[0]
+    ctx.check(lib.ss_insolation_params_options(ctx.ptr, params, plan.shadow_mode, options))
     planes = {k: grid.new_plane() for k in _PARTS}
     out = ffi.new("ss_insolation_out *")
     buffers = {k: ffi.from_buffer("float[]", planes[k]) for k in _PARTS}
@@ -137,9 +114,10 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
         setattr(out, k, buffers[k])  # "global" is a Python keyword: no out.global
     ctx.call(lib.ss_insolation, grid.ptr, opt, options, len(mids), sun_at, ffi.NULL, ffi.NULL,
              ffi.NULL, out, progress=kw.get("progress"))
+    del texts  # the parameters' texts, used until here
     units = {"global": "Wh/m2", "beam": "Wh/m2", "diffuse": "Wh/m2", "reflected": "Wh/m2",
              "sun_hours": "h"}
-    shadow_used = {v: k for k, v in _SHADOW.items()}[plan.shadow_mode]
+    shadow_used = ffi.string(lib.ss_shadow_mode_name(plan.shadow_mode)).decode()
     return {k: grid.finish(planes[k], k, {"units": units[k], "shadow": shadow_used,
                                           "steps": len(mids)}) for k in _PARTS}
 

@@ -26,21 +26,45 @@ def _choice(command, name, given):
         _value(command, name, given))
 
 
+def _params(table, command, given):
+    """The library's parameter struct for `table` (``ss_<table>_params``,
+    skysweep_params.h), filled from the library's own table as the command
+    line fills it: each parameter from `given` (keywords, ``-`` written
+    ``_``) or its default, checked against `command`'s options; choices as
+    their indices, flags as 0 or 1, no default as 0. Returns the struct and
+    the texts it points to, which must live as long as it is used."""
+    entries = lib.ss_param_table_named(table.encode()).params
+    struct = ffi.new(f"ss_{table}_params *")
+    base = ffi.cast("char *", struct)
+    texts = []
+    k = 0
+    while entries[k].name != ffi.NULL:
+        entry, k = entries[k], k + 1
+        key = ffi.string(entry.name).decode().replace("-", "_")
+        at = base + entry.offset
+        if entry.type == lib.SS_PARAM_FLAG:
+            ffi.cast("int *", at)[0] = int(bool(given.get(key)))
+            continue
+        value = _value(command, key, given.get(key))
+        if value is None:
+            continue
+        if entry.type == lib.SS_PARAM_CHOICE:
+            ffi.cast("int *", at)[0] = _choice(command, key, value)
+        elif entry.type == lib.SS_PARAM_INT:
+            ffi.cast("int *", at)[0] = value
+        elif entry.type == lib.SS_PARAM_DOUBLE:
+            ffi.cast("double *", at)[0] = value
+        else:
+            texts.append(ffi.new("char[]", str(value).encode()))
+            ffi.cast("char **", at)[0] = texts[-1]
+    return struct, texts
+
+
 def _sweep_params(command, kw):
-    """The library's sweep parameters (skysweep_params.h) from keywords:
-    choices as their indices, north as the grid's (an array has no place)."""
-    p = ffi.new("ss_sweep_params *")
-    p.directions = _value(command, "directions", kw.get("directions")) or 0
-    p.offset_deg = _value(command, "offset", kw.get("offset"))
+    """The library's sweep parameters from keywords, north as the grid's
+    (an array has no place)."""
+    p, _ = _params("sweep", command, kw)
     p.north = CONST["SS_NORTH_GRID"]
-    p.curvature = _choice(command, "curvature", kw.get("curvature"))
-    p.refraction_k = _value(command, "refraction", kw.get("refraction"))
-    p.earth_radius_m = _value(command, "earth_radius", kw.get("earth_radius")) or 0.0
-    p.horizon_tolerance_deg = _value(command, "horizon_tolerance", kw.get("horizon_tolerance"))
-    p.svf_tolerance = _value(command, "svf_tolerance", kw.get("svf_tolerance"))
-    p.sun_tolerance_deg = default(command, "sun-tolerance")
-    p.lines = _choice(command, "lines", kw.get("lines"))
-    p.box_lines = _value(command, "box_lines", kw.get("box_lines"))
     return p
 
 
@@ -221,20 +245,48 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, **kw
                                        "sun_elevation": sun_elevation})
 
 
+def _shade(dem, cell_size, nodata, kw, given):
+    """gdaldem's hillshade or RVT's VAT blend (1..255), as `skysweep
+    hillshade` computes it: the library's options from its hillshade table
+    (ss_hillshade_params_options), the planner asked for what they sweep,
+    and the rows of ss_hillshade_rows on the whole grid."""
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    params, _ = _params("hillshade", "hillshade", given)
+    shading = ffi.new("ss_hillshade_options *")
+    lib.ss_hillshade_params_options(params, math.sqrt(grid.cell_size[0] * grid.cell_size[1]),
+                                    shading)
+    opt = _sweep(ctx, grid, "hillshade", lib.ss_hillshade_params_product(params), kw)
+    out = grid.new_plane()
+    width = grid.shape[1]
+
+    @ffi.callback("ss_status(void *, int, int, int, int, const float *)",
+                  error=lib.SS_ERR_INTERNAL)
+    def into_plane(user, output, index, row0, n_rows, values):
+        out[row0:row0 + n_rows] = np.frombuffer(ffi.buffer(values, 4 * n_rows * width),
+                                                np.float32).reshape(n_rows, width)
+        return 0
+
+    ctx.call(lib.ss_hillshade_rows, grid.source(), opt, shading, into_plane, ffi.NULL,
+             progress=kw.get("progress"))
+    return grid, opt, out
+
+
 def hillshade(dem, cell_size=None, *, az=None, alt=None, z=None, alg=None,
-              multidirectional=False, nodata=None, device=None):
+              multidirectional=False, cast_shadows=False, sky_view=None, nodata=None, **kw):
     """Hillshade as gdaldem computes it (1..255): light from azimuth `az` and
     altitude `alt` (degrees), heights scaled by `z`, slope by `alg` "Horn" or
     "ZevenbergenThorne", or gdaldem's multidirectional blend. The names are
-    gdaldem's and the CLI's. The values are the shade before the Byte
-    rounding of the CLI's file (np.rint gives the file's bytes)."""
-    ctx, grid = _begin(dem, cell_size, nodata, {"device": device}, ())
-    az, alt, z = (_value("hillshade", k, v) for k, v in (("az", az), ("alt", alt), ("z", z)))
-    alg = _value("hillshade", "alg", alg)
-    out = grid.new_plane()
-    ctx.call(lib.ss_hillshade, grid.ptr, az, alt, z, int(alg == "ZevenbergenThorne"),
-             int(bool(multidirectional)), out_buffer(out))
-    return grid.finish(out, "hillshade", {"units": "1", "az": az, "alt": alt})
+    gdaldem's and the CLI's. cast_shadows: cells in the light's cast shadows
+    (an exact sweep along it) take 1; sky_view: a weight W in 0..1 blending
+    in (1 - W) shade + W (1 + 254 SVF), geometric SVF over `directions`. The
+    values are the shade before the Byte rounding of the CLI's file (np.rint
+    gives the file's bytes)."""
+    grid, _, out = _shade(dem, cell_size, nodata, kw,
+                          {"az": az, "alt": alt, "z": z, "alg": alg,
+                           "multidirectional": multidirectional, "cast_shadows": cast_shadows,
+                           "sky_view": sky_view})
+    return grid.finish(out, "hillshade", {"units": "1", "az": _value("hillshade", "az", az),
+                                          "alt": _value("hillshade", "alt", alt)})
 
 
 def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, device=None):
@@ -254,13 +306,11 @@ def vat(dem, cell_size=None, *, blend_radius=None, nodata=None, **kw):
     openness from horizons within `blend_radius` cells (RVT's 10; 0:
     unlimited), as `skysweep hillshade --blend vat` computes it (its file
     holds 1 + 254 times this, rounded)."""
-    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    cells = _value("hillshade", "blend_radius", blend_radius)
-    radius_m = cells * math.sqrt(grid.cell_size[0] * grid.cell_size[1])  # as the CLI's
-    opt = _sweep(ctx, grid, "hillshade", lib.SS_PRODUCT_SVF, kw)
-    out = grid.new_plane()
-    ctx.call(lib.ss_vat, grid.ptr, opt, radius_m, out_buffer(out), progress=kw.get("progress"))
-    return grid.finish(out, "vat", {"units": "1", "directions": opt.directions})
+    grid, opt, out = _shade(dem, cell_size, nodata, kw,
+                            {"blend": "vat", "blend_radius": blend_radius})
+    blend = np.where(out == np.float32(CONST["SS_NODATA"]), out, (out - 1.0) / 254.0)
+    return grid.finish(blend.astype(np.float32), "vat", {"units": "1",
+                                                         "directions": opt.directions})
 
 
 _PRODUCTS = {"horizon": lib.SS_PRODUCT_HORIZON, "openness": lib.SS_PRODUCT_HORIZON,
@@ -300,5 +350,5 @@ def _doc_options(function, command, names):
 
 
 for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shadow, "shadow"),
-               (vat, "hillshade"), (plan, "svf")):
+               (hillshade, "hillshade"), (vat, "hillshade"), (plan, "svf")):
     _doc_options(_f, _c, SWEEP_OPTIONS)

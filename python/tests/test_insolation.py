@@ -41,6 +41,22 @@ def test_instants_and_ranges_are_the_same_steps():
         assert same(by_range[part], by_instants[part])
 
 
+def test_twelve_turbidities_take_the_step_month():
+    """Twelve Linke values are read by month: a June run with June's value
+    equals the run with that one value for the year, and differs from one
+    with another June value."""
+    z = rough_dem()
+    run = dict(time="2026-06-21T08:00Z/PT2H", step="PT1H", latitude=45, longitude=8,
+               directions=8)
+    twelve = [2.0] * 12
+    twelve[5] = 4.5
+    by_month = skysweep.insolation(z, 10, linke=twelve, **run)
+    june = skysweep.insolation(z, 10, linke="4.5", **run)
+    other = skysweep.insolation(z, 10, linke=2.0, **run)
+    assert same(by_month["global"], june["global"])
+    assert np.nanmax(np.abs(by_month["beam"] - other["beam"])) > 0
+
+
 def test_the_parts_add_up_and_the_night_is_dark():
     z = rough_dem()
     day = skysweep.insolation(z, 10, time="2026-06-21T00:00Z/P1D", step="PT30M", latitude=45,
@@ -61,6 +77,9 @@ def test_insolation_refuses_what_it_cannot_do():
     with pytest.raises(skysweep.ArgumentError, match="weather"):
         skysweep.insolation(z, 10, time="2026-06-21T00:00Z/P1D", latitude=45, longitude=8,
                             shadow="cumulative")
+    with pytest.raises(skysweep.ArgumentError, match="surface"):
+        skysweep.insolation(z, 10, time="2026-06-21T00:00Z/P1D", latitude=45, longitude=8,
+                            surface=(95, 180))
     with pytest.raises(skysweep.ArgumentError, match="linke"):
         skysweep.insolation(z, 10, time="2026-06-21T00:00Z/P1D", latitude=45, longitude=8,
                             linke=[3, 4])

@@ -67,12 +67,15 @@ def test_shadow_equals_the_cli(cli_run):
 
 
 @pytest.mark.parametrize("options", [{}, {"az": 100, "alt": 20, "z": 2.5},
-                                     {"alg": "ZevenbergenThorne"}, {"multidirectional": True}])
+                                     {"alg": "ZevenbergenThorne"}, {"multidirectional": True},
+                                     {"alt": 12, "cast_shadows": True},
+                                     {"sky_view": 0.4, "directions": 16}])
 def test_hillshade_equals_the_cli(cli_run, options):
     z = rough_dem()
     args = []
     for key, value in options.items():
-        args += [f"--{key}"] if value is True else [f"--{key}", value]
+        flag = "--" + key.replace("_", "-")
+        args += [flag] if value is True else [flag, value]
     assert same(np.rint(skysweep.hillshade(z, 10, **options)),
                 cli_run("hillshade", z, *args)[0])
 
@@ -158,6 +161,22 @@ def test_vat_equals_the_cli(cli_run):
     mine = skysweep.vat(z, 10, directions=16, blend_radius=5)
     theirs = cli_run("hillshade", z, "--blend", "vat", "--directions", 16, "--blend-radius", 5)[0]
     assert same(np.rint(1 + 254 * mine), theirs)
+    with pytest.raises(skysweep.ArgumentError, match="blend-radius"):
+        skysweep.vat(z, 10, blend_radius=-1)
+
+
+def test_cast_shadows_darken_the_shade():
+    """With the light low, the shade's cast-shadow cells take 1 exactly
+    where the shadow call says the cell is in a cast shadow, and keep the
+    plain shade elsewhere."""
+    z = rough_dem()
+    plain = skysweep.hillshade(z, 10, az=250, alt=8)
+    cast = skysweep.hillshade(z, 10, az=250, alt=8, cast_shadows=True)
+    lit = skysweep.shadow(z, 10, sun_azimuth=250, sun_elevation=8)
+    shaded = lit == 0
+    assert shaded.any() and (lit == 1).any()
+    assert np.all(cast[shaded] == 1)
+    assert same(cast[lit == 1], plain[lit == 1])
 
 
 def test_plan_says_what_the_run_does():

@@ -60,11 +60,8 @@ int cmd_hillshade(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
         return rc;
-    /* Plain hillshade reads no horizons; cast shadows and sky view do. */
-    ss_product product = set.hs.cast_shadows                 ? SS_PRODUCT_SHADOW
-                         : set.hs.sky_view > 0 || set.hs.blend ? SS_PRODUCT_SVF
-                                                         : SS_PRODUCT_HILLSHADE;
-    if ((rc = job_plan(&job, &set.common, product, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+    if ((rc = job_plan(&job, &set.common, ss_hillshade_params_product(&set.hs), 0, NULL,
+                       SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
     }

@@ -274,6 +274,13 @@ void ss_hillshade_params_options(const ss_hillshade_params *p, double cell_size_
                                   .radius_m = p->blend_radius_cells * cell_size_m};
 }
 
+ss_product ss_hillshade_params_product(const ss_hillshade_params *p)
+{
+    return p->cast_shadows                  ? SS_PRODUCT_SHADOW
+           : p->sky_view > 0 || p->blend == 1 ? SS_PRODUCT_SVF
+                                             : SS_PRODUCT_HILLSHADE;
+}
+
 ss_shadow_mode ss_insolation_params_shadow(const ss_insolation_params *p)
 {
     /* In the choices' order. */
