@@ -77,6 +77,10 @@ typedef struct {
 } ss_sun_params;
 /* Marks the sun's optional numbers as not given (NAN): before parsing. */
 SS_API void ss_sun_params_init(ss_sun_params *p);
+/* Checks that the sun is given one way: as an instant (*unix_s gets it)
+ * or as an azimuth and an elevation (*unix_s gets NAN). SS_ERR_ARGUMENT,
+ * naming what is missing or doubled, otherwise. */
+SS_API ss_status ss_sun_params_check(ss_ctx *ctx, const ss_sun_params *p, double *unix_s);
 /* SPA's parameters from the sun's. */
 SS_API void ss_sun_params_spa(const ss_sun_params *p, ss_spa_params *spa);
 /* The line model asked for (SS_LINES_AUTO: the planner's choice). */

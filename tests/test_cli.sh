@@ -171,6 +171,13 @@ expect_failure 2 "unknown option '--frobnicate'" -- svf --frobnicate 3 "$dem" "$
 expect_failure 2 "unknown SVF definition" -- svf --definition fancy "$dem" "$work/out/o.tif"
 expect_failure 2 "missing output argument" -- svf "$dem"
 expect_failure 2 "unknown command" -- frobnicate "$dem" "$work/out/o.tif"
+for sun in "--sun-azimuth 100" "--sun-elevation 20" "--time midday" \
+    "--time 2026-06-21T12:00Z --sun-azimuth 100 --sun-elevation 20" ""; do
+    # shellcheck disable=SC2086 # the sun's options, split on purpose
+    expect_failure 2 "shadow with the sun given as '$sun'" -- shadow $sun "$dem" "$work/out/o.tif"
+    [ ! -s "$work/stdout" ]
+    tap_ok $? "shadow with the sun given as '$sun' is refused before the plan is shown"
+done
 expect_failure 2 "output equal to the input" -- svf "$dem" "$dem"
 expect_failure 4 "output in a missing folder" -- svf "$dem" "$work/out/missing/o.tif"
 expect_failure 4 "output under a file" -- svf "$dem" "$dem/o.tif"

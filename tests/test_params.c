@@ -83,6 +83,49 @@ static void choices(void)
                ho.azimuth_deg == 300,
            "hillshade: Zevenbergen-Thorne, VAT, a blend radius of 10 cells of 2.5 m is %g m",
            ho.radius_m);
+    ss_hillshade_params plain = {.azimuth_deg = 315}, cast = {.cast_shadows = 1},
+                        sky = {.sky_view = 0.3};
+    tap_ok(ss_hillshade_params_product(&plain) == SS_PRODUCT_HILLSHADE &&
+               ss_hillshade_params_product(&cast) == SS_PRODUCT_SHADOW &&
+               ss_hillshade_params_product(&sky) == SS_PRODUCT_SVF &&
+               ss_hillshade_params_product(&hs) == SS_PRODUCT_SVF,
+           "hillshade asks the planner for no sweep, the light's sweep, or the sky's sweep");
+}
+
+/* The sun given one way: an instant, or an azimuth with an elevation. */
+static void sun(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_sun_params p;
+    double when;
+    struct {
+        const char *time;
+        double az, el;
+        const char *says; /* NULL: accepted */
+    } cases[] = {{"2026-06-21T12:00Z", NAN, NAN, NULL},
+                 {NULL, 120, 30, NULL},
+                 {"2026-06-21T12:00Z", 120, 30, "not both"},
+                 {NULL, 120, NAN, "go together"},
+                 {NULL, NAN, 30, "go together"},
+                 {NULL, NAN, NAN, "no sun"},
+                 {"midday", NAN, NAN, "time 'midday'"}};
+    int right = 0, n = (int)(sizeof cases / sizeof cases[0]);
+    for (int i = 0; i < n; ++i) {
+        ss_sun_params_init(&p);
+        p.time = cases[i].time;
+        p.sun_azimuth_deg = cases[i].az;
+        p.sun_elevation_deg = cases[i].el;
+        ss_status st = ss_sun_params_check(ctx, &p, &when);
+        int ok = cases[i].says ? st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), cases[i].says)
+                 : cases[i].time ? st == SS_OK && when == 1782043200.0
+                                 : st == SS_OK && isnan(when);
+        right += ok;
+        if (!ok)
+            tap_diag("case %d: status %d, '%s'", i, st, ss_ctx_message(ctx));
+    }
+    tap_ok(right == n, "the sun's options: %d of %d cases accepted or refused as they should be",
+           right, n);
+    ss_ctx_free(ctx);
 }
 
 static void insolation(void)
@@ -130,6 +173,7 @@ int main(void)
 {
     well_formed();
     choices();
+    sun();
     insolation();
     return tap_done();
 }

@@ -99,10 +99,16 @@ int cmd_shadow(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open_banded(&job, "shadow", &set.common, pos, n_pos, cost)))
         return rc;
+    /* The sun's options are checked before the plan is made and shown. */
     double when;
-    int timed = set.common.sun.time && ss_parse_instant(job.run.ctx, set.common.sun.time, &when) == SS_OK;
-    if ((rc = job_plan(&job, &set.common, SS_PRODUCT_SHADOW, timed, timed ? &when : NULL,
-                       SS_SHADOW_EXACT)) >= 0) {
+    ss_status checked = ss_sun_params_check(job.run.ctx, &set.common.sun, &when);
+    int timed = isfinite(when);
+    if (checked != SS_OK)
+        rc = job_finish(&job, checked);
+    else
+        rc = job_plan(&job, &set.common, SS_PRODUCT_SHADOW, timed, timed ? &when : NULL,
+                      SS_SHADOW_EXACT);
+    if (rc >= 0) {
         job_close(&job);
         return rc;
     }

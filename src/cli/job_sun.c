@@ -13,15 +13,11 @@
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field)
 {
     ss_ctx *ctx = job->run.ctx;
-    int given = isfinite(common->sun.sun_azimuth_deg) || isfinite(common->sun.sun_elevation_deg);
-    if (given && common->sun.time)
-        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                            "give the sun either as --time or as --sun-azimuth and "
-                            "--sun-elevation, not both");
-    if (given) {
-        if (!isfinite(common->sun.sun_azimuth_deg) || !isfinite(common->sun.sun_elevation_deg))
-            return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                                "--sun-azimuth and --sun-elevation go together");
+    double unix_s;
+    ss_status st = ss_sun_params_check(ctx, &common->sun, &unix_s);
+    if (st != SS_OK)
+        return st;
+    if (!isfinite(unix_s)) {
         double az = common->sun.sun_azimuth_deg;
         /* In the grid frame the sun is given in grid azimuths. */
         if (common->sweep.north == SS_NORTH_GRID)
@@ -30,13 +26,6 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
                            common->sun.sun_elevation_deg, field);
         return SS_OK;
     }
-    if (!common->sun.time)
-        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                            "no sun: give --time, or --sun-azimuth and --sun-elevation");
-    double unix_s;
-    ss_status st = ss_parse_instant(ctx, common->sun.time, &unix_s);
-    if (st != SS_OK)
-        return st;
     ss_spa_params p;
     ss_sun_params_spa(&common->sun, &p);
     /* The plan decided whether the sun is needed per cell. A DEM left in

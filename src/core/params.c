@@ -213,6 +213,23 @@ void ss_sun_params_init(ss_sun_params *p)
     p->sun_azimuth_deg = p->sun_elevation_deg = p->delta_t_s = NAN;
 }
 
+ss_status ss_sun_params_check(ss_ctx *ctx, const ss_sun_params *p, double *unix_s)
+{
+    ss_call_begin(ctx);
+    *unix_s = NAN;
+    int given = isfinite(p->sun_azimuth_deg) || isfinite(p->sun_elevation_deg);
+    if (given && p->time)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "give the sun either as --time or as --sun-azimuth and --sun-elevation, "
+                       "not both");
+    if (given && !(isfinite(p->sun_azimuth_deg) && isfinite(p->sun_elevation_deg)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "--sun-azimuth and --sun-elevation go together");
+    if (!given && !p->time)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "no sun: give --time, or --sun-azimuth and --sun-elevation");
+    return given ? SS_OK : ss_parse_instant(ctx, p->time, unix_s);
+}
+
 void ss_sun_params_spa(const ss_sun_params *p, ss_spa_params *spa)
 {
     ss_spa_params_default(spa);
