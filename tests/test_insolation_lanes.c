@@ -208,6 +208,10 @@ int main(void)
         check_copy(ss_lane_cells_v3, "AVX2");
     else
         tap_skip("the AVX2 copy", "this CPU has no AVX2");
+    if (ss_lanes_have_v4())
+        check_copy(ss_lane_cells_v4, "AVX-512");
+    else
+        tap_skip("the AVX-512 copy", "this CPU has no AVX-512 (F, VL, BW, DQ)");
 #endif
     return tap_done();
 }

@@ -1,5 +1,5 @@
 /* A step's irradiance over a run of cells, in SIMD lanes: the copy for any
- * CPU, and the choice of the AVX2 copy where the CPU has it
+ * CPU, and the choice of the AVX-512 or AVX2 copy where the CPU has it
  * (insolation_lanes_body.h). */
 #define SS_LANE_ENTRY ss_lane_cells_any
 #include "insolation_lanes_body.h"
@@ -8,6 +8,10 @@ void ss_lane_cells(const ss_lane_step *s, const float *own_z, const ss_cell_term
                    size_t c0, int n, ss_lane_adds *out)
 {
 #if SS_LANES_V3
+    if (ss_lanes_have_v4()) {
+        ss_lane_cells_v4(s, own_z, terms, c0, n, out);
+        return;
+    }
     if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
         ss_lane_cells_v3(s, own_z, terms, c0, n, out);
         return;

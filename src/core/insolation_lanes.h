@@ -5,8 +5,8 @@
  * test and beam, diffuse and reflected light (insolation_cell.h). Run cell
  * by cell, its branches and table reads cost more than its arithmetic;
  * here every cell of a run computes all of it without a branch, so the
- * compiler runs eight cells side by side in AVX2's vector lanes where the
- * CPU has them (chosen at run time). Each cell's values are those of the cell-by-cell
+ * compiler runs eight cells side by side in AVX2's or AVX-512's vector
+ * lanes where the CPU has them (chosen at run time). Each cell's values are those of the cell-by-cell
  * functions to the bit: the same operations in the same order, only
  * selected instead of branched to. A cell whose sun falls outside a table
  * is left to the caller, who computes it exactly (ss_step_sun_at). */
@@ -75,16 +75,26 @@ typedef struct {
 void ss_lane_cells(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
                    size_t c0, int n, ss_lane_adds *out);
 
-/* The copy for any CPU, which ss_lane_cells runs where AVX2's cannot. */
+/* The copy for any CPU, which ss_lane_cells runs where neither AVX-512's
+ * nor AVX2's can. */
 void ss_lane_cells_any(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
                        size_t c0, int n, ss_lane_adds *out);
 
-/* The AVX2 copy, built by GCC on x86-64 (insolation_lanes_v3.c, which
- * repeats the condition). */
+/* The AVX2 and AVX-512 copies, built by GCC on x86-64
+ * (insolation_lanes_v3.c and insolation_lanes_v4.c, which repeat the
+ * condition). */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define SS_LANES_V3 1
 void ss_lane_cells_v3(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
                       size_t c0, int n, ss_lane_adds *out);
+void ss_lane_cells_v4(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
+                      size_t c0, int n, ss_lane_adds *out);
+/* Whether this CPU runs the AVX-512 copy. */
+static inline int ss_lanes_have_v4(void)
+{
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+           __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
+}
 #else
 #define SS_LANES_V3 0
 #endif

@@ -1,6 +1,7 @@
 /* The body of ss_lane_cells (insolation_lanes.h), compiled once per
  * instruction set: insolation_lanes.c for any x86-64 (or other) CPU,
- * insolation_lanes_v3.c for AVX2 and FMA; each defines SS_LANE_ENTRY, the
+ * insolation_lanes_v3.c for AVX2 and FMA, insolation_lanes_v4.c for
+ * AVX-512; each defines SS_LANE_ENTRY, the
  * name of its copy, and includes this file after its pragmas.
  *
  * Two options let GCC turn the cell functions' branches into selects:
