@@ -178,6 +178,9 @@ for sun in "--sun-azimuth 100" "--sun-elevation 20" "--time midday" \
     [ ! -s "$work/stdout" ]
     tap_ok $? "shadow with the sun given as '$sun' is refused before the plan is shown"
 done
+run shadow --plan "$dem" "$work/out/o.tif"
+[ "$rc" -eq 0 ] && grep -q '^sun_per_cell' "$work/stdout"
+tap_ok $? "shadow --plan without a sun shows the plan (exit $rc)"
 expect_failure 2 "output equal to the input" -- svf "$dem" "$dem"
 expect_failure 4 "output in a missing folder" -- svf "$dem" "$work/out/missing/o.tif"
 expect_failure 4 "output under a file" -- svf "$dem" "$dem/o.tif"

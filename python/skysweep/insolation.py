@@ -13,17 +13,26 @@ from .sun import unix_seconds
 _PARTS = ("global", "beam", "diffuse", "reflected", "sun_hours")
 
 
+def _as_text(value):
+    """A sequence of numbers as the CLI's comma-separated text (--linke
+    T,T,..., --surface TILT,AZIMUTH); text and None as they are."""
+    if value is None or isinstance(value, str):
+        return value
+    return ",".join(repr(float(v)) for v in np.atleast_1d(value))
+
+
 def _clear_sky_params(ctx, given):
-    """The library's insolation parameters from keywords (as --linke takes
-    them, or a sequence of one or twelve turbidities), and the Linke
-    turbidity of each month they give."""
-    linke = given.get("linke")
-    if linke is not None and not isinstance(linke, str):
-        given = dict(given, linke=",".join(str(float(v)) for v in np.atleast_1d(linke)))
-    params, texts = _params("insolation", "insolation", given)
+    """The library's insolation parameters from keywords (--linke and
+    --surface as their text, or as sequences of numbers), checked as the CLI
+    checks them before it plans, and the Linke turbidity of each month."""
+    given = dict(given, linke=_as_text(given.get("linke")),
+                 surface=_as_text(given.get("surface")))
+    params = _params("insolation", "insolation", given)
+    ctx.check(lib.ss_insolation_params_options(ctx.ptr, params, lib.SS_SHADOW_EXACT,
+                                               ffi.new("ss_insolation_options *")))
     by_month = ffi.new("double[12]")
     ctx.check(lib.ss_insolation_params_linke(ctx.ptr, params, by_month))
-    return params, texts, by_month
+    return params, by_month
 
 
 def _steps(ctx, time, step):
@@ -73,7 +82,7 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
     insolation_file (--weather, --pv).
     """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    params, texts, linke = _clear_sky_params(
+    params, linke = _clear_sky_params(
         ctx, {"step": step, "linke": linke, "albedo": albedo, "shadow": shadow,
               "solar_constant": solar_constant, "surface": surface})
     shadow = lib.ss_insolation_params_shadow(params)
@@ -114,7 +123,6 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
         setattr(out, k, buffers[k])  # "global" is a Python keyword: no out.global
     ctx.call(lib.ss_insolation, grid.ptr, opt, options, len(mids), sun_at, ffi.NULL, ffi.NULL,
              ffi.NULL, out, progress=kw.get("progress"))
-    del texts  # the parameters' texts, used until here
     units = {"global": "Wh/m2", "beam": "Wh/m2", "diffuse": "Wh/m2", "reflected": "Wh/m2",
              "sun_hours": "h"}
     shadow_used = ffi.string(lib.ss_shadow_mode_name(plan.shadow_mode)).decode()

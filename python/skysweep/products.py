@@ -31,16 +31,17 @@ def _params(table, command, given):
     skysweep_params.h), filled from the library's own table as the command
     line fills it: each parameter from `given` (keywords, ``-`` written
     ``_``) or its default, checked against `command`'s options; choices as
-    their indices, flags as 0 or 1, no default as 0. Returns the struct and
-    the texts it points to, which must live as long as it is used."""
+    their indices, flags as 0 or 1, no default as 0. The texts it points to
+    live as long as the struct."""
     entries = lib.ss_param_table_named(table.encode()).params
     struct = ffi.new(f"ss_{table}_params *")
     base = ffi.cast("char *", struct)
-    texts = []
+    texts, known = [], set()
     k = 0
     while entries[k].name != ffi.NULL:
         entry, k = entries[k], k + 1
         key = ffi.string(entry.name).decode().replace("-", "_")
+        known.add(key)
         at = base + entry.offset
         if entry.type == lib.SS_PARAM_FLAG:
             ffi.cast("int *", at)[0] = int(bool(given.get(key)))
@@ -57,13 +58,17 @@ def _params(table, command, given):
         else:
             texts.append(ffi.new("char[]", str(value).encode()))
             ffi.cast("char **", at)[0] = texts[-1]
-    return struct, texts
+    stray = set(given) - known - set(SWEEP_OPTIONS) - {"device", "progress"}
+    if stray:  # a slip of the package's own, not the caller's (_begin checks those)
+        raise KeyError(f"the library's {table} table has no {', '.join(sorted(stray))}")
+    # The destructor holds the texts: they live until the struct is collected.
+    return ffi.gc(struct, lambda _struct, _texts=texts: None)
 
 
 def _sweep_params(command, kw):
     """The library's sweep parameters from keywords, north as the grid's
     (an array has no place)."""
-    p, _ = _params("sweep", command, kw)
+    p = _params("sweep", command, kw)
     p.north = CONST["SS_NORTH_GRID"]
     return p
 
@@ -251,7 +256,7 @@ def _shade(dem, cell_size, nodata, kw, given):
     (ss_hillshade_params_options), the planner asked for what they sweep,
     and the rows of ss_hillshade_rows on the whole grid."""
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    params, _ = _params("hillshade", "hillshade", given)
+    params = _params("hillshade", "hillshade", given)
     shading = ffi.new("ss_hillshade_options *")
     lib.ss_hillshade_params_options(params, math.sqrt(grid.cell_size[0] * grid.cell_size[1]),
                                     shading)
@@ -259,15 +264,21 @@ def _shade(dem, cell_size, nodata, kw, given):
     out = grid.new_plane()
     width = grid.shape[1]
 
+    failed = []
+
     @ffi.callback("ss_status(void *, int, int, int, int, const float *)",
-                  error=lib.SS_ERR_INTERNAL)
+                  error=lib.SS_ERR_INTERNAL, onerror=lambda *e: failed.append(e))
     def into_plane(user, output, index, row0, n_rows, values):
         out[row0:row0 + n_rows] = np.frombuffer(ffi.buffer(values, 4 * n_rows * width),
                                                 np.float32).reshape(n_rows, width)
         return 0
 
-    ctx.call(lib.ss_hillshade_rows, grid.source(), opt, shading, into_plane, ffi.NULL,
-             progress=kw.get("progress"))
+    try:
+        ctx.call(lib.ss_hillshade_rows, grid.source(), opt, shading, into_plane, ffi.NULL,
+                 progress=kw.get("progress"))
+    finally:
+        if failed:  # the sink's own exception, not the library's status for it
+            raise failed[0][1].with_traceback(failed[0][2])
     return grid, opt, out
 
 

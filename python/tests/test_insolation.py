@@ -57,6 +57,17 @@ def test_twelve_turbidities_take_the_step_month():
     assert np.nanmax(np.abs(by_month["beam"] - other["beam"])) > 0
 
 
+def test_a_module_is_given_as_text_or_numbers():
+    z = rough_dem()
+    run = dict(time="2026-06-21T08:00Z/PT2H", step="PT1H", latitude=45, longitude=8,
+               directions=8)
+    by_text = skysweep.insolation(z, 10, surface="30,180", **run)
+    by_numbers = skysweep.insolation(z, 10, surface=(30, 180), **run)
+    on_slopes = skysweep.insolation(z, 10, **run)
+    assert same(by_text["global"], by_numbers["global"])
+    assert np.nanmax(np.abs(by_text["global"] - on_slopes["global"])) > 0
+
+
 def test_the_parts_add_up_and_the_night_is_dark():
     z = rough_dem()
     day = skysweep.insolation(z, 10, time="2026-06-21T00:00Z/P1D", step="PT30M", latitude=45,
@@ -77,7 +88,7 @@ def test_insolation_refuses_what_it_cannot_do():
     with pytest.raises(skysweep.ArgumentError, match="weather"):
         skysweep.insolation(z, 10, time="2026-06-21T00:00Z/P1D", latitude=45, longitude=8,
                             shadow="cumulative")
-    with pytest.raises(skysweep.ArgumentError, match="surface"):
+    with pytest.raises(skysweep.ArgumentError, match="--surface expects .* not '95.0,180.0'"):
         skysweep.insolation(z, 10, time="2026-06-21T00:00Z/P1D", latitude=45, longitude=8,
                             surface=(95, 180))
     with pytest.raises(skysweep.ArgumentError, match="linke"):

@@ -99,10 +99,16 @@ int cmd_shadow(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open_banded(&job, "shadow", &set.common, pos, n_pos, cost)))
         return rc;
-    /* The sun's options are checked before the plan is made and shown. */
-    double when;
-    ss_status checked = ss_sun_params_check(job.run.ctx, &set.common.sun, &when);
-    int timed = isfinite(when);
+    /* The sun's options are checked before the plan is made and shown; a
+     * plan alone (--plan, skysweep plan) may leave the sun out. */
+    const ss_sun_params *sun_given = &set.common.sun;
+    int no_sun = !sun_given->time && isnan(sun_given->sun_azimuth_deg) &&
+                 isnan(sun_given->sun_elevation_deg);
+    double when = NAN;
+    ss_status checked = no_sun && set.common.plan_only
+                            ? SS_OK
+                            : ss_sun_params_check(job.run.ctx, sun_given, &when);
+    int timed = sun_given->time != NULL;
     if (checked != SS_OK)
         rc = job_finish(&job, checked);
     else

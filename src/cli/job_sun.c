@@ -17,7 +17,7 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
     ss_status st = ss_sun_params_check(ctx, &common->sun, &unix_s);
     if (st != SS_OK)
         return st;
-    if (!isfinite(unix_s)) {
+    if (!common->sun.time) {
         double az = common->sun.sun_azimuth_deg;
         /* In the grid frame the sun is given in grid azimuths. */
         if (common->sweep.north == SS_NORTH_GRID)
