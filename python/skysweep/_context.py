@@ -3,9 +3,11 @@
 Every call runs with the GIL released (cffi releases it around C calls). Called
 from the main thread, a call runs in a worker thread while the main thread
 waits, so that Ctrl-C reaches Python: it cancels the library call (the library
-stops within about two directions' sweeps) and raises KeyboardInterrupt.
+stops within about two directions' sweeps) and raises KeyboardInterrupt once the
+call has ended (a SIGINT handler of the caller's own is called instead).
 """
 import os
+import signal
 import sys
 import threading
 
@@ -117,10 +119,13 @@ class Context:
         self.check(status)
 
     def _run(self, function, args):
-        if threading.current_thread() is not threading.main_thread():
+        previous = signal.getsignal(signal.SIGINT)
+        if threading.current_thread() is not threading.main_thread() or previous in (
+                signal.SIG_IGN, signal.SIG_DFL, None):
             return function(self._ctx, *args)
         result = []
         done = threading.Event()
+        caught = []
 
         def work():
             try:
@@ -128,20 +133,25 @@ class Context:
             finally:
                 done.set()
 
-        threading.Thread(target=work, name="skysweep", daemon=True).start()
-        # The worker's own Event, not join(): a KeyboardInterrupt inside
-        # join() can mark a thread finished that is still running.
-        interrupted = False
-        while True:
-            try:
-                if done.wait(0.05):
-                    break
-            except KeyboardInterrupt:
-                interrupted = True
-                lib.ss_ctx_cancel(self._ctx)  # the call ends soon; wait for it
-        if interrupted:
+        def on_interrupt(signum, frame):
+            caught.append((signum, frame))
+            lib.ss_ctx_cancel(self._ctx)  # the call ends soon; wait for it
+
+        # While the call runs, Ctrl-C cancels it instead of raising: raised
+        # anywhere here (while the worker starts, say), KeyboardInterrupt
+        # would leave the call running behind the caller's back.
+        signal.signal(signal.SIGINT, on_interrupt)
+        try:
+            threading.Thread(target=work, name="skysweep", daemon=True).start()
+            while not done.wait(0.05):
+                pass
+        finally:
+            signal.signal(signal.SIGINT, previous)
+        if caught:
             lib.ss_ctx_cancel_clear(self._ctx)
-            raise KeyboardInterrupt
+            if previous is signal.default_int_handler:
+                raise KeyboardInterrupt
+            previous(*caught[0])
         return result[0]
 
 
