@@ -24,15 +24,16 @@ def _as_text(value):
 def _clear_sky_params(ctx, given):
     """The library's insolation parameters from keywords (--linke and
     --surface as their text, or as sequences of numbers), checked as the CLI
-    checks them before it plans, and the Linke turbidity of each month."""
+    checks them before it plans: the run's options (their shadow mode the
+    plan's, set once it is made) and the Linke turbidity of each month."""
     given = dict(given, linke=_as_text(given.get("linke")),
                  surface=_as_text(given.get("surface")))
     params = _params("insolation", "insolation", given)
-    ctx.check(lib.ss_insolation_params_options(ctx.ptr, params, lib.SS_SHADOW_EXACT,
-                                               ffi.new("ss_insolation_options *")))
+    options = ffi.new("ss_insolation_options *")
+    ctx.check(lib.ss_insolation_params_options(ctx.ptr, params, lib.SS_SHADOW_EXACT, options))
     by_month = ffi.new("double[12]")
     ctx.check(lib.ss_insolation_params_linke(ctx.ptr, params, by_month))
-    return params, by_month
+    return params, options, by_month
 
 
 def _steps(ctx, time, step):
@@ -82,7 +83,7 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
     insolation_file (--weather, --pv).
     """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    params, linke = _clear_sky_params(
+    params, options, linke = _clear_sky_params(
         ctx, {"step": step, "linke": linke, "albedo": albedo, "shadow": shadow,
               "solar_constant": solar_constant, "surface": surface})
     shadow = lib.ss_insolation_params_shadow(params)
@@ -114,8 +115,7 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
                                       linke[civil.month - 1], params.solar_constant, out)
         return status
 
-    options = ffi.new("ss_insolation_options *")
-    ctx.check(lib.ss_insolation_params_options(ctx.ptr, params, plan.shadow_mode, options))
+    options.shadow_mode = plan.shadow_mode  # as the CLI sets it once planned
     planes = {k: grid.new_plane() for k in _PARTS}
     out = ffi.new("ss_insolation_out *")
     buffers = {k: ffi.from_buffer("float[]", planes[k]) for k in _PARTS}

@@ -58,7 +58,7 @@ def _params(table, command, given):
         else:
             texts.append(ffi.new("char[]", str(value).encode()))
             ffi.cast("char **", at)[0] = texts[-1]
-    stray = set(given) - known - set(SWEEP_OPTIONS) - {"device", "progress"}
+    stray = set(given) - known
     if stray:  # a slip of the package's own, not the caller's (_begin checks those)
         raise KeyError(f"the library's {table} table has no {', '.join(sorted(stray))}")
     # The destructor holds the texts: they live until the struct is collected.
@@ -68,7 +68,7 @@ def _params(table, command, given):
 def _sweep_params(command, kw):
     """The library's sweep parameters from keywords, north as the grid's
     (an array has no place)."""
-    p = _params("sweep", command, kw)
+    p = _params("sweep", command, {k: v for k, v in kw.items() if k in SWEEP_OPTIONS})
     p.north = CONST["SS_NORTH_GRID"]
     return p
 

@@ -102,8 +102,8 @@ int cmd_shadow(int argc, char **argv)
     /* The sun's options are checked before the plan is made and shown; a
      * plan alone (--plan, skysweep plan) may leave the sun out. */
     const ss_sun_params *sun_given = &set.common.sun;
-    int no_sun = !sun_given->time && isnan(sun_given->sun_azimuth_deg) &&
-                 isnan(sun_given->sun_elevation_deg);
+    int no_sun = !sun_given->time && !isfinite(sun_given->sun_azimuth_deg) &&
+                 !isfinite(sun_given->sun_elevation_deg);
     double when = NAN;
     ss_status checked = no_sun && set.common.plan_only
                             ? SS_OK
