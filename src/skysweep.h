@@ -548,6 +548,11 @@ typedef struct {
 #define SS_OUT_SHADE 0 /* 1..255 */
 SS_API ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                             const ss_hillshade_options *ho, ss_rows_sink sink, void *user);
+/* Checks ss_hillshade_rows' options without a DEM: the light, a positive
+ * z factor, the sky-view weight and radius in range, and the VAT blend
+ * alone (it has its own light and layers). SS_ERR_ARGUMENT, naming the
+ * problem, otherwise. */
+SS_API ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho);
 
 /* ---- the effects planner (doc/planner.md) -------------------------------- */
 

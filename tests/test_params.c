@@ -92,6 +92,34 @@ static void choices(void)
            "hillshade asks the planner for no sweep, the light's sweep, or the sky's sweep");
 }
 
+/* ss_hillshade_check: what the table's ranges cannot say (the VAT blend
+ * alone), and the ranges again for callers that fill the options. */
+static void hillshade_check(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_hillshade_options vat = {.azimuth_deg = 315, .altitude_deg = 35, .z_factor = 1, .vat = 1};
+    ss_hillshade_options plain = {.azimuth_deg = 315, .altitude_deg = 45, .z_factor = 1,
+                                  .cast_shadows = 1, .sky_view = 0.5, .multidirectional = 1};
+    tap_ok(ss_hillshade_check(ctx, &vat) == SS_OK && ss_hillshade_check(ctx, &plain) == SS_OK,
+           "the VAT blend alone, and plain shading with every layer, pass");
+    const char *layer[] = {"cast_shadows", "sky_view", "multidirectional"};
+    for (int i = 0; i < 3; ++i) {
+        ss_hillshade_options both = vat;
+        both.cast_shadows = i == 0;
+        both.sky_view = i == 1 ? 0.5 : 0.0;
+        both.multidirectional = i == 2;
+        ss_status st = ss_hillshade_check(ctx, &both);
+        tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "--blend vat"),
+               "the VAT blend with %s is refused: %s", layer[i], ss_ctx_message(ctx));
+    }
+    ss_hillshade_options high = plain;
+    high.altitude_deg = 91;
+    tap_ok(ss_hillshade_check(ctx, &high) == SS_ERR_ARGUMENT, "an altitude of 91 degrees is refused");
+    tap_ok(ss_hillshade_check(ctx, &plain) == SS_OK && ss_ctx_message(ctx)[0] == '\0',
+           "a check that passes leaves no message behind");
+    ss_ctx_free(ctx);
+}
+
 /* The sun given one way: an instant, or an azimuth with an elevation. */
 static void sun(void)
 {
@@ -173,6 +201,7 @@ int main(void)
 {
     well_formed();
     choices();
+    hillshade_check();
     sun();
     insolation();
     return tap_done();

@@ -45,11 +45,6 @@ int cmd_hillshade(int argc, char **argv)
                        &set.common.device);
     if (rc >= 0)
         return rc;
-    if (set.hs.blend && (set.hs.cast_shadows || set.hs.sky_view > 0 || set.hs.multidirectional)) {
-        fprintf(stderr, "skysweep hillshade: --blend vat has its own light and layers; it "
-                        "does not take --cast-shadows, --sky-view or --multidirectional\n");
-        return SS_ERR_ARGUMENT;
-    }
     int sweeps = set.hs.blend || set.hs.cast_shadows || set.hs.sky_view > 0;
     /* A band holds its heights and a row of shades, SVF and openness;
      * sweeps add a horizon's band and its rows carried between bands. */
@@ -60,17 +55,23 @@ int cmd_hillshade(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
         return rc;
+    const ss_grid *g = &job.dem.grid;
+    ss_hillshade_options ho;
+    ss_hillshade_params_options(&set.hs, sqrt(g->cell_x_m * g->cell_y_m), &ho);
+    ss_status st = ss_hillshade_check(job.run.ctx, &ho); /* before the plan is printed */
+    if (st != SS_OK) {
+        rc = job_finish(&job, st);
+        job_close(&job);
+        return rc;
+    }
     if ((rc = job_plan(&job, &set.common, ss_hillshade_params_product(&set.hs), 0, NULL,
                        SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
     }
-    const ss_grid *g = &job.dem.grid;
-    ss_hillshade_options ho;
-    ss_hillshade_params_options(&set.hs, sqrt(g->cell_x_m * g->cell_y_m), &ho);
     double blend_radius_m = ho.radius_m;
     shade_out out = {NULL};
-    ss_status st = ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1, set.common.format,
+    st = ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1, set.common.format,
                                        set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
     ss_source src = job_source(&job, NULL);

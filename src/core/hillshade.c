@@ -42,6 +42,7 @@ static double multidirectional(double x, double y, double alt_rad)
 
 ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho)
 {
+    ss_call_begin(ctx);
     if (!isfinite(ho->azimuth_deg) || !(ho->altitude_deg >= 0 && ho->altitude_deg <= 90) ||
         !(isfinite(ho->z_factor) && ho->z_factor > 0))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
@@ -55,8 +56,8 @@ ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho)
                        ho->sky_view, ho->radius_m);
     if (ho->vat && (ho->cast_shadows || ho->sky_view > 0 || ho->multidirectional))
         return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "the VAT blend has its own light and layers: no cast shadows, sky view "
-                       "or multidirectional light with it");
+                       "the VAT blend (--blend vat) has its own light and layers: it takes "
+                       "no --cast-shadows, --sky-view or --multidirectional");
     return SS_OK;
 }
 

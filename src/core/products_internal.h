@@ -58,7 +58,6 @@ void ss_incidence_rows(const ss_grid *grid, int row0, int row1, double grid_azim
  * SS_NODATA at nodata), options checked by ss_hillshade_check. */
 void ss_hillshade_of_rows(const ss_grid *grid, int row0, int row1,
                           const ss_hillshade_options *ho, float *out);
-ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho);
 
 /* The held rows of a band as a grid of their own (Horn's slopes inside it
  * are the whole grid's). */
