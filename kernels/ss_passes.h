@@ -155,12 +155,20 @@ SS_FN void ss_pass_horizon_finish(int cell, float none_deg, SS_GLOBAL float *ang
  * windows are scanned instead (ss_radius_scan): on the Kilauea sample the
  * scan costs less up to about 20 steps (doc/relief.md).
  *
- * Hulls are kept as step indices in the stack grid, at the home cells of
- * the chunk's own samples (ss_sweep.h's scheme): the suffix hull of chunk
+ * Hulls are kept as whole points in the stack grid (the engine gives a
+ * radius walk SS_RADIUS_SLOTS int slots a cell, so that a bisection reads
+ * a vertex instead of recomputing its sample), at the home cells of the
+ * chunk's own samples (ss_sweep.h's scheme): the suffix hull of chunk
  * [a, b] at the homes of a, a + 1, ...; the suffix tangent found for
  * sample q at q's home, until the prefix hull overwrites it after q was
  * walked. Only the held rows within the radius are read, so a band needs
  * those rows held, not a hull handed on. */
+
+/* Stack grid slots (ints) a radius walk takes per held cell: a hull point. */
+#define SS_RADIUS_SLOTS 4
+/* The u of the point kept for a sample whose window's farther part holds
+ * no vertex (no point's u, a step count, comes near it). */
+#define SS_RADIUS_NONE 3.0e38f
 
 /* The hull point of the sample at step t of the walker's line. */
 SS_FN ss_hull_point ss_radius_point(const ss_line_set *ls, const ss_walker *w,
@@ -186,6 +194,13 @@ SS_FN int ss_radius_home(const ss_line_set *ls, const ss_walker *w, int t)
     return ss_walker_sample(ls, w, t).home;
 }
 
+/* The hull point kept at the home of step t. */
+SS_FN ss_hull_point ss_radius_vertex(const ss_line_set *ls, const ss_walker *w,
+                                     SS_GLOBAL const ss_hull_point *pts, int t)
+{
+    return pts[ss_radius_home(ls, w, t)];
+}
+
 /* Whether, seen from v, hull point a rises at least as steeply as b (the
  * sweep's comparison, bent heights over distance). */
 SS_FN int ss_radius_not_below(const ss_line_set *ls, ss_hull_point v, ss_hull_point a,
@@ -196,35 +211,30 @@ SS_FN int ss_radius_not_below(const ss_line_set *ls, ss_hull_point v, ss_hull_po
            ss_hull_rise(ls, v, b, db, curv_k, flags) * da;
 }
 
-/* The hull vertex that the tangent from v touches (its step index; its
- * point in *touch), of n > 0 vertices ordered from the nearest (i = 0) to
- * the farthest, vertex i kept at the home of step base + sign * i. Slopes
- * from v rise along a convex hull to the tangent vertex, then fall:
- * bisection finds it, the nearer of equal ones. */
-SS_FN int ss_radius_tangent(const ss_line_set *ls, const ss_walker *w, SS_GLOBAL const float *z,
-                            SS_GLOBAL const int *stack, int base, int sign, int n,
-                            ss_hull_point v, float curv_k, int flags, ss_hull_point *touch)
+/* The hull vertex that the tangent from v touches, of n > 0 vertices
+ * ordered from the nearest (i = 0) to the farthest, vertex i kept at the
+ * home of step base + sign * i. Slopes from v rise along a convex hull to
+ * the tangent vertex, then fall: bisection finds it, the nearer of equal
+ * ones. */
+SS_FN ss_hull_point ss_radius_tangent(const ss_line_set *ls, const ss_walker *w,
+                                      SS_GLOBAL const ss_hull_point *pts, int base, int sign,
+                                      int n, ss_hull_point v, float curv_k, int flags)
 {
     int lo = 0, hi = n - 1;
-    ss_sample_horizon unused;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        ss_hull_point p0 = ss_radius_point(ls, w, z, stack[ss_radius_home(ls, w, base + sign * mid)],
-                                           &unused);
-        ss_hull_point p1 = ss_radius_point(
-            ls, w, z, stack[ss_radius_home(ls, w, base + sign * (mid + 1))], &unused);
+        ss_hull_point p0 = ss_radius_vertex(ls, w, pts, base + sign * mid);
+        ss_hull_point p1 = ss_radius_vertex(ls, w, pts, base + sign * (mid + 1));
         if (ss_radius_not_below(ls, v, p0, p1, curv_k, flags))
             hi = mid;
         else
             lo = mid + 1;
     }
-    int t = stack[ss_radius_home(ls, w, base + sign * lo)];
-    *touch = ss_radius_point(ls, w, z, t, &unused);
-    return t;
+    return ss_radius_vertex(ls, w, pts, base + sign * lo);
 }
 
-/* A hull of step indices kept at the homes of steps base, base + 1, ...
- * (slot 0 the first pushed), its top vertex also held whole. */
+/* A hull of points kept at the homes of steps base, base + 1, ... (slot 0
+ * the first pushed), its top vertex also held. */
 typedef struct {
     int base, n;
     ss_hull_point top;
@@ -232,66 +242,62 @@ typedef struct {
 
 /* The vertex below the top. */
 SS_FN ss_hull_point ss_radius_second(const ss_line_set *ls, const ss_walker *w,
-                                     SS_GLOBAL const float *z, SS_GLOBAL const int *stack,
+                                     SS_GLOBAL const ss_hull_point *pts,
                                      const ss_radius_hull *hull)
 {
-    ss_sample_horizon unused;
-    return ss_radius_point(ls, w, z, stack[ss_radius_home(ls, w, hull->base + hull->n - 2)],
-                           &unused);
+    return ss_radius_vertex(ls, w, pts, hull->base + hull->n - 2);
 }
 
-SS_FN void ss_radius_push(const ss_line_set *ls, const ss_walker *w, SS_GLOBAL int *stack,
-                          ss_radius_hull *hull, int t, ss_hull_point p)
+SS_FN void ss_radius_push(const ss_line_set *ls, const ss_walker *w, SS_GLOBAL ss_hull_point *pts,
+                          ss_radius_hull *hull, ss_hull_point p)
 {
-    stack[ss_radius_home(ls, w, hull->base + hull->n++)] = t;
+    pts[ss_radius_home(ls, w, hull->base + hull->n++)] = p;
     hull->top = p;
 }
 
-/* Pushes p (step t), which lies before every vertex, on a hull that grows
- * backward: the vertices on or under the chord from p to the vertex after
- * them (seen from that vertex) are popped first. */
+/* Pushes p, which lies before every vertex, on a hull that grows backward:
+ * the vertices on or under the chord from p to the vertex after them (seen
+ * from that vertex) are popped first. */
 SS_FN void ss_radius_push_before(const ss_line_set *ls, const ss_walker *w,
-                                 SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                 ss_radius_hull *hull, int t, ss_hull_point p, float curv_k,
-                                 int flags)
+                                 SS_GLOBAL ss_hull_point *pts, ss_radius_hull *hull,
+                                 ss_hull_point p, float curv_k, int flags)
 {
     while (hull->n >= 2) {
-        ss_hull_point second = ss_radius_second(ls, w, z, stack, hull);
+        ss_hull_point second = ss_radius_second(ls, w, pts, hull);
         if (!ss_radius_not_below(ls, second, p, hull->top, curv_k, flags))
             break;
         hull->top = second;
         hull->n--;
     }
-    ss_radius_push(ls, w, stack, hull, t, p);
+    ss_radius_push(ls, w, pts, hull, p);
 }
 
-/* The tangent from v (step t, after every vertex) to a hull that grows
- * forward, in *touch (its step index returned, -1 for an empty hull). An
- * occluding v is pushed, the vertices under its chord popped on the way,
- * as the sweep does: the tangent is then the top left. */
+/* The tangent from v (after every vertex) to a hull that grows forward, in
+ * *touch; returns 0 for an empty hull. An occluding v is pushed, the
+ * vertices under its chord popped on the way, as the sweep does: the
+ * tangent is then the top left. */
 SS_FN int ss_radius_tangent_after(const ss_line_set *ls, const ss_walker *w,
-                                  SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                  ss_radius_hull *hull, int t, ss_hull_point v, int occludes,
-                                  float curv_k, int flags, ss_hull_point *touch)
+                                  SS_GLOBAL ss_hull_point *pts, ss_radius_hull *hull,
+                                  ss_hull_point v, int occludes, float curv_k, int flags,
+                                  ss_hull_point *touch)
 {
-    int best = -1;
-    if (hull->n > 0 && !occludes) {
-        best = ss_radius_tangent(ls, w, z, stack, hull->base + hull->n - 1, -1, hull->n, v,
-                                 curv_k, flags, touch);
-    } else if (hull->n > 0) {
+    int found = hull->n > 0;
+    if (found && !occludes) {
+        *touch = ss_radius_tangent(ls, w, pts, hull->base + hull->n - 1, -1, hull->n, v, curv_k,
+                                   flags);
+    } else if (found) {
         while (hull->n >= 2) {
-            ss_hull_point second = ss_radius_second(ls, w, z, stack, hull);
+            ss_hull_point second = ss_radius_second(ls, w, pts, hull);
             if (!ss_radius_not_below(ls, v, second, hull->top, curv_k, flags))
                 break;
             hull->top = second;
             hull->n--;
         }
-        best = stack[ss_radius_home(ls, w, hull->base + hull->n - 1)];
         *touch = hull->top;
     }
     if (occludes)
-        ss_radius_push(ls, w, stack, hull, t, v);
-    return best;
+        ss_radius_push(ls, w, pts, hull, v);
+    return found;
 }
 
 /* Adds the radius-limited term of steps [s_lo, s_hi) of the walker's line
@@ -299,8 +305,8 @@ SS_FN int ss_radius_tangent_after(const ss_line_set *ls, const ss_walker *w,
  * (in a band: the rows held above it). */
 SS_FN void ss_radius_hulls(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
                            int definition, float radius_m, float curv_k,
-                           SS_GLOBAL const float *z, SS_GLOBAL int *stack, SS_GLOBAL float *acc,
-                           int flags)
+                           SS_GLOBAL const float *z, SS_GLOBAL ss_hull_point *pts,
+                           SS_GLOBAL float *acc, int flags)
 {
     /* The first window's start: the distance back grows with the steps. */
     int a = 0, hi = s_lo;
@@ -326,33 +332,32 @@ SS_FN void ss_radius_hulls(const ss_walker *w, const ss_line_set *ls, int s_lo, 
                 lo--;
                 ss_hull_point p = ss_radius_point(ls, w, z, lo, &ht);
                 if (ht.occludes)
-                    ss_radius_push_before(ls, w, z, stack, &far, lo, p, curv_k, flags);
+                    ss_radius_push_before(ls, w, pts, &far, p, curv_k, flags);
             }
-            ss_hull_point v = ss_radius_point(ls, w, z, q, &h), unused;
+            ss_hull_point v = ss_radius_point(ls, w, z, q, &h);
+            ss_hull_point none = {SS_RADIUS_NONE, 0.0f, 0.0f, 0.0f};
             if (h.valid)
-                stack[ss_radius_home(ls, w, q)] =
-                    far.n > 0 ? ss_radius_tangent(ls, w, z, stack, a, 1, far.n, v, curv_k, flags,
-                                                  &unused)
-                              : -1;
+                pts[ss_radius_home(ls, w, q)] =
+                    far.n > 0 ? ss_radius_tangent(ls, w, pts, a, 1, far.n, v, curv_k, flags)
+                              : none;
         }
         /* Forward: the nearer part from the chunk's own prefix hull, which
          * overwrites only homes of samples already walked. */
         ss_radius_hull near = {s, 0, {0.0f, 0.0f, 0.0f, 0.0f}};
         for (int q = s; q < e; ++q) {
-            ss_hull_point v = ss_radius_point(ls, w, z, q, &h), pn, pf;
+            ss_hull_point v = ss_radius_point(ls, w, z, q, &h), pn = {0.0f, 0.0f, 0.0f, 0.0f};
             if (!h.valid)
                 continue;
-            int best = stack[ss_radius_home(ls, w, q)];
-            if (best >= 0)
-                pf = ss_radius_point(ls, w, z, best, &ht);
-            if (ss_radius_tangent_after(ls, w, z, stack, &near, q, v, h.occludes, curv_k, flags,
-                                        &pn) >= 0 &&
-                (best < 0 || ss_radius_not_below(ls, v, pn, pf, curv_k, flags))) {
-                best = 0; /* any step: only its point is used below */
+            /* Read before the prefix hull may take q's home. */
+            ss_hull_point pf = ss_radius_vertex(ls, w, pts, q);
+            int best = pf.u != SS_RADIUS_NONE;
+            if (ss_radius_tangent_after(ls, w, pts, &near, v, h.occludes, curv_k, flags, &pn) &&
+                (!best || ss_radius_not_below(ls, v, pn, pf, curv_k, flags))) {
+                best = 1;
                 pf = pn;
             }
             float best_d = 0.0f, best_dz = -1.0f;
-            if (best >= 0) {
+            if (best) {
                 best_d = ss_hull_dist(ls, v, pf, flags);
                 best_dz = ss_hull_height_above(v, pf, flags) - curv_k * best_d * best_d;
             }
@@ -508,7 +513,7 @@ SS_FN void ss_band_radius_line(const ss_band_dir *d, const ss_band_run *run, int
                        flags);
     else
         ss_radius_hulls(&w, &d->ls, s_lo, s_hi, run->term, run->radius_m, run->curv_k, z,
-                        stack, acc, flags);
+                        (SS_GLOBAL ss_hull_point *)stack, acc, flags);
 }
 
 /* Rounds of a direction's lines, so that lines of one round never touch

@@ -207,8 +207,13 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                                ss_dem *dem, ss_dem_source **source, int *band_rows)
 {
     int may_band = cost != NULL;
-    double cell_bytes =
-        may_band ? cost->cell_bytes + ss_lines_extra_cell_bytes(run_lines_asked(common)) : 0.0;
+    /* A halo is a radius walk's (svf and openness within a radius, the VAT
+     * blend). */
+    int radius_walk = may_band && (cost->halo_m > 0 || cost->halo_cells > 0);
+    double cell_bytes = may_band ? cost->cell_bytes +
+                                       ss_lines_extra_cell_bytes(run_lines_asked(common)) +
+                                       (radius_walk ? ss_radius_extra_cell_bytes() : 0.0)
+                                 : 0.0;
     /* Hulls are handed on per line: box lines have box_lines times as many. */
     int hull_directions = (may_band && cost->directions ? cost->directions
                                                         : common->sweep.directions) *

@@ -4,6 +4,7 @@
 
 #include "engine.h"
 #include "insolation_cell.h"
+#include "ss_passes.h"
 
 #define HALO SS_BAND_HALO
 
@@ -32,6 +33,11 @@ double ss_lines_extra_cell_bytes(ss_line_model lines)
 {
     /* Box lines keep up to SS_BOX_EVENTS hull slots per home cell. */
     return lines == SS_LINES_BOX ? (SS_BOX_EVENTS - 1) * sizeof(int) : 0.0;
+}
+
+double ss_radius_extra_cell_bytes(void)
+{
+    return (SS_RADIUS_SLOTS - 1) * sizeof(int);
 }
 
 double ss_horizon_column_bytes(void)

@@ -19,6 +19,7 @@
 #include "engine.h"
 #include "lines.h"
 #include "products_internal.h"
+#include "ss_passes.h"
 
 int ss_walk_planes(const ss_walk *walk)
 {
@@ -531,7 +532,9 @@ static ss_status open_run(engine_run *e)
     e->b.walk = job->walk;
     e->b.width = w;
     e->b.max_held_rows = max_held;
-    e->b.stack_per_cell = e->opt->lines == SS_LINES_BOX ? SS_BOX_EVENTS : 1;
+    e->b.stack_per_cell = e->opt->lines == SS_LINES_BOX ? SS_BOX_EVENTS
+                          : job->walk.radius_m > 0     ? SS_RADIUS_SLOTS
+                                                       : 1;
     e->b.batch = batch_wanted(e);
     int group = job->group > 0 && job->group < job->n_dirs ? job->group : job->n_dirs;
     e->b.carried = !e->banded ? 0 : is_sums(e) ? 1 : (group > 0 ? group : 1);
