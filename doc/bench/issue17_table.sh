@@ -86,11 +86,18 @@ measured() { # measured DIR: a timed_reps folder's median, or its status
     [ "$status" = ok ] || { echo "$status" && return; }
     for f in "$1"/time.*; do wall_seconds "$f"; done | median
 }
+# A build tree's ./skysweep is libtool's wrapper script, a shell that runs
+# sed before it starts the program: time the program itself, as installed.
+ours_cmd=("$SKYSWEEP")
+if head -c 2048 "$SKYSWEEP" | grep -q 'temporary wrapper script'; then
+    built=$(dirname "$SKYSWEEP")/.libs
+    ours_cmd=(env "LD_LIBRARY_PATH=$built" "$built/skysweep")
+fi
 ours() { # ours DIR ARG...: skysweep ARG... -q after a warm-up run
     local dir=$1
     shift
-    "$SKYSWEEP" "$@" -q >/dev/null 2>&1 || true
-    timed "$dir" "$SKYSWEEP" "$@" -q
+    "${ours_cmd[@]}" "$@" -q >/dev/null 2>&1 || true
+    timed "$dir" "${ours_cmd[@]}" "$@" -q
 }
 grass_time() { # grass_time DIR DEM horizon|sun OPTION...: the module alone
     local dir=$work/$1 dem=$2
