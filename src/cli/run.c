@@ -248,7 +248,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     if (may_band && rows > 0 && (cost->halo_m > 0 || cost->halo_cells > 0)) {
         double cell_y = isfinite(dem->grid.cell_y_m) ? dem->grid.cell_y_m
                                                      : fabs(dem->geotransform[5]) * 110574.0;
-        int halo = (int)ceil(cost->halo_m / cell_y + cost->halo_cells);
+        /* More rows than the grid's height cannot be held either way. */
+        int halo = (int)fmin(ceil(cost->halo_m / cell_y + cost->halo_cells), dem->grid.height);
         rows = rows - 2 * halo >= 1 ? rows - 2 * halo : -1;
     }
     /* Processes sharing a run sweep the same bands (their machines' memory

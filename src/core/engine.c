@@ -487,8 +487,10 @@ static ss_status open_run(engine_run *e)
     if (job->walk.radius_m > 0 && e->opt->lines == SS_LINES_BOX)
         return ss_fail(e->ctx, SS_ERR_ARGUMENT,
                        "radius-limited horizons take interpolated or digital lines, not box lines");
-    if (job->walk.radius_m > 0) /* a radius walk looks back this far: no hulls */
-        e->halo += (int)ceil(job->walk.radius_m / src->cell_y_m);
+    if (job->walk.radius_m > 0) { /* a radius walk looks back this far: no hulls */
+        double rows = ceil(job->walk.radius_m / src->cell_y_m);
+        e->halo += rows < h ? (int)rows : h; /* a halo past the grid's height holds no more */
+    }
     int max_held = e->banded ? (e->band_rows + 2 * e->halo < h ? e->band_rows + 2 * e->halo : h)
                              : h;
     size_t held = (size_t)max_held * (size_t)w;

@@ -10,14 +10,18 @@
  * 0 invalid; >= 250: a million and one), offset (int16 / 90 degrees), cell
  * sizes (two nibbles into a table with 0, -1, NaN, Inf, 1e-6, 1e7, ...),
  * earth radius and refraction (3 bits each into tables with invalid
- * values), then one code byte per cell (+ 4 bytes for a raw float).
+ * values) and, in the same byte's top two bits, the radius of a positive
+ * openness within a radius (none, 2.5 cells: scanned windows, 40 cells:
+ * the hulls' bisections, NaN: refused), then one code byte per cell (+ 4
+ * bytes for a raw float).
  *
  * Checked: the status is SS_OK exactly when the grid and the options pass
  * their checks, else SS_ERR_INPUT / SS_ERR_ARGUMENT with a one-line
  * message; every output cell is SS_NODATA where the height is not finite
  * and a finite value in range elsewhere (SVF 0..1, horizon -90..90 deg,
- * distance >= 0); and on tame grids (finite |z| <= 1000 m, cells of
- * 1..1e4 m) the horizon equals the brute force of tests/testlib.c.
+ * distance >= 0, openness 0..180 deg); and on tame grids (finite |z| <=
+ * 1000 m, cells of 1..1e4 m) the horizon equals the brute force of
+ * tests/testlib.c.
  *
  * Built with -DFUZZ_SWEEP_OPENCL it also runs the default OpenCL device and
  * requires the same answers as the C reference (up to float rounding). */
@@ -63,6 +67,8 @@ static float take_float(reader *r)
 static const double cell_table[16] = {1,    30,   0.5,      1e-6, 1e7,      2.5,  1000, 1e-3,
                                       0,    -1,   NAN,      INFINITY, 5e-7, 1.1e7, 4.9e-324, 90};
 static const double radius_table[8] = {0, 0, 6371000, 1e3, 1e9, 999, NAN, -6371000};
+/* Openness radii in cells (of the larger cell size), NaN refused. */
+static const double openness_cells[4] = {0, 2.5, 40, NAN};
 static const double refraction_table[8] = {0, 0.13, 0.99, 0.999999, 1, -0.1, NAN, 0.5};
 
 static float height_of(uint8_t code, reader *r)
@@ -139,8 +145,8 @@ static void check_status(ss_ctx *ctx, ss_status st, ss_status want, const char *
 
 /* Runs the products on one device; fills svf and horizon (direction 0). */
 static void run_products(const char *device, const ss_grid *g, const ss_sweep_options *opt,
-                         int definition, int want_dist, ss_status want, ss_status want_bare,
-                         float *svf, float *angle0)
+                         int definition, int want_dist, double radius_m, ss_status want,
+                         ss_status want_bare, float *svf, float *angle0)
 {
     /* One context per device for the whole run: an OpenCL context keeps its
      * built kernels, as a long CLI run does. */
@@ -168,6 +174,18 @@ static void run_products(const char *device, const ss_grid *g, const ss_sweep_op
     check_status(ctx, st, want, "ss_horizon");
     if (st == SS_OK)
         FUZZ_CHECK(s.calls == opt->directions, "%d of %d directions", s.calls, opt->directions);
+    /* Openness within a radius: the radius walks (ss_passes.h). */
+    float *open = malloc(n * sizeof *open);
+    st = ss_openness(ctx, g, opt, 0, radius_m, open);
+    check_status(ctx, st, isnan(radius_m) ? SS_ERR_ARGUMENT : want, "ss_openness");
+    for (size_t c = 0; st == SS_OK && c < n; ++c) {
+        if (!isfinite(g->z[c]))
+            FUZZ_CHECK(open[c] == SS_NODATA, "nodata cell %zu: openness %g", c, (double)open[c]);
+        else
+            FUZZ_CHECK(open[c] >= 0 && open[c] <= 180, "cell %zu (z %g), radius %g m: openness %g",
+                       c, (double)g->z[c], radius_m, (double)open[c]);
+    }
+    free(open);
     float *bare = calloc(n, sizeof *bare);
     st = ss_bare_pass(ctx, g, opt->offset_deg, opt->lines, bare);
     check_status(ctx, st, want_bare, "ss_bare_pass");
@@ -187,6 +205,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     take(&r, &cells);
     take(&r, &curv);
     int w = 1 + bw % 20, h = 1 + bh % 20;
+    int radius_cells = curv >> 6;
     int definition = (flags >> 2) & 3, want_dist = (flags >> 1) & 1;
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
@@ -217,13 +236,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
      * only: the grid decides. */
     ss_status want_bare = grid_st;
 
+    /* The openness radius in cells of the larger size (of 1 m where that is
+     * not finite: the grid's check refuses such a grid). */
+    double cell_m = fmax(fabs(g.cell_x_m), fabs(g.cell_y_m));
+    double radius_m = openness_cells[radius_cells] * (isfinite(cell_m) ? cell_m : 1.0);
     float *svf = malloc(n * sizeof *svf), *angle = malloc(n * sizeof *angle);
-    run_products("reference", &g, &opt, definition, want_dist, want, want_bare, svf, angle);
+    run_products("reference", &g, &opt, definition, want_dist, radius_m, want, want_bare, svf,
+                 angle);
 
 #ifdef FUZZ_SWEEP_OPENCL
     {
         float *svf_cl = malloc(n * sizeof *svf_cl), *angle_cl = malloc(n * sizeof *angle_cl);
-        run_products(NULL, &g, &opt, definition, want_dist, want, want_bare, svf_cl,
+        run_products(NULL, &g, &opt, definition, want_dist, radius_m, want, want_bare, svf_cl,
                      angle_cl);
         for (size_t c = 0; want == SS_OK && c < n; ++c) {
             if (definition <= 2)
