@@ -67,7 +67,8 @@ typedef struct {
     float none_deg;       /* horizon walks: where nothing lies ahead */
     float radius_m;       /* > 0: the highest terrain within it (radius walks) */
     float cell_x_m, cell_y_m;
-    int stack_per_cell;   /* stack grid slots per held cell (box lines: SS_BOX_EVENTS) */
+    int stack_per_cell;   /* stack grid slots per held cell (box lines: SS_BOX_EVENTS;
+                             radius walks with hulls: SS_RADIUS_SLOTS, a hull point) */
 } ss_band_run;
 
 /* Counters of a band visit (ints in one small buffer). */

@@ -164,11 +164,21 @@ SS_FN void ss_pass_horizon_finish(int cell, float none_deg, SS_GLOBAL float *ang
  * walked. Only the held rows within the radius are read, so a band needs
  * those rows held, not a hull handed on. */
 
-/* Stack grid slots (ints) a radius walk takes per held cell: a hull point. */
+/* Stack grid slots (ints) a radius walk with hulls takes per held cell: a
+ * hull point. */
 #define SS_RADIUS_SLOTS 4
 /* The u of the point kept for a sample whose window's farther part holds
  * no vertex (no point's u, a step count, comes near it). */
 #define SS_RADIUS_NONE 3.0e38f
+
+/* Whether a walk within radius_m takes the hulls in some direction, and so
+ * needs SS_RADIUS_SLOTS stack slots a held cell: a line steps at least the
+ * smaller cell size, so shorter radii are scanned in every direction
+ * (ss_band_radius_line) and read no stack. */
+SS_FN int ss_radius_takes_hulls(float radius_m, float cell_x_m, float cell_y_m)
+{
+    return radius_m > SS_RADIUS_SCAN_STEPS * SS_FMIN(cell_x_m, cell_y_m);
+}
 
 /* The hull point of the sample at step t of the walker's line. */
 SS_FN ss_hull_point ss_radius_point(const ss_line_set *ls, const ss_walker *w,
@@ -348,18 +358,19 @@ SS_FN void ss_radius_hulls(const ss_walker *w, const ss_line_set *ls, int s_lo, 
             ss_hull_point v = ss_radius_point(ls, w, z, q, &h), pn = {0.0f, 0.0f, 0.0f, 0.0f};
             if (!h.valid)
                 continue;
-            /* Read before the prefix hull may take q's home. */
-            ss_hull_point pf = ss_radius_vertex(ls, w, pts, q);
-            int best = pf.u != SS_RADIUS_NONE;
+            /* The farther part's tangent, read before the prefix hull may
+             * take q's home; then the nearer part's, if it rises higher. */
+            ss_hull_point best = ss_radius_vertex(ls, w, pts, q);
+            int have_best = best.u != SS_RADIUS_NONE;
             if (ss_radius_tangent_after(ls, w, pts, &near, v, h.occludes, curv_k, flags, &pn) &&
-                (!best || ss_radius_not_below(ls, v, pn, pf, curv_k, flags))) {
-                best = 1;
-                pf = pn;
+                (!have_best || ss_radius_not_below(ls, v, pn, best, curv_k, flags))) {
+                have_best = 1;
+                best = pn;
             }
             float best_d = 0.0f, best_dz = -1.0f;
-            if (best) {
-                best_d = ss_hull_dist(ls, v, pf, flags);
-                best_dz = ss_hull_height_above(v, pf, flags) - curv_k * best_d * best_d;
+            if (have_best) {
+                best_d = ss_hull_dist(ls, v, best, flags);
+                best_dz = ss_hull_height_above(v, best, flags) - curv_k * best_d * best_d;
             }
             /* Radius terms are never radiative: no gradient is read. */
             float term = ss_svf_term_for(definition, ls, 0, 0, best_d, best_dz, 0.0f, 0.0f, z);

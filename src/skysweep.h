@@ -326,9 +326,10 @@ SS_API ss_status ss_horizon_rows(ss_ctx *ctx, const ss_source *src, const ss_swe
 SS_API double ss_horizon_band_cell_bytes(int want);
 /* Bytes per cell a line model adds to a band's (box lines: more hull slots). */
 SS_API double ss_lines_extra_cell_bytes(ss_line_model lines);
-/* Bytes per cell a walk within a radius adds to a band's (its stack slots
- * hold whole hull points). */
-SS_API double ss_radius_extra_cell_bytes(void);
+/* Bytes per cell a walk within radius_m adds to a band's where it takes
+ * hulls (their stack slots hold whole hull points; shorter radii are
+ * scanned and add none). Cell sizes not finite: counted. */
+SS_API double ss_radius_extra_cell_bytes(double radius_m, double cell_x_m, double cell_y_m);
 SS_API double ss_horizon_column_bytes(void);
 
 /* RVT's VAT relief blend (Kokalj & Somrak 2019) of one cell, 0..1 (1 =

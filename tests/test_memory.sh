@@ -105,6 +105,22 @@ else
     [ -n "$base" ] && [ -n "$used" ] && [ "$used" -le $((base + 64)) ]
     tap_ok $? "horizon: peak resident ${used:-?} MiB <= ${base:-?} MiB + 64 MiB"
 fi
+# Within a radius of 50 cells (hulls, whose stack grid holds a hull point a
+# cell): banded under the bound, the whole grid's values.
+"$SKYSWEEP" svf --radius 500 --directions 8 --memory 64M --device reference "$work/dem.tif" \
+    "$work/r_b.tif" >"$work/rb.out"
+rc=$?
+used=$(peak "$work/rb.out")
+"$SKYSWEEP" svf --radius 500 --directions 8 --device reference -q "$work/dem.tif" "$work/r_w.tif"
+w=$(worst_band "$work/r_w.tif" "$work/r_b.tif" 1)
+grep -q '^bands ' "$work/rb.out" && awk -v w="$w" 'BEGIN { exit !(w <= 1e-6) }'
+tap_ok $? "svf within 500 m in bands == whole grid (worst $w; exit $rc): $(grep '^bands ' "$work/rb.out" | cut -c1-60)"
+if "$SKYSWEEP" info | grep -q 'sanitizers yes'; then
+    tap_skip "radius SVF's peak resident memory within the bound" "AddressSanitizer inflates it"
+else
+    [ -n "$base" ] && [ -n "$used" ] && [ "$used" -le $((base + 64)) ]
+    tap_ok $? "svf within 500 m: peak resident ${used:-?} MiB <= ${base:-?} MiB + 64 MiB"
+fi
 "$SKYSWEEP" horizon --directions 4 --device reference -q --distance "$work/hd_w.tif" \
     --cast-height "$work/hc_w.tif" "$work/dem.tif" "$work/h_w.tif"
 wa=$(worst_bands "$work/h_w.tif" "$work/h_b.tif" 4)

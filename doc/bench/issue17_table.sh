@@ -89,9 +89,9 @@ measured() { # measured DIR: a timed_reps folder's median, or its status
 # A build tree's ./skysweep is libtool's wrapper script, a shell that runs
 # sed before it starts the program: time the program itself, as installed.
 ours_cmd=("$SKYSWEEP")
-if head -c 2048 "$SKYSWEEP" | grep -q 'temporary wrapper script'; then
-    built=$(dirname "$SKYSWEEP")/.libs
-    ours_cmd=(env "LD_LIBRARY_PATH=$built" "$built/skysweep")
+built=$(dirname "$SKYSWEEP")/.libs
+if head -c 2048 "$SKYSWEEP" | grep -q 'temporary wrapper script' && [ -x "$built/skysweep" ]; then
+    ours_cmd=(env "LD_LIBRARY_PATH=$built${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" "$built/skysweep")
 fi
 ours() { # ours DIR ARG...: skysweep ARG... -q after a warm-up run
     local dir=$1

@@ -72,7 +72,7 @@ int cmd_hillshade(int argc, char **argv)
     double blend_radius_m = ho.radius_m;
     shade_out out = {NULL};
     st = ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1, set.common.format,
-                                       set.common.creation_options.items, &out.w);
+                             set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
     ss_source src = job_source(&job, NULL);
     if (st == SS_OK)

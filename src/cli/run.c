@@ -210,10 +210,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     /* A halo is a radius walk's (svf and openness within a radius, the VAT
      * blend). */
     int radius_walk = may_band && (cost->halo_m > 0 || cost->halo_cells > 0);
-    double cell_bytes = may_band ? cost->cell_bytes +
-                                       ss_lines_extra_cell_bytes(run_lines_asked(common)) +
-                                       (radius_walk ? ss_radius_extra_cell_bytes() : 0.0)
-                                 : 0.0;
+    double cell_bytes =
+        may_band ? cost->cell_bytes + ss_lines_extra_cell_bytes(run_lines_asked(common)) : 0.0;
     /* Hulls are handed on per line: box lines have box_lines times as many. */
     int hull_directions = (may_band && cost->directions ? cost->directions
                                                         : common->sweep.directions) *
@@ -236,6 +234,13 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         budget = 0.5 * (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
     ss_dem_source *src;
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
+    /* Its stack slots, where the radius takes hulls: the VAT blend's radius
+     * in cells taken at the larger cell size, which it never exceeds. */
+    if (st == SS_OK && radius_walk) {
+        double cx = dem->grid.cell_x_m, cy = dem->grid.cell_y_m;
+        cell_bytes += ss_radius_extra_cell_bytes(cost->halo_m + cost->halo_cells * fmax(cx, cy),
+                                                 cx, cy);
+    }
     int rows = st != SS_OK ? -2
                : may_band  ? ss_band_rows_within(dem->grid.width, dem->grid.height,
                                                  hull_directions, budget, cell_bytes,
@@ -245,7 +250,7 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     /* A radius walk holds the rows within its radius beside each band (a
      * geographic grid's rows, whose sizes come with its frame, counted at
      * their smallest: a degree of latitude is 110.574 km or more). */
-    if (may_band && rows > 0 && (cost->halo_m > 0 || cost->halo_cells > 0)) {
+    if (rows > 0 && radius_walk) {
         double cell_y = isfinite(dem->grid.cell_y_m) ? dem->grid.cell_y_m
                                                      : fabs(dem->geotransform[5]) * 110574.0;
         /* More rows than the grid's height cannot be held either way. */

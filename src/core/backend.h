@@ -67,7 +67,8 @@ struct ss_backend {
     const ss_backend_ops *ops;
     ss_walk walk;
     int width, max_held_rows; /* the largest band's buffers */
-    int stack_per_cell;       /* stack grid slots per held cell (ss_band_run's) */
+    int stack_per_cell;       /* stack grid slots per held cell (ss_band_run's: box lines
+                                 and radius walks with hulls take more than one) */
     int batch;                /* directions per batch: asked for, lowered by open to fit */
     int carried;              /* rows of sums kept between bands (0: the whole grid) */
     const float *whole_z;     /* the whole grid, used in place (NULL in bands) */

@@ -35,9 +35,18 @@ double ss_lines_extra_cell_bytes(ss_line_model lines)
     return lines == SS_LINES_BOX ? (SS_BOX_EVENTS - 1) * sizeof(int) : 0.0;
 }
 
-double ss_radius_extra_cell_bytes(void)
+_Static_assert(SS_RADIUS_SLOTS * sizeof(int) == sizeof(ss_hull_point),
+               "a radius walk's stack slots of a cell hold one hull point");
+
+double ss_radius_extra_cell_bytes(double radius_m, double cell_x_m, double cell_y_m)
 {
-    return (SS_RADIUS_SLOTS - 1) * sizeof(int);
+    /* Cell sizes not known yet (a geographic grid before its frame): the
+     * hulls are counted. */
+    int known = isfinite(cell_x_m) && isfinite(cell_y_m);
+    int hulls = !(radius_m <= 0) && (!known || ss_radius_takes_hulls((float)radius_m,
+                                                                     (float)cell_x_m,
+                                                                     (float)cell_y_m));
+    return hulls ? (SS_RADIUS_SLOTS - 1) * sizeof(int) : 0.0;
 }
 
 double ss_horizon_column_bytes(void)
@@ -63,7 +72,10 @@ double ss_insolation_band_cell_bytes(int want, int stored_directions)
  * hull stack slots, sums and the product, and either an inverted copy
  * (negative openness) or the surface gradients (radiative SVF, 8 bytes);
  * besides the sweep's grids a run needs buffers for reading and writing
- * (GDAL's block cache, capped at 16 MiB by the CLI in banded runs). */
+ * (GDAL's block cache, capped at 16 MiB by the CLI in banded runs). A walk
+ * within a radius long enough for hulls holds 12 bytes more (its stack
+ * slots: ss_radius_extra_cell_bytes), 28 or 32 a cell, which its band bytes
+ * (24) stand in for: up to 8 a cell are not counted (doc/scale.md). */
 #define WHOLE_BYTES_PER_CELL 24.0
 #define FIXED_BYTES (48.0 * 1048576.0)
 

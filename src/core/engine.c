@@ -534,8 +534,11 @@ static ss_status open_run(engine_run *e)
     e->b.walk = job->walk;
     e->b.width = w;
     e->b.max_held_rows = max_held;
+    int radius_hulls = job->walk.radius_m > 0 &&
+                       ss_radius_takes_hulls((float)job->walk.radius_m, (float)src->cell_x_m,
+                                             (float)src->cell_y_m);
     e->b.stack_per_cell = e->opt->lines == SS_LINES_BOX ? SS_BOX_EVENTS
-                          : job->walk.radius_m > 0     ? SS_RADIUS_SLOTS
+                          : radius_hulls               ? SS_RADIUS_SLOTS
                                                        : 1;
     e->b.batch = batch_wanted(e);
     int group = job->group > 0 && job->group < job->n_dirs ? job->group : job->n_dirs;

@@ -5,15 +5,17 @@
  * (the plausibility limit) and just beyond it, -9999, plus raw floats; an
  * input that ends early leaves the rest of the grid nodata.
  *
- * Layout: w, h (1..20 each), flags (bit 0 digital lines, bit 1 distances,
+ * Layout: w, h (1..20 each; 1..64 with the openness radius of 24 cells),
+ * flags (bit 0 digital lines, bit 1 distances,
  * bits 2-3 SVF definition, 3 = an invalid one), directions (byte % 12,
  * 0 invalid; >= 250: a million and one), offset (int16 / 90 degrees), cell
  * sizes (two nibbles into a table with 0, -1, NaN, Inf, 1e-6, 1e7, ...),
  * earth radius and refraction (3 bits each into tables with invalid
  * values) and, in the same byte's top two bits, the radius of a positive
- * openness within a radius (none, 2.5 cells: scanned windows, 40 cells:
- * the hulls' bisections, NaN: refused), then one code byte per cell (+ 4
- * bytes for a raw float).
+ * openness within a radius (none; 2.5 cells: scanned windows; 24 cells on
+ * grids of up to 64 cells a side: lines longer than the radius, whose
+ * windows take the previous chunk's suffix hulls and the prefix hulls;
+ * NaN: refused), then one code byte per cell (+ 4 bytes for a raw float).
  *
  * Checked: the status is SS_OK exactly when the grid and the options pass
  * their checks, else SS_ERR_INPUT / SS_ERR_ARGUMENT with a one-line
@@ -68,7 +70,7 @@ static const double cell_table[16] = {1,    30,   0.5,      1e-6, 1e7,      2.5,
                                       0,    -1,   NAN,      INFINITY, 5e-7, 1.1e7, 4.9e-324, 90};
 static const double radius_table[8] = {0, 0, 6371000, 1e3, 1e9, 999, NAN, -6371000};
 /* Openness radii in cells (of the larger cell size), NaN refused. */
-static const double openness_cells[4] = {0, 2.5, 40, NAN};
+static const double openness_cells[4] = {0, 2.5, 24, NAN};
 static const double refraction_table[8] = {0, 0.13, 0.99, 0.999999, 1, -0.1, NAN, 0.5};
 
 static float height_of(uint8_t code, reader *r)
@@ -146,7 +148,7 @@ static void check_status(ss_ctx *ctx, ss_status st, ss_status want, const char *
 /* Runs the products on one device; fills svf and horizon (direction 0). */
 static void run_products(const char *device, const ss_grid *g, const ss_sweep_options *opt,
                          int definition, int want_dist, double radius_m, ss_status want,
-                         ss_status want_bare, float *svf, float *angle0)
+                         ss_status want_bare, float *svf, float *angle0, float *open)
 {
     /* One context per device for the whole run: an OpenCL context keeps its
      * built kernels, as a long CLI run does. */
@@ -175,7 +177,6 @@ static void run_products(const char *device, const ss_grid *g, const ss_sweep_op
     if (st == SS_OK)
         FUZZ_CHECK(s.calls == opt->directions, "%d of %d directions", s.calls, opt->directions);
     /* Openness within a radius: the radius walks (ss_passes.h). */
-    float *open = malloc(n * sizeof *open);
     st = ss_openness(ctx, g, opt, 0, radius_m, open);
     check_status(ctx, st, isnan(radius_m) ? SS_ERR_ARGUMENT : want, "ss_openness");
     for (size_t c = 0; st == SS_OK && c < n; ++c) {
@@ -185,7 +186,6 @@ static void run_products(const char *device, const ss_grid *g, const ss_sweep_op
             FUZZ_CHECK(open[c] >= 0 && open[c] <= 180, "cell %zu (z %g), radius %g m: openness %g",
                        c, (double)g->z[c], radius_m, (double)open[c]);
     }
-    free(open);
     float *bare = calloc(n, sizeof *bare);
     st = ss_bare_pass(ctx, g, opt->offset_deg, opt->lines, bare);
     check_status(ctx, st, want_bare, "ss_bare_pass");
@@ -204,8 +204,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     take(&r, &o1);
     take(&r, &cells);
     take(&r, &curv);
-    int w = 1 + bw % 20, h = 1 + bh % 20;
-    int radius_cells = curv >> 6;
+    int radius_cells = curv >> 6, side = radius_cells == 2 ? 64 : 20;
+    int w = 1 + bw % side, h = 1 + bh % side;
     int definition = (flags >> 2) & 3, want_dist = (flags >> 1) & 1;
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
@@ -240,15 +240,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
      * not finite: the grid's check refuses such a grid). */
     double cell_m = fmax(fabs(g.cell_x_m), fabs(g.cell_y_m));
     double radius_m = openness_cells[radius_cells] * (isfinite(cell_m) ? cell_m : 1.0);
-    float *svf = malloc(n * sizeof *svf), *angle = malloc(n * sizeof *angle);
+    float *svf = malloc(n * sizeof *svf), *angle = malloc(n * sizeof *angle),
+          *open = malloc(n * sizeof *open);
     run_products("reference", &g, &opt, definition, want_dist, radius_m, want, want_bare, svf,
-                 angle);
+                 angle, open);
 
 #ifdef FUZZ_SWEEP_OPENCL
     {
-        float *svf_cl = malloc(n * sizeof *svf_cl), *angle_cl = malloc(n * sizeof *angle_cl);
+        float *svf_cl = malloc(n * sizeof *svf_cl), *angle_cl = malloc(n * sizeof *angle_cl),
+              *open_cl = malloc(n * sizeof *open_cl);
         run_products(NULL, &g, &opt, definition, want_dist, radius_m, want, want_bare, svf_cl,
-                     angle_cl);
+                     angle_cl, open_cl);
         for (size_t c = 0; want == SS_OK && c < n; ++c) {
             if (definition <= 2)
                 FUZZ_CHECK(fabsf(svf[c] - svf_cl[c]) <= 1e-4f,
@@ -257,9 +259,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             FUZZ_CHECK(fabsf(angle[c] - angle_cl[c]) <= 1e-3f,
                        "cell %zu: horizon reference %.9g, OpenCL %.9g", c, (double)angle[c],
                        (double)angle_cl[c]);
+            if (!isnan(radius_m))
+                FUZZ_CHECK(fabsf(open[c] - open_cl[c]) <= 1e-3f,
+                           "cell %zu: openness within %g m, reference %.9g, OpenCL %.9g", c,
+                           radius_m, (double)open[c], (double)open_cl[c]);
         }
         free(svf_cl);
         free(angle_cl);
+        free(open_cl);
     }
 #endif
 
@@ -287,6 +294,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     free(svf);
     free(angle);
+    free(open);
     ss_grid_free(&g);
     ss_ctx_free(ctx);
     return 0;
