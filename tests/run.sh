@@ -40,6 +40,12 @@ check() {
     fi
     status=$?
     grep -E '^(FAIL|ERROR|XPASS):' tests/check.out
+    # The end of each failing test's log: CI keeps only what is printed.
+    grep -E '^(FAIL|ERROR|XPASS):' tests/check.out | awk '!seen[$2]++ { print $2 }' |
+        while read -r name; do
+            echo "--- the end of $name.log:"
+            tail -n 20 "$name.log" 2>/dev/null | sed 's/^/    /'
+        done
     summary=$(cat test-suite.log 2>/dev/null)
     count() { echo "$summary" | sed -n "s/^# $1: *//p" | head -n1; }
     pass=$(count PASS) fail=$(count FAIL) error=$(count ERROR) xpass=$(count XPASS)
