@@ -107,36 +107,79 @@ SS_FN float ss_z_or(SS_GLOBAL const float *z, int width, int height, int col, in
     return SS_ISFINITE(v) ? v : fallback;
 }
 
-/* Surface gradient by Horn's (1981) 3x3 formula, as gdaldem uses;
- * rows run north to south. */
-SS_FN void ss_gradient_horn(SS_GLOBAL const float *z, int width, int height, int col, int row,
-                            float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
+/* The same for a neighbour known to lie inside the grid: no bounds tests,
+ * so that a loop over a row's inner cells vectorises. */
+SS_FN float ss_z_inner_or(SS_GLOBAL const float *z, int width, int col, int row, float fallback)
 {
-    float c = z[row * width + col];
-    float nw = ss_z_or(z, width, height, col - 1, row - 1, c);
-    float n = ss_z_or(z, width, height, col, row - 1, c);
-    float ne = ss_z_or(z, width, height, col + 1, row - 1, c);
-    float w = ss_z_or(z, width, height, col - 1, row, c);
-    float e = ss_z_or(z, width, height, col + 1, row, c);
-    float sw = ss_z_or(z, width, height, col - 1, row + 1, c);
-    float s = ss_z_or(z, width, height, col, row + 1, c);
-    float se = ss_z_or(z, width, height, col + 1, row + 1, c);
+    float v = z[row * width + col];
+    return SS_ISFINITE(v) ? v : fallback;
+}
+
+/* Surface gradient by Horn's (1981) 3x3 formula, as gdaldem uses, from the
+ * eight neighbours' heights; rows run north to south. */
+SS_FN void ss_horn(float nw, float n, float ne, float w, float e, float sw, float s, float se,
+                   float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
+{
     *dz_de = ((ne + 2.0f * e + se) - (nw + 2.0f * w + sw)) / (8.0f * cell_x_m);
     *dz_dn = ((nw + 2.0f * n + ne) - (sw + 2.0f * s + se)) / (8.0f * cell_y_m);
 }
 
+/* Horn's gradient of cell (col, row), edges and holes one-sided (ss_z_or). */
+SS_FN void ss_gradient_horn(SS_GLOBAL const float *z, int width, int height, int col, int row,
+                            float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
+{
+    float c = z[row * width + col];
+    ss_horn(ss_z_or(z, width, height, col - 1, row - 1, c),
+            ss_z_or(z, width, height, col, row - 1, c),
+            ss_z_or(z, width, height, col + 1, row - 1, c),
+            ss_z_or(z, width, height, col - 1, row, c), ss_z_or(z, width, height, col + 1, row, c),
+            ss_z_or(z, width, height, col - 1, row + 1, c),
+            ss_z_or(z, width, height, col, row + 1, c),
+            ss_z_or(z, width, height, col + 1, row + 1, c), cell_x_m, cell_y_m, dz_de, dz_dn);
+}
+
+/* The same for a cell whose eight neighbours all lie inside the grid (not
+ * on its edge): the same values, and a loop over them vectorises. */
+SS_FN void ss_gradient_horn_inner(SS_GLOBAL const float *z, int width, int col, int row,
+                                  float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
+{
+    float c = z[row * width + col];
+    ss_horn(ss_z_inner_or(z, width, col - 1, row - 1, c), ss_z_inner_or(z, width, col, row - 1, c),
+            ss_z_inner_or(z, width, col + 1, row - 1, c), ss_z_inner_or(z, width, col - 1, row, c),
+            ss_z_inner_or(z, width, col + 1, row, c), ss_z_inner_or(z, width, col - 1, row + 1, c),
+            ss_z_inner_or(z, width, col, row + 1, c), ss_z_inner_or(z, width, col + 1, row + 1, c),
+            cell_x_m, cell_y_m, dz_de, dz_dn);
+}
+
 /* Surface gradient by Zevenbergen & Thorne's (1987) central differences,
- * gdaldem's -alg ZevenbergenThorne. */
+ * gdaldem's -alg ZevenbergenThorne, from the four edge neighbours. */
+SS_FN void ss_zevenbergen_thorne(float n, float w, float e, float s, float cell_x_m,
+                                 float cell_y_m, float *dz_de, float *dz_dn)
+{
+    *dz_de = (e - w) / (2.0f * cell_x_m);
+    *dz_dn = (n - s) / (2.0f * cell_y_m);
+}
+
 SS_FN void ss_gradient_zt(SS_GLOBAL const float *z, int width, int height, int col, int row,
                           float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
 {
     float c = z[row * width + col];
-    float n = ss_z_or(z, width, height, col, row - 1, c);
-    float w = ss_z_or(z, width, height, col - 1, row, c);
-    float e = ss_z_or(z, width, height, col + 1, row, c);
-    float s = ss_z_or(z, width, height, col, row + 1, c);
-    *dz_de = (e - w) / (2.0f * cell_x_m);
-    *dz_dn = (n - s) / (2.0f * cell_y_m);
+    ss_zevenbergen_thorne(ss_z_or(z, width, height, col, row - 1, c),
+                          ss_z_or(z, width, height, col - 1, row, c),
+                          ss_z_or(z, width, height, col + 1, row, c),
+                          ss_z_or(z, width, height, col, row + 1, c), cell_x_m, cell_y_m, dz_de,
+                          dz_dn);
+}
+
+SS_FN void ss_gradient_zt_inner(SS_GLOBAL const float *z, int width, int col, int row,
+                                float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
+{
+    float c = z[row * width + col];
+    ss_zevenbergen_thorne(ss_z_inner_or(z, width, col, row - 1, c),
+                          ss_z_inner_or(z, width, col - 1, row, c),
+                          ss_z_inner_or(z, width, col + 1, row, c),
+                          ss_z_inner_or(z, width, col, row + 1, c), cell_x_m, cell_y_m, dz_de,
+                          dz_dn);
 }
 
 #endif

@@ -454,6 +454,15 @@ ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like,
     return writer_open(ctx, path, like, bands, format, creation_options, 1, writer);
 }
 
+/* v held in 1..255 and rounded half to even, as nearbyint rounds: adding
+ * and taking away 2^23 leaves a float of 0..2^23 rounded to an integer.
+ * No libm call, so the loop over a band's cells is a few instructions. */
+static unsigned char byte_of(float v)
+{
+    float held = v < 1.0f ? 1.0f : v > 255.0f ? 255.0f : v;
+    return (unsigned char)((held + 0x1p23f) - 0x1p23f);
+}
+
 ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
                          const float *data)
 {
@@ -484,8 +493,7 @@ ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
         for (int r = 0; r < n_rows; ++r)
             for (int c = 0; c < width; ++c) {
                 float v = data[(size_t)r * w->grid_width + c];
-                bytes[(size_t)r * width + c] =
-                    v == SS_NODATA ? 0 : (unsigned char)fmin(255.0, fmax(1.0, nearbyint(v)));
+                bytes[(size_t)r * width + c] = v == SS_NODATA ? 0 : byte_of(v);
             }
     }
     ss_gdal_errors_reset();

@@ -10,7 +10,17 @@
  * ss_hillshade_rows adds what the sweep gives: the light's exact cast
  * shadows (a horizon walk along it), sky-view shading (the SVF of an
  * earlier walk, kept in a cell store), or RVT's VAT blend instead
- * (relief_blend.c). */
+ * (relief_blend.c).
+ *
+ * The pragma lets GCC vectorise the inner cells' loop (shade_inner_cells):
+ * the shade's arithmetic may run where its select then takes the constant
+ * (no-trapping-math), which changes no value (the reasoning of
+ * insolation_lanes_body.h). It precedes the headers so that their inline
+ * functions are compiled alike. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-trapping-math", "fp-contract=off")
+#endif
+
 #include "config.h"
 
 #include <math.h>
@@ -61,36 +71,83 @@ ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho)
     return SS_OK;
 }
 
+/* The shade of a cell with gradient (dz_de, dz_dn), z factor applied. */
+static inline float shade_of(float dz_de, float dz_dn, float sun_e, float sun_n, float sun_u)
+{
+    float cang = ss_cos_incidence_gradient(sun_e, sun_n, sun_u, dz_de, dz_dn);
+    return cang <= 0.0f ? 1.0f : 1.0f + 254.0f * cang;
+}
+
+/* Cells c0..c1-1 of row r of any kind: on the grid's edge, beside nodata,
+ * nodata. */
+static void shade_cells(const ss_grid *grid, int r, int c0, int c1,
+                        const ss_hillshade_options *ho, float sun_e, float sun_n, float sun_u,
+                        float *out_row)
+{
+    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m, zf = (float)ho->z_factor;
+    double alt = ho->altitude_deg * M_PI / 180.0;
+    for (int c = c0; c < c1; ++c) {
+        if (!isfinite(grid->z[(size_t)r * grid->width + c])) {
+            out_row[c] = SS_NODATA;
+            continue;
+        }
+        float dz_de, dz_dn;
+        if (ho->zevenbergen_thorne)
+            ss_gradient_zt(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de, &dz_dn);
+        else
+            ss_gradient_horn(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de, &dz_dn);
+        dz_de *= zf;
+        dz_dn *= zf;
+        out_row[c] = ho->multidirectional ? (float)multidirectional(-dz_de, dz_dn, alt)
+                                          : shade_of(dz_de, dz_dn, sun_e, sun_n, sun_u);
+    }
+}
+
+/* The inner cells of row r (not on the grid's edge) under one light: the
+ * same values as shade_cells, in a loop that vectorises. */
+static void shade_inner_cells(const ss_grid *grid, int r, const ss_hillshade_options *ho,
+                              float sun_e, float sun_n, float sun_u, float *out_row)
+{
+    const float *z = grid->z;
+    int width = grid->width;
+    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m, zf = (float)ho->z_factor;
+    if (ho->zevenbergen_thorne) {
+#pragma omp simd
+        for (int c = 1; c < width - 1; ++c) {
+            float dz_de, dz_dn;
+            ss_gradient_zt_inner(z, width, c, r, cx, cy, &dz_de, &dz_dn);
+            float v = shade_of(dz_de * zf, dz_dn * zf, sun_e, sun_n, sun_u);
+            out_row[c] = isfinite(z[(size_t)r * width + c]) ? v : SS_NODATA;
+        }
+    } else {
+#pragma omp simd
+        for (int c = 1; c < width - 1; ++c) {
+            float dz_de, dz_dn;
+            ss_gradient_horn_inner(z, width, c, r, cx, cy, &dz_de, &dz_dn);
+            float v = shade_of(dz_de * zf, dz_dn * zf, sun_e, sun_n, sun_u);
+            out_row[c] = isfinite(z[(size_t)r * width + c]) ? v : SS_NODATA;
+        }
+    }
+}
+
 void ss_hillshade_of_rows(const ss_grid *grid, int row0, int row1,
                           const ss_hillshade_options *ho, float *out)
 {
     double az = ho->azimuth_deg * M_PI / 180.0, alt = ho->altitude_deg * M_PI / 180.0;
     float sun_e = (float)(cos(alt) * sin(az)), sun_n = (float)(cos(alt) * cos(az)),
           sun_u = (float)sin(alt);
-    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m;
+    int width = grid->width;
 #pragma omp parallel for schedule(static)
-    for (int r = row0; r < row1; ++r)
-        for (int c = 0; c < grid->width; ++c) {
-            size_t k = (size_t)(r - row0) * grid->width + c;
-            if (!isfinite(grid->z[(size_t)r * grid->width + c])) {
-                out[k] = SS_NODATA;
-                continue;
-            }
-            float dz_de, dz_dn;
-            if (ho->zevenbergen_thorne)
-                ss_gradient_zt(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de, &dz_dn);
-            else
-                ss_gradient_horn(grid->z, grid->width, grid->height, c, r, cx, cy, &dz_de,
-                                 &dz_dn);
-            dz_de *= (float)ho->z_factor;
-            dz_dn *= (float)ho->z_factor;
-            if (ho->multidirectional) {
-                out[k] = (float)multidirectional(-dz_de, dz_dn, alt);
-            } else {
-                float cang = ss_cos_incidence_gradient(sun_e, sun_n, sun_u, dz_de, dz_dn);
-                out[k] = cang <= 0.0f ? 1.0f : 1.0f + 254.0f * cang;
-            }
+    for (int r = row0; r < row1; ++r) {
+        float *out_row = out + (size_t)(r - row0) * width;
+        if (ho->multidirectional || r == 0 || r == grid->height - 1 || width < 3) {
+            shade_cells(grid, r, 0, width, ho, sun_e, sun_n, sun_u, out_row);
+            continue;
         }
+        shade_cells(grid, r, 0, 1, ho, sun_e, sun_n, sun_u, out_row);
+        shade_inner_cells(grid, r, ho, sun_e, sun_n, sun_u, out_row);
+        shade_cells(grid, r, width - 1, width, ho, sun_e, sun_n, sun_u, out_row);
+    }
 }
 
 ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azimuth_deg,
