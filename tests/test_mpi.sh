@@ -182,4 +182,27 @@ rc=$?
 lines=$(grep -c 'skysweep svf:' "$work/stderr")
 [ "$rc" -ne 0 ] && [ "$lines" -eq 1 ]
 tap_ok $? "a missing input under mpirun: one error line, from rank 0 (exit $rc, $lines lines)"
+
+# Open MPI is a module (src/cli/mpi_module.c): a plain start loads none of it.
+loads=$(LD_DEBUG=files "$SKYSWEEP" --version 2>&1 | grep -c 'file=libmpi')
+[ "$loads" -eq 0 ]
+tap_ok $? "a plain start loads no Open MPI ($loads loads of libmpi)"
+# Started by a launcher without the module, each process would run the whole
+# job alone: it says so once and stops. The program is copied out of the
+# build tree, where it would find the module.
+real=$(dirname "$SKYSWEEP")/.libs/skysweep
+if [ ! -x "$real" ] || [ -z "${SKYSWEEP_PKGLIBDIR:-}" ] ||
+    [ -e "$SKYSWEEP_PKGLIBDIR/skysweep-mpi.so" ]; then
+    tap_skip "a launcher without the MPI module" "needs the build tree's program and no installed module"
+else
+    mkdir -p "$work/bin" "$work/no-modules" && cp "$real" "$work/bin/skysweep"
+    LD_LIBRARY_PATH="$(dirname "$real")${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
+        SKYSWEEP_MODULE_DIR="$work/no-modules" OMPI_COMM_WORLD_SIZE=2 \
+        "$work/bin/skysweep" svf -q "$dem" "$work/n.tif" >"$work/stdout" 2>"$work/stderr"
+    rc=$?
+    lines=$(wc -l <"$work/stderr")
+    [ "$rc" -eq 5 ] && [ "$lines" -eq 1 ] && grep -q 'MPI launcher.*skysweep-mpi.so' "$work/stderr" &&
+        [ ! -e "$work/n.tif" ]
+    tap_ok $? "started by a launcher without the MPI module: one line, exit $rc, no output ($(head -c 160 "$work/stderr"))"
+fi
 tap_done

@@ -147,8 +147,10 @@ static int dispatch(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
-    share_start(&argc, &argv);
-    int rc = dispatch(argc, argv);
+    int rc = share_start(&argc, &argv);
+    if (rc)
+        return rc;
+    rc = dispatch(argc, argv);
     scene_release();
     share_stop();
     return rc;

@@ -1,4 +1,5 @@
-/* MPI for skysweep's CLI (mpi_share.h): only this file includes mpi.h. */
+/* Processes sharing one run (mpi_share.h). Open MPI is a module loaded
+ * only under a launcher (mpi_module.c); a plain start loads nothing. */
 #include "config.h"
 
 #include <limits.h>
@@ -7,47 +8,69 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifdef HAVE_MPI
-#include <mpi.h>
-#endif
-
+#include "modules.h"
 #include "mpi_share.h"
 
 static int rank_now = 0, size_now = 1;
 
 #ifdef HAVE_MPI
-static int joined;
+static void *module;
+static union {
+    void *symbols[4];
+    struct {
+        int (*join)(int *, char ***, int *, int *);
+        void (*leave)(void);
+        int (*min_int)(int *);
+        int (*sum_at_root)(float *, int, int);
+    } fn;
+} mpi;
 
 /* Open MPI's and PMIx/PMI launchers set these; a plain start sets none, and
- * then MPI is not initialised at all (no singleton start-up cost). */
+ * then MPI is not loaded at all. */
 static int launched_by_mpi(void)
 {
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
 }
 #endif
 
-void share_start(int *argc, char ***argv)
+int share_start(int *argc, char ***argv)
 {
 #ifdef HAVE_MPI
-    if (!launched_by_mpi() || MPI_Init(argc, argv) != MPI_SUCCESS)
-        return;
-    joined = 1;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank_now);
-    MPI_Comm_size(MPI_COMM_WORLD, &size_now);
+    if (!launched_by_mpi())
+        return 0;
+    static const char *const names[4] = {"ss_mpi_join", "ss_mpi_leave", "ss_mpi_min_int",
+                                         "ss_mpi_sum_at_root"};
+    ss_ctx *ctx = ss_ctx_new();
+    ss_status st = ctx ? cli_module_load(ctx, "skysweep-mpi.so", "Open MPI", names, 4,
+                                         mpi.symbols, &module)
+                       : SS_ERR_MEMORY;
+    if (st != SS_OK) {
+        /* Each process would run the whole job and write the same output. */
+        fprintf(stderr, "skysweep: started by an MPI launcher, but %s\n",
+                ctx ? ss_ctx_message(ctx) : "out of memory");
+        ss_ctx_free(ctx);
+        return SS_ERR_DEVICE;
+    }
+    ss_ctx_free(ctx);
+    if (!mpi.fn.join(argc, argv, &rank_now, &size_now)) {
+        fprintf(stderr, "skysweep: started by an MPI launcher, but MPI_Init failed\n");
+        return SS_ERR_DEVICE;
+    }
     /* Rank 0 alone prints summaries and plans. */
     if (rank_now > 0 && !freopen("/dev/null", "w", stdout))
         fclose(stdout);
 #else
     (void)argc, (void)argv;
 #endif
+    return 0;
 }
 
 void share_stop(void)
 {
 #ifdef HAVE_MPI
-    if (joined)
-        MPI_Finalize();
-    joined = 0;
+    if (module)
+        mpi.fn.leave();
+    module = NULL; /* kept loaded: Open MPI's threads may still run its code */
 #endif
 }
 
@@ -66,7 +89,7 @@ int share_first_failure(int failed)
     int first = failed ? rank_now : size_now;
 #ifdef HAVE_MPI
     if (size_now > 1)
-        MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+        mpi.fn.min_int(&first);
 #endif
     return first < size_now ? first : -1;
 }
@@ -75,7 +98,7 @@ static int all_min(int v)
 {
 #ifdef HAVE_MPI
     if (size_now > 1)
-        MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+        mpi.fn.min_int(&v);
 #endif
     return v;
 }
@@ -116,15 +139,9 @@ int share_sum_at_root(float *values, size_t n)
 {
 #ifdef HAVE_MPI
     const size_t piece = (size_t)1 << 28;
-    for (size_t at = 0; size_now > 1 && at < n; at += piece) {
-        int count = (int)(n - at < piece ? n - at : piece);
-        int rc = rank_now == 0 ? MPI_Reduce(MPI_IN_PLACE, values + at, count, MPI_FLOAT, MPI_SUM,
-                                            0, MPI_COMM_WORLD)
-                               : MPI_Reduce(values + at, NULL, count, MPI_FLOAT, MPI_SUM, 0,
-                                            MPI_COMM_WORLD);
-        if (rc != MPI_SUCCESS)
+    for (size_t at = 0; size_now > 1 && at < n; at += piece)
+        if (!mpi.fn.sum_at_root(values + at, (int)(n - at < piece ? n - at : piece), rank_now))
             return 0;
-    }
 #else
     (void)values, (void)n;
 #endif

@@ -3,8 +3,9 @@
  * r, r + N, ...; insolation deals out its time steps so), their per-cell
  * sums meet at rank 0 (one reduction of a float grid per output: what
  * crosses the network per run), and rank 0 alone writes the output and
- * speaks. Without MPI, or started without a launcher, a
- * run is one process and these calls cost nothing. */
+ * speaks. Without MPI, or started without a launcher, a run is one process,
+ * Open MPI is not even loaded (it is the module skysweep-mpi.so,
+ * mpi_module.c), and these calls cost nothing. */
 #ifndef SS_CLI_MPI_SHARE_H
 #define SS_CLI_MPI_SHARE_H
 
@@ -12,8 +13,10 @@
 
 #include "run.h"
 
-/* Joins the MPI job when an MPI launcher started this process. */
-void share_start(int *argc, char ***argv);
+/* Joins the MPI job when an MPI launcher started this process: 0, or
+ * SS_ERR_DEVICE, the reason printed, where the module or MPI_Init fails
+ * (each process would otherwise run the whole job alone). */
+int share_start(int *argc, char ***argv);
 void share_stop(void);
 int share_rank(void);
 int share_size(void);
