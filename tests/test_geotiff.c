@@ -192,6 +192,41 @@ static void writer_round_trip(void)
     if (ds)
         GDALClose(ds);
 
+    /* Byte bands (hillshade's): values rounded half to even and held in
+     * 1..255 as gdaldem's nearbyint would, nodata 0; ties, the range's
+     * ends and far beyond (the writer refuses what is not finite). */
+    char out_byte[300];
+    snprintf(out_byte, sizeof out_byte, "%s/byte.tif", work);
+    static const float edges[] = {0.5f,   1.5f,   2.5f,   3.5f,    254.5f, 253.5f, 255.49f,
+                                  255.5f, -3.0f,  0.0f,   1e30f,   -1e30f, 3.4e38f, -3.4e38f,
+                                  0.999f, 1.001f, 127.5f, 128.5f,  99.49999f};
+    float shades[45];
+    int n_edges = (int)(sizeof edges / sizeof edges[0]);
+    for (int k = 0; k < 45; ++k)
+        shades[k] = k == 44 ? SS_NODATA : k < n_edges ? edges[k] : 1.0f + k * 5.7f;
+    st = ss_writer_open_byte(ctx, out_byte, &dem, 1, NULL, NULL, &w);
+    if (st == SS_OK)
+        st = ss_writer_rows(w, 1, 0, 5, shades);
+    if (st == SS_OK)
+        st = ss_writer_commit(w, NULL, NULL);
+    unsigned char bytes[45];
+    ds = st == SS_OK ? GDALOpen(out_byte, GA_ReadOnly) : NULL;
+    int wrong = ds ? 0 : 45;
+    if (ds && GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Read, 0, 0, 9, 5, bytes, 9, 5, GDT_Byte,
+                           0, 0) != CE_None)
+        wrong = 45;
+    for (int k = 0; ds && k < 45; ++k) {
+        int expected =
+            shades[k] == SS_NODATA ? 0 : (int)fmin(255.0, fmax(1.0, nearbyint(shades[k])));
+        wrong += bytes[k] != expected;
+    }
+    tap_ok(st == SS_OK && wrong == 0,
+           "byte bands: ties to even, held in 1..255, nodata 0, as nearbyint, fmax and fmin "
+           "give them (%d of 45 wrong) %s",
+           wrong, st == SS_OK ? "" : ss_ctx_message(ctx));
+    if (ds)
+        GDALClose(ds);
+
     /* NaN is refused and abort leaves nothing. */
     char out2[300];
     snprintf(out2, sizeof out2, "%s/nan.tif", work);
@@ -220,7 +255,7 @@ int main(void)
     /* Remove what the tests made. */
     const char *names[] = {"type0.tif", "type1.tif", "type2.tif", "type3.tif", "type4.tif",
                            "type5.tif", "whole.tif", "tile0.tif", "tile1.tif", "tile2.tif",
-                           "tile3.tif", "tile4.tif", "in.tif", "out.tif"};
+                           "tile3.tif", "tile4.tif", "in.tif", "out.tif", "byte.tif"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
         char p[400];
         snprintf(p, sizeof p, "%s/%s", work, names[i]);

@@ -454,13 +454,16 @@ ss_status ss_writer_open_byte(ss_ctx *ctx, const char *path, const ss_dem *like,
     return writer_open(ctx, path, like, bands, format, creation_options, 1, writer);
 }
 
-/* v held in 1..255 and rounded half to even, as nearbyint rounds: adding
- * and taking away 2^23 leaves a float of 0..2^23 rounded to an integer.
- * No libm call, so the loop over a band's cells is a few instructions. */
+/* v held in 1..255 (NaN taken as 1, as fmax takes it) and rounded half to
+ * even, as nearbyint rounds: adding and taking away 2^23 leaves a float of
+ * 0..2^23 rounded to an integer (the sum is stored first, so that it is
+ * rounded to float even where the compiler keeps more precision). No libm
+ * call, so the loop over a band's cells is a few instructions. */
 static unsigned char byte_of(float v)
 {
-    float held = v < 1.0f ? 1.0f : v > 255.0f ? 255.0f : v;
-    return (unsigned char)((held + 0x1p23f) - 0x1p23f);
+    float held = v > 1.0f ? (v < 255.0f ? v : 255.0f) : 1.0f;
+    float shifted = held + 0x1p23f;
+    return (unsigned char)(shifted - 0x1p23f);
 }
 
 ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,

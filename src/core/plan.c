@@ -128,7 +128,7 @@ static void count_steps(const float *a, const float *b, int n, double limit, siz
 #pragma omp simd reduction(+ : p, w)
     for (int i = 0; i < n; ++i) {
         double step = fabs((double)b[i] - (double)a[i]);
-        int both = isfinite(a[i]) & isfinite(b[i]);
+        int both = !!isfinite(a[i]) & !!isfinite(b[i]);
         p += (size_t)both;
         w += (size_t)(both & (step >= SS_WALL_STEP_M) & (step > limit));
     }
