@@ -204,5 +204,12 @@ else
     [ "$rc" -eq 5 ] && [ "$lines" -eq 1 ] && grep -q 'MPI launcher.*skysweep-mpi.so' "$work/stderr" &&
         [ ! -e "$work/n.tif" ]
     tap_ok $? "started by a launcher without the MPI module: one line, exit $rc, no output ($(head -c 160 "$work/stderr"))"
+    # skysweep info says where each module is, or where it was looked for.
+    missing=$(LD_LIBRARY_PATH="$(dirname "$real")${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
+        SKYSWEEP_MODULE_DIR="$work/no-modules" "$work/bin/skysweep" info |
+        grep -c "^module   skysweep-mpi.so: not found in $work/no-modules")
+    found=$("$SKYSWEEP" info | grep -c "^module   skysweep-mpi.so: $(dirname "$real")/skysweep-mpi.so$")
+    [ "$missing" -eq 1 ] && [ "$found" -eq 1 ]
+    tap_ok $? "skysweep info names the MPI module's path in the build tree ($found) and says where it looked when it is missing ($missing)"
 fi
 tap_done

@@ -2,12 +2,13 @@
  * build on the selected device. */
 #include "config.h"
 
+#include <limits.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
-
 #include "commands.h"
+#include "modules.h"
 
 #ifdef HAVE_OIIO
 #define HAVE_OIIO_FLAG 1
@@ -47,7 +48,7 @@ static const opt_spec info_options[] = {
 
 static const char info_usage[] = "skysweep info [options]";
 static const char info_summary[] =
-    "Version, dependency versions, OpenCL devices and kernel build status.";
+    "Version, dependency versions, where the run-time modules are, OpenCL devices and kernel\nbuild status.";
 
 int cmd_info(int argc, char **argv)
 {
@@ -69,6 +70,20 @@ int cmd_info(int argc, char **argv)
     printf("GDAL     %s\n", ss_gdal_version());
     printf("built    OpenImageIO %s, VTK %s, MPI %s, sanitizers %s\n", built_with(HAVE_OIIO_FLAG),
            built_with(HAVE_VTK_FLAG), built_with(HAVE_MPI_FLAG), built_with(HAVE_SANITIZERS_FLAG));
+    /* The run-time modules of the libraries that were built in. */
+    static const struct {
+        int built;
+        const char *file;
+    } modules[] = {{HAVE_OIIO_FLAG, "skysweep-images.so"},
+                   {HAVE_VTK_FLAG, "skysweep-render.so"},
+                   {HAVE_MPI_FLAG, "skysweep-mpi.so"}};
+    for (size_t i = 0; i < sizeof modules / sizeof modules[0]; ++i) {
+        char where[PATH_MAX + 16];
+        if (modules[i].built) {
+            cli_module_find(modules[i].file, where, sizeof where);
+            printf("module   %s: %s\n", modules[i].file, where);
+        }
+    }
     printf("devices:\n");
     command_list_devices();
 

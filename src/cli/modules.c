@@ -24,14 +24,38 @@ static int running_from_build_tree(void)
     return strcmp(dir, SS_BUILD_DIR) == 0 || strcmp(dir, SS_BUILD_DIR "/.libs") == 0;
 }
 
+/* The folders a module is looked for in, in order; NULL where none. */
+static void module_dirs(const char *dirs[3])
+{
+    dirs[0] = getenv("SKYSWEEP_MODULE_DIR");
+    dirs[1] = running_from_build_tree() ? SS_BUILD_DIR "/.libs" : NULL;
+    dirs[2] = SS_MODULE_DIR;
+}
+
+int cli_module_find(const char *file, char *path, size_t size)
+{
+    const char *dirs[3];
+    module_dirs(dirs);
+    for (int i = 0; i < 3; ++i)
+        if (dirs[i] && *dirs[i]) {
+            snprintf(path, size, "%s/%s", dirs[i], file);
+            if (access(path, R_OK) == 0)
+                return 1;
+        }
+    snprintf(path, size, "not found in");
+    for (int i = 0; i < 3; ++i)
+        if (dirs[i] && *dirs[i] && strlen(path) + strlen(dirs[i]) + 2 < size)
+            strcat(strcat(path, " "), dirs[i]);
+    return 0;
+}
+
 ss_status cli_module_load(ss_ctx *ctx, const char *file, const char *what,
                           const char *const *symbols, int n, void **fns, void **handle)
 {
     if (*handle)
         return SS_OK;
-    const char *dirs[3] = {getenv("SKYSWEEP_MODULE_DIR"),
-                           running_from_build_tree() ? SS_BUILD_DIR "/.libs" : NULL,
-                           SS_MODULE_DIR};
+    const char *dirs[3];
+    module_dirs(dirs);
     char path[PATH_MAX], why[1024] = "not found in";
     void *module = NULL;
     for (int i = 0; i < 3 && !module; ++i) {

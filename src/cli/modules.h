@@ -6,6 +6,8 @@
 #ifndef SS_MODULES_H
 #define SS_MODULES_H
 
+#include <stddef.h>
+
 #include "skysweep.h"
 
 /* Loads module `file` (once; *handle keeps it) and looks up the n symbols
@@ -15,5 +17,10 @@
  * message naming `what` (the library) and where it was looked for. */
 ss_status cli_module_load(ss_ctx *ctx, const char *file, const char *what,
                           const char *const *symbols, int n, void **fns, void **handle);
+
+/* Where cli_module_load would first look for module `file` and find it
+ * readable: 1 with that path, or 0 with "not found in" and the folders
+ * (skysweep info says so). */
+int cli_module_find(const char *file, char *path, size_t size);
 
 #endif
