@@ -104,30 +104,36 @@ static void shade_cells(const ss_grid *grid, int r, int c0, int c1,
 }
 
 /* The inner cells of row r (not on the grid's edge) under one light: the
- * same values as shade_cells, in a loop that vectorises. */
-static void shade_inner_cells(const ss_grid *grid, int r, const ss_hillshade_options *ho,
-                              float sun_e, float sun_n, float sun_u, float *out_row)
+ * same values as shade_cells, in a loop that vectorises. Always inlined
+ * with a constant zevenbergen_thorne, so that each copy keeps only its own
+ * gradient (a choice inside the loop would become a select of both). */
+static inline __attribute__((always_inline)) void
+shade_inner_run(const ss_grid *grid, int r, int zevenbergen_thorne, float zf, float sun_e,
+                float sun_n, float sun_u, float *out_row)
 {
     const float *z = grid->z;
     int width = grid->width;
-    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m, zf = (float)ho->z_factor;
-    if (ho->zevenbergen_thorne) {
+    float cx = (float)grid->cell_x_m, cy = (float)grid->cell_y_m;
 #pragma omp simd
-        for (int c = 1; c < width - 1; ++c) {
-            float dz_de, dz_dn;
+    for (int c = 1; c < width - 1; ++c) {
+        float dz_de, dz_dn;
+        if (zevenbergen_thorne)
             ss_gradient_zt_inner(z, width, c, r, cx, cy, &dz_de, &dz_dn);
-            float v = shade_of(dz_de * zf, dz_dn * zf, sun_e, sun_n, sun_u);
-            out_row[c] = isfinite(z[(size_t)r * width + c]) ? v : SS_NODATA;
-        }
-    } else {
-#pragma omp simd
-        for (int c = 1; c < width - 1; ++c) {
-            float dz_de, dz_dn;
+        else
             ss_gradient_horn_inner(z, width, c, r, cx, cy, &dz_de, &dz_dn);
-            float v = shade_of(dz_de * zf, dz_dn * zf, sun_e, sun_n, sun_u);
-            out_row[c] = isfinite(z[(size_t)r * width + c]) ? v : SS_NODATA;
-        }
+        float v = shade_of(dz_de * zf, dz_dn * zf, sun_e, sun_n, sun_u);
+        out_row[c] = isfinite(z[(size_t)r * width + c]) ? v : SS_NODATA;
     }
+}
+
+static void shade_inner_cells(const ss_grid *grid, int r, const ss_hillshade_options *ho,
+                              float sun_e, float sun_n, float sun_u, float *out_row)
+{
+    float zf = (float)ho->z_factor;
+    if (ho->zevenbergen_thorne)
+        shade_inner_run(grid, r, 1, zf, sun_e, sun_n, sun_u, out_row);
+    else
+        shade_inner_run(grid, r, 0, zf, sun_e, sun_n, sun_u, out_row);
 }
 
 void ss_hillshade_of_rows(const ss_grid *grid, int row0, int row1,
