@@ -55,19 +55,10 @@ awk 'BEGIN {
 dem=$work/dem.tif
 gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/dem.asc" "$dem"
 
-# Largest |a - b| over cells, and whether nodata cells agree, from two
-# rasters written as ASCII grids.
+# Largest |a - b| over the cells where both rasters hold data, and the
+# number of cells that are nodata in one only (tests/raster_worst.c).
 compare() { # A B
-    gdal_translate -q -of AAIGrid "$1" "$work/a.asc"
-    gdal_translate -q -of AAIGrid "$2" "$work/b.asc"
-    paste -d '\n' <(tail -n +7 "$work/a.asc") <(tail -n +7 "$work/b.asc") | awk '
-        NR % 2 == 1 { n = split($0, a, " "); next }
-        { split($0, b, " ")
-          for (i = 1; i <= n; i++) {
-              if ((a[i] == -9999) != (b[i] == -9999)) bad++
-              else if (a[i] != -9999) { d = a[i] - b[i]; if (d < 0) d = -d; if (d > worst) worst = d }
-          } }
-        END { printf "%.3g %d\n", worst, bad }'
+    "$RASTER_WORST" "$1" "$2"
 }
 
 for product in "svf --definition horizontal" "openness --kind negative"; do
