@@ -13,6 +13,13 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/ss-mpi.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
 if ! "$SKYSWEEP" info | grep -q 'MPI yes'; then
+    # Started by a launcher all the same, each process would run the whole
+    # job: it refuses in one line instead (a launcher's environment).
+    OMPI_COMM_WORLD_SIZE=2 "$SKYSWEEP" svf -q "$TOP_SRCDIR/samples/kilauea_summit_30m.tif" \
+        "$work/alone.tif" 2>"$work/err"
+    rc=$?
+    [ "$rc" -eq 5 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/alone.tif" ]
+    tap_ok $? "built without MPI, started by a launcher: one line, exit $rc, no output ($(head -c 100 "$work/err"))"
     tap_skip "MPI runs" "skysweep was built without MPI (configure --without-mpi or no libopenmpi-dev)"
     tap_done
     exit

@@ -25,13 +25,14 @@ static union {
     } fn;
 } mpi;
 
+#endif
+
 /* Open MPI's and PMIx/PMI launchers set these; a plain start sets none, and
  * then MPI is not loaded at all. */
 static int launched_by_mpi(void)
 {
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
 }
-#endif
 
 int share_start(int *argc, char ***argv)
 {
@@ -61,6 +62,12 @@ int share_start(int *argc, char ***argv)
         fclose(stdout);
 #else
     (void)argc, (void)argv;
+    if (launched_by_mpi()) {
+        /* Each process would run the whole job and write the same output. */
+        fprintf(stderr, "skysweep: started by an MPI launcher, but built without MPI "
+                        "(configure found no Open MPI, or was given --without-mpi)\n");
+        return SS_ERR_DEVICE;
+    }
 #endif
     return 0;
 }

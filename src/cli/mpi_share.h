@@ -14,8 +14,9 @@
 #include "run.h"
 
 /* Joins the MPI job when an MPI launcher started this process: 0, or
- * SS_ERR_DEVICE, the reason printed, where the module or MPI_Init fails
- * (each process would otherwise run the whole job alone). */
+ * SS_ERR_DEVICE, the reason printed, where the module or MPI_Init fails or
+ * the build has no MPI (each process would otherwise run the whole job
+ * alone). */
 int share_start(int *argc, char ***argv);
 void share_stop(void);
 int share_rank(void);
