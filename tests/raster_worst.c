@@ -17,7 +17,8 @@ static int is_nodata(double v, int has_nd, double nd)
     return isnan(v) || (has_nd && v == nd);
 }
 
-/* Adds band b of a and b to *worst and *mismatched; 0 on success. */
+/* Adds band `band` of a and b to *worst and *mismatched; 0 on success,
+ * else prints why and returns 2. */
 static int compare_band(GDALDatasetH a, GDALDatasetH b, int band, double *worst,
                         long long *mismatched)
 {
@@ -26,6 +27,8 @@ static int compare_band(GDALDatasetH a, GDALDatasetH b, int band, double *worst,
     double nd_a = GDALGetRasterNoDataValue(ba, &has_a), nd_b = GDALGetRasterNoDataValue(bb, &has_b);
     double *ra = malloc(sizeof *ra * (size_t)w), *rb = malloc(sizeof *rb * (size_t)w);
     int ok = ra && rb;
+    if (!ok)
+        fprintf(stderr, "raster_worst: out of memory for a row of %d cells\n", w);
     for (int r = 0; ok && r < h; ++r) {
         ok = GDALRasterIO(ba, GF_Read, 0, r, w, 1, ra, w, 1, GDT_Float64, 0, 0) == CE_None &&
              GDALRasterIO(bb, GF_Read, 0, r, w, 1, rb, w, 1, GDT_Float64, 0, 0) == CE_None;
@@ -37,6 +40,8 @@ static int compare_band(GDALDatasetH a, GDALDatasetH b, int band, double *worst,
                 *worst = fabs(ra[c] - rb[c]);
         }
     }
+    if (ra && rb && !ok)
+        fprintf(stderr, "raster_worst: reading band %d failed\n", band);
     free(ra);
     free(rb);
     return ok ? 0 : 2;
@@ -64,15 +69,16 @@ int main(int argc, char **argv)
         long long mismatched = 0;
         int n_bands = argc > 3 ? argc - 3 : GDALGetRasterCount(a);
         for (int i = 0; status == 0 && i < n_bands; ++i) {
-            int band = argc > 3 ? atoi(argv[3 + i]) : i + 1;
-            if (band < 1 || band > GDALGetRasterCount(a)) {
+            char *end = NULL;
+            long band = argc > 3 ? strtol(argv[3 + i], &end, 10) : i + 1;
+            if ((end && *end) || band < 1 || band > GDALGetRasterCount(a)) {
                 fprintf(stderr, "raster_worst: no band %s\n", argv[3 + i]);
                 status = 2;
-            } else if ((status = compare_band(a, b, band, &worst, &mismatched)) != 0)
-                fprintf(stderr, "raster_worst: reading band %d failed\n", band);
+            } else
+                status = compare_band(a, b, (int)band, &worst, &mismatched);
         }
         if (status == 0)
-            printf("%.9g %lld\n", worst, mismatched);
+            printf("%.17g %lld\n", worst, mismatched);
     }
     if (a)
         GDALClose(a);

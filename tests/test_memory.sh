@@ -9,6 +9,7 @@
 # band too, with the same results. Bad sizes are refused in one line.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
+. "${TOP_SRCDIR:-.}/tests/raster_compare.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-memory.XXXXXX")
 trap 'rm -rf "$work"' EXIT
@@ -40,23 +41,6 @@ gdal_translate -q -srcwin 0 0 40 40 "$work/dem.tif" "$work/tiny.tif"
 
 peak() { sed -n 's/^memory  peak resident \([0-9]*\) MiB.*/\1/p' "$1"; }
 
-# The largest |a - b| over bands $3... of two rasters (all bands without
-# $3), or "nodata differs at N cells" where one has data and the other not.
-worst_bands() {
-    local a=$1 b=$2 worst mismatched
-    shift 2
-    read -r worst mismatched < <("$RASTER_WORST" "$a" "$b" "$@")
-    if [ "${mismatched:-1}" -eq 0 ]; then echo "$worst"; else echo "nodata differs at ${mismatched:-?} cells"; fi
-}
-# Whether each "WORST TOLERANCE" pair's worst is a number within its tolerance.
-within() {
-    while [ $# -ge 2 ]; do
-        case $1 in '' | *[!0-9.e+-]*) return 1 ;; esac
-        awk -v w="$1" -v t="$2" 'BEGIN { exit !(w + 0 <= t + 0) }' || return 1
-        shift 2
-    done
-}
-
 "$SKYSWEEP" svf --directions 8 --device reference "$work/tiny.tif" "$work/tiny_svf.tif" >"$work/tiny.out"
 base=$(peak "$work/tiny.out")
 "$SKYSWEEP" svf --directions 8 --memory 64M --device reference "$work/dem.tif" \
@@ -73,8 +57,8 @@ else
 fi
 
 "$SKYSWEEP" svf --directions 8 --device reference -q "$work/dem.tif" "$work/whole.tif"
-worst=$(worst_bands "$work/whole.tif" "$work/banded.tif" 1)
-within "$worst" 1e-6
+worst=$(worst_of "$work/whole.tif" "$work/banded.tif" 1)
+worst_within "$worst" 1e-6
 tap_ok $? "banded SVF == whole-grid SVF (worst $worst)"
 
 # A window of the banded run equals the same window of the whole-grid run.
@@ -82,8 +66,8 @@ win="260325 2155000 272325 2146000"
 "$SKYSWEEP" svf --directions 8 --memory 64M -q -projwin $win "$work/dem.tif" "$work/bwin.tif"
 gdal_translate -q -projwin $win "$work/whole.tif" "$work/wcut.tif"
 size=$(gdalinfo "$work/bwin.tif" | grep 'Size is')
-worst=$(worst_bands "$work/bwin.tif" "$work/wcut.tif" 1)
-[ "$size" = "Size is 1200, 900" ] && within "$worst" 1e-6
+worst=$(worst_of "$work/bwin.tif" "$work/wcut.tif" 1)
+[ "$size" = "Size is 1200, 900" ] && worst_within "$worst" 1e-6
 tap_ok $? "banded -projwin window == the whole-grid output's window ($size, worst $worst)"
 
 "$SKYSWEEP" svf --memory 20M "$work/dem.tif" "$work/x.tif" 2>"$work/err"
@@ -110,8 +94,8 @@ fi
 rc=$?
 used=$(peak "$work/rb.out")
 "$SKYSWEEP" svf --radius 500 --directions 8 --device reference -q "$work/dem.tif" "$work/r_w.tif"
-w=$(worst_bands "$work/r_w.tif" "$work/r_b.tif" 1)
-grep -q '^bands ' "$work/rb.out" && within "$w" 1e-6
+w=$(worst_of "$work/r_w.tif" "$work/r_b.tif" 1)
+grep -q '^bands ' "$work/rb.out" && worst_within "$w" 1e-6
 tap_ok $? "svf within 500 m in bands == whole grid (worst $w; exit $rc): $(grep '^bands ' "$work/rb.out" | cut -c1-60)"
 if "$SKYSWEEP" info | grep -q 'sanitizers yes'; then
     tap_skip "radius SVF's peak resident memory within the bound" "AddressSanitizer inflates it"
@@ -121,10 +105,10 @@ else
 fi
 "$SKYSWEEP" horizon --directions 4 --device reference -q --distance "$work/hd_w.tif" \
     --cast-height "$work/hc_w.tif" "$work/dem.tif" "$work/h_w.tif"
-wa=$(worst_bands "$work/h_w.tif" "$work/h_b.tif")
-wd=$(worst_bands "$work/hd_w.tif" "$work/hd_b.tif")
-wc=$(worst_bands "$work/hc_w.tif" "$work/hc_b.tif")
-within "$wa" 1e-4 "$wd" 1e-2 "$wc" 1e-2
+wa=$(worst_of "$work/h_w.tif" "$work/h_b.tif")
+wd=$(worst_of "$work/hd_w.tif" "$work/hd_b.tif")
+wc=$(worst_of "$work/hc_w.tif" "$work/hc_b.tif")
+worst_within "$wa" 1e-4 "$wd" 1e-2 "$wc" 1e-2
 tap_ok $? "banded horizon == whole grid in 4 azimuths: angles worst $wa deg, distances $wd m, casting heights $wc m"
 
 # Shadows in bands, for a given sun and for an instant with a sun per cell.
@@ -134,9 +118,9 @@ for sun in "--sun-azimuth 120 --sun-elevation 9" "--time 2026-12-21T16:30:00-10:
     rc=$?
     # shellcheck disable=SC2086
     "$SKYSWEEP" shadow $sun --device reference -q "$work/dem.tif" "$work/s_w.tif"
-    w=$(worst_bands "$work/s_w.tif" "$work/s_b.tif")
+    w=$(worst_of "$work/s_w.tif" "$work/s_b.tif")
     lit=$(sed -n 's/^shadow  \([0-9.]*\) %.*/\1/p' "$work/sb.out")
-    grep -q '^bands ' "$work/sb.out" && within "$w" 1e-6 &&
+    grep -q '^bands ' "$work/sb.out" && worst_within "$w" 1e-6 &&
         awk -v l="$lit" 'BEGIN { exit !(l > 1 && l < 99) }'
     tap_ok $? "banded shadow ($sun) == whole grid in all 3 bands (worst $w; $lit % sunlit; exit $rc)"
 done
@@ -150,10 +134,10 @@ rc=$?
 # shellcheck disable=SC2086
 "$SKYSWEEP" insolation $sun --device reference -q --steps "$work/is_w.tif" "$work/dem.tif" \
     "$work/i_w.tif"
-wg=$(worst_bands "$work/i_w.tif" "$work/i_b.tif" 1)
-wh=$(worst_bands "$work/i_w.tif" "$work/i_b.tif" 5)
-ws=$(worst_bands "$work/is_w.tif" "$work/is_b.tif")
-grep -q '^bands ' "$work/ib.out" && within "$wg" 0.01 "$wh" 1e-6 "$ws" 0.01
+wg=$(worst_of "$work/i_w.tif" "$work/i_b.tif" 1)
+wh=$(worst_of "$work/i_w.tif" "$work/i_b.tif" 5)
+ws=$(worst_of "$work/is_w.tif" "$work/is_b.tif")
+grep -q '^bands ' "$work/ib.out" && worst_within "$wg" 0.01 "$wh" 1e-6 "$ws" 0.01
 tap_ok $? "banded insolation == whole grid: global worst $wg Wh/m2, sun hours $wh h, steps $ws Wh/m2 (exit $rc): $(grep '^bands ' "$work/ib.out" | cut -c1-60)"
 # Interpolated shadows store every direction's horizons: in bands they wait
 # in a temporary file until the bands' steps need them.
@@ -164,14 +148,14 @@ rc=$?
 # shellcheck disable=SC2086
 "$SKYSWEEP" insolation $sun -q --shadow interpolated --device reference "$work/dem.tif" \
     "$work/ii_w.tif"
-wg=$(worst_bands "$work/ii_w.tif" "$work/ii_b.tif" 1)
-grep -q '^bands ' "$work/iib.out" && within "$wg" 0.01
+wg=$(worst_of "$work/ii_w.tif" "$work/ii_b.tif" 1)
+grep -q '^bands ' "$work/iib.out" && worst_within "$wg" 0.01
 tap_ok $? "interpolated shadows in bands == whole grid: global worst $wg Wh/m2 (exit $rc)"
 # A plain hillshade in bands: the same bytes as on the whole grid.
 "$SKYSWEEP" hillshade --multidirectional --memory 64M "$work/dem.tif" "$work/hs_b.tif" >"$work/hs.out"
 rc=$?
 "$SKYSWEEP" hillshade --multidirectional -q "$work/dem.tif" "$work/hs_w.tif"
-w=$(worst_bands "$work/hs_w.tif" "$work/hs_b.tif" 1)
+w=$(worst_of "$work/hs_w.tif" "$work/hs_b.tif" 1)
 grep -q '^bands ' "$work/hs.out" && [ "$w" = 0 ]
 tap_ok $? "banded hillshade == whole grid, every byte (worst $w; exit $rc)"
 # Nodata rows on top (the heights' origin is looked for below them, once)
@@ -182,8 +166,8 @@ rc=$?
 "$SKYSWEEP" hillshade --memory 49M -q "$work/sea.tif" "$work/sh_b.tif"
 rc2=$?
 "$SKYSWEEP" hillshade -q "$work/sea.tif" "$work/sh_w.tif"
-w=$(worst_bands "$work/ss_w.tif" "$work/ss_b.tif")
-w2=$(worst_bands "$work/sh_w.tif" "$work/sh_b.tif" 1)
+w=$(worst_of "$work/ss_w.tif" "$work/ss_b.tif")
+w2=$(worst_of "$work/sh_w.tif" "$work/sh_b.tif" 1)
 grep -q '^bands ' "$work/ss.out" && [ "$w" = 0 ] && [ "$w2" = 0 ] && [ "$rc" -eq 0 ] && [ "$rc2" -eq 0 ]
 tap_ok $? "an ocean on top and across the middle: banded shadow and hillshade == whole grid (worst $w and $w2; exits $rc, $rc2)"
 # Hillshade's sweeping layers band too: the sky view is swept first and kept
@@ -193,8 +177,8 @@ tap_ok $? "an ocean on top and across the middle: banded shadow and hillshade ==
 rc=$?
 "$SKYSWEEP" hillshade --sky-view 0.3 --cast-shadows --directions 8 -q --device reference \
     "$work/dem.tif" "$work/hv_w.tif"
-w=$(worst_bands "$work/hv_w.tif" "$work/hv_b.tif" 1)
-grep -q '^bands ' "$work/hv.out" && within "$w" 1
+w=$(worst_of "$work/hv_w.tif" "$work/hv_b.tif" 1)
+grep -q '^bands ' "$work/hv.out" && worst_within "$w" 1
 tap_ok $? "hillshade with sky view and cast shadows in bands == whole grid (worst $w; exit $rc)"
 
 "$SKYSWEEP" svf --memory lots "$work/tiny.tif" "$work/x.tif" 2>"$work/err"

@@ -25,14 +25,31 @@ static union {
     } fn;
 } mpi;
 
-#endif
-
 /* Open MPI's and PMIx/PMI launchers set these; a plain start sets none, and
  * then MPI is not loaded at all. */
 static int launched_by_mpi(void)
 {
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
 }
+#else
+/* The launcher's variable that says this process is one of several (a
+ * size above 1, or a rank above 0: PMIx states no size), or NULL: one
+ * process under a launcher (mpirun -np 1, srun -n1) runs as a plain
+ * start. A program started by a rank inherits its variables; the message
+ * names the one to unset. */
+static const char *one_of_several(void)
+{
+    static const char *const sizes[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"};
+    static const char *const ranks[] = {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"};
+    for (int i = 0; i < 2; ++i)
+        if (getenv(sizes[i]) && atoi(getenv(sizes[i])) > 1)
+            return sizes[i];
+    for (int i = 0; i < 3; ++i)
+        if (getenv(ranks[i]) && atoi(getenv(ranks[i])) > 0)
+            return ranks[i];
+    return NULL;
+}
+#endif
 
 int share_start(int *argc, char ***argv)
 {
@@ -62,10 +79,14 @@ int share_start(int *argc, char ***argv)
         fclose(stdout);
 #else
     (void)argc, (void)argv;
-    if (launched_by_mpi()) {
+    const char *several = one_of_several();
+    if (several) {
         /* Each process would run the whole job and write the same output. */
-        fprintf(stderr, "skysweep: started by an MPI launcher, but built without MPI "
-                        "(configure found no Open MPI, or was given --without-mpi)\n");
+        fprintf(stderr,
+                "skysweep: %s=%s says an MPI launcher started several processes, but this "
+                "skysweep was built without MPI (configure found no Open MPI, or was given "
+                "--without-mpi): unset it to run one process, or use a build with MPI\n",
+                several, getenv(several));
         return SS_ERR_DEVICE;
     }
 #endif
