@@ -10,6 +10,10 @@ cd "$(dirname "$0")/.."
 sanitizers=0
 [ "${CI:-}" = true ] && sanitizers=1
 [ "${1:-}" = --sanitizers ] && sanitizers=1
+# Seconds since $1 (date +%s), for the phases' lines: what CI prints is
+# all a later reader has of where its time went.
+since() { echo "$(($(date +%s) - $1)) s"; }
+started=$(date +%s)
 build-aux/deps.sh || exit 1
 
 # Builds the OpenCL kernels once into the suite's kernel cache, so that the
@@ -82,16 +86,18 @@ setup_qgis
 SKYSWEEP_PVLIB_PYTHON=$PWD/tests/pyvenv/bin/python
 export SKYSWEEP_PVLIB_PYTHON
 
+echo "set-up (packages, test venv, QGIS): $(since "$started")"
+started=$(date +%s)
 build-aux/build.sh --enable-werror || exit 1
 check
 total_pass=$pass total_failed=$failed
-echo "tests: $pass passed, $failed failed"
+echo "tests: $pass passed, $failed failed (build and suite: $(since "$started"))"
 
 # Builds a copy of the tracked files with configure options $2..., so the
 # tree above keeps its build, runs the suite there, and adds its counts to
 # the totals under the label $1.
 check_copy() {
-    label=$1
+    label=$1 started=$(date +%s)
     shift
     copy=$(mktemp -d "${TMPDIR:-/tmp}/skysweep-copy.XXXXXX")
     if git ls-files -z | xargs -0 cp --parents -t "$copy" 2>/dev/null &&
@@ -102,7 +108,7 @@ check_copy() {
         echo "the build $label failed"
         pass=0 failed=1
     fi
-    echo "tests $label: $pass passed, $failed failed"
+    echo "tests $label: $pass passed, $failed failed (build and suite: $(since "$started"))"
     total_pass=$((total_pass + pass)) total_failed=$((total_failed + failed))
     rm -rf "$copy"
 }
