@@ -13,6 +13,16 @@
 
 static int rank_now = 0, size_now = 1;
 
+/* What MPI launchers (Open MPI's, PMI's, PMIx's) put in their processes'
+ * environments, a plain start none: sizes, and ranks (PMIx states no
+ * size). A value of at least `several` says there are other processes. */
+static const struct {
+    const char *name;
+    int several;
+} launcher_vars[] = {{"OMPI_COMM_WORLD_SIZE", 2}, {"PMI_SIZE", 2},
+                     {"OMPI_COMM_WORLD_RANK", 1}, {"PMIX_RANK", 1}, {"PMI_RANK", 1}};
+enum { N_LAUNCHER_VARS = sizeof launcher_vars / sizeof launcher_vars[0] };
+
 #ifdef HAVE_MPI
 static void *module;
 static union {
@@ -25,28 +35,26 @@ static union {
     } fn;
 } mpi;
 
-/* Open MPI's and PMIx/PMI launchers set these; a plain start sets none, and
- * then MPI is not loaded at all. */
+/* Whether a launcher started this process; if not, MPI is not loaded at all. */
 static int launched_by_mpi(void)
 {
-    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
+    for (int i = 0; i < N_LAUNCHER_VARS; ++i)
+        if (getenv(launcher_vars[i].name))
+            return 1;
+    return 0;
 }
 #else
-/* The launcher's variable that says this process is one of several (a
- * size above 1, or a rank above 0: PMIx states no size), or NULL: one
- * process under a launcher (mpirun -np 1, srun -n1) runs as a plain
- * start. A program started by a rank inherits its variables; the message
- * names the one to unset. */
+/* The launcher's variable that says this process is one of several, or
+ * NULL: one process under a launcher (mpirun -np 1, srun -n1) runs as a
+ * plain start. A program started by a rank inherits its variables; the
+ * message names the one to unset. */
 static const char *one_of_several(void)
 {
-    static const char *const sizes[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"};
-    static const char *const ranks[] = {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"};
-    for (int i = 0; i < 2; ++i)
-        if (getenv(sizes[i]) && atoi(getenv(sizes[i])) > 1)
-            return sizes[i];
-    for (int i = 0; i < 3; ++i)
-        if (getenv(ranks[i]) && atoi(getenv(ranks[i])) > 0)
-            return ranks[i];
+    for (int i = 0; i < N_LAUNCHER_VARS; ++i) {
+        const char *value = getenv(launcher_vars[i].name);
+        if (value && atoi(value) >= launcher_vars[i].several)
+            return launcher_vars[i].name;
+    }
     return NULL;
 }
 #endif
