@@ -50,6 +50,16 @@ awk -v a="$min" -v b="$max" 'BEGIN { exit !(a > 0.5 && a < 1 && b <= 1) }'
 tap_ok $? "svf values lie in (0.5, 1] on a gentle hill (min $min, max $max)"
 grep -q '^svf .*min' "$work/stdout"
 tap_ok $? "svf prints a summary"
+# The phases line: its parts are non-negative and add up to its total (the
+# rest is what is left, to the printed milliseconds), and its sweeps are the
+# seconds the time line gives.
+awk '/^phases/ { for (i = 1; i <= NF; i++) if ($i ~ /^[0-9.]+$/ && $(i + 1) ~ /^s,?$/) v[++n] = $i }
+     /^time +sweep/ { sweep = $3 }
+     END { if (n != 7) exit 1
+           sum = 0; for (i = 2; i <= 7; i++) { if (v[i] < 0) exit 1; sum += v[i] }
+           exit !(sum - v[1] < 0.004 && v[1] - sum < 0.004 && v[5] == sweep && v[1] > 0) }' \
+    "$work/stdout"
+tap_ok $? "svf's phases line adds up and agrees with its sweep time ($(grep '^phases' "$work/stdout"))"
 
 # Openness: degrees, the hill's top more open than 90 (it looks down all
 # round) and its foot less, nodata kept; negative openness the reverse.

@@ -114,6 +114,7 @@ int cmd_hillshade(int argc, char **argv)
         else
             printf("shade   light %g/%g deg -> %s\n", set.hs.azimuth_deg, set.hs.altitude_deg,
                    job.output);
+        run_print_phases(&job.run);
     }
     job_close(&job);
     return rc;

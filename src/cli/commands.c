@@ -55,6 +55,7 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
     if (!job->source) {
         command_print_sweep(&job->run, &job->opt, g->width, g->height);
         printf("memory  peak resident %.0f MiB (whole grid)\n", peak_resident_mib());
+        run_print_phases(&job->run);
         return;
     }
     ss_counters c = ss_ctx_counters(job->run.ctx);
@@ -76,6 +77,7 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
            bands->handoffs ? (double)bands->hull_points_handed_on / (double)bands->handoffs : 0.0,
            bands->max_hull_points);
     printf("memory  peak resident %.0f MiB (bands)\n", peak_resident_mib());
+    run_print_phases(&job->run);
 }
 
 ss_status command_out_of_memory(run_state *run)

@@ -19,6 +19,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
         double h = job->dem.grid.height * job->dem.grid.cell_y_m;
         place.diagonal_m = sqrt(w * w + h * h);
     }
+    double t = run_now();
     ss_plan_request req = {.weather = job->weather};
     ss_sweep_params_request(&common->sweep, &common->sun, &req);
     req.product = product;
@@ -40,6 +41,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     if (!text)
         return job_finish(job, ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory"));
     ss_plan_format(p, common->plan_json, text, len);
+    job->run.phases.plan_s += run_now() - t;
     if (common->plan_only) {
         fputs(text, stdout);
         free(text);

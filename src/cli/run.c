@@ -77,7 +77,7 @@ void common_settings_init(common_settings *common)
 
 static volatile sig_atomic_t interrupted_by = 0;
 
-static double now(void)
+double run_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -105,7 +105,7 @@ static int progress(double complete, const char *message, void *user)
         return 0;
     if (run->quiet)
         return 1;
-    if (!run->progress_shown && now() - run->started < 1.0)
+    if (!run->progress_shown && run_now() - run->started < 1.0)
         return 1;
     run->progress_shown = 1;
     return ss_gdal_term_progress(complete);
@@ -117,7 +117,7 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     run->command = command;
     /* Under mpirun only rank 0 speaks (mpi_share.h). */
     run->quiet = (common ? common->quiet : 0) || share_rank() > 0;
-    run->started = now();
+    run->started = run_now();
     run->ctx = ss_ctx_new();
     if (!run->ctx) {
         fprintf(stderr, "skysweep %s: out of memory\n", command);
@@ -297,8 +297,10 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         st = ss_grid_alloc(run->ctx, g, w, h, cx, cy);
         if (st == SS_ERR_ARGUMENT)
             st = SS_ERR_INPUT;
+        double t = run_now();
         if (st == SS_OK)
             st = ss_dem_source_read(run->ctx, src, dem, 0, h, g->z);
+        run->phases.read_s += run_now() - t;
     }
     if (st == SS_OK && rows > 0) {
         *source = src;
@@ -427,7 +429,24 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
 
 ss_status run_commit(run_state *run, ss_raster_writer *w)
 {
-    return ss_writer_commit(w, progress, run);
+    double t = run_now();
+    ss_status st = ss_writer_commit(w, progress, run);
+    run->phases.commit_s += run_now() - t;
+    return st;
+}
+
+void run_print_phases(const run_state *run)
+{
+    if (run->quiet)
+        return;
+    const run_phases *p = &run->phases;
+    double total = run_now() - run->started;
+    double sweep = ss_ctx_counters(run->ctx).sweep_seconds;
+    double rest = total - p->open_s - p->read_s - p->plan_s - sweep - p->commit_s;
+    printf("phases  %.3f s since the command began: DEM opened %.3f s, heights read %.3f s, "
+           "plan %.3f s, sweeps %.3f s, outputs finished %.3f s, the rest %.3f s "
+           "(doc/performance.md)\n",
+           total, p->open_s, p->read_s, p->plan_s, sweep, p->commit_s, rest > 0 ? rest : 0.0);
 }
 
 void run_tally_add(run_tally *t, const float *v, size_t n)
@@ -559,6 +578,7 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
         } else {
             job->have_dem = 1; /* from here on job_close frees DEM, frame and source */
         }
+        job->run.phases.open_s = run_now() - job->run.started - job->run.phases.read_s;
     }
     if (st == SS_OK && common->projwin) {
         double w[4];
@@ -643,7 +663,9 @@ ss_status job_read_rows(sweep_job *job, int row0, int n_rows, float *z)
     if (!job->rows_counted && !(job->rows_counted = calloc((size_t)dem->grid.height, 1)))
         return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for a band");
     size_t nodata = dem->nodata_cells, rejected = dem->rejected_cells;
+    double t = run_now();
     ss_status st = ss_dem_source_read(job->run.ctx, job->source, dem, row0, n_rows, z);
+    job->run.phases.read_s += run_now() - t;
     /* Each row's cells without a height are counted once, all as nodata. */
     dem->nodata_cells = nodata;
     dem->rejected_cells = rejected;

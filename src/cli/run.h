@@ -42,11 +42,20 @@ const opt_spec *common_options(void);
  * table), for shadow, hillshade, insolation and render. */
 const opt_spec *sun_options(void);
 
+/* Where a command's time went, seconds since run_begin (run_print_phases). */
+typedef struct {
+    double open_s;   /* opening the DEM: GDAL, its CRS, the frame's geodesy */
+    double read_s;   /* reading its heights, whole or band by band */
+    double plan_s;   /* the effects planner */
+    double commit_s; /* finishing the outputs: GDAL's flush (compression), checks, renaming */
+} run_phases;
+
 typedef struct {
     const char *command;
     ss_ctx *ctx;
     int quiet;
     double started;
+    run_phases phases;
     int progress_shown;
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
 } run_state;
@@ -80,6 +89,11 @@ ss_status run_check_output(run_state *run, const char *output, const char *const
 void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
                          const ss_dem_frame *frame);
 ss_status run_commit(run_state *run, ss_raster_writer *w);
+/* Seconds on a monotonic clock. */
+double run_now(void);
+/* Prints the summary's "phases" line: the command's seconds so far, split
+ * into run_phases, the sweeps (the context's counters) and the rest. */
+void run_print_phases(const run_state *run);
 
 /* What a banded sweep holds: bytes per cell of a band (halo rows
  * included), and per column and direction besides (hulls handed on are
