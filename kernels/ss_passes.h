@@ -504,8 +504,28 @@ SS_FN void ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, in
     SS_GLOBAL float *weight = ss_band_plane(outs, run, d->slot, 1);
     SS_GLOBAL float *dist = run->planes > 2 ? ss_band_plane(outs, run, d->slot, 2) : angle;
     SS_GLOBAL float *cast = run->planes > 3 ? ss_band_plane(outs, run, d->slot, 3) : angle;
-    ss_horizon_steps(&w, &d->ls, s_lo, s_hi, run->curv_k, z, stack, angle, weight, dist, cast,
-                     run->want, ss_walk_flags(&d->ls, run->curv_k));
+    const ss_line_set *ls = &d->ls;
+    float k = run->curv_k;
+    switch (ss_walk_flags(ls, k)) {
+    case 0:
+        ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want, 0);
+        break;
+    case SS_WALK_DIGITAL:
+        ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
+                         SS_WALK_DIGITAL);
+        break;
+    case SS_WALK_CURVED:
+        ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
+                         SS_WALK_CURVED);
+        break;
+    case SS_WALK_DIGITAL | SS_WALK_CURVED:
+        ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
+                         SS_WALK_DIGITAL | SS_WALK_CURVED);
+        break;
+    default:
+        ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
+                         ss_walk_flags(ls, k));
+    }
     ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
 }
 
