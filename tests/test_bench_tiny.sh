@@ -5,7 +5,8 @@
 # table succeeded, and every peer that ran was compared with skysweep; skips
 # when the benchmark's own prerequisites (/usr/bin/time, gdal_translate,
 # python3-gdal) are missing, as the script itself does. Then the cumulative
-# sky's error table in its quick mode.
+# sky's error table in its quick mode, and the phases of issue 17's jobs
+# (doc/bench/phases.sh) once each.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
@@ -42,6 +43,18 @@ tap_diag "exit $rc after $elapsed s; skysweep rows: $ours; peer runs: $peers; co
 grep '^note:' "$work/stderr" | while read -r line; do tap_diag "$line"; done
 [ "$rc" -eq 0 ] && [ -z "$problems" ] && [ "$ours" -ge 5 ]
 tap_ok $? "doc/performance.sh --tiny runs every product and compares the peers present ($elapsed s)"
+
+# The phases of issue 17's jobs (doc/bench/phases.sh --reps 1): every row
+# measured, and no phase longer than its whole process.
+SKYSWEEP=$(realpath "$SKYSWEEP") TMPDIR=$work timeout 300 \
+    bash "${TOP_SRCDIR:-.}/doc/bench/phases.sh" --reps 1 >"$work/phases.md" 2>"$work/stderr"
+rc=$?
+bad=$(awk -F' [|] ' '/^[|] `/ { ok = NF == 8
+        for (i = 2; i <= 8; i++) { sub(/ [|]$/, "", $i); if ($i !~ /^[0-9]+$/ || (i > 2 && $i + 0 > $2 + 0)) ok = 0 }
+        if (!ok) print }' "$work/phases.md")
+rows=$(grep -c '^| `' "$work/phases.md")
+[ "$rc" -eq 0 ] && [ "$rows" -eq 5 ] && [ -z "$bad" ]
+tap_ok $? "doc/bench/phases.sh --reps 1: exit $rc, $rows rows measured $(echo "$bad" | head -c 300)"
 
 # The cumulative sky's error table (doc/cumulative_sky.sh --quick): every
 # row measured, its reference row exact. Needs numpy (tests/pyvenv).
