@@ -38,11 +38,14 @@ abbreviated to a unique prefix.
   Checked by `tests/test_z_units.sh`.
 - Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
   no output.
-- Progress on stderr for runs longer than a second; a summary on stdout unless `-q`. Its
-  `phases` line says where the command's time went since it began (after the libraries
-  loaded): opening the DEM (GDAL, its CRS, geodesy), reading heights, the plan, the sweeps,
-  finishing the outputs (GDAL's flush and compression, the read-back check, the rename) and
-  the rest (per-cell terms, rows handed to GDAL); doc/performance.md uses it.
+- Progress on stderr for runs longer than a second; a summary on stdout unless `-q`. The
+  summaries of svf, openness, horizon, shadow, insolation and hillshade have a `phases` line:
+  where the command's time went since it began (after the libraries loaded): opening the DEM
+  (GDAL, its CRS, geodesy; with `--heightmap`, its reading too), reading heights, the plan
+  (with the set-up of an OpenCL device it picks), building kernels, the sweeps, finishing the
+  outputs (GDAL's flush and compression, the read-back check, the rename) and the rest
+  (per-cell terms, rows handed to GDAL, the set-up of a device named by `--device`);
+  doc/performance.md uses it.
 
 ## Exit codes
 

@@ -2,9 +2,9 @@
 # Where issue 17's jobs spend their time, from skysweep's own summary: the
 # whole process (wall clock), the libraries' loading (`skysweep --version`),
 # and the phases line of each run (doc/cli.md): DEM opened (GDAL, its CRS,
-# geodesy), heights read, plan, sweeps, outputs finished (GDAL's flush and
-# compression, the read-back check, the rename) and the rest (per-cell terms,
-# rows handed to GDAL). Medians of --reps runs after one untimed warm-up,
+# geodesy), heights read, plan, kernel build, sweeps, outputs finished
+# (GDAL's flush and compression, the read-back check, the rename) and the
+# rest (per-cell terms, rows handed to GDAL). Medians of --reps runs after one untimed warm-up,
 # milliseconds, as a markdown table on stdout.
 # usage: doc/bench/phases.sh [--reps N] [--year]
 #   --reps N   runs per job (default 7)
@@ -52,8 +52,8 @@ start=$(cat "$work/start")
 
 echo "Measured by \`doc/bench/phases.sh --reps $reps\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(nproc) cores of $(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1); skysweep commit $(git -C "$top" rev-parse --short HEAD 2>/dev/null || echo '?'). Milliseconds, medians; loading the libraries (\`skysweep --version\`): $start ms."
 echo
-echo "| job | whole process | DEM opened | heights read | plan | sweeps | outputs finished | the rest |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| job | whole process | DEM opened | heights read | plan | kernel build | sweeps | outputs finished | the rest |"
+echo "|---|---|---|---|---|---|---|---|---|"
 row() { # row TITLE ARG...: one row of the table
     local title=$1 i
     shift
@@ -64,13 +64,14 @@ row() { # row TITLE ARG...: one row of the table
         awk -v wall="$wall" '/^phases/ {
                 n = 0
                 for (i = 1; i <= NF; i++) if ($i ~ /^[0-9.]+$/ && $(i + 1) ~ /^s,?$/) v[++n] = $i
+                if (n != 8) exit 1 # not the line this script knows: no row
                 printf "%s", wall
-                for (i = 2; i <= 7; i++) printf " %.0f", 1000 * v[i]
+                for (i = 2; i <= 8; i++) printf " %.0f", 1000 * v[i]
                 print ""
             }' "$work/out" >>"$work/rows"
     done
     printf '| %s |' "$title"
-    for col in 1 2 3 4 5 6 7; do
+    for col in 1 2 3 4 5 6 7 8; do
         printf ' %s |' "$(awk -v c=$col '{ print $c }' "$work/rows" | median)"
     done
     echo

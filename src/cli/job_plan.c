@@ -19,7 +19,9 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
         double h = job->dem.grid.height * job->dem.grid.cell_y_m;
         place.diagonal_m = sqrt(w * w + h * h);
     }
-    double t = run_now();
+    /* The device the plan picks is set up here, its kernels built too:
+     * the build is counted apart (run_print_phases). */
+    double t = run_now(), built = ss_ctx_counters(job->run.ctx).build_seconds;
     ss_plan_request req = {.weather = job->weather};
     ss_sweep_params_request(&common->sweep, &common->sun, &req);
     req.product = product;
@@ -41,7 +43,8 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     if (!text)
         return job_finish(job, ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory"));
     ss_plan_format(p, common->plan_json, text, len);
-    job->run.phases.plan_s += run_now() - t;
+    job->run.phases.plan_s +=
+        run_now() - t - (ss_ctx_counters(job->run.ctx).build_seconds - built);
     if (common->plan_only) {
         fputs(text, stdout);
         free(text);

@@ -46,7 +46,7 @@ const opt_spec *sun_options(void);
 typedef struct {
     double open_s;   /* opening the DEM: GDAL, its CRS, the frame's geodesy */
     double read_s;   /* reading its heights, whole or band by band */
-    double plan_s;   /* the effects planner */
+    double plan_s;   /* the effects planner (and the set-up of an OpenCL device it picks) */
     double commit_s; /* finishing the outputs: GDAL's flush (compression), checks, renaming */
 } run_phases;
 
