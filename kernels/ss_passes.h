@@ -493,7 +493,7 @@ SS_FN SS_GLOBAL float *ss_band_plane(SS_GLOBAL float *outs, const ss_band_run *r
  * the host, by a copy of the walk compiled for the line's flags as
  * ss_band_sum_line's (box lines share one copy): 6 % faster sweeps. A
  * device keeps one general copy: four made PoCL's first compile of the
- * kernels, which Ctrl-C cannot interrupt, 1.4 s longer. */
+ * kernels on a machine 1.4 s longer. */
 SS_FN void ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int line,
                                 SS_GLOBAL const float *z, SS_GLOBAL int *stack,
                                 SS_GLOBAL float *outs, ss_band_hulls hulls)

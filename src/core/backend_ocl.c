@@ -18,6 +18,7 @@
 #include <CL/cl.h>
 
 #include "backend.h"
+#include "ocl_build.h"
 #include "ss_passes.h"
 
 extern const char ss_kernel_source[];
@@ -272,8 +273,10 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     if (err != CL_SUCCESS)
         return cl_fail(ctx, err, "clCreateProgramWithSource");
     double t0 = ss_seconds_now();
-    err = clBuildProgram(o->program, 1, &o->device, "-cl-std=CL1.2", NULL, NULL);
+    ss_status st = ss_ocl_build(ctx, &o->program, o->device, "-cl-std=CL1.2", &err);
     ctx->counters.build_seconds += ss_seconds_now() - t0;
+    if (st != SS_OK)
+        return st;
     if (err != CL_SUCCESS) {
         size_t log_size = 0;
         clGetProgramBuildInfo(o->program, o->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &log_size);
@@ -281,10 +284,10 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
         if (log)
             clGetProgramBuildInfo(o->program, o->device, CL_PROGRAM_BUILD_LOG, log_size, log,
                                   NULL);
-        ss_status st = ss_fail(ctx, SS_ERR_DEVICE,
-                               "OpenCL kernels failed to build on %s (use --device reference "
-                               "to run the C reference): %.1500s",
-                               ctx->device_name, log ? log : "(no build log)");
+        st = ss_fail(ctx, SS_ERR_DEVICE,
+                     "OpenCL kernels failed to build on %s (use --device reference to run the C "
+                     "reference): %.1500s",
+                     ctx->device_name, log ? log : "(no build log)");
         free(log);
         return st;
     }
