@@ -49,6 +49,9 @@ typedef struct {
     int line_base;        /* its first entry in the per-line hull arrays */
     int slot;             /* its place in the batch: stack grid and output planes */
     int carry;            /* its rows of sums carried between bands (horizon walks) */
+    int lit_level;        /* horizon walks on a whole grid: cells whose bound level (src/core/
+                             lit_levels.h) is at most this are lit whatever the walk finds;
+                             -1: none known */
 } ss_band_dir;
 
 /* What a band walk shares across its directions and lines (4-byte

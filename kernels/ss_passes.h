@@ -489,19 +489,46 @@ SS_FN SS_GLOBAL float *ss_band_plane(SS_GLOBAL float *outs, const ss_band_run *r
     return outs + (ss_i64)(slot * run->planes + p) * run->held_rows * run->width;
 }
 
-/* A horizon walk of a line's band steps into its direction's planes. On
+/* The steps of a line worth walking for a sun that clears every cell whose
+ * bound level is at most lit_level: those up to its last sample that gives
+ * a horizon to a cell above that level (none: s_lo). Past it, cells get
+ * part of their samples or none, and so a horizon below their bound, which
+ * the sun clears as it clears the whole walk's. */
+SS_FN int ss_line_shadow_end(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
+                             SS_GLOBAL const unsigned char *levels, int lit_level)
+{
+    for (int s = s_hi - 1; s >= s_lo; --s) {
+        ss_line_sample p = ss_walker_sample(ls, w, s);
+        int cell = ss_line_cell(ls, p.major, p.minor0);
+        if (p.minor0 >= 0 && levels[cell] > lit_level)
+            return s + 1;
+        if (p.minor0 + 1 < ls->minor_len && p.w1 > 0.0f &&
+            levels[cell + ls->stride_minor] > lit_level)
+            return s + 1;
+    }
+    return s_lo;
+}
+
+/* A horizon walk of a line's band steps into its direction's planes;
+ * returns the steps it left unwalked (ss_line_shadow_end). On
  * the host, by a copy of the walk compiled for the line's flags as
  * ss_band_sum_line's (box lines share one copy): 6 % faster sweeps. A
  * device keeps one general copy: four made PoCL's first compile of the
  * kernels on a machine 1.4 s longer. */
-SS_FN void ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int line,
-                                SS_GLOBAL const float *z, SS_GLOBAL int *stack,
-                                SS_GLOBAL float *outs, ss_band_hulls hulls)
+SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int line,
+                               SS_GLOBAL const float *z, SS_GLOBAL int *stack,
+                               SS_GLOBAL float *outs, ss_band_hulls hulls,
+                               SS_GLOBAL const unsigned char *lit_levels)
 {
     ss_walker w;
-    int s_lo, s_hi, count;
+    int s_lo, s_hi, count, skipped = 0;
     if (!ss_band_line_begin(&w, d, run, line, hulls, &s_lo, &s_hi, &count))
-        return;
+        return 0;
+    if (lit_levels && run->whole && d->lit_level >= 0) {
+        int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, d->lit_level);
+        skipped = s_hi - end;
+        s_hi = end;
+    }
     /* Planes not asked for are never written: the angle plane stands in. */
     SS_GLOBAL float *angle = ss_band_plane(outs, run, d->slot, 0);
     SS_GLOBAL float *weight = ss_band_plane(outs, run, d->slot, 1);
@@ -535,6 +562,7 @@ SS_FN void ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, in
     }
 #endif
     ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
+    return skipped;
 }
 
 /* A radius-limited term of a line's band steps into acc: no hull handed

@@ -56,7 +56,8 @@ __kernel void band_horizon(__global const ss_band_dir *dirs, ss_band_run run, in
     if (line < 0)
         return;
     ss_band_hulls hulls = {hull_in, in_off, in_cnt, state, counters};
-    ss_band_horizon_line(&d, &run, line, z, stacks + stack_at(&run, d.slot), outs, hulls);
+    /* Shadow walks that stop early are the host's (backend.h, lit_levels). */
+    ss_band_horizon_line(&d, &run, line, z, stacks + stack_at(&run, d.slot), outs, hulls, 0);
 }
 
 /* Each line of a round hands its hull on (ss_band_hand_on), after the

@@ -114,6 +114,9 @@ typedef struct {
      * too wide for them, air masses past r.sun's Rayleigh split at 20,
      * doc/insolation.md). */
     uint64_t cell_steps, cell_steps_exact_sun;
+    /* Samples of exact shadow walks left unwalked, past the last cell of
+     * their line whose proven horizon bound the sun may not clear. */
+    uint64_t shadow_steps_skipped;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 

@@ -24,6 +24,12 @@ typedef struct {
     float none_deg; /* SS_TERM_HORIZON: where no terrain lies ahead */
     double radius_m;
     int negate;     /* heights read as -z (negative openness) */
+    /* SS_TERM_HORIZON for shadows alone, on a whole grid: each cell's bound
+     * level (lit_levels.h), so that the C twin's walks stop past the last
+     * cell a direction's sun may not clear (ss_engine_dir.lit_level); NULL:
+     * whole walks. OpenCL devices walk whole lines, which gives the same
+     * shadows. */
+    const unsigned char *lit_levels;
 } ss_walk;
 
 /* Output planes per direction of a horizon walk: angle sums, weights, and

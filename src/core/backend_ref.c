@@ -117,22 +117,25 @@ static ss_status walk_round(ss_backend *b, const ss_band_run *run, const ss_band
     ss_band_hulls hulls = {r->hull_in, r->in_off, r->in_cnt, r->state, r->counters};
     int n = ss_round_lines(&d->ls, round), term = b->walk.term;
     const ss_ctx *ctx = b->ctx;
+    long skipped = 0;
     /* Guided: long runs of neighbouring lines first, which share cache lines,
      * then short ones to even the threads out (3 to 15 % faster than runs
      * of 16 lines throughout, doc/performance.md). Lines of a round share
      * no cell, so the order changes no sum. */
-#pragma omp parallel for schedule(guided, 16)
+#pragma omp parallel for schedule(guided, 16) reduction(+ : skipped)
     for (int i = 0; i < n; ++i) {
         if (ctx->cancel_requested)
             continue;
         int line = ss_round_line(&d->ls, round, i);
         if (term == SS_TERM_HORIZON)
-            ss_band_horizon_line(d, run, line, r->z, r->stack, r->outs, hulls);
+            skipped += ss_band_horizon_line(d, run, line, r->z, r->stack, r->outs, hulls,
+                                            b->walk.lit_levels);
         else if (b->walk.radius_m > 0)
             ss_band_radius_line(d, run, line, r->z, r->stack, r->sums);
         else
             ss_band_sum_line(d, run, line, r->z, r->grad, r->stack, r->sums, hulls);
     }
+    b->ctx->counters.shadow_steps_skipped += (uint64_t)skipped;
     if (ctx->cancel_requested)
         return ss_check_cancel(b->ctx, "the sweep");
     if (run->whole || b->walk.radius_m > 0)

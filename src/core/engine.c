@@ -428,6 +428,7 @@ static ss_status make_directions(engine_run *e)
         d->sin_az = (float)sin(az);
         d->cos_az = (float)cos(az);
         d->pass = ss_band_pass_of(&d->ls);
+        d->lit_level = job->walk.lit_levels ? job->dirs[i].lit_level : -1;
     }
     return SS_OK;
 }

@@ -66,7 +66,7 @@ static ss_status run_horizon(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
     }
     for (int i = 0; i < n; ++i) {
         azimuths[i] = ss_direction_azimuth(opt, i);
-        dirs[i] = (ss_engine_dir){azimuths[i], 1, i};
+        dirs[i] = (ss_engine_dir){azimuths[i], 1, i, -1};
     }
     h->azimuths = azimuths;
     /* Casting heights ride on the distances (ss_horizon_caster). */

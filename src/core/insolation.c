@@ -20,6 +20,7 @@
 #include "insolation_internal.h"
 #include "insolation_lanes.h"
 #include "lines.h"
+#include "lit_levels.h"
 #include "sun_table.h"
 
 _Static_assert(SS_PV_TEMP_FAIMAN == SS_PV_CELL_TEMP_FAIMAN && SS_PV_TEMP_SAPM == SS_PV_CELL_TEMP_SAPM,
@@ -368,6 +369,7 @@ typedef struct {
     unsigned char *kind; /* per step */
     ss_engine_dir *dirs;
     int n_dirs, real_sky;
+    int n_swept; /* steps with a shadow walk */
 } steps_plan;
 
 /* Decides what every step of this process is (kind), counting the night
@@ -382,7 +384,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
     ss_status st = ss_horizon_bound_of(ctx, job->src, job->opt, &bound_deg);
     if (st != SS_OK)
         return st;
-    plan->n_dirs = 0;
+    plan->n_dirs = plan->n_swept = 0;
     for (int k = 0; k < n_steps; ++k) {
         if (!ss_share_has(job->share, k))
             continue; /* another process's step */
@@ -414,7 +416,12 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
                 (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
                 ctx->counters.records_without_temperature++;
         }
-        plan->dirs[plan->n_dirs++] = (ss_engine_dir){sun.azimuth_deg, kind[k] == STEP_SWEPT, k};
+        /* The lowest the sun stands over the cells: those whose horizons all
+         * lie below it need no walk (lit_levels.h). */
+        int lit_level = ss_lit_level_below(sun.apparent_elevation_deg - sun.spread_deg);
+        plan->n_swept += kind[k] == STEP_SWEPT;
+        plan->dirs[plan->n_dirs++] =
+            (ss_engine_dir){sun.azimuth_deg, kind[k] == STEP_SWEPT, k, lit_level};
     }
     return SS_OK;
 }
@@ -428,11 +435,32 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
     return classify_steps(job, n_steps, plan);
 }
 
+/* Each cell's bound level (lit_levels.h), where the C twin walks exact
+ * shadows over a grid held whole with interpolated lines, and there are
+ * steps enough to repay it (0.19 s on 857 x 793 cells, about 16 steps'
+ * walks there); else NULL. */
+static ss_status shadow_levels(ss_insolation_job *job, const steps_plan *plan,
+                               unsigned char **levels)
+{
+    const ss_source *src = job->src;
+    *levels = NULL;
+    if (plan->n_swept < SS_LIT_LEVELS_MIN_STEPS || !src->z || !job->ctx->use_reference ||
+        ss_source_band_rows(src) < src->height || job->opt->lines != SS_LINES_INTERPOLATED)
+        return SS_OK;
+    *levels = ss_lit_levels(job->ctx, src->z, src->width, src->height, src->cell_x_m,
+                            src->cell_y_m);
+    return *levels ? SS_OK : SS_ERR_MEMORY;
+}
+
 static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
 {
     const ss_source *src = job->src;
     int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * src->width;
+    unsigned char *levels;
+    ss_status st = shadow_levels(job, plan, &levels);
+    if (st != SS_OK)
+        return st;
     /* Stored horizons not held in memory are read band by band. */
     int read_stored = job->horizons && !ss_cell_store_peek(job->horizons, 0, 0);
     steps_run s = {
@@ -444,13 +472,12 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
                            : NULL,
         .step_global = job->want & SS_INSOLATION_STEPS ? ss_malloc(n * sizeof(float)) : NULL,
         .sun = ss_malloc(sizeof(ss_step_sun))};
-    ss_status st = SS_OK;
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
     if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
     ss_consumer consumer = {ss_insolation_planes_of(job->want).count, steps_visit,
                             steps_direction, steps_finish};
-    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
+    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
                          .dirs = plan->dirs,
                          .n_dirs = plan->n_dirs,
                          .group = SS_INSOLATION_STEPS_PER_RUN,
@@ -463,6 +490,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     free(s.stored_band);
     free(s.step_global);
     free(s.sun);
+    free(levels);
     return st;
 }
 
@@ -483,7 +511,7 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
     ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
                              want, sink, user, 0,    NULL, NULL};
     int cumulative = io->shadow_mode == SS_SHADOW_CUMULATIVE;
-    steps_plan plan = {NULL, NULL, 0, 0};
+    steps_plan plan = {NULL, NULL, 0, 0, 0};
     ss_status st = cumulative ? SS_OK : plan_steps(&job, n_steps, &plan);
     /* The clear sky's diffuse light is Muneer's, which takes no horizon band. */
     job.perez_band = io->sky_model == SS_SKY_MODEL_PEREZ && (cumulative || plan.real_sky);

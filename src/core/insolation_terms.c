@@ -142,7 +142,7 @@ static ss_status store_horizons(ss_insolation_job *job)
                                             "out of memory storing %d directions",
                                             opt->directions);
     for (int i = 0; st == SS_OK && i < opt->directions; ++i)
-        dirs[i] = (ss_engine_dir){ss_direction_azimuth(opt, i), 1, i};
+        dirs[i] = (ss_engine_dir){ss_direction_azimuth(opt, i), 1, i, -1};
     ss_consumer consumer = {0, NULL, store_direction, NULL};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
                          .dirs = dirs,
@@ -243,7 +243,7 @@ static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky, int sto
         st = open_horizon_store(job);
     for (int i = 0; st == SS_OK && i < n_dirs; ++i) {
         azimuths[i] = ss_direction_azimuth(opt, i);
-        dirs[i] = (ss_engine_dir){azimuths[i], 1, i};
+        dirs[i] = (ss_engine_dir){azimuths[i], 1, i, -1};
     }
     ss_consumer consumer = {3, terms_visit, terms_direction, terms_finish};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},

@@ -40,7 +40,7 @@ static ss_status shadow_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
                                                     const ss_dir_rows *, float *),
                              shadow_run *s)
 {
-    ss_engine_dir dir = {azimuth_deg, 1, 0};
+    ss_engine_dir dir = {azimuth_deg, 1, 0, -1};
     ss_consumer consumer = {0, NULL, direction, NULL};
     ss_engine_job job = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
                          .dirs = &dir,

@@ -1,0 +1,34 @@
+/* Per-cell proven bounds on the terrain horizon in every azimuth, so that a
+ * shadow walk can stop where no cell further along its line can be shaded
+ * (insolation's exact steps, doc/performance.md). A wrong bound would light
+ * a shaded cell: tests/test_lit_levels.c checks every cell's bound against
+ * the walks themselves, and exact runs with and without the bounds. */
+#ifndef SS_LIT_LEVELS_H
+#define SS_LIT_LEVELS_H
+
+#include "ctx_internal.h"
+
+/* A cell's bound is rounded up to a level: level k is (k + 1) steps of
+ * SS_LIT_STEP_DEG. */
+#define SS_LIT_STEP_DEG 0.5
+#define SS_LIT_LEVELS 179 /* the last, 89.5 degrees */
+double ss_lit_level_deg(int level);
+/* Shadow walks of fewer steps than this do not repay the bounds. */
+#define SS_LIT_LEVELS_MIN_STEPS 48
+/* A cell for which no level is proven. */
+#define SS_LIT_UNBOUNDED 255
+
+/* Per cell of a grid of heights held whole (NaN at nodata; cell sizes in
+ * metres): the first level k whose angle lies above every horizon that
+ * interpolated lines (kernels/ss_lines.h) can give the cell, with or
+ * without curvature, or SS_LIT_UNBOUNDED; 0 at nodata cells, which have
+ * no horizon. Freed with free(); NULL and the context's message when out
+ * of memory. */
+unsigned char *ss_lit_levels(ss_ctx *ctx, const float *z, int width, int height,
+                             double cell_x_m, double cell_y_m);
+
+/* The highest level at or below elevation_deg (-1: none): a cell whose
+ * level is at most this has every horizon below a sun that high. */
+int ss_lit_level_below(double elevation_deg);
+
+#endif

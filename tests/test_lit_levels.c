@@ -1,0 +1,226 @@
+/* The per-cell horizon bounds (src/core/lit_levels.c) against the walks
+ * they bound: on terrains made to break them (spikes far and near, cliffs,
+ * plateaus of ties, nodata holes, cells longer one way, grids of one row
+ * or column up), every horizon the library's interpolated walk gives a
+ * cell, in 240 azimuths with and without curvature, lies below its level's
+ * angle. A bound that failed would light a shaded cell. Then the walks
+ * that stop past the last cell a sun may not clear (ss_walk.lit_levels):
+ * every cell is lit or shaded as by the whole walk, and the cells the
+ * bounds leave open keep the whole walk's horizon to the bit. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lit_levels.h"
+#include "products_internal.h"
+#include "tap.h"
+#include "testlib.h"
+
+typedef struct {
+    const unsigned char *levels;
+    size_t cells;
+    long checked, above;
+    double worst_deg; /* the highest horizon minus its cell's level angle */
+} check_state;
+
+static int check_direction(int index, double azimuth_deg, const float *angle_deg,
+                           const float *dist_m, const float *cast_height_m, void *user)
+{
+    (void)index;
+    (void)azimuth_deg;
+    (void)dist_m;
+    (void)cast_height_m;
+    check_state *s = user;
+    for (size_t c = 0; c < s->cells; ++c) {
+        if (!isfinite(angle_deg[c]) || angle_deg[c] == SS_NODATA ||
+            s->levels[c] == SS_LIT_UNBOUNDED)
+            continue;
+        double over = angle_deg[c] - ss_lit_level_deg(s->levels[c]);
+        s->checked++;
+        s->above += over >= 0.0;
+        if (over > s->worst_deg)
+            s->worst_deg = over;
+    }
+    return 1;
+}
+
+/* Every horizon of g in `directions` azimuths from offset_deg, curvature
+ * on (earth_radius_m > 0) or off, against the bounds. */
+static void check_grid(const char *name, const ss_grid *g, int directions, double offset_deg,
+                       double earth_radius_m)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    unsigned char *levels = ss_lit_levels(ctx, g->z, g->width, g->height, g->cell_x_m,
+                                          g->cell_y_m);
+    size_t cells = (size_t)g->width * g->height;
+    ss_sweep_options o;
+    ss_sweep_options_default(&o);
+    o.directions = directions;
+    o.offset_deg = offset_deg;
+    o.lines = SS_LINES_INTERPOLATED;
+    o.earth_radius_m = earth_radius_m;
+    o.refraction_k = 0.0;
+    check_state s = {levels, cells, 0, 0, -INFINITY};
+    ss_status st = levels ? ss_horizon(ctx, g, &o, 0, check_direction, &s) : SS_ERR_MEMORY;
+    long bounded = 0;
+    double level_sum = 0;
+    for (size_t c = 0; levels && c < cells; ++c)
+        if (isfinite(g->z[c]) && levels[c] != SS_LIT_UNBOUNDED) {
+            bounded++;
+            level_sum += ss_lit_level_deg(levels[c]);
+        }
+    tap_ok(st == SS_OK && s.above == 0,
+           "%s (%d x %d, %d directions, curvature %s): status %d%s%s, %ld horizons of %ld at or above their "
+           "cell's bound (want 0), the closest %.3f deg from it; %ld cells bounded, mean "
+           "bound %.1f deg",
+           name, g->width, g->height, directions, earth_radius_m > 0 ? "on" : "off", (int)st,
+           st == SS_OK ? "" : ": ", st == SS_OK ? "" : ss_ctx_message(ctx), s.above,
+           s.checked, s.worst_deg, bounded, bounded ? level_sum / bounded : 0.0);
+    free(levels);
+    ss_ctx_free(ctx);
+}
+
+/* The rows of a whole-grid horizon walk, copied out. */
+static ss_status keep_angles(void *user, int index, const ss_band_view *band,
+                             const ss_dir_rows *rows, float *planes)
+{
+    (void)index, (void)planes;
+    float *out = user;
+    size_t n = (size_t)band->n_rows * band->width;
+    for (size_t c = 0; c < n; ++c)
+        out[(size_t)band->row0 * band->width + c] = rows->angle[c];
+    return SS_OK;
+}
+
+/* The shadow walk of one azimuth on the C twin, whole or stopping early
+ * for cells of levels above lit_level (levels NULL: whole). */
+static ss_status shadow_angles(const ss_grid *g, const ss_sweep_options *o, double azimuth_deg,
+                               const unsigned char *levels, int lit_level, float *out)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    ss_source src = ss_source_of_grid(g);
+    ss_engine_dir dir = {azimuth_deg, 1, 0, lit_level};
+    ss_consumer consumer = {0, NULL, keep_angles, NULL};
+    ss_engine_job job = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
+                         .dirs = &dir,
+                         .n_dirs = 1,
+                         .consumer = &consumer,
+                         .user = out,
+                         .what = "shadow"};
+    ss_status st = ss_rows_begin(ctx, &src, o, NULL);
+    if (st == SS_OK)
+        st = ss_engine_run(ctx, &src, o, &job);
+    ss_ctx_free(ctx);
+    return st;
+}
+
+/* Suns in 16 azimuths (off the axes) at 5 elevations, curvature on or off. */
+static void check_early_stops(const char *name, const ss_grid *g, double earth_radius_m)
+{
+    static const double elevations[] = {2.0, 8.0, 20.0, 40.0, 65.0};
+    ss_ctx *ctx = ss_ctx_new();
+    unsigned char *levels = ss_lit_levels(ctx, g->z, g->width, g->height, g->cell_x_m,
+                                          g->cell_y_m);
+    ss_ctx_free(ctx);
+    size_t n = (size_t)g->width * g->height;
+    float *whole = malloc(n * sizeof(float)), *early = malloc(n * sizeof(float));
+    ss_sweep_options o;
+    ss_sweep_options_default(&o);
+    o.earth_radius_m = earth_radius_m;
+    long verdicts = 0, flipped = 0, open = 0, changed = 0, known = 0, failed = !levels;
+    for (int a = 0; a < 16 && !failed; ++a) {
+        double az = 7.3 + 22.5 * a;
+        failed |= shadow_angles(g, &o, az, NULL, -1, whole) != SS_OK;
+        for (size_t e = 0; e < sizeof elevations / sizeof *elevations && !failed; ++e) {
+            int lit_level = ss_lit_level_below(elevations[e]);
+            failed |= shadow_angles(g, &o, az, levels, lit_level, early) != SS_OK;
+            for (size_t c = 0; c < n; ++c) {
+                if (!isfinite(g->z[c]))
+                    continue;
+                verdicts++;
+                flipped += (elevations[e] > whole[c]) != (elevations[e] > early[c]);
+                if (levels[c] > lit_level) {
+                    open++;
+                    changed += memcmp(&whole[c], &early[c], sizeof(float)) != 0;
+                } else {
+                    known++;
+                }
+            }
+        }
+    }
+    tap_ok(!failed && flipped == 0 && changed == 0,
+           "%s, curvature %s: walks stopped early light and shade %ld cell-suns as whole walks "
+           "(%ld differ, want 0); %ld cells left open keep their horizons to the bit (%ld "
+           "differ); %.0f %% of cell-suns known lit by their bounds",
+           name, earth_radius_m > 0 ? "on" : "off", verdicts, flipped, open, changed,
+           verdicts ? 100.0 * known / verdicts : 0.0);
+    free(levels);
+    free(whole);
+    free(early);
+}
+
+int main(void)
+{
+    static const struct {
+        const char *name;
+        terrain_kind kind;
+        int width, height;
+        double cell_x, cell_y, relief;
+        int holes;
+    } cases[] = {
+        {"smooth hills", TERRAIN_SMOOTH, 120, 90, 30.0, 30.0, 400.0, 0},
+        {"random heights (cliffs everywhere)", TERRAIN_NOISE, 70, 60, 10.0, 10.0, 30.0, 0},
+        {"spikes on a plain", TERRAIN_SPIKES, 150, 130, 20.0, 20.0, 900.0, 0},
+        {"plateaus of ties", TERRAIN_PLATEAUS, 90, 100, 5.0, 5.0, 40.0, 0},
+        {"hills with nodata holes", TERRAIN_SMOOTH, 110, 80, 25.0, 25.0, 600.0, 6},
+        {"spikes, cells 3 times longer north-south", TERRAIN_SPIKES, 100, 70, 10.0, 30.0, 500.0,
+         3},
+        {"noise, cells 4 times longer east-west", TERRAIN_NOISE, 40, 90, 40.0, 10.0, 50.0, 2},
+        {"a long strip", TERRAIN_SMOOTH, 300, 9, 30.0, 30.0, 300.0, 0},
+        {"one row", TERRAIN_NOISE, 50, 1, 10.0, 10.0, 20.0, 0},
+        {"one column", TERRAIN_NOISE, 1, 50, 10.0, 10.0, 20.0, 0},
+        {"gentle hills", TERRAIN_SMOOTH, 260, 200, 30.0, 30.0, 60.0, 4},
+        {"three by two", TERRAIN_NOISE, 3, 2, 10.0, 10.0, 20.0, 0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        ss_grid g = test_grid(cases[i].width, cases[i].height, cases[i].cell_x, cases[i].cell_y);
+        test_fill(&g, cases[i].kind, 17 + (unsigned)i, cases[i].relief);
+        if (cases[i].holes)
+            test_holes(&g, 5 + (unsigned)i, cases[i].holes, 8);
+        check_grid(cases[i].name, &g, 240, 0.37, 0.0);
+        if (i < 3 || i == 10)
+            check_grid(cases[i].name, &g, 97, 1.9, 6371000.0);
+        ss_grid_free(&g);
+    }
+    /* One tall spike far from a low plain: only the far rings see it, and
+     * the bound must hold at every distance the rings cover. */
+    ss_grid far = test_grid(400, 380, 30.0, 30.0);
+    for (size_t c = 0; c < (size_t)400 * 380; ++c)
+        far.z[c] = 0.0f;
+    far.z[(size_t)371 * 400 + 393] = 3000.0f;
+    far.z[(size_t)5 * 400 + 7] = 1500.0f;
+    check_grid("two spikes far apart on a plain", &far, 240, 0.11, 0.0);
+    ss_grid_free(&far);
+
+    ss_grid hills = test_grid(150, 120, 30.0, 30.0);
+    test_fill(&hills, TERRAIN_SMOOTH, 3, 150.0);
+    test_holes(&hills, 9, 5, 7);
+    check_early_stops("hills with holes", &hills, 0.0);
+    check_early_stops("hills with holes", &hills, 6371000.0);
+    ss_grid_free(&hills);
+    ss_grid gentle = test_grid(130, 110, 10.0, 20.0);
+    test_fill(&gentle, TERRAIN_SMOOTH, 8, 15.0);
+    test_holes(&gentle, 4, 3, 6);
+    check_early_stops("gentle hills, cells twice as long north-south", &gentle, 0.0);
+    ss_grid_free(&gentle);
+    ss_grid spikes = test_grid(90, 110, 20.0, 20.0);
+    test_fill(&spikes, TERRAIN_SPIKES, 8, 60.0);
+    check_early_stops("spikes on a plain", &spikes, 0.0);
+    ss_grid_free(&spikes);
+    return tap_done();
+}
