@@ -115,6 +115,10 @@ product "insolation --shadow interpolated" insolation --time 2026-06-21T16:00Z/P
     --directions 16 --shadow interpolated "$dem" out.tif
 product "insolation, bands" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H \
     --directions 16 --memory 76M "$dem2" out.tif
+# Walked steps enough for the shadow walks to stop past the cells the sun
+# clears by their horizon bounds (src/core/lit_levels.c, since 54a655d).
+product "insolation, 5 days of exact shadows" insolation --time 2026-06-19T00:00Z/P5D \
+    --step PT1H --directions 16 --shadow exact "$dem" out.tif
 loose=
 echo "$same same, $differ differ"
 [ "$differ" -eq 0 ]
