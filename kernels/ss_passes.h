@@ -524,7 +524,9 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
     int s_lo, s_hi, count, skipped = 0;
     if (!ss_band_line_begin(&w, d, run, line, hulls, &s_lo, &s_hi, &count))
         return 0;
-    if (lit_levels && run->whole && d->lit_level >= 0) {
+    /* The bounds hold for interpolated lines, bent down by curvature or not. */
+    if (lit_levels && run->whole && d->lit_level >= 0 &&
+        d->ls.model == SS_LINE_MODEL_INTERPOLATED && run->curv_k >= 0.0f) {
         int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, d->lit_level);
         skipped = s_hi - end;
         s_hi = end;

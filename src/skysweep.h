@@ -114,9 +114,10 @@ typedef struct {
      * too wide for them, air masses past r.sun's Rayleigh split at 20,
      * doc/insolation.md). */
     uint64_t cell_steps, cell_steps_exact_sun;
-    /* Samples of exact shadow walks left unwalked, past the last cell of
-     * their line whose proven horizon bound the sun may not clear. */
-    uint64_t shadow_steps_skipped;
+    /* Samples of the exact shadow walks that per-cell horizon bounds could
+     * stop early, and of them those left unwalked: past the last cell of
+     * their line whose bound the sun may not clear. */
+    uint64_t shadow_steps, shadow_steps_skipped;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
@@ -652,7 +653,9 @@ SS_API ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *
 SS_API void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double refraction_k,
                            ss_sweep_options *opt);
 /* Opens the device the plan chose where the context's device is "auto"
- * (the context stays "auto" for the next plan); otherwise does nothing. */
+ * (the context stays "auto" for the next plan; one that does not open
+ * leaves the job to the C twin); otherwise does nothing. SS_ERR_CANCELLED
+ * when the run is cancelled while the device's kernels build. */
 SS_API ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan);
 /* The plan as text lines ("effect ON/OFF reason [error allowed]") or JSON;
  * returns the length needed, as snprintf. */

@@ -396,15 +396,21 @@ static void cancel_during_first_build(void)
     ss_status st = call_svf(ctx, out);
     double took = ss_seconds_now() - t0;
     pthread_join(t, NULL);
+    char message[200];
+    snprintf(message, sizeof message, "%s", ss_ctx_message(ctx));
     ss_ctx_cancel_clear(ctx);
     t0 = ss_seconds_now();
     ss_status again = call_svf(ctx, out);
     double took_again = ss_seconds_now() - t0;
-    tap_ok(ref == SS_OK && st == SS_ERR_CANCELLED && took < 1.0 && again == SS_OK &&
-               same(out, want, 1e-4),
-           "cancelled 0.3 s into PoCL's first kernel build: status %d after %.2f s (want %d "
-           "within 1 s); then the same context builds and computes in %.2f s (%d)",
-           (int)st, took, (int)SS_ERR_CANCELLED, took_again, (int)again);
+    if (st == SS_OK && took < 0.3)
+        tap_skip("a cancel during PoCL's first kernel build",
+                 "the build and the run ended before the cancel came");
+    else
+        tap_ok(ref == SS_OK && st == SS_ERR_CANCELLED && strstr(message, "kernel build") &&
+                   took < 1.0 && again == SS_OK && same(out, want, 1e-4),
+               "cancelled 0.3 s into PoCL's first kernel build: status %d (%s) after %.2f s "
+               "(want %d within 1 s); then the same context builds and computes in %.2f s (%d)",
+               (int)st, message, took, (int)SS_ERR_CANCELLED, took_again, (int)again);
     ss_ctx_free(ctx);
     free(out);
     free(want);

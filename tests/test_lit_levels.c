@@ -54,8 +54,7 @@ static void check_grid(const char *name, const ss_grid *g, int directions, doubl
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
-    unsigned char *levels = ss_lit_levels(ctx, g->z, g->width, g->height, g->cell_x_m,
-                                          g->cell_y_m);
+    unsigned char *levels = ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m);
     size_t cells = (size_t)g->width * g->height;
     ss_sweep_options o;
     ss_sweep_options_default(&o);
@@ -123,10 +122,7 @@ static ss_status shadow_angles(const ss_grid *g, const ss_sweep_options *o, doub
 static void check_early_stops(const char *name, const ss_grid *g, double earth_radius_m)
 {
     static const double elevations[] = {2.0, 8.0, 20.0, 40.0, 65.0};
-    ss_ctx *ctx = ss_ctx_new();
-    unsigned char *levels = ss_lit_levels(ctx, g->z, g->width, g->height, g->cell_x_m,
-                                          g->cell_y_m);
-    ss_ctx_free(ctx);
+    unsigned char *levels = ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m);
     size_t n = (size_t)g->width * g->height;
     float *whole = malloc(n * sizeof(float)), *early = malloc(n * sizeof(float));
     ss_sweep_options o;

@@ -523,13 +523,11 @@ static void print_summary(insolation_run *r)
            "(sun above every horizon)\n",
            r->steps.n, (unsigned long long)c.time_steps,
            (unsigned long long)c.night_steps_skipped, (unsigned long long)c.shadow_sweeps_skipped);
-    if (c.shadow_steps_skipped)
-        printf("shadows %llu samples of the shadow walks not walked (about %.0f %% of them): "
-               "past the last cell of their line the sun may not clear by its horizon bound\n",
-               (unsigned long long)c.shadow_steps_skipped,
-               100.0 * (double)c.shadow_steps_skipped /
-                   ((double)(c.time_steps - c.shadow_sweeps_skipped) * job->dem.grid.width *
-                    job->dem.grid.height));
+    if (c.shadow_steps)
+        printf("shadows %llu of the shadow walks' %llu samples (%.1f %%) not walked: past the "
+               "last cell of their line whose proven horizon bound the sun may not clear\n",
+               (unsigned long long)c.shadow_steps_skipped, (unsigned long long)c.shadow_steps,
+               100.0 * (double)c.shadow_steps_skipped / (double)c.shadow_steps);
     if (c.cell_steps)
         printf("cells   %llu cell-steps, %llu (%.1f %%) with the sun's terms computed per cell "
                "(outside the step's tables)\n",

@@ -3,9 +3,11 @@
 
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "commands.h"
 #include "mpi_share.h"
+#include "run.h"
 #include "scene.h"
 #include "skysweep.h"
 
@@ -153,5 +155,13 @@ int main(int argc, char **argv)
     rc = dispatch(argc, argv);
     scene_release();
     share_stop();
+    if (run_interrupted()) {
+        /* A signal may have left the OpenCL kernels building in a thread
+         * of their own (src/core/ocl_build.c): the libraries' exit handlers
+         * and destructors must not run under PoCL's compiler. The outputs
+         * are already cleaned up. */
+        fflush(NULL);
+        _exit(rc);
+    }
     return rc;
 }

@@ -138,6 +138,11 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     return 0;
 }
 
+int run_interrupted(void)
+{
+    return interrupted_by != 0;
+}
+
 int run_fail(run_state *run, ss_status status)
 {
     if (interrupted_by) {

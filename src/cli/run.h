@@ -71,6 +71,8 @@ int run_begin(run_state *run, const char *command, const common_settings *common
 /* Prints "skysweep COMMAND: message" on stderr and returns the exit code:
  * the status, or 128 + signal when interrupted. */
 int run_fail(run_state *run, ss_status status);
+/* Whether a signal stopped the run (its exit status is then 128 + N). */
+int run_interrupted(void);
 int run_usage_error(const char *command, const char *message);
 void run_end(run_state *run);
 

@@ -259,8 +259,12 @@ ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan)
         return SS_OK;
     select_device(ctx, plan->device);
     /* A device the model chose but that does not open leaves the job to the
-     * C twin, which computes the same (the summary names the device used). */
-    if (!ctx->use_reference && ocl_acquire(ctx) != SS_OK)
+     * C twin, which computes the same (the summary names the device used);
+     * a run cancelled while the device's kernels build stops. */
+    ss_status st = ctx->use_reference ? SS_OK : ocl_acquire(ctx);
+    if (st == SS_ERR_CANCELLED)
+        return st;
+    if (st != SS_OK)
         select_device(ctx, "reference");
     return SS_OK;
 }

@@ -166,6 +166,16 @@ static void carry_rows(ss_backend *b, const ss_band_run *run, const ss_band_dir 
     }
 }
 
+/* The samples of every line of a direction (the whole grid's). */
+static uint64_t direction_samples(const ss_line_set *ls)
+{
+    uint64_t n = 0;
+    int first;
+    for (int line = 0; line < ss_line_count(ls); ++line)
+        n += (uint64_t)ss_line_extent(ls, line, &first);
+    return n;
+}
+
 static ss_status ref_walk(ss_backend *b, const ss_band_run *run, const ss_band_dir *dirs, int n)
 {
     ref_backend *r = b->impl;
@@ -182,6 +192,8 @@ static ss_status ref_walk(ss_backend *b, const ss_band_run *run, const ss_band_d
                 planes[c] = 0.0f;
             carry_rows(b, run, d, 1);
         }
+        if (horizon && b->walk.lit_levels && run->whole && d->lit_level >= 0)
+            b->ctx->counters.shadow_steps += direction_samples(&d->ls);
         for (int round = 0; round < ss_line_rounds(&d->ls) && st == SS_OK; ++round)
             st = walk_round(b, run, d, round);
         if (st != SS_OK || !horizon)

@@ -21,6 +21,9 @@
 #include "products_internal.h"
 #include "ss_passes.h"
 
+/* The kernels take the directions from a buffer: no padding may differ. */
+_Static_assert(sizeof(ss_band_dir) == 112, "ss_band_dir layout");
+
 int ss_walk_planes(const ss_walk *walk)
 {
     if (walk->term != SS_TERM_HORIZON)

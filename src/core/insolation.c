@@ -437,19 +437,17 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
 
 /* Each cell's bound level (lit_levels.h), where the C twin walks exact
  * shadows over a grid held whole with interpolated lines, and there are
- * steps enough to repay it (0.19 s on 857 x 793 cells, about 16 steps'
- * walks there); else NULL. */
-static ss_status shadow_levels(ss_insolation_job *job, const steps_plan *plan,
-                               unsigned char **levels)
+ * steps enough to repay it (0.2 s on 857 x 793 cells, about 16 steps'
+ * walks there); else NULL, and where memory is short too: the walks then
+ * go whole. Its work space is freed before the steps' buffers (about 90
+ * bytes a cell, band_memory.c) are made, so it adds nothing to the peak. */
+static unsigned char *shadow_levels(const ss_insolation_job *job, const steps_plan *plan)
 {
     const ss_source *src = job->src;
-    *levels = NULL;
     if (plan->n_swept < SS_LIT_LEVELS_MIN_STEPS || !src->z || !job->ctx->use_reference ||
         ss_source_band_rows(src) < src->height || job->opt->lines != SS_LINES_INTERPOLATED)
-        return SS_OK;
-    *levels = ss_lit_levels(job->ctx, src->z, src->width, src->height, src->cell_x_m,
-                            src->cell_y_m);
-    return *levels ? SS_OK : SS_ERR_MEMORY;
+        return NULL;
+    return ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m);
 }
 
 static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
@@ -457,10 +455,8 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     const ss_source *src = job->src;
     int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * src->width;
-    unsigned char *levels;
-    ss_status st = shadow_levels(job, plan, &levels);
-    if (st != SS_OK)
-        return st;
+    unsigned char *levels = shadow_levels(job, plan);
+    ss_status st = SS_OK;
     /* Stored horizons not held in memory are read band by band. */
     int read_stored = job->horizons && !ss_cell_store_peek(job->horizons, 0, 0);
     steps_run s = {

@@ -188,20 +188,22 @@ static void add_tangents(float *zone, const float *e, const float *lo, int x0, i
     }
 }
 
-/* Bound 1 over the cells within NEAR_R, one by one, for each line
- * orientation that can pair them, with its own lowest samples. */
+/* Bound 1 over the cells r_lo..r_hi away (Chebyshev), one by one, for
+ * each line orientation that can pair them, with its own lowest samples. */
 static void near_zone(const float *z, const float *lo_ns, const float *lo_ew, int w, int h,
-                      double cx, double cy, float *zone)
+                      double cx, double cy, int r_lo, int r_hi, float *zone)
 {
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < h; ++y) {
         float *row_zone = zone + (size_t)y * w;
-        for (int dy = -NEAR_R; dy <= NEAR_R; ++dy) {
+        for (int dy = -r_hi; dy <= r_hi; ++dy) {
             if (y + dy < 0 || y + dy >= h)
                 continue;
             const float *row = z + (size_t)(y + dy) * w;
-            for (int dx = -NEAR_R; dx <= NEAR_R; ++dx) {
+            for (int dx = -r_hi; dx <= r_hi; ++dx) {
                 int ax = abs(dx), ay = abs(dy), x0 = dx < 0 ? -dx : 0, x1 = dx > 0 ? w - dx : w;
+                if ((ax > ay ? ax : ay) < r_lo)
+                    continue;
                 double along_x = pair_distance(ax, ay, ax > 0 && ay <= ax + 1, 0, cx, cy);
                 double along_y = pair_distance(ax, ay, 0, ay > 0 && ax <= ay + 1, cx, cy);
                 if (along_x > 0)
@@ -281,23 +283,27 @@ static int ring_zone(const float *level, int nbx, int nby, int j, const float *l
 
 /* The tangent bound of every cell into best (w x h), the planes p being
  * work space of the same size. */
-#define WORK_PLANES 8
+#define WORK_PLANES 10
 static int bound_tangents(const float *z, int w, int h, double cx, double cy, float *best,
                           float *p[WORK_PLANES])
 {
     float *lo = p[0], *zone = p[1], *level = p[2], *next = p[3], *gx = p[4], *gy = p[5];
-    float *win_x = p[6], *win_y = p[7];
+    float *win_x = p[6], *win_y = p[7], *lo_ns = p[8], *lo_ew = p[9];
     size_t n = (size_t)w * h;
-    /* win_x and win_y hold the lowest samples per orientation until the
-     * near zone is done. */
-    lowest_samples(z, w, h, win_x, win_y, lo);
+    lowest_samples(z, w, h, lo_ns, lo_ew, lo);
     for (size_t c = 0; c < n; ++c) {
         best[c] = zone[c] = -INFINITY;
         level[c] = isfinite(z[c]) ? z[c] : -INFINITY; /* never the highest */
     }
-    near_zone(level, win_x, win_y, w, h, cx, cy, zone);
     neighbour_steps(z, w, h, gx, gy);
-    int ok = add_zone(gx, gy, w, h, cx, cy, NEAR_R, zone, best, win_x, win_y, next);
+    /* The nearest cells in rings of their own, each capped by the slopes
+     * of a window only as wide as it needs. */
+    static const int near_rings[][2] = {{1, 2}, {3, 4}, {5, NEAR_R}};
+    int ok = 1;
+    for (int k = 0; ok && k < 3; ++k) {
+        near_zone(level, lo_ns, lo_ew, w, h, cx, cy, near_rings[k][0], near_rings[k][1], zone);
+        ok = add_zone(gx, gy, w, h, cx, cy, near_rings[k][1], zone, best, win_x, win_y, next);
+    }
     /* Level j's ring holds cells within (RING_M + 1) 2^j - 1 of c and
      * covers every cell within (RING_M - 1) 2^j + 1. The blocks it skips
      * lie within RING_LO 2^j - 1: within NEAR_R at level 1, and within the
@@ -320,7 +326,7 @@ static int bound_tangents(const float *z, int w, int h, double cx, double cy, fl
     return ok;
 }
 
-unsigned char *ss_lit_levels(ss_ctx *ctx, const float *z, int w, int h, double cx, double cy)
+unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
 {
     size_t n = (size_t)w * h;
     float *best = ss_malloc(n * sizeof(float)), *p[WORK_PLANES];
@@ -349,7 +355,6 @@ unsigned char *ss_lit_levels(ss_ctx *ctx, const float *z, int w, int h, double c
         free(p[i]);
     if (!ok) {
         free(out);
-        ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the cells' horizon bounds");
         return NULL;
     }
     return out;

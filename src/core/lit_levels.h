@@ -6,7 +6,7 @@
 #ifndef SS_LIT_LEVELS_H
 #define SS_LIT_LEVELS_H
 
-#include "ctx_internal.h"
+#include "ctx_internal.h" /* ss_malloc */
 
 /* A cell's bound is rounded up to a level: level k is (k + 1) steps of
  * SS_LIT_STEP_DEG. */
@@ -22,10 +22,11 @@ double ss_lit_level_deg(int level);
  * metres): the first level k whose angle lies above every horizon that
  * interpolated lines (kernels/ss_lines.h) can give the cell, with or
  * without curvature, or SS_LIT_UNBOUNDED; 0 at nodata cells, which have
- * no horizon. Freed with free(); NULL and the context's message when out
- * of memory. */
-unsigned char *ss_lit_levels(ss_ctx *ctx, const float *z, int width, int height,
-                             double cell_x_m, double cell_y_m);
+ * no horizon. Freed with free(); NULL when out of memory (the walks then
+ * go whole). Its work space, about 45 bytes a cell, is freed before it
+ * returns. */
+unsigned char *ss_lit_levels(const float *z, int width, int height, double cell_x_m,
+                             double cell_y_m);
 
 /* The highest level at or below elevation_deg (-1: none): a cell whose
  * level is at most this has every horizon below a sun that high. */

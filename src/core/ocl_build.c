@@ -59,14 +59,32 @@ static int job_start(build_job *job)
     return started;
 }
 
+/* The wait's clock: one that no change of the date can step. */
+static int job_init(build_job *job)
+{
+    pthread_condattr_t attr;
+    if (pthread_condattr_init(&attr) != 0)
+        return 0;
+    int ok = pthread_condattr_setclock(&attr, CLOCK_MONOTONIC) == 0 &&
+             pthread_cond_init(&job->done_cv, &attr) == 0;
+    pthread_condattr_destroy(&attr);
+    if (ok && pthread_mutex_init(&job->lock, NULL) != 0) {
+        pthread_cond_destroy(&job->done_cv);
+        ok = 0;
+    }
+    return ok;
+}
+
 ss_status ss_ocl_build(ss_ctx *ctx, cl_program *program, cl_device_id device,
                        const char *options, cl_int *err)
 {
     build_job *job = ss_calloc(1, sizeof *job);
+    if (job && !job_init(job)) {
+        free(job);
+        job = NULL;
+    }
     if (!job)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory building the OpenCL kernels");
-    pthread_mutex_init(&job->lock, NULL);
-    pthread_cond_init(&job->done_cv, NULL);
     job->program = *program;
     job->device = device;
     job->options = options;
@@ -80,7 +98,7 @@ ss_status ss_ocl_build(ss_ctx *ctx, cl_program *program, cl_device_id device,
     pthread_mutex_lock(&job->lock);
     while (!job->done && st == SS_OK) {
         struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
+        clock_gettime(CLOCK_MONOTONIC, &until);
         until.tv_nsec += BUILD_POLL_NS;
         if (until.tv_nsec >= 1000000000L) {
             until.tv_sec += 1;
@@ -103,5 +121,5 @@ ss_status ss_ocl_build(ss_ctx *ctx, cl_program *program, cl_device_id device,
         return st;
     }
     job_free(job);
-    return SS_OK;
+    return st; /* a cancel as the build ended still stops the run */
 }
