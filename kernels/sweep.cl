@@ -49,15 +49,15 @@ __kernel void band_horizon(__global const ss_band_dir *dirs, ss_band_run run, in
                            __global const float *z, __global int *stacks, __global float *outs,
                            __global const ss_hull_point *hull_in, __global const int *in_off,
                            __global const int *in_cnt, __global int *state,
-                           __global int *counters)
+                           __global int *counters, __global const unsigned char *lit_levels)
 {
     ss_band_dir d;
     int line = batch_line(&run, dirs, round, &d);
     if (line < 0)
         return;
     ss_band_hulls hulls = {hull_in, in_off, in_cnt, state, counters};
-    /* Shadow walks that stop early are the host's (backend.h, lit_levels). */
-    ss_band_horizon_line(&d, &run, line, z, stacks + stack_at(&run, d.slot), outs, hulls, 0);
+    ss_band_horizon_line(&d, &run, line, z, stacks + stack_at(&run, d.slot), outs, hulls,
+                         lit_levels);
 }
 
 /* Each line of a round hands its hull on (ss_band_hand_on), after the

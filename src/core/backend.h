@@ -25,10 +25,10 @@ typedef struct {
     double radius_m;
     int negate;     /* heights read as -z (negative openness) */
     /* SS_TERM_HORIZON for shadows alone, on a whole grid: each cell's bound
-     * level (lit_levels.h), so that the C twin's walks stop past the last
-     * cell a direction's sun may not clear (ss_engine_dir.lit_level); NULL:
-     * whole walks. OpenCL devices walk whole lines, which gives the same
-     * shadows. */
+     * level (lit_levels.h), so that the walks stop past the last cell a
+     * direction's sun may not clear (ss_engine_dir.lit_level), on every
+     * backend; NULL: whole walks. The C twin counts the samples it leaves
+     * (ss_counters.shadow_steps_skipped). */
     const unsigned char *lit_levels;
 } ss_walk;
 

@@ -455,6 +455,7 @@ void ss_ocl_release(struct ss_ocl *o)
 
 typedef struct {
     cl_mem z, grad, stacks, sums, parts, outs, carry, dirs;
+    cl_mem lit_levels; /* the walk's, or one byte no direction reads (lit_level -1) */
     /* Hulls handed on (ss_band.h): in from the band before, out to the next. */
     cl_mem hull_in, hull_out, in_off, in_cnt, out_off, out_cnt, state, counters;
     size_t hull_cap_in, hull_cap_out; /* points */
@@ -719,10 +720,11 @@ static ss_status walk_round(ss_backend *b, ss_band_run run, int n, int round, cl
     ss_status st = SS_OK;
     size_t items = (size_t)n * (size_t)run.lines;
     if (walk->term == SS_TERM_HORIZON) {
-        kernel_arg args[] = {ARG(q->dirs),   ARG(run),       ARG(round),    ARG(q->z),
-                             ARG(q->stacks), ARG(q->outs),   ARG(q->hull_in), ARG(q->in_off),
-                             ARG(q->in_cnt), ARG(q->state),  ARG(q->counters)};
-        st = run_kernel(b, o->k_horizon, args, 11, items, "the horizon kernel");
+        kernel_arg args[] = {ARG(q->dirs),   ARG(run),          ARG(round),    ARG(q->z),
+                             ARG(q->stacks), ARG(q->outs),      ARG(q->hull_in), ARG(q->in_off),
+                             ARG(q->in_cnt), ARG(q->state),     ARG(q->counters),
+                             ARG(q->lit_levels)};
+        st = run_kernel(b, o->k_horizon, args, 12, items, "the horizon kernel");
     } else if (walk->radius_m > 0) {
         kernel_arg args[] = {ARG(q->dirs),   ARG(run), ARG(round),
                              ARG(q->z),      ARG(q->stacks), ARG(sums)};
@@ -882,7 +884,7 @@ static void ocl_close(ss_backend *b)
     cl_mem all[] = {q->z,       q->grad,    q->stacks,  q->sums,    q->parts,
                     q->outs,    q->carry,   q->dirs,    q->hull_in, q->hull_out,
                     q->in_off,  q->in_cnt,  q->out_off, q->out_cnt, q->state,
-                    q->counters};
+                    q->counters, q->lit_levels};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (all[i])
             clReleaseMemObject(all[i]);
@@ -962,6 +964,13 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     for (int k = 0; k < 2 && err == CL_SUCCESS; ++k)
         if (!(q->staged[k] = ss_malloc(sizeof(ss_band_dir) * (size_t)b->batch)))
             err = CL_OUT_OF_HOST_MEMORY;
+    /* Shadow walks stop early on a whole grid only (engine.c sets lit_level
+     * -1 elsewhere). */
+    if (horizon && b->walk.lit_levels && b->whole_z)
+        q->lit_levels = new_buffer(b, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, cells,
+                                   (void *)b->walk.lit_levels, &err);
+    else
+        q->lit_levels = new_buffer(b, CL_MEM_READ_ONLY, 1, NULL, &err);
     /* Valid (if empty) hull buffers, so every kernel argument is a buffer. */
     q->hull_in = new_buffer(b, CL_MEM_READ_WRITE, sizeof(ss_hull_point), NULL, &err);
     q->hull_out = new_buffer(b, CL_MEM_READ_WRITE, sizeof(ss_hull_point), NULL, &err);

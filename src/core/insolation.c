@@ -435,8 +435,8 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
     return classify_steps(job, n_steps, plan);
 }
 
-/* Each cell's bound level (lit_levels.h), where the C twin walks exact
- * shadows over a grid held whole with interpolated lines, and there are
+/* Each cell's bound level (lit_levels.h), where exact shadows are walked
+ * over a grid held whole with interpolated lines, and there are
  * steps enough to repay it (0.2 s on 857 x 793 cells, about 16 steps'
  * walks there); else NULL, and where memory is short too: the walks then
  * go whole. Its work space is freed before the steps' buffers (about 90
@@ -444,7 +444,7 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
 static unsigned char *shadow_levels(const ss_insolation_job *job, const steps_plan *plan)
 {
     const ss_source *src = job->src;
-    if (plan->n_swept < SS_LIT_LEVELS_MIN_STEPS || !src->z || !job->ctx->use_reference ||
+    if (plan->n_swept < SS_LIT_LEVELS_MIN_STEPS || !src->z ||
         ss_source_band_rows(src) < src->height || job->opt->lines != SS_LINES_INTERPOLATED)
         return NULL;
     return ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m);
