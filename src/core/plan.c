@@ -12,6 +12,7 @@
 
 #include "accuracy_table.h"
 #include "ctx_internal.h"
+#include "lit_levels.h"
 #include "skysweep_sun.h"
 
 #define DEG (180.0 / M_PI)
@@ -339,6 +340,16 @@ static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place
         r->sun_tolerance_deg);
 }
 
+/* Whether insolation's shadow walks will stop early (insolation.c,
+ * lit_levels.h): exact shadows with interpolated lines on a grid held
+ * whole, with walks enough. */
+static int stops_shadow_walks(const ss_plan *p, const ss_plan_request *r)
+{
+    int walked = r->n_steps - p->steps_night - p->steps_high_sun;
+    return r->product == SS_PRODUCT_INSOLATION && p->shadow_mode == SS_SHADOW_EXACT &&
+           p->lines == SS_LINES_INTERPOLATED && walked >= SS_LIT_LEVELS_MIN_STEPS;
+}
+
 /* Counts of the time steps that need no work, from SPA at the centre. */
 static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
                             const ss_place *place, double bound_deg, double spread_deg)
@@ -379,8 +390,12 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
     else
         add(p, "shadow_sweeps", 1, 0, "",
             "%d of %d daylight steps have the sun above %.2f deg, the highest horizon this "
-            "terrain can cast (proven bound): no shadow sweep for them",
-            p->steps_high_sun, r->n_steps - p->steps_night, bound_deg);
+            "terrain can cast (proven bound): no shadow sweep for them%s",
+            p->steps_high_sun, r->n_steps - p->steps_night, bound_deg,
+            stops_shadow_walks(p, r) ? "; the others' walks stop past the last cell of each "
+                                       "line whose own proven horizon bound the sun may not "
+                                       "clear (the cost below counts whole walks)"
+                                     : "");
     return SS_OK;
 }
 
