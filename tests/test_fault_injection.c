@@ -377,14 +377,11 @@ static void cancel_from_thread(const char *device)
  * and the same context must then build again and compute. */
 static void cancel_during_first_build(void)
 {
-    ss_ctx *ctx = ss_ctx_new();
-    char devices[4096] = "";
-    ss_list_devices(ctx, devices, sizeof devices);
-    if (!strstr(devices, "Portable Computing Language")) {
+    if (!test_have_pocl()) {
         tap_skip("a cancel during PoCL's first kernel build", "no PoCL device");
-        ss_ctx_free(ctx);
         return;
     }
+    ss_ctx *ctx = ss_ctx_new();
     float *out = malloc(OUT_MAX * sizeof(float)), *want = malloc(OUT_MAX * sizeof(float));
     ss_ctx_use_device(ctx, "reference");
     ss_status ref = call_svf(ctx, want);

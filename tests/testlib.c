@@ -303,6 +303,16 @@ ss_status test_lib_caster(const char *device, const ss_grid *g, double azimuth_d
     return st;
 }
 
+int test_have_pocl(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    char devices[4096] = "";
+    int have = ss_list_devices(ctx, devices, sizeof devices) > 0 &&
+               strstr(devices, "Portable Computing Language") != NULL;
+    ss_ctx_free(ctx);
+    return have;
+}
+
 const char *test_shared_data(const char *name)
 {
     static char path[1024];

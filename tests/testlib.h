@@ -70,6 +70,9 @@ ss_status test_lib_caster(const char *device, const ss_grid *g, double azimuth_d
 ss_source test_source(const ss_grid *g, ss_rows_read read, void *user, int band_rows,
                       ss_band_stats *stats);
 
+/* Whether a PoCL device is listed (the tests that need PoCL itself). */
+int test_have_pocl(void);
+
 /* Path of a file in ../shared/data, or NULL if that folder is absent. */
 const char *test_shared_data(const char *name);
 

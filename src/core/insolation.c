@@ -436,16 +436,14 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
 }
 
 /* Each cell's bound level (lit_levels.h), where exact shadows are walked
- * over a grid held whole with interpolated lines, and there are
- * steps enough to repay it (0.2 s on 857 x 793 cells, about 16 steps'
- * walks there); else NULL, and where memory is short too: the walks then
- * go whole. Its work space is freed before the steps' buffers (about 90
+ * over a grid held whole where ss_lit_levels_used says they repay it;
+ * else NULL, and where memory is short too: the walks then go whole. Its work space is freed before the steps' buffers (about 90
  * bytes a cell, band_memory.c) are made, so it adds nothing to the peak. */
 static unsigned char *shadow_levels(const ss_insolation_job *job, const steps_plan *plan)
 {
     const ss_source *src = job->src;
-    if (plan->n_swept < SS_LIT_LEVELS_MIN_STEPS || !src->z ||
-        ss_source_band_rows(src) < src->height || job->opt->lines != SS_LINES_INTERPOLATED)
+    if (!ss_lit_levels_used(plan->n_swept, job->opt->lines) || !src->z ||
+        ss_source_band_rows(src) < src->height)
         return NULL;
     return ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m);
 }

@@ -42,6 +42,11 @@
 /* Float rounding in the walks: a bound must clear a level by this much. */
 #define ROUNDING_MARGIN 1e-3f
 
+int ss_lit_levels_used(int walked_steps, int lines)
+{
+    return walked_steps >= 48 && lines == SS_LINES_INTERPOLATED;
+}
+
 double ss_lit_level_deg(int level)
 {
     return (level + 1) * SS_LIT_STEP_DEG;

@@ -347,7 +347,7 @@ static int stops_shadow_walks(const ss_plan *p, const ss_plan_request *r)
 {
     int walked = r->n_steps - p->steps_night - p->steps_high_sun;
     return r->product == SS_PRODUCT_INSOLATION && p->shadow_mode == SS_SHADOW_EXACT &&
-           p->lines == SS_LINES_INTERPOLATED && walked >= SS_LIT_LEVELS_MIN_STEPS;
+           ss_lit_levels_used(walked, p->lines);
 }
 
 /* Counts of the time steps that need no work, from SPA at the centre. */
