@@ -93,15 +93,26 @@ SS_FN void ss_horizon_caster(const ss_sample_horizon *h, SS_GLOBAL float *dist_m
  * with SS_HORIZON_WANT_CAST too the height of that sample's casting point
  * (relative to the grid origin). All grids start at 0; cells without a
  * height, or without a caster, are set to nodata afterwards by the host.
- * Steps [s_lo, s_hi) of the walker's line (a band's share of it). */
+ * Steps [s_lo, s_hi) of the walker's line (a band's share of it).
+ *
+ * A shadow walk (lit_level >= 0, ss_band_horizon_line) gives no horizon
+ * to cells whose bound level is at most lit_level: the sun clears every
+ * horizon they could have, and the horizon they get instead, from one of
+ * their samples or none (none_deg, the horizontal, below a sun of level 0
+ * or more), stays below their bound too. Their samples still join the
+ * hull, for the cells after them. */
 SS_FN void ss_horizon_steps(ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
                             float curv_k, SS_GLOBAL const float *z, SS_GLOBAL int *stack,
                             SS_GLOBAL float *angle_deg, SS_GLOBAL float *weight,
-                            SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want, int flags)
+                            SS_GLOBAL float *dist_m, SS_GLOBAL float *cast_z, int want, int flags,
+                            SS_GLOBAL const unsigned char *levels, int lit_level)
 {
     for (int i = s_lo; i < s_hi; ++i) {
         ss_sample_horizon h = ss_walker_step(w, ls, z, stack, curv_k, i, flags);
         if (!h.valid || !(h.d > 0.0f) || (h.cell0 < 0 && h.cell1 < 0))
+            continue;
+        if (lit_level >= 0 && (h.cell0 < 0 || levels[h.cell0] <= lit_level) &&
+            (h.cell1 < 0 || levels[h.cell1] <= lit_level))
             continue;
         float angle = ss_horizon_deg(h.d, h.dz);
         if (h.cell0 >= 0) {
@@ -525,9 +536,12 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
     if (!ss_band_line_begin(&w, d, run, line, hulls, &s_lo, &s_hi, &count))
         return 0;
     /* The bounds hold for interpolated lines, bent down by curvature or not. */
-    if (lit_levels && run->whole && d->lit_level >= 0 &&
-        d->ls.model == SS_LINE_MODEL_INTERPOLATED && run->curv_k >= 0.0f) {
-        int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, d->lit_level);
+    int lit = lit_levels && run->whole && d->ls.model == SS_LINE_MODEL_INTERPOLATED &&
+                      run->curv_k >= 0.0f
+                  ? d->lit_level
+                  : -1;
+    if (lit >= 0) {
+        int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, lit);
         skipped = s_hi - end;
         s_hi = end;
     }
@@ -540,27 +554,28 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
     float k = run->curv_k;
 #ifdef __OPENCL_VERSION__
     ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
-                     ss_walk_flags(ls, k));
+                     ss_walk_flags(ls, k), lit_levels, lit);
 #else
     switch (ss_walk_flags(ls, k)) {
     case 0:
-        ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want, 0);
+        ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want, 0,
+                         lit_levels, lit);
         break;
     case SS_WALK_DIGITAL:
         ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
-                         SS_WALK_DIGITAL);
+                         SS_WALK_DIGITAL, lit_levels, lit);
         break;
     case SS_WALK_CURVED:
         ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
-                         SS_WALK_CURVED);
+                         SS_WALK_CURVED, lit_levels, lit);
         break;
     case SS_WALK_DIGITAL | SS_WALK_CURVED:
         ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
-                         SS_WALK_DIGITAL | SS_WALK_CURVED);
+                         SS_WALK_DIGITAL | SS_WALK_CURVED, lit_levels, lit);
         break;
     default:
         ss_horizon_steps(&w, ls, s_lo, s_hi, k, z, stack, angle, weight, dist, cast, run->want,
-                         ss_walk_flags(ls, k));
+                         ss_walk_flags(ls, k), lit_levels, lit);
     }
 #endif
     ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);

@@ -4,9 +4,10 @@
  * or column up), every horizon the library's interpolated walk gives a
  * cell, in 240 azimuths with and without curvature, lies below its level's
  * angle. A bound that failed would light a shaded cell. Then the walks
- * that stop past the last cell a sun may not clear (ss_walk.lit_levels):
- * every cell is lit or shaded as by the whole walk, and the cells the
- * bounds leave open keep the whole walk's horizon to the bit. */
+ * that stop past the last cell a sun may not clear (ss_walk.lit_levels),
+ * and give no horizon to the cells the bounds know lit: every cell is lit
+ * or shaded as by the whole walk, and the cells the bounds leave open
+ * keep the whole walk's horizon to the bit. */
 #include "config.h"
 
 #include <math.h>
@@ -149,7 +150,7 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
                     changed += memcmp(&whole[c], &early[c], sizeof(float)) != 0;
                 } else {
                     known++;
-                    /* a horizon the stopped walk left short: it did stop */
+                    /* a horizon the walk left short or gave none: it did stop */
                     stopped += memcmp(&whole[c], &early[c], sizeof(float)) != 0;
                 }
             }
@@ -159,7 +160,7 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
            "%s on %s, curvature %s: walks stopped early light and shade %ld cell-suns as whole "
            "walks (%ld differ, want 0); %ld cells left open keep their horizons to the bit (%ld "
            "differ); %.0f %% of cell-suns known lit by their bounds, %ld of them with a horizon "
-           "the stop left short (want some)",
+           "left short or none (want some)",
            name, device, earth_radius_m > 0 ? "on" : "off", verdicts, flipped, open, changed,
            verdicts ? 100.0 * known / verdicts : 0.0, stopped);
     free(levels);
