@@ -118,6 +118,9 @@ typedef struct {
      * stop early, and of them those left unwalked: past the last cell of
      * their line whose bound the sun may not clear. */
     uint64_t shadow_steps, shadow_steps_skipped;
+    /* Weather records with neither beam nor circumsolar light, on which
+     * shadows change nothing: no shadow sweep (nor stored horizons) for them. */
+    uint64_t shadow_sweeps_unshaded;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 

@@ -6,7 +6,9 @@
  *   0.5 % of a 1-minute integration;
  * - a steep north-facing slope in northern winter gets no beam;
  * - the per-step bands add up to the total;
- * - the two shadow modes converge to each other as directions grow. */
+ * - the two shadow modes converge to each other as directions grow;
+ * - weather records without light that shadows could change skip their
+ *   shadow sweeps and change no output. */
 #include "config.h"
 
 #include <math.h>
@@ -238,10 +240,74 @@ static void shadow_modes_converge(void)
     ss_grid_free(&g);
 }
 
+/* A weather record over sun_at's clear-sky sun: GHI = DHI = 150 W/m^2
+ * and the given DNI. */
+typedef struct {
+    sun_setup su;
+    double dni;
+} record_setup;
+
+static ss_status record_at(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
+{
+    const record_setup *r = user;
+    ss_status st = sun_at(ctx, k, step, (void *)&r->su);
+    step->real_sky = 1;
+    step->ghi_w_m2 = step->dhi_w_m2 = 150.0;
+    step->dni_w_m2 = r->dni;
+    step->albedo = NAN;
+    step->temp_air_c = step->wind_speed_m_s = NAN;
+    step->month = 6;
+    return st;
+}
+
+/* Records without beam (and Hay-Davies' circumsolar part, which follows
+ * it) need no shadow sweep: their outputs are those of records whose beam
+ * is too faint to add anything but which are swept (1e-30 W/m^2: every
+ * sum but the beam's is the same to the bit, the beam's is below 1e-28). */
+static void unshaded_records(void)
+{
+    ss_grid g = test_grid(60, 60, 30, 30);
+    test_fill(&g, TERRAIN_SMOOTH, 7, 600);
+    size_t n = 60 * 60;
+    ss_insolation_out out[2] = {alloc_out(n), alloc_out(n)};
+    ss_counters c[2];
+    ss_status st = SS_OK;
+    for (int i = 0; i < 2 && st == SS_OK; ++i) {
+        record_setup r = {{46.8, 10.9, 1782000000.0 + 4 * 3600.0, 3600, 3.0, 14}, i ? 1e-30 : 0};
+        ss_ctx *ctx = ss_ctx_new();
+        ss_sweep_options opt;
+        ss_sweep_options_default(&opt);
+        opt.directions = 16;
+        ss_insolation_options io = {.albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT,
+                                    .sky_model = SS_SKY_MODEL_HAYDAVIES};
+        st = ss_insolation(ctx, &g, &opt, &io, r.su.n, record_at, &r, NULL, NULL, &out[i]);
+        c[i] = ss_ctx_counters(ctx);
+        ss_ctx_free(ctx);
+    }
+    int same = 1;
+    double beam = 0;
+    for (size_t k = 0; st == SS_OK && k < n; ++k) {
+        same &= out[0].global[k] == out[1].global[k] && out[0].diffuse[k] == out[1].diffuse[k] &&
+                out[0].reflected[k] == out[1].reflected[k] &&
+                out[0].sun_hours[k] == out[1].sun_hours[k] && out[0].beam[k] == 0.0f;
+        beam = fmax(beam, out[1].beam[k]);
+    }
+    tap_ok(st == SS_OK && same && beam < 1e-28 && c[0].shadow_sweeps_unshaded > 0 &&
+               c[1].shadow_sweeps_unshaded == 0 && c[0].sweeps < c[1].sweeps,
+           "records without beam skip their %llu shadow sweeps (%llu sweeps against %llu) and "
+           "give the swept outputs (%s; beam %.1e)",
+           (unsigned long long)c[0].shadow_sweeps_unshaded, (unsigned long long)c[0].sweeps,
+           (unsigned long long)c[1].sweeps, same ? "the same" : "they differ", beam);
+    free_out(&out[0]);
+    free_out(&out[1]);
+    ss_grid_free(&g);
+}
+
 int main(void)
 {
     flat_plane();
     north_slope_winter();
     shadow_modes_converge();
+    unshaded_records();
     return tap_done();
 }

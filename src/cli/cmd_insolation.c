@@ -520,9 +520,13 @@ static void print_summary(insolation_run *r)
                (unsigned long long)c.records_light_at_night);
     command_print_job_sweep(job, &r->bands);
     printf("steps   %d: %llu in daylight, %llu at night skipped, %llu shadow sweeps skipped "
-           "(sun above every horizon)\n",
+           "(sun above every horizon)",
            r->steps.n, (unsigned long long)c.time_steps,
            (unsigned long long)c.night_steps_skipped, (unsigned long long)c.shadow_sweeps_skipped);
+    if (r->have_weather)
+        printf(", %llu more (records with neither beam nor circumsolar light)",
+               (unsigned long long)c.shadow_sweeps_unshaded);
+    printf("\n");
     if (c.shadow_steps)
         printf("shadows %llu of the shadow walks' %llu samples (%.1f %%) not walked: past the "
                "last cell of their line whose proven horizon bound the sun may not clear\n",

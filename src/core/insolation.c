@@ -33,7 +33,8 @@ _Static_assert(SS_SKY_MODEL_ISOTROPIC == SS_SKY_ISOTROPIC &&
 enum {
     STEP_NONE,   /* missing record, or night: adds nothing */
     STEP_LIT,    /* the sun above every horizon the terrain can cast (or below every cell's
-                    horizontal, with light): no shadows */
+                    horizontal, with light), or a record without light shadows change:
+                    no shadows */
     STEP_SWEPT,  /* exact shadows: a sweep at its sun's azimuth */
     STEP_STORED  /* interpolated shadows from the stored horizons */
 };
@@ -180,6 +181,25 @@ static stored_between stored_between_of(const ss_sweep_options *opt, double az)
     return b;
 }
 
+/* A weather record's sky split into its parts at the centre's sun, which
+ * serve every cell. */
+static ss_sky_parts sky_parts_at_centre(const ss_insolation_options *io, const ss_sun_step *sun,
+                                        const ss_sky_record *rec)
+{
+    return ss_sky_parts_of((int)io->sky_model, fmaxf(rec->dhi, 0.0f), fmaxf(rec->dni, 0.0f),
+                           rec->dni_extra, (float)((90.0 - sun->elevation_deg) * M_PI / 180.0));
+}
+
+/* Whether shadows change anything a weather record gives: a cell's being
+ * lit changes its beam, its circumsolar diffuse and its hours of direct
+ * sun (which need beam) and nothing else (insolation_cell.h), so a record
+ * with neither beam nor circumsolar light needs no shadow sweep. */
+static int record_casts_shadows(const ss_insolation_options *io, const ss_sun_step *sun,
+                                const ss_sky_record *rec)
+{
+    return rec->dni > 0.0f || sky_parts_at_centre(io, sun, rec).circumsolar > 0.0f;
+}
+
 /* Cell c's step computed cell by cell, its sun's terms exactly where they
  * fall outside the step's tables (ss_lane_cells leaves those cells). */
 static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_step_sun *tables,
@@ -258,9 +278,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
     if (st == SS_OK && kind != STEP_NONE) {
         if (sun.real_sky) {
             ss_insolation_sky_record(job->ctx, &sun, io, &rec, &light, 0);
-            /* The sky's parts at the centre's sun serve every cell. */
-            sky = ss_sky_parts_of((int)io->sky_model, fmaxf(rec.dhi, 0.0f), fmaxf(rec.dni, 0.0f),
-                                  rec.dni_extra, (float)((90.0 - sun.elevation_deg) * M_PI / 180.0));
+            sky = sky_parts_at_centre(io, &sun, &rec);
         }
         ss_insolation_planes p = ss_insolation_planes_of(job->want);
         float *beam = planes + (size_t)p.beam * n, *diffuse = planes + (size_t)p.diffuse * n;
@@ -405,10 +423,14 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
         } else {
             ctx->counters.time_steps++;
             /* Shadows: none can fall where the sun is above every horizon,
-             * and none is cast by a sun below every cell's horizontal. */
+             * and none is cast by a sun below every cell's horizontal; nor
+             * do they matter to a record without light they could shade. */
             int all_lit = !sun_up || sun.apparent_elevation_deg - sun.spread_deg > bound_deg;
+            int unshaded = !all_lit && sun.real_sky && !record_casts_shadows(io, &sun, &rec);
             if (all_lit)
                 ctx->counters.shadow_sweeps_skipped += sun_up;
+            ctx->counters.shadow_sweeps_unshaded += unshaded;
+            all_lit |= unshaded;
             kind[k] = all_lit                                        ? STEP_LIT
                       : io->shadow_mode == SS_SHADOW_EXACT ? STEP_SWEPT
                                                            : STEP_STORED;

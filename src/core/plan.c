@@ -390,8 +390,9 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
     else
         add(p, "shadow_sweeps", 1, 0, "",
             "%d of %d daylight steps have the sun above %.2f deg, the highest horizon this "
-            "terrain can cast (proven bound): no shadow sweep for them%s",
+            "terrain can cast (proven bound): no shadow sweep for them%s%s",
             p->steps_high_sun, r->n_steps - p->steps_night, bound_deg,
+            r->weather.what ? ", nor for records with neither beam nor circumsolar light" : "",
             stops_shadow_walks(p, r) ? "; the others' walks stop past the last cell of each "
                                        "line whose own proven horizon bound the sun may not "
                                        "clear (the cost below counts whole walks)"
