@@ -214,6 +214,16 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
     const double *node_az = field->node_azimuth_deg, *node_e0 = field->node_elevation_deg;
     const double *node_refr = field->node_refraction_deg;
     const ss_spa_params *p = &field->params;
+    /* Where each cell lies along its lattice segment, the same in every row
+     * and so worked out once (a division per cell was a third of the
+     * loop's time): segment i's cells [cols[i], cols[i + 1]] from
+     * tx[cols[i] - cols[0] + i], the cell shared by two segments in each. */
+    double *tx_all = malloc(sizeof(double) * (size_t)(cols[nc - 1] - cols[0] + nc));
+    if (!tx_all)
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+    for (int i = 0; i + 1 < nc; ++i)
+        for (int c = cols[i]; c <= cols[i + 1]; ++c)
+            tx_all[cols[i] - cols[0] + i + (c - cols[i])] = between(c, cols[i], cols[i + 1]);
     /* Bilinear between nodes. So is refraction where the sun stands above
      * the horizontal at all four nodes: there it bends by at most 0.05 deg
      * per deg^2 of elevation in standard air (0.065 at -40 C and 1050 hPa),
@@ -241,13 +251,12 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
             double r1 = (1 - ty) * node_refr[b] + ty * node_refr[e];
             int smooth = node_e0[a] > 0 && node_e0[b] > 0 && node_e0[d] > 0 && node_e0[e] > 0;
             int c0 = cols[i], c1 = cols[i + 1];
+            const double *tx_of = tx_all + (cols[i] - cols[0] + i) - c0; /* by column */
             if (smooth) {
-                /* No call and no branch (between()'s, for a segment of one
-                 * column, is span 1 here): the cells run in vector lanes. */
-                double span = c1 > c0 ? c1 - c0 : 1;
+                /* No call and no branch: the cells run in vector lanes. */
 #pragma omp simd
                 for (int c = c0; c <= c1; ++c) {
-                    double tx = (c - c0) / span;
+                    double tx = tx_of[c];
                     double e0 = (1 - tx) * e00 + tx * e01;
                     az_row[c] = (float)((1 - tx) * az0 + tx * az1);
                     e0_row[c] = (float)e0;
@@ -256,7 +265,7 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
                 continue;
             }
             for (int c = c0; c <= c1; ++c) {
-                double tx = between(c, c0, c1);
+                double tx = tx_of[c];
                 double e0 = (1 - tx) * e00 + tx * e01;
                 az_row[c] = (float)((1 - tx) * az0 + tx * az1);
                 e0_row[c] = (float)e0;
@@ -266,6 +275,7 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
             }
         }
     }
+    free(tx_all);
     return SS_OK;
 }
 
