@@ -45,22 +45,26 @@ static inline __attribute__((always_inline)) int table_lane(const ss_sun_table *
     return ok;
 }
 
-/* One cell: what it adds, and whether the tables held its sun. */
+/* One cell: what it adds, and whether its sun was held (by the tables, or
+ * near enough the centre's: ss_step_sun_at). */
 static inline __attribute__((always_inline)) int lane_cell(const ss_lane_step *s, const ss_cell_terms *t, float h0, float az,
                             float app, float horizon, int real_sky, ss_cell_step *add)
 {
     const ss_step_sun *tb = s->tables;
+    if (real_sky) {
+        ss_cell_sun sun = {h0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+        ss_sincos_near(tb->sin_h_centre, tb->cos_h_centre, h0 - tb->h_centre, &sun.sin_h0,
+                       &sun.cos_h0);
+        ss_sincos_near(tb->sin_a_centre, tb->cos_a_centre, az - tb->a_centre, &sun.sin_az,
+                       &sun.cos_az);
+        *add = ss_cell_step_weather(t, &sun, app, horizon, &s->rec, s->sky, s->dt);
+        return ss_step_sun_near(tb, h0, az);
+    }
     float e[SS_SUN_TABLE_TERMS], a[2], kb = 0.0f;
     int ok = table_lane(&tb->elevation, h0, e, 4) & table_lane(&tb->azimuth, az, a, 2);
-    ss_cell_sun sun = {h0, e[0], e[1], a[0], a[1], 0.0f, 0.0f};
-    if (!real_sky) {
-        ok &= table_lane(&tb->air_mass, t->pressure_factor * e[2], &kb, 1);
-        sun.kb = kb;
-        sun.diffuse_fraction = e[3];
-        *add = ss_cell_step_of(t, &sun, app, horizon, s->g0, s->albedo, s->dt);
-    } else {
-        *add = ss_cell_step_weather(t, &sun, app, horizon, &s->rec, s->sky, s->dt);
-    }
+    ok &= table_lane(&tb->air_mass, t->pressure_factor * e[2], &kb, 1);
+    ss_cell_sun sun = {h0, e[0], e[1], a[0], a[1], kb, e[3]};
+    *add = ss_cell_step_of(t, &sun, app, horizon, s->g0, s->albedo, s->dt);
     return ok;
 }
 

@@ -75,8 +75,8 @@ static void elevation_terms(float h0, const void *user, float *v)
     const ss_step_sun *s = user;
     v[0] = sinf(h0);
     v[1] = cosf(h0);
-    v[2] = s->clear ? ss_esra_air_mass_sea_level(h0) : 0.0f;
-    v[3] = s->clear ? ss_esra_diffuse_fraction(s->linke, v[0]) : 0.0f;
+    v[2] = ss_esra_air_mass_sea_level(h0);
+    v[3] = ss_esra_diffuse_fraction(s->linke, v[0]);
 }
 
 static void azimuth_terms(float az, const void *user, float *v)
@@ -125,8 +125,20 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     const float rad = (float)(M_PI / 180.0);
     s->linke = linke;
     s->clear = clear;
+    s->h_centre = h0_step_deg * rad;
+    s->a_centre = az_step_deg * rad;
+    s->sin_h_centre = sinf(s->h_centre);
+    s->cos_h_centre = cosf(s->h_centre);
+    s->sin_a_centre = sinf(s->a_centre);
+    s->cos_a_centre = cosf(s->a_centre);
+    if (!clear) {
+        ss_sun_table_fill(&s->elevation, NAN, 1.0f, 0, NAN, NAN, 4, elevation_terms, s);
+        ss_sun_table_fill(&s->azimuth, NAN, 1.0f, 0, NAN, NAN, 2, azimuth_terms, s);
+        ss_sun_table_fill(&s->air_mass, NAN, 1.0f, 0, NAN, NAN, 1, transmittance, s);
+        return;
+    }
     float h_lo, h_hi, a_lo, a_hi, h_step = h0_step_deg * rad;
-    range_rad(h0_deg, n, h0_step_deg, clear, &h_lo, &h_hi);
+    range_rad(h0_deg, n, h0_step_deg, 1, &h_lo, &h_hi);
     range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
     /* Cells' suns: SS_SUN_TABLE_NODES intervals centred on the centre's.
      * One sun for every cell: a lattice that starts on it, whose first node
@@ -141,7 +153,7 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     ss_sun_table_fill(&s->azimuth, a_origin, AZIMUTH_SPACING_RAD, az_deg ? AZIMUTH_WINDOW : 1,
                       a_lo, a_hi, 2, azimuth_terms, s);
     float m_ref = ss_esra_air_mass_sea_level(h_step > 0.0f ? h_step : 0.0f);
-    if (!clear || s->elevation.last < 0 || !(m_ref > 0.0f)) {
+    if (s->elevation.last < 0 || !(m_ref > 0.0f)) {
         ss_sun_table_fill(&s->air_mass, NAN, 1.0f, 0, NAN, NAN, 1, transmittance, s);
         return;
     }

@@ -12,7 +12,15 @@
  * whole grid's values to the bit, for every cell that adds light (a clear
  * sky's suns below the horizontal add nothing, and are left out of the
  * range). With one sun for every cell a node lies on it: its terms are the
- * exact ones. */
+ * exact ones.
+ *
+ * A weather record's sky takes the sines and cosines alone, and those need
+ * no table: each cell's come from the centre's by the angle-addition
+ * formulas, with the sine and cosine of its small difference from the
+ * centre's sun as series (ss_sincos_near). That costs the lanes a few
+ * multiplications where the tables cost gathers, and the step no scan of
+ * its cells' range (3.6 s of an hourly weather year on the Kilauea DEM,
+ * doc/performance.md). */
 #ifndef SS_SUN_TABLE_H
 #define SS_SUN_TABLE_H
 
@@ -68,15 +76,45 @@ static inline int ss_sun_table_at(const ss_sun_table *t, float x, float *terms)
     return 1;
 }
 
-/* A step's sun over a band's cells: its tables of the true elevation h0
- * (sin, cos, sea-level air mass, diffuse fraction), of the grid azimuth
- * (sin, cos) and of the air mass (beam transmittance), for the step's
- * Linke turbidity; clear says whether the clear sky's terms are needed. */
+/* A step's sun over a band's cells: for a clear sky, its tables of the
+ * true elevation h0 (sin, cos, sea-level air mass, diffuse fraction), of
+ * the grid azimuth (sin, cos) and of the air mass (beam transmittance), for
+ * the step's Linke turbidity; for a weather record (clear 0), the centre's
+ * sun alone. */
 typedef struct {
     ss_sun_table elevation, azimuth, air_mass;
     float linke;
     int clear;
+    /* The centre's sun (radians) and its sines and cosines. */
+    float h_centre, a_centre, sin_h_centre, cos_h_centre, sin_a_centre, cos_a_centre;
 } ss_step_sun;
+
+/* How far (radians) a cell's sun may lie from the centre's, in elevation
+ * and in azimuth, for ss_sincos_near. */
+#define SS_SUN_NEAR_RAD 0.5f
+
+/* The sine and cosine of x + d from those of x (sin_x, cos_x), for |d| at
+ * most SS_SUN_NEAR_RAD: sin d and cos d by their Taylor series to d^7 and
+ * d^8, whose remainders there are under 3e-9 and 3e-10, then the
+ * angle-addition formulas. */
+static inline void ss_sincos_near(float sin_x, float cos_x, float d, float *sin_xd, float *cos_xd)
+{
+    float d2 = d * d;
+    float sin_d = d * (1.0f - d2 * (1.0f / 6.0f - d2 * (1.0f / 120.0f - d2 * (1.0f / 5040.0f))));
+    float cos_d =
+        1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f - d2 * (1.0f / 720.0f - d2 * (1.0f / 40320.0f))));
+    *sin_xd = sin_x * cos_d + cos_x * sin_d;
+    *cos_xd = cos_x * cos_d - sin_x * sin_d;
+}
+
+/* Whether a weather record's sun at a cell, h0 and az (radians), lies near
+ * enough the centre's for ss_sincos_near (else it is computed exactly):
+ * without a branch, for the lanes. */
+static inline int ss_step_sun_near(const ss_step_sun *s, float h0, float az)
+{
+    return (fabsf(h0 - s->h_centre) <= SS_SUN_NEAR_RAD) &
+           (fabsf(az - s->a_centre) <= SS_SUN_NEAR_RAD);
+}
 
 /* The tables for a step whose centre's sun (true elevation and grid
  * azimuth, degrees) is h0_step_deg and az_step_deg, and whose cells' suns
@@ -84,19 +122,32 @@ typedef struct {
  * those are NULL; the cells' air pressure factors span [pressure_lo,
  * pressure_hi]. The lattices lie around the centre's sun, so every band of
  * a step gets the same values. A clear sky tabulates the sun above the
- * horizontal alone (below it a cell adds nothing, whatever its terms), a
- * weather record's sky its sines and cosines alone. */
+ * horizontal alone (below it a cell adds nothing, whatever its terms); a
+ * weather record's sky makes no table (its cells' h0_deg and az_deg are
+ * not read). */
 void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
                       float h0_step_deg, float az_step_deg, float linke, int clear,
                       float pressure_lo, float pressure_hi);
 
-/* The sun's terms at a cell whose sun is h0 and az (radians): from the
- * tables, else exactly. */
+/* The sun's terms at a cell whose sun is h0 and az (radians): a weather
+ * record's sines and cosines from the centre's, a clear sky's terms from
+ * the tables; else exactly. */
 static inline ss_cell_sun ss_step_sun_at(const ss_step_sun *s, const ss_cell_terms *t, float h0,
                                          float az)
 {
     float e[SS_SUN_TABLE_TERMS], a[2] = {0.0f, 0.0f}, kb = 0.0f;
     ss_cell_sun sun;
+    if (!s->clear) {
+        if (!ss_step_sun_near(s, h0, az))
+            return ss_cell_sun_exact(t, h0, az, s->linke, 0);
+        sun.h0 = h0;
+        ss_sincos_near(s->sin_h_centre, s->cos_h_centre, h0 - s->h_centre, &sun.sin_h0,
+                       &sun.cos_h0);
+        ss_sincos_near(s->sin_a_centre, s->cos_a_centre, az - s->a_centre, &sun.sin_az,
+                       &sun.cos_az);
+        sun.kb = sun.diffuse_fraction = 0.0f;
+        return sun;
+    }
     if (!ss_sun_table_at(&s->elevation, h0, e))
         return ss_cell_sun_exact(t, h0, az, s->linke, s->clear);
     /* A sun near the zenith spreads over tens of degrees of azimuth: beyond
@@ -110,13 +161,9 @@ static inline ss_cell_sun ss_step_sun_at(const ss_step_sun *s, const ss_cell_ter
     sun.cos_h0 = e[1];
     sun.sin_az = a[0];
     sun.cos_az = a[1];
-    sun.kb = sun.diffuse_fraction = 0.0f;
-    if (s->clear) {
-        float m = t->pressure_factor * e[2];
-        sun.kb = ss_sun_table_at(&s->air_mass, m, &kb) ? kb
-                                                       : ss_esra_beam_transmittance(s->linke, m);
-        sun.diffuse_fraction = e[3];
-    }
+    float m = t->pressure_factor * e[2];
+    sun.kb = ss_sun_table_at(&s->air_mass, m, &kb) ? kb : ss_esra_beam_transmittance(s->linke, m);
+    sun.diffuse_fraction = e[3];
     return sun;
 }
 
