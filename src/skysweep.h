@@ -111,8 +111,9 @@ typedef struct {
     uint64_t sun_bins; /* the cumulative sky's occupied bins of suns */
     /* Insolation's cells x daylight steps, and of them those whose sun's
      * terms were computed per cell, outside the step's tables (suns spread
-     * too wide for them, air masses past r.sun's Rayleigh split at 20,
-     * doc/insolation.md). */
+     * too wide for them, air masses past r.sun's Rayleigh split at 20) or,
+     * for weather records, more than 0.5 rad from the centre's sun
+     * (doc/insolation.md). */
     uint64_t cell_steps, cell_steps_exact_sun;
     /* Samples of the exact shadow walks that per-cell horizon bounds could
      * stop early, and of them those left unwalked: past the last cell of

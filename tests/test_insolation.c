@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "skysweep_sun.h"
+#include "ss_sky_diffuse.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -263,27 +264,50 @@ static ss_status record_at(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
 /* Records without beam (and Hay-Davies' circumsolar part, which follows
  * it) need no shadow sweep: their outputs are those of records whose beam
  * is too faint to add anything but which are swept (1e-30 W/m^2: every
- * sum but the beam's is the same to the bit, the beam's is below 1e-28). */
+ * sum but the beam's is the same to the bit, the beam's is below 1e-28).
+ * Perez's circumsolar part does not follow the beam: the same records
+ * under Perez's sky are swept wherever it has one. */
 static void unshaded_records(void)
 {
     ss_grid g = test_grid(60, 60, 30, 30);
     test_fill(&g, TERRAIN_SMOOTH, 7, 600);
     size_t n = 60 * 60;
-    ss_insolation_out out[2] = {alloc_out(n), alloc_out(n)};
-    ss_counters c[2];
+    ss_insolation_out out[3] = {alloc_out(n), alloc_out(n), alloc_out(n)};
+    ss_counters c[3];
     ss_status st = SS_OK;
-    for (int i = 0; i < 2 && st == SS_OK; ++i) {
-        record_setup r = {{46.8, 10.9, 1782000000.0 + 4 * 3600.0, 3600, 3.0, 14}, i ? 1e-30 : 0};
+    sun_setup su = {46.8, 10.9, 1782000000.0 + 4 * 3600.0, 3600, 3.0, 14};
+    for (int i = 0; i < 3 && st == SS_OK; ++i) {
+        record_setup r = {su, i == 1 ? 1e-30 : 0};
         ss_ctx *ctx = ss_ctx_new();
         ss_sweep_options opt;
         ss_sweep_options_default(&opt);
         opt.directions = 16;
         ss_insolation_options io = {.albedo = 0.2, .shadow_mode = SS_SHADOW_EXACT,
-                                    .sky_model = SS_SKY_MODEL_HAYDAVIES};
+                                    .sky_model = i < 2 ? SS_SKY_MODEL_HAYDAVIES
+                                                       : SS_SKY_MODEL_PEREZ};
         st = ss_insolation(ctx, &g, &opt, &io, r.su.n, record_at, &r, NULL, NULL, &out[i]);
         c[i] = ss_ctx_counters(ctx);
         ss_ctx_free(ctx);
     }
+    /* Perez's circumsolar part of each record, at each step's sun. */
+    int perez_unshaded = 0;
+    ss_ctx *ctx = ss_ctx_new();
+    for (int k = 0; k < su.n; ++k) {
+        ss_sun_step s;
+        sun_at(ctx, k, &s, &su);
+        float z = (float)((90.0 - s.elevation_deg) * M_PI / 180.0);
+        perez_unshaded += s.elevation_deg > 0 &&
+                          !(ss_sky_parts_of(SS_SKY_PEREZ, 150.0f, 0.0f,
+                                            (float)s.extraterrestrial_w_m2, z)
+                                .circumsolar > 0.0f);
+    }
+    ss_ctx_free(ctx);
+    tap_ok(st == SS_OK && (int)c[2].shadow_sweeps_unshaded == perez_unshaded &&
+               perez_unshaded < (int)c[0].shadow_sweeps_unshaded,
+           "under Perez's sky the same records skip %llu sweeps, those without circumsolar "
+           "light (%d), against Hay-Davies' %llu",
+           (unsigned long long)c[2].shadow_sweeps_unshaded, perez_unshaded,
+           (unsigned long long)c[0].shadow_sweeps_unshaded);
     int same = 1;
     double beam = 0;
     for (size_t k = 0; st == SS_OK && k < n; ++k) {
@@ -298,8 +322,8 @@ static void unshaded_records(void)
            "give the swept outputs (%s; beam %.1e)",
            (unsigned long long)c[0].shadow_sweeps_unshaded, (unsigned long long)c[0].sweeps,
            (unsigned long long)c[1].sweeps, same ? "the same" : "they differ", beam);
-    free_out(&out[0]);
-    free_out(&out[1]);
+    for (int i = 0; i < 3; ++i)
+        free_out(&out[i]);
     ss_grid_free(&g);
 }
 

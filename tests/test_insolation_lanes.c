@@ -119,8 +119,9 @@ static void compare(lane_fn fn, const char *copy, const ss_lane_step *l, const c
 }
 
 /* Cells around a sun at (h_deg, az_step_deg), spread over spread_deg; nodata
- * every 37th cell; a few suns far outside the spread (exact: 40 degrees
- * is beyond both the tables' windows and SS_SUN_NEAR_RAD). */
+ * every 37th cell; a few suns far outside the spread, in elevation and in
+ * azimuth (exact: 40 degrees is beyond both the tables' windows and
+ * SS_SUN_NEAR_RAD). */
 static void make_cells(float h_deg, float az_step_deg, float spread_deg, int outliers)
 {
     for (int c = 0; c < CELLS; ++c) {
@@ -129,6 +130,8 @@ static void make_cells(float h_deg, float az_step_deg, float spread_deg, int out
         az_deg[c] = az_step_deg + uniform(-0.5f, 0.5f) * spread_deg;
         if (outliers && c % 53 == 7)
             h0_deg[c] += 40.0f;
+        if (outliers && c % 53 == 20)
+            az_deg[c] += 40.0f;
         app_deg[c] = h0_deg[c] + 0.02f;
         swept[c] = uniform(-10, 30);
         stored0[c] = (int16_t)uniform(-1000, 3000);
@@ -169,7 +172,9 @@ static void check_copy(lane_fn fn, const char *copy)
         for (int shadow = 0; shadow < 3; ++shadow)
             for (int per_cell = 0; per_cell < 2; ++per_cell) {
                 float h = sky == 0 ? 25.0f : 0.05f; /* weather: some suns below the horizontal */
-                make_cells(h, 140.0f, per_cell ? 0.2f : 0.0f, per_cell);
+                /* A weather record's suns need no table: spread them over
+                 * 20 deg, where ss_sincos_near's series matter. */
+                make_cells(h, 140.0f, per_cell ? (sky == 0 ? 0.2f : 20.0f) : 0.0f, per_cell);
                 ss_lane_step l = {.tables = &tables,
                                   .h0_deg = per_cell ? h0_deg : NULL,
                                   .az_deg = per_cell ? az_deg : NULL,

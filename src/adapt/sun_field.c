@@ -217,10 +217,12 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
     /* Where each cell lies along its lattice segment, the same in every row
      * and so worked out once (a division per cell was a third of the
      * loop's time): segment i's cells [cols[i], cols[i + 1]] from
-     * tx[cols[i] - cols[0] + i], the cell shared by two segments in each. */
+     * tx_all[cols[i] - cols[0] + i], the cell shared by two segments in each. */
     double *tx_all = malloc(sizeof(double) * (size_t)(cols[nc - 1] - cols[0] + nc));
-    if (!tx_all)
+    if (!tx_all) {
+        ss_sun_field_free(field); /* as above: no rows half made */
         return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
+    }
     for (int i = 0; i + 1 < nc; ++i)
         for (int c = cols[i]; c <= cols[i + 1]; ++c)
             tx_all[cols[i] - cols[0] + i + (c - cols[i])] = between(c, cols[i], cols[i + 1]);

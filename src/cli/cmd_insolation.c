@@ -534,7 +534,7 @@ static void print_summary(insolation_run *r)
                100.0 * (double)c.shadow_steps_skipped / (double)c.shadow_steps);
     if (c.cell_steps)
         printf("cells   %llu cell-steps, %llu (%.1f %%) with the sun's terms computed per cell "
-               "(outside the step's tables)\n",
+               "(outside the step's tables, or more than 0.5 rad from the centre's sun)\n",
                (unsigned long long)c.cell_steps, (unsigned long long)c.cell_steps_exact_sun,
                100.0 * (double)c.cell_steps_exact_sun / (double)c.cell_steps);
     if (c.sun_bins)

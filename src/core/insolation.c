@@ -201,7 +201,8 @@ static int record_casts_shadows(const ss_insolation_options *io, const ss_sun_st
 }
 
 /* Cell c's step computed cell by cell, its sun's terms exactly where they
- * fall outside the step's tables (ss_lane_cells leaves those cells). */
+ * fall outside the step's tables or too far from the centre's sun
+ * (ss_lane_cells leaves those cells). */
 static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_step_sun *tables,
                                     const ss_cell_terms *t, size_t c)
 {

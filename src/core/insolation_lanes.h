@@ -9,7 +9,8 @@
  * lanes where the CPU has them (chosen at run time). Each cell's values are those of the cell-by-cell
  * functions to the bit: the same operations in the same order, only
  * selected instead of branched to. A cell whose sun falls outside a table
- * is left to the caller, who computes it exactly (ss_step_sun_at). */
+ * (a weather record's: too far from the centre's) is left to the caller,
+ * who computes it exactly (ss_step_sun_at). */
 #ifndef SS_INSOLATION_LANES_H
 #define SS_INSOLATION_LANES_H
 
@@ -23,7 +24,8 @@
 #define SS_LANE_CELLS 256 /* cells a run holds at most */
 
 /* What a run's cell is: nothing to add, lanes' values to add, or a sun
- * outside the step's tables (computed exactly by the caller). */
+ * outside the step's tables or too far from the centre's (computed
+ * exactly by the caller). */
 #define SS_LANE_SKIP 0
 #define SS_LANE_ADD 1
 #define SS_LANE_EXACT 2

@@ -385,8 +385,9 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
     else if (bound_deg >= 90.0)
         add(p, "shadow_sweeps", 1, 0, "",
             "the DEM is read in bands, so no bound on its horizons is known: every one of the "
-            "%d daylight steps gets its shadow sweep",
-            r->n_steps - p->steps_night);
+            "%d daylight steps gets its shadow sweep%s",
+            r->n_steps - p->steps_night,
+            r->weather.what ? ", but records with neither beam nor circumsolar light" : "");
     else
         add(p, "shadow_sweeps", 1, 0, "",
             "%d of %d daylight steps have the sun above %.2f deg, the highest horizon this "
@@ -395,7 +396,8 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
             r->weather.what ? ", nor for records with neither beam nor circumsolar light" : "",
             stops_shadow_walks(p, r) ? "; the others' walks stop past the last cell of each "
                                        "line whose own proven horizon bound the sun may not "
-                                       "clear (the cost below counts whole walks)"
+                                       "clear (the cost below counts whole walks, for "
+                                       "every record)"
                                      : "");
     return SS_OK;
 }

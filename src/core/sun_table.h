@@ -95,8 +95,8 @@ typedef struct {
 
 /* The sine and cosine of x + d from those of x (sin_x, cos_x), for |d| at
  * most SS_SUN_NEAR_RAD: sin d and cos d by their Taylor series to d^7 and
- * d^8, whose remainders there are under 3e-9 and 3e-10, then the
- * angle-addition formulas. */
+ * d^8, whose remainders there are under 6e-9 and 3e-10 (d^9 / 9! and
+ * d^10 / 10!), then the angle-addition formulas. */
 static inline void ss_sincos_near(float sin_x, float cos_x, float d, float *sin_xd, float *cos_xd)
 {
     float d2 = d * d;
