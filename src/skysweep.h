@@ -450,9 +450,28 @@ typedef struct {
     ss_surface surface;        /* zeros: each cell's own slope */
 } ss_insolation_options;
 
+/* Per-cell suns given by a lattice (ss_sun_step's lattice, in place of
+ * per-cell arrays): the sun's grid azimuth, true elevation and refraction
+ * (degrees) at nodes on the grid's columns cols[0..n_cols) and rows
+ * rows[0..n_rows) (increasing, the first and last at the grid's edges;
+ * node (i, j) at j * n_cols + i), bilinear between them. Where the sun is
+ * down at any of the four nodes around a cell, refraction bends too
+ * sharply to interpolate: the cell's is computed from its elevation
+ * (ss_spa_refraction_deg, with these air parameters). A cell between two
+ * lattice columns takes the segment it starts, the last column the last
+ * segment's end. ss_sun_lattice_cells (skysweep_sun.h) gives the cells'
+ * suns. */
+typedef struct {
+    int n_cols, n_rows;
+    const int *cols, *rows;
+    const double *grid_azimuth_deg, *elevation_deg, *refraction_deg;
+    double pressure_hpa, temperature_c, atmos_refract_deg;
+} ss_sun_lattice;
+
 /* The sun for one time step, supplied by the caller (who knows where the
  * grid lies): at the grid's centre, plus per-cell fields where one sun does
- * not serve every cell. */
+ * not serve every cell (per-cell arrays, or a lattice they are interpolated
+ * from). */
 typedef struct {
     double duration_h;             /* hours this step stands for */
     double linke;                  /* Linke turbidity (air mass 2) */
@@ -463,6 +482,7 @@ typedef struct {
     double apparent_elevation_deg; /* with refraction, for shadows */
     double spread_deg;             /* largest difference of any cell's sun from this one */
     const float *grid_azimuth_per_cell, *elevation_per_cell, *apparent_per_cell; /* or NULL */
+    const ss_sun_lattice *lattice; /* or NULL; where given, the per-cell arrays are not read */
     /* A weather record instead of the clear sky (real_sky nonzero): its
      * irradiance in W/m^2 (dni and dhi NAN: split from ghi by Erbs; any
      * other NAN: the record is missing and adds nothing), the ground's

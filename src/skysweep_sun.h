@@ -91,6 +91,21 @@ SS_API double ss_delta_t_model(double decimal_year);
 SS_API double ss_spa_refraction_deg(double e0_deg, double pressure_hpa, double temperature_c,
                              double atmos_refract_deg);
 
+/* Doubles ss_sun_lattice_cells' tx takes: the place of each column between
+ * its lattice columns, the same in every row. */
+static inline size_t ss_sun_lattice_tx_count(const ss_sun_lattice *l)
+{
+    return (size_t)(l->cols[l->n_cols - 1] - l->cols[0] + l->n_cols);
+}
+/* Fills tx (ss_sun_lattice_tx_count doubles) for ss_sun_lattice_cells. */
+SS_API void ss_sun_lattice_tx(const ss_sun_lattice *l, double *tx);
+/* The suns of cells [col0, col0 + n) of grid row `row`, which the
+ * lattice's rows and columns span: grid azimuth, true and apparent
+ * elevation (degrees). */
+SS_API void ss_sun_lattice_cells(const ss_sun_lattice *l, const double *tx, int row, int col0,
+                                 int n, float *grid_azimuth_deg, float *elevation_deg,
+                                 float *apparent_deg);
+
 /* Standard-atmosphere pressure at an altitude (pvlib alt2pres,
  * physics.md sec. 4.2), in hPa; 0 from 44331.514 m up, where it ends. */
 SS_API double ss_pressure_from_altitude_hpa(double altitude_m);

@@ -45,12 +45,6 @@ static int lattice_nodes(int n, int step, int *nodes)
     return k;
 }
 
-/* Position of x between nodes a and b, 0..1 (0 when they coincide). */
-static double between(int x, int a, int b)
-{
-    return b > a ? (double)(x - a) / (b - a) : 0.0;
-}
-
 ss_status ss_sun_nodes_make(ss_ctx *ctx, const ss_dem *dem, const ss_dem_frame *frame,
                             ss_rows_read read, void *user, ss_sun_nodes *nodes)
 {
@@ -182,17 +176,31 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
     return st;
 }
 
+void ss_sun_field_lattice_of(const ss_sun_field *field, ss_sun_lattice *lattice)
+{
+    *lattice = (ss_sun_lattice){.n_cols = field->n_lattice_cols,
+                                .n_rows = field->n_lattice_rows,
+                                .cols = field->lattice_cols,
+                                .rows = field->lattice_rows,
+                                .grid_azimuth_deg = field->node_azimuth_deg,
+                                .elevation_deg = field->node_elevation_deg,
+                                .refraction_deg = field->node_refraction_deg,
+                                .pressure_hpa = field->params.pressure_hpa,
+                                .temperature_c = field->params.temperature_c,
+                                .atmos_refract_deg = field->params.atmos_refract_deg};
+}
+
 ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_rows)
 {
     if (!field->node_azimuth_deg)
         return SS_OK;
-    const int *lattice = field->lattice_rows;
+    const int *lattice_rows = field->lattice_rows;
     int last = field->n_lattice_rows - 1;
-    if (row0 < 0 || n_rows < 1 || row0 + n_rows > field->height || row0 < lattice[0] ||
-        row0 + n_rows - 1 > lattice[last])
+    if (row0 < 0 || n_rows < 1 || row0 + n_rows > field->height || row0 < lattice_rows[0] ||
+        row0 + n_rows - 1 > lattice_rows[last])
         return ss_ctx_error(ctx, SS_ERR_INTERNAL,
                        "sun positions asked for rows %d..%d, outside the lattice's %d..%d", row0,
-                       row0 + n_rows - 1, lattice[0], lattice[last]);
+                       row0 + n_rows - 1, lattice_rows[0], lattice_rows[last]);
     size_t n = (size_t)field->width * (size_t)n_rows;
     if (n_rows > field->rows || !field->grid_azimuth_deg) {
         free(field->grid_azimuth_deg);
@@ -209,75 +217,22 @@ ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int n_ro
     }
     field->row0 = row0;
     field->rows = n_rows;
-    const int *rows = field->lattice_rows, *cols = field->lattice_cols;
-    int nc = field->n_lattice_cols, nr = field->n_lattice_rows;
-    const double *node_az = field->node_azimuth_deg, *node_e0 = field->node_elevation_deg;
-    const double *node_refr = field->node_refraction_deg;
-    const ss_spa_params *p = &field->params;
-    /* Where each cell lies along its lattice segment, the same in every row
-     * and so worked out once (a division per cell was a third of the
-     * loop's time): segment i's cells [cols[i], cols[i + 1]] from
-     * tx_all[cols[i] - cols[0] + i], the cell shared by two segments in each. */
-    double *tx_all = malloc(sizeof(double) * (size_t)(cols[nc - 1] - cols[0] + nc));
-    if (!tx_all) {
+    ss_sun_lattice lattice;
+    ss_sun_field_lattice_of(field, &lattice);
+    double *tx = malloc(sizeof(double) * ss_sun_lattice_tx_count(&lattice));
+    if (!tx) {
         ss_sun_field_free(field); /* as above: no rows half made */
         return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for per-cell sun positions");
     }
-    for (int i = 0; i + 1 < nc; ++i)
-        for (int c = cols[i]; c <= cols[i + 1]; ++c)
-            tx_all[cols[i] - cols[0] + i + (c - cols[i])] = between(c, cols[i], cols[i + 1]);
-    /* Bilinear between nodes. So is refraction where the sun stands above
-     * the horizontal at all four nodes: there it bends by at most 0.05 deg
-     * per deg^2 of elevation in standard air (0.065 at -40 C and 1050 hPa),
-     * and the nodes' elevations differ by 0.013 deg at most on the 1 km
-     * lattice, so interpolation errs by 1.4e-6 deg at most, 1/700 of the
-     * sun tolerance. Below, down to the cut-off where refraction stops, it
-     * bends sharply: per cell. Rows are independent: the cores share them. */
+    ss_sun_lattice_tx(&lattice, tx);
+    /* Rows are independent: the cores share them. */
 #pragma omp parallel for schedule(static)
     for (int r = row0; r < row0 + n_rows; ++r) {
-        int j = 0;
-        while (j + 2 < nr && rows[j + 1] < r)
-            ++j;
-        double ty = between(r, rows[j], rows[j + 1]);
-        float *az_row = field->grid_azimuth_deg + (size_t)(r - row0) * field->width;
-        float *e0_row = field->elevation_deg + (size_t)(r - row0) * field->width;
-        float *app_row = field->apparent_elevation_deg + (size_t)(r - row0) * field->width;
-        for (int i = 0; i + 1 < nc; ++i) {
-            /* The row's values at the segment's two ends, then linear along it. */
-            size_t a = (size_t)j * nc + i, b = a + 1, d = a + nc, e = d + 1;
-            double az0 = (1 - ty) * node_az[a] + ty * node_az[d];
-            double az1 = (1 - ty) * node_az[b] + ty * node_az[e];
-            double e00 = (1 - ty) * node_e0[a] + ty * node_e0[d];
-            double e01 = (1 - ty) * node_e0[b] + ty * node_e0[e];
-            double r0 = (1 - ty) * node_refr[a] + ty * node_refr[d];
-            double r1 = (1 - ty) * node_refr[b] + ty * node_refr[e];
-            int smooth = node_e0[a] > 0 && node_e0[b] > 0 && node_e0[d] > 0 && node_e0[e] > 0;
-            int c0 = cols[i], c1 = cols[i + 1];
-            const double *tx_of = tx_all + (cols[i] - cols[0] + i) - c0; /* by column */
-            if (smooth) {
-                /* No call and no branch: the cells run in vector lanes. */
-#pragma omp simd
-                for (int c = c0; c <= c1; ++c) {
-                    double tx = tx_of[c];
-                    double e0 = (1 - tx) * e00 + tx * e01;
-                    az_row[c] = (float)((1 - tx) * az0 + tx * az1);
-                    e0_row[c] = (float)e0;
-                    app_row[c] = (float)(e0 + ((1 - tx) * r0 + tx * r1));
-                }
-                continue;
-            }
-            for (int c = c0; c <= c1; ++c) {
-                double tx = tx_of[c];
-                double e0 = (1 - tx) * e00 + tx * e01;
-                az_row[c] = (float)((1 - tx) * az0 + tx * az1);
-                e0_row[c] = (float)e0;
-                app_row[c] = (float)(e0 + ss_spa_refraction_deg(e0, p->pressure_hpa,
-                                                                p->temperature_c,
-                                                                p->atmos_refract_deg));
-            }
-        }
+        size_t at = (size_t)(r - row0) * field->width;
+        ss_sun_lattice_cells(&lattice, tx, r, 0, field->width, field->grid_azimuth_deg + at,
+                             field->elevation_deg + at, field->apparent_elevation_deg + at);
     }
-    free(tx_all);
+    free(tx);
     return SS_OK;
 }
 

@@ -59,8 +59,11 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
                                int row_lo, int row_hi, const ss_sun_nodes *nodes,
                                ss_sun_field *field);
 /* Per-cell positions for rows [row0, row0 + rows) only (nothing to do for
- * one sun). */
+ * one sun), interpolated by ss_sun_lattice_cells. */
 ss_status ss_sun_field_rows(ss_ctx *ctx, ss_sun_field *field, int row0, int rows);
+/* The field's lattice (per_cell only) as the library takes it: a view of
+ * the field's own arrays, valid while the field is. */
+void ss_sun_field_lattice_of(const ss_sun_field *field, ss_sun_lattice *lattice);
 /* A sun given by its azimuth (true, or grid for a DEM without a CRS) and
  * apparent elevation, the same for every cell. */
 void ss_sun_field_fixed(const ss_dem_frame *frame, int width, int height, double azimuth_deg,
