@@ -93,10 +93,7 @@ SS_API double ss_spa_refraction_deg(double e0_deg, double pressure_hpa, double t
 
 /* Doubles ss_sun_lattice_cells' tx takes: the place of each column between
  * its lattice columns, the same in every row. */
-static inline size_t ss_sun_lattice_tx_count(const ss_sun_lattice *l)
-{
-    return (size_t)(l->cols[l->n_cols - 1] - l->cols[0] + l->n_cols);
-}
+SS_API size_t ss_sun_lattice_tx_count(const ss_sun_lattice *l);
 /* Fills tx (ss_sun_lattice_tx_count doubles) for ss_sun_lattice_cells. */
 SS_API void ss_sun_lattice_tx(const ss_sun_lattice *l, double *tx);
 /* The suns of cells [col0, col0 + n) of grid row `row`, which the

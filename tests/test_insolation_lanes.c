@@ -23,8 +23,8 @@
 
 #define CELLS 700
 
-typedef void (*lane_fn)(const ss_lane_step *, const float *, const ss_cell_terms *, size_t, int,
-                        ss_lane_adds *);
+typedef void (*lane_fn)(const ss_lane_step *, const ss_lane_suns *, const float *,
+                        const ss_cell_terms *, size_t, int, ss_lane_adds *);
 
 static uint32_t rng_state = 777u;
 static float uniform(float lo, float hi)
@@ -41,13 +41,14 @@ static int16_t stored0[CELLS], stored1[CELLS];
 static ss_cell_terms terms[CELLS];
 static ss_step_sun tables;
 
-/* What steps_direction did cell by cell before the lanes. */
-static ss_cell_step by_cell(const ss_lane_step *l, size_t c, int *adds)
+/* What steps_direction did cell by cell before the lanes; per_cell: the
+ * cells' own suns (h0_deg, az_deg, app_deg), else the step's. */
+static ss_cell_step by_cell(const ss_lane_step *l, int per_cell, size_t c, int *adds)
 {
     const float rad = (float)(M_PI / 180.0);
-    float h0 = (l->h0_deg ? l->h0_deg[c] : l->h0_step_deg) * rad;
-    float az = (l->az_deg ? l->az_deg[c] : l->az_step_deg) * rad;
-    float app = l->app_deg ? l->app_deg[c] : l->app_step_deg;
+    float h0 = (per_cell ? h0_deg[c] : l->h0_step_deg) * rad;
+    float az = (per_cell ? az_deg[c] : l->az_step_deg) * rad;
+    float app = per_cell ? app_deg[c] : l->app_step_deg;
     ss_cell_step none = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     *adds = isfinite(own_z[c]) && (l->real_sky || h0 > 0.0f);
     if (!*adds)
@@ -72,19 +73,23 @@ static int same_bits(float a, float b)
  * (added to 0 as the lanes add them), those left exact (which must add
  * nothing), and those the lanes left exact that the tables hold. */
 static void compare(lane_fn fn, const char *copy, const ss_lane_step *l, const char *what,
-                    int want_exact)
+                    int per_cell)
 {
+    int want_exact = per_cell; /* the outliers */
     int differ = 0, exact = 0, wrongly_exact = 0, adds = 0;
     memset(sums, 0, sizeof sums);
     size_t c0 = 0;
     for (int len = 1; c0 < CELLS; len = len % SS_LANE_CELLS + 1) {
         int n = CELLS - c0 < (size_t)len ? (int)(CELLS - c0) : len;
         ss_lane_adds out;
-        fn(l, own_z, terms, c0, n, &out);
+        ss_lane_suns suns = {NULL, NULL, NULL};
+        if (per_cell)
+            suns = (ss_lane_suns){h0_deg + c0, az_deg + c0, app_deg + c0};
+        fn(l, &suns, own_z, terms, c0, n, &out);
         for (int j = 0; j < n; ++j) {
             size_t c = c0 + (size_t)j;
             int want_adds;
-            ss_cell_step want = by_cell(l, c, &want_adds);
+            ss_cell_step want = by_cell(l, per_cell, c, &want_adds);
             adds += want_adds;
             int lanes_add = out.what[j] == SS_LANE_ADD;
             float v[6] = {want.beam, want.diffuse, want.reflected, want.global, want.sun_hours,
@@ -100,8 +105,8 @@ static void compare(lane_fn fn, const char *copy, const ss_lane_step *l, const c
                 exact++;
                 float e[4], a[2], kb;
                 const float rad = (float)(M_PI / 180.0);
-                float h = (l->h0_deg ? l->h0_deg[c] : l->h0_step_deg) * rad;
-                float z = (l->az_deg ? l->az_deg[c] : l->az_step_deg) * rad;
+                float h = (per_cell ? h0_deg[c] : l->h0_step_deg) * rad;
+                float z = (per_cell ? az_deg[c] : l->az_step_deg) * rad;
                 wrongly_exact += l->real_sky
                                      ? ss_step_sun_near(&tables, h, z)
                                      : ss_sun_table_at(&tables.elevation, h, e) &&
@@ -176,9 +181,6 @@ static void check_copy(lane_fn fn, const char *copy)
                  * 20 deg, where ss_sincos_near's series matter. */
                 make_cells(h, 140.0f, per_cell ? (sky == 0 ? 0.2f : 20.0f) : 0.0f, per_cell);
                 ss_lane_step l = {.tables = &tables,
-                                  .h0_deg = per_cell ? h0_deg : NULL,
-                                  .az_deg = per_cell ? az_deg : NULL,
-                                  .app_deg = per_cell ? app_deg : NULL,
                                   .h0_step_deg = h,
                                   .az_step_deg = 140.0f,
                                   .app_step_deg = h + 0.02f,

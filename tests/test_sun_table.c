@@ -15,13 +15,17 @@
  *   cosines from the centre's (ss_sincos_near), without tables;
  * - a value outside its table (the band's range, or the step's window) is
  *   evaluated exactly;
- * - a band's tables give its cells the whole grid's terms to the bit. */
+ * - a band's tables give its cells the whole grid's terms to the bit;
+ * - a lattice's per-cell suns, run by run, are the whole row's and the
+ *   bilinear interpolation of its nodes. */
 #include "config.h"
 
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
+#include "skysweep_sun.h"
 #include "sun_table.h"
 #include "tap.h"
 
@@ -279,6 +283,68 @@ static void check_bands(void)
            compared, held[0], missed[0], held[1], missed[1], held[2], missed[2]);
 }
 
+/* Per-cell suns from a lattice (ss_sun_lattice_cells, which insolation
+ * calls on runs of cells and the command line's sun field on whole rows):
+ * runs of any length and start give a row's cells the whole row's values to
+ * the bit, and those are the bilinear interpolation of the nodes, worked
+ * out here again in double, with refraction interpolated where the sun is
+ * up at a cell's four nodes and computed for the cell where it is not;
+ * the lattice's shared columns go to the segment they start. */
+static void check_lattice_runs(void)
+{
+    enum { W = 76, H = 50, NC = 4, NR = 3 };
+    static const int cols[NC] = {0, 30, 60, W - 1}, rows[NR] = {0, 20, H - 1};
+    double az[NC * NR], e0[NC * NR], refr[NC * NR];
+    const double hpa = 1013.25, temp = 12.0, atmos = 0.5667;
+    for (int j = 0; j < NR; ++j)
+        for (int i = 0; i < NC; ++i) {
+            int k = j * NC + i;
+            az[k] = 100.0 + 0.013 * i - 0.021 * j;
+            e0[k] = -0.3 + 0.2 * i + 0.1 * j; /* down at some nodes: refraction per cell there */
+            refr[k] = ss_spa_refraction_deg(e0[k], hpa, temp, atmos);
+        }
+    ss_sun_lattice l = {NC, NR, cols, rows, az, e0, refr, hpa, temp, atmos};
+    double tx[W + NC];
+    ss_sun_lattice_tx(&l, tx);
+    int same = 1, per_cell = 0, smooth_cells = 0;
+    double worst = 0;
+    for (int r = 0; r < H; ++r) {
+        float whole[3][W], part[3][W];
+        ss_sun_lattice_cells(&l, tx, r, 0, W, whole[0], whole[1], whole[2]);
+        for (int c0 = 0; c0 < W;) {
+            int n = 1 + (int)uniform(0.0f, 40.0f);
+            n = n < W - c0 ? n : W - c0;
+            ss_sun_lattice_cells(&l, tx, r, c0, n, part[0] + c0, part[1] + c0, part[2] + c0);
+            c0 += n;
+        }
+        for (int v = 0; v < 3; ++v)
+            for (int c = 0; c < W; ++c)
+                same &= memcmp(&whole[v][c], &part[v][c], sizeof(float)) == 0;
+        int j = r < rows[1] || r == rows[1] ? 0 : 1; /* a row on a node takes the rows below it */
+        double ty = (double)(r - rows[j]) / (rows[j + 1] - rows[j]);
+        for (int c = 0; c < W; ++c) {
+            int i = c >= cols[2] ? 2 : c >= cols[1] ? 1 : 0;
+            double t = (double)(c - cols[i]) / (cols[i + 1] - cols[i]);
+            int a = j * NC + i, b = a + 1, d = a + NC, e = d + 1;
+            double w[4] = {(1 - t) * (1 - ty), t * (1 - ty), (1 - t) * ty, t * ty};
+            double want_az = w[0] * az[a] + w[1] * az[b] + w[2] * az[d] + w[3] * az[e];
+            double want_e0 = w[0] * e0[a] + w[1] * e0[b] + w[2] * e0[d] + w[3] * e0[e];
+            int up = e0[a] > 0 && e0[b] > 0 && e0[d] > 0 && e0[e] > 0;
+            double want_refr = up ? w[0] * refr[a] + w[1] * refr[b] + w[2] * refr[d] + w[3] * refr[e]
+                                  : ss_spa_refraction_deg(want_e0, hpa, temp, atmos);
+            smooth_cells += up;
+            per_cell += !up;
+            worst = fmax(worst, fabs(whole[0][c] - want_az));
+            worst = fmax(worst, fabs(whole[1][c] - want_e0));
+            worst = fmax(worst, fabs(whole[2][c] - (want_e0 + want_refr)));
+        }
+    }
+    tap_ok(same && worst <= 2e-5 && smooth_cells > 0 && per_cell > 0,
+           "a lattice's suns: runs give the whole row's to the bit, within %.1e deg of the "
+           "bilinear nodes (%d cells with refraction interpolated, %d computed per cell)",
+           worst, smooth_cells, per_cell);
+}
+
 int main(void)
 {
     const float elevations[] = {0.05f, 0.5f, 2.0f, 10.0f, 35.0f, 70.0f, 89.0f};
@@ -293,5 +359,6 @@ int main(void)
     check_weather();
     check_outside();
     check_bands();
+    check_lattice_runs();
     return tap_done();
 }

@@ -48,6 +48,7 @@ typedef struct {
     int *month;                       /* 1..12 in the weather file's zone */
     double linke[12];
     ss_sun_field field;
+    ss_sun_lattice lattice; /* a view of field's, per step */
     int have_field;
     ss_sun_nodes nodes; /* the sun lattice's nodes, made at the first step that needs them */
     int have_nodes;
@@ -86,8 +87,6 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     if (st != SS_OK)
         return st;
     ss->have_field = 1;
-    if (per_cell && n_rows > 0 && (st = ss_sun_field_rows(ctx, &ss->field, row0, n_rows)))
-        return st;
     if (!per_cell)
         ss->field.spread_deg = ss->sun_spread_deg;
     const ss_sun_field *f = &ss->field;
@@ -97,9 +96,12 @@ static ss_status sun_of_step_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
                           ss->hours[k], ss->linke[civil.month - 1], ss->set->ins.solar_constant,
                           step);
     step->spread_deg = f->spread_deg;
-    step->grid_azimuth_per_cell = f->grid_azimuth_deg;
-    step->elevation_per_cell = f->elevation_deg;
-    step->apparent_per_cell = f->apparent_elevation_deg;
+    /* The cells' suns as the lattice they are interpolated from: the
+     * library interpolates each run of cells as it takes it. */
+    if (per_cell && n_rows > 0) {
+        ss_sun_field_lattice_of(f, &ss->lattice);
+        step->lattice = &ss->lattice;
+    }
     const ss_weather_record *rec = ss->record ? ss->record[k] : NULL;
     if (rec) {
         step->real_sky = 1;

@@ -12,6 +12,7 @@
  * without a walk. The cumulative sky is insolation_cumulative.c. */
 #include "config.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -21,6 +22,7 @@
 #include "insolation_lanes.h"
 #include "lines.h"
 #include "lit_levels.h"
+#include "skysweep_sun.h"
 #include "sun_table.h"
 
 _Static_assert(SS_PV_TEMP_FAIMAN == SS_PV_CELL_TEMP_FAIMAN && SS_PV_TEMP_SAPM == SS_PV_CELL_TEMP_SAPM,
@@ -160,6 +162,8 @@ typedef struct {
     float *step_global;      /* the step's global over the band's rows (NULL: no step outputs) */
     ss_step_sun *sun;        /* the step's sun terms over the band's cells */
     float pressure_lo, pressure_hi; /* the band's range of air pressure factors */
+    double *lattice_tx;      /* a step's sun lattice's places of the columns (or NULL) */
+    size_t lattice_tx_count;
 } steps_run;
 
 /* Where an azimuth (options' frame) falls between the stored directions:
@@ -200,20 +204,87 @@ static int record_casts_shadows(const ss_insolation_options *io, const ss_sun_st
     return rec->dni > 0.0f || sky_parts_at_centre(io, sun, rec).circumsolar > 0.0f;
 }
 
-/* Cell c's step computed cell by cell, its sun's terms exactly where they
- * fall outside the step's tables or too far from the centre's sun
- * (ss_lane_cells leaves those cells). */
-static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_step_sun *tables,
-                                    const ss_cell_terms *t, size_t c)
+/* Cell c's step, the run's cell j, computed cell by cell, its sun's terms
+ * exactly where they fall outside the step's tables or too far from the
+ * centre's sun (ss_lane_cells leaves those cells). */
+static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_lane_suns *suns,
+                                    const ss_step_sun *tables, const ss_cell_terms *t, size_t c,
+                                    int j)
 {
     const float rad = (float)(M_PI / 180.0);
-    float az = (l->az_deg ? l->az_deg[c] : l->az_step_deg) * rad;
-    float h0 = (l->h0_deg ? l->h0_deg[c] : l->h0_step_deg) * rad;
-    float app = l->app_deg ? l->app_deg[c] : l->app_step_deg;
+    float az = (suns->az_deg ? suns->az_deg[j] : l->az_step_deg) * rad;
+    float h0 = (suns->h0_deg ? suns->h0_deg[j] : l->h0_step_deg) * rad;
+    float app = suns->app_deg ? suns->app_deg[j] : l->app_step_deg;
     float horizon = ss_lane_horizon(l, c);
     ss_cell_sun at = ss_step_sun_at(tables, t, h0, az);
     return l->real_sky ? ss_cell_step_weather(t, &at, app, horizon, &l->rec, l->sky, l->dt)
                        : ss_cell_step_of(t, &at, app, horizon, l->g0, l->albedo, l->dt);
+}
+
+/* A step's per-cell array from a run's first cell (NULL: none). */
+static const float *run_of(const float *per_cell, size_t c0)
+{
+    return per_cell ? per_cell + c0 : NULL;
+}
+
+/* The places of a step's lattice's columns (ss_sun_lattice_tx) into
+ * s->lattice_tx. */
+static ss_status lattice_columns(steps_run *s, const ss_sun_lattice *lattice)
+{
+    size_t count = ss_sun_lattice_tx_count(lattice);
+    if (count > s->lattice_tx_count) {
+        double *tx = ss_realloc(s->lattice_tx, count * sizeof(double));
+        if (!tx)
+            return ss_fail(s->job->ctx, SS_ERR_MEMORY, "out of memory for the sun's lattice");
+        s->lattice_tx = tx;
+        s->lattice_tx_count = count;
+    }
+    ss_sun_lattice_tx(lattice, s->lattice_tx);
+    return SS_OK;
+}
+
+/* The suns of the band's cells [c0, c0 + n) from a step's lattice, into
+ * the run's buffers (ss_lane_suns). */
+static void lattice_run(const ss_sun_lattice *lattice, const double *tx,
+                        const ss_band_view *band, size_t c0, int n, float *h0, float *az,
+                        float *app)
+{
+    for (int j = 0; j < n;) {
+        size_t c = c0 + (size_t)j;
+        int row = band->row0 + (int)(c / (size_t)band->width), col = (int)(c % (size_t)band->width);
+        int m = band->width - col < n - j ? band->width - col : n - j;
+        ss_sun_lattice_cells(lattice, tx, row, col, m, az + j, h0 + j, app + j);
+        j += m;
+    }
+}
+
+/* A lattice's range of true elevations and azimuths in radians as the
+ * cells take them (degrees to radians in float), widened by 1e-5 rad for
+ * the floats' rounding: the cells' suns are interpolated between the
+ * nodes, and a wider range only fills more nodes of the same lattice
+ * (sun_table.h), so the tables give what the cells' own range gives. A
+ * clear sky's range holds the suns above the horizontal alone. */
+static void lattice_range(const ss_sun_lattice *l, int above_only, float *h_lo, float *h_hi,
+                          float *a_lo, float *a_hi)
+{
+    const float rad = (float)(M_PI / 180.0), margin = 1e-5f;
+    double e_lo = INFINITY, e_hi = -INFINITY, z_lo = INFINITY, z_hi = -INFINITY;
+    for (int k = 0; k < l->n_cols * l->n_rows; ++k) {
+        e_lo = fmin(e_lo, l->elevation_deg[k]);
+        e_hi = fmax(e_hi, l->elevation_deg[k]);
+        z_lo = fmin(z_lo, l->grid_azimuth_deg[k]);
+        z_hi = fmax(z_hi, l->grid_azimuth_deg[k]);
+    }
+    *h_lo = (float)e_lo * rad - margin;
+    *h_hi = (float)e_hi * rad + margin;
+    *a_lo = (float)z_lo * rad - margin;
+    *a_hi = (float)z_hi * rad + margin;
+    if (above_only && *h_hi <= 0.0f) {
+        *h_lo = INFINITY;
+        *h_hi = -INFINITY;
+    } else if (above_only) {
+        *h_lo = fmaxf(*h_lo, FLT_MIN);
+    }
 }
 
 /* The range of the air pressure factors of a band's own cells, for the
@@ -301,16 +372,23 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         float inv_pdc0 =
             pv_on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
         float dt = (float)sun.duration_h;
-        ss_step_sun_fill(s->sun, sun.elevation_per_cell, sun.grid_azimuth_per_cell, n,
-                         (float)sun.elevation_deg, (float)sun.grid_azimuth_deg, (float)sun.linke,
-                         !sun.real_sky, s->pressure_lo, s->pressure_hi);
+        const ss_sun_lattice *lattice = sun.lattice;
+        if (lattice) {
+            float h_lo, h_hi, a_lo, a_hi;
+            lattice_range(lattice, !sun.real_sky, &h_lo, &h_hi, &a_lo, &a_hi);
+            ss_step_sun_fill_range(s->sun, h_lo, h_hi, a_lo, a_hi, (float)sun.elevation_deg,
+                                   (float)sun.grid_azimuth_deg, (float)sun.linke, !sun.real_sky,
+                                   s->pressure_lo, s->pressure_hi);
+            st = lattice_columns(s, lattice);
+        } else {
+            ss_step_sun_fill(s->sun, sun.elevation_per_cell, sun.grid_azimuth_per_cell, n,
+                             (float)sun.elevation_deg, (float)sun.grid_azimuth_deg,
+                             (float)sun.linke, !sun.real_sky, s->pressure_lo, s->pressure_hi);
+        }
         stored_between between =
             kind == STEP_STORED ? stored_between_of(job->opt, sun.azimuth_deg) : (stored_between){0};
         ss_lane_step lane = {
             .tables = s->sun,
-            .h0_deg = sun.elevation_per_cell,
-            .az_deg = sun.grid_azimuth_per_cell,
-            .app_deg = sun.apparent_per_cell,
             .h0_step_deg = (float)sun.elevation_deg,
             .az_step_deg = (float)sun.grid_azimuth_deg,
             .app_step_deg = (float)sun.apparent_elevation_deg,
@@ -332,10 +410,20 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             .month = month};
         uint64_t cells = 0, exact = 0;
 #pragma omp parallel for schedule(static) reduction(+ : cells, exact)
-        for (size_t c0 = 0; c0 < n; c0 += SS_LANE_CELLS) {
+        for (size_t c0 = 0; c0 < (st == SS_OK ? n : 0); c0 += SS_LANE_CELLS) {
             int m = n - c0 < SS_LANE_CELLS ? (int)(n - c0) : SS_LANE_CELLS;
+            /* The run's suns: from the lattice here, where they stay in
+             * cache, or the step's arrays. */
+            float run_h0[SS_LANE_CELLS], run_az[SS_LANE_CELLS], run_app[SS_LANE_CELLS];
+            ss_lane_suns suns = {run_h0, run_az, run_app};
+            if (lattice)
+                lattice_run(lattice, s->lattice_tx, band, c0, m, run_h0, run_az, run_app);
+            else
+                suns = (ss_lane_suns){run_of(sun.elevation_per_cell, c0),
+                                      run_of(sun.grid_azimuth_per_cell, c0),
+                                      run_of(sun.apparent_per_cell, c0)};
             ss_lane_adds a;
-            ss_lane_cells(&lane, band->own_z, s->terms, c0, m, &a);
+            ss_lane_cells(&lane, &suns, band->own_z, s->terms, c0, m, &a);
             /* Counted in int over the run, which GCC vectorises (in the
              * 64-bit sums it did not: 4 % of a weather year's time). */
             int run_cells = 0, run_exact = 0;
@@ -348,7 +436,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             for (int j = 0; run_exact && j < m; ++j)
                 if (a.what[j] == SS_LANE_EXACT) {
                     size_t c = c0 + (size_t)j;
-                    ss_cell_step add = cell_step_exact(&lane, s->sun, &s->terms[c], c);
+                    ss_cell_step add = cell_step_exact(&lane, &suns, s->sun, &s->terms[c], c, j);
                     beam[c] += add.beam;
                     diffuse[c] += add.diffuse;
                     reflected[c] += add.reflected;
@@ -512,6 +600,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     free(s.stored_band);
     free(s.step_global);
     free(s.sun);
+    free(s.lattice_tx);
     free(levels);
     return st;
 }

@@ -30,15 +30,14 @@
 #define SS_LANE_ADD 1
 #define SS_LANE_EXACT 2
 
-/* One step as the lanes take it: its sun per cell (true and apparent
- * elevation and grid azimuth, degrees), or the step's for every cell; the
- * cells' horizons in the sun's azimuth (degrees: swept, or stored as
+/* One step as the lanes take it: its sun (true and apparent elevation and
+ * grid azimuth, degrees) for every cell where a run has none of its own
+ * (ss_lane_suns); the cells' horizons in the sun's azimuth (degrees: swept, or stored as
  * int16 hundredths in the two directions around the sun, blended by
  * stored_t), or none; the clear sky's or a weather record's light; and the
  * band's sums the cells' values are added into (month NULL: none). */
 typedef struct {
     const ss_step_sun *tables;
-    const float *h0_deg, *az_deg, *app_deg; /* per cell, or NULL */
     float h0_step_deg, az_step_deg, app_step_deg;
     const float *swept;                /* per cell, or NULL */
     const int16_t *stored0, *stored1;  /* per cell, or NULL */
@@ -69,28 +68,35 @@ typedef struct {
     unsigned char what[SS_LANE_CELLS]; /* SS_LANE_* */
 } ss_lane_adds;
 
+/* A run's suns, each cell's (degrees, from the run's first cell: the
+ * step's per-cell arrays, or what a lattice gave the run), or NULL where
+ * the step's serves every cell. */
+typedef struct {
+    const float *h0_deg, *az_deg, *app_deg;
+} ss_lane_suns;
+
 /* Cells [c0, c0 + n) of the band (n <= SS_LANE_CELLS), whose heights and
- * terms are own_z and terms (indexed from 0): adds each SS_LANE_ADD cell's
- * values into the step's sums (x + 0 is x for every sum, which is never -0,
- * so the others are added 0), and leaves the SS_LANE_EXACT ones to the
- * caller. */
-void ss_lane_cells(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
-                   size_t c0, int n, ss_lane_adds *out);
+ * terms are own_z and terms (indexed from 0) and whose suns are suns:
+ * adds each SS_LANE_ADD cell's values into the step's sums (x + 0 is x for
+ * every sum, which is never -0, so the others are added 0), and leaves the
+ * SS_LANE_EXACT ones to the caller. */
+void ss_lane_cells(const ss_lane_step *s, const ss_lane_suns *suns, const float *own_z,
+                   const ss_cell_terms *terms, size_t c0, int n, ss_lane_adds *out);
 
 /* The copy for any CPU, which ss_lane_cells runs where neither AVX-512's
  * nor AVX2's can. */
-void ss_lane_cells_any(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
-                       size_t c0, int n, ss_lane_adds *out);
+void ss_lane_cells_any(const ss_lane_step *s, const ss_lane_suns *suns, const float *own_z,
+                       const ss_cell_terms *terms, size_t c0, int n, ss_lane_adds *out);
 
 /* The AVX2 and AVX-512 copies, built by GCC on x86-64
  * (insolation_lanes_v3.c and insolation_lanes_v4.c, which repeat the
  * condition). */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define SS_LANES_V3 1
-void ss_lane_cells_v3(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
-                      size_t c0, int n, ss_lane_adds *out);
-void ss_lane_cells_v4(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
-                      size_t c0, int n, ss_lane_adds *out);
+void ss_lane_cells_v3(const ss_lane_step *s, const ss_lane_suns *suns, const float *own_z,
+                      const ss_cell_terms *terms, size_t c0, int n, ss_lane_adds *out);
+void ss_lane_cells_v4(const ss_lane_step *s, const ss_lane_suns *suns, const float *own_z,
+                      const ss_cell_terms *terms, size_t c0, int n, ss_lane_adds *out);
 /* Whether this CPU runs the AVX-512 copy. */
 static inline int ss_lanes_have_v4(void)
 {

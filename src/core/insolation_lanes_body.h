@@ -97,23 +97,23 @@ static inline __attribute__((always_inline)) void lane_run(const ss_lane_step *s
 }
 
 /* A per-cell array of the run, or the step's value in each place. */
-static const float *per_cell(const float *v, size_t c0, int n, float step, float *fill)
+static const float *per_cell(const float *v, int n, float step, float *fill)
 {
     if (v)
-        return v + c0;
+        return v;
     for (int j = 0; j < n; ++j)
         fill[j] = step;
     return fill;
 }
 
-void SS_LANE_ENTRY(const ss_lane_step *s, const float *own_z, const ss_cell_terms *terms,
-                   size_t c0, int n, ss_lane_adds *out)
+void SS_LANE_ENTRY(const ss_lane_step *s, const ss_lane_suns *suns, const float *own_z,
+                   const ss_cell_terms *terms, size_t c0, int n, ss_lane_adds *out)
 {
     float h0_fill[SS_LANE_CELLS], az_fill[SS_LANE_CELLS], app_fill[SS_LANE_CELLS];
     float horizon[SS_LANE_CELLS];
-    const float *h0 = per_cell(s->h0_deg, c0, n, s->h0_step_deg, h0_fill);
-    const float *az = per_cell(s->az_deg, c0, n, s->az_step_deg, az_fill);
-    const float *app = per_cell(s->app_deg, c0, n, s->app_step_deg, app_fill);
+    const float *h0 = per_cell(suns->h0_deg, n, s->h0_step_deg, h0_fill);
+    const float *az = per_cell(suns->az_deg, n, s->az_step_deg, az_fill);
+    const float *app = per_cell(suns->app_deg, n, s->app_step_deg, app_fill);
 #pragma omp simd
     for (int j = 0; j < n; ++j)
         horizon[j] = ss_lane_horizon(s, c0 + (size_t)j);

@@ -13,6 +13,11 @@ static double between(int x, int a, int b)
     return b > a ? (double)(x - a) / (b - a) : 0.0;
 }
 
+size_t ss_sun_lattice_tx_count(const ss_sun_lattice *l)
+{
+    return (size_t)(l->cols[l->n_cols - 1] - l->cols[0] + l->n_cols);
+}
+
 void ss_sun_lattice_tx(const ss_sun_lattice *l, double *tx)
 {
     const int *cols = l->cols;

@@ -118,9 +118,10 @@ static void range_rad(const float *deg, size_t n, float step_deg, int above_only
     *hi = r_hi;
 }
 
-void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
-                      float h0_step_deg, float az_step_deg, float linke, int clear,
-                      float pressure_lo, float pressure_hi)
+/* The step's centre and, for a weather record, no tables; returns whether
+ * the clear sky's tables are to be made. */
+static int step_centre(ss_step_sun *s, float h0_step_deg, float az_step_deg, float linke,
+                       int clear)
 {
     const float rad = (float)(M_PI / 180.0);
     s->linke = linke;
@@ -135,22 +136,28 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
         ss_sun_table_fill(&s->elevation, NAN, 1.0f, 0, NAN, NAN, 4, elevation_terms, s);
         ss_sun_table_fill(&s->azimuth, NAN, 1.0f, 0, NAN, NAN, 2, azimuth_terms, s);
         ss_sun_table_fill(&s->air_mass, NAN, 1.0f, 0, NAN, NAN, 1, transmittance, s);
-        return;
     }
-    float h_lo, h_hi, a_lo, a_hi, h_step = h0_step_deg * rad;
-    range_rad(h0_deg, n, h0_step_deg, 1, &h_lo, &h_hi);
-    range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
+    return clear;
+}
+
+/* A clear sky's tables over the cells' ranges (radians; the elevations
+ * above the horizontal alone), per_cell_h and per_cell_a saying whether
+ * the cells have suns of their own in elevation and in azimuth. */
+static void clear_tables(ss_step_sun *s, int per_cell_h, int per_cell_a, float h_lo, float h_hi,
+                         float a_lo, float a_hi, float pressure_lo, float pressure_hi)
+{
     /* Cells' suns: SS_SUN_TABLE_NODES intervals centred on the centre's.
      * One sun for every cell: a lattice that starts on it, whose first node
      * holds its exact terms. */
+    float h_step = s->h_centre, a_step = s->a_centre;
     float h_origin =
-        h0_deg ? (float)(h_step - ELEVATION_WINDOW / 2 * (double)ELEVATION_SPACING_RAD) : h_step;
-    float a_step = az_step_deg * rad;
+        per_cell_h ? (float)(h_step - ELEVATION_WINDOW / 2 * (double)ELEVATION_SPACING_RAD)
+                   : h_step;
     float a_origin =
-        az_deg ? (float)(a_step - AZIMUTH_WINDOW / 2 * (double)AZIMUTH_SPACING_RAD) : a_step;
-    ss_sun_table_fill(&s->elevation, h_origin, ELEVATION_SPACING_RAD, h0_deg ? ELEVATION_WINDOW : 1,
-                      h_lo, h_hi, 4, elevation_terms, s);
-    ss_sun_table_fill(&s->azimuth, a_origin, AZIMUTH_SPACING_RAD, az_deg ? AZIMUTH_WINDOW : 1,
+        per_cell_a ? (float)(a_step - AZIMUTH_WINDOW / 2 * (double)AZIMUTH_SPACING_RAD) : a_step;
+    ss_sun_table_fill(&s->elevation, h_origin, ELEVATION_SPACING_RAD,
+                      per_cell_h ? ELEVATION_WINDOW : 1, h_lo, h_hi, 4, elevation_terms, s);
+    ss_sun_table_fill(&s->azimuth, a_origin, AZIMUTH_SPACING_RAD, per_cell_a ? AZIMUTH_WINDOW : 1,
                       a_lo, a_hi, 2, azimuth_terms, s);
     float m_ref = ss_esra_air_mass_sea_level(h_step > 0.0f ? h_step : 0.0f);
     if (s->elevation.last < 0 || !(m_ref > 0.0f)) {
@@ -178,4 +185,25 @@ void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, 
     int window = (int)fmin(SS_SUN_TABLE_NODES, k_split - k_origin - 1.0);
     ss_sun_table_fill(&s->air_mass, (float)(k_origin * spacing), spacing, window, m_lo, m_hi, 1,
                       transmittance, s);
+}
+
+void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
+                      float h0_step_deg, float az_step_deg, float linke, int clear,
+                      float pressure_lo, float pressure_hi)
+{
+    if (!step_centre(s, h0_step_deg, az_step_deg, linke, clear))
+        return;
+    float h_lo, h_hi, a_lo, a_hi;
+    range_rad(h0_deg, n, h0_step_deg, 1, &h_lo, &h_hi);
+    range_rad(az_deg, n, az_step_deg, 0, &a_lo, &a_hi);
+    clear_tables(s, h0_deg != NULL, az_deg != NULL, h_lo, h_hi, a_lo, a_hi, pressure_lo,
+                 pressure_hi);
+}
+
+void ss_step_sun_fill_range(ss_step_sun *s, float h_lo, float h_hi, float a_lo, float a_hi,
+                            float h0_step_deg, float az_step_deg, float linke, int clear,
+                            float pressure_lo, float pressure_hi)
+{
+    if (step_centre(s, h0_step_deg, az_step_deg, linke, clear))
+        clear_tables(s, 1, 1, h_lo, h_hi, a_lo, a_hi, pressure_lo, pressure_hi);
 }

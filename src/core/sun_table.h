@@ -128,6 +128,14 @@ static inline int ss_step_sun_near(const ss_step_sun *s, float h0, float az)
 void ss_step_sun_fill(ss_step_sun *s, const float *h0_deg, const float *az_deg, size_t n,
                       float h0_step_deg, float az_step_deg, float linke, int clear,
                       float pressure_lo, float pressure_hi);
+/* The same for cells with suns of their own whose range is known without
+ * them (radians, as the cells look them up: true elevations [h_lo, h_hi],
+ * of those above the horizontal alone, and grid azimuths [a_lo, a_hi]). A
+ * wider range than the cells' gives them the same values: it only fills
+ * more nodes of the same lattices. */
+void ss_step_sun_fill_range(ss_step_sun *s, float h_lo, float h_hi, float a_lo, float a_hi,
+                            float h0_step_deg, float az_step_deg, float linke, int clear,
+                            float pressure_lo, float pressure_hi);
 
 /* The sun's terms at a cell whose sun is h0 and az (radians): a weather
  * record's sines and cosines from the centre's, a clear sky's terms from
