@@ -451,10 +451,13 @@ typedef struct {
 } ss_insolation_options;
 
 /* Per-cell suns given by a lattice (ss_sun_step's lattice, in place of
- * per-cell arrays): the sun's grid azimuth, true elevation and refraction
- * (degrees) at nodes on the grid's columns cols[0..n_cols) and rows
- * rows[0..n_rows) (increasing, the first and last at the grid's edges;
- * node (i, j) at j * n_cols + i), bilinear between them. Where the sun is
+ * per-cell arrays; insolation reads it, the shadow product takes arrays):
+ * the sun's grid azimuth, true elevation and refraction (degrees) at nodes
+ * on the grid's columns cols[0..n_cols) and rows rows[0..n_rows) (at least
+ * two of each, in increasing order; the columns from the grid's first to
+ * its last, the rows, counted from the grid's first, spanning those the
+ * step was asked for; node (i, j) at j * n_cols + i), bilinear between
+ * them. Where the sun is
  * down at any of the four nodes around a cell, refraction bends too
  * sharply to interpolate: the cell's is computed from its elevation
  * (ss_spa_refraction_deg, with these air parameters). A cell between two
@@ -482,7 +485,7 @@ typedef struct {
     double apparent_elevation_deg; /* with refraction, for shadows */
     double spread_deg;             /* largest difference of any cell's sun from this one */
     const float *grid_azimuth_per_cell, *elevation_per_cell, *apparent_per_cell; /* or NULL */
-    const ss_sun_lattice *lattice; /* or NULL; where given, the per-cell arrays are not read */
+    const ss_sun_lattice *lattice; /* or NULL; insolation: where given, the arrays are not read */
     /* A weather record instead of the clear sky (real_sky nonzero): its
      * irradiance in W/m^2 (dni and dhi NAN: split from ghi by Erbs; any
      * other NAN: the record is missing and adds nothing), the ground's

@@ -6,13 +6,17 @@
  * over row by row), steps at night, with and without curvature. Every
  * row of every output and step must be written exactly once. The SVF is
  * swept in bands too, so sums differ in the order of float additions:
- * the tolerances say how much. */
+ * the tolerances say how much. A sun per cell given as a lattice
+ * (ss_sun_step.lattice), interpolated run by run, gives the outputs of the
+ * arrays the lattice fills, to the bit, whole and in bands, for the clear
+ * sky and for weather records. */
 #include "config.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "skysweep_sun.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -257,6 +261,172 @@ static void compare(const ss_grid *g, const char *terrain, int per_cell, int cur
     grids_free(&out);
 }
 
+/* ---- a lattice against the arrays it fills ---------------------------------- */
+
+enum { LATTICE_COLS = 4, LATTICE_ROWS = 3 };
+
+typedef struct {
+    const ss_grid *g;
+    int use_lattice, weather;
+    int cols[LATTICE_COLS], rows[LATTICE_ROWS];
+    double az[N_STEPS][LATTICE_COLS * LATTICE_ROWS], el[N_STEPS][LATTICE_COLS * LATTICE_ROWS],
+        refr[N_STEPS][LATTICE_COLS * LATTICE_ROWS];
+    ss_sun_lattice lattice[N_STEPS];
+    float *arrays[N_STEPS][3]; /* the whole grid's azimuth, elevation, apparent elevation */
+} lattice_setup;
+
+/* Nodes whose suns turn by 2 degrees across the grid, the lowest straddling
+ * the horizontal (refraction per cell there), and the arrays they fill. */
+static int lattice_init(lattice_setup *s, const ss_grid *g)
+{
+    memset(s, 0, sizeof *s);
+    s->g = g;
+    int w = g->width, h = g->height;
+    int cols[LATTICE_COLS] = {0, w / 3, 2 * w / 3, w - 1}, rows[LATTICE_ROWS] = {0, h / 2, h - 1};
+    memcpy(s->cols, cols, sizeof cols);
+    memcpy(s->rows, rows, sizeof rows);
+    for (int k = 0; k < N_STEPS; ++k) {
+        for (int j = 0; j < LATTICE_ROWS; ++j)
+            for (int i = 0; i < LATTICE_COLS; ++i) {
+                int at = j * LATTICE_COLS + i;
+                double u = (double)cols[i] / w - 0.5, v = (double)rows[j] / h - 0.5;
+                s->az[k][at] = step_az[k] + 2.0 * u;
+                s->el[k][at] = step_el[k] + 2.0 * v;
+                s->refr[k][at] = ss_spa_refraction_deg(s->el[k][at], 1013.25, 12.0, 0.5667);
+            }
+        s->lattice[k] = (ss_sun_lattice){LATTICE_COLS, LATTICE_ROWS, s->cols, s->rows,
+                                         s->az[k], s->el[k], s->refr[k], 1013.25, 12.0, 0.5667};
+        double *tx = malloc(sizeof(double) * ss_sun_lattice_tx_count(&s->lattice[k]));
+        for (int v = 0; v < 3; ++v)
+            s->arrays[k][v] = malloc(sizeof(float) * (size_t)w * h);
+        if (!tx || !s->arrays[k][0] || !s->arrays[k][1] || !s->arrays[k][2]) {
+            free(tx);
+            return 0;
+        }
+        ss_sun_lattice_tx(&s->lattice[k], tx);
+        for (int r = 0; r < h; ++r) {
+            size_t at = (size_t)r * w;
+            ss_sun_lattice_cells(&s->lattice[k], tx, r, 0, w, s->arrays[k][0] + at,
+                                 s->arrays[k][1] + at, s->arrays[k][2] + at);
+        }
+        free(tx);
+    }
+    return 1;
+}
+
+static void lattice_free(lattice_setup *s)
+{
+    for (int k = 0; k < N_STEPS; ++k)
+        for (int v = 0; v < 3; ++v)
+            free(s->arrays[k][v]);
+}
+
+/* Step k for rows from row0 (n_rows 0: the centre's sun alone). */
+static ss_status lattice_sun(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step,
+                             void *user)
+{
+    (void)ctx;
+    const lattice_setup *s = user;
+    memset(step, 0, sizeof *step);
+    step->duration_h = 0.5;
+    step->linke = 3.0 + 0.2 * k;
+    step->extraterrestrial_w_m2 = 1360.0;
+    step->azimuth_deg = step->grid_azimuth_deg = step_az[k];
+    step->elevation_deg = step_el[k];
+    step->apparent_elevation_deg = step_el[k] + 0.1;
+    step->spread_deg = 2.5;
+    if (s->weather) {
+        step->real_sky = 1;
+        step->ghi_w_m2 = 600.0;
+        step->dni_w_m2 = 500.0;
+        step->dhi_w_m2 = 150.0;
+        step->albedo = step->temp_air_c = step->wind_speed_m_s = NAN;
+        step->month = 6;
+    }
+    size_t at = (size_t)row0 * s->g->width;
+    if (n_rows > 0 && s->use_lattice)
+        step->lattice = &s->lattice[k];
+    else if (n_rows > 0) {
+        step->grid_azimuth_per_cell = s->arrays[k][0] + at;
+        step->elevation_per_cell = s->arrays[k][1] + at;
+        step->apparent_per_cell = s->arrays[k][2] + at;
+    }
+    return SS_OK;
+}
+
+static ss_status lattice_sun_whole(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
+{
+    return lattice_sun(ctx, k, 0, 1, step, user);
+}
+
+static int same_floats(const float *a, const float *b, size_t n)
+{
+    return memcmp(a, b, n * sizeof(float)) == 0;
+}
+
+static void lattice_against_arrays(const ss_grid *g, int weather, const int *band_rows,
+                                   int n_band_rows)
+{
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = 12;
+    ss_insolation_options io = {.albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT};
+    lattice_setup sun;
+    grids out[2];
+    int ok = lattice_init(&sun, g) && grids_init(&out[0], g, NULL) && grids_init(&out[1], g, NULL);
+    size_t n = (size_t)g->width * g->height;
+    int same_whole = 1, same_bands = 1, runs = 0;
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    sun.weather = weather;
+    for (int b = -1; ok && b < n_band_rows; ++b) {
+        for (int use = 0; use < 2 && ok; ++use) {
+            sun.use_lattice = use;
+            grids *o = &out[use];
+            ss_insolation_out whole = {.global = o->out[0],
+                                       .beam = o->out[1],
+                                       .diffuse = o->out[2],
+                                       .reflected = o->out[3],
+                                       .sun_hours = o->out[4]};
+            ss_source src = b >= 0 ? test_source(g, read_rows, o, band_rows[b], NULL)
+                                   : (ss_source){0};
+            ok = (b < 0 ? ss_insolation(ctx, g, &opt, &io, N_STEPS, lattice_sun_whole, &sun,
+                                        whole_step, o, &whole)
+                        : ss_insolation_rows(ctx, &src, &opt, &io, N_STEPS, lattice_sun, &sun,
+                                             SS_INSOLATION_STEPS, NULL, write_rows, o)) == SS_OK;
+            runs += ok;
+        }
+        int same = ok;
+        for (int k = 0; ok && k < 5; ++k)
+            same &= same_floats(out[0].out[k], out[1].out[k], n);
+        for (int k = 0; ok && k < N_STEPS; ++k)
+            same &= same_floats(out[0].steps[k], out[1].steps[k], n);
+        *(b < 0 ? &same_whole : &same_bands) &= same;
+    }
+    tap_ok(ok && same_whole && same_bands,
+           "%s, a sun per cell as a lattice: the whole grid's and %d band heights' outputs and "
+           "steps are those of the arrays it fills, to the bit (%d runs)%s%s",
+           weather ? "weather records" : "clear sky", n_band_rows, runs, ok ? "" : ": ",
+           ok ? "" : ss_ctx_message(ctx));
+    /* A lattice one column short of the grid is refused, not extrapolated. */
+    sun.use_lattice = 1;
+    sun.cols[LATTICE_COLS - 1] = g->width - 2;
+    ss_insolation_out whole = {.global = out[0].out[0],
+                               .beam = out[0].out[1],
+                               .diffuse = out[0].out[2],
+                               .reflected = out[0].out[3],
+                               .sun_hours = out[0].out[4]};
+    ss_status st = ss_insolation(ctx, g, &opt, &io, N_STEPS, lattice_sun_whole, &sun, NULL, NULL,
+                                 &whole);
+    tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "sun lattice does not span"),
+           "%s: a lattice short of the grid's last column is refused: %s",
+           weather ? "weather records" : "clear sky", ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    lattice_free(&sun);
+    grids_free(&out[0]);
+    grids_free(&out[1]);
+}
+
 int main(void)
 {
     static const int band_rows[] = {1, 2, 5, 16, 200};
@@ -277,6 +447,8 @@ int main(void)
     compare(&s, "spikes 30x44, 150 steps", 1, 0, 0, 150, band_rows, nb);
     /* Only the night step: nothing swept, every row still written. */
     compare(&s, "spikes 30x44, night only", 0, 0, N_STEPS - 1, 1, band_rows, nb);
+    lattice_against_arrays(&s, 0, band_rows, nb);
+    lattice_against_arrays(&s, 1, band_rows, nb);
     ss_grid_free(&s);
     return tap_done();
 }

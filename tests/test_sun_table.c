@@ -320,6 +320,18 @@ static void check_lattice_runs(void)
         for (int v = 0; v < 3; ++v)
             for (int c = 0; c < W; ++c)
                 same &= memcmp(&whole[v][c], &part[v][c], sizeof(float)) == 0;
+        /* On a few rows, every run: each start (shared columns, the last
+         * one) and each length, none too (which writes nothing). */
+        for (int c0 = 0; (r == 0 || r == 20 || r == 37 || r == H - 1) && c0 < W; ++c0)
+            for (int n = 0; n <= W - c0; ++n) {
+                float run[3][W + 1];
+                run[0][n] = run[1][n] = run[2][n] = -999.0f;
+                ss_sun_lattice_cells(&l, tx, r, c0, n, run[0], run[1], run[2]);
+                for (int v = 0; v < 3; ++v) {
+                    same &= memcmp(run[v], whole[v] + c0, sizeof(float) * (size_t)n) == 0;
+                    same &= run[v][n] == -999.0f;
+                }
+            }
         int j = r < rows[1] || r == rows[1] ? 0 : 1; /* a row on a node takes the rows below it */
         double ty = (double)(r - rows[j]) / (rows[j + 1] - rows[j]);
         for (int c = 0; c < W; ++c) {
@@ -339,9 +351,23 @@ static void check_lattice_runs(void)
             worst = fmax(worst, fabs(whole[2][c] - (want_e0 + want_refr)));
         }
     }
-    tap_ok(same && worst <= 2e-5 && smooth_cells > 0 && per_cell > 0,
-           "a lattice's suns: runs give the whole row's to the bit, within %.1e deg of the "
-           "bilinear nodes (%d cells with refraction interpolated, %d computed per cell)",
+    /* A grid one column wide: its lattice's two columns are one. */
+    static const int one_col[2] = {0, 0}, one_rows[2] = {0, 9};
+    double az1[4] = {10.0, 10.0, 12.0, 12.0}, e1[4] = {5.0, 5.0, 7.0, 7.0}, r1[4];
+    for (int k = 0; k < 4; ++k)
+        r1[k] = ss_spa_refraction_deg(e1[k], hpa, temp, atmos);
+    ss_sun_lattice l1 = {2, 2, one_col, one_rows, az1, e1, r1, hpa, temp, atmos};
+    double tx1[2];
+    ss_sun_lattice_tx(&l1, tx1);
+    float a1, h1, p1;
+    ss_sun_lattice_cells(&l1, tx1, 3, 0, 1, &a1, &h1, &p1);
+    double ty1 = 3.0 / 9.0, h_want = (1 - ty1) * 5.0 + ty1 * 7.0;
+    int one_ok = fabs(a1 - ((1 - ty1) * 10.0 + ty1 * 12.0)) < 1e-5 && fabs(h1 - h_want) < 1e-5 &&
+                 fabs(p1 - (h_want + (1 - ty1) * r1[0] + ty1 * r1[2])) < 1e-5;
+    tap_ok(same && one_ok && worst <= 2e-5 && smooth_cells > 0 && per_cell > 0,
+           "a lattice's suns: runs of every start and length give the whole row's to the bit, "
+           "within %.1e deg of the bilinear nodes (%d cells with refraction interpolated, %d "
+           "computed per cell); a one-column grid's too",
            worst, smooth_cells, per_cell);
 }
 

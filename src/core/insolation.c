@@ -227,10 +227,29 @@ static const float *run_of(const float *per_cell, size_t c0)
     return per_cell ? per_cell + c0 : NULL;
 }
 
-/* The places of a step's lattice's columns (ss_sun_lattice_tx) into
- * s->lattice_tx. */
-static ss_status lattice_columns(steps_run *s, const ss_sun_lattice *lattice)
+/* Whether a step's lattice spans the band's cells (skysweep.h): a caller's
+ * that did not would leave cells without a sun, or extrapolate. */
+static int lattice_spans(const ss_sun_lattice *l, const ss_band_view *band)
 {
+    int nc = l->n_cols, nr = l->n_rows, ok = nc >= 2 && nr >= 2;
+    for (int i = 1; ok && i < nc; ++i)
+        ok = l->cols[i] >= l->cols[i - 1];
+    for (int j = 1; ok && j < nr; ++j)
+        ok = l->rows[j] >= l->rows[j - 1];
+    return ok && l->cols[0] == 0 && l->cols[nc - 1] == band->width - 1 &&
+           l->rows[0] <= band->row0 && l->rows[nr - 1] >= band->row0 + band->n_rows - 1;
+}
+
+/* The places of a step's lattice's columns (ss_sun_lattice_tx) into
+ * s->lattice_tx, once its span is checked. */
+static ss_status lattice_columns(steps_run *s, const ss_sun_lattice *lattice,
+                                 const ss_band_view *band, int k)
+{
+    if (!lattice_spans(lattice, band))
+        return ss_fail(s->job->ctx, SS_ERR_ARGUMENT,
+                       "time step %d's sun lattice does not span columns 0..%d and rows %d..%d "
+                       "in increasing order",
+                       k, band->width - 1, band->row0, band->row0 + band->n_rows - 1);
     size_t count = ss_sun_lattice_tx_count(lattice);
     if (count > s->lattice_tx_count) {
         double *tx = ss_realloc(s->lattice_tx, count * sizeof(double));
@@ -379,7 +398,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             ss_step_sun_fill_range(s->sun, h_lo, h_hi, a_lo, a_hi, (float)sun.elevation_deg,
                                    (float)sun.grid_azimuth_deg, (float)sun.linke, !sun.real_sky,
                                    s->pressure_lo, s->pressure_hi);
-            st = lattice_columns(s, lattice);
+            st = lattice_columns(s, lattice, band, k);
         } else {
             ss_step_sun_fill(s->sun, sun.elevation_per_cell, sun.grid_azimuth_per_cell, n,
                              (float)sun.elevation_deg, (float)sun.grid_azimuth_deg,
