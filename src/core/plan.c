@@ -262,8 +262,8 @@ static void plan_cells(ss_plan *p, const ss_plan_request *r, const ss_place *pla
  * the one held against the run's tolerance. */
 #define CUMULATIVE_MIN_RECORDS 720
 #define CUMULATIVE_MEAN_ERROR_PCT 0.04
-#define CUMULATIVE_P95_ERROR_PCT 0.07
-#define CUMULATIVE_MONTHLY_P95_ERROR_PCT 0.18
+#define CUMULATIVE_P95_ERROR_PCT 0.09
+#define CUMULATIVE_MONTHLY_P95_ERROR_PCT 0.21
 
 /* Insolation's shadow mode: as requested, or (auto) the cumulative sky for
  * a long run of weather records without PV yield whose tolerance admits
