@@ -67,9 +67,10 @@ static void sun_free(sun_setup *s)
     }
 }
 
-static void fill_step(const sun_setup *s, int k, size_t offset, ss_sun_step *step)
+/* Step k of the table at the grid's centre, its cells' suns within
+ * spread_deg of it. */
+static void table_step(int k, double spread_deg, ss_sun_step *step)
 {
-    k = (k + s->first) % N_STEPS; /* long runs repeat the table */
     memset(step, 0, sizeof *step);
     step->duration_h = 0.5;
     step->linke = 3.0 + 0.2 * k;
@@ -77,7 +78,13 @@ static void fill_step(const sun_setup *s, int k, size_t offset, ss_sun_step *ste
     step->azimuth_deg = step->grid_azimuth_deg = step_az[k];
     step->elevation_deg = step_el[k];
     step->apparent_elevation_deg = step_el[k] + 0.1;
-    step->spread_deg = s->per_cell ? 2.5 : 0.0;
+    step->spread_deg = spread_deg;
+}
+
+static void fill_step(const sun_setup *s, int k, size_t offset, ss_sun_step *step)
+{
+    k = (k + s->first) % N_STEPS; /* long runs repeat the table */
+    table_step(k, s->per_cell ? 2.5 : 0.0, step);
     if (s->per_cell && offset != (size_t)-1) {
         step->grid_azimuth_per_cell = s->az[k] + offset;
         step->elevation_per_cell = s->el[k] + offset;
@@ -327,14 +334,7 @@ static ss_status lattice_sun(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_st
 {
     (void)ctx;
     const lattice_setup *s = user;
-    memset(step, 0, sizeof *step);
-    step->duration_h = 0.5;
-    step->linke = 3.0 + 0.2 * k;
-    step->extraterrestrial_w_m2 = 1360.0;
-    step->azimuth_deg = step->grid_azimuth_deg = step_az[k];
-    step->elevation_deg = step_el[k];
-    step->apparent_elevation_deg = step_el[k] + 0.1;
-    step->spread_deg = 2.5;
+    table_step(k, 2.5, step);
     if (s->weather) {
         step->real_sky = 1;
         step->ghi_w_m2 = 600.0;
