@@ -3,6 +3,7 @@
  * (ss_band.h), then per-cell work on the band's buffers. The work itself is
  * in ss_passes.h, which the C twin runs too. Buffers per batch slot (a
  * direction of the batch) lie one band's held cells apart. */
+#include "ss_insolation_cells.h"
 #include "ss_passes.h"
 
 /* The direction slot and round index of work-item gid, and its line
@@ -151,4 +152,35 @@ __kernel void band_finish(ss_band_run run, int n_slots, __global float *outs)
     int cell = (int)(first + gid - (size_t)slot * own);
     ss_pass_horizon_finish(cell, run.none_deg, ss_band_plane(outs, &run, slot, 0),
                            ss_band_plane(outs, &run, slot, 1));
+}
+
+/* One insolation step over the band's own cells (ss_cells_step_at): the
+ * horizons of batch slot `slot` where the step walked, the cells' terms
+ * (ss_cell_terms, own cells), the lattice's columns then rows and its
+ * three node arrays then the air (pressure, temperature, refraction at
+ * sunset), and the band's planes. One work-item per own cell. */
+__kernel void insolation_cells(ss_band_run run, ss_cells_step step, int slot,
+                               __global const float *z, __global float *outs,
+                               __global const ss_cell_terms *terms,
+                               __global const int *lattice_at,
+                               __global const ss_real *lattice_nodes, __global float *planes)
+{
+    int c = get_global_id(0);
+    if (c >= step.cells)
+        return;
+    int nodes = step.lattice_cols * step.lattice_rows;
+    ss_lattice_view l = {step.lattice_cols,
+                         step.lattice_rows,
+                         lattice_at,
+                         lattice_at + step.lattice_cols,
+                         lattice_nodes,
+                         lattice_nodes + nodes,
+                         lattice_nodes + 2 * nodes,
+                         lattice_nodes[3 * nodes],
+                         lattice_nodes[3 * nodes + 1],
+                         lattice_nodes[3 * nodes + 2]};
+    size_t first = (size_t)(run.row0 - run.lo) * run.width;
+    float horizon = step.horizon ? ss_band_plane(outs, &run, slot, 0)[first + c] : -90.0f;
+    ss_cell_terms t = terms[c];
+    ss_cells_step_at(&step, &l, c, z[first + c], horizon, &t, planes);
 }

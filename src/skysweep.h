@@ -86,6 +86,15 @@ SS_API ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec);
  * a batch one direction after the other, so it gives the same result at
  * any batch. */
 SS_API void ss_ctx_set_batch(ss_ctx *ctx, int directions);
+/* Where insolation's per-cell work after each step's sweep runs on an
+ * OpenCL device: SS_CELLS_AUTO, the default, on a GPU (the horizons then
+ * never leave it) and on the host for a CPU device (whose memory is the
+ * host's, and whose kernels are slower than the host's SIMD lanes,
+ * doc/gpu.md); SS_CELLS_HOST or SS_CELLS_DEVICE to choose. The C twin
+ * always runs it on the host. A new context takes the environment's
+ * SKYSWEEP_CELLS ("host", "device"; else auto). */
+typedef enum { SS_CELLS_AUTO, SS_CELLS_HOST, SS_CELLS_DEVICE } ss_cells_where;
+SS_API void ss_ctx_set_cells(ss_ctx *ctx, ss_cells_where where);
 /* Human-readable name of the selected device, opening it if needed. */
 SS_API const char *ss_ctx_device_name(ss_ctx *ctx);
 /* Lists the OpenCL devices, one "P:D platform: device (OpenCL C x.y)" line
@@ -122,6 +131,9 @@ typedef struct {
     /* Weather records with neither beam nor circumsolar light, on which
      * shadows change nothing: no shadow sweep (nor stored horizons) for them. */
     uint64_t shadow_sweeps_unshaded;
+    /* Of cell_steps, those an OpenCL device computed (ss_ctx_set_cells):
+     * every cell with a height, of every step it took. */
+    uint64_t cell_steps_on_device;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 

@@ -9,7 +9,8 @@
  * the tolerances say how much. A sun per cell given as a lattice
  * (ss_sun_step.lattice), interpolated run by run, gives the outputs of the
  * arrays the lattice fills, to the bit, whole and in bands, for the clear
- * sky and for weather records. */
+ * sky and for weather records; on an OpenCL device, which takes the
+ * lattice itself, they are the C twin's to float rounding. */
 #include "config.h"
 
 #include <math.h>
@@ -427,6 +428,73 @@ static void lattice_against_arrays(const ss_grid *g, int weather, const int *ban
     grids_free(&out[1]);
 }
 
+/* Insolation's steps on an OpenCL device (ss_ctx_set_cells), each cell's
+ * sun from the lattice there (kernels/ss_sun_lattice.h), its shadows from
+ * the walk left there, whole and in bands: the same device's outputs with
+ * the steps on the host to float rounding (a clear sky's sun terms are
+ * exact on the device, from tables on the host), and the C twin's within
+ * what the device's walks and the bands' sums move them. Skipped without a
+ * device. */
+static void lattice_on_device(const ss_grid *g, int weather, const int *band_rows, int n_band_rows)
+{
+    ss_ctx *dev = ss_ctx_new(), *twin = ss_ctx_new();
+    ss_ctx_use_device(twin, "reference");
+    if (ss_ctx_use_device(dev, NULL) != SS_OK || strstr(ss_ctx_device_name(dev), "reference") ||
+        strstr(ss_ctx_device_name(dev), "no device")) {
+        tap_skip("insolation's steps on a device", "no OpenCL device opens here");
+        ss_ctx_free(dev);
+        ss_ctx_free(twin);
+        return;
+    }
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = 12;
+    ss_insolation_options io = {.albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT};
+    lattice_setup sun;
+    grids twin_out, host, device;
+    int ok = lattice_init(&sun, g) && grids_init(&twin_out, g, NULL) &&
+             grids_init(&host, g, NULL) && grids_init(&device, g, NULL);
+    size_t n = (size_t)g->width * g->height, nodata_mismatch = 0;
+    sun.weather = weather;
+    sun.use_lattice = 1;
+    ss_source whole = test_source(g, read_rows, &twin_out, 0, NULL);
+    ok = ok && ss_insolation_rows(twin, &whole, &opt, &io, N_STEPS, lattice_sun, &sun, 0, NULL,
+                                  write_rows, &twin_out) == SS_OK;
+    double worst_host = 0, worst_twin = 0;
+    uint64_t on_device = 0;
+    int runs = 0;
+    for (int b = -1; ok && b < n_band_rows; ++b)
+        for (int where = 0; ok && where < 2; ++where) {
+            grids *o = where ? &device : &host;
+            ss_source src = test_source(g, read_rows, o, b < 0 ? 0 : band_rows[b], NULL);
+            ss_ctx_set_cells(dev, where ? SS_CELLS_DEVICE : SS_CELLS_HOST);
+            uint64_t before = ss_ctx_counters(dev).cell_steps_on_device;
+            ok = ss_insolation_rows(dev, &src, &opt, &io, N_STEPS, lattice_sun, &sun, 0, NULL,
+                                    write_rows, o) == SS_OK;
+            on_device += ss_ctx_counters(dev).cell_steps_on_device - before;
+            runs += ok;
+            for (int k = 0; ok && where && k < 5; ++k) {
+                worst_host = fmax(worst_host, worst_of(host.out[k], device.out[k], n,
+                                                       &nodata_mismatch));
+                worst_twin = fmax(worst_twin, worst_of(twin_out.out[k], device.out[k], n,
+                                                       &nodata_mismatch));
+            }
+        }
+    tap_ok(ok && worst_host <= 2e-6 && worst_twin <= 5e-5 && nodata_mismatch == 0 &&
+               on_device > 0,
+           "%s, a sun per cell as a lattice, steps on the device (%d runs, whole and %d band "
+           "heights): the five outputs of the steps on the host within %.2g relative (2e-6 "
+           "allowed), the C twin's within %.2g (5e-5), %llu cell-steps on the device%s%s",
+           weather ? "weather records" : "clear sky", runs, n_band_rows, worst_host, worst_twin,
+           (unsigned long long)on_device, ok ? "" : ": ", ok ? "" : ss_ctx_message(dev));
+    ss_ctx_free(dev);
+    ss_ctx_free(twin);
+    lattice_free(&sun);
+    grids_free(&twin_out);
+    grids_free(&host);
+    grids_free(&device);
+}
+
 int main(void)
 {
     static const int band_rows[] = {1, 2, 5, 16, 200};
@@ -449,6 +517,8 @@ int main(void)
     compare(&s, "spikes 30x44, night only", 0, 0, N_STEPS - 1, 1, band_rows, nb);
     lattice_against_arrays(&s, 0, band_rows, nb);
     lattice_against_arrays(&s, 1, band_rows, nb);
+    lattice_on_device(&s, 0, band_rows, nb);
+    lattice_on_device(&s, 1, band_rows, nb);
     ss_grid_free(&s);
     return tap_done();
 }

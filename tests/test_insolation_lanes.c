@@ -92,12 +92,12 @@ static void compare(lane_fn fn, const char *copy, const ss_lane_step *l, const c
             ss_cell_step want = by_cell(l, per_cell, c, &want_adds);
             adds += want_adds;
             int lanes_add = out.what[j] == SS_LANE_ADD;
-            float v[6] = {want.beam, want.diffuse, want.reflected, want.global, want.sun_hours,
-                          l->month ? want.global : 0.0f};
+            float v[6] = {want.beam, want.diffuse, want.reflected, want.total, want.sun_hours,
+                          l->month ? want.total : 0.0f};
             int same = out.what[j] == SS_LANE_EXACT ? want_adds : lanes_add == want_adds;
             for (int k = 0; k < 6; ++k)
                 same &= same_bits(sums[k][c], lanes_add ? 0.0f + v[k] : 0.0f);
-            same &= same_bits(out.global[j], lanes_add ? want.global : 0.0f);
+            same &= same_bits(out.global[j], lanes_add ? want.total : 0.0f);
             differ += !same;
             if (out.what[j] == SS_LANE_EXACT) {
                 /* ss_step_sun_at's lookups (a clear sky's), or a weather
@@ -108,7 +108,7 @@ static void compare(lane_fn fn, const char *copy, const ss_lane_step *l, const c
                 float h = (per_cell ? h0_deg[c] : l->h0_step_deg) * rad;
                 float z = (per_cell ? az_deg[c] : l->az_step_deg) * rad;
                 wrongly_exact += l->real_sky
-                                     ? ss_step_sun_near(&tables, h, z)
+                                     ? ss_sun_near(&tables.centre, h, z)
                                      : ss_sun_table_at(&tables.elevation, h, e) &&
                                            ss_sun_table_at(&tables.azimuth, z, a) &&
                                            ss_sun_table_at(&tables.air_mass,

@@ -85,7 +85,7 @@ static void check_range(float h_deg, float az_deg, float spread_deg, float az_sp
                                          relative(got.diffuse_fraction, want.diffuse_fraction)));
         ss_cell_step s_got = ss_cell_step_of(&terms[c], &got, h0[c], -90.0f, 1361.0f, 0.2f, 1.0f);
         ss_cell_step s_want = ss_cell_step_of(&terms[c], &want, h0[c], -90.0f, 1361.0f, 0.2f, 1.0f);
-        worst_global = fmax(worst_global, fabs((double)s_got.global - s_want.global) / 1361.0);
+        worst_global = fmax(worst_global, fabs((double)s_got.total - s_want.total) / 1361.0);
     }
     /* The tables hold every cell's sun, and above 3 deg (an air mass below
      * 20: sun_table.c) most air masses. */
@@ -148,7 +148,7 @@ static void check_weather(void)
         float h = uniform(-20.0f, 20.0f) * rad, a = (61.0f + uniform(-35.0f, 35.0f)) * rad;
         ss_cell_sun got = ss_step_sun_at(&table, &t, h, a);
         ss_cell_sun want = ss_cell_sun_exact(&t, h, a, 3.0f, 0);
-        if (ss_step_sun_near(&table, h, a)) {
+        if (ss_sun_near(&table.centre, h, a)) {
             near++;
             float d[] = {got.sin_h0 - want.sin_h0, got.cos_h0 - want.cos_h0,
                          got.sin_az - want.sin_az, got.cos_az - want.cos_az};

@@ -314,9 +314,13 @@ int main(int argc, char **argv)
     printf("grid      %d x %d (%.0f MiB of float heights), %d directions, %s %s\n", n, n,
            (double)n * n * 4 / 1048576.0, a.directions, a.whole ? "whole grid" : "banded",
            product);
-    if (a.insolation)
-        printf("steps     %d of '%s', %lld in daylight, %s shadows\n", suns.n, a.insolation,
-               suns.daylight, a.interpolated ? "interpolated" : "exact");
+    if (a.insolation) {
+        ss_counters c = ss_ctx_counters(ctx);
+        printf("steps     %d of '%s', %lld in daylight, %s shadows; %.0f %% of the cell-steps "
+               "on the device\n",
+               suns.n, a.insolation, suns.daylight, a.interpolated ? "interpolated" : "exact",
+               c.cell_steps ? 100.0 * (double)c.cell_steps_on_device / (double)c.cell_steps : 0.0);
+    }
     if (!a.whole && !a.insolation)
         printf("bands     %d rows (%.1f MiB of band buffers)\n", band_rows,
                (a.horizon ? ss_horizon_band_cell_bytes(0) * (band_rows + 4.0) * n

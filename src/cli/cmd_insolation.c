@@ -534,11 +534,17 @@ static void print_summary(insolation_run *r)
                "last cell of their line whose proven horizon bound the sun may not clear\n",
                (unsigned long long)c.shadow_steps_skipped, (unsigned long long)c.shadow_steps,
                100.0 * (double)c.shadow_steps_skipped / (double)c.shadow_steps);
-    if (c.cell_steps)
-        printf("cells   %llu cell-steps, %llu (%.1f %%) with the sun's terms computed per cell "
+    uint64_t host_cells = c.cell_steps - c.cell_steps_on_device;
+    if (c.cell_steps_on_device)
+        printf("cells   %llu cell-steps on the device (the sun's terms per cell; the horizons "
+               "never left it)\n",
+               (unsigned long long)c.cell_steps_on_device);
+    if (host_cells)
+        printf("cells   %llu cell-steps%s, %llu (%.1f %%) with the sun's terms computed per cell "
                "(outside the step's tables, or more than 0.5 rad from the centre's sun)\n",
-               (unsigned long long)c.cell_steps, (unsigned long long)c.cell_steps_exact_sun,
-               100.0 * (double)c.cell_steps_exact_sun / (double)c.cell_steps);
+               (unsigned long long)host_cells, c.cell_steps_on_device ? " on the host" : "",
+               (unsigned long long)c.cell_steps_exact_sun,
+               100.0 * (double)c.cell_steps_exact_sun / (double)host_cells);
     if (c.sun_bins)
         printf("sky     cumulative: %llu bins of suns (%d directions x %g deg of elevation x "
                "month) in place of a sweep per record\n",

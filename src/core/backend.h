@@ -8,6 +8,7 @@
 
 #include "ctx_internal.h"
 #include "ss_band.h"
+#include "ss_insolation_cells.h"
 
 /* A run without a walk: the driver only visits the bands (per-cell
  * products, and products finished from what earlier runs stored). */
@@ -66,6 +67,17 @@ typedef struct {
     ss_status (*bare)(ss_backend *b, const ss_band_run *run, const ss_band_dir *dir,
                       float **out);
     void (*close)(ss_backend *b);
+    /* Insolation's steps on the device, where the backend has them (NULL:
+     * the C twin, whose consumer computes them in place). cells_begin
+     * takes the band's own cells' terms and zeroes `planes` planes over
+     * them; cells_step adds a step (kernels/ss_insolation_cells.h) with
+     * batch slot `slot`'s horizons, or none (slot -1), its suns from the
+     * lattice where given; cells_end adds the planes into the host's. */
+    ss_status (*cells_begin)(ss_backend *b, const ss_band_run *run, const ss_cell_terms *terms,
+                             int planes);
+    ss_status (*cells_step)(ss_backend *b, const ss_band_run *run, int slot,
+                            const ss_cells_step *step, const ss_sun_lattice *lattice);
+    ss_status (*cells_end)(ss_backend *b, const ss_band_run *run, float *planes);
 } ss_backend_ops;
 
 struct ss_backend {
@@ -78,6 +90,7 @@ struct ss_backend {
     int batch;                /* directions per batch: asked for, lowered by open to fit */
     int carried;              /* rows of sums kept between bands (0: the whole grid) */
     const float *whole_z;     /* the whole grid, used in place (NULL in bands) */
+    int device_cells;         /* runs insolation's steps itself (cells_*, ss_ctx_set_cells) */
     void *impl;
 };
 

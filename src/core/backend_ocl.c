@@ -29,9 +29,11 @@ struct ss_ocl {
     cl_command_queue queue;
     cl_program program;
     cl_kernel k_sum, k_horizon, k_hand_on, k_radius, k_bare, k_reduce, k_carry, k_finish;
+    cl_kernel k_cells;
     size_t work_group;
     cl_ulong global_mem, max_alloc;
     int is_cpu;
+    int has_fp64; /* the kernels' ss_real is double (ss_sun_lattice.h), else float */
 };
 
 static const char *cl_error_name(cl_int err)
@@ -301,7 +303,8 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     } kernels[] = {{&o->k_sum, "band_sum"},         {&o->k_horizon, "band_horizon"},
                    {&o->k_hand_on, "band_hand_on"}, {&o->k_radius, "band_radius"},
                    {&o->k_bare, "band_bare"},       {&o->k_reduce, "band_reduce"},
-                   {&o->k_carry, "band_carry"},     {&o->k_finish, "band_finish"}};
+                   {&o->k_carry, "band_carry"},     {&o->k_finish, "band_finish"},
+                   {&o->k_cells, "insolation_cells"}};
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i) {
         *kernels[i].k = clCreateKernel(o->program, kernels[i].name, &err);
         if (err != CL_SUCCESS)
@@ -373,6 +376,9 @@ static ss_status ocl_open(ss_ctx *ctx, struct ss_ocl *o, const ocl_device_info *
     clGetDeviceInfo(o->device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof o->max_alloc, &o->max_alloc,
                     NULL);
     o->is_cpu = (found->type & CL_DEVICE_TYPE_CPU) != 0;
+    char extensions[4096] = "";
+    clGetDeviceInfo(o->device, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
+    o->has_fp64 = strstr(extensions, "cl_khr_fp64") != NULL;
     return build_program(ctx, o);
 }
 
@@ -437,8 +443,8 @@ void ss_ocl_release(struct ss_ocl *o)
 {
     if (!o)
         return;
-    cl_kernel kernels[] = {o->k_sum,   o->k_horizon, o->k_hand_on, o->k_radius,
-                           o->k_bare,  o->k_reduce,  o->k_carry,   o->k_finish};
+    cl_kernel kernels[] = {o->k_sum,  o->k_horizon, o->k_hand_on, o->k_radius, o->k_bare,
+                           o->k_reduce, o->k_carry, o->k_finish, o->k_cells};
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i)
         if (kernels[i])
             clReleaseKernel(kernels[i]);
@@ -452,6 +458,15 @@ void ss_ocl_release(struct ss_ocl *o)
 }
 
 /* ---- band walks ----------------------------------------------------------- */
+
+/* A step's sun lattice as queued for the device: its columns then rows
+ * (ints), then its three node arrays and the air (ss_real). */
+typedef struct {
+    unsigned char *bytes;
+    size_t cap, ints_bytes, reals_bytes;
+    cl_event written; /* the copy's end, or NULL */
+} lattice_entry;
+#define LATTICE_STAGES 8
 
 typedef struct {
     cl_mem z, grad, stacks, sums, parts, outs, carry, dirs;
@@ -467,6 +482,17 @@ typedef struct {
     int stage;
     void *mapped_ptr;
     cl_event queued;                  /* marks the end of the last batch queued (pace) */
+    /* Insolation's steps (cells_*): the band's own cells' terms and planes,
+     * each step's lattice, and where the planes come back to. */
+    cl_mem cell_terms, cell_planes, lattice_at, lattice_nodes;
+    size_t cell_terms_cap, cell_planes_cap, lattice_at_cap, lattice_nodes_cap; /* bytes */
+    int cell_planes_n;
+    float *planes_back;
+    size_t planes_back_cap;
+    /* Each step's lattice as queued (written without waiting): a ring, each
+     * entry reused once its write is done. */
+    lattice_entry lattice_stage[LATTICE_STAGES];
+    int lattice_next;
 } ocl_backend;
 
 typedef struct {
@@ -870,6 +896,159 @@ static ss_status ocl_bare(ss_backend *b, const ss_band_run *run, const ss_band_d
     return st;
 }
 
+/* ---- insolation's steps -------------------------------------------------- */
+
+/* A device buffer of at least `bytes` (at least 16), grown as needed;
+ * what it held is not kept. */
+static ss_status room(ss_backend *b, cl_mem *buf, size_t *cap, size_t bytes, const char *what)
+{
+    if (bytes < 16)
+        bytes = 16;
+    if (*buf && *cap >= bytes)
+        return SS_OK;
+    if (*buf)
+        clReleaseMemObject(*buf);
+    cl_int err = CL_SUCCESS;
+    *buf = new_buffer(b, CL_MEM_READ_WRITE, bytes, NULL, &err);
+    *cap = err == CL_SUCCESS ? bytes : 0;
+    return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, what);
+}
+
+static size_t own_cells(const ss_band_run *run)
+{
+    return (size_t)(run->row1 - run->row0) * (size_t)run->width;
+}
+
+static ss_status ocl_cells_begin(ss_backend *b, const ss_band_run *run,
+                                 const ss_cell_terms *terms, int planes)
+{
+    ocl_backend *q = b->impl;
+    size_t own = own_cells(run);
+    ss_status st = unmap(b);
+    if (st == SS_OK)
+        st = room(b, &q->cell_terms, &q->cell_terms_cap, own * sizeof(ss_cell_terms),
+                  "allocating the cells' terms");
+    if (st == SS_OK)
+        st = room(b, &q->cell_planes, &q->cell_planes_cap, own * (size_t)planes * sizeof(float),
+                  "allocating the cells' sums");
+    if (st == SS_OK)
+        st = upload(b, q->cell_terms, own * sizeof(ss_cell_terms), terms);
+    if (st == SS_OK)
+        st = fill(b, q->cell_planes, own * (size_t)planes * sizeof(float));
+    q->cell_planes_n = planes;
+    return st;
+}
+
+/* A step's lattice in the next staging entry, as the device reads it
+ * (none: no nodes, zero air). */
+static ss_status stage_lattice(ss_backend *b, const ss_sun_lattice *l, lattice_entry **out)
+{
+    ocl_backend *q = b->impl;
+    int fp64 = b->ctx->ocl->has_fp64;
+    size_t nodes = l ? (size_t)l->n_cols * l->n_rows : 0;
+    size_t real = fp64 ? sizeof(double) : sizeof(float);
+    lattice_entry *e = &q->lattice_stage[q->lattice_next];
+    q->lattice_next = (q->lattice_next + 1) % LATTICE_STAGES;
+    if (e->written) { /* its last copy must be done before it is reused */
+        cl_int err = clWaitForEvents(1, &e->written);
+        clReleaseEvent(e->written);
+        e->written = NULL;
+        if (err != CL_SUCCESS)
+            return cl_fail(b->ctx, err, "waiting for a sun lattice's copy");
+    }
+    e->ints_bytes = l ? (size_t)(l->n_cols + l->n_rows) * sizeof(int) : 0;
+    e->reals_bytes = (3 * nodes + 3) * real;
+    size_t bytes = e->ints_bytes + e->reals_bytes;
+    if (bytes > e->cap) {
+        unsigned char *grown = ss_realloc(e->bytes, bytes);
+        if (!grown)
+            return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for a sun lattice");
+        e->bytes = grown;
+        e->cap = bytes;
+    }
+    double air[3] = {0, 0, 0};
+    const double *arrays[3] = {NULL, NULL, NULL};
+    if (l) {
+        memcpy(e->bytes, l->cols, (size_t)l->n_cols * sizeof(int));
+        memcpy(e->bytes + (size_t)l->n_cols * sizeof(int), l->rows, (size_t)l->n_rows * sizeof(int));
+        air[0] = l->pressure_hpa;
+        air[1] = l->temperature_c;
+        air[2] = l->atmos_refract_deg;
+        arrays[0] = l->grid_azimuth_deg;
+        arrays[1] = l->elevation_deg;
+        arrays[2] = l->refraction_deg;
+    }
+    unsigned char *reals = e->bytes + e->ints_bytes;
+    for (size_t k = 0; k < 3 * nodes + 3; ++k) {
+        double v = k < 3 * nodes ? arrays[k / nodes][k % nodes] : air[k - 3 * nodes];
+        float f = (float)v;
+        memcpy(reals + k * real, fp64 ? (const void *)&v : (const void *)&f, real);
+    }
+    *out = e;
+    return SS_OK;
+}
+
+static ss_status ocl_cells_step(ss_backend *b, const ss_band_run *run, int slot,
+                                const ss_cells_step *step, const ss_sun_lattice *lattice)
+{
+    ocl_backend *q = b->impl;
+    cl_command_queue queue = b->ctx->ocl->queue;
+    lattice_entry *e = NULL;
+    ss_status st = unmap(b);
+    if (st == SS_OK)
+        st = stage_lattice(b, lattice, &e);
+    /* The buffers grow before the copies are queued (growing drops what
+     * they held); a kernel still queued keeps the one it was given. */
+    if (st == SS_OK)
+        st = room(b, &q->lattice_at, &q->lattice_at_cap, e->ints_bytes,
+                  "allocating a sun lattice");
+    if (st == SS_OK)
+        st = room(b, &q->lattice_nodes, &q->lattice_nodes_cap, e->reals_bytes,
+                  "allocating a sun lattice");
+    if (st != SS_OK)
+        return st;
+    /* Not waited for: the queue runs in order, and the entry is reused
+     * only once the second copy, and so the first, is done. */
+    cl_int err = e->ints_bytes == 0 ? CL_SUCCESS
+                                    : clEnqueueWriteBuffer(queue, q->lattice_at, CL_FALSE, 0,
+                                                           e->ints_bytes, e->bytes, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clEnqueueWriteBuffer(queue, q->lattice_nodes, CL_FALSE, 0, e->reals_bytes,
+                                   e->bytes + e->ints_bytes, 0, NULL, &e->written);
+    if (err != CL_SUCCESS)
+        return cl_fail(b->ctx, err, "copying a sun lattice");
+    ss_band_run r = *run;
+    kernel_arg args[] = {ARG(r),           ARG(*step),          ARG(slot),
+                         ARG(q->z),        ARG(q->outs),        ARG(q->cell_terms),
+                         ARG(q->lattice_at), ARG(q->lattice_nodes), ARG(q->cell_planes)};
+    return run_kernel(b, b->ctx->ocl->k_cells, args, 9, own_cells(run), "the insolation kernel");
+}
+
+static ss_status ocl_cells_end(ss_backend *b, const ss_band_run *run, float *planes)
+{
+    ocl_backend *q = b->impl;
+    size_t n = own_cells(run) * (size_t)q->cell_planes_n;
+    ss_status st = unmap(b);
+    if (st == SS_OK && n > q->planes_back_cap) {
+        float *grown = ss_realloc(q->planes_back, n * sizeof(float));
+        if (!grown)
+            return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for the cells' sums");
+        q->planes_back = grown;
+        q->planes_back_cap = n;
+    }
+    cl_int err = st == SS_OK ? clEnqueueReadBuffer(b->ctx->ocl->queue, q->cell_planes, CL_TRUE, 0,
+                                                   n * sizeof(float), q->planes_back, 0, NULL,
+                                                   NULL)
+                             : CL_SUCCESS;
+    if (st != SS_OK)
+        return st;
+    if (err != CL_SUCCESS)
+        return cl_fail(b->ctx, err, "reading the cells' sums");
+    for (size_t k = 0; k < n; ++k)
+        planes[k] += q->planes_back[k];
+    return SS_OK;
+}
+
 static void ocl_close(ss_backend *b)
 {
     ocl_backend *q = b->impl;
@@ -884,19 +1063,35 @@ static void ocl_close(ss_backend *b)
     cl_mem all[] = {q->z,       q->grad,    q->stacks,  q->sums,    q->parts,
                     q->outs,    q->carry,   q->dirs,    q->hull_in, q->hull_out,
                     q->in_off,  q->in_cnt,  q->out_off, q->out_cnt, q->state,
-                    q->counters, q->lit_levels};
+                    q->counters, q->lit_levels, q->cell_terms, q->cell_planes,
+                    q->lattice_at, q->lattice_nodes};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (all[i])
             clReleaseMemObject(all[i]);
     free(q->staged[0]);
     free(q->staged[1]);
+    for (int k = 0; k < LATTICE_STAGES; ++k) {
+        if (q->lattice_stage[k].written)
+            clReleaseEvent(q->lattice_stage[k].written);
+        free(q->lattice_stage[k].bytes);
+    }
+    free(q->planes_back);
     free(q);
     b->impl = NULL;
 }
 
-static const ss_backend_ops ocl_ops = {ocl_load,     ocl_pass_begin, ocl_sums_begin,
-                                       ocl_walk,     ocl_sums_end,    ocl_view,
-                                       ocl_hulls_swap, ocl_bare,      ocl_close};
+static const ss_backend_ops ocl_ops = {.load = ocl_load,
+                                       .pass_begin = ocl_pass_begin,
+                                       .sums_begin = ocl_sums_begin,
+                                       .walk = ocl_walk,
+                                       .sums_end = ocl_sums_end,
+                                       .view = ocl_view,
+                                       .hulls_swap = ocl_hulls_swap,
+                                       .bare = ocl_bare,
+                                       .close = ocl_close,
+                                       .cells_begin = ocl_cells_begin,
+                                       .cells_step = ocl_cells_step,
+                                       .cells_end = ocl_cells_end};
 
 /* The directions a batch can hold: what was asked, within a quarter of the
  * device's memory and its largest buffer. A CPU device walks one direction
@@ -941,6 +1136,8 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     b->impl = q;
     b->ops = &ocl_ops;
     b->batch = fit_batch(b, o);
+    b->device_cells = b->ctx->cells == SS_CELLS_DEVICE ||
+                      (b->ctx->cells == SS_CELLS_AUTO && !o->is_cpu);
     size_t cells = held_cells(b), fbytes = cells * sizeof(float);
     int horizon = b->walk.term == SS_TERM_HORIZON, planes = ss_walk_planes(&b->walk);
     cl_int err = CL_SUCCESS;

@@ -292,9 +292,16 @@ static void ref_close(ss_backend *b)
     b->impl = NULL;
 }
 
-static const ss_backend_ops ref_ops = {ref_load,     ref_pass_begin, ref_sums_begin,
-                                       ref_walk,     ref_sums_end,    ref_view,
-                                       ref_hulls_swap, ref_bare,      ref_close};
+/* No cells_*: the consumer computes its steps where the rows lie. */
+static const ss_backend_ops ref_ops = {.load = ref_load,
+                                       .pass_begin = ref_pass_begin,
+                                       .sums_begin = ref_sums_begin,
+                                       .walk = ref_walk,
+                                       .sums_end = ref_sums_end,
+                                       .view = ref_view,
+                                       .hulls_swap = ref_hulls_swap,
+                                       .bare = ref_bare,
+                                       .close = ref_close};
 
 ss_status ss_backend_ref_open(ss_backend *b)
 {

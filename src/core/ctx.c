@@ -13,8 +13,14 @@
 ss_ctx *ss_ctx_new(void)
 {
     ss_ctx *ctx = ss_calloc(1, sizeof(ss_ctx));
-    if (ctx)
-        ss_ctx_use_device(ctx, NULL); /* the default, which SKYSWEEP_DEVICE may name */
+    if (!ctx)
+        return NULL;
+    ss_ctx_use_device(ctx, NULL); /* the default, which SKYSWEEP_DEVICE may name */
+    const char *cells = getenv("SKYSWEEP_CELLS"); /* ss_ctx_set_cells's default */
+    ctx->cells = !cells                       ? SS_CELLS_AUTO
+                 : strcmp(cells, "host") == 0   ? SS_CELLS_HOST
+                 : strcmp(cells, "device") == 0 ? SS_CELLS_DEVICE
+                                                : SS_CELLS_AUTO;
     return ctx;
 }
 
@@ -40,6 +46,11 @@ void ss_ctx_set_progress(ss_ctx *ctx, ss_progress_fn fn, void *user)
 void ss_ctx_set_batch(ss_ctx *ctx, int directions)
 {
     ctx->batch = directions > 0 ? directions : 0;
+}
+
+void ss_ctx_set_cells(ss_ctx *ctx, ss_cells_where where)
+{
+    ctx->cells = (unsigned)where <= SS_CELLS_DEVICE ? where : SS_CELLS_AUTO;
 }
 
 const char *ss_version(void)

@@ -22,6 +22,7 @@ struct ss_ctx {
     int use_reference; /* run the C twin instead of OpenCL */
     int device_auto;   /* "auto": each plan chooses device_spec */
     int batch;         /* directions per batch (ss_ctx_set_batch); 0: the device's choice */
+    ss_cells_where cells; /* ss_ctx_set_cells */
     struct ss_ocl *ocl;
     char device_name[600];
     ss_counters counters;

@@ -86,6 +86,12 @@ ss_status ss_source_check(ss_ctx *ctx, const ss_source *src)
     return SS_OK;
 }
 
+struct ss_engine_device {
+    ss_backend *b;
+    const ss_band_run *run; /* the band visited */
+    int begun;              /* its cells are on the device */
+};
+
 /* What one run keeps besides the backend. */
 typedef struct {
     ss_ctx *ctx;
@@ -109,6 +115,7 @@ typedef struct {
     int visits, visits_done;
     int delivered;          /* directions handed to the consumer (whole grid) */
     ss_band_stats stats;
+    ss_engine_device device; /* the visit's, where the consumer's steps run on the device */
 } engine_run;
 
 static int is_sums(const engine_run *e)
@@ -189,21 +196,48 @@ static ss_status partial_rows(engine_run *e, int row0, int n_rows, float *data, 
                                write ? "write" : "read", write ? " (disk full?)" : "");
 }
 
-/* Hands slots [0, n) of the batch just walked to the consumer, in order. */
+/* A batch slot's rows, read to the host. */
+static ss_status read_rows(ss_backend *b, const ss_band_run *run, ss_dir_rows *rows)
+{
+    double t0 = ss_seconds_now(); /* the device's rows come back here */
+    ss_status st = b->ops->view(b, run, rows->slot, 0, &rows->angle);
+    if (st == SS_OK && run->planes > 2)
+        st = b->ops->view(b, run, rows->slot, 2, &rows->dist);
+    if (st == SS_OK && run->planes > 3)
+        st = b->ops->view(b, run, rows->slot, 3, &rows->cast);
+    b->ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+    return st;
+}
+
+ss_status ss_engine_device_rows(ss_engine_device *d, ss_dir_rows *rows)
+{
+    return read_rows(d->b, d->run, rows);
+}
+
+ss_status ss_engine_cells_begin(ss_engine_device *d, const ss_cell_terms *terms, int planes)
+{
+    ss_status st = d->b->ops->cells_begin(d->b, d->run, terms, planes);
+    d->begun = st == SS_OK;
+    return st;
+}
+
+ss_status ss_engine_cells_step(ss_engine_device *d, const ss_dir_rows *rows,
+                               const ss_cells_step *step, const ss_sun_lattice *lattice)
+{
+    return d->b->ops->cells_step(d->b, d->run, rows ? rows->slot : -1, step, lattice);
+}
+
+/* Hands slots [0, n) of the batch just walked to the consumer, in order:
+ * their rows read to the host, or left on the device for it. */
 static ss_status deliver(engine_run *e, const ss_band_run *run, const ss_band_view *view, int n,
                          float *planes)
 {
     const ss_consumer *c = e->job->consumer;
     ss_status st = SS_OK;
     for (int k = 0; k < n && st == SS_OK; ++k) {
-        ss_dir_rows rows = {NULL, NULL, NULL};
-        double t0 = ss_seconds_now(); /* the device's rows come back here */
-        st = e->b.ops->view(&e->b, run, k, 0, &rows.angle);
-        if (st == SS_OK && run->planes > 2)
-            st = e->b.ops->view(&e->b, run, k, 2, &rows.dist);
-        if (st == SS_OK && run->planes > 3)
-            st = e->b.ops->view(&e->b, run, k, 3, &rows.cast);
-        e->ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+        ss_dir_rows rows = {NULL, NULL, NULL, k};
+        if (!view->device)
+            st = read_rows(&e->b, run, &rows);
         if (st == SS_OK && c->direction)
             st = c->direction(e->job->user, e->batch_index[k], view, &rows, planes);
     }
@@ -286,8 +320,11 @@ static ss_status visit_band(engine_run *e, int row0, int row1, int pass, int fir
     if (e->banded || !e->b.whole_z)
         st = read_band(e, run.lo, run.held_rows);
     const float *z = e->b.whole_z ? e->b.whole_z : e->z;
+    e->device = (ss_engine_device){&e->b, &run, 0};
+    int on_device = c->device_cells && walks(e) && e->b.device_cells;
     ss_band_view view = {row0,      row1 - row0, run.lo, run.held_rows,
-                         run.width, run.height,  z,      z + (size_t)(row0 - run.lo) * run.width};
+                         run.width, run.height,  z,      z + (size_t)(row0 - run.lo) * run.width,
+                         on_device ? &e->device : NULL};
     if (st == SS_OK && walks(e))
         st = e->b.ops->load(&e->b, &run, z, e->grad);
     if (st == SS_OK && c->visit)
@@ -300,6 +337,11 @@ static ss_status visit_band(engine_run *e, int row0, int row1, int pass, int fir
         memset(planes, 0, sizeof(float) * own * c->planes);
     if (st == SS_OK)
         st = walk_directions(e, &run, &view, first, last, planes);
+    if (st == SS_OK && e->device.begun) { /* waits for the device's last steps */
+        double t0 = ss_seconds_now();
+        st = e->b.ops->cells_end(&e->b, &run, planes);
+        e->ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+    }
     if (st == SS_OK && is_sums(e)) {
         double t0 = ss_seconds_now(); /* waits for the device's last batch */
         st = e->b.ops->sums_end(&e->b, &run, pass, &planes);

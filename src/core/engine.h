@@ -11,6 +11,9 @@
 
 #include "backend.h"
 
+/* Where a consumer's steps run on the device (ss_engine_cells_*). */
+typedef struct ss_engine_device ss_engine_device;
+
 /* A band as a consumer sees it. */
 typedef struct {
     int row0, n_rows;   /* the band's own rows */
@@ -19,6 +22,9 @@ typedef struct {
     const float *z;     /* the held rows' heights: NaN at nodata, relative to the source's
                            origin, negated for negate walks */
     const float *own_z; /* z at row0 */
+    /* A consumer with device_cells whose backend can run its steps: where
+     * they run (ss_engine_cells_*); NULL: on the host. */
+    ss_engine_device *device;
 } ss_band_view;
 
 /* One direction's horizon over the band's own rows (finished: degrees,
@@ -27,6 +33,7 @@ typedef struct {
  * consumer may overwrite them. */
 typedef struct {
     float *angle, *dist, *cast;
+    int slot; /* the direction's place in its batch, for ss_engine_cells_step */
 } ss_dir_rows;
 
 typedef struct {
@@ -43,6 +50,10 @@ typedef struct {
                            const ss_dir_rows *rows, float *planes);
     /* The band's last visit has ended: its planes are complete. */
     ss_status (*finish)(void *user, const ss_band_view *band, float *planes);
+    /* Insolation's steps can run on the device: where the backend can, a
+     * band's view has a device and its directions come with their rows
+     * left there (NULL), for the consumer to add there or read back. */
+    int device_cells;
 } ss_consumer;
 
 typedef struct {
@@ -66,6 +77,17 @@ typedef struct {
     void *user;
     const char *what; /* names the run in progress reports */
 } ss_engine_job;
+
+/* A visit's steps on the device (backend.h's cells_*): the band's own
+ * cells' terms and `planes` planes set to zero there; a step added there
+ * with the direction's horizons (rows) or none (NULL); what was added
+ * there joins the consumer's planes when the visit's directions are done.
+ * ss_engine_device_rows reads a direction's rows to the host instead, for
+ * a step the consumer computes itself. */
+ss_status ss_engine_cells_begin(ss_engine_device *d, const ss_cell_terms *terms, int planes);
+ss_status ss_engine_cells_step(ss_engine_device *d, const ss_dir_rows *rows,
+                               const ss_cells_step *step, const ss_sun_lattice *lattice);
+ss_status ss_engine_device_rows(ss_engine_device *d, ss_dir_rows *rows);
 
 /* Checks a source: sizes, cell sizes, heights or a reader. */
 ss_status ss_source_check(ss_ctx *ctx, const ss_source *src);

@@ -273,7 +273,9 @@ ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_op
     /* The light's azimuth is in the raster's frame; the walk takes the
      * options' frame (true north unless the options say grid). */
     ss_engine_dir light = {ho->azimuth_deg + opt->grid_north_deg, 1, 0, -1};
-    ss_consumer consumer = {0, NULL, shade_direction, ho->cast_shadows ? NULL : shade_finish};
+    ss_consumer consumer = {.planes = 0,
+                            .direction = shade_direction,
+                            .finish = ho->cast_shadows ? NULL : shade_finish};
     ss_engine_job job = {
         .walk = {.term = ho->cast_shadows ? SS_TERM_HORIZON : SS_TERM_NONE, .none_deg = 0.0f},
         .dirs = &light,

@@ -72,7 +72,7 @@ static ss_status run_horizon(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
     /* Casting heights ride on the distances (ss_horizon_caster). */
     int want_cast = (h->want & SS_HORIZON_CAST_HEIGHT) != 0;
     int want_dist = want_cast || (h->want & SS_HORIZON_DISTANCE);
-    ss_consumer consumer = {0, NULL, horizon_rows, NULL};
+    ss_consumer consumer = {.planes = 0, .direction = horizon_rows};
     ss_engine_job job = {
         .walk = {.term = SS_TERM_HORIZON,
                  .want = (want_dist ? SS_HORIZON_WANT_DIST : 0) |

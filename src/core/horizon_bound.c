@@ -86,7 +86,7 @@ ss_status ss_horizon_bound_of(ss_ctx *ctx, const ss_source *src, const ss_sweep_
                               double *deg)
 {
     bound_parts b = {0, 0, INFINITY, -INFINITY, 0};
-    ss_consumer consumer = {0, NULL, NULL, bound_band};
+    ss_consumer consumer = {.planes = 0, .finish = bound_band};
     ss_engine_job job = {.walk = {.term = SS_TERM_NONE},
                          .consumer = &consumer,
                          .user = &b,

@@ -162,6 +162,7 @@ typedef struct {
     float *step_global;      /* the step's global over the band's rows (NULL: no step outputs) */
     ss_step_sun *sun;        /* the step's sun terms over the band's cells */
     float pressure_lo, pressure_hi; /* the band's range of air pressure factors */
+    uint64_t valid_cells;           /* the band's cells with a height */
     double *lattice_tx;      /* a step's sun lattice's places of the columns (or NULL) */
     size_t lattice_tx_count;
 } steps_run;
@@ -313,8 +314,10 @@ static void band_pressure_range(steps_run *s, const ss_band_view *band)
     size_t n = (size_t)band->n_rows * band->width;
     s->pressure_lo = INFINITY;
     s->pressure_hi = -INFINITY;
+    s->valid_cells = 0;
     for (size_t c = 0; c < n; ++c)
         if (isfinite(band->own_z[c])) {
+            s->valid_cells++;
             s->pressure_lo = fminf(s->pressure_lo, s->terms[c].pressure_factor);
             s->pressure_hi = fmaxf(s->pressure_hi, s->terms[c].pressure_factor);
         }
@@ -329,6 +332,9 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
     if (st != SS_OK)
         return st;
     band_pressure_range(s, band);
+    if (band->device)
+        st = ss_engine_cells_begin(band->device, s->terms,
+                                   ss_insolation_planes_of(job->want).count);
     if (!job->horizons)
         return st;
     /* Interpolated shadows read the band's stored horizons, in place where
@@ -343,6 +349,81 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
     s->stored = s->stored_band;
     s->stored_stride = n;
     return st;
+}
+
+/* A weather record's PV: whether a step yields (the PV planes kept, a
+ * record, the options' PV on), its air and the system's terms. */
+typedef struct {
+    int on, temp_model;
+    float temp_air, wind, gamma_pdc, losses, eta_inv, inv_pdc0;
+} step_pv;
+
+static step_pv step_pv_of(const ss_insolation_options *io, const ss_sun_step *sun,
+                          const ss_insolation_planes *p)
+{
+    step_pv v;
+    v.on = p->pv >= 0 && sun->real_sky && io->pv.on;
+    v.temp_model = (int)io->pv.temp_model;
+    v.temp_air = (float)(isnan(sun->temp_air_c) ? io->pv.temp_air_c : sun->temp_air_c);
+    v.wind = (float)(isnan(sun->wind_speed_m_s) ? io->pv.wind_speed_m_s : sun->wind_speed_m_s);
+    v.gamma_pdc = (float)io->pv.gamma_pdc;
+    v.losses = (float)io->pv.losses;
+    /* The inverter's DC input limit per kWp of modules: its AC rating
+     * (1 / the DC/AC ratio) over its nominal efficiency. */
+    v.eta_inv = (float)io->pv.inverter_efficiency;
+    v.inv_pdc0 = v.on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
+    return v;
+}
+
+/* A step added on the device (kernels/ss_insolation_cells.h), with the
+ * walk's rows left there or none; every valid cell counts as a cell step. */
+static ss_status device_step(steps_run *s, int k, const ss_band_view *band, const ss_dir_rows *rows,
+                             const ss_sun_step *sun, const ss_sky_record *rec, ss_sky_parts sky,
+                             const ss_insolation_planes *p, int month_plane, const step_pv *pv)
+{
+    const ss_sun_lattice *l = sun->lattice;
+    ss_cells_step step = {
+        .cells = band->n_rows * band->width,
+        .width = band->width,
+        .row0 = band->row0,
+        .horizon = rows != NULL,
+        .real_sky = sun->real_sky != 0,
+        .lattice = l != NULL,
+        .lattice_cols = l ? l->n_cols : 0,
+        .lattice_rows = l ? l->n_rows : 0,
+        .h0_deg = (float)sun->elevation_deg,
+        .az_deg = (float)sun->grid_azimuth_deg,
+        .app_deg = (float)sun->apparent_elevation_deg,
+        .centre = ss_sun_centre_of((float)sun->elevation_deg, (float)sun->grid_azimuth_deg),
+        .linke = (float)sun->linke,
+        .g0 = (float)sun->extraterrestrial_w_m2,
+        .albedo = (float)s->job->io->albedo,
+        .dt = (float)sun->duration_h,
+        .rec = *rec,
+        .sky = sky,
+        .beam = p->beam,
+        .diffuse = p->diffuse,
+        .reflected = p->reflected,
+        .total = p->global,
+        .hours = p->hours,
+        .month = month_plane,
+        .pv = pv->on ? p->pv : -1,
+        .pv_ac = pv->on ? p->pv_ac : -1,
+        .temp_model = pv->temp_model,
+        .temp_air = pv->temp_air,
+        .wind = pv->wind,
+        .gamma_pdc = pv->gamma_pdc,
+        .losses = pv->losses,
+        .inv_pdc0 = pv->inv_pdc0,
+        .eta_inv = pv->eta_inv};
+    if (l && !lattice_spans(l, band))
+        return ss_fail(s->job->ctx, SS_ERR_ARGUMENT,
+                       "time step %d's sun lattice does not span columns 0..%d and rows %d..%d "
+                       "in increasing order",
+                       k, band->width - 1, band->row0, band->row0 + band->n_rows - 1);
+    s->job->ctx->counters.cell_steps += s->valid_cells;
+    s->job->ctx->counters.cell_steps_on_device += s->valid_cells;
+    return ss_engine_cells_step(band->device, rows, &step, l);
 }
 
 /* Step k over a band's own cells: its shadows (rows of the walk at its
@@ -372,34 +453,37 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             sky = sky_parts_at_centre(io, &sun, &rec);
         }
         ss_insolation_planes p = ss_insolation_planes_of(job->want);
+        step_pv pvs = step_pv_of(io, &sun, &p);
+        int month_plane = p.monthly >= 0 && sun.month >= 1 && sun.month <= 12
+                              ? p.monthly + sun.month - 1
+                              : -1;
+        if (band->device && (sun.lattice || !(sun.elevation_per_cell ||
+                                              sun.grid_azimuth_per_cell || sun.apparent_per_cell)))
+            return device_step(s, k, band, kind == STEP_SWEPT ? rows : NULL, &sun, &rec, sky, &p,
+                               month_plane, &pvs);
+        /* The walk's rows, where they were left on the device. */
+        ss_dir_rows read = rows ? *rows : (ss_dir_rows){NULL, NULL, NULL, 0};
+        if (band->device && kind == STEP_SWEPT)
+            st = ss_engine_device_rows(band->device, &read);
         float *beam = planes + (size_t)p.beam * n, *diffuse = planes + (size_t)p.diffuse * n;
         float *reflected = planes + (size_t)p.reflected * n, *global = planes + (size_t)p.global * n;
         float *hours = planes + (size_t)p.hours * n;
-        float *month = p.monthly >= 0 && sun.month >= 1 && sun.month <= 12
-                           ? planes + (size_t)(p.monthly + sun.month - 1) * n
-                           : NULL;
-        int pv_on = p.pv >= 0 && sun.real_sky && io->pv.on;
+        float *month = month_plane >= 0 ? planes + (size_t)month_plane * n : NULL;
+        int pv_on = pvs.on;
         float *pv = pv_on ? planes + (size_t)p.pv * n : NULL;
         float *pv_ac = pv_on ? planes + (size_t)p.pv_ac * n : NULL;
-        float temp_air = (float)(isnan(sun.temp_air_c) ? io->pv.temp_air_c : sun.temp_air_c);
-        float wind = (float)(isnan(sun.wind_speed_m_s) ? io->pv.wind_speed_m_s
-                                                        : sun.wind_speed_m_s);
-        float gamma = (float)io->pv.gamma_pdc, losses = (float)io->pv.losses;
-        /* The inverter's DC input limit per kWp of modules: its AC rating
-         * (1 / the DC/AC ratio) over its nominal efficiency. */
-        float eta_inv = (float)io->pv.inverter_efficiency;
-        float inv_pdc0 =
-            pv_on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
+        float temp_air = pvs.temp_air, wind = pvs.wind, gamma = pvs.gamma_pdc;
+        float losses = pvs.losses, eta_inv = pvs.eta_inv, inv_pdc0 = pvs.inv_pdc0;
         float dt = (float)sun.duration_h;
         const ss_sun_lattice *lattice = sun.lattice;
-        if (lattice) {
+        if (st == SS_OK && lattice) {
             float h_lo, h_hi, a_lo, a_hi;
             lattice_range(lattice, !sun.real_sky, &h_lo, &h_hi, &a_lo, &a_hi);
             ss_step_sun_fill_range(s->sun, h_lo, h_hi, a_lo, a_hi, (float)sun.elevation_deg,
                                    (float)sun.grid_azimuth_deg, (float)sun.linke, !sun.real_sky,
                                    s->pressure_lo, s->pressure_hi);
             st = lattice_columns(s, lattice, band, k);
-        } else {
+        } else if (st == SS_OK) {
             ss_step_sun_fill(s->sun, sun.elevation_per_cell, sun.grid_azimuth_per_cell, n,
                              (float)sun.elevation_deg, (float)sun.grid_azimuth_deg,
                              (float)sun.linke, !sun.real_sky, s->pressure_lo, s->pressure_hi);
@@ -411,7 +495,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             .h0_step_deg = (float)sun.elevation_deg,
             .az_step_deg = (float)sun.grid_azimuth_deg,
             .app_step_deg = (float)sun.apparent_elevation_deg,
-            .swept = kind == STEP_SWEPT ? rows->angle : NULL,
+            .swept = kind == STEP_SWEPT ? read.angle : NULL,
             .stored0 = kind == STEP_STORED ? s->stored + (size_t)between.i0 * s->stored_stride : NULL,
             .stored1 = kind == STEP_STORED ? s->stored + (size_t)between.i1 * s->stored_stride : NULL,
             .stored_t = between.t,
@@ -459,11 +543,11 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                     beam[c] += add.beam;
                     diffuse[c] += add.diffuse;
                     reflected[c] += add.reflected;
-                    global[c] += add.global;
+                    global[c] += add.total;
                     hours[c] += add.sun_hours;
                     if (month)
-                        month[c] += add.global;
-                    a.global[j] = add.global;
+                        month[c] += add.total;
+                    a.global[j] = add.total;
                 }
             for (int j = 0; (pv_on || step_global) && j < m; ++j) {
                 size_t c = c0 + (size_t)j;
@@ -604,8 +688,14 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
     if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
-    ss_consumer consumer = {ss_insolation_planes_of(job->want).count, steps_visit,
-                            steps_direction, steps_finish};
+    /* Steps go to the device where the backend can take them, except
+     * interpolated shadows (their stored horizons stay on the host) and
+     * the per-step outputs (each step's rows would come back anyway). */
+    ss_consumer consumer = {.planes = ss_insolation_planes_of(job->want).count,
+                            .visit = steps_visit,
+                            .direction = steps_direction,
+                            .finish = steps_finish,
+                            .device_cells = !job->horizons && !steps_out};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
                          .dirs = plan->dirs,
                          .n_dirs = plan->n_dirs,

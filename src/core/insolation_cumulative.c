@@ -242,8 +242,8 @@ ss_status ss_insolation_cumulative(ss_insolation_job *job, int n_steps)
                             : ss_malloc(n * sizeof(int16_t) * (size_t)opt->directions)};
     if (st == SS_OK && (!r.terms || (!r.stored && !ss_cell_store_peek(job->horizons, 0, 0))))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
-    ss_consumer consumer = {ss_insolation_planes_of(job->want).count, NULL, NULL,
-                            cumulative_band};
+    ss_consumer consumer = {.planes = ss_insolation_planes_of(job->want).count,
+                            .finish = cumulative_band};
     ss_engine_job run = {.walk = {.term = SS_TERM_NONE},
                          .consumer = &consumer,
                          .user = &r,

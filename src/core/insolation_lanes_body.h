@@ -52,13 +52,9 @@ static inline __attribute__((always_inline)) int lane_cell(const ss_lane_step *s
 {
     const ss_step_sun *tb = s->tables;
     if (real_sky) {
-        ss_cell_sun sun = {h0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-        ss_sincos_near(tb->sin_h_centre, tb->cos_h_centre, h0 - tb->h_centre, &sun.sin_h0,
-                       &sun.cos_h0);
-        ss_sincos_near(tb->sin_a_centre, tb->cos_a_centre, az - tb->a_centre, &sun.sin_az,
-                       &sun.cos_az);
+        ss_cell_sun sun = ss_sun_near_of(&tb->centre, h0, az);
         *add = ss_cell_step_weather(t, &sun, app, horizon, &s->rec, s->sky, s->dt);
-        return ss_step_sun_near(tb, h0, az);
+        return ss_sun_near(&tb->centre, h0, az);
     }
     float e[SS_SUN_TABLE_TERMS], a[2], kb = 0.0f;
     int ok = table_lane(&tb->elevation, h0, e, 4) & table_lane(&tb->azimuth, az, a, 2);
@@ -84,7 +80,7 @@ static inline __attribute__((always_inline)) void lane_run(const ss_lane_step *s
         ss_cell_step add;
         int ok = lane_cell(s, &terms[j], h0, az, app_deg[j], horizon[j], real_sky, &add);
         int live = isfinite(own_z[j]) && (real_sky || h0 > 0.0f), use = live && ok;
-        float g = use ? add.global : 0.0f;
+        float g = use ? add.total : 0.0f;
         beam[j] += use ? add.beam : 0.0f;
         diffuse[j] += use ? add.diffuse : 0.0f;
         reflected[j] += use ? add.reflected : 0.0f;

@@ -143,7 +143,7 @@ static ss_status store_horizons(ss_insolation_job *job)
                                             opt->directions);
     for (int i = 0; st == SS_OK && i < opt->directions; ++i)
         dirs[i] = (ss_engine_dir){ss_direction_azimuth(opt, i), 1, i, -1};
-    ss_consumer consumer = {0, NULL, store_direction, NULL};
+    ss_consumer consumer = {.planes = 0, .direction = store_direction};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
                          .dirs = dirs,
                          .n_dirs = opt->directions,
@@ -245,7 +245,10 @@ static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky, int sto
         azimuths[i] = ss_direction_azimuth(opt, i);
         dirs[i] = (ss_engine_dir){azimuths[i], 1, i, -1};
     }
-    ss_consumer consumer = {3, terms_visit, terms_direction, terms_finish};
+    ss_consumer consumer = {.planes = 3,
+                            .visit = terms_visit,
+                            .direction = terms_direction,
+                            .finish = terms_finish};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
                          .dirs = dirs,
                          .n_dirs = n_dirs,

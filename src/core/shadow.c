@@ -41,7 +41,7 @@ static ss_status shadow_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
                              shadow_run *s)
 {
     ss_engine_dir dir = {azimuth_deg, 1, 0, -1};
-    ss_consumer consumer = {0, NULL, direction, NULL};
+    ss_consumer consumer = {.planes = 0, .direction = direction};
     ss_engine_job job = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f},
                          .dirs = &dir,
                          .n_dirs = 1,

@@ -8,11 +8,11 @@
 #include "ctx_internal.h"
 #include "skysweep_sun.h"
 #include "spa.h"
+#include "ss_sun_lattice.h"
 
 #define RAD (M_PI / 180.0)
 /* Unix time of JD 2451545.0 (2000-01-01 12:00), in days. */
 #define J2000_UNIX_DAYS 10957.5
-#define SUN_RADIUS_DEG 0.26667 /* SPA's semidiameter for rise/set and refraction */
 
 static double wrap360(double deg)
 {
@@ -92,10 +92,7 @@ double ss_delta_t_model(double decimal_year)
 double ss_spa_refraction_deg(double e0_deg, double pressure_hpa, double temperature_c,
                              double atmos_refract_deg)
 {
-    if (e0_deg < -(SUN_RADIUS_DEG + atmos_refract_deg))
-        return 0;
-    return (pressure_hpa / 1010.0) * (283.0 / (273.0 + temperature_c)) * 1.02 /
-           (60.0 * tan(RAD * (e0_deg + 10.3 / (e0_deg + 5.11))));
+    return ss_refraction_deg(e0_deg, pressure_hpa, temperature_c, atmos_refract_deg);
 }
 
 double ss_pressure_from_altitude_hpa(double altitude_m)
@@ -416,7 +413,7 @@ ss_status ss_sun_rise_set(ss_ctx *ctx, double day_start_unix_s, double lat_deg, 
         if (i == 1)
             nu = g.nu_deg; /* sidereal time at the day's start (UT1) */
     }
-    double h0 = -(SUN_RADIUS_DEG + p->atmos_refract_deg), lat = RAD * lat_deg;
+    double h0 = -(SS_SUN_RADIUS_DEG + p->atmos_refract_deg), lat = RAD * lat_deg;
     double m[3]; /* transit, rise, set as fractions of the day */
     m[0] = wrap360(alpha[1] - lon_deg - nu) / 360;
     double cos_h0 =

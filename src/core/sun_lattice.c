@@ -2,16 +2,12 @@
  * one interpolation of them, which the sun field of the command line
  * (src/adapt/sun_field.c) fills its per-cell arrays with and insolation's
  * steps call on each run of cells, so that a step's suns need not pass
- * through memory. */
+ * through memory. A device takes its cells one by one (ss_lattice_sun_at);
+ * both compute each cell with kernels/ss_sun_lattice.h. */
 #include "config.h"
 
 #include "skysweep_sun.h"
-
-/* x's place between a and b (0 where they coincide). */
-static double between(int x, int a, int b)
-{
-    return b > a ? (double)(x - a) / (b - a) : 0.0;
-}
+#include "ss_sun_lattice.h"
 
 size_t ss_sun_lattice_tx_count(const ss_sun_lattice *l)
 {
@@ -23,7 +19,7 @@ void ss_sun_lattice_tx(const ss_sun_lattice *l, double *tx)
     const int *cols = l->cols;
     for (int i = 0; i + 1 < l->n_cols; ++i)
         for (int c = cols[i]; c <= cols[i + 1]; ++c)
-            tx[cols[i] - cols[0] + i + (c - cols[i])] = between(c, cols[i], cols[i + 1]);
+            tx[cols[i] - cols[0] + i + (c - cols[i])] = ss_lattice_between(c, cols[i], cols[i + 1]);
 }
 
 /* Bilinear between nodes. So is refraction where the sun stands above the
@@ -41,7 +37,7 @@ void ss_sun_lattice_cells(const ss_sun_lattice *l, const double *tx, int row, in
     int j = 0;
     while (j + 2 < nr && rows[j + 1] < row)
         ++j;
-    double ty = between(row, rows[j], rows[j + 1]);
+    double ty = ss_lattice_between(row, rows[j], rows[j + 1]);
     const double *node_az = l->grid_azimuth_deg, *node_e0 = l->elevation_deg;
     const double *node_refr = l->refraction_deg;
     int i = 0;
@@ -57,12 +53,12 @@ void ss_sun_lattice_cells(const ss_sun_lattice *l, const double *tx, int row, in
                        : col1;
         /* The row's values at the segment's two ends, then linear along it. */
         size_t a = (size_t)j * nc + i, b = a + 1, d = a + nc, e = d + 1;
-        double az0 = (1 - ty) * node_az[a] + ty * node_az[d];
-        double az1 = (1 - ty) * node_az[b] + ty * node_az[e];
-        double e00 = (1 - ty) * node_e0[a] + ty * node_e0[d];
-        double e01 = (1 - ty) * node_e0[b] + ty * node_e0[e];
-        double r0 = (1 - ty) * node_refr[a] + ty * node_refr[d];
-        double r1 = (1 - ty) * node_refr[b] + ty * node_refr[e];
+        double az0 = ss_lattice_blend(ty, node_az[a], node_az[d]);
+        double az1 = ss_lattice_blend(ty, node_az[b], node_az[e]);
+        double e00 = ss_lattice_blend(ty, node_e0[a], node_e0[d]);
+        double e01 = ss_lattice_blend(ty, node_e0[b], node_e0[e]);
+        double r0 = ss_lattice_blend(ty, node_refr[a], node_refr[d]);
+        double r1 = ss_lattice_blend(ty, node_refr[b], node_refr[e]);
         int smooth = node_e0[a] > 0 && node_e0[b] > 0 && node_e0[d] > 0 && node_e0[e] > 0;
         const double *tx_of = tx + (i - cols[0]); /* by column: segment i's place */
         if (smooth) {
@@ -70,20 +66,20 @@ void ss_sun_lattice_cells(const ss_sun_lattice *l, const double *tx, int row, in
 #pragma omp simd
             for (int c = c_lo; c < c_hi; ++c) {
                 double t = tx_of[c];
-                double e0 = (1 - t) * e00 + t * e01;
-                grid_azimuth_deg[c - col0] = (float)((1 - t) * az0 + t * az1);
+                double e0 = ss_lattice_blend(t, e00, e01);
+                grid_azimuth_deg[c - col0] = (float)ss_lattice_blend(t, az0, az1);
                 elevation_deg[c - col0] = (float)e0;
-                apparent_deg[c - col0] = (float)(e0 + ((1 - t) * r0 + t * r1));
+                apparent_deg[c - col0] = (float)(e0 + ss_lattice_blend(t, r0, r1));
             }
             continue;
         }
         for (int c = c_lo; c < c_hi; ++c) {
             double t = tx_of[c];
-            double e0 = (1 - t) * e00 + t * e01;
-            grid_azimuth_deg[c - col0] = (float)((1 - t) * az0 + t * az1);
+            double e0 = ss_lattice_blend(t, e00, e01);
+            grid_azimuth_deg[c - col0] = (float)ss_lattice_blend(t, az0, az1);
             elevation_deg[c - col0] = (float)e0;
-            apparent_deg[c - col0] = (float)(e0 + ss_spa_refraction_deg(e0, l->pressure_hpa, l->temperature_c,
-                                                            l->atmos_refract_deg));
+            apparent_deg[c - col0] = (float)(e0 + ss_refraction_deg(e0, l->pressure_hpa, l->temperature_c,
+                                                         l->atmos_refract_deg));
         }
     }
 }

@@ -123,15 +123,9 @@ static void range_rad(const float *deg, size_t n, float step_deg, int above_only
 static int step_centre(ss_step_sun *s, float h0_step_deg, float az_step_deg, float linke,
                        int clear)
 {
-    const float rad = (float)(M_PI / 180.0);
     s->linke = linke;
     s->clear = clear;
-    s->h_centre = h0_step_deg * rad;
-    s->a_centre = az_step_deg * rad;
-    s->sin_h_centre = sinf(s->h_centre);
-    s->cos_h_centre = cosf(s->h_centre);
-    s->sin_a_centre = sinf(s->a_centre);
-    s->cos_a_centre = cosf(s->a_centre);
+    s->centre = ss_sun_centre_of(h0_step_deg, az_step_deg);
     if (!clear) {
         ss_sun_table_fill(&s->elevation, NAN, 1.0f, 0, NAN, NAN, 4, elevation_terms, s);
         ss_sun_table_fill(&s->azimuth, NAN, 1.0f, 0, NAN, NAN, 2, azimuth_terms, s);
@@ -149,7 +143,7 @@ static void clear_tables(ss_step_sun *s, int per_cell_h, int per_cell_a, float h
     /* Cells' suns: SS_SUN_TABLE_NODES intervals centred on the centre's.
      * One sun for every cell: a lattice that starts on it, whose first node
      * holds its exact terms. */
-    float h_step = s->h_centre, a_step = s->a_centre;
+    float h_step = s->centre.h, a_step = s->centre.a;
     float h_origin =
         per_cell_h ? (float)(h_step - ELEVATION_WINDOW / 2 * (double)ELEVATION_SPACING_RAD)
                    : h_step;

@@ -17,7 +17,7 @@
  * A weather record's sky takes the sines and cosines alone, and those need
  * no table: each cell's come from the centre's by the angle-addition
  * formulas, with the sine and cosine of its small difference from the
- * centre's sun as series (ss_sincos_near). That costs the lanes a few
+ * centre's sun as series (ss_sincos_near, kernels/ss_cell_step.h). That costs the lanes a few
  * multiplications where the tables cost gathers, and the step no scan of
  * its cells' range (3.6 s of an hourly weather year on the Kilauea DEM,
  * doc/performance.md). */
@@ -85,36 +85,8 @@ typedef struct {
     ss_sun_table elevation, azimuth, air_mass;
     float linke;
     int clear;
-    /* The centre's sun (radians) and its sines and cosines. */
-    float h_centre, a_centre, sin_h_centre, cos_h_centre, sin_a_centre, cos_a_centre;
+    ss_sun_centre centre; /* the weather record's cells' suns come from it */
 } ss_step_sun;
-
-/* How far (radians) a cell's sun may lie from the centre's, in elevation
- * and in azimuth, for ss_sincos_near. */
-#define SS_SUN_NEAR_RAD 0.5f
-
-/* The sine and cosine of x + d from those of x (sin_x, cos_x), for |d| at
- * most SS_SUN_NEAR_RAD: sin d and cos d by their Taylor series to d^7 and
- * d^8, whose remainders there are under 6e-9 and 3e-10 (d^9 / 9! and
- * d^10 / 10!), then the angle-addition formulas. */
-static inline void ss_sincos_near(float sin_x, float cos_x, float d, float *sin_xd, float *cos_xd)
-{
-    float d2 = d * d;
-    float sin_d = d * (1.0f - d2 * (1.0f / 6.0f - d2 * (1.0f / 120.0f - d2 * (1.0f / 5040.0f))));
-    float cos_d =
-        1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f - d2 * (1.0f / 720.0f - d2 * (1.0f / 40320.0f))));
-    *sin_xd = sin_x * cos_d + cos_x * sin_d;
-    *cos_xd = cos_x * cos_d - sin_x * sin_d;
-}
-
-/* Whether a weather record's sun at a cell, h0 and az (radians), lies near
- * enough the centre's for ss_sincos_near (else it is computed exactly):
- * without a branch, for the lanes. */
-static inline int ss_step_sun_near(const ss_step_sun *s, float h0, float az)
-{
-    return (fabsf(h0 - s->h_centre) <= SS_SUN_NEAR_RAD) &
-           (fabsf(az - s->a_centre) <= SS_SUN_NEAR_RAD);
-}
 
 /* The tables for a step whose centre's sun (true elevation and grid
  * azimuth, degrees) is h0_step_deg and az_step_deg, and whose cells' suns
@@ -146,15 +118,8 @@ static inline ss_cell_sun ss_step_sun_at(const ss_step_sun *s, const ss_cell_ter
     float e[SS_SUN_TABLE_TERMS], a[2] = {0.0f, 0.0f}, kb = 0.0f;
     ss_cell_sun sun;
     if (!s->clear) {
-        if (!ss_step_sun_near(s, h0, az))
-            return ss_cell_sun_exact(t, h0, az, s->linke, 0);
-        sun.h0 = h0;
-        ss_sincos_near(s->sin_h_centre, s->cos_h_centre, h0 - s->h_centre, &sun.sin_h0,
-                       &sun.cos_h0);
-        ss_sincos_near(s->sin_a_centre, s->cos_a_centre, az - s->a_centre, &sun.sin_az,
-                       &sun.cos_az);
-        sun.kb = sun.diffuse_fraction = 0.0f;
-        return sun;
+        return ss_sun_near(&s->centre, h0, az) ? ss_sun_near_of(&s->centre, h0, az)
+                                               : ss_cell_sun_exact(t, h0, az, s->linke, 0);
     }
     if (!ss_sun_table_at(&s->elevation, h0, e))
         return ss_cell_sun_exact(t, h0, az, s->linke, s->clear);

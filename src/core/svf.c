@@ -74,7 +74,7 @@ ss_status ss_sky_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options 
         if (ss_share_has(share, i))
             dirs[n++] = (ss_engine_dir){ss_direction_azimuth(opt, i), 1, i, -1};
     sky_run k = {term, opt->directions, share, sink, user};
-    ss_consumer consumer = {1, NULL, NULL, sky_finish};
+    ss_consumer consumer = {.planes = 1, .finish = sky_finish};
     ss_engine_job job = {
         .walk = {.term = kernel_term(term),
                  .radius_m = radius_m,
