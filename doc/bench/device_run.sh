@@ -70,3 +70,8 @@ want solar && for dev in "$gpu" "Portable"; do
         done
     done
 done
+# The GPU's per-cell work (its default) against the same on the host.
+want solar && echo "== ss-scale insolation on $gpu, 4096 whole, cells on the host" &&
+    SKYSWEEP_CELLS=host timeout 300 "$dir/bin/ss-scale" --size 4096 --directions 16 \
+        --insolation $week --whole --device "$gpu" 2>&1 |
+    grep -E '^(grid|steps|time|check)' | sed 's/^/  /'
