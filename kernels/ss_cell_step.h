@@ -37,13 +37,13 @@ typedef struct {
 
 /* The sun's terms at a cell, evaluated exactly (sun_table.h tabulates them
  * over a step's cells). */
-SS_FN ss_cell_sun ss_cell_sun_exact(const ss_cell_terms *t, float h0, float az,
-                                            float linke, int clear)
+SS_FN ss_cell_sun ss_cell_sun_exact(const ss_cell_terms *t, float h0, float az, float linke,
+                                    int clear)
 {
     ss_cell_sun s = {h0, SS_SIN(h0), SS_COS(h0), SS_SIN(az), SS_COS(az), 0.0f, 0.0f};
     if (clear && h0 > 0.0f) {
-        s.kb = ss_esra_beam_transmittance(linke,
-                                          t->pressure_factor * ss_esra_air_mass_sea_level(h0));
+        s.kb =
+            ss_esra_beam_transmittance(linke, t->pressure_factor * ss_esra_air_mass_sea_level(h0));
         s.diffuse_fraction = ss_esra_diffuse_fraction(linke, s.sin_h0);
     }
     return s;
@@ -110,8 +110,8 @@ SS_FN ss_cell_sun ss_sun_near_of(const ss_sun_centre *c, float h0, float az)
  * azimuth; the step's extraterrestrial irradiance, albedo and duration
  * (hours). A sun below the horizontal adds nothing. */
 SS_FN ss_cell_step ss_cell_step_of(const ss_cell_terms *t, const ss_cell_sun *sun,
-                                           float apparent_deg, float horizon_deg, float g0,
-                                           float albedo, float dt)
+                                   float apparent_deg, float horizon_deg, float g0, float albedo,
+                                   float dt)
 {
     float sin_h0 = sun->sin_h0, kb = sun->kb;
     float se = sun->cos_h0 * sun->sin_az, sn = sun->cos_h0 * sun->cos_az;
@@ -127,7 +127,8 @@ SS_FN ss_cell_step ss_cell_step_of(const ss_cell_terms *t, const ss_cell_sun *su
                                                       cos_i, sin_h0, sun->h0, side);
     float reflected = albedo * (beam_h + diff_h) * (1.0f - t->sky_view);
     /* Computed for every sun and then dropped below the horizontal, rather
-     * than branched around: the cells run side by side (insolation_lanes.h, and a device's work-items). */
+     * than branched around: the cells run side by side (insolation_lanes.h, and a device's
+     * work-items). */
     int up = sun->h0 > 0.0f;
     ss_cell_step s;
     s.beam = up ? beam * dt : 0.0f;
@@ -148,9 +149,8 @@ typedef struct ss_sky_record_s {
  * (ss_sky_parts_of, once per step); the sun as for ss_cell_step_of (its
  * clear-sky terms unused), which may here be below the horizontal. */
 SS_FN ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, const ss_cell_sun *sun,
-                                                float apparent_deg, float horizon_deg,
-                                                const ss_sky_record *rec, ss_sky_parts sky,
-                                                float dt)
+                                        float apparent_deg, float horizon_deg,
+                                        const ss_sky_record *rec, ss_sky_parts sky, float dt)
 {
     ss_cell_step s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     float dni = rec->dni > 0.0f ? rec->dni : 0.0f, ghi = rec->ghi > 0.0f ? rec->ghi : 0.0f;
@@ -170,12 +170,11 @@ SS_FN ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, const ss_cell_su
     return s;
 }
 
-/* What a PV module lying in the cell's surface yields over a step, kWh per
- * kWp, from the step's plane-of-array global (W/m^2) and weather. */
-/* DC power per kWp after the system losses, kW (pvwatts_dc, then the
- * losses, as pvlib's PVWatts chain). */
-SS_FN float ss_cell_pv_power(float poa, float temp_air, float wind, int temp_model,
-                                     float gamma_pdc, float losses)
+/* The DC power per kWp, kW, of a PV module lying in the cell's surface,
+ * from the step's plane-of-array global (W/m^2) and weather: pvwatts_dc,
+ * then the system losses, as pvlib's PVWatts chain. */
+SS_FN float ss_cell_pv_power(float poa, float temp_air, float wind, int temp_model, float gamma_pdc,
+                             float losses)
 {
     float cell = ss_pv_cell_temp(temp_model, poa, temp_air, wind);
     return SS_FMAX(ss_pvwatts_dc_per_kwp(poa, cell, gamma_pdc), 0.0f) * (1.0f - losses);

@@ -5,23 +5,31 @@
  * interpolate). The host interpolates runs of cells
  * (src/core/sun_lattice.c); a device's work-item takes one cell
  * (ss_lattice_sun_at). Both compute each cell's value with these
- * functions. Degrees throughout. */
+ * functions: the same bits where the device has doubles and does not fuse
+ * a multiply and add (OpenCL may), else within their rounding. Degrees
+ * throughout. */
 #ifndef SS_SUN_LATTICE_H
 #define SS_SUN_LATTICE_H
 
 #include "ss_compat.h"
 
 /* The lattice's arithmetic: double on the host and on devices that have
- * it, else float (the host then hands the device its nodes as floats). */
+ * it, else float. The host says which when it builds the kernels
+ * (SS_REAL_DOUBLE), and hands the device its nodes in that type. SS_R
+ * writes a constant in it. */
 #ifdef __OPENCL_VERSION__
-#ifdef cl_khr_fp64
+#if SS_REAL_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 typedef double ss_real;
+#define SS_R(x) x
 #else
 typedef float ss_real;
+#define SS_R(x) SS_R_FLOAT(x)
+#define SS_R_FLOAT(x) x##f
 #endif
 #else
 typedef double ss_real;
+#define SS_R(x) x
 #endif
 
 #define SS_SUN_RADIUS_DEG 0.26667 /* SPA's semidiameter for rise, set and refraction */
@@ -32,24 +40,24 @@ typedef double ss_real;
 SS_FN ss_real ss_refraction_deg(ss_real e0, ss_real pressure_hpa, ss_real temperature_c,
                                 ss_real atmos_refract_deg)
 {
-    if (e0 < -((ss_real)SS_SUN_RADIUS_DEG + atmos_refract_deg))
-        return (ss_real)0;
-    const ss_real rad = (ss_real)(3.14159265358979323846 / 180.0);
-    return (pressure_hpa / (ss_real)1010.0) * ((ss_real)283.0 / ((ss_real)273.0 + temperature_c)) *
-           (ss_real)1.02 / ((ss_real)60.0 * tan(rad * (e0 + (ss_real)10.3 / (e0 + (ss_real)5.11))));
+    if (e0 < -(SS_R(SS_SUN_RADIUS_DEG) + atmos_refract_deg))
+        return SS_R(0.0);
+    const ss_real rad = SS_R(3.14159265358979323846) / SS_R(180.0);
+    return (pressure_hpa / SS_R(1010.0)) * (SS_R(283.0) / (SS_R(273.0) + temperature_c)) *
+           SS_R(1.02) / (SS_R(60.0) * tan(rad * (e0 + SS_R(10.3) / (e0 + SS_R(5.11)))));
 }
 
 /* x's place between lattice columns or rows a and b (0 where they
  * coincide). */
 SS_FN ss_real ss_lattice_between(int x, int a, int b)
 {
-    return b > a ? (ss_real)(x - a) / (ss_real)(b - a) : (ss_real)0;
+    return b > a ? (ss_real)(x - a) / (ss_real)(b - a) : SS_R(0.0);
 }
 
 /* The value a fraction t of the way from a to b. */
 SS_FN ss_real ss_lattice_blend(ss_real t, ss_real a, ss_real b)
 {
-    return ((ss_real)1 - t) * a + t * b;
+    return (SS_R(1.0) - t) * a + t * b;
 }
 
 /* A lattice as a device holds it: node (i, j) at j * n_cols + i of each
@@ -80,8 +88,8 @@ SS_FN void ss_lattice_sun_at(const ss_lattice_view *l, int row, int col, float *
     ss_real e00 = ss_lattice_blend(ty, l->elevation[a], l->elevation[d]);
     ss_real e01 = ss_lattice_blend(ty, l->elevation[b], l->elevation[e]);
     ss_real e0 = ss_lattice_blend(t, e00, e01);
-    int smooth = l->elevation[a] > 0 && l->elevation[b] > 0 && l->elevation[d] > 0 &&
-                 l->elevation[e] > 0;
+    int smooth =
+        l->elevation[a] > 0 && l->elevation[b] > 0 && l->elevation[d] > 0 && l->elevation[e] > 0;
     ss_real refraction =
         smooth ? ss_lattice_blend(t, ss_lattice_blend(ty, l->refraction[a], l->refraction[d]),
                                   ss_lattice_blend(ty, l->refraction[b], l->refraction[e]))

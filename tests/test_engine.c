@@ -1,7 +1,8 @@
 /* The one driver gives every product the same answer whatever the DEM's
  * size in memory, the device and the batch: each row-wise product on the
  * whole grid and in bands of 1, 7 and 200 rows, on the C twin and on
- * OpenCL (PoCL; skipped, saying so, where no OpenCL device opens), with
+ * OpenCL (PoCL; skipped, saying so, where no OpenCL device opens), there
+ * with insolation's per-cell work on the host and on the device, with
  * batches of one direction and of all, against the C twin's whole grid.
  * This includes what refused bands before the driver was one: radius
  * forms, interpolated shadows and the cumulative sky, weather and PV,
@@ -127,7 +128,7 @@ typedef enum {
     P_SVF_GEOMETRIC, P_SVF_RADIATIVE, P_SVF_RADIUS, P_OPENNESS_NEGATIVE, P_OPENNESS_RADIUS,
     P_HORIZON, P_SHADOW, P_HILLSHADE, P_HILLSHADE_SWEPT, P_VAT, P_INSOLATION_EXACT,
     P_INSOLATION_INTERPOLATED, P_INSOLATION_WEATHER_PV, P_INSOLATION_SURFACE,
-    P_INSOLATION_CUMULATIVE, N_PRODUCTS
+    P_INSOLATION_CLEAR_MONTHLY, P_INSOLATION_CUMULATIVE, N_PRODUCTS
 } product;
 
 static const char *const product_names[N_PRODUCTS] = {
@@ -136,6 +137,7 @@ static const char *const product_names[N_PRODUCTS] = {
     "hillshade", "hillshade with cast shadows and sky view", "VAT blend within 60 m",
     "insolation, exact shadows", "insolation, interpolated shadows",
     "insolation, weather records, Perez, PV", "insolation on a fixed surface, Hay-Davies",
+    "insolation, exact shadows, clear sky, monthly sums",
     "insolation, cumulative sky"};
 
 /* Floats summed in another order over the directions (bands walk them in
@@ -153,6 +155,7 @@ static double tolerance(product p)
     case P_INSOLATION_INTERPOLATED:
     case P_INSOLATION_WEATHER_PV:
     case P_INSOLATION_SURFACE:
+    case P_INSOLATION_CLEAR_MONTHLY:
     case P_INSOLATION_CUMULATIVE:
         return 2e-5;
     case P_HILLSHADE:
@@ -221,6 +224,9 @@ static ss_status run_product(ss_ctx *ctx, product p, int band_rows, results *out
         io.sky_model = SS_SKY_MODEL_HAYDAVIES;
         io.surface = (ss_surface){SS_SURFACE_FIXED, 30.0, 200.0};
         return ss_insolation_rows(ctx, &src, &opt, &io, N_STEPS, sun_of, &io,
+                                  SS_INSOLATION_MONTHLY, NULL, keep_rows, out);
+    case P_INSOLATION_CLEAR_MONTHLY:
+        return ss_insolation_rows(ctx, &src, &opt, &io, N_STEPS, sun_of, NULL,
                                   SS_INSOLATION_MONTHLY, NULL, keep_rows, out);
     case P_INSOLATION_CUMULATIVE:
         io.shadow_mode = SS_SHADOW_CUMULATIVE;

@@ -106,7 +106,7 @@ static ss_status shadow_angles(const char *device, const ss_grid *g, const ss_sw
     ss_ctx_use_device(ctx, device);
     ss_source src = ss_source_of_grid(g);
     ss_engine_dir dir = {azimuth_deg, 1, 0, lit_level};
-    ss_consumer consumer = {0, NULL, keep_angles, NULL};
+    ss_consumer consumer = {.planes = 0, .direction = keep_angles};
     ss_engine_job job = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
                          .dirs = &dir,
                          .n_dirs = 1,

@@ -90,7 +90,8 @@ struct ss_backend {
     int batch;                /* directions per batch: asked for, lowered by open to fit */
     int carried;              /* rows of sums kept between bands (0: the whole grid) */
     const float *whole_z;     /* the whole grid, used in place (NULL in bands) */
-    int device_cells;         /* runs insolation's steps itself (cells_*, ss_ctx_set_cells) */
+    int device_cells;         /* runs insolation's steps itself (cells_*, ss_ctx_set_cells) ... */
+    size_t cells_max_bytes;   /* ... where each of a band's cell buffers fits in this */
     void *impl;
 };
 

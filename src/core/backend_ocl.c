@@ -33,7 +33,7 @@ struct ss_ocl {
     size_t work_group;
     cl_ulong global_mem, max_alloc;
     int is_cpu;
-    int has_fp64; /* the kernels' ss_real is double (ss_sun_lattice.h), else float */
+    int has_fp64; /* the kernels' ss_real is double (ss_sun_lattice.h, SS_REAL_DOUBLE), else float */
 };
 
 static const char *cl_error_name(cl_int err)
@@ -279,7 +279,10 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     if (err != CL_SUCCESS)
         return cl_fail(ctx, err, "clCreateProgramWithSource");
     double t0 = ss_seconds_now();
-    ss_status st = ss_ocl_build(ctx, &o->program, o->device, "-cl-std=CL1.2", &err);
+    /* The lattice's type is the host's choice, so that the two agree. */
+    const char *options = o->has_fp64 ? "-cl-std=CL1.2 -DSS_REAL_DOUBLE=1"
+                                      : "-cl-std=CL1.2 -DSS_REAL_DOUBLE=0";
+    ss_status st = ss_ocl_build(ctx, &o->program, o->device, options, &err);
     ctx->counters.build_seconds += ss_seconds_now() - t0;
     if (st != SS_OK)
         return st;
@@ -376,9 +379,10 @@ static ss_status ocl_open(ss_ctx *ctx, struct ss_ocl *o, const ocl_device_info *
     clGetDeviceInfo(o->device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof o->max_alloc, &o->max_alloc,
                     NULL);
     o->is_cpu = (found->type & CL_DEVICE_TYPE_CPU) != 0;
-    char extensions[4096] = "";
-    clGetDeviceInfo(o->device, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
-    o->has_fp64 = strstr(extensions, "cl_khr_fp64") != NULL;
+    cl_device_fp_config fp64 = 0;
+    o->has_fp64 = clGetDeviceInfo(o->device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64,
+                                  NULL) == CL_SUCCESS &&
+                  fp64 != 0;
     return build_program(ctx, o);
 }
 
@@ -466,7 +470,6 @@ typedef struct {
     size_t cap, ints_bytes, reals_bytes;
     cl_event written; /* the copy's end, or NULL */
 } lattice_entry;
-#define LATTICE_STAGES 8
 
 typedef struct {
     cl_mem z, grad, stacks, sums, parts, outs, carry, dirs;
@@ -487,12 +490,12 @@ typedef struct {
     cl_mem cell_terms, cell_planes, lattice_at, lattice_nodes;
     size_t cell_terms_cap, cell_planes_cap, lattice_at_cap, lattice_nodes_cap; /* bytes */
     int cell_planes_n;
-    float *planes_back;
-    size_t planes_back_cap;
+    float *planes_back; /* CELLS_BACK_FLOATS */
     /* Each step's lattice as queued (written without waiting): a ring, each
-     * entry reused once its write is done. */
-    lattice_entry lattice_stage[LATTICE_STAGES];
-    int lattice_next;
+     * entry reused once its write is done; a batch's steps and two more, so
+     * that the host waits on a step of the batch before last, done with it. */
+    lattice_entry *lattice_stage;
+    int lattice_stages, lattice_next;
 } ocl_backend;
 
 typedef struct {
@@ -935,7 +938,7 @@ static ss_status ocl_cells_begin(ss_backend *b, const ss_band_run *run,
         st = upload(b, q->cell_terms, own * sizeof(ss_cell_terms), terms);
     if (st == SS_OK)
         st = fill(b, q->cell_planes, own * (size_t)planes * sizeof(float));
-    q->cell_planes_n = planes;
+    q->cell_planes_n = st == SS_OK ? planes : 0;
     return st;
 }
 
@@ -948,7 +951,7 @@ static ss_status stage_lattice(ss_backend *b, const ss_sun_lattice *l, lattice_e
     size_t nodes = l ? (size_t)l->n_cols * l->n_rows : 0;
     size_t real = fp64 ? sizeof(double) : sizeof(float);
     lattice_entry *e = &q->lattice_stage[q->lattice_next];
-    q->lattice_next = (q->lattice_next + 1) % LATTICE_STAGES;
+    q->lattice_next = (q->lattice_next + 1) % q->lattice_stages;
     if (e->written) { /* its last copy must be done before it is reused */
         cl_int err = clWaitForEvents(1, &e->written);
         clReleaseEvent(e->written);
@@ -1024,29 +1027,29 @@ static ss_status ocl_cells_step(ss_backend *b, const ss_band_run *run, int slot,
     return run_kernel(b, b->ctx->ocl->k_cells, args, 9, own_cells(run), "the insolation kernel");
 }
 
+/* The band's sums come back in pieces of this many floats, added into the
+ * host's as they come: a whole grid's 19 planes would double them. */
+#define CELLS_BACK_FLOATS ((size_t)1 << 20)
+
 static ss_status ocl_cells_end(ss_backend *b, const ss_band_run *run, float *planes)
 {
     ocl_backend *q = b->impl;
     size_t n = own_cells(run) * (size_t)q->cell_planes_n;
     ss_status st = unmap(b);
-    if (st == SS_OK && n > q->planes_back_cap) {
-        float *grown = ss_realloc(q->planes_back, n * sizeof(float));
-        if (!grown)
-            return ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for the cells' sums");
-        q->planes_back = grown;
-        q->planes_back_cap = n;
+    if (st == SS_OK && !q->planes_back &&
+        !(q->planes_back = ss_malloc(CELLS_BACK_FLOATS * sizeof(float))))
+        st = ss_fail(b->ctx, SS_ERR_MEMORY, "out of memory for the cells' sums");
+    for (size_t at = 0; st == SS_OK && at < n; at += CELLS_BACK_FLOATS) {
+        size_t m = n - at < CELLS_BACK_FLOATS ? n - at : CELLS_BACK_FLOATS;
+        cl_int err = clEnqueueReadBuffer(b->ctx->ocl->queue, q->cell_planes, CL_TRUE,
+                                         at * sizeof(float), m * sizeof(float), q->planes_back,
+                                         0, NULL, NULL);
+        if (err != CL_SUCCESS)
+            return cl_fail(b->ctx, err, "reading the cells' sums");
+        for (size_t k = 0; k < m; ++k)
+            planes[at + k] += q->planes_back[k];
     }
-    cl_int err = st == SS_OK ? clEnqueueReadBuffer(b->ctx->ocl->queue, q->cell_planes, CL_TRUE, 0,
-                                                   n * sizeof(float), q->planes_back, 0, NULL,
-                                                   NULL)
-                             : CL_SUCCESS;
-    if (st != SS_OK)
-        return st;
-    if (err != CL_SUCCESS)
-        return cl_fail(b->ctx, err, "reading the cells' sums");
-    for (size_t k = 0; k < n; ++k)
-        planes[k] += q->planes_back[k];
-    return SS_OK;
+    return st;
 }
 
 static void ocl_close(ss_backend *b)
@@ -1070,11 +1073,12 @@ static void ocl_close(ss_backend *b)
             clReleaseMemObject(all[i]);
     free(q->staged[0]);
     free(q->staged[1]);
-    for (int k = 0; k < LATTICE_STAGES; ++k) {
+    for (int k = 0; q->lattice_stage && k < q->lattice_stages; ++k) {
         if (q->lattice_stage[k].written)
             clReleaseEvent(q->lattice_stage[k].written);
         free(q->lattice_stage[k].bytes);
     }
+    free(q->lattice_stage);
     free(q->planes_back);
     free(q);
     b->impl = NULL;
@@ -1161,6 +1165,13 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     for (int k = 0; k < 2 && err == CL_SUCCESS; ++k)
         if (!(q->staged[k] = ss_malloc(sizeof(ss_band_dir) * (size_t)b->batch)))
             err = CL_OUT_OF_HOST_MEMORY;
+    q->lattice_stages = b->batch + 2;
+    if (err == CL_SUCCESS &&
+        !(q->lattice_stage = ss_calloc((size_t)q->lattice_stages, sizeof(lattice_entry))))
+        err = CL_OUT_OF_HOST_MEMORY;
+    /* The cells' terms and sums take their own buffers, within the device's
+     * largest and a quarter of its memory (the batch takes another). */
+    b->cells_max_bytes = (size_t)fmin((double)o->max_alloc, (double)o->global_mem / 4.0);
     /* Shadow walks stop early on a whole grid only (engine.c sets lit_level
      * -1 elsewhere). */
     if (horizon && b->walk.lit_levels && b->whole_z)

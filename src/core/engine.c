@@ -224,7 +224,18 @@ ss_status ss_engine_cells_begin(ss_engine_device *d, const ss_cell_terms *terms,
 ss_status ss_engine_cells_step(ss_engine_device *d, const ss_dir_rows *rows,
                                const ss_cells_step *step, const ss_sun_lattice *lattice)
 {
+    if (!d->begun)
+        return ss_fail(d->b->ctx, SS_ERR_INTERNAL, "a step sent to the device before its cells");
     return d->b->ops->cells_step(d->b, d->run, rows ? rows->slot : -1, step, lattice);
+}
+
+/* Whether a band's cells fit the device's buffers: else the consumer's
+ * steps stay on the host for the run, as on a CPU device. */
+static int cells_fit(const ss_backend *b, const ss_band_run *run, int planes)
+{
+    size_t own = (size_t)(run->row1 - run->row0) * (size_t)run->width;
+    return own * sizeof(ss_cell_terms) <= b->cells_max_bytes &&
+           own * (size_t)planes * sizeof(float) <= b->cells_max_bytes;
 }
 
 /* Hands slots [0, n) of the batch just walked to the consumer, in order:
@@ -321,7 +332,8 @@ static ss_status visit_band(engine_run *e, int row0, int row1, int pass, int fir
         st = read_band(e, run.lo, run.held_rows);
     const float *z = e->b.whole_z ? e->b.whole_z : e->z;
     e->device = (ss_engine_device){&e->b, &run, 0};
-    int on_device = c->device_cells && walks(e) && e->b.device_cells;
+    int on_device = c->device_cells && walks(e) && e->b.device_cells &&
+                    cells_fit(&e->b, &run, c->planes);
     ss_band_view view = {row0,      row1 - row0, run.lo, run.held_rows,
                          run.width, run.height,  z,      z + (size_t)(row0 - run.lo) * run.width,
                          on_device ? &e->device : NULL};

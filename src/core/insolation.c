@@ -355,7 +355,7 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
  * record, the options' PV on), its air and the system's terms. */
 typedef struct {
     int on, temp_model;
-    float temp_air, wind, gamma_pdc, losses, eta_inv, inv_pdc0;
+    float temp_air, wind, gamma_pdc, losses, inv_pdc0, eta_inv;
 } step_pv;
 
 static step_pv step_pv_of(const ss_insolation_options *io, const ss_sun_step *sun,

@@ -78,8 +78,9 @@ void ss_sun_lattice_cells(const ss_sun_lattice *l, const double *tx, int row, in
             double e0 = ss_lattice_blend(t, e00, e01);
             grid_azimuth_deg[c - col0] = (float)ss_lattice_blend(t, az0, az1);
             elevation_deg[c - col0] = (float)e0;
-            apparent_deg[c - col0] = (float)(e0 + ss_refraction_deg(e0, l->pressure_hpa, l->temperature_c,
-                                                         l->atmos_refract_deg));
+            apparent_deg[c - col0] =
+                (float)(e0 + ss_refraction_deg(e0, l->pressure_hpa, l->temperature_c,
+                                               l->atmos_refract_deg));
         }
     }
 }
