@@ -170,14 +170,27 @@ SS_FN ss_cell_step ss_cell_step_weather(const ss_cell_terms *t, const ss_cell_su
     return s;
 }
 
-/* The DC power per kWp, kW, of a PV module lying in the cell's surface,
- * from the step's plane-of-array global (W/m^2) and weather: pvwatts_dc,
- * then the system losses, as pvlib's PVWatts chain. */
-SS_FN float ss_cell_pv_power(float poa, float temp_air, float wind, int temp_model, float gamma_pdc,
-                             float losses)
+/* A weather record's PV system and air, as every cell's yield takes them:
+ * the cell temperature model (ss_pv.h), air temperature (C) and wind (m/s),
+ * the temperature coefficient (1/K) and system losses, and the inverter's
+ * DC input limit per kWp of modules and its nominal efficiency. */
+typedef struct {
+    int temp_model;
+    float temp_air, wind, gamma_pdc, losses, inv_pdc0, eta_inv;
+} ss_pv_step;
+
+/* The DC and AC energy per kWp (kWh) of a PV module lying in the cell's
+ * surface over a step of dt > 0 hours, from the global the step added to
+ * it (Wh/m^2): pvwatts_dc, the system losses, then pvwatts_ac, as pvlib's
+ * PVWatts chain. */
+SS_FN void ss_cell_pv_yield(const ss_pv_step *p, float global_wh, float dt, float *dc_kwh,
+                            float *ac_kwh)
 {
-    float cell = ss_pv_cell_temp(temp_model, poa, temp_air, wind);
-    return SS_FMAX(ss_pvwatts_dc_per_kwp(poa, cell, gamma_pdc), 0.0f) * (1.0f - losses);
+    float poa = global_wh / dt;
+    float cell = ss_pv_cell_temp(p->temp_model, poa, p->temp_air, p->wind);
+    float pdc = SS_FMAX(ss_pvwatts_dc_per_kwp(poa, cell, p->gamma_pdc), 0.0f) * (1.0f - p->losses);
+    *dc_kwh = pdc * dt;
+    *ac_kwh = ss_pvwatts_ac(pdc, p->inv_pdc0, p->eta_inv) * dt;
 }
 
 #endif

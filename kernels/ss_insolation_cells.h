@@ -29,8 +29,7 @@ typedef struct {
     ss_sky_record rec;
     ss_sky_parts sky;
     int beam, diffuse, reflected, total, hours, month, pv, pv_ac;
-    int temp_model;
-    float temp_air, wind, gamma_pdc, losses, inv_pdc0, eta_inv;
+    ss_pv_step pv_step; /* where pv >= 0 */
 } ss_cells_step;
 
 /* Own cell c of the band, height z (NaN at nodata: nothing added), terms t
@@ -64,10 +63,10 @@ SS_FN void ss_cells_step_at(const ss_cells_step *s, const ss_lattice_view *l, in
     if (s->month >= 0)
         planes[s->month * n + c] += add.total;
     if (s->pv >= 0 && s->dt > 0.0f) {
-        float pdc = ss_cell_pv_power(add.total / s->dt, s->temp_air, s->wind, s->temp_model,
-                                     s->gamma_pdc, s->losses);
-        planes[s->pv * n + c] += pdc * s->dt;
-        planes[s->pv_ac * n + c] += ss_pvwatts_ac(pdc, s->inv_pdc0, s->eta_inv) * s->dt;
+        float dc, ac;
+        ss_cell_pv_yield(&s->pv_step, add.total, s->dt, &dc, &ac);
+        planes[s->pv * n + c] += dc;
+        planes[s->pv_ac * n + c] += ac;
     }
 }
 

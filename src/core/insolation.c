@@ -241,16 +241,26 @@ static int lattice_spans(const ss_sun_lattice *l, const ss_band_view *band)
            l->rows[0] <= band->row0 && l->rows[nr - 1] >= band->row0 + band->n_rows - 1;
 }
 
+/* Refuses step k's lattice where it does not span the band (lattice_spans). */
+static ss_status lattice_check(steps_run *s, const ss_sun_lattice *lattice,
+                               const ss_band_view *band, int k)
+{
+    return lattice_spans(lattice, band)
+               ? SS_OK
+               : ss_fail(s->job->ctx, SS_ERR_ARGUMENT,
+                         "time step %d's sun lattice does not span columns 0..%d and rows %d..%d "
+                         "in increasing order",
+                         k, band->width - 1, band->row0, band->row0 + band->n_rows - 1);
+}
+
 /* The places of a step's lattice's columns (ss_sun_lattice_tx) into
  * s->lattice_tx, once its span is checked. */
 static ss_status lattice_columns(steps_run *s, const ss_sun_lattice *lattice,
                                  const ss_band_view *band, int k)
 {
-    if (!lattice_spans(lattice, band))
-        return ss_fail(s->job->ctx, SS_ERR_ARGUMENT,
-                       "time step %d's sun lattice does not span columns 0..%d and rows %d..%d "
-                       "in increasing order",
-                       k, band->width - 1, band->row0, band->row0 + band->n_rows - 1);
+    ss_status st = lattice_check(s, lattice, band, k);
+    if (st != SS_OK)
+        return st;
     size_t count = ss_sun_lattice_tx_count(lattice);
     if (count > s->lattice_tx_count) {
         double *tx = ss_realloc(s->lattice_tx, count * sizeof(double));
@@ -352,27 +362,28 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
 }
 
 /* A weather record's PV: whether a step yields (the PV planes kept, a
- * record, the options' PV on), its air and the system's terms. */
+ * record, the options' PV on), and its system and air. */
 typedef struct {
-    int on, temp_model;
-    float temp_air, wind, gamma_pdc, losses, inv_pdc0, eta_inv;
+    int on;
+    ss_pv_step terms;
 } step_pv;
 
 static step_pv step_pv_of(const ss_insolation_options *io, const ss_sun_step *sun,
                           const ss_insolation_planes *p)
 {
-    step_pv v;
-    v.on = p->pv >= 0 && sun->real_sky && io->pv.on;
-    v.temp_model = (int)io->pv.temp_model;
-    v.temp_air = (float)(isnan(sun->temp_air_c) ? io->pv.temp_air_c : sun->temp_air_c);
-    v.wind = (float)(isnan(sun->wind_speed_m_s) ? io->pv.wind_speed_m_s : sun->wind_speed_m_s);
-    v.gamma_pdc = (float)io->pv.gamma_pdc;
-    v.losses = (float)io->pv.losses;
+    step_pv s;
+    s.on = p->pv >= 0 && sun->real_sky && io->pv.on;
+    ss_pv_step *v = &s.terms;
+    v->temp_model = (int)io->pv.temp_model;
+    v->temp_air = (float)(isnan(sun->temp_air_c) ? io->pv.temp_air_c : sun->temp_air_c);
+    v->wind = (float)(isnan(sun->wind_speed_m_s) ? io->pv.wind_speed_m_s : sun->wind_speed_m_s);
+    v->gamma_pdc = (float)io->pv.gamma_pdc;
+    v->losses = (float)io->pv.losses;
     /* The inverter's DC input limit per kWp of modules: its AC rating
      * (1 / the DC/AC ratio) over its nominal efficiency. */
-    v.eta_inv = (float)io->pv.inverter_efficiency;
-    v.inv_pdc0 = v.on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
-    return v;
+    v->eta_inv = (float)io->pv.inverter_efficiency;
+    v->inv_pdc0 = s.on ? (float)(1.0 / (io->pv.dc_ac_ratio * io->pv.inverter_efficiency)) : 1.0f;
+    return s;
 }
 
 /* A step added on the device (kernels/ss_insolation_cells.h), with the
@@ -409,18 +420,10 @@ static ss_status device_step(steps_run *s, int k, const ss_band_view *band, cons
         .month = month_plane,
         .pv = pv->on ? p->pv : -1,
         .pv_ac = pv->on ? p->pv_ac : -1,
-        .temp_model = pv->temp_model,
-        .temp_air = pv->temp_air,
-        .wind = pv->wind,
-        .gamma_pdc = pv->gamma_pdc,
-        .losses = pv->losses,
-        .inv_pdc0 = pv->inv_pdc0,
-        .eta_inv = pv->eta_inv};
-    if (l && !lattice_spans(l, band))
-        return ss_fail(s->job->ctx, SS_ERR_ARGUMENT,
-                       "time step %d's sun lattice does not span columns 0..%d and rows %d..%d "
-                       "in increasing order",
-                       k, band->width - 1, band->row0, band->row0 + band->n_rows - 1);
+        .pv_step = pv->terms};
+    ss_status st = l ? lattice_check(s, l, band, k) : SS_OK;
+    if (st != SS_OK)
+        return st;
     s->job->ctx->counters.cell_steps += s->valid_cells;
     s->job->ctx->counters.cell_steps_on_device += s->valid_cells;
     return ss_engine_cells_step(band->device, rows, &step, l);
@@ -472,8 +475,6 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         int pv_on = pvs.on;
         float *pv = pv_on ? planes + (size_t)p.pv * n : NULL;
         float *pv_ac = pv_on ? planes + (size_t)p.pv_ac * n : NULL;
-        float temp_air = pvs.temp_air, wind = pvs.wind, gamma = pvs.gamma_pdc;
-        float losses = pvs.losses, eta_inv = pvs.eta_inv, inv_pdc0 = pvs.inv_pdc0;
         float dt = (float)sun.duration_h;
         const ss_sun_lattice *lattice = sun.lattice;
         if (st == SS_OK && lattice) {
@@ -554,10 +555,10 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                 if (a.what[j] == SS_LANE_SKIP)
                     continue;
                 if (pv_on && dt > 0.0f) {
-                    float pdc = ss_cell_pv_power(a.global[j] / dt, temp_air, wind,
-                                                 (int)io->pv.temp_model, gamma, losses);
-                    pv[c] += pdc * dt;
-                    pv_ac[c] += ss_pvwatts_ac(pdc, inv_pdc0, eta_inv) * dt;
+                    float dc, ac;
+                    ss_cell_pv_yield(&pvs.terms, a.global[j], dt, &dc, &ac);
+                    pv[c] += dc;
+                    pv_ac[c] += ac;
                 }
                 if (step_global)
                     step_global[c] = a.global[j];
