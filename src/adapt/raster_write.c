@@ -24,6 +24,7 @@
 #include "skysweep.h"
 #include "dem_io.h"
 #include "gdal_errors.h"
+#include "temporaries.h"
 
 struct ss_raster_writer {
     ss_ctx *ctx;
@@ -394,6 +395,8 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     w->driver = driver;
     w->bands = bands;
     w->path = strdup(path);
+    if (w->path)
+        ss_temporaries_track(w->path);
     w->tmp_path = temporary_name(path, "tmp");
     w->create_opts = default_options(driver, bands, byte_pixels, creation_options);
     if (!w->path || !w->tmp_path) {
@@ -594,9 +597,14 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
      * output without an extension cannot be paired so; such an output is
      * one file (formats with side-cars refuse it at open) and perhaps its
      * .aux.xml, moved one by one. */
-    int has_ext = has_extension(w->path);
-    if (st == SS_OK && (has_ext ? rename_own_files(w->tmp_path, w->path) != 0
-                                : rename_with_aux(w->tmp_path, w->path) != 0))
+    int has_ext = has_extension(w->path), moved = 0;
+    if (st == SS_OK) {
+        ss_temporaries_hold();
+        moved = has_ext ? rename_own_files(w->tmp_path, w->path) == 0
+                        : rename_with_aux(w->tmp_path, w->path) == 0;
+        ss_temporaries_release();
+    }
+    if (st == SS_OK && !moved)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
     ss_writer_abort(w);
@@ -615,6 +623,8 @@ void ss_writer_abort(ss_raster_writer *w)
         free(dir);
         free(base);
     }
+    if (w->path)
+        ss_temporaries_forget(w->path);
     CSLDestroy(w->create_opts);
     free(w->path);
     free(w->tmp_path);

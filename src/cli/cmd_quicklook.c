@@ -11,6 +11,7 @@
 #include "colormap.h"
 #include "commands.h"
 #include "run.h"
+#include "temporaries.h"
 #ifdef HAVE_OIIO
 #include "images.h"
 #endif
@@ -82,9 +83,12 @@ int cmd_quicklook(int argc, char **argv)
     size_t n = (size_t)b.width * (size_t)b.height, holes = 0;
     for (size_t i = 0; st == SS_OK && i < n; ++i)
         holes += b.values[0][i] == SS_NODATA;
-    if (st == SS_OK)
+    if (st == SS_OK) { /* the module names its temporary as the raster writer does */
+        ss_temporaries_track(pos[1]);
         st = ss_image_write_quicklook(run.ctx, pos[1], b.values[0], b.width, b.height, set.min,
                                       set.max, map, bits, holes > 0);
+        ss_temporaries_forget(pos[1]);
+    }
     rc = st == SS_OK ? 0 : run_fail(&run, st);
     if (st == SS_OK && !run.quiet) {
         double lo, mean, hi;

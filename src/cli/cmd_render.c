@@ -15,6 +15,7 @@
 #include "colormap.h"
 #include "commands.h"
 #include "run.h"
+#include "temporaries.h"
 #include "sun_field.h"
 #ifdef HAVE_VTK
 #include "render.h"
@@ -313,11 +314,18 @@ static int render_job(const render_settings *set, const char **pos, int n_pos)
                     -scene.sun_elevation_deg);
     }
     ss_render_report report;
+    /* The module names its temporaries as the raster writer does. */
+    ss_temporaries_track(job.output);
+    if (set->export_path)
+        ss_temporaries_track(set->export_path);
     if (st == SS_OK)
         st = ss_render_png(ctx, &scene, job.output, &report);
     char frame[400] = "";
     if (st == SS_OK && set->export_path)
         st = export_vts(&job, &scene, &drape, set->export_path, frame, sizeof frame);
+    ss_temporaries_forget(job.output);
+    if (set->export_path)
+        ss_temporaries_forget(set->export_path);
     rc = job_finish(&job, st);
     if (st == SS_OK && !job.run.quiet) {
         run_print_dem(&job.run, &job.dem, &job.frame);

@@ -15,6 +15,7 @@
 
 #include "commands.h"
 #include "horizon_points.h"
+#include "temporaries.h"
 
 /* A million sites is far beyond a PV portfolio and keeps a typo'd file
  * from running for days. */
@@ -235,6 +236,17 @@ static char *temporary_name(const char *path)
     return t;
 }
 
+/* Creates path's temporary (*tmp, to be freed), known to the stop guard
+ * until commit_file. */
+static FILE *open_temporary(const char *path, char **tmp)
+{
+    *tmp = temporary_name(path);
+    FILE *f = *tmp ? fopen(*tmp, "w") : NULL;
+    if (f)
+        ss_temporaries_track(path);
+    return f;
+}
+
 static void json_string(FILE *f, const char *s)
 {
     fputc('"', f);
@@ -382,6 +394,7 @@ static ss_status commit_file(ss_ctx *ctx, FILE *f, const char *tmp, const char *
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished output to '%s'", path);
     if (st != SS_OK)
         remove(tmp);
+    ss_temporaries_forget(path);
     return st;
 }
 
@@ -389,8 +402,8 @@ static ss_status write_pvgis_file(writer *w, const site_rec *s, const ss_point_h
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s.txt", w->folder, s->id);
-    char *tmp = temporary_name(path);
-    FILE *f = tmp ? fopen(tmp, "w") : NULL;
+    char *tmp;
+    FILE *f = open_temporary(path, &tmp);
     if (!f) {
         free(tmp);
         return ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", path);
@@ -569,8 +582,7 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
     w->folder = folder_mode ? output : NULL;
     w->out = folder_mode ? NULL : stdout;
     if (output && !folder_mode) {
-        j->tmp = temporary_name(output);
-        w->out = j->tmp ? fopen(j->tmp, "w") : NULL;
+        w->out = open_temporary(output, &j->tmp);
         if (!w->out)
             st = ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", output);
     }

@@ -14,6 +14,7 @@
 #include "mpi_share.h"
 #include "run.h"
 #include "scene.h"
+#include "stop_guard.h"
 
 #define COMMON(field) offsetof(common_settings, field)
 /* The command line's own options; the model's come from the library's
@@ -75,8 +76,6 @@ void common_settings_init(common_settings *common)
     ss_sun_params_init(&common->sun);
 }
 
-static volatile sig_atomic_t interrupted_by = 0;
-
 double run_now(void)
 {
     struct timespec ts;
@@ -90,7 +89,7 @@ static ss_ctx *signal_ctx = NULL;
 
 static void on_signal(int sig)
 {
-    interrupted_by = sig;
+    stop_guard_signal(sig);
     if (signal_ctx)
         ss_ctx_cancel(signal_ctx);
 }
@@ -101,7 +100,7 @@ static int progress(double complete, const char *message, void *user)
 {
     (void)message;
     run_state *run = user;
-    if (interrupted_by)
+    if (stop_guard_signalled())
         return 0;
     if (run->quiet)
         return 1;
@@ -124,6 +123,7 @@ int run_begin(run_state *run, const char *command, const common_settings *common
         return SS_ERR_MEMORY;
     }
     signal_ctx = run->ctx;
+    stop_guard_arm(command);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
@@ -140,15 +140,14 @@ int run_begin(run_state *run, const char *command, const common_settings *common
 
 int run_interrupted(void)
 {
-    return interrupted_by != 0;
+    return stop_guard_signalled() != 0;
 }
 
 int run_fail(run_state *run, ss_status status)
 {
-    if (interrupted_by) {
-        fprintf(stderr, "skysweep %s: interrupted by signal %d; no output written\n",
-                run->command, (int)interrupted_by);
-        return 128 + (int)interrupted_by;
+    if (stop_guard_signalled()) {
+        stop_guard_report();
+        return 128 + stop_guard_signalled();
     }
     if (share_rank() > 0)
         return (int)status; /* rank 0 reports, naming this process if it failed alone */

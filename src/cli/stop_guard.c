@@ -1,0 +1,85 @@
+/* The stop guard's thread (stop_guard.h). */
+#include "config.h"
+
+#include <pthread.h>
+#include <semaphore.h>
+#include <signal.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "stop_guard.h"
+#include "temporaries.h"
+
+/* How long the run's own thread has to stop before the guard does it:
+ * it takes tens of milliseconds when nothing blocks it. */
+#define STOP_GRACE_NS 500000000L
+
+static sem_t signalled;
+static volatile sig_atomic_t stop_signal = 0;
+static atomic_flag reported = ATOMIC_FLAG_INIT;
+static char command_name[64];
+static int armed = 0;
+
+void stop_guard_report(void)
+{
+    if (atomic_flag_test_and_set(&reported))
+        return;
+    char line[160];
+    int n =
+        snprintf(line, sizeof line, "skysweep %s: interrupted by signal %d; no output written\n",
+                 command_name, (int)stop_signal);
+    if (n > 0 && write(STDERR_FILENO, line, (size_t)n) < 0)
+        return; /* standard error is gone: nothing else to tell */
+}
+
+static void *guard(void *unused)
+{
+    (void)unused;
+    while (sem_wait(&signalled) != 0)
+        ;
+    struct timespec grace = {0, STOP_GRACE_NS};
+    while (nanosleep(&grace, &grace) != 0)
+        ;
+    ss_temporaries_abandon();
+    stop_guard_report();
+    _exit(128 + (int)stop_signal);
+    return NULL;
+}
+
+void stop_guard_arm(const char *command)
+{
+    snprintf(command_name, sizeof command_name, "%s", command);
+    if (armed || sem_init(&signalled, 0, 0) != 0)
+        return;
+    /* The signals go to the run's thread, never to the guard's wait. */
+    sigset_t block, old;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &block, &old);
+    pthread_attr_t attr;
+    pthread_t thread;
+    if (pthread_attr_init(&attr) == 0) {
+        pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+        armed = pthread_create(&thread, &attr, guard, NULL) == 0;
+        pthread_attr_destroy(&attr);
+    }
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+}
+
+int stop_guard_signalled(void)
+{
+    return stop_signal;
+}
+
+void stop_guard_signal(int sig)
+{
+    if (stop_signal)
+        return; /* a second signal does not restart the grace */
+    stop_signal = sig;
+    if (armed)
+        sem_post(&signalled);
+}

@@ -1,0 +1,23 @@
+/* Ctrl-C (SIGINT) or SIGTERM ends a run within a second. The run's own
+ * thread sees the cancel between lines or batches, cleans up and reports;
+ * where it cannot within half a second (blocked in a write to a slow disk,
+ * or behind work queued on a device, which cannot be stopped), this guard
+ * does it from a thread of its own: it removes the outputs' temporaries
+ * (temporaries.h), prints the run's one line and ends the process. */
+#ifndef SS_STOP_GUARD_H
+#define SS_STOP_GUARD_H
+
+/* Starts the guard's thread (once a process) for a run of command. */
+void stop_guard_arm(const char *command);
+
+/* Called by the signal handler (async-signal-safe): starts the grace. */
+void stop_guard_signal(int sig);
+
+/* The signal that stopped the run, or 0. */
+int stop_guard_signalled(void);
+
+/* Prints the interrupted run's one line to standard error unless it was
+ * printed already; both the run and the guard report through it. */
+void stop_guard_report(void);
+
+#endif
