@@ -5,8 +5,10 @@
  * grace and a little more, with exit 130 and one line on standard error,
  * its temporaries gone, the existing output and another process's
  * temporary untouched. Then the same where the run reported the stop
- * itself (still one line), and where a rename was under way (the guard
- * waits for it: the output is moved whole). */
+ * itself (still one line), where a rename was under way (the guard waits
+ * for it: the output is moved whole), and where the run finished its file
+ * after the signal (no rename starts then). Names that only look alike,
+ * and an output no longer tracked, keep their files. */
 #include "config.h"
 
 #include <dirent.h>
@@ -25,7 +27,7 @@
 #include "tap.h"
 #include "temporaries.h"
 
-enum { BLOCKED, REPORTED, RENAMING };
+enum { BLOCKED, REPORTED, RENAMING, FINISHING };
 
 static char dir[64];
 
@@ -77,12 +79,24 @@ static void child(int how)
     snprintf(side, sizeof side, "%s.aux.xml", tmp);
     snprintf(folder, sizeof folder, "%s/.out.tif.%ld.probe", dir, (long)getpid());
     snprintf(inner, sizeof inner, "%s/chunk", folder);
-    stop_guard_arm("test");
+    alarm(5); /* a guard that never fires fails the case, not the suite */
+    stop_guard_arm("test", 1);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigaction(SIGINT, &sa, NULL);
     ss_temporaries_track(path);
+    /* Not this output's temporaries, or not tracked: kept. */
+    char keep[3][160];
+    snprintf(keep[0], sizeof keep[0], "%s/.out.tif2.%ld.tmp.tif", dir, (long)getpid());
+    snprintf(keep[1], sizeof keep[1], "%s/.out.tif.%ld9.tmp.tif", dir, (long)getpid());
+    snprintf(keep[2], sizeof keep[2], "%s/.done.tif.%ld.tmp.tif", dir, (long)getpid());
+    for (int i = 0; i < 3; ++i)
+        write_file(keep[i], "kept");
+    char done[160];
+    snprintf(done, sizeof done, "%s/done.tif", dir);
+    ss_temporaries_track(done);
+    ss_temporaries_forget(done);
     write_file(tmp, "new");
     write_file(side, "<PAMDataset/>");
     mkdir(folder, 0755);
@@ -103,6 +117,14 @@ static void child(int how)
         sleep_through(0.8); /* a rename that runs past the grace */
         rename(tmp, path);
         ss_temporaries_release();
+    }
+    if (how == FINISHING) {
+        while (!stop_guard_signalled())
+            sleep_through(0.01);
+        if (ss_temporaries_hold()) { /* wrong: the output would be replaced */
+            rename(tmp, path);
+            ss_temporaries_release();
+        }
     }
     for (;;)
         sleep_through(10);
@@ -137,7 +159,7 @@ static void run_case(int how, const char *what)
         dup2(fd, STDERR_FILENO);
         child(how);
     }
-    while (access(ready, F_OK) != 0)
+    for (int waited = 0; access(ready, F_OK) != 0 && waited < 500; ++waited)
         sleep_through(0.01);
     double t0 = now();
     kill(pid, SIGINT);
@@ -165,6 +187,18 @@ static void run_case(int how, const char *what)
            "%s: the output holds '%s' (want '%s')", what, buf, want);
     tap_ok(strcmp(read_file(other, buf, sizeof buf), "another's") == 0,
            "%s: another process's temporary is kept", what);
+    const char *stems[3] = {".out.tif2.", ".out.tif.", ".done.tif."};
+    const char *tails[3] = {".tmp.tif", "9.tmp.tif", ".tmp.tif"};
+    int all = 1;
+    for (int i = 0; i < 3; ++i) {
+        char name[64], full[160];
+        snprintf(name, sizeof name, "%s%ld%s", stems[i], (long)pid, tails[i]);
+        snprintf(full, sizeof full, "%s/%s", dir, name);
+        all &= strcmp(read_file(full, buf, sizeof buf), "kept") == 0;
+        unlink(full);
+    }
+    tap_ok(all, "%s: a longer output's, another pid's and a forgotten output's files are kept",
+           what);
 }
 
 int main(void)
@@ -177,6 +211,7 @@ int main(void)
     run_case(BLOCKED, "a run blocked in a write");
     run_case(REPORTED, "a run that reported the stop, then blocked");
     run_case(RENAMING, "a rename under way at the signal");
+    run_case(FINISHING, "a run that finished its file after the signal");
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)

@@ -145,9 +145,29 @@ static char **own_files(GDALDatasetH ds, const char *path)
     return own;
 }
 
-/* Renames the temporary's own files (own_files) to the output's names: the
+/* Renames from[i] to to[i] in turn, under the renames' lock
+ * (temporaries.h), which only these renames hold: a stop guard then waits
+ * for no GDAL call. 0 when all moved, -1 when one failed, 1 when none
+ * moved because the process is stopping. */
+static int move_files(char **from, char **to)
+{
+    if (!ss_temporaries_hold())
+        return 1;
+    int failed = 0;
+    for (int i = 0; !failed && from[i]; ++i) {
+        failed = VSIRename(from[i], to[i]) != 0;
+        if (failed) /* for ss_gdal_failure, as GDAL reports its own failures */
+            CPLError(CE_Failure, CPLE_FileIO, "cannot rename '%s' to '%s': %s", from[i], to[i],
+                     strerror(errno));
+    }
+    ss_temporaries_release();
+    return failed ? -1 : 0;
+}
+
+/* Moves the temporary's own files (own_files) to the output's names: the
  * temporary's stem in each replaced by the output's; the file itself (the
- * list's first) last, so that until it moves the output stays whole. */
+ * list's first) last, so that until it moves the output stays whole.
+ * Returns as move_files. */
 static int rename_own_files(const char *tmp_path, const char *path)
 {
     GDALDatasetH ds = GDALOpen(tmp_path, GA_ReadOnly);
@@ -161,42 +181,37 @@ static int rename_own_files(const char *tmp_path, const char *path)
     int n = 0;
     while (!failed && files[n])
         ++n;
+    char **from = NULL, **to = NULL;
     for (int k = 1; !failed && k <= n; ++k) {
         int i = k % n; /* 1, 2, ..., n - 1, then 0 */
         const char *slash = strrchr(files[i], '/'), *name = slash ? slash + 1 : files[i];
-        char to[PATH_MAX];
-        snprintf(to, sizeof to, "%s/%s%s", dir, to_stem, name + strlen(from_stem));
-        failed = VSIRename(files[i], to) != 0;
-        if (failed) /* for ss_gdal_failure, as GDAL reports its own failures */
-            CPLError(CE_Failure, CPLE_FileIO, "cannot rename '%s' to '%s': %s", files[i], to,
-                     strerror(errno));
+        char target[PATH_MAX];
+        snprintf(target, sizeof target, "%s/%s%s", dir, to_stem, name + strlen(from_stem));
+        from = CSLAddString(from, files[i]);
+        to = CSLAddString(to, target);
     }
+    int result = failed || !from ? -1 : move_files(from, to);
+    CSLDestroy(from);
+    CSLDestroy(to);
     CSLDestroy(files);
     free(from_stem);
     free(to_stem);
     free(dir);
     free(base);
-    return failed ? -1 : 0;
+    return result;
 }
 
-/* "dir/name.tif" -> "dir/.name.tif.<pid>.KIND.tif": same folder, so the
- * final rename is atomic; hidden, so that nobody picks it up half-written;
- * the output's extension last, so that GDAL renames a format's side-cars
- * (an ENVI .hdr) to what the output's name calls for. */
+/* OUTPUT's temporary of this kind (ss_temporaries_name), once the
+ * temporaries of dead processes beside it are gone. */
 static char *temporary_name(const char *path, const char *kind)
 {
-    char *dir, *base, *out = NULL;
+    char *dir, *base;
     if (split_path(path, &dir, &base) != 0)
         return NULL;
     remove_temporaries(dir, base, 0);
-    const char *ext = has_extension(base) ? strrchr(base, '.') : "";
-    size_t n = strlen(dir) + 2 * strlen(base) + strlen(kind) + 40;
-    out = malloc(n);
-    if (out)
-        snprintf(out, n, "%s/.%s.%ld.%s%s", dir, base, (long)getpid(), kind, ext);
     free(dir);
     free(base);
-    return out;
+    return ss_temporaries_name(path, kind);
 }
 
 static ss_status check_output_folder(ss_ctx *ctx, const char *path)
@@ -540,15 +555,17 @@ ss_status ss_writer_metadata(ss_raster_writer *w, const char *key, const char *v
     return SS_OK;
 }
 
+/* Moves a file and its .aux.xml, if it has one, the file last; returns as
+ * move_files. */
 static int rename_with_aux(const char *from, const char *to)
 {
     char aux_from[PATH_MAX], aux_to[PATH_MAX];
     snprintf(aux_from, sizeof aux_from, "%s.aux.xml", from);
     snprintf(aux_to, sizeof aux_to, "%s.aux.xml", to);
     VSIStatBufL st;
-    if (VSIStatL(aux_from, &st) == 0 && VSIRename(aux_from, aux_to) != 0)
-        return -1;
-    return VSIRename(from, to);
+    int aux = VSIStatL(aux_from, &st) == 0;
+    char *froms[] = {aux_from, (char *)from, NULL}, *tos[] = {aux_to, (char *)to, NULL};
+    return aux ? move_files(froms, tos) : move_files(froms + 1, tos + 1);
 }
 
 static int reads_back_as(const char *path, int cols, int rows, int bands)
@@ -597,14 +614,12 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
      * output without an extension cannot be paired so; such an output is
      * one file (formats with side-cars refuse it at open) and perhaps its
      * .aux.xml, moved one by one. */
-    int has_ext = has_extension(w->path), moved = 0;
-    if (st == SS_OK) {
-        ss_temporaries_hold();
-        moved = has_ext ? rename_own_files(w->tmp_path, w->path) == 0
-                        : rename_with_aux(w->tmp_path, w->path) == 0;
-        ss_temporaries_release();
-    }
-    if (st == SS_OK && !moved)
+    int move = st == SS_OK ? has_extension(w->path) ? rename_own_files(w->tmp_path, w->path)
+                                                     : rename_with_aux(w->tmp_path, w->path)
+                            : 0;
+    if (move > 0) /* a signal came as the file was finished */
+        st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "cancelled before moving '%s' into place", w->path);
+    else if (move < 0)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot move the finished output to '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
     ss_writer_abort(w);

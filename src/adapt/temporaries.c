@@ -1,11 +1,13 @@
-/* The outputs this process is writing and the removal of their temporaries
- * by a thread other than the writer's (temporaries.h). */
+/* The temporaries' names and registry, and their removal by a thread other
+ * than the writer's (temporaries.h). */
 #include "config.h"
 
 #include <dirent.h>
 #include <ftw.h>
+#include <libgen.h>
 #include <limits.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,6 +22,32 @@ typedef struct tracked {
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 static tracked *outputs = NULL;
+static volatile sig_atomic_t stopping = 0;
+
+/* path's folder and file name as dirname and basename give them (a
+ * trailing slash dropped); 0 when either does not fit. */
+static int split(const char *path, char dir[PATH_MAX], char base[PATH_MAX])
+{
+    char a[PATH_MAX], b[PATH_MAX];
+    if ((size_t)snprintf(a, sizeof a, "%s", path) >= sizeof a)
+        return 0;
+    memcpy(b, a, sizeof b);
+    return (size_t)snprintf(dir, PATH_MAX, "%s", dirname(a)) < PATH_MAX &&
+           (size_t)snprintf(base, PATH_MAX, "%s", basename(b)) < PATH_MAX;
+}
+
+char *ss_temporaries_name(const char *path, const char *kind)
+{
+    char dir[PATH_MAX], base[PATH_MAX];
+    if (!split(path, dir, base))
+        return NULL;
+    const char *dot = strrchr(base, '.'), *ext = dot && dot > base ? dot : "";
+    size_t n = strlen(dir) + 2 * strlen(base) + strlen(kind) + 40;
+    char *name = malloc(n);
+    if (name)
+        snprintf(name, n, "%s/.%s.%ld.%s%s", dir, base, (long)getpid(), kind, ext);
+    return name;
+}
 
 void ss_temporaries_track(const char *path)
 {
@@ -47,9 +75,18 @@ void ss_temporaries_forget(const char *path)
     pthread_mutex_unlock(&lock);
 }
 
-void ss_temporaries_hold(void)
+void ss_temporaries_stopping(void)
+{
+    stopping = 1;
+}
+
+int ss_temporaries_hold(void)
 {
     pthread_mutex_lock(&lock);
+    if (!stopping)
+        return 1;
+    pthread_mutex_unlock(&lock);
+    return 0;
 }
 
 void ss_temporaries_release(void)
@@ -64,17 +101,14 @@ static int remove_entry(const char *path, const struct stat *st, int type, struc
     return 0;
 }
 
-/* Removes dir/.NAME.<pid>.* for output path dir/NAME: files, and folders
- * (a format such as Zarr) with what they hold. */
+/* Removes dir/.NAME.<pid>.* of output dir/NAME: files, and folders (a
+ * format such as Zarr) with what they hold. */
 static void remove_temporaries_of(const char *path)
 {
-    const char *slash = strrchr(path, '/');
-    char dir[PATH_MAX], prefix[PATH_MAX];
-    if (slash)
-        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path + (slash == path)), path);
-    else
-        snprintf(dir, sizeof dir, ".");
-    int n = snprintf(prefix, sizeof prefix, ".%s.%ld.", slash ? slash + 1 : path, (long)getpid());
+    char dir[PATH_MAX], base[PATH_MAX], prefix[PATH_MAX];
+    if (!split(path, dir, base))
+        return;
+    int n = snprintf(prefix, sizeof prefix, ".%s.%ld.", base, (long)getpid());
     DIR *d = n > 0 && (size_t)n < sizeof prefix ? opendir(dir) : NULL;
     for (struct dirent *e; d && (e = readdir(d));) {
         char full[PATH_MAX];
@@ -89,6 +123,7 @@ static void remove_temporaries_of(const char *path)
 void ss_temporaries_abandon(void)
 {
     pthread_mutex_lock(&lock); /* never released: the process is ending */
+    stopping = 1;
     for (const tracked *t = outputs; t; t = t->next)
         remove_temporaries_of(t->path);
 }

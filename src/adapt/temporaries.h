@@ -1,26 +1,36 @@
-/* The outputs this process is writing, known by the one rule that names
- * their temporaries: "dir/.NAME.<pid>.*" next to the output dir/NAME. A run
- * stopped by a signal normally removes its own temporaries on its way out;
- * where it cannot get there in time (its thread blocked in a write to a
- * slow disk, or waiting for a device), the command line's stop guard
- * removes them from another thread with ss_temporaries_abandon and ends
- * the process (src/cli/stop_guard.c). */
+/* The temporaries of the outputs this process writes: one naming rule,
+ * "dir/.NAME.<pid>.KIND[.ext]" next to the output dir/NAME, and a registry
+ * of the outputs being written. A run stopped by a signal normally removes
+ * its own temporaries on its way out; where its thread cannot get there in
+ * time (waiting for work queued on a device, or for a slow disk), the
+ * command line's stop guard removes them from a thread of its own with
+ * ss_temporaries_abandon and ends the process (src/cli/stop_guard.c). */
 #ifndef SS_TEMPORARIES_H
 #define SS_TEMPORARIES_H
+
+/* path's temporary of this kind ("tmp", "probe"): hidden, in the output's
+ * folder so that the final rename is atomic, with the output's extension
+ * last so that GDAL names a format's side-cars (an ENVI .hdr) as the
+ * output's name calls for. NULL when out of memory; free it. */
+char *ss_temporaries_name(const char *path, const char *kind);
 
 /* path is an output whose temporaries may exist until it is forgotten. */
 void ss_temporaries_track(const char *path);
 void ss_temporaries_forget(const char *path);
 
-/* Around the renames that move an output's files into place, so that an
- * output is either moved whole or not at all. */
-void ss_temporaries_hold(void);
+/* The process is stopping: no rename starts from now on. Async-signal-safe. */
+void ss_temporaries_stopping(void);
+
+/* Around the renames that move an output's files into place, and nothing
+ * else, so that an output is moved whole or not at all. hold returns 0,
+ * and takes nothing, once the process is stopping. */
+int ss_temporaries_hold(void);
 void ss_temporaries_release(void);
 
-/* Waits for renames in progress, keeps any other from starting and removes
- * every tracked output's temporaries. Called once, by a thread about to end
- * the process: it takes no lock a blocked writer could hold but the
- * registry's own, and calls no GDAL. */
+/* Waits for renames under way, keeps any other from starting and removes
+ * every tracked output's temporaries. Called once, by a thread about to
+ * end the process: it takes no lock but the registry's and calls no GDAL.
+ * Files a still-running writer creates after it has looked are not seen. */
 void ss_temporaries_abandon(void);
 
 #endif

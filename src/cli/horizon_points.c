@@ -222,28 +222,15 @@ static ss_status read_sites(ss_ctx *ctx, const char *path, double default_height
     return SS_OK;
 }
 
-/* "dir/name" -> "dir/.name.<pid>.tmp", as the raster writer names its
- * temporaries: same folder, so the rename is atomic. */
-static char *temporary_name(const char *path)
-{
-    const char *slash = strrchr(path, '/');
-    size_t n = strlen(path) + 40;
-    char *t = malloc(n);
-    if (t && slash)
-        snprintf(t, n, "%.*s/.%s.%ld.tmp", (int)(slash - path), path, slash + 1, (long)getpid());
-    else if (t)
-        snprintf(t, n, ".%s.%ld.tmp", path, (long)getpid());
-    return t;
-}
-
 /* Creates path's temporary (*tmp, to be freed), known to the stop guard
  * until commit_file. */
 static FILE *open_temporary(const char *path, char **tmp)
 {
-    *tmp = temporary_name(path);
+    ss_temporaries_track(path);
+    *tmp = ss_temporaries_name(path, "tmp");
     FILE *f = *tmp ? fopen(*tmp, "w") : NULL;
-    if (f)
-        ss_temporaries_track(path);
+    if (!f)
+        ss_temporaries_forget(path);
     return f;
 }
 
@@ -390,8 +377,14 @@ static ss_status commit_file(ss_ctx *ctx, FILE *f, const char *tmp, const char *
     bad |= fclose(f) != 0;
     if (st == SS_OK && bad)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
-    if (st == SS_OK && rename(tmp, path) != 0)
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished output to '%s'", path);
+    if (st == SS_OK && !ss_temporaries_hold()) /* a signal came as the file was finished */
+        st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "cancelled before moving '%s' into place", path);
+    else if (st == SS_OK) {
+        int moved = rename(tmp, path) == 0;
+        ss_temporaries_release();
+        if (!moved)
+            st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished output to '%s'", path);
+    }
     if (st != SS_OK)
         remove(tmp);
     ss_temporaries_forget(path);

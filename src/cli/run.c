@@ -123,7 +123,7 @@ int run_begin(run_state *run, const char *command, const common_settings *common
         return SS_ERR_MEMORY;
     }
     signal_ctx = run->ctx;
-    stop_guard_arm(command);
+    stop_guard_arm(command, share_rank() == 0);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;

@@ -14,25 +14,25 @@
 #include "temporaries.h"
 
 /* How long the run's own thread has to stop before the guard does it:
- * it takes tens of milliseconds when nothing blocks it. */
+ * it takes tens of milliseconds when nothing holds it. */
 #define STOP_GRACE_NS 500000000L
 
 static sem_t signalled;
-static volatile sig_atomic_t stop_signal = 0;
+static atomic_int stop_signal = 0; /* lock-free here, so the handler may use it */
 static atomic_flag reported = ATOMIC_FLAG_INIT;
 static char command_name[64];
-static int armed = 0;
+static volatile sig_atomic_t armed = 0, speaking = 1;
 
 void stop_guard_report(void)
 {
-    if (atomic_flag_test_and_set(&reported))
+    if (!speaking || atomic_flag_test_and_set(&reported))
         return;
     char line[160];
     int n =
         snprintf(line, sizeof line, "skysweep %s: interrupted by signal %d; no output written\n",
-                 command_name, (int)stop_signal);
-    if (n > 0 && write(STDERR_FILENO, line, (size_t)n) < 0)
-        return; /* standard error is gone: nothing else to tell */
+                 command_name, atomic_load(&stop_signal));
+    if (n > 0)
+        (void)!write(STDERR_FILENO, line, (size_t)n);
 }
 
 static void *guard(void *unused)
@@ -45,13 +45,13 @@ static void *guard(void *unused)
         ;
     ss_temporaries_abandon();
     stop_guard_report();
-    _exit(128 + (int)stop_signal);
-    return NULL;
+    _exit(128 + atomic_load(&stop_signal));
 }
 
-void stop_guard_arm(const char *command)
+void stop_guard_arm(const char *command, int speaks)
 {
     snprintf(command_name, sizeof command_name, "%s", command);
+    speaking = speaks;
     if (armed || sem_init(&signalled, 0, 0) != 0)
         return;
     /* The signals go to the run's thread, never to the guard's wait. */
@@ -72,14 +72,14 @@ void stop_guard_arm(const char *command)
 
 int stop_guard_signalled(void)
 {
-    return stop_signal;
+    return atomic_load(&stop_signal);
 }
 
 void stop_guard_signal(int sig)
 {
-    if (stop_signal)
-        return; /* a second signal does not restart the grace */
-    stop_signal = sig;
-    if (armed)
+    int none = 0;
+    ss_temporaries_stopping();
+    /* The first signal starts the grace; a second does not restart it. */
+    if (atomic_compare_exchange_strong(&stop_signal, &none, sig) && armed)
         sem_post(&signalled);
 }

@@ -1,16 +1,19 @@
 /* Ctrl-C (SIGINT) or SIGTERM ends a run within a second. The run's own
  * thread sees the cancel between lines or batches, cleans up and reports;
- * where it cannot within half a second (blocked in a write to a slow disk,
- * or behind work queued on a device, which cannot be stopped), this guard
- * does it from a thread of its own: it removes the outputs' temporaries
- * (temporaries.h), prints the run's one line and ends the process. */
+ * where it cannot within half a second (behind work queued on a device,
+ * which cannot be stopped, or in a slow write), this guard does it from a
+ * thread of its own: it removes the outputs' temporaries (temporaries.h),
+ * prints the run's one line and ends the process. On a disk that has
+ * stalled altogether, its own removals wait too. */
 #ifndef SS_STOP_GUARD_H
 #define SS_STOP_GUARD_H
 
-/* Starts the guard's thread (once a process) for a run of command. */
-void stop_guard_arm(const char *command);
+/* Starts the guard's thread (once a process) for a run of command; speaks
+ * 0 keeps its line unprinted (an MPI rank other than 0). */
+void stop_guard_arm(const char *command, int speaks);
 
-/* Called by the signal handler (async-signal-safe): starts the grace. */
+/* Called by the signal handler (async-signal-safe): starts the grace, and
+ * no output is moved into place from now on. */
 void stop_guard_signal(int sig);
 
 /* The signal that stopped the run, or 0. */
