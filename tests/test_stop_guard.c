@@ -5,10 +5,10 @@
  * grace and a little more, with exit 130 and one line on standard error,
  * its temporaries gone, the existing output and another process's
  * temporary untouched. Then the same where the run reported the stop
- * itself (still one line), where a rename was under way (the guard waits
- * for it: the output is moved whole), and where the run finished its file
- * after the signal (no rename starts then). Names that only look alike,
- * and an output no longer tracked, keep their files. */
+ * itself after a library spoke of it (still one line), where a rename was under way (the guard
+ * waits for it: the output is moved whole), and where the run finished its file after the signal
+ * (no rename starts then). Names that only look alike, and an output no longer tracked, keep their
+ * files. */
 #include "config.h"
 
 #include <dirent.h>
@@ -109,6 +109,7 @@ static void child(int how)
     if (how == REPORTED) {
         while (!stop_guard_signalled())
             sleep_through(0.01);
+        fprintf(stderr, "a library's words on the interruption\n");
         stop_guard_report();
     }
     if (how == RENAMING) {

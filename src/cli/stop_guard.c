@@ -1,6 +1,7 @@
 /* The stop guard's thread (stop_guard.h). */
 #include "config.h"
 
+#include <fcntl.h>
 #include <pthread.h>
 #include <semaphore.h>
 #include <signal.h>
@@ -22,6 +23,11 @@ static atomic_int stop_signal = 0; /* lock-free here, so the handler may use it 
 static atomic_flag reported = ATOMIC_FLAG_INIT;
 static char command_name[64];
 static volatile sig_atomic_t armed = 0, speaking = 1;
+/* Standard error as the run began, for the one line; after a signal the
+ * process's own standard error goes to /dev/null: what libraries print
+ * about the interruption itself (PoCL's compiler failing once LLVM's
+ * handler has removed its temporaries) is not the run's to say. */
+static int report_fd = STDERR_FILENO, null_fd = -1;
 
 void stop_guard_report(void)
 {
@@ -32,7 +38,7 @@ void stop_guard_report(void)
         snprintf(line, sizeof line, "skysweep %s: interrupted by signal %d; no output written\n",
                  command_name, atomic_load(&stop_signal));
     if (n > 0)
-        (void)!write(STDERR_FILENO, line, (size_t)n);
+        (void)!write(report_fd, line, (size_t)n);
 }
 
 static void *guard(void *unused)
@@ -54,6 +60,10 @@ void stop_guard_arm(const char *command, int speaks)
     speaking = speaks;
     if (armed || sem_init(&signalled, 0, 0) != 0)
         return;
+    int saved = fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3);
+    null_fd = open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved >= 0 && null_fd >= 0)
+        report_fd = saved;
     /* The signals go to the run's thread, never to the guard's wait. */
     sigset_t block, old;
     sigemptyset(&block);
@@ -80,6 +90,10 @@ void stop_guard_signal(int sig)
     int none = 0;
     ss_temporaries_stopping();
     /* The first signal starts the grace; a second does not restart it. */
-    if (atomic_compare_exchange_strong(&stop_signal, &none, sig) && armed)
+    if (!atomic_compare_exchange_strong(&stop_signal, &none, sig))
+        return;
+    if (report_fd != STDERR_FILENO)
+        dup2(null_fd, STDERR_FILENO);
+    if (armed)
         sem_post(&signalled);
 }

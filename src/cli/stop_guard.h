@@ -12,8 +12,9 @@
  * 0 keeps its line unprinted (an MPI rank other than 0). */
 void stop_guard_arm(const char *command, int speaks);
 
-/* Called by the signal handler (async-signal-safe): starts the grace, and
- * no output is moved into place from now on. */
+/* Called by the signal handler (async-signal-safe): starts the grace; no
+ * output is moved into place from now on, and nothing but the run's line
+ * reaches standard error. */
 void stop_guard_signal(int sig);
 
 /* The signal that stopped the run, or 0. */
