@@ -10,12 +10,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
 #include <unistd.h>
 
 #include "colormap.h"
+#include "temporary_name.h"
 extern "C" {
 #include "skysweep.h"
 }
@@ -35,14 +37,16 @@ static std::string one_line(std::string text)
     return text.size() > 400 ? text.substr(0, 400) : text;
 }
 
-/* "dir/name.png" -> "dir/.name.png.<pid>.tmp": same folder, so the rename is
- * atomic, and hidden so nobody picks up a half-written file. */
+/* The output's temporary (temporary_name.h); a name that does not fit is
+ * reported as memory that is out, by the entry point's catch. */
 static std::string temporary_name(const std::string &path)
 {
-    size_t slash = path.rfind('/');
-    std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    return dir + "." + base + "." + std::to_string((long)getpid()) + ".tmp";
+    char *name = ss_temporary_name(path.c_str(), "tmp");
+    if (!name)
+        throw std::bad_alloc();
+    std::string tmp = name;
+    std::free(name);
+    return tmp;
 }
 
 template <class T>

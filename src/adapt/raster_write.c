@@ -25,6 +25,7 @@
 #include "dem_io.h"
 #include "gdal_errors.h"
 #include "temporaries.h"
+#include "temporary_name.h"
 
 struct ss_raster_writer {
     ss_ctx *ctx;
@@ -201,7 +202,7 @@ static int rename_own_files(const char *tmp_path, const char *path)
     return result;
 }
 
-/* OUTPUT's temporary of this kind (ss_temporaries_name), once the
+/* OUTPUT's temporary of this kind (ss_temporary_name), once the
  * temporaries of dead processes beside it are gone. */
 static char *temporary_name(const char *path, const char *kind)
 {
@@ -211,7 +212,7 @@ static char *temporary_name(const char *path, const char *kind)
     remove_temporaries(dir, base, 0);
     free(dir);
     free(base);
-    return ss_temporaries_name(path, kind);
+    return ss_temporary_name(path, kind);
 }
 
 static ss_status check_output_folder(ss_ctx *ctx, const char *path)

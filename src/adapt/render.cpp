@@ -48,6 +48,7 @@ VTK_MODULE_INIT(vtkRenderingFreeType);
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,7 @@ VTK_MODULE_INIT(vtkRenderingFreeType);
 #include <X11/Xlib.h>
 
 #include "colormap.h"
+#include "temporary_name.h"
 extern "C" {
 #include "skysweep.h"
 }
@@ -145,14 +147,16 @@ class vtk_messages
     vtkLogger::Verbosity verbosity;
 };
 
-/* "dir/name.png" -> "dir/.name.png.<pid>.tmp": same folder, so the rename is
- * atomic, and hidden so nobody picks up a half-written file. */
+/* The output's temporary (temporary_name.h); a name that does not fit is
+ * reported as memory that is out, by the entry point's catch. */
 static std::string temporary_name(const std::string &path)
 {
-    size_t slash = path.rfind('/');
-    std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    return dir + "." + base + "." + std::to_string((long)getpid()) + ".tmp";
+    char *name = ss_temporary_name(path.c_str(), "tmp");
+    if (!name)
+        throw std::bad_alloc();
+    std::string tmp = name;
+    std::free(name);
+    return tmp;
 }
 
 static ss_status commit_file(ss_ctx *ctx, const std::string &tmp, const char *path)

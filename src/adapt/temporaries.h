@@ -1,18 +1,11 @@
-/* The temporaries of the outputs this process writes: one naming rule,
- * "dir/.NAME.<pid>.KIND[.ext]" next to the output dir/NAME, and a registry
- * of the outputs being written. A run stopped by a signal normally removes
- * its own temporaries on its way out; where its thread cannot get there in
- * time (waiting for work queued on a device, or for a slow disk), the
- * command line's stop guard removes them from a thread of its own with
- * ss_temporaries_abandon and ends the process (src/cli/stop_guard.c). */
+/* The outputs this process is writing. A run stopped by a signal normally
+ * removes its own temporaries (temporary_name.h) on its way out; where its
+ * thread cannot get there in time (waiting for work queued on a device, or
+ * for a slow disk), the command line's stop guard removes them from a
+ * thread of its own with ss_temporaries_abandon and ends the process
+ * (src/cli/stop_guard.c). */
 #ifndef SS_TEMPORARIES_H
 #define SS_TEMPORARIES_H
-
-/* path's temporary of this kind ("tmp", "probe"): hidden, in the output's
- * folder so that the final rename is atomic, with the output's extension
- * last so that GDAL names a format's side-cars (an ENVI .hdr) as the
- * output's name calls for. NULL when out of memory; free it. */
-char *ss_temporaries_name(const char *path, const char *kind);
 
 /* path is an output whose temporaries may exist until it is forgotten. */
 void ss_temporaries_track(const char *path);

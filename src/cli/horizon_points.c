@@ -16,6 +16,7 @@
 #include "commands.h"
 #include "horizon_points.h"
 #include "temporaries.h"
+#include "temporary_name.h"
 
 /* A million sites is far beyond a PV portfolio and keeps a typo'd file
  * from running for days. */
@@ -227,7 +228,7 @@ static ss_status read_sites(ss_ctx *ctx, const char *path, double default_height
 static FILE *open_temporary(const char *path, char **tmp)
 {
     ss_temporaries_track(path);
-    *tmp = ss_temporaries_name(path, "tmp");
+    *tmp = ss_temporary_name(path, "tmp");
     FILE *f = *tmp ? fopen(*tmp, "w") : NULL;
     if (!f)
         ss_temporaries_forget(path);
