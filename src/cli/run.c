@@ -107,6 +107,7 @@ static int progress(double complete, const char *message, void *user)
     if (!run->progress_shown && run_now() - run->started < 1.0)
         return 1;
     run->progress_shown = 1;
+    stop_guard_line_open(complete < 1.0);
     return ss_gdal_term_progress(complete);
 }
 

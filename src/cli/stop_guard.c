@@ -22,7 +22,7 @@ static sem_t signalled;
 static atomic_int stop_signal = 0; /* lock-free here, so the handler may use it */
 static atomic_flag reported = ATOMIC_FLAG_INIT;
 static char command_name[64];
-static volatile sig_atomic_t armed = 0, speaking = 1;
+static volatile sig_atomic_t armed = 0, speaking = 1, line_open = 0;
 /* Standard error as the run began, for the one line; after a signal the
  * process's own standard error goes to /dev/null: what libraries print
  * about the interruption itself (PoCL's compiler failing once LLVM's
@@ -37,6 +37,8 @@ void stop_guard_report(void)
     int n =
         snprintf(line, sizeof line, "skysweep %s: interrupted by signal %d; no output written\n",
                  command_name, atomic_load(&stop_signal));
+    if (line_open) /* the progress bar's line on standard output ends first */
+        (void)!write(STDOUT_FILENO, "\n", 1);
     if (n > 0)
         (void)!write(report_fd, line, (size_t)n);
 }
@@ -78,6 +80,11 @@ void stop_guard_arm(const char *command, int speaks)
         pthread_attr_destroy(&attr);
     }
     pthread_sigmask(SIG_SETMASK, &old, NULL);
+}
+
+void stop_guard_line_open(int open)
+{
+    line_open = open;
 }
 
 int stop_guard_signalled(void)

@@ -20,6 +20,10 @@ void stop_guard_signal(int sig);
 /* The signal that stopped the run, or 0. */
 int stop_guard_signalled(void);
 
+/* Whether a progress bar's line is open on standard output: it is ended
+ * before the run's line is printed. */
+void stop_guard_line_open(int open);
+
 /* Prints the interrupted run's one line to standard error unless it was
  * printed already; both the run and the guard report through it. */
 void stop_guard_report(void);
