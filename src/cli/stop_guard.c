@@ -66,6 +66,8 @@ void stop_guard_arm(const char *command, int speaks)
     null_fd = open("/dev/null", O_WRONLY | O_CLOEXEC);
     if (saved >= 0 && null_fd >= 0)
         report_fd = saved;
+    else if (saved >= 0) /* no /dev/null: standard error stays as it is */
+        close(saved);
     /* The signals go to the run's thread, never to the guard's wait. */
     sigset_t block, old;
     sigemptyset(&block);
