@@ -26,7 +26,9 @@
 #define COST_CPU_CL_SETUP_S 0.10 /* PoCL: platform, context, cached kernels (and 80 MiB) */
 #define COST_CPU_CL_RATE 8e7     /* PoCL: no faster than the C twin on the same cores */
 #define COST_GPU_SETUP_S 0.25    /* opening the H200 */
-#define COST_GPU_LAUNCH_S 2e-3   /* a sweep is launched per direction */
+/* Per sweep, measured when each direction was a launch of its own; the
+ * batched launches since are unmeasured on a GPU, and cheaper. */
+#define COST_GPU_LAUNCH_S 2e-3
 #define COST_GPU_RATE 1.5e9      /* ... with the H200's 132 compute units (scaled by a GPU's own) */
 #define COST_GPU_UNITS 132.0
 #define COST_BOX_PER_LINE 1.8    /* a box sweep per line per cell, in sweeps (doc/box_lines.md) */
