@@ -204,6 +204,8 @@ static void run_case(int how, const char *what)
 
 int main(void)
 {
+    /* mkdtemp's template (in /tmp, so that every path built from it fits
+     * the short buffers below): a folder of this run's own */
     snprintf(dir, sizeof dir, "/tmp/ss-stop-guard.XXXXXX");
     if (!mkdtemp(dir)) {
         tap_skip("the stop guard", "no temporary folder");

@@ -37,18 +37,6 @@ static std::string one_line(std::string text)
     return text.size() > 400 ? text.substr(0, 400) : text;
 }
 
-/* The output's temporary (temporary_name.h); a name that does not fit is
- * reported as memory that is out, by the entry point's catch. */
-static std::string temporary_name(const std::string &path)
-{
-    char *name = ss_temporary_name(path.c_str(), "tmp");
-    if (!name)
-        throw std::bad_alloc();
-    std::string tmp = name;
-    std::free(name);
-    return tmp;
-}
-
 template <class T>
 static bool read_raw(ImageInput &in, const ImageSpec &spec, TypeDesc type, float *dst)
 {
@@ -270,7 +258,7 @@ static ss_status write_quicklook(ss_ctx *ctx, const char *png_path, const float 
     if (!out)
         return ss_ctx_error(ctx, SS_ERR_OUTPUT, "OpenImageIO cannot write PNG: %s",
                        one_line(OIIO::geterror()).c_str());
-    std::string tmp = temporary_name(png_path);
+    std::string tmp = ss_temporary_name_cxx(png_path);
     const void *data = bits == 8 ? (const void *)px8.data() : (const void *)px16.data();
     bool ok = out->open(tmp, spec) && out->write_image(spec.format, data);
     ok = out->close() && ok;

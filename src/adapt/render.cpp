@@ -147,18 +147,6 @@ class vtk_messages
     vtkLogger::Verbosity verbosity;
 };
 
-/* The output's temporary (temporary_name.h); a name that does not fit is
- * reported as memory that is out, by the entry point's catch. */
-static std::string temporary_name(const std::string &path)
-{
-    char *name = ss_temporary_name(path.c_str(), "tmp");
-    if (!name)
-        throw std::bad_alloc();
-    std::string tmp = name;
-    std::free(name);
-    return tmp;
-}
-
 static ss_status commit_file(ss_ctx *ctx, const std::string &tmp, const char *path)
 {
     if (std::rename(tmp.c_str(), path) != 0) {
@@ -600,7 +588,7 @@ static ss_status render_png(ss_ctx *ctx, const ss_render_scene *s, const char *p
         return ss_ctx_error(ctx, SS_ERR_DEVICE, "VTK rendered %d x %d pixels instead of %d x %d: %s",
                        dims[0], dims[1], s->image_width, s->image_height, messages.first().c_str());
 
-    std::string tmp = temporary_name(png_path);
+    std::string tmp = ss_temporary_name_cxx(png_path);
     auto writer = make<vtkPNGWriter>();
     writer->SetFileName(tmp.c_str());
     writer->SetInputConnection(grab->GetOutputPort());
@@ -701,7 +689,7 @@ static ss_status export_vts(ss_ctx *ctx, const ss_render_scene *s, double origin
     for (vtkIdType id : hidden)
         grid->BlankPoint(id);
 
-    std::string tmp = temporary_name(path);
+    std::string tmp = ss_temporary_name_cxx(path);
     auto writer = make<vtkXMLStructuredGridWriter>();
     writer->SetFileName(tmp.c_str());
     writer->SetInputData(grid);

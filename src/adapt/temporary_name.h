@@ -25,6 +25,22 @@ char *ss_temporary_name(const char *path, const char *kind);
 
 #ifdef __cplusplus
 }
+
+#include <cstdlib>
+#include <new>
+#include <string>
+
+/* The same for the C++ modules: "tmp", and a name that does not fit is
+ * thrown as memory that is out, which their entry points' catch reports. */
+inline std::string ss_temporary_name_cxx(const std::string &path)
+{
+    char *name = ss_temporary_name(path.c_str(), "tmp");
+    if (!name)
+        throw std::bad_alloc();
+    std::string tmp = name;
+    std::free(name);
+    return tmp;
+}
 #endif
 
 #endif
