@@ -2,24 +2,34 @@
  * (sweep.cl's insolation_cells, one work-item a cell; shared by kernels and
  * C): the cell's sun from the step's lattice (ss_sun_lattice.h) or the
  * step's one sun, its horizon in the sun's azimuth (the step's walk, left on
- * the device, or none), what the step adds (ss_cell_step.h) into the band's
- * planes, and the PV yield. The host runs the same cell functions in SIMD
- * lanes (src/core/insolation_lanes.h), a clear sky's sun terms read from
- * tables over the step's cells; a device computes those exactly, which
- * costs it less than reading tables. */
+ * the device; the stored horizons of interpolated shadows, uploaded there
+ * once a visit; or none), what the step adds (ss_cell_step.h) into the
+ * band's planes, the PV yield, and the step's own global where the run
+ * writes each step. The host runs the same cell functions in SIMD lanes
+ * (src/core/insolation_lanes.h), a clear sky's sun terms read from tables
+ * over the step's cells; a device computes those exactly, which costs it
+ * less than reading tables. */
 #ifndef SS_INSOLATION_CELLS_H
 #define SS_INSOLATION_CELLS_H
 
 #include "ss_cell_step.h"
 #include "ss_pv.h"
+#include "ss_stored_horizon.h"
 #include "ss_sun_lattice.h"
+
+/* Where a step's horizons come from (ss_cells_step's horizon). */
+enum { SS_CELLS_NO_HORIZON, SS_CELLS_WALKED, SS_CELLS_STORED };
 
 /* A step as the device takes it (4-byte fields only, so that the host's
  * struct and the device's agree). Planes are indices into the band's
  * planes (insolation's order, ss_insolation_planes), -1 where not kept. */
 typedef struct {
     int cells, width, row0; /* the band's own cells, the grid's width, the band's first row */
-    int horizon;            /* 1: the walk's horizons (degrees); 0: none (-90) */
+    int horizon;            /* SS_CELLS_*: the walk's horizons (degrees), the stored
+                               ones, or none (-90) */
+    int stored0, stored1;   /* SS_CELLS_STORED: the stored directions around the sun ... */
+    float stored_t;         /* ... and the weight of the second (ss_stored_horizon.h) */
+    int step_out;           /* 1: each cell's global for the step, to the step's buffer */
     int real_sky;           /* a weather record (rec, sky), else the clear sky (linke, g0) */
     int lattice;            /* the cells' suns from the lattice, else the step's */
     int lattice_cols, lattice_rows;
@@ -33,9 +43,11 @@ typedef struct {
 } ss_cells_step;
 
 /* Own cell c of the band, height z (NaN at nodata: nothing added), terms t
- * and horizon (degrees), adds the step into planes (cells floats apart). */
+ * and horizon (degrees), adds the step into planes (cells floats apart)
+ * and, where the step asks, writes the cell's global to step_out. */
 SS_FN void ss_cells_step_at(const ss_cells_step *s, const ss_lattice_view *l, int c, float z,
-                            float horizon_deg, const ss_cell_terms *t, SS_GLOBAL float *planes)
+                            float horizon_deg, const ss_cell_terms *t, SS_GLOBAL float *planes,
+                            SS_GLOBAL float *step_out)
 {
     if (!SS_ISFINITE(z))
         return;
@@ -44,8 +56,11 @@ SS_FN void ss_cells_step_at(const ss_cells_step *s, const ss_lattice_view *l, in
         ss_lattice_sun_at(l, s->row0 + c / s->width, c % s->width, &az_deg, &h0_deg, &app_deg);
     const float rad = 0.017453292519943295f; /* (float)(pi / 180), as the host's */
     float h0 = h0_deg * rad, az = az_deg * rad;
-    if (!s->real_sky && !(h0 > 0.0f))
-        return; /* the clear sky's cells below the horizontal add nothing */
+    if (!s->real_sky && !(h0 > 0.0f)) { /* the clear sky's cells below the horizontal add nothing */
+        if (s->step_out)
+            step_out[c] = 0.0f;
+        return;
+    }
     /* A weather record's sun as the host's lanes take it; the clear sky's
      * terms exactly, where the host reads tables of them. */
     ss_cell_sun sun = s->real_sky && ss_sun_near(&s->centre, h0, az)
@@ -68,6 +83,22 @@ SS_FN void ss_cells_step_at(const ss_cells_step *s, const ss_lattice_view *l, in
         planes[s->pv * n + c] += dc;
         planes[s->pv_ac * n + c] += ac;
     }
+    if (s->step_out)
+        step_out[c] = add.total;
+}
+
+/* Own cell c's horizon (degrees) as the step gives it: the walk's (from
+ * walked, the band's own rows of the step's slot), the stored directions'
+ * (stored: the band's own cells, one plane a direction) or none. */
+SS_FN float ss_cells_horizon(const ss_cells_step *s, int c, SS_GLOBAL const float *walked,
+                             SS_GLOBAL const short *stored)
+{
+    if (s->horizon == SS_CELLS_WALKED)
+        return walked[c];
+    if (s->horizon == SS_CELLS_STORED)
+        return ss_stored_horizon_between(stored[(ss_i64)s->stored0 * s->cells + c],
+                                         stored[(ss_i64)s->stored1 * s->cells + c], s->stored_t);
+    return -90.0f;
 }
 
 #endif

@@ -158,12 +158,15 @@ __kernel void band_finish(ss_band_run run, int n_slots, __global float *outs)
  * horizons of batch slot `slot` where the step walked, the cells' terms
  * (ss_cell_terms, own cells), the lattice's columns then rows and its
  * three node arrays then the air (pressure, temperature, refraction at
- * sunset), and the band's planes. One work-item per own cell. */
+ * sunset), the band's planes, the stored horizons of interpolated shadows
+ * (own cells, a plane per stored direction) and the step's own global
+ * (own cells). One work-item per own cell. */
 __kernel void insolation_cells(ss_band_run run, ss_cells_step step, int slot,
                                __global const float *z, __global float *outs,
                                __global const ss_cell_terms *terms,
                                __global const int *lattice_at,
-                               __global const ss_real *lattice_nodes, __global float *planes)
+                               __global const ss_real *lattice_nodes, __global float *planes,
+                               __global const short *stored, __global float *step_out)
 {
     int c = get_global_id(0);
     if (c >= step.cells)
@@ -180,7 +183,9 @@ __kernel void insolation_cells(ss_band_run run, ss_cells_step step, int slot,
                          lattice_nodes[3 * nodes + 1],
                          lattice_nodes[3 * nodes + 2]};
     size_t first = (size_t)(run.row0 - run.lo) * run.width;
-    float horizon = step.horizon ? ss_band_plane(outs, &run, slot, 0)[first + c] : -90.0f;
+    __global const float *walked =
+        step.horizon == SS_CELLS_WALKED ? ss_band_plane(outs, &run, slot, 0) + first : outs;
+    float horizon = ss_cells_horizon(&step, c, walked, stored);
     ss_cell_terms t = terms[c];
-    ss_cells_step_at(&step, &l, c, z[first + c], horizon, &t, planes);
+    ss_cells_step_at(&step, &l, c, z[first + c], horizon, &t, planes, step_out);
 }

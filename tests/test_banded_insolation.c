@@ -430,12 +430,14 @@ static void lattice_against_arrays(const ss_grid *g, int weather, const int *ban
 
 /* Insolation's steps on an OpenCL device (ss_ctx_set_cells), each cell's
  * sun from the lattice there (kernels/ss_sun_lattice.h), its shadows from
- * the walk left there, whole and in bands: the same device's outputs with
- * the steps on the host to float rounding (a clear sky's sun terms are
- * exact on the device, from tables on the host), and the C twin's within
- * what the device's walks and the bands' sums move them. Skipped without a
- * device. */
-static void lattice_on_device(const ss_grid *g, int weather, const int *band_rows, int n_band_rows)
+ * the walk left there or from the stored horizons uploaded there
+ * (interpolated), each step's global read back where asked for, whole and
+ * in bands: the same device's outputs with the steps on the host to float
+ * rounding (a clear sky's sun terms are exact on the device, from tables
+ * on the host), and the C twin's within what the device's walks and the
+ * bands' sums move them. Skipped without a device. */
+static void lattice_on_device(const ss_grid *g, int weather, ss_shadow_mode shadows, int steps,
+                              const int *band_rows, int n_band_rows)
 {
     ss_ctx *dev = ss_ctx_new(), *twin = ss_ctx_new();
     ss_ctx_use_device(twin, "reference");
@@ -449,7 +451,8 @@ static void lattice_on_device(const ss_grid *g, int weather, const int *band_row
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = 12;
-    ss_insolation_options io = {.albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT};
+    ss_insolation_options io = {.albedo = 0.25, .shadow_mode = shadows};
+    int want = steps ? SS_INSOLATION_STEPS : 0;
     lattice_setup sun;
     grids twin_out, host, device;
     int ok = lattice_init(&sun, g) && grids_init(&twin_out, g, NULL) &&
@@ -458,7 +461,7 @@ static void lattice_on_device(const ss_grid *g, int weather, const int *band_row
     sun.weather = weather;
     sun.use_lattice = 1;
     ss_source whole = test_source(g, read_rows, &twin_out, 0, NULL);
-    ok = ok && ss_insolation_rows(twin, &whole, &opt, &io, N_STEPS, lattice_sun, &sun, 0, NULL,
+    ok = ok && ss_insolation_rows(twin, &whole, &opt, &io, N_STEPS, lattice_sun, &sun, want, NULL,
                                   write_rows, &twin_out) == SS_OK;
     double worst_host = 0, worst_twin = 0;
     uint64_t on_device = 0;
@@ -469,23 +472,36 @@ static void lattice_on_device(const ss_grid *g, int weather, const int *band_row
             ss_source src = test_source(g, read_rows, o, b < 0 ? 0 : band_rows[b], NULL);
             ss_ctx_set_cells(dev, where ? SS_CELLS_DEVICE : SS_CELLS_HOST);
             uint64_t before = ss_ctx_counters(dev).cell_steps_on_device;
-            ok = ss_insolation_rows(dev, &src, &opt, &io, N_STEPS, lattice_sun, &sun, 0, NULL,
+            ok = ss_insolation_rows(dev, &src, &opt, &io, N_STEPS, lattice_sun, &sun, want, NULL,
                                     write_rows, o) == SS_OK;
             on_device += ss_ctx_counters(dev).cell_steps_on_device - before;
             runs += ok;
-            for (int k = 0; ok && where && k < 5; ++k) {
-                worst_host = fmax(worst_host, worst_of(host.out[k], device.out[k], n,
-                                                       &nodata_mismatch));
-                worst_twin = fmax(worst_twin, worst_of(twin_out.out[k], device.out[k], n,
-                                                       &nodata_mismatch));
+            const float *const *host_out = host.out, *const *device_out = device.out,
+                        *const *twin_outs = twin_out.out;
+            int outputs = 5;
+            for (int pass = 0; ok && where && pass < 1 + steps; ++pass) {
+                if (pass) { /* each step's global */
+                    host_out = host.steps;
+                    device_out = device.steps;
+                    twin_outs = twin_out.steps;
+                    outputs = N_STEPS;
+                }
+                for (int k = 0; k < outputs; ++k) {
+                    worst_host = fmax(worst_host, worst_of(host_out[k], device_out[k], n,
+                                                           &nodata_mismatch));
+                    worst_twin = fmax(worst_twin, worst_of(twin_outs[k], device_out[k], n,
+                                                           &nodata_mismatch));
+                }
             }
         }
     tap_ok(ok && worst_host <= 2e-6 && worst_twin <= 5e-5 && nodata_mismatch == 0 &&
                on_device > 0,
-           "%s, a sun per cell as a lattice, steps on the device (%d runs, whole and %d band "
-           "heights): the five outputs of the steps on the host within %.2g relative (2e-6 "
-           "allowed), the C twin's within %.2g (5e-5), %llu cell-steps on the device%s%s",
-           weather ? "weather records" : "clear sky", runs, n_band_rows, worst_host, worst_twin,
+           "%s, %s shadows%s, a sun per cell as a lattice, steps on the device (%d runs, whole "
+           "and %d band heights): the outputs of the steps on the host within %.2g relative "
+           "(2e-6 allowed), the C twin's within %.2g (5e-5), %llu cell-steps on the device%s%s",
+           weather ? "weather records" : "clear sky",
+           shadows == SS_SHADOW_EXACT ? "exact" : "interpolated",
+           steps ? ", each step's global" : "", runs, n_band_rows, worst_host, worst_twin,
            (unsigned long long)on_device, ok ? "" : ": ", ok ? "" : ss_ctx_message(dev));
     ss_ctx_free(dev);
     ss_ctx_free(twin);
@@ -517,8 +533,10 @@ int main(void)
     compare(&s, "spikes 30x44, night only", 0, 0, N_STEPS - 1, 1, band_rows, nb);
     lattice_against_arrays(&s, 0, band_rows, nb);
     lattice_against_arrays(&s, 1, band_rows, nb);
-    lattice_on_device(&s, 0, band_rows, nb);
-    lattice_on_device(&s, 1, band_rows, nb);
+    lattice_on_device(&s, 0, SS_SHADOW_EXACT, 0, band_rows, nb);
+    lattice_on_device(&s, 1, SS_SHADOW_EXACT, 1, band_rows, nb);
+    lattice_on_device(&s, 0, SS_SHADOW_INTERPOLATED, 1, band_rows, nb);
+    lattice_on_device(&s, 1, SS_SHADOW_INTERPOLATED, 0, band_rows, nb);
     ss_grid_free(&s);
     return tap_done();
 }

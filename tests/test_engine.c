@@ -281,9 +281,9 @@ static void check_product(product p, ss_ctx *twin, ss_ctx *ocl)
                 results_free(&got);
             }
     }
-    /* Insolation's steps reach the device where they can: not with the
-     * per-step outputs, nor interpolated (the cumulative sky has no steps). */
-    int device_steps = ocl && p >= P_INSOLATION_WEATHER_PV && p != P_INSOLATION_CUMULATIVE;
+    /* Insolation's steps reach the device, exact or interpolated, with their
+     * per-step outputs (the cumulative sky has no steps). */
+    int device_steps = ocl && p >= P_INSOLATION_EXACT && p != P_INSOLATION_CUMULATIVE;
     tap_ok(!failed && worst <= tolerance(p) && (on_device > 0) == device_steps,
            "%s: %d runs (whole grid, bands of 1, 7, 200 rows; C twin%s; batches of 1 and 12) "
            "== the C twin's whole grid (worst %.2g relative, at %s); %llu cell-steps on the "

@@ -4,7 +4,8 @@
 # device is the GPU and its twin the C reference), then ss-bench on the GPU
 # and on PoCL over the machine's CPU cores, one line per measurement, then
 # ss-scale's whole-grid SVF and horizon products on both, then a week of
-# hourly clear-sky insolation (a year is 52 of them) with exact shadows.
+# hourly clear-sky insolation (a year is 52 of them) with exact shadows, and
+# the GPU's per-cell work against the host's, exact and interpolated.
 #
 #   doc/bench/device_run.sh [DIR] [OUTDIR]    (defaults .gpu and $OUT or .)
 #
@@ -70,8 +71,14 @@ want solar && for dev in "$gpu" "Portable"; do
         done
     done
 done
-# The GPU's per-cell work (its default) against the same on the host.
-want solar && echo "== ss-scale insolation on $gpu, 4096 whole, cells on the host" &&
-    SKYSWEEP_CELLS=host timeout 300 "$dir/bin/ss-scale" --size 4096 --directions 16 \
-        --insolation $week --whole --device "$gpu" 2>&1 |
-    grep -E '^(grid|steps|time|check)' | sed 's/^/  /'
+# The GPU's per-cell work (its default) against the same on the host, with
+# exact and with interpolated shadows (the stored horizons uploaded per band).
+for shadows in "" --interpolated; do
+    for cells in device host; do
+        want solar || continue
+        echo "== ss-scale insolation on $gpu, 4096 whole, ${shadows:-exact}, cells on the $cells"
+        SKYSWEEP_CELLS=$cells timeout 300 "$dir/bin/ss-scale" --size 4096 --directions 16 \
+            --insolation $week --whole $shadows --device "$gpu" 2>&1 |
+            grep -E '^(grid|steps|time|check)' | sed 's/^/  /'
+    done
+done

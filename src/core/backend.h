@@ -70,13 +70,18 @@ typedef struct {
     /* Insolation's steps on the device, where the backend has them (NULL:
      * the C twin, whose consumer computes them in place). cells_begin
      * takes the band's own cells' terms and zeroes `planes` planes over
-     * them; cells_step adds a step (kernels/ss_insolation_cells.h) with
-     * batch slot `slot`'s horizons, or none (slot -1), its suns from the
-     * lattice where given; cells_end adds the planes into the host's. */
+     * them, and takes interpolated shadows' stored horizons where given
+     * (stored_planes planes of the own cells, stored_stride cells apart on
+     * the host); cells_step adds a step (kernels/ss_insolation_cells.h)
+     * with batch slot `slot`'s horizons (or -1), its suns from the lattice
+     * where given, and reads the step's own global back to step_out where
+     * given; cells_end adds the planes into the host's. */
     ss_status (*cells_begin)(ss_backend *b, const ss_band_run *run, const ss_cell_terms *terms,
-                             int planes);
+                             int planes, const int16_t *stored, int stored_planes,
+                             size_t stored_stride);
     ss_status (*cells_step)(ss_backend *b, const ss_band_run *run, int slot,
-                            const ss_cells_step *step, const ss_sun_lattice *lattice);
+                            const ss_cells_step *step, const ss_sun_lattice *lattice,
+                            float *step_out);
     ss_status (*cells_end)(ss_backend *b, const ss_band_run *run, float *planes);
 } ss_backend_ops;
 

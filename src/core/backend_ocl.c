@@ -485,10 +485,12 @@ typedef struct {
     int stage;
     void *mapped_ptr;
     cl_event queued;                  /* marks the end of the last batch queued (pace) */
-    /* Insolation's steps (cells_*): the band's own cells' terms and planes,
-     * each step's lattice, and where the planes come back to. */
-    cl_mem cell_terms, cell_planes, lattice_at, lattice_nodes;
-    size_t cell_terms_cap, cell_planes_cap, lattice_at_cap, lattice_nodes_cap; /* bytes */
+    /* Insolation's steps (cells_*): the band's own cells' terms, planes and
+     * stored horizons, a step's own global, each step's lattice, and where
+     * the planes come back to. */
+    cl_mem cell_terms, cell_planes, cell_stored, cell_step, lattice_at, lattice_nodes;
+    size_t cell_terms_cap, cell_planes_cap, cell_stored_cap, cell_step_cap; /* bytes */
+    size_t lattice_at_cap, lattice_nodes_cap;
     int cell_planes_n;
     float *planes_back; /* CELLS_BACK_FLOATS */
     /* Each step's lattice as queued (written without waiting): a ring, each
@@ -922,8 +924,27 @@ static size_t own_cells(const ss_band_run *run)
     return (size_t)(run->row1 - run->row0) * (size_t)run->width;
 }
 
+/* Interpolated shadows' stored horizons, `planes` planes of n own cells
+ * that lie `stride` cells apart on the host, into the device's plane by
+ * plane. */
+static ss_status upload_stored(ss_backend *b, const int16_t *stored, int planes, size_t n,
+                               size_t stride)
+{
+    ocl_backend *q = b->impl;
+    size_t bytes = n * sizeof(int16_t);
+    for (int d = 0; d < planes; ++d) {
+        cl_int err = clEnqueueWriteBuffer(b->ctx->ocl->queue, q->cell_stored, CL_TRUE,
+                                          (size_t)d * bytes, bytes, stored + (size_t)d * stride,
+                                          0, NULL, NULL);
+        if (err != CL_SUCCESS)
+            return cl_fail(b->ctx, err, "copying the stored horizons");
+    }
+    return SS_OK;
+}
+
 static ss_status ocl_cells_begin(ss_backend *b, const ss_band_run *run,
-                                 const ss_cell_terms *terms, int planes)
+                                 const ss_cell_terms *terms, int planes, const int16_t *stored,
+                                 int stored_planes, size_t stored_stride)
 {
     ocl_backend *q = b->impl;
     size_t own = own_cells(run);
@@ -935,7 +956,13 @@ static ss_status ocl_cells_begin(ss_backend *b, const ss_band_run *run,
         st = room(b, &q->cell_planes, &q->cell_planes_cap, own * (size_t)planes * sizeof(float),
                   "allocating the cells' sums");
     if (st == SS_OK)
+        st = room(b, &q->cell_stored, &q->cell_stored_cap,
+                  own * (size_t)stored_planes * sizeof(int16_t),
+                  "allocating the stored horizons");
+    if (st == SS_OK)
         st = upload(b, q->cell_terms, own * sizeof(ss_cell_terms), terms);
+    if (st == SS_OK)
+        st = upload_stored(b, stored, stored_planes, own, stored_stride);
     if (st == SS_OK)
         st = fill(b, q->cell_planes, own * (size_t)planes * sizeof(float));
     q->cell_planes_n = st == SS_OK ? planes : 0;
@@ -992,11 +1019,13 @@ static ss_status stage_lattice(ss_backend *b, const ss_sun_lattice *l, lattice_e
 }
 
 static ss_status ocl_cells_step(ss_backend *b, const ss_band_run *run, int slot,
-                                const ss_cells_step *step, const ss_sun_lattice *lattice)
+                                const ss_cells_step *step, const ss_sun_lattice *lattice,
+                                float *step_out)
 {
     ocl_backend *q = b->impl;
     cl_command_queue queue = b->ctx->ocl->queue;
     lattice_entry *e = NULL;
+    size_t own = own_cells(run);
     ss_status st = unmap(b);
     if (st == SS_OK)
         st = stage_lattice(b, lattice, &e);
@@ -1008,6 +1037,9 @@ static ss_status ocl_cells_step(ss_backend *b, const ss_band_run *run, int slot,
     if (st == SS_OK)
         st = room(b, &q->lattice_nodes, &q->lattice_nodes_cap, e->reals_bytes,
                   "allocating a sun lattice");
+    if (st == SS_OK)
+        st = room(b, &q->cell_step, &q->cell_step_cap, step_out ? own * sizeof(float) : 0,
+                  "allocating a step's global");
     if (st != SS_OK)
         return st;
     /* Not waited for: the queue runs in order, and the entry is reused
@@ -1023,8 +1055,14 @@ static ss_status ocl_cells_step(ss_backend *b, const ss_band_run *run, int slot,
     ss_band_run r = *run;
     kernel_arg args[] = {ARG(r),           ARG(*step),          ARG(slot),
                          ARG(q->z),        ARG(q->outs),        ARG(q->cell_terms),
-                         ARG(q->lattice_at), ARG(q->lattice_nodes), ARG(q->cell_planes)};
-    return run_kernel(b, b->ctx->ocl->k_cells, args, 9, own_cells(run), "the insolation kernel");
+                         ARG(q->lattice_at), ARG(q->lattice_nodes), ARG(q->cell_planes),
+                         ARG(q->cell_stored), ARG(q->cell_step)};
+    st = run_kernel(b, b->ctx->ocl->k_cells, args, 11, own, "the insolation kernel");
+    if (st != SS_OK || !step_out)
+        return st;
+    err = clEnqueueReadBuffer(queue, q->cell_step, CL_TRUE, 0, own * sizeof(float), step_out, 0,
+                              NULL, NULL);
+    return err == CL_SUCCESS ? SS_OK : cl_fail(b->ctx, err, "reading a step's global");
 }
 
 /* The band's sums come back in pieces of this many floats, added into the
@@ -1067,7 +1105,7 @@ static void ocl_close(ss_backend *b)
                     q->outs,    q->carry,   q->dirs,    q->hull_in, q->hull_out,
                     q->in_off,  q->in_cnt,  q->out_off, q->out_cnt, q->state,
                     q->counters, q->lit_levels, q->cell_terms, q->cell_planes,
-                    q->lattice_at, q->lattice_nodes};
+                    q->cell_stored, q->cell_step, q->lattice_at, q->lattice_nodes};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (all[i])
             clReleaseMemObject(all[i]);

@@ -90,6 +90,7 @@ struct ss_engine_device {
     ss_backend *b;
     const ss_band_run *run; /* the band visited */
     int begun;              /* its cells are on the device */
+    int stored_planes;      /* the consumer's device_stored */
 };
 
 /* What one run keeps besides the backend. */
@@ -214,28 +215,32 @@ ss_status ss_engine_device_rows(ss_engine_device *d, ss_dir_rows *rows)
     return read_rows(d->b, d->run, rows);
 }
 
-ss_status ss_engine_cells_begin(ss_engine_device *d, const ss_cell_terms *terms, int planes)
+ss_status ss_engine_cells_begin(ss_engine_device *d, const ss_cell_terms *terms, int planes,
+                                const int16_t *stored, size_t stored_stride)
 {
-    ss_status st = d->b->ops->cells_begin(d->b, d->run, terms, planes);
+    ss_status st = d->b->ops->cells_begin(d->b, d->run, terms, planes, stored,
+                                          stored ? d->stored_planes : 0, stored_stride);
     d->begun = st == SS_OK;
     return st;
 }
 
 ss_status ss_engine_cells_step(ss_engine_device *d, const ss_dir_rows *rows,
-                               const ss_cells_step *step, const ss_sun_lattice *lattice)
+                               const ss_cells_step *step, const ss_sun_lattice *lattice,
+                               float *step_out)
 {
     if (!d->begun)
         return ss_fail(d->b->ctx, SS_ERR_INTERNAL, "a step sent to the device before its cells");
-    return d->b->ops->cells_step(d->b, d->run, rows ? rows->slot : -1, step, lattice);
+    return d->b->ops->cells_step(d->b, d->run, rows ? rows->slot : -1, step, lattice, step_out);
 }
 
 /* Whether a band's cells fit the device's buffers: else the consumer's
  * steps stay on the host for the run, as on a CPU device. */
-static int cells_fit(const ss_backend *b, const ss_band_run *run, int planes)
+static int cells_fit(const ss_backend *b, const ss_band_run *run, const ss_consumer *c)
 {
     size_t own = (size_t)(run->row1 - run->row0) * (size_t)run->width;
     return own * sizeof(ss_cell_terms) <= b->cells_max_bytes &&
-           own * (size_t)planes * sizeof(float) <= b->cells_max_bytes;
+           own * (size_t)c->planes * sizeof(float) <= b->cells_max_bytes &&
+           own * (size_t)c->device_stored * sizeof(int16_t) <= b->cells_max_bytes;
 }
 
 /* Hands slots [0, n) of the batch just walked to the consumer, in order:
@@ -331,9 +336,8 @@ static ss_status visit_band(engine_run *e, int row0, int row1, int pass, int fir
     if (e->banded || !e->b.whole_z)
         st = read_band(e, run.lo, run.held_rows);
     const float *z = e->b.whole_z ? e->b.whole_z : e->z;
-    e->device = (ss_engine_device){&e->b, &run, 0};
-    int on_device = c->device_cells && walks(e) && e->b.device_cells &&
-                    cells_fit(&e->b, &run, c->planes);
+    e->device = (ss_engine_device){&e->b, &run, 0, c->device_stored};
+    int on_device = c->device_cells && walks(e) && e->b.device_cells && cells_fit(&e->b, &run, c);
     ss_band_view view = {row0,      row1 - row0, run.lo, run.held_rows,
                          run.width, run.height,  z,      z + (size_t)(row0 - run.lo) * run.width,
                          on_device ? &e->device : NULL};

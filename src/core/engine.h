@@ -52,8 +52,11 @@ typedef struct {
     ss_status (*finish)(void *user, const ss_band_view *band, float *planes);
     /* Insolation's steps can run on the device: where the backend can, a
      * band's view has a device and its directions come with their rows
-     * left there (NULL), for the consumer to add there or read back. */
+     * left there (NULL), for the consumer to add there or read back ... */
     int device_cells;
+    /* ... with this many int16 planes per own cell held there too
+     * (interpolated shadows' stored horizons, ss_engine_cells_begin). */
+    int device_stored;
 } ss_consumer;
 
 typedef struct {
@@ -79,14 +82,19 @@ typedef struct {
 } ss_engine_job;
 
 /* A visit's steps on the device (backend.h's cells_*): the band's own
- * cells' terms and `planes` planes set to zero there; a step added there
- * with the direction's horizons (rows) or none (NULL); what was added
- * there joins the consumer's planes when the visit's directions are done.
- * ss_engine_device_rows reads a direction's rows to the host instead, for
- * a step the consumer computes itself. */
-ss_status ss_engine_cells_begin(ss_engine_device *d, const ss_cell_terms *terms, int planes);
+ * cells' terms, `planes` planes set to zero there, and the consumer's
+ * device_stored planes of interpolated shadows' stored horizons (own
+ * cells, stored_stride cells apart; NULL where it has none); a step added
+ * there with the direction's horizons (rows) or none (NULL), its own
+ * global read back to step_out where given (NULL: not read); what was
+ * added there joins the consumer's planes when the visit's directions are
+ * done. ss_engine_device_rows reads a direction's rows to the host
+ * instead, for a step the consumer computes itself. */
+ss_status ss_engine_cells_begin(ss_engine_device *d, const ss_cell_terms *terms, int planes,
+                                const int16_t *stored, size_t stored_stride);
 ss_status ss_engine_cells_step(ss_engine_device *d, const ss_dir_rows *rows,
-                               const ss_cells_step *step, const ss_sun_lattice *lattice);
+                               const ss_cells_step *step, const ss_sun_lattice *lattice,
+                               float *step_out);
 ss_status ss_engine_device_rows(ss_engine_device *d, ss_dir_rows *rows);
 
 /* Checks a source: sizes, cell sizes, heights or a reader. */

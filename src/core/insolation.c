@@ -342,22 +342,24 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
     if (st != SS_OK)
         return st;
     band_pressure_range(s, band);
-    if (band->device)
+    s->stored = NULL;
+    if (job->horizons) {
+        /* Interpolated shadows read the band's stored horizons, in place
+         * where they are in memory. */
+        s->stored = ss_cell_store_peek(job->horizons, 0, band->row0);
+        s->stored_stride = (size_t)job->src->width * job->src->height;
+    }
+    if (job->horizons && !s->stored) {
+        for (int d = 0; d < job->opt->directions && st == SS_OK; ++d)
+            st = ss_cell_store_get(job->horizons, d, band->row0, band->n_rows,
+                                   s->stored_band + (size_t)d * n);
+        s->stored = s->stored_band;
+        s->stored_stride = n;
+    }
+    if (st == SS_OK && band->device)
         st = ss_engine_cells_begin(band->device, s->terms,
-                                   ss_insolation_planes_of(job->want).count);
-    if (!job->horizons)
-        return st;
-    /* Interpolated shadows read the band's stored horizons, in place where
-     * they are in memory. */
-    s->stored = ss_cell_store_peek(job->horizons, 0, band->row0);
-    s->stored_stride = (size_t)job->src->width * job->src->height;
-    if (s->stored)
-        return SS_OK;
-    for (int d = 0; d < job->opt->directions && st == SS_OK; ++d)
-        st = ss_cell_store_get(job->horizons, d, band->row0, band->n_rows,
-                               s->stored_band + (size_t)d * n);
-    s->stored = s->stored_band;
-    s->stored_stride = n;
+                                   ss_insolation_planes_of(job->want).count, s->stored,
+                                   s->stored_stride);
     return st;
 }
 
@@ -386,9 +388,12 @@ static step_pv step_pv_of(const ss_insolation_options *io, const ss_sun_step *su
     return s;
 }
 
-/* A step added on the device (kernels/ss_insolation_cells.h), with the
- * walk's rows left there or none; every valid cell counts as a cell step. */
-static ss_status device_step(steps_run *s, int k, const ss_band_view *band, const ss_dir_rows *rows,
+/* A step added on the device (kernels/ss_insolation_cells.h), its
+ * horizons the walk's rows left there, the stored ones (between) or none;
+ * every valid cell counts as a cell step. Its global comes back to
+ * step_global where the run writes each step. */
+static ss_status device_step(steps_run *s, int k, const ss_band_view *band, int kind,
+                             const ss_dir_rows *rows, stored_between between,
                              const ss_sun_step *sun, const ss_sky_record *rec, ss_sky_parts sky,
                              const ss_insolation_planes *p, int month_plane, const step_pv *pv)
 {
@@ -397,7 +402,13 @@ static ss_status device_step(steps_run *s, int k, const ss_band_view *band, cons
         .cells = band->n_rows * band->width,
         .width = band->width,
         .row0 = band->row0,
-        .horizon = rows != NULL,
+        .horizon = kind == STEP_SWEPT    ? SS_CELLS_WALKED
+                   : kind == STEP_STORED ? SS_CELLS_STORED
+                                         : SS_CELLS_NO_HORIZON,
+        .stored0 = between.i0,
+        .stored1 = between.i1,
+        .stored_t = between.t,
+        .step_out = s->step_global != NULL,
         .real_sky = sun->real_sky != 0,
         .lattice = l != NULL,
         .lattice_cols = l ? l->n_cols : 0,
@@ -426,7 +437,13 @@ static ss_status device_step(steps_run *s, int k, const ss_band_view *band, cons
         return st;
     s->job->ctx->counters.cell_steps += s->valid_cells;
     s->job->ctx->counters.cell_steps_on_device += s->valid_cells;
-    return ss_engine_cells_step(band->device, rows, &step, l);
+    st = ss_engine_cells_step(band->device, kind == STEP_SWEPT ? rows : NULL, &step, l,
+                              s->step_global);
+    size_t n = (size_t)step.cells;
+    for (size_t c = 0; s->step_global && c < n; ++c)
+        if (!isfinite(band->own_z[c]))
+            s->step_global[c] = SS_NODATA;
+    return st;
 }
 
 /* Step k over a band's own cells: its shadows (rows of the walk at its
@@ -460,10 +477,16 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         int month_plane = p.monthly >= 0 && sun.month >= 1 && sun.month <= 12
                               ? p.monthly + sun.month - 1
                               : -1;
+        stored_between between =
+            kind == STEP_STORED ? stored_between_of(job->opt, sun.azimuth_deg) : (stored_between){0};
         if (band->device && (sun.lattice || !(sun.elevation_per_cell ||
-                                              sun.grid_azimuth_per_cell || sun.apparent_per_cell)))
-            return device_step(s, k, band, kind == STEP_SWEPT ? rows : NULL, &sun, &rec, sky, &p,
-                               month_plane, &pvs);
+                                              sun.grid_azimuth_per_cell || sun.apparent_per_cell))) {
+            st = device_step(s, k, band, kind, rows, between, &sun, &rec, sky, &p, month_plane,
+                             &pvs);
+            return st == SS_OK && step_global ? job->sink(job->user, SS_OUT_STEP, k, band->row0,
+                                                          band->n_rows, step_global)
+                                              : st;
+        }
         /* The walk's rows, where they were left on the device. */
         ss_dir_rows read = rows ? *rows : (ss_dir_rows){NULL, NULL, NULL, 0};
         if (band->device && kind == STEP_SWEPT)
@@ -489,8 +512,6 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                              (float)sun.elevation_deg, (float)sun.grid_azimuth_deg,
                              (float)sun.linke, !sun.real_sky, s->pressure_lo, s->pressure_hi);
         }
-        stored_between between =
-            kind == STEP_STORED ? stored_between_of(job->opt, sun.azimuth_deg) : (stored_between){0};
         ss_lane_step lane = {
             .tables = s->sun,
             .h0_step_deg = (float)sun.elevation_deg,
@@ -689,14 +710,14 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
     if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
-    /* Steps go to the device where the backend can take them, except
-     * interpolated shadows (their stored horizons stay on the host) and
-     * the per-step outputs (each step's rows would come back anyway). */
+    /* Steps go to the device where the backend can take them, with the
+     * stored horizons of interpolated shadows. */
     ss_consumer consumer = {.planes = ss_insolation_planes_of(job->want).count,
                             .visit = steps_visit,
                             .direction = steps_direction,
                             .finish = steps_finish,
-                            .device_cells = !job->horizons && !steps_out};
+                            .device_cells = 1,
+                            .device_stored = job->horizons ? job->opt->directions : 0};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
                          .dirs = plan->dirs,
                          .n_dirs = plan->n_dirs,

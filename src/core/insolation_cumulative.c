@@ -141,7 +141,7 @@ static void cell_sums(const sun_map *m, const ss_cell_terms *t, const int16_t *s
     double beam[12] = {0}, circ[12] = {0}, hours = 0;
     for (int k = 0; k < m->n_bins; ++k) {
         const sun_bin *b = &m->bins[k];
-        float horizon = stored[(size_t)b->direction * stride + c] / SS_HORIZON_SCALE;
+        float horizon = ss_stored_horizon(stored[(size_t)b->direction * stride + c]);
         if (!(b->elevation_hours / b->hours > horizon))
             continue;
         float beam_dot = nv[0] * b->beam[0] + nv[1] * b->beam[1] + nv[2] * b->beam[2];

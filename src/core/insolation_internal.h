@@ -9,6 +9,7 @@
 #include "cell_store.h"
 #include "insolation_cell.h"
 #include "products_internal.h"
+#include "ss_stored_horizon.h"
 
 typedef struct {
     ss_ctx *ctx;
@@ -26,7 +27,7 @@ typedef struct {
      * horizon band it sees (plane 1). */
     ss_cell_store *cells;
     /* Interpolated shadows and the cumulative sky: each cell's horizon at the
-     * D directions, int16 hundredths of a degree, one plane each. */
+     * D directions (kernels/ss_stored_horizon.h), one plane each. */
     ss_cell_store *horizons;
 } ss_insolation_job;
 
@@ -40,7 +41,6 @@ ss_status ss_insolation_cell_inputs(ss_insolation_job *job);
  * surface's gradient, the air pressure at the cell's height). */
 ss_status ss_insolation_band_terms(const ss_insolation_job *job, const ss_band_view *band,
                                    ss_cell_terms *terms);
-#define SS_HORIZON_SCALE 100.0f /* stored horizons: 0.005 degrees of rounding */
 
 /* The planes an insolation run sums per cell: the five outputs, and the
  * months and PV yields where asked for (-1: not kept). */

@@ -56,8 +56,7 @@ static inline float ss_lane_horizon(const ss_lane_step *s, size_t c)
     if (s->swept)
         return s->swept[c];
     if (s->stored0)
-        return ((1.0f - s->stored_t) * s->stored0[c] + s->stored_t * s->stored1[c]) /
-               SS_HORIZON_SCALE;
+        return ss_stored_horizon_between(s->stored0[c], s->stored1[c], s->stored_t);
     return -90.0f;
 }
 
