@@ -18,9 +18,14 @@ SS_FN float ss_stored_horizon(short stored)
 }
 
 /* The horizon (degrees) weight t of the way from stored direction h0's to
- * the next one's, h1. */
+ * the next one's, h1: unfused on a device as on the host (whose lanes
+ * turn contraction off), so both test each cell's sun against the same
+ * float. */
 SS_FN float ss_stored_horizon_between(short h0, short h1, float t)
 {
+#ifdef __OPENCL_VERSION__
+#pragma OPENCL FP_CONTRACT OFF
+#endif
     return ((1.0f - t) * h0 + t * h1) / SS_HORIZON_SCALE;
 }
 

@@ -464,19 +464,34 @@ static void lattice_on_device(const ss_grid *g, int weather, ss_shadow_mode shad
     ok = ok && ss_insolation_rows(twin, &whole, &opt, &io, N_STEPS, lattice_sun, &sun, want, NULL,
                                   write_rows, &twin_out) == SS_OK;
     double worst_host = 0, worst_twin = 0;
-    uint64_t on_device = 0;
-    int runs = 0;
+    uint64_t on_device = 0, left_on_host = 0;
+    int runs = 0, bad_writes = 0;
     for (int b = -1; ok && b < n_band_rows; ++b)
         for (int where = 0; ok && where < 2; ++where) {
             grids *o = where ? &device : &host;
             ss_source src = test_source(g, read_rows, o, b < 0 ? 0 : band_rows[b], NULL);
             ss_ctx_set_cells(dev, where ? SS_CELLS_DEVICE : SS_CELLS_HOST);
-            uint64_t before = ss_ctx_counters(dev).cell_steps_on_device;
+            /* What a run leaves unwritten shows, and what it writes twice. */
+            for (size_t c = 0; c < n; ++c) {
+                for (int k = 0; k < 5; ++k)
+                    o->out[k][c] = -7777.0f;
+                for (int k = 0; k < N_STEPS; ++k)
+                    o->steps[k][c] = -7777.0f;
+            }
+            memset(o->writes, 0, sizeof(int) * (size_t)(N_STEPS + 1) * g->height);
+            ss_counters before = ss_ctx_counters(dev);
             ok = ss_insolation_rows(dev, &src, &opt, &io, N_STEPS, lattice_sun, &sun, want, NULL,
                                     write_rows, o) == SS_OK;
-            on_device += ss_ctx_counters(dev).cell_steps_on_device - before;
+            ss_counters after = ss_ctx_counters(dev);
+            on_device += after.cell_steps_on_device - before.cell_steps_on_device;
+            if (where) /* every cell-step, walked, stored or unshaded, on the device */
+                left_on_host += (after.cell_steps - before.cell_steps) -
+                                (after.cell_steps_on_device - before.cell_steps_on_device);
+            for (int k = 0; k < (steps ? N_STEPS + 1 : 1); ++k)
+                for (int r = 0; r < g->height; ++r)
+                    bad_writes += o->writes[(size_t)k * g->height + r] != 1;
             runs += ok;
-            const float *const *host_out = host.out, *const *device_out = device.out,
+            float *const *host_out = host.out, *const *device_out = device.out,
                         *const *twin_outs = twin_out.out;
             int outputs = 5;
             for (int pass = 0; ok && where && pass < 1 + steps; ++pass) {
@@ -495,14 +510,16 @@ static void lattice_on_device(const ss_grid *g, int weather, ss_shadow_mode shad
             }
         }
     tap_ok(ok && worst_host <= 2e-6 && worst_twin <= 5e-5 && nodata_mismatch == 0 &&
-               on_device > 0,
+               on_device > 0 && left_on_host == 0 && bad_writes == 0,
            "%s, %s shadows%s, a sun per cell as a lattice, steps on the device (%d runs, whole "
            "and %d band heights): the outputs of the steps on the host within %.2g relative "
-           "(2e-6 allowed), the C twin's within %.2g (5e-5), %llu cell-steps on the device%s%s",
+           "(2e-6 allowed), the C twin's within %.2g (5e-5), %llu cell-steps on the device and "
+           "%llu left on the host, %d rows not written once%s%s",
            weather ? "weather records" : "clear sky",
            shadows == SS_SHADOW_EXACT ? "exact" : "interpolated",
            steps ? ", each step's global" : "", runs, n_band_rows, worst_host, worst_twin,
-           (unsigned long long)on_device, ok ? "" : ": ", ok ? "" : ss_ctx_message(dev));
+           (unsigned long long)on_device, (unsigned long long)left_on_host, bad_writes,
+           ok ? "" : ": ", ok ? "" : ss_ctx_message(dev));
     ss_ctx_free(dev);
     ss_ctx_free(twin);
     lattice_free(&sun);

@@ -96,7 +96,7 @@ struct ss_backend {
     int carried;              /* rows of sums kept between bands (0: the whole grid) */
     const float *whole_z;     /* the whole grid, used in place (NULL in bands) */
     int device_cells;         /* runs insolation's steps itself (cells_*, ss_ctx_set_cells) ... */
-    size_t cells_max_bytes;   /* ... where each of a band's cell buffers fits in this */
+    size_t cells_max_bytes;   /* ... where a band's cell buffers together fit in this */
     void *impl;
 };
 

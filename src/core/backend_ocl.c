@@ -925,14 +925,16 @@ static size_t own_cells(const ss_band_run *run)
 }
 
 /* Interpolated shadows' stored horizons, `planes` planes of n own cells
- * that lie `stride` cells apart on the host, into the device's plane by
- * plane. */
+ * that lie `stride` cells apart on the host, into the device's: in one
+ * copy where they lie together, else plane by plane. */
 static ss_status upload_stored(ss_backend *b, const int16_t *stored, int planes, size_t n,
                                size_t stride)
 {
     ocl_backend *q = b->impl;
-    size_t bytes = n * sizeof(int16_t);
-    for (int d = 0; d < planes; ++d) {
+    int together = stride == n;
+    int copies = together && planes > 0 ? 1 : planes;
+    size_t bytes = n * sizeof(int16_t) * (size_t)(together ? planes : 1);
+    for (int d = 0; d < copies; ++d) {
         cl_int err = clEnqueueWriteBuffer(b->ctx->ocl->queue, q->cell_stored, CL_TRUE,
                                           (size_t)d * bytes, bytes, stored + (size_t)d * stride,
                                           0, NULL, NULL);
@@ -1207,8 +1209,9 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     if (err == CL_SUCCESS &&
         !(q->lattice_stage = ss_calloc((size_t)q->lattice_stages, sizeof(lattice_entry))))
         err = CL_OUT_OF_HOST_MEMORY;
-    /* The cells' terms and sums take their own buffers, within the device's
-     * largest and a quarter of its memory (the batch takes another). */
+    /* The cells' terms, sums, stored horizons and step take their own
+     * buffers, together within the device's largest and a quarter of its
+     * memory (the batch takes another; engine.c, cells_fit). */
     b->cells_max_bytes = (size_t)fmin((double)o->max_alloc, (double)o->global_mem / 4.0);
     /* Shadow walks stop early on a whole grid only (engine.c sets lit_level
      * -1 elsewhere). */

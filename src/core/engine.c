@@ -233,14 +233,15 @@ ss_status ss_engine_cells_step(ss_engine_device *d, const ss_dir_rows *rows,
     return d->b->ops->cells_step(d->b, d->run, rows ? rows->slot : -1, step, lattice, step_out);
 }
 
-/* Whether a band's cells fit the device's buffers: else the consumer's
- * steps stay on the host for the run, as on a CPU device. */
+/* Whether a band's cell buffers (terms, sums, stored horizons and a
+ * step's global) fit the device together: else the consumer's steps stay
+ * on the host for the band, as on a CPU device. */
 static int cells_fit(const ss_backend *b, const ss_band_run *run, const ss_consumer *c)
 {
     size_t own = (size_t)(run->row1 - run->row0) * (size_t)run->width;
-    return own * sizeof(ss_cell_terms) <= b->cells_max_bytes &&
-           own * (size_t)c->planes * sizeof(float) <= b->cells_max_bytes &&
-           own * (size_t)c->device_stored * sizeof(int16_t) <= b->cells_max_bytes;
+    size_t per_cell = sizeof(ss_cell_terms) + (size_t)c->planes * sizeof(float) +
+                      (size_t)c->device_stored * sizeof(int16_t) + sizeof(float);
+    return own <= b->cells_max_bytes / per_cell;
 }
 
 /* Hands slots [0, n) of the batch just walked to the consumer, in order:

@@ -402,9 +402,9 @@ static ss_status device_step(steps_run *s, int k, const ss_band_view *band, int 
         .cells = band->n_rows * band->width,
         .width = band->width,
         .row0 = band->row0,
-        .horizon = kind == STEP_SWEPT    ? SS_CELLS_WALKED
-                   : kind == STEP_STORED ? SS_CELLS_STORED
-                                         : SS_CELLS_NO_HORIZON,
+        .horizon = kind == STEP_SWEPT && rows ? SS_CELLS_WALKED
+                   : kind == STEP_STORED          ? SS_CELLS_STORED
+                                                  : SS_CELLS_NO_HORIZON,
         .stored0 = between.i0,
         .stored1 = between.i1,
         .stored_t = between.t,
