@@ -13,7 +13,7 @@
  * next to each case. Grids are small to keep the suite quick: the sweep's
  * cost is per cell, and these cases are about values, not sizes (the
  * large-and-odd sizes run once). The CLI half (reader data types,
- * geographic grids) is tests/test_hardcases.sh. */
+ * geographic grids) is tests/test_hardcases_cli.sh. */
 #include "config.h"
 
 #include <math.h>

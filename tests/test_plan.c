@@ -372,6 +372,15 @@ static void lines(void)
            "lines auto with a radius: interpolated lines, which radius walks take (%s)",
            ss_line_model_name(p_asked.lines));
     r.radius_m = 0;
+    /* The same city on cells three times as long as wide: box lines would
+     * refuse them, so auto keeps interpolated lines and says why. */
+    city.cell_y_m = 3 * city.cell_x_m;
+    ss_place pl = place_of(&city, 0, 57);
+    ok = ss_plan_make(ctx, &city, &pl, &r, &p_asked) == SS_OK;
+    const ss_plan_item *il = ok ? item(&p_asked, "lines") : NULL;
+    tap_ok(il && p_asked.lines == SS_LINES_INTERPOLATED && strstr(il->reason, "twice as long"),
+           "lines auto on walls of cells 1 x 3: interpolated lines (%s)", il ? il->reason : "-");
+    city.cell_y_m = city.cell_x_m;
     r.lines = SS_LINES_DIGITAL;
     ok = ss_plan_make(ctx, &city, &pc, &r, &p_asked) == SS_OK;
     tap_ok(ok && p_asked.lines == SS_LINES_DIGITAL,

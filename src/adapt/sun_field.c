@@ -130,6 +130,10 @@ ss_status ss_sun_field_lattice(ss_ctx *ctx, const ss_dem *dem, const ss_dem_fram
         ++j_lo;
     while (j_hi - 1 >= 0 && nodes->rows[j_hi - 1] >= row_hi - 1)
         --j_hi;
+    if (j_hi < j_lo) { /* a one-row DEM, whose two nodes both lie on row 0 */
+        j_lo = 0;
+        j_hi = nr - 1;
+    }
     if (j_hi == j_lo && nr > 1)
         j_hi < nr - 1 ? ++j_hi : --j_lo;
     int n_rows = j_hi - j_lo + 1;

@@ -186,6 +186,17 @@ static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid
         return;
     }
     double share = wall_share(grid);
+    double aspect = grid->cell_x_m > grid->cell_y_m ? grid->cell_x_m / grid->cell_y_m
+                                                    : grid->cell_y_m / grid->cell_x_m;
+    if (share > SS_WALL_SHARE && aspect > 2.0) {
+        /* A wall share measured on such cells mostly says how long they are. */
+        p->lines = SS_LINES_INTERPOLATED;
+        add(p, "lines", 1, 0, "",
+            "interpolated lines: %.2f %% of neighbouring cells step like walls, but box lines "
+            "need cells at most twice as long as wide, and these are %.4g x %.4g m",
+            100 * share, grid->cell_x_m, grid->cell_y_m);
+        return;
+    }
     p->lines = share > SS_WALL_SHARE ? SS_LINES_BOX : SS_LINES_INTERPOLATED;
     if (p->lines == SS_LINES_BOX)
         add(p, "lines", 1, 0, "",

@@ -178,4 +178,41 @@ for g in $geo_cases; do
     done
 done
 
+# ---- grids one cell thin --------------------------------------------------------------
+# One row and one column in UTM 5N, 30 m cells, the sun per cell: its
+# lattice then has two nodes on the one row (or column), which once left
+# the one-row grid's sun with no lattice rows at all.
+for shape in row:40:1 column:1:30; do
+    IFS=: read -r name nc nr <<<"$shape"
+    ascii_grid "$work/thin.asc" "$nc" "$nr" 254325 2152155 30 -9999 '300 + 7 * c + 5 * r'
+    dem=$work/thin_$name.tif
+    gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/thin.asc" "$dem"
+    : >"$work/all_errors"
+    failed=0
+    run shadow --time 2026-06-21T20:00Z --sun-per-cell on "$dem" "$work/thin_$name.sh.tif" ||
+        failed=$((failed + 1))
+    run insolation --time 2026-06-21T00:00Z/PT24H --step PT3H --directions 8 --sun-per-cell on \
+        "$dem" "$work/thin_$name.ins.tif" || failed=$((failed + 1))
+    bad=0
+    if [ $failed -eq 0 ]; then
+        bad=$(($(in_range "$work/thin_$name.sh.tif" 1 0 1) +
+            $(in_range "$work/thin_$name.ins.tif" 1 1 1e5) +
+            $(in_range "$work/thin_$name.ins.tif" 5 0 24)))
+    fi
+    [ $failed -eq 0 ] && [ "$bad" -eq 0 ]
+    tap_ok $? "one $name ($nc x $nr), the sun per cell: shadow and insolation run ($(head -c 200 "$work/all_errors")), sunlit in {0, 1}, irradiation > 0, hours of sun <= 24 ($bad outside)"
+done
+
+# ---- walls and radius-limited horizons -------------------------------------------------
+# Blocks 20 m tall on 1 m cells: lines auto would take box lines for walls,
+# but the VAT blend's horizons are radius-limited, which box lines refuse,
+# so its plan keeps interpolated lines.
+ascii_grid "$work/blocks.asc" 60 60 254325 2152155 1 -9999 '(c % 12 < 6 && r % 12 < 6) ? 20 : 0'
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/blocks.asc" "$work/blocks.tif"
+"$SKYSWEEP" hillshade --blend vat "$work/blocks.tif" "$work/blocks_vat.tif" >"$work/stdout" 2>"$work/stderr"
+rc=$?
+grep -q '^lines .*interpolated lines: radius-limited' "$work/stdout" && [ $rc -eq 0 ] &&
+    [ "$(in_range "$work/blocks_vat.tif" 1 0 255)" -eq 0 ]
+tap_ok $? "VAT blend on walls: runs with interpolated lines (exit $rc; $(head -c 200 "$work/stderr"))"
+
 tap_done
