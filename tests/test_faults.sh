@@ -229,6 +229,24 @@ expect_failure 2 "horizon --distance is the input" -- horizon --distance "$dem" 
 expect_failure 2 "horizon --distance is the output" -- horizon --distance "$o" "$dem" "$o"
 expect_failure 4 "horizon --distance in a missing folder" -- \
     horizon --distance "$work/out/none/d.tif" "$dem" "$o"
+expect_failure 2 "insolation --steps is the output" -- \
+    insolation --time 2026-06-21T00:00Z/PT24H --step PT6H --steps "$o" "$dem" "$o"
+expect_failure 2 "an output's name is empty" -- svf "$dem" ""
+mkdir -p "$work/afolder"
+mkfifo "$work/afifo"
+expect_failure 4 "output is an existing folder" -- svf "$dem" "$work/afolder"
+expect_failure 4 "output is a named pipe" -- svf "$dem" "$work/afifo"
+expect_failure 4 "render --export in a missing folder" -- \
+    render --export "$work/out/none/x.vts" "$dem" "$work/out/r.png"
+# A second output that cannot be written is refused before any work, so
+# the first output's existing file stays as it was.
+echo "precious" >"$work/out/keep.tif"
+run horizon --directions 4 --distance "$work/afolder" "$dem" "$work/out/keep.tif"
+lines=$(wc -l <"$work/stderr")
+[ "$rc" -eq 4 ] && [ "$lines" -eq 1 ] && [ "$(cat "$work/out/keep.tif")" = precious ] &&
+    [ "$(ls -A "$work/out")" = keep.tif ]
+tap_ok $? "horizon --distance is a folder: exit $rc (want 4), $lines line(s), the existing output kept: $(head -c 200 "$work/stderr")"
+rm -f "$work/out/"*
 
 # The disk fills up while writing: a file-size limit of 8 KiB (SIGXFSZ
 # ignored, so the write fails with EFBIG) against a 12 KB uncompressed band.

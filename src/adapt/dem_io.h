@@ -93,6 +93,12 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
 /* Removes the temporary file; the output path is left as it was. */
 void ss_writer_abort(ss_raster_writer *w);
 
+/* Whether an output may be written at path: a non-empty name in a folder
+ * that exists and is writable, and nothing there yet but a file to
+ * replace (not a folder, device, pipe or socket). ss_writer_open checks
+ * it; a command checks each of its outputs before any work. */
+ss_status ss_output_check(ss_ctx *ctx, const char *path);
+
 /* Nonzero when two paths name the same existing file. */
 int ss_same_file(const char *a, const char *b);
 /* Nonzero when two output paths, which need not exist yet, name the same

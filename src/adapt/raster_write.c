@@ -215,8 +215,10 @@ static char *temporary_name(const char *path, const char *kind)
     return ss_temporary_name(path, kind);
 }
 
-static ss_status check_output_folder(ss_ctx *ctx, const char *path)
+ss_status ss_output_check(ss_ctx *ctx, const char *path)
 {
+    if (!path[0])
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "an output's name is empty");
     char *copy = strdup(path);
     if (!copy)
         return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
@@ -229,6 +231,10 @@ static ss_status check_output_folder(ss_ctx *ctx, const char *path)
     else if (strncmp(dir, "/vsi", 4) != 0 && access(dir, W_OK | X_OK) != 0)
         status = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' is not writable",
                          path, dir);
+    else if (VSIStatL(path, &st) == 0 && !VSI_ISREG(st.st_mode))
+        status = ss_ctx_error(ctx, SS_ERR_OUTPUT,
+                              "cannot write '%s': it is a %s, which an output may not replace",
+                              path, VSI_ISDIR(st.st_mode) ? "folder" : "device, pipe or socket");
     free(copy);
     return status;
 }
@@ -399,7 +405,7 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     int can_copy = CSLFetchBoolean(meta, GDAL_DCAP_CREATECOPY, FALSE);
     if (!can_create && !can_copy)
         return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "GDAL cannot write the '%s' format", format);
-    ss_status st = check_output_folder(ctx, path);
+    ss_status st = ss_output_check(ctx, path);
     if (st != SS_OK)
         return st;
 

@@ -119,14 +119,14 @@ int cmd_horizon(int argc, char **argv)
         job_close(&job);
         return rc;
     }
-    /* run_check_output prints its own one-line error. */
     const char *extras[] = {set.distance_path, set.cast_height_path};
     for (int i = 0; i < 2; ++i) {
         ss_status bad = extras[i] ? run_check_output(&job.run, extras[i], job.inputs, job.n_inputs)
                                   : SS_OK;
         if (bad != SS_OK) {
+            rc = run_fail(&job.run, bad);
             job_close(&job);
-            return bad;
+            return rc;
         }
     }
     horizon_writers hw = {{NULL, NULL, NULL}};

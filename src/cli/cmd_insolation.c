@@ -402,7 +402,9 @@ static ss_status open_outputs(insolation_run *r)
                                                         : 5,
                                    &set->common, &r->out.w);
     if (st == SS_OK && set->steps_path) {
-        st = run_check_output(&job->run, set->steps_path, job->inputs, job->n_inputs);
+        st = ss_same_output(set->steps_path, job->output)
+                 ? ss_ctx_error(ctx, SS_ERR_ARGUMENT, "OUTPUT and --steps must name different files")
+                 : run_check_output(&job->run, set->steps_path, job->inputs, job->n_inputs);
         if (st == SS_OK)
             st = ss_writer_open(ctx, set->steps_path, &job->dem, r->steps.n, set->common.format,
                                 set->common.creation_options.items, &r->out.steps_w);

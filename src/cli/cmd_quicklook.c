@@ -73,10 +73,11 @@ int cmd_quicklook(int argc, char **argv)
     if ((rc = run_begin(&run, "quicklook", NULL)))
         return rc;
     run.quiet = set.quiet;
-    /* run_check_output prints its own message. */
-    if (run_check_output(&run, pos[1], pos, 1) != SS_OK) {
+    ss_status bad = run_check_output(&run, pos[1], pos, 1);
+    if (bad != SS_OK) {
+        rc = run_fail(&run, bad);
         run_end(&run);
-        return SS_ERR_ARGUMENT;
+        return rc;
     }
     ss_bands b;
     ss_status st = ss_bands_read(run.ctx, pos[0], set.band, 1, &b);

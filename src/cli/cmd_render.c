@@ -117,9 +117,9 @@ static int look_of(const render_settings *set, ss_render_scene *scene)
     return 0;
 }
 
-/* Neither output may overwrite an input, nor the two each other;
- * run_check_output prints its own message. */
-static int paths_clash(sweep_job *job, const render_settings *set)
+/* Neither output may overwrite an input, nor the two each other, and
+ * each must be writable where it is named (run_check_output). */
+static ss_status check_outputs(sweep_job *job, const render_settings *set)
 {
     const char *inputs[COMMAND_MAX_INPUTS + 2];
     int n = 0;
@@ -127,12 +127,11 @@ static int paths_clash(sweep_job *job, const render_settings *set)
         inputs[n] = job->inputs[n];
     if (set->drape)
         inputs[n++] = set->drape;
-    if (run_check_output(&job->run, job->output, inputs, n) != SS_OK)
-        return 1;
-    if (!set->export_path)
-        return 0;
+    ss_status st = run_check_output(&job->run, job->output, inputs, n);
+    if (st != SS_OK || !set->export_path)
+        return st;
     inputs[n++] = job->output;
-    return run_check_output(&job->run, set->export_path, inputs, n) != SS_OK;
+    return run_check_output(&job->run, set->export_path, inputs, n);
 }
 
 /* The drape must lie on the DEM's grid: same size, and origins and cell
@@ -250,9 +249,11 @@ static int render_job(const render_settings *set, const char **pos, int n_pos)
     sweep_job job;
     if ((rc = job_open(&job, "render", &set->common, pos, n_pos)))
         return rc;
-    if (paths_clash(&job, set)) {
+    ss_status clash = check_outputs(&job, set);
+    if (clash != SS_OK) {
+        rc = run_fail(&job.run, clash);
         job_close(&job);
-        return SS_ERR_ARGUMENT;
+        return rc;
     }
     ss_ctx *ctx = job.run.ctx;
     const ss_grid *g = &job.dem.grid;

@@ -117,6 +117,7 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     run->command = command;
     /* Under mpirun only rank 0 speaks (mpi_share.h). */
     run->quiet = (common ? common->quiet : 0) || share_rank() > 0;
+    run->plan_only = common ? common->plan_only : 0;
     run->started = run_now();
     run->ctx = ss_ctx_new();
     if (!run->ctx) {
@@ -367,12 +368,10 @@ ss_status run_check_output(run_state *run, const char *output, const char *const
                            int n_inputs)
 {
     for (int i = 0; i < n_inputs; ++i)
-        if (strcmp(output, inputs[i]) == 0 || ss_same_file(output, inputs[i])) {
-            fprintf(stderr, "skysweep %s: output '%s' is also an input; choose another name\n",
-                    run->command, output);
-            return SS_ERR_ARGUMENT;
-        }
-    return SS_OK;
+        if (strcmp(output, inputs[i]) == 0 || ss_same_file(output, inputs[i]))
+            return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
+                                "output '%s' is also an input; choose another name", output);
+    return run->plan_only ? SS_OK : ss_output_check(run->ctx, output);
 }
 
 void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
@@ -573,8 +572,9 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
     job->n_inputs = n_pos - 1;
     ss_status st = run_check_output(&job->run, job->output, pos, job->n_inputs);
     if (st != SS_OK) {
+        rc = run_fail(&job->run, st);
         run_end(&job->run);
-        return st;
+        return rc;
     }
     if (cost)
         job->band = *cost;

@@ -54,6 +54,7 @@ typedef struct {
     const char *command;
     ss_ctx *ctx;
     int quiet;
+    int plan_only; /* the run plans and writes nothing */
     double started;
     run_phases phases;
     int progress_shown;
@@ -84,7 +85,9 @@ ss_line_model run_lines_asked(const common_settings *common);
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt);
 double run_earth_radius(const common_settings *common, const ss_dem_frame *frame);
-/* Refuses an output that is also an input. */
+/* Refuses an output that is also an input, or (unless the run only
+ * plans) that cannot be written there (ss_output_check), recording why in
+ * the run's context. */
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
                            int n_inputs);
 /* Metadata every output carries: version, device, directions, conventions. */
