@@ -70,6 +70,24 @@ printf '[scene]\ndem = dem.tif\n' >"$work/bad.ini"
 run plan "$work/bad.ini"
 [ $rc -eq 2 ] && grep -q "no 'product' key" "$work/stderr"
 tap_ok $? "a scene without a product: $(head -c 200 "$work/stderr")"
+# A key is checked as its own command's option: horizon's `step` is
+# degrees (site profiles), insolation's a duration.
+printf '[scene]\nproduct = horizon\ndem = dem.tif\noutput = h.tif\nstep = 45\n' >"$work/h.ini"
+run plan "$work/h.ini"
+tap_ok $rc "a horizon scene with step = 45 (degrees) plans: exit $rc $(head -c 200 "$work/stderr")"
+printf '[scene]\nproduct = insolation\ndem = dem.tif\noutput = bad_out.tif\nstep = 45\n' >"$work/bad.ini"
+bad_scene 2 "an insolation step that is not a duration" 5
+# Files that cannot be scenes are refused before they are read: an endless
+# device, a folder, and a file over 1 MiB (each once hung or read it all).
+{ printf '[scene]\nproduct = svf\n'; head -c 2000000 /dev/zero | tr '\0' '#'; } >"$work/huge.ini"
+for s in /dev/zero "$work" "$work/huge.ini"; do
+    for cmd in run plan; do
+        run "$cmd" "$s"
+        lines=$(wc -l <"$work/stderr")
+        [ $rc -eq 2 ] && [ "$lines" -eq 1 ] && grep -q "scene file" "$work/stderr"
+        tap_ok $? "$cmd $s: exit $rc, $lines line: $(head -c 200 "$work/stderr")"
+    done
+done
 
 for s in "$top"/samples/scenes/*.ini; do
     run plan "$s"

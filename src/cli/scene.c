@@ -13,12 +13,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "skysweep_sun.h"
 #include "scene.h"
 
 #define SCENE_MAX_ARGS 256
+/* A scene is a few dozen lines: a larger file is not one (and /dev/zero
+ * would be read for ever). */
+#define SCENE_MAX_BYTES (1 << 20)
 
 typedef struct {
     const opt_spec *const *tables;
@@ -31,6 +35,23 @@ typedef struct {
     char product[32];
     char error[400];       /* the first error; the line comes from ini_parse */
 } scene_state;
+
+/* Whether file can be a scene: a regular file of at most SCENE_MAX_BYTES;
+ * else why not, into err. */
+static int scene_file_ok(const char *file, char *err, size_t err_size)
+{
+    struct stat st;
+    if (stat(file, &st) != 0)
+        snprintf(err, err_size, "cannot read scene file '%s'", file);
+    else if (!S_ISREG(st.st_mode))
+        snprintf(err, err_size, "scene file '%s' is not a regular file", file);
+    else if (st.st_size > SCENE_MAX_BYTES)
+        snprintf(err, err_size, "scene file '%s' is over %d KiB: not a scene", file,
+                 SCENE_MAX_BYTES >> 10);
+    else
+        return 1;
+    return 0;
+}
 
 static char *path_beside(const char *dir, const char *name)
 {
@@ -61,15 +82,17 @@ static int push(scene_state *s, char *arg)
     return 1;
 }
 
-/* Checks values whose meaning goes beyond their type: times, durations. */
-static int check_semantics(scene_state *s, const char *name, const char *value)
+/* Checks values whose meaning goes beyond their type: times and durations
+ * (by the option's kind of value: horizon's `step` is degrees). */
+static int check_semantics(scene_state *s, const opt_spec *spec, const char *value)
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_status st = SS_OK;
-    if (strcmp(name, "time") == 0) {
+    const char *kind = spec->metavar ? spec->metavar : "";
+    if (strcmp(spec->name, "time") == 0 && strcmp(kind, "ISO8601") == 0) {
         ss_time_range r;
         st = ss_parse_time_range(ctx, value, &r);
-    } else if (strcmp(name, "step") == 0) {
+    } else if (strcmp(kind, "DURATION") == 0) {
         ss_duration d;
         st = ss_parse_duration(ctx, value, &d);
     }
@@ -126,7 +149,7 @@ static int on_key(void *user, const char *section, const char *name, const char 
             return 1;
     } else if (opt_check(spec, value, err, sizeof err) != 0) {
         return fail(s, "%s", err);
-    } else if (!check_semantics(s, name, value)) {
+    } else if (!check_semantics(s, spec, value)) {
         return 0;
     }
     size_t n = strlen(name) + 3;
@@ -187,6 +210,8 @@ int scene_expand(const opt_spec *const *tables, int argc, char **argv, int *out_
     if (at < 0)
         return 0;
     const char *file = argv[at + 1];
+    if (!scene_file_ok(file, err, err_size))
+        return -1;
     char *dir_copy = strdup(file);
     scene_state s;
     memset(&s, 0, sizeof s);
@@ -256,6 +281,8 @@ int scene_expand(const opt_spec *const *tables, int argc, char **argv, int *out_
 
 int scene_product(const char *file, char *product, size_t size, char *err, size_t err_size)
 {
+    if (!scene_file_ok(file, err, err_size))
+        return -1;
     FILE *f = fopen(file, "r");
     if (!f) {
         snprintf(err, err_size, "cannot read scene file '%s'", file);
