@@ -122,6 +122,18 @@ else
     run svf --heightmap --directions 16 "$work/crop.png" "$work/out.tif"
     [ $rc -eq 2 ] && one_line && grep -q -- '--cell-size' "$work/stderr"
     tap_ok $? "--heightmap without --cell-size: exit 2, asks for it"
+    # Cut short: an uncompressed TIFF's missing strips once read as zeros
+    # (flat ground) with exit 0, and libpng printed a line of its own.
+    gdal_translate -q -co COMPRESS=NONE "$work/crop.tif" "$work/whole.tif"
+    head -c 3000 "$work/whole.tif" >"$work/cut.tif"
+    head -c $(($(wc -c <"$work/crop.png") / 2)) "$work/crop.png" >"$work/cut.png"
+    for cut in cut.tif cut.png; do
+        rm -f "$work/out.tif"
+        run svf --heightmap --cell-size 30 "$work/$cut" "$work/out.tif"
+        [ $rc -eq 3 ] && one_line && [ ! -e "$work/out.tif" ] &&
+            grep -q 'cannot read the pixels' "$work/stderr"
+        tap_ok $? "a heightmap cut short ($cut): exit $rc (want 3), one line: $(head -c 200 "$work/stderr")"
+    done
 fi
 
 # ---- render (VTK) ---------------------------------------------------------------

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "colormap.h"
@@ -37,6 +38,34 @@ static std::string one_line(std::string text)
     return text.size() > 400 ? text.substr(0, 400) : text;
 }
 
+/* Standard error sent to /dev/null while it lives: libpng (under OIIO
+ * 2.4) prints "libpng error: ..." itself before OIIO reports the same
+ * error, which the caller then gives as its one line. */
+class quiet_stderr
+{
+  public:
+    quiet_stderr() : saved(dup(2))
+    {
+        int null = open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (saved >= 0 && null >= 0)
+            dup2(null, 2);
+        if (null >= 0)
+            close(null);
+    }
+    ~quiet_stderr()
+    {
+        if (saved >= 0) {
+            dup2(saved, 2);
+            close(saved);
+        }
+    }
+    quiet_stderr(const quiet_stderr &) = delete;
+    quiet_stderr &operator=(const quiet_stderr &) = delete;
+
+  private:
+    int saved;
+};
+
 template <class T>
 static bool read_raw(ImageInput &in, const ImageSpec &spec, TypeDesc type, float *dst)
 {
@@ -54,6 +83,7 @@ static ss_status read_image(ss_ctx *ctx, const char *path, ss_image *out)
      * channels, changing the heights of half-transparent pixels. */
     ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
+    quiet_stderr quiet;
     auto in = ImageInput::open(path, &config);
     if (!in)
         return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot open image '%s': %s", path,
@@ -94,7 +124,9 @@ static ss_status read_image(ss_ctx *ctx, const char *path, ss_image *out)
                        "integers or floating point (read other rasters through GDAL)",
                        path, spec.format.c_str());
     }
-    if (!ok) {
+    /* A truncated TIFF reads "successfully" with its missing strips as
+     * zeros, the error only recorded. */
+    if (!ok || in->has_error()) {
         std::free(pixels);
         return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read the pixels of '%s': %s", path,
                        one_line(in->geterror()).c_str());
