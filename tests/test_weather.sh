@@ -98,6 +98,7 @@ refused other.json '{"a": 1}'
 refused bad_time.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n2018011:0000,1,2,3\n'
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
+refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'
 "$SKYSWEEP" weather "$work/missing.epw" >/dev/null 2>"$work/err"
 rc=$?
 [ "$rc" -eq 3 ] && grep -q "No such file" "$work/err"

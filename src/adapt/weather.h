@@ -45,7 +45,7 @@ typedef struct {
 
 /* Reads a weather file, the format found from its content. Refuses, in one
  * line naming the file and line, a file it cannot parse, values out of any
- * physical range, and a file with no records. */
+ * physical range, and a file with no records or none with irradiance. */
 ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w);
 void ss_weather_free(ss_weather *w);
 

@@ -741,6 +741,10 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
     }
     if (st == SS_OK && w->n == 0)
         st = ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' (%s) holds no records", path, w->format_name);
+    else if (st == SS_OK && w->missing == w->n)
+        st = ss_ctx_error(ctx, SS_ERR_INPUT,
+                          "'%s' (%s): every one of its %zu records lacks an irradiance value",
+                          path, w->format_name, w->n);
     if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV))
         st = set_durations(&r);
     free(r.lines);
