@@ -95,16 +95,37 @@ SS_FN float ss_svf_tilted_term(float d, float dz, float sin_az, float cos_az, fl
     return t_term / SS_SQRT(1.0f + dz_de * dz_de + dz_dn * dz_dn);
 }
 
-/* Height of a neighbour for the gradient: the centre's own height where
- * the neighbour is outside the grid or nodata, so edges and holes give a
- * one-sided slope instead of none. */
-SS_FN float ss_z_or(SS_GLOBAL const float *z, int width, int height, int col, int row,
-                    float fallback)
+/* Height of neighbour (col + dc, row + dr) of cell (col, row) for the
+ * gradient, as gdaldem -compute_edges takes it (GDALGeneric3x3Processing),
+ * so that a plane's slope is exact on the grid's edge too:
+ *   - past the top or bottom edge, extrapolated along its column from the
+ *     two cells inside, 2 z(edge row) - z(next row);
+ *   - past a side edge, along its row, 2 z(edge column) - z(next column),
+ *     except in the first and last rows, where gdaldem takes the edge
+ *     column itself (so a corner's slope across the side is one-sided);
+ *   - nodata, or a grid too thin to extrapolate: the centre's own height,
+ *     as gdaldem takes a hole's neighbours. */
+SS_FN float ss_z_or(SS_GLOBAL const float *z, int width, int height, int col, int row, int dc,
+                    int dr, float centre)
 {
-    if (col < 0 || row < 0 || col >= width || row >= height)
-        return fallback;
-    float v = z[row * width + col];
-    return SS_ISFINITE(v) ? v : fallback;
+    int r = row + dr, c = col + dc;
+    int end_row = row == 0 || row == height - 1;
+    float v = centre;
+    if (r < 0 || r >= height) {
+        int cc = c < 0 ? 0 : c >= width ? width - 1 : c;
+        int r0 = r < 0 ? 0 : height - 1, r1 = r < 0 ? 1 : height - 2;
+        if (height >= 2 && width >= 2)
+            v = 2.0f * z[r0 * width + cc] - z[r1 * width + cc];
+    } else if ((c < 0 || c >= width) && end_row) {
+        v = z[r * width + (c < 0 ? 0 : width - 1)];
+    } else if (c < 0 || c >= width) {
+        int c0 = c < 0 ? 0 : width - 1, c1 = c < 0 ? 1 : width - 2;
+        if (width >= 2)
+            v = 2.0f * z[r * width + c0] - z[r * width + c1];
+    } else {
+        v = z[r * width + c];
+    }
+    return SS_ISFINITE(v) ? v : centre;
 }
 
 /* The same for a neighbour known to lie inside the grid: no bounds tests,
@@ -124,18 +145,20 @@ SS_FN void ss_horn(float nw, float n, float ne, float w, float e, float sw, floa
     *dz_dn = ((nw + 2.0f * n + ne) - (sw + 2.0f * s + se)) / (8.0f * cell_y_m);
 }
 
-/* Horn's gradient of cell (col, row), edges and holes one-sided (ss_z_or). */
+/* Horn's gradient of cell (col, row), edges and holes as gdaldem
+ * -compute_edges takes them (ss_z_or). */
 SS_FN void ss_gradient_horn(SS_GLOBAL const float *z, int width, int height, int col, int row,
                             float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
 {
     float c = z[row * width + col];
-    ss_horn(ss_z_or(z, width, height, col - 1, row - 1, c),
-            ss_z_or(z, width, height, col, row - 1, c),
-            ss_z_or(z, width, height, col + 1, row - 1, c),
-            ss_z_or(z, width, height, col - 1, row, c), ss_z_or(z, width, height, col + 1, row, c),
-            ss_z_or(z, width, height, col - 1, row + 1, c),
-            ss_z_or(z, width, height, col, row + 1, c),
-            ss_z_or(z, width, height, col + 1, row + 1, c), cell_x_m, cell_y_m, dz_de, dz_dn);
+    ss_horn(ss_z_or(z, width, height, col, row, -1, -1, c),
+            ss_z_or(z, width, height, col, row, 0, -1, c),
+            ss_z_or(z, width, height, col, row, 1, -1, c),
+            ss_z_or(z, width, height, col, row, -1, 0, c),
+            ss_z_or(z, width, height, col, row, 1, 0, c),
+            ss_z_or(z, width, height, col, row, -1, 1, c),
+            ss_z_or(z, width, height, col, row, 0, 1, c),
+            ss_z_or(z, width, height, col, row, 1, 1, c), cell_x_m, cell_y_m, dz_de, dz_dn);
 }
 
 /* The same for a cell whose eight neighbours all lie inside the grid (not
@@ -164,10 +187,10 @@ SS_FN void ss_gradient_zt(SS_GLOBAL const float *z, int width, int height, int c
                           float cell_x_m, float cell_y_m, float *dz_de, float *dz_dn)
 {
     float c = z[row * width + col];
-    ss_zevenbergen_thorne(ss_z_or(z, width, height, col, row - 1, c),
-                          ss_z_or(z, width, height, col - 1, row, c),
-                          ss_z_or(z, width, height, col + 1, row, c),
-                          ss_z_or(z, width, height, col, row + 1, c), cell_x_m, cell_y_m, dz_de,
+    ss_zevenbergen_thorne(ss_z_or(z, width, height, col, row, 0, -1, c),
+                          ss_z_or(z, width, height, col, row, -1, 0, c),
+                          ss_z_or(z, width, height, col, row, 1, 0, c),
+                          ss_z_or(z, width, height, col, row, 0, 1, c), cell_x_m, cell_y_m, dz_de,
                           dz_dn);
 }
 

@@ -4,8 +4,9 @@
  * mapped to 1 + 254 cos(i) (1 where the cell faces away); or gdaldem's
  * multidirectional blend of lights from 225, 270, 315 and 360 degrees.
  * Returned as floats in 1..255 (the writer rounds to bytes, as gdaldem's
- * output does); SS_NODATA at nodata. Edges and holes use one-sided
- * gradients (gdaldem leaves edges nodata unless -compute_edges).
+ * output does); SS_NODATA at nodata. Edges and holes take the gradient
+ * as gdaldem -compute_edges does (kernels/ss_terms.h, ss_z_or; without
+ * that option gdaldem leaves them nodata).
  *
  * ss_hillshade_rows adds what the sweep gives: the light's exact cast
  * shadows (a horizon walk along it), sky-view shading (the SVF of an
