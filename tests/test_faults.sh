@@ -183,6 +183,12 @@ expect_failure 2 "--lines with an unknown model" -- svf --lines curved "$dem" "$
 expect_failure 2 "--curvature with an unknown value" -- svf --curvature maybe "$dem" "$o"
 expect_failure 2 "an option without its value" -- svf "$dem" "$o" --directions
 expect_failure 2 "-co with an empty key" -- svf -co =YES "$dem" "$o"
+# GDAL itself only warns of these, and writes the file without them.
+expect_failure 2 "-co with a value the format does not take" -- svf -co COMPRESS=BOGUS "$dem" "$o"
+expect_failure 2 "-co with a key the format does not know" -- svf -co NOSUCHKEY=1 "$dem" "$o"
+expect_failure 2 "-co that fails the format probe" -- svf -co PREDICTOR=9 "$dem" "$o"
+grep -q 'PREDICTOR=9 is not supported' "$work/stderr"
+tap_ok $? "the probe's refusal gives GDAL's reason: $(head -c 200 "$work/stderr")"
 expect_failure 2 "a second output argument for sun" -- sun --at 0,0 --time 2026-06-21 extra
 
 # ---- impossible dates and ranges (skysweep sun) ---------------------------------------------

@@ -343,6 +343,7 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
                                     const char *path, int bands, GDALDataType type,
                                     char **create_opts)
 {
+    char why[1200] = ""; /* GDAL's words, where a probe failed */
     const char *types = GDALGetMetadataItem(driver, GDAL_DMD_CREATIONDATATYPES, NULL);
     const char *type_name = GDALGetDataTypeName(type);
     if (types && !strstr(types, type_name))
@@ -367,10 +368,11 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
             return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
         holds = probe_format(driver, probe, bands, type, create_opts, values, &side_cars);
         free(probe);
-        char why[1200];
         if (!holds && ss_gdal_io_cause()) /* the folder, not the format, failed it */
             return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", path,
                            ss_gdal_failure(why, sizeof why));
+        if (!holds)
+            ss_gdal_failure(why, sizeof why);
         ss_gdal_errors_reset();
     }
     if (holds && side_cars && !has_ext)
@@ -378,12 +380,19 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
                        "the %s format keeps side-car files named after the output's extension, "
                        "and '%s' has none: add one (e.g. %s.bin)",
                        format, path, path);
+    /* The user's -co may be what failed it (PREDICTOR=9): say so, with GDAL's words. */
+    if (!holds && create_opts && create_opts[0])
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                       "the %s format with the -co options given cannot hold this product (%d "
+                       "%s band%s with nodata %g, read back unchanged): %s",
+                       format, bands, type_name, bands == 1 ? "" : "s", values[0],
+                       why[0] ? why : "no reason given");
     if (!holds)
         return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                        "the %s format cannot hold this product (%d %s band%s with nodata %g, "
-                       "read back unchanged); use -of %s",
+                       "read back unchanged%s%s); use -of %s",
                        format, bands, type_name, bands == 1 ? "" : "s", values[0],
-                       SS_FORMATS_THAT_HOLD);
+                       why[0] ? ": " : "", why, SS_FORMATS_THAT_HOLD);
     return SS_OK;
 }
 
@@ -405,6 +414,14 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     int can_copy = CSLFetchBoolean(meta, GDAL_DCAP_CREATECOPY, FALSE);
     if (!can_create && !can_copy)
         return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "GDAL cannot write the '%s' format", format);
+    /* An unknown key or a value the format does not take: GDAL would only
+     * warn, and write the file without it. */
+    CPLErrorReset();
+    if (creation_options && creation_options[0] &&
+        !GDALValidateCreationOptions(driver, (CSLConstList)creation_options))
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "-co: %s",
+                            CPLGetLastErrorMsg()[0] ? CPLGetLastErrorMsg()
+                                                    : "not a creation option of this format");
     ss_status st = ss_output_check(ctx, path);
     if (st != SS_OK)
         return st;
