@@ -226,6 +226,8 @@ expect_failure 2 "sun --format xml" -- sun --at 0,0 --time 2026-06-21T10:00Z --f
 expect_failure 2 "sun before SPA's years (-2001)" -- sun --at 0,0 --time -2001-06-21T10:00Z
 expect_failure 2 "sun after SPA's years (6001)" -- sun --at 0,0 --time +6001-06-21T10:00Z
 expect_failure 2 "shadow --time 2026-02-30" -- shadow --time 2026-02-30T10:00Z "$dem" "$o"
+expect_failure 2 "insolation --time one instant (it once gave zeros)" -- \
+    insolation --time 2026-06-21T22:00Z "$dem" "$o"
 
 # ---- outputs -----------------------------------------------------------------------------
 ln -s "$dem" "$work/link.tif"

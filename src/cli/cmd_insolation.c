@@ -261,9 +261,11 @@ static ss_status make_steps(steps_state *steps, const insolation_settings *set,
         ss_status st = ss_parse_time_range(ctx, *text, &range);
         if (st != SS_OK)
             return st;
-        if (range.count < 1 && !(weather && range.end_unix_s > range.start_unix_s))
+        if ((range.count < 1 && !(weather && range.end_unix_s > range.start_unix_s)) ||
+            (!weather && !(range.end_unix_s > range.start_unix_s)))
             return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                                "--time must be a range (START/END or START/DURATION)");
+                                "--time must be a range (START/END or START/DURATION): "
+                                "irradiation is summed over an interval, not an instant");
         if (!weather && range.count > 100000)
             return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                                 "%lld time steps is more than 100000: choose a longer --step",
