@@ -86,6 +86,13 @@ else
     run quicklook "$work/svf.tif" "$work/svf.tif"
     [ $rc -eq 2 ] && one_line
     tap_ok $? "quicklook refuses to overwrite its input"
+    run quicklook "$work/svf.tif" "$work/q.tif"
+    [ $rc -eq 2 ] && one_line && [ ! -e "$work/q.tif" ] && grep -q "PNG" "$work/stderr"
+    tap_ok $? "quicklook to a name that is not .png: exit $rc, one line, no file (it once wrote PNG bytes there)"
+    gdal_translate -q -scale 0 1 -9999 -9999 "$work/svf.tif" "$work/blank.tif"
+    run quicklook "$work/blank.tif" "$work/blank.png"
+    [ $rc -eq 3 ] && one_line && [ ! -e "$work/blank.png" ] && grep -q "nothing to show" "$work/stderr"
+    tap_ok $? "quicklook of a band that is all nodata: exit $rc, one line, no file: $(head -c 160 "$work/stderr")"
 fi
 
 # ---- heightmaps (OpenImageIO) --------------------------------------------------

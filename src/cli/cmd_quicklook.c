@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 #include "band_read.h"
 #include "colormap.h"
@@ -79,11 +80,26 @@ int cmd_quicklook(int argc, char **argv)
         run_end(&run);
         return rc;
     }
+    /* A quicklook is a PNG whatever its name says: a name that says
+     * otherwise (out.tif) would hide PNG bytes behind it. */
+    const char *dot = strrchr(pos[1], '.'), *slash = strrchr(pos[1], '/');
+    if (!dot || (slash && dot < slash) || strcasecmp(dot, ".png") != 0) {
+        rc = run_fail(&run, ss_ctx_error(run.ctx, SS_ERR_ARGUMENT,
+                                         "a quicklook is a PNG: name the output '*.png', not "
+                                         "'%s'",
+                                         pos[1]));
+        run_end(&run);
+        return rc;
+    }
     ss_bands b;
     ss_status st = ss_bands_read(run.ctx, pos[0], set.band, 1, &b);
     size_t n = (size_t)b.width * (size_t)b.height, holes = 0;
     for (size_t i = 0; st == SS_OK && i < n; ++i)
         holes += b.values[0][i] == SS_NODATA;
+    if (st == SS_OK && holes == n)
+        st = ss_ctx_error(run.ctx, SS_ERR_INPUT,
+                          "every cell of band %d of '%s' is nodata: there is nothing to show",
+                          set.band, pos[0]);
     if (st == SS_OK) { /* the module names its temporary as the raster writer does */
         ss_temporaries_track(pos[1]);
         st = ss_image_write_quicklook(run.ctx, pos[1], b.values[0], b.width, b.height, set.min,
