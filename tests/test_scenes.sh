@@ -70,6 +70,11 @@ printf '[scene]\ndem = dem.tif\n' >"$work/bad.ini"
 run plan "$work/bad.ini"
 [ $rc -eq 2 ] && grep -q "no 'product' key" "$work/stderr"
 tap_ok $? "a scene without a product: $(head -c 200 "$work/stderr")"
+for verb in plan run; do
+    run "$verb" --help
+    [ $rc -eq 0 ] && grep -q "Usage: skysweep $verb SCENE" "$work/stdout" && [ ! -s "$work/stderr" ]
+    tap_ok $? "$verb --help prints its usage, exit $rc"
+done
 # A key is checked as its own command's option: horizon's `step` is
 # degrees (site profiles), insolation's a duration.
 printf '[scene]\nproduct = horizon\ndem = dem.tif\noutput = h.tif\nstep = 45\n' >"$work/h.ini"

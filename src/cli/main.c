@@ -50,6 +50,14 @@ static int run_command(size_t i, int argc, char **argv)
  * --scene SCENE (and --plan). */
 static int scene_command(const char *verb, int argc, char **argv)
 {
+    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+        printf("Usage: skysweep %s SCENE [options]\n\n%s the job a scene file describes: an INI "
+               "file whose keys are the options of\nits product's command (doc/scenes.md). "
+               "Options given after SCENE override the scene's;\nskysweep PRODUCT --help lists "
+               "them.\n",
+               verb, strcmp(verb, "plan") == 0 ? "Plans (and writes nothing for)" : "Runs");
+        return 0;
+    }
     if (argc < 2 || argv[1][0] == '-') {
         fprintf(stderr, "skysweep %s: needs a scene file (skysweep %s SCENE [options])\n", verb,
                 verb);
