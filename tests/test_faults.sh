@@ -229,6 +229,22 @@ expect_failure 2 "shadow --time 2026-02-30" -- shadow --time 2026-02-30T10:00Z "
 expect_failure 2 "insolation --time one instant (it once gave zeros)" -- \
     insolation --time 2026-06-21T22:00Z "$dem" "$o"
 
+# ---- options another option makes meaningless (each was once ignored) -----------------------
+expect_failure 2 "hillshade --multidirectional with --az 90" -- \
+    hillshade --multidirectional --az 90 "$dem" "$o"
+expect_failure 2 "insolation with a fixed --sun-azimuth" -- \
+    insolation --time 2026-06-21/P1D --sun-azimuth 100 --sun-elevation 30 "$dem" "$o"
+expect_failure 2 "insolation --weather with --linke 4" -- \
+    insolation --weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" --linke 4 "$dem" "$o"
+expect_failure 2 "insolation --weather with --step PT1H" -- \
+    insolation --weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" --step PT1H "$dem" "$o"
+expect_failure 2 "--z-scale without --heightmap" -- svf --z-scale 2 "$dem" "$o"
+expect_failure 2 "--cell-size on a georeferenced DEM" -- svf --cell-size 30 "$dem" "$o"
+# Front ends (QGIS) pass every default: those are accepted.
+run hillshade -q --multidirectional --az 315 --z-scale 1 "$dem" "$o"
+tap_ok $rc "hillshade --multidirectional with the default --az 315 and --z-scale 1 runs: exit $rc $(head -c 200 "$work/stderr")"
+rm -f "$o"
+
 # ---- outputs -----------------------------------------------------------------------------
 ln -s "$dem" "$work/link.tif"
 expect_failure 2 "output is the input through a symbolic link" -- svf "$dem" "$work/link.tif"

@@ -130,6 +130,11 @@ static ss_status cell_size_metres(ss_ctx *ctx, const char *path, GDALDatasetH ds
                        "give its cell size with --cell-size METRES)",
                        path, georeferenced ? "coordinate reference system" : "georeferencing");
     }
+    if (opt && opt->heightmap_cell_m > 0)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                            "--cell-size is for inputs without georeferencing, and '%s' has its "
+                            "own: leave it out",
+                            path);
     if (OSRIsGeographic(srs)) {
         /* Degrees: the ground size comes from geodesy (src/adapt/frame.c). */
         *cx = *cy = NAN;

@@ -45,6 +45,11 @@ int cmd_hillshade(int argc, char **argv)
                        &set.common.device);
     if (rc >= 0)
         return rc;
+    /* gdaldem refuses both too (front ends pass the default 315 always). */
+    if (set.hs.multidirectional &&
+        set.hs.azimuth_deg != strtod(opt_find(tables, "az")->default_text, NULL))
+        return run_usage_error("hillshade", "--multidirectional lights from 225, 270, 315 and "
+                                            "360 degrees: leave --az out");
     int sweeps = set.hs.blend || set.hs.cast_shadows || set.hs.sky_view > 0;
     /* A band holds its heights and a row of shades, SVF and openness;
      * sweeps add a horizon's band and its rows carried between bands. */

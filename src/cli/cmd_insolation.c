@@ -612,6 +612,19 @@ int cmd_insolation(int argc, char **argv)
         "hours of direct\nsun. Real sky from a weather file: the same five (kWh/m2, hours) for "
         "the year, then the\nglobal of each month.",
         &set->common.device);
+    /* Options another makes meaningless are refused, not ignored, where
+     * their value is not the default (front ends pass every default). */
+    if (rc < 0 && (isfinite(set->common.sun.sun_azimuth_deg) ||
+                   isfinite(set->common.sun.sun_elevation_deg)))
+        rc = run_usage_error("insolation", "insolation follows the sun over --time or the "
+                                           "weather's records: --sun-azimuth and "
+                                           "--sun-elevation are for shadow and hillshade");
+    if (rc < 0 && set->weather &&
+        (strcmp(set->ins.step, opt_find(tables, "step")->default_text) != 0 ||
+         strcmp(set->ins.linke, opt_find(tables, "linke")->default_text) != 0))
+        rc = run_usage_error("insolation", "with --weather each record is a step and its "
+                                           "irradiance is measured: --step and --linke are for "
+                                           "the clear sky");
     /* Under mpirun every process evaluates every N-th step; a band per step
      * would have to travel whole to rank 0. */
     if (rc < 0 && share_size() > 1 && set->steps_path)

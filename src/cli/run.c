@@ -226,6 +226,10 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     *band_rows = 0;
     if (common->heightmap)
         return heightmap_read(run, paths, n_paths, common, dem);
+    if (common->z_scale != 1.0)
+        return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
+                            "--z-scale applies to --heightmap inputs; a DEM's heights are scaled "
+                            "by its own unit (or --z-units)");
     double budget = 0;
     if (common->memory && parse_size(common->memory, &budget) != 0)
         return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
