@@ -66,6 +66,8 @@ printf '[scene]\nproduct = svf\ndem = dem.tif\noutput = bad_out.tif\nsvf-toleran
 bad_scene 2 "tolerance <= 0" 5
 printf '[scene]\nproduct = svf\ndem = dem.tif\noutput = bad_out.tif\nthis is not ini\n' >"$work/bad.ini"
 bad_scene 2 "a line that is not INI" 5
+printf '[scene]\nproduct = svf\ndem = dem.tif\noutput = bad_out.tif\nproduct = svf\n' >"$work/bad.ini"
+bad_scene 2 "product given twice (the last once won)" 5
 printf '[scene]\ndem = dem.tif\n' >"$work/bad.ini"
 run plan "$work/bad.ini"
 [ $rc -eq 2 ] && grep -q "no 'product' key" "$work/stderr"

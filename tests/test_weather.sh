@@ -99,6 +99,11 @@ refused bad_time.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'
+mkdir "$work/folder.csv"
+"$SKYSWEEP" weather "$work/folder.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "not a regular file" "$work/err"
+tap_ok $? "a folder is refused as not a regular file (it once said 'over 512 MiB'): exit $rc, $(cat "$work/err")"
 "$SKYSWEEP" weather "$work/missing.epw" >/dev/null 2>"$work/err"
 rc=$?
 [ "$rc" -eq 3 ] && grep -q "No such file" "$work/err"

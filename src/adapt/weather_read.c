@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <strings.h>
 
 #include <json-c/json.h>
@@ -45,8 +46,10 @@ static ss_status load(reader *r)
     if (!f)
         return ss_ctx_error(r->ctx, SS_ERR_INPUT, "cannot open weather file '%s': %s", r->path,
                        strerror(errno));
+    /* A folder opens too (and seeks to a huge end): only a regular file is read. */
+    struct stat st;
     long size = -1;
-    if (fseek(f, 0, SEEK_END) == 0)
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && fseek(f, 0, SEEK_END) == 0)
         size = ftell(f);
     rewind(f);
     if (size < 0 || size > MAX_FILE_BYTES) {

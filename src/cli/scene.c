@@ -107,6 +107,8 @@ static int on_key(void *user, const char *section, const char *name, const char 
     (void)section;
     scene_state *s = user;
     if (strcmp(name, "product") == 0) {
+        if (s->product[0])
+            return fail(s, "'product' is given twice");
         snprintf(s->product, sizeof s->product, "%s", value);
         return 1;
     }
@@ -133,7 +135,8 @@ static int on_key(void *user, const char *section, const char *name, const char 
         return s->n_dems > 0 ? 1 : fail(s, "'dem' names no file");
     }
     if (strcmp(name, "output") == 0) {
-        free(s->output);
+        if (s->output)
+            return fail(s, "'output' is given twice");
         s->output = path_beside(s->dir, value);
         return s->output != NULL;
     }
