@@ -141,8 +141,9 @@ static ss_status to_lonlat(ss_geo *g, double col, double row, double *lon_deg, d
         y = cy;
     }
     double lat = y * g->deg_per_unit;
+    /* The DEM's georeferencing put it there: an input the DEM cannot be. */
     if (!(std::fabs(lat) <= 90.0 + POLE_SLACK_DEG))
-        return ss_ctx_error(g->ctx, SS_ERR_ARGUMENT,
+        return ss_ctx_error(g->ctx, SS_ERR_INPUT,
                        "cell position (%g, %g) lies beyond a pole (latitude %.9g)", col, row, lat);
     *lat_deg = std::fmax(-90.0, std::fmin(90.0, lat));
     *lon_deg = Math::AngNormalize(x * g->deg_per_unit + g->pm_deg);
