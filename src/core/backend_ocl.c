@@ -1142,14 +1142,15 @@ static const ss_backend_ops ocl_ops = {.load = ocl_load,
  * of a whole grid at a time unless the context asks for more: a launch
  * costs it about 0.1 ms against milliseconds of work, while a batch's own
  * sums and stack grids cost memory traffic; in bands, where each round of
- * a batch waits for its hulls' count, it takes up to 16
- * (doc/performance.md measures both). */
+ * a batch waits for its hulls' count, it takes up to 4 (doc/engine.md:
+ * on 2 cores, SVF of 1024^2 x 64 directions in bands of 256 rows, 0.80 s
+ * with 4 against 0.90 s with 16 and 0.91 s one at a time). */
 static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
 {
     if (o->is_cpu && b->ctx->batch == 0 && b->whole_z)
         return 1;
-    if (o->is_cpu && b->ctx->batch == 0 && b->batch > 16)
-        return 16;
+    if (o->is_cpu && b->ctx->batch == 0 && b->batch > 4)
+        return 4;
     size_t cells = held_cells(b);
     int horizon = b->walk.term == SS_TERM_HORIZON;
     double per_slot = (double)cells * (4.0 * b->stack_per_cell +
