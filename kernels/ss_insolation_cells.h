@@ -44,13 +44,17 @@ typedef struct {
 
 /* Own cell c of the band, height z (NaN at nodata: nothing added), terms t
  * and horizon (degrees), adds the step into planes (cells floats apart)
- * and, where the step asks, writes the cell's global to step_out. */
+ * and, where the step asks, writes the cell's global to step_out (the
+ * output's nodata at nodata). */
 SS_FN void ss_cells_step_at(const ss_cells_step *s, const ss_lattice_view *l, int c, float z,
                             float horizon_deg, const ss_cell_terms *t, SS_GLOBAL float *planes,
                             SS_GLOBAL float *step_out)
 {
-    if (!SS_ISFINITE(z))
+    if (!SS_ISFINITE(z)) {
+        if (s->step_out)
+            step_out[c] = SS_NODATA_OUT;
         return;
+    }
     float h0_deg = s->h0_deg, az_deg = s->az_deg, app_deg = s->app_deg;
     if (s->lattice)
         ss_lattice_sun_at(l, s->row0 + c / s->width, c % s->width, &az_deg, &h0_deg, &app_deg);

@@ -261,8 +261,10 @@ static ss_status make_steps(steps_state *steps, const insolation_settings *set,
         ss_status st = ss_parse_time_range(ctx, *text, &range);
         if (st != SS_OK)
             return st;
-        if ((range.count < 1 && !(weather && range.end_unix_s > range.start_unix_s)) ||
-            (!weather && !(range.end_unix_s > range.start_unix_s)))
+        /* The clear sky needs an interval to sum over; with weather,
+         * --time only selects the records. */
+        int interval = range.end_unix_s > range.start_unix_s;
+        if (!interval && (!weather || range.count < 1))
             return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                                 "--time must be a range (START/END or START/DURATION): "
                                 "irradiation is summed over an interval, not an instant");

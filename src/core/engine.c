@@ -512,9 +512,7 @@ static int batch_wanted(const engine_run *e)
 }
 
 /* What box lines need: stack slots indexed by int (SS_BOX_EVENTS per held
- * cell), and cells no more than twice as long as wide, so that a cell's
- * centre projects inside its own cell, behind the boundary with the
- * previous column (kernels/ss_box.h). */
+ * cell), and cells of a shape they take (ss_box_lines_take_cells). */
 static ss_status box_lines_check(const engine_run *e)
 {
     const ss_source *src = e->src;
@@ -524,9 +522,7 @@ static ss_status box_lines_check(const engine_run *e)
                        "box lines hold %d hull slots per cell, too many for %.0f cells at once: "
                        "give --memory a smaller budget, so that the DEM is swept in bands",
                        SS_BOX_EVENTS, rows * src->width);
-    double aspect = src->cell_x_m > src->cell_y_m ? src->cell_x_m / src->cell_y_m
-                                                  : src->cell_y_m / src->cell_x_m;
-    if (aspect > 2.0)
+    if (!ss_box_lines_take_cells(src->cell_x_m, src->cell_y_m))
         return ss_fail(e->ctx, SS_ERR_ARGUMENT,
                        "box lines need cells at most twice as long as wide, not %.4g x %.4g m",
                        src->cell_x_m, src->cell_y_m);

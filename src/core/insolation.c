@@ -390,8 +390,8 @@ static step_pv step_pv_of(const ss_insolation_options *io, const ss_sun_step *su
 
 /* A step added on the device (kernels/ss_insolation_cells.h), its
  * horizons the walk's rows left there, the stored ones (between) or none;
- * every valid cell counts as a cell step. Its global comes back to
- * step_global where the run writes each step. */
+ * every valid cell counts as a cell step. Its global, nodata included,
+ * comes back to step_global where the run writes each step. */
 static ss_status device_step(steps_run *s, int k, const ss_band_view *band, int kind,
                              const ss_dir_rows *rows, stored_between between,
                              const ss_sun_step *sun, const ss_sky_record *rec, ss_sky_parts sky,
@@ -437,13 +437,17 @@ static ss_status device_step(steps_run *s, int k, const ss_band_view *band, int 
         return st;
     s->job->ctx->counters.cell_steps += s->valid_cells;
     s->job->ctx->counters.cell_steps_on_device += s->valid_cells;
-    st = ss_engine_cells_step(band->device, kind == STEP_SWEPT ? rows : NULL, &step, l,
-                              s->step_global);
-    size_t n = (size_t)step.cells;
-    for (size_t c = 0; s->step_global && c < n; ++c)
-        if (!isfinite(band->own_z[c]))
-            s->step_global[c] = SS_NODATA;
-    return st;
+    return ss_engine_cells_step(band->device, kind == STEP_SWEPT ? rows : NULL, &step, l,
+                                s->step_global);
+}
+
+/* A step's global over the band before the host adds its cells: 0, and
+ * the output's nodata at nodata. */
+static void step_global_clear(float *step_global, const ss_band_view *band)
+{
+    size_t n = (size_t)band->n_rows * band->width;
+    for (size_t c = 0; step_global && c < n; ++c)
+        step_global[c] = isfinite(band->own_z[c]) ? 0.0f : SS_NODATA;
 }
 
 /* Step k over a band's own cells: its shadows (rows of the walk at its
@@ -465,8 +469,8 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                        ? SS_OK
                        : job->sun_rows(job->ctx, k, band->row0, band->n_rows, &sun, job->sun_user);
     float *step_global = s->step_global;
-    for (size_t c = 0; step_global && c < n; ++c)
-        step_global[c] = isfinite(band->own_z[c]) ? 0.0f : SS_NODATA;
+    if (st == SS_OK && kind == STEP_NONE)
+        step_global_clear(step_global, band);
     if (st == SS_OK && kind != STEP_NONE) {
         if (sun.real_sky) {
             ss_insolation_sky_record(job->ctx, &sun, io, &rec, &light, 0);
@@ -487,6 +491,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                                                           band->n_rows, step_global)
                                               : st;
         }
+        step_global_clear(step_global, band);
         /* The walk's rows, where they were left on the device. */
         ss_dir_rows read = rows ? *rows : (ss_dir_rows){NULL, NULL, NULL, 0};
         if (band->device && kind == STEP_SWEPT)

@@ -83,3 +83,8 @@ void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell
     ls->line_min = -f_max - spare;
     ls->n_lines = (ls->minor_len - 1 - f_min + spare) - ls->line_min + 1;
 }
+
+int ss_box_lines_take_cells(double cell_x_m, double cell_y_m)
+{
+    return cell_x_m <= 2.0 * cell_y_m && cell_y_m <= 2.0 * cell_x_m;
+}

@@ -11,4 +11,9 @@
 void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell_x_m,
                              double cell_y_m, double azimuth_deg, int model);
 
+/* Whether box lines take cells of this shape: at most twice as long as
+ * wide, so that a cell's centre projects inside its own cell, behind the
+ * boundary with the previous column (kernels/ss_box.h). */
+int ss_box_lines_take_cells(double cell_x_m, double cell_y_m);
+
 #endif

@@ -12,6 +12,7 @@
 
 #include "accuracy_table.h"
 #include "ctx_internal.h"
+#include "lines.h"
 #include "lit_levels.h"
 #include "skysweep_sun.h"
 
@@ -186,9 +187,7 @@ static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid
         return;
     }
     double share = wall_share(grid);
-    double aspect = grid->cell_x_m > grid->cell_y_m ? grid->cell_x_m / grid->cell_y_m
-                                                    : grid->cell_y_m / grid->cell_x_m;
-    if (share > SS_WALL_SHARE && aspect > 2.0) {
+    if (share > SS_WALL_SHARE && !ss_box_lines_take_cells(grid->cell_x_m, grid->cell_y_m)) {
         /* A wall share measured on such cells mostly says how long they are. */
         p->lines = SS_LINES_INTERPOLATED;
         add(p, "lines", 1, 0, "",
