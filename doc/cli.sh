@@ -38,7 +38,10 @@ abbreviated to a unique prefix.
   Checked by `tests/test_z_units.sh`.
 - Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
   no output.
-- Progress on stderr for runs longer than a second; a summary on stdout unless `-q`. The
+- Progress (GDAL's `0...10...100 - done.`) and a summary on stdout unless `-q`, the progress
+  for runs longer than a second. With `SKYSWEEP_PROGRESS=lines` in the environment, progress is
+  instead a line `progress F` (F the fraction done, 0 to 1) from the start, each time it moves
+  by 0.1 %: one per direction or step, for programs that follow a run (the QGIS provider). The
   summaries of svf, openness, horizon, shadow, insolation and hillshade have a `phases` line:
   where the command's time went since it began (after the libraries loaded): opening the DEM
   (GDAL, its CRS, geodesy; with `--heightmap`, its reading too), reading heights, the plan

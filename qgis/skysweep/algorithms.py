@@ -3,6 +3,7 @@ option table: each option becomes a parameter of its type, range, default and
 help. The algorithm runs the command line, so that its outputs are the CLI's
 (georeferencing, band names, metadata); progress goes to the feedback and
 cancelling stops the run, which then leaves no output behind."""
+import os
 import queue
 import re
 import signal
@@ -54,6 +55,44 @@ def _description(entry):
     if unit and entry["type"] in ("int", "double") and unit not in ("N", "K"):
         label += f" [{unit}]"
     return label
+
+
+def choice_name(choices, value):
+    """The choice a value names: the choice itself (DEFINITION=radiative) or
+    its index, as Processing's dialogs and scripts give it (DEFINITION=1)."""
+    text = str(value).strip()
+    if text in choices:
+        return text
+    if text.isdigit() and int(text) < len(choices):
+        return choices[int(text)]
+    raise QgsProcessingException(f"{text!r} is not one of {', '.join(choices)} "
+                                 f"(or their index, 0 to {len(choices) - 1})")
+
+
+class ChoiceParameter(QgsProcessingParameterEnum):
+    """An Enum whose value is the choice's name, as on the command line, and
+    which also takes the choice's index: Processing's static-string Enum
+    refuses an index headless and turns it into the default in
+    parameterAsEnumString."""
+
+    def __init__(self, name, label, choices, default):
+        super().__init__(name, label, choices, False, default, False, True)
+
+    def clone(self):
+        copy = ChoiceParameter(self.name(), self.description(), self.options(),
+                               self.defaultValue())
+        copy.setFlags(self.flags())
+        copy.setHelp(self.help())
+        return copy
+
+    def checkValueIsAcceptable(self, value, context=None):
+        if value is None or value == "":
+            return self.defaultValue() is not None
+        try:
+            choice_name(self.options(), value)
+        except QgsProcessingException:
+            return False
+        return True
 
 
 class SkysweepAlgorithm(QgsProcessingAlgorithm):
@@ -111,8 +150,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             return QgsProcessingParameterNumber(name, label, number, value, default is None,
                                                 entry["min"], entry["max"])
         if kind == "choice":
-            return QgsProcessingParameterEnum(name, label, entry["choices"], False, default,
-                                              False, True)  # static strings: the choice's name
+            return ChoiceParameter(name, label, entry["choices"], default)
         if kind == "flag":
             return QgsProcessingParameterBoolean(name, label, False)
         if is_output_file(entry):
@@ -135,7 +173,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             elif kind == "double":
                 args += [flag, repr(self.parameterAsDouble(parameters, name, context))]
             elif kind == "choice":
-                args += [flag, self.parameterAsEnumString(parameters, name, context)]
+                args += [flag, choice_name(entry["choices"], parameters[name])]
             elif kind == "flag":
                 if self.parameterAsBoolean(parameters, name, context):
                     args.append(flag)
@@ -160,8 +198,9 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
     def processAlgorithm(self, parameters, context, feedback):
         args = self.command(parameters, context)
         feedback.pushCommandInfo(" ".join(args))
+        environment = dict(os.environ, SKYSWEEP_PROGRESS="lines")
         with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              stdin=subprocess.DEVNULL) as proc:
+                              stdin=subprocess.DEVNULL, env=environment) as proc:
             cancelled, errors = self._follow(proc, feedback)
         lines = [line for line in "".join(errors).splitlines() if line.strip()]
         if proc.returncode != 0 and (cancelled or feedback.isCanceled()):
@@ -217,57 +256,27 @@ def _read(stream, kind, chunks):
         chunks.put((kind, data.decode(errors="replace")))
 
 
-def _mark_arriving(text):
-    """Whether text is the start of a progress mark still arriving."""
-    number = re.match(r"\d+", text)
-    if not number:
-        return False
-    rest = text[number.end():]
-    return re.fullmatch(r"\.*", rest) is not None or " - done."[:len(rest)] == rest
-
-
 class _Progress:
-    """Splits the CLI's stdout into GDAL's progress marks (0...10...20...100 -
-    done., to the progress bar) and the lines of its plan and summary (to the
-    log)."""
+    """Splits the CLI's stdout, run with SKYSWEEP_PROGRESS=lines, into its
+    progress lines ("progress 0.1234", one per direction or step, to the
+    progress bar) and the lines of its plan and summary (to the log)."""
 
-    MARK = re.compile(r"(\d+)(\.+| - done\.)")
-    START = re.compile(r"0(\.{0,2}$|\.\.\.)")
+    LINE = re.compile(r"progress ([0-9.]+)$")
 
     def __init__(self, feedback):
         self.feedback = feedback
         self.text = ""
-        self.in_marks = False
 
     def feed(self, text):
         self.text += text
-        while self.text:
-            if self.in_marks:
-                mark = self.MARK.match(self.text)
-                if mark and (mark.end() < len(self.text) or mark.group(2).startswith(" ")):
-                    self.feedback.setProgress(min(100, int(mark.group(1))))
-                    self.text = self.text[mark.end():]
-                    continue
-                if self.text.startswith("\n"):
-                    self.in_marks = False
-                    self.text = self.text[1:]
-                    continue
-                if _mark_arriving(self.text):
-                    break
-                self.in_marks = False
-            start = self.START.match(self.text)
-            if start:
-                if start.group(1) == "...":
-                    self.in_marks = True
-                    continue
-                break  # "0", "0." or "0..": perhaps the first mark
-            end = self.text.find("\n")
-            if end < 0:
-                break
-            self.feedback.pushInfo(self.text[:end])
-            self.text = self.text[end + 1:]
+        *lines, self.text = self.text.split("\n")
+        for line in lines:
+            mark = self.LINE.match(line)
+            if mark:
+                self.feedback.setProgress(min(100.0, 100.0 * float(mark.group(1))))
+            else:
+                self.feedback.pushInfo(line)
 
     def flush(self):
         if self.text.strip():
-            self.feedback.pushInfo(self.text.strip())
-        self.text = ""
+            self.feed("\n")

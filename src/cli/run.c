@@ -94,6 +94,19 @@ static void on_signal(int sig)
         ss_ctx_cancel(signal_ctx);
 }
 
+/* For a program that follows the run (the QGIS provider): the fraction done
+ * as a line "progress 0.1234" on stdout each time it moves by 0.1 %, from
+ * the start, so a bar can move per direction or step. */
+static int progress_line(run_state *run, double complete)
+{
+    if (complete < 1.0 && complete - run->progress_last < 0.001)
+        return 1;
+    run->progress_last = complete;
+    printf("progress %.4f\n", complete);
+    fflush(stdout);
+    return 1;
+}
+
 /* GDAL's term progress, shown only once a run has lasted a second, and the
  * place where a pending SIGINT/SIGTERM cancels the run. */
 static int progress(double complete, const char *message, void *user)
@@ -104,6 +117,8 @@ static int progress(double complete, const char *message, void *user)
         return 0;
     if (run->quiet)
         return 1;
+    if (run->progress_lines)
+        return progress_line(run, complete);
     if (!run->progress_shown && run_now() - run->started < 1.0)
         return 1;
     run->progress_shown = 1;
@@ -119,6 +134,8 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     run->quiet = (common ? common->quiet : 0) || share_rank() > 0;
     run->plan_only = common ? common->plan_only : 0;
     run->started = run_now();
+    const char *lines = getenv("SKYSWEEP_PROGRESS");
+    run->progress_lines = lines && strcmp(lines, "lines") == 0;
     run->ctx = ss_ctx_new();
     if (!run->ctx) {
         fprintf(stderr, "skysweep %s: out of memory\n", command);

@@ -58,6 +58,8 @@ typedef struct {
     double started;
     run_phases phases;
     int progress_shown;
+    int progress_lines;     /* SKYSWEEP_PROGRESS=lines: one "progress F" line per step */
+    double progress_last;   /* the fraction last printed as a line */
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
 } run_state;
 

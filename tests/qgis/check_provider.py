@@ -87,9 +87,11 @@ for name, params, cli_args in runs:
 feedback = Feedback()
 processing.run("skysweep:svf", {"INPUT": sample, "OUTPUT": os.path.join(work, "long.tif"),
                                 "DIRECTIONS": 720, "DEVICE": "reference"}, feedback=feedback)
-check(len(feedback.progress) >= 3 and feedback.progress == sorted(feedback.progress)
+steps = sorted(set(feedback.progress))
+check(len(steps) >= 100 and feedback.progress == sorted(feedback.progress)
       and feedback.progress[-1] == 100,
-      f"progress reaches QGIS's feedback ({feedback.progress[:3]}...{feedback.progress[-1:]})")
+      f"progress reaches QGIS's feedback per direction, not in 10 % jumps ({len(steps)} "
+      f"values: {feedback.progress[:3]}...{feedback.progress[-1:]})")
 
 # Cancelling stops the run and leaves nothing behind.
 cancel_dir = os.path.join(work, "cancel")
@@ -119,6 +121,34 @@ try:
 except Exception as e:
     check("DIRECTIONS" in str(e), f"DIRECTIONS=0 is refused: {' '.join(str(e).split())}")
 check(not os.path.exists(os.path.join(work, "x.tif")), "failed runs leave no output")
+# A choice given by its index, as dialogs and scripts give it, is that choice.
+by_index, by_name = os.path.join(work, "index.tif"), os.path.join(work, "name.tif")
+for path, definition in ((by_index, 1), (by_name, "radiative")):
+    processing.run("skysweep:svf", {"INPUT": sample, "OUTPUT": path, "DIRECTIONS": 8,
+                                    "DEFINITION": definition})
+check(all(np.array_equal(x, y, equal_nan=True) for x, y in zip(bands(by_index), bands(by_name))),
+      "DEFINITION=1 runs the second choice, radiative, cell for cell")
+try:
+    processing.run("skysweep:svf", {"INPUT": sample, "OUTPUT": os.path.join(work, "x.tif"),
+                                    "DEFINITION": 3})
+    check(False, "DEFINITION=3 (one past the last choice) is refused")
+except Exception as e:
+    check("DEFINITION" in str(e), f"DEFINITION=3 is refused: {' '.join(str(e).split())}")
+
+# A CLI that is not there gives a message, not an empty provider in silence;
+# the provider's setting names the CLI over SKYSWEEP_CLI and PATH.
+from processing.core.ProcessingConfig import ProcessingConfig  # noqa: E402
+from skysweep.provider import CLI_SETTING  # noqa: E402
+
+os.environ["SKYSWEEP_CLI"] = os.path.join(work, "no-such-skysweep")
+provider.refreshAlgorithms()
+check(not provider.algorithms() and "no-such-skysweep" in provider.warningMessage(),
+      f"a missing CLI leaves no algorithms and says why: {provider.warningMessage()}")
+ProcessingConfig.setSettingValue(CLI_SETTING, cli)
+provider.refreshAlgorithms()
+check(len(provider.algorithms()) == 6 and not provider.warningMessage(),
+      f"the Processing setting names the CLI ({len(provider.algorithms())} algorithms)")
+ProcessingConfig.setSettingValue(CLI_SETTING, "")
 sys.stdout.flush()
 # PyQGIS may crash in exitQgis over objects Python still holds; the checks
 # are printed, so leave without it.
