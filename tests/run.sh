@@ -93,6 +93,29 @@ check
 total_pass=$pass total_failed=$failed
 echo "tests: $pass passed, $failed failed (build and suite: $(since "$started"))"
 
+# `make install prefix=DIR` into a folder of its own, after the build above was
+# made for another prefix: the libraries relink for DIR and the installed CLI
+# runs with its modules from DIR/lib/skysweep. One test, counted in the totals;
+# outside the suite, which it would relink under.
+check_install_prefix() {
+    prefix=$(mktemp -d "${TMPDIR:-/tmp}/ss-prefix.XXXXXX")
+    if make install prefix="$prefix" >tests/install-prefix.log 2>&1 &&
+        "$prefix/bin/skysweep" info >"$prefix/info.out" 2>&1 &&
+        grep -q "^module   skysweep-images.so: $prefix/lib/skysweep/" "$prefix/info.out" &&
+        "$prefix/bin/skysweep" svf -q --directions 4 samples/kilauea_summit_30m.tif "$prefix/svf.tif"; then
+        echo "ok: make install prefix=DIR installs a CLI that runs with its modules from DIR"
+        total_pass=$((total_pass + 1))
+    else
+        echo "not ok: make install prefix=DIR (tests/install-prefix.log):"
+        tail -n 5 tests/install-prefix.log "$prefix/info.out" 2>/dev/null | sed 's/^/    /'
+        total_failed=$((total_failed + 1))
+    fi
+    rm -rf "$prefix"
+    # Back to the prefix the build was configured for.
+    make -j"$(nproc)" >/dev/null 2>&1
+}
+check_install_prefix
+
 # Builds a copy of the tracked files with configure options $2..., so the
 # tree above keeps its build, runs the suite there, and adds its counts to
 # the totals under the label $1.

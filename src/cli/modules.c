@@ -9,6 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "module_dir.h"
 #include "modules.h"
 
 /* Whether this program runs from the build tree (its binary in BUILD or
