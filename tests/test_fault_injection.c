@@ -1,4 +1,4 @@
-/* Fault injection over the public calls, SQLite style (STYLE.md §5): for
+/* Fault injection over the public calls, SQLite style (doc/reliability.md): for
  * n = 1, 2, ... the n-th allocation of the core fails (src/core/alloc.c),
  * until a run makes fewer than n. Every such run must return SS_ERR_MEMORY
  * (or SS_OK with the undisturbed answer, where the failure is one the call

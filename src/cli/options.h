@@ -1,7 +1,7 @@
 /* Declared option tables: each command lists its options once (name, type,
- * default, range, help) and the parser, --help and docs come from the
- * table (the libvips habit, STYLE.md sec. 1). Parsing uses getopt_long_only,
- * so both GDAL-style -co and --directions spellings work. */
+ * default, range, help) and the parser, --help, --help-json, the man pages
+ * and doc/cli.md all come from the table (the libvips habit). Parsing uses
+ * getopt_long_only, so both GDAL-style -co and --directions spellings work. */
 #ifndef SS_CLI_OPTIONS_H
 #define SS_CLI_OPTIONS_H
 

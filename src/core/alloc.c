@@ -1,5 +1,5 @@
 /* Every allocation of the core goes through here, so that a test can make
- * the n-th one fail (SQLite's fault injection, STYLE.md §5) and check that
+ * the n-th one fail (SQLite's fault injection, doc/reliability.md) and check that
  * every public call then returns SS_ERR_MEMORY, leaks nothing and leaves
  * its context usable. Memory from here is released with free(). */
 #include "config.h"
