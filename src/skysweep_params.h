@@ -65,6 +65,10 @@ typedef struct {
 #define SS_NORTH_AUTO 0
 #define SS_NORTH_TRUE 1
 #define SS_NORTH_GRID 2
+/* The indices of every "auto|on|off" choice (curvature, sun_per_cell). */
+#define SS_CHOICE_AUTO 0
+#define SS_CHOICE_ON 1
+#define SS_CHOICE_OFF 2
 
 /* ---- the sun of a shadow, a hillshade's light, a render ("sun") -------------- */
 

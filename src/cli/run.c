@@ -377,12 +377,12 @@ void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
     /* Provisional: job_plan sets directions, curvature and north from the plan. */
     opt->directions = common->sweep.directions ? common->sweep.directions : 32;
     opt->offset_deg = common->sweep.offset_deg;
-    opt->earth_radius_m = common->sweep.curvature == 1 ? run_earth_radius(common, frame) : 0.0;
-    opt->refraction_k = common->sweep.curvature == 1 ? common->sweep.refraction_k : 0.0;
+    opt->earth_radius_m = common->sweep.curvature == SS_CHOICE_ON ? run_earth_radius(common, frame) : 0.0;
+    opt->refraction_k = common->sweep.curvature == SS_CHOICE_ON ? common->sweep.refraction_k : 0.0;
     ss_line_model asked = run_lines_asked(common);
     opt->lines = asked == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : asked;
     opt->box_lines = common->sweep.box_lines;
-    opt->grid_north_deg = common->sweep.north != 2 ? frame->grid_north_deg : 0.0;
+    opt->grid_north_deg = common->sweep.north != SS_NORTH_GRID ? frame->grid_north_deg : 0.0;
 }
 
 ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,

@@ -241,7 +241,7 @@ void ss_sun_params_spa(const ss_sun_params *p, ss_spa_params *spa)
 /* "auto|on|off" as the planner's switch. */
 static ss_switch switch_of(int choice)
 {
-    return choice == 0 ? SS_AUTO : choice == 1 ? SS_ON : SS_OFF;
+    return choice == SS_CHOICE_AUTO ? SS_AUTO : choice == SS_CHOICE_ON ? SS_ON : SS_OFF;
 }
 
 ss_line_model ss_sweep_params_lines(const ss_sweep_params *p)
