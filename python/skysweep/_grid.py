@@ -14,6 +14,59 @@ def _is_dataarray(obj):
 _GEOGRAPHIC_DIMS = {"lat", "lon", "latitude", "longitude"}
 
 
+def _rio(da):
+    """rioxarray's accessor on a DataArray, or None where rioxarray is not
+    installed (importing it registers `.rio`)."""
+    try:
+        import rioxarray  # noqa: F401
+    except ImportError:
+        return None
+    return da.rio
+
+
+def _declared_nodata(da):
+    """Every nodata value a DataArray declares: rioxarray's rio.nodata and
+    rio.encoded_nodata, and the CF _FillValue and missing_value of its attrs
+    and encoding (a DEM opened without masked=True keeps its int16 -32768
+    there, not as NaN)."""
+    found = [da.attrs.get(k) for k in ("_FillValue", "missing_value", "nodata")]
+    found += [da.encoding.get(k) for k in ("_FillValue", "missing_value")]
+    rio = _rio(da)
+    if rio is not None:
+        # With an encoded nodata, rio.nodata is NaN (and fails on integers).
+        found.append(rio.nodata if rio.encoded_nodata is None else rio.encoded_nodata)
+    values = []
+    for value in found:
+        number = np.asarray(value if value is not None else np.nan)
+        if number.ndim == 0 and number.dtype.kind in "iuf" and not np.isnan(number) and \
+                float(number) not in values:
+            values.append(float(number))
+    return values
+
+
+def _crs_of(da):
+    """The DataArray's CRS as rioxarray reads it, whatever its grid-mapping
+    coordinate is named; None without rioxarray or without a CRS."""
+    rio = _rio(da)
+    return None if rio is None else rio.crs
+
+
+def _metres_or_refuse(crs):
+    """Refuses a CRS whose coordinates are not metres: an array call has no
+    geodesy (the library's cell sizes are metres; the command line measures
+    a geographic grid's cells on the ellipsoid, the C API does not)."""
+    if crs is None:
+        return
+    if not crs.is_projected:
+        raise ValueError(f"the DataArray's CRS ({crs}) is geographic: its x and y are degrees, "
+                         "not metres. Reproject it (da.rio.reproject(da.rio.estimate_utm_crs())), "
+                         "give cell_size in metres, or use a file call (svf_file, ...), which "
+                         "takes the cells' geodesic sizes")
+    if abs(crs.linear_units_factor[1] - 1) > 1e-12:
+        raise ValueError(f"the DataArray's CRS ({crs}) is in {crs.linear_units}, not metres: "
+                         "reproject it, give cell_size in metres, or use a file call")
+
+
 def _north_up(dem, cell_size):
     """A DataArray's heights with rows north to south and columns west to
     east (an ascending y, as netCDF often has, is flipped, and flipped back
@@ -36,15 +89,48 @@ def _north_up(dem, cell_size):
         if regular and ((axis == 1 and steps[0] < 0) or (axis == 0 and steps[0] > 0)):
             flips.append(axis)
     if cell_size is None:
+        crs = _crs_of(dem)
+        _metres_or_refuse(crs)
         if _GEOGRAPHIC_DIMS & {str(d).lower() for d in dem.dims}:
             raise ValueError(f"the DataArray's coordinates {dem.dims} look like degrees: give "
                              "cell_size in metres (or use a file call, which knows the CRS)")
         if None in sizes:
             raise TypeError("cell_size is needed: the DataArray has no regular x, y coordinates")
         cell_size = tuple(sizes)
+        if crs is not None:
+            x, y = (float(np.asarray(dem.coords[d])[[0, -1]].mean()) for d in dem.dims[::-1])
+            cell_size = _ground_cell_sizes(crs.to_wkt(), x, y, cell_size)
     for axis in flips:
         values = np.flip(values, axis)
     return values, cell_size, flips
+
+
+#: Half the projected step (metres) over which a cell's ground size is measured.
+_GROUND_STEP_M = 50.0
+
+
+def _ground_cell_sizes(crs_wkt, x, y, sizes):
+    """Ground sizes (metres on the ellipsoid) of cells `sizes` projected
+    metres wide, at the projected point x, y (the grid's centre), as the
+    command line measures them: a projection's scale factor makes projected
+    metres longer or shorter than the ground's (UTM's 0.9996 at its central
+    meridian). Projected sizes where pyproj (which rioxarray brings) is not
+    installed, with a warning."""
+    try:
+        from pyproj import CRS, Transformer
+    except ImportError:
+        warnings.warn("pyproj is not installed: projected cell sizes are taken as ground "
+                      "sizes, off by the projection's scale factor (pass cell_size)", stacklevel=4)
+        return sizes
+    crs = CRS.from_user_input(crs_wkt)
+    to_lonlat = Transformer.from_crs(crs, crs.geodetic_crs, always_xy=True)
+    geod = crs.get_geod()
+    scales = []
+    for ex, ey in ((1.0, 0.0), (0.0, 1.0)):
+        lon, lat = to_lonlat.transform([x - ex * _GROUND_STEP_M, x + ex * _GROUND_STEP_M],
+                                       [y - ey * _GROUND_STEP_M, y + ey * _GROUND_STEP_M])
+        scales.append(geod.inv(lon[0], lat[0], lon[1], lat[1])[2] / (2 * _GROUND_STEP_M))
+    return sizes[0] * scales[0], sizes[1] * scales[1]
 
 
 def _is_rasterio_dataset(obj):
@@ -63,7 +149,10 @@ def _from_rasterio(dataset, cell_size, nodata):
         if crs is None or not crs.is_projected or abs(crs.linear_units_factor[1] - 1) > 1e-12:
             raise ValueError("the dataset's CRS is not projected in metres: give cell_size, or use "
                              "a file call, which knows the CRS")
-        cell_size = (abs(dataset.res[0]), abs(dataset.res[1]))
+        t = dataset.transform  # north-up: no rotation terms
+        x, y = t.c + t.a * dataset.width / 2, t.f + t.e * dataset.height / 2
+        cell_size = _ground_cell_sizes(crs.to_wkt(), x, y,
+                                       (abs(dataset.res[0]), abs(dataset.res[1])))
     return dataset.read(1), cell_size, dataset.nodata if nodata is None else nodata
 
 
@@ -81,18 +170,55 @@ def _cell_sizes(cell_size):
     return x, y
 
 
+#: Heights no terrain has (the deepest sea floor is -10 935 m, the highest
+#: peak 8 849 m): an integer type's extreme beyond them is a fill, not a height.
+_EARTH_Z_RANGE_M = (-11000.0, 9000.0)
+
+
+def _fill_extremes(a):
+    """The extremes of an integer dtype that lie beyond any terrain (int16's
+    -32768 and 32767, uint16's 65535): cells holding them are fills that
+    nobody declared as nodata. Float32's lowest (-3.4e38) lies beyond
+    SS_Z_PLAUSIBLE_M, which the library refuses itself."""
+    if a.dtype.kind not in "iu":
+        return []
+    info = np.iinfo(a.dtype)
+    return [v for v in (info.min, info.max)
+            if not _EARTH_Z_RANGE_M[0] <= v <= _EARTH_Z_RANGE_M[1]]
+
+
+def _mask_nodata(a, heights, nodata_values):
+    """NaN in heights where a holds one of nodata_values, compared as the
+    input holds it (a float32 -9999.9), where the input's dtype can hold it
+    at all (-9999 is no uint8 value)."""
+    for nodata in nodata_values:
+        held = np.asarray(nodata).astype(a.dtype)
+        if held == nodata or (a.dtype.kind == "f" and np.isfinite(nodata)):
+            heights[a == held] = np.nan
+
+
+#: Attributes that say where a DataArray lies, kept on its products.
+_GEOREFERENCING_ATTRS = ("crs", "grid_mapping", "spatial_ref", "transform")
+
+
 class Grid:
     """A DEM held by the library: heights in metres, rows north to south,
-    NaN (or `nodata`) where there is no height. Taken from a numpy array, an
-    xarray DataArray, or an open rasterio dataset (band 1, its nodata)."""
+    NaN (or `nodata`) where there is no height. Taken from a numpy array (a
+    masked array's masked cells are nodata), an xarray DataArray (the
+    nodata it declares, rioxarray's or CF's, is nodata too), or an open
+    rasterio dataset (band 1, its nodata)."""
 
     def __init__(self, ctx, dem, cell_size=None, nodata=None):
         self.template = dem if _is_dataarray(dem) else None
         self.flips = []
+        nodata_values = [] if nodata is None else [nodata]
+        masked = np.ma.getmaskarray(dem) if np.ma.isMaskedArray(dem) else None
         if self.template is not None:
+            nodata_values += _declared_nodata(dem)
             dem, cell_size, self.flips = _north_up(dem, cell_size)
         elif _is_rasterio_dataset(dem):
             dem, cell_size, nodata = _from_rasterio(dem, cell_size, nodata)
+            nodata_values = [] if nodata is None else [nodata]
         if cell_size is None:
             raise TypeError("cell_size is needed (metres, one number or (east-west, "
                             "north-south)) unless the DEM is a DataArray with regular x, y "
@@ -105,12 +231,17 @@ class Grid:
             raise ValueError(f"the DEM must be a 2-D array (rows north to south), not {a.ndim}-D "
                              f"of shape {a.shape}")
         heights = np.array(a, dtype=np.float64, order="C")
-        if nodata is not None:
-            # Compared as the input holds it (a float32 -9999.9), where the
-            # input's dtype can hold it at all (-9999 is no uint8 value).
-            held = np.asarray(nodata).astype(a.dtype)
-            if held == nodata or (a.dtype.kind == "f" and np.isfinite(nodata)):
-                heights[a == held] = np.nan
+        if masked is not None:
+            heights[masked] = np.nan
+        _mask_nodata(a, heights, nodata_values)
+        for fill in _fill_extremes(a):
+            filled = np.count_nonzero(heights == fill)
+            if filled:
+                warnings.warn(f"{filled} heights of {fill} ({a.dtype}'s "
+                              f"{'lowest' if fill < 0 else 'highest'} value, beyond any terrain) "
+                              "are a fill, not terrain: taken as nodata (pass nodata= or a "
+                              "masked array to say so)", stacklevel=3)
+                heights[heights == fill] = np.nan
         self.ctx = ctx
         self.shape = heights.shape
         grid = ffi.new("ss_grid *")
@@ -158,9 +289,19 @@ class Grid:
             (lead_name, lead_values), = leading.items()
             dims = (lead_name,) + tuple(dims)
             coords[lead_name] = lead_values
+        # The product's own attributes, not the DEM's (its long_name, range,
+        # integer _FillValue), but for where the grid lies.
+        kept = {k: v for k, v in self.template.attrs.items() if k in _GEOREFERENCING_ATTRS}
         out = xr.DataArray(values, dims=dims, coords=coords, name=name,
-                           attrs=dict(self.template.attrs))
-        out.attrs.update(attrs or {})
+                           attrs=dict(kept, **(attrs or {})))
+        # NaN where there is no height, written as the command line writes
+        # it (rioxarray's masked convention: rio.nodata NaN, encoded SS_NODATA).
+        out.encoding["_FillValue"] = np.float32(CONST["SS_NODATA"])
+        crs = _crs_of(self.template)
+        if crs is not None:  # under whatever name the DEM's grid mapping has
+            rio = self.template.rio
+            out = out.rio.write_crs(crs, grid_mapping_name=rio.grid_mapping)
+            out = out.rio.write_transform(rio.transform(), grid_mapping_name=rio.grid_mapping)
         return out
 
 

@@ -3,6 +3,7 @@ their georeferencing, metadata and band names exactly as `skysweep COMMAND`
 writes them. Each function's keyword arguments are its command's options
 (``svf_tolerance`` for ``--svf-tolerance``), taken from the command's option
 table and checked against it before the run."""
+import datetime
 import os
 import re
 import shutil
@@ -17,6 +18,18 @@ from .products import _checked
 #: What the file calls may not set: the package runs the command quietly
 #: and reports progress itself.
 _RESERVED = {"q", "help"}
+
+
+def _text(key, value):
+    """An option's value as the command line reads it: a path as its text,
+    a datetime in ISO 8601 with its zone (the command line requires one, and
+    a naive datetime is refused here as it is there)."""
+    if isinstance(value, datetime.datetime):
+        if value.tzinfo is None or value.utcoffset() is None:
+            raise ValueError(f"{key}: the datetime {value.isoformat()} has no time zone; give "
+                             "an aware one (tzinfo=datetime.timezone.utc, say)")
+        return value.isoformat()
+    return os.fspath(value) if isinstance(value, os.PathLike) else str(value)
 
 
 def command_line():
@@ -47,9 +60,9 @@ def _arguments(command, options):
             args.append(flag)
         elif entry["type"] == "list":
             items = ([f"{k}={v}" for k, v in value.items()] if isinstance(value, dict)
-                     else [value] if isinstance(value, str) else list(value))
+                     else [value] if isinstance(value, (str, os.PathLike)) else list(value))
             for item in items:
-                args += [flag, str(item)]
+                args += [flag, _text(key, item)]
         else:
             if isinstance(value, bool):
                 raise TypeError(f"{key} takes a value, not {value!r}")
@@ -57,7 +70,7 @@ def _arguments(command, options):
                 value = _checked(command, key, value)  # 16.0 for an int option becomes 16
             elif isinstance(value, (list, tuple)):
                 value = ",".join(str(v) for v in value)  # -projwin (ULX, ULY, LRX, LRY)
-            args += [flag, str(value)]
+            args += [flag, _text(key, value)]
     return args
 
 
@@ -109,12 +122,13 @@ def run(command, *positional, progress=None, **options):
         raise ValueError(f"unknown command {command!r} (skysweep has: {', '.join(COMMANDS)})")
     args = [command_line(), command] + _arguments(command, options)
     report = progress_callback(progress)
-    if report is None:
-        args.append("-q")
+    if report is None and any(o["name"] == "q" for o in COMMANDS[command]["options"]):
+        args.append("-q")  # info, sun and weather have no progress to quieten
     args += [os.fspath(p) for p in positional]
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             stdin=subprocess.DEVNULL)
     shown = [-1]
+    rc = None
     out, err = _Reader(proc.stdout, report, shown), _Reader(proc.stderr, None, shown)
     try:
         rc = proc.wait()
@@ -124,10 +138,13 @@ def run(command, *positional, progress=None, **options):
         raise
     finally:
         stdout, stderr = out.result(), err.result()
+        # The command's last mark may be short of 100 (it prints none after
+        # its final step): the run is complete, and the bar says so before
+        # it closes.
+        if rc == 0 and report is not None and shown[0] < 100:
+            report(1.0, "")
         if report is not None and hasattr(report, "close"):
             report.close()
-    if rc == 0 and report is not None and shown[0] < 100:
-        report(1.0, "")
     if rc != 0:
         if rc in (130, -signal.SIGINT):
             raise KeyboardInterrupt
@@ -143,11 +160,12 @@ def _file_call(command):
 
     def call(input, output, *, progress=None, **options):
         inputs = [input] if isinstance(input, (str, os.PathLike)) else list(input)
-        return run(command, *inputs, output, progress=progress, **options)
+        run(command, *inputs, output, progress=progress, **options)
+        return output
 
     call.__name__ = call.__qualname__ = f"{command}_file"
     lines = [f"Runs `{table['usage']}`: input is a DEM path (or a list of tiles),",
-             "output the path to write. Returns what the command printed.", "",
+             "output the path to write (str or pathlib.Path). Returns output.", "",
              table["summary"], "", "Options (keyword arguments; defaults from the command's table):"]
     for o in table["options"]:
         if o["name"] in _RESERVED:

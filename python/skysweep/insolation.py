@@ -11,6 +11,9 @@ from .products import SWEEP_OPTIONS, _begin, _doc_options, _params, _sweep, _val
 from .sun import unix_seconds
 
 _PARTS = ("global", "beam", "diffuse", "reflected", "sun_hours")
+_LONG_NAMES = {"global": "global irradiation", "beam": "beam irradiation",
+               "diffuse": "diffuse irradiation", "reflected": "reflected irradiation",
+               "sun_hours": "hours of direct sun"}
 
 
 def _as_text(value):
@@ -123,11 +126,12 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
         setattr(out, k, buffers[k])  # "global" is a Python keyword: no out.global
     ctx.call(lib.ss_insolation, grid.ptr, opt, options, len(mids), sun_at, ffi.NULL, ffi.NULL,
              ffi.NULL, out, progress=kw.get("progress"))
-    units = {"global": "Wh/m2", "beam": "Wh/m2", "diffuse": "Wh/m2", "reflected": "Wh/m2",
+    units = {"global": "Wh m-2", "beam": "Wh m-2", "diffuse": "Wh m-2", "reflected": "Wh m-2",
              "sun_hours": "h"}
     shadow_used = ffi.string(lib.ss_shadow_mode_name(plan.shadow_mode)).decode()
-    return {k: grid.finish(planes[k], k, {"units": units[k], "shadow": shadow_used,
-                                          "steps": len(mids)}) for k in _PARTS}
+    return {k: grid.finish(planes[k], k, {"long_name": _LONG_NAMES[k], "units": units[k],
+                                          "shadow": shadow_used, "steps": len(mids)})
+            for k in _PARTS}
 
 
 _doc_options(insolation, "insolation", SWEEP_OPTIONS)

@@ -170,7 +170,8 @@ def svf(dem, cell_size=None, *, definition=None, radius=None, nodata=None, **kw)
                  progress=kw.get("progress"))
     else:
         ctx.call(lib.ss_svf, grid.ptr, opt, code, out_buffer(out), progress=kw.get("progress"))
-    return grid.finish(out, "svf", {"units": "1", "definition": definition,
+    return grid.finish(out, "svf", {"long_name": "sky-view factor", "units": "1",
+                                    "definition": definition,
                                     "directions": opt.directions})
 
 
@@ -185,7 +186,8 @@ def openness(dem, cell_size=None, *, kind=None, radius=None, nodata=None, **kw):
     out = grid.new_plane()
     ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius, out_buffer(out),
              progress=kw.get("progress"))
-    return grid.finish(out, f"{kind} openness", {"units": "deg", "directions": opt.directions})
+    return grid.finish(out, f"{kind} openness", {"long_name": f"{kind} openness",
+                                                 "units": "degree", "directions": opt.directions})
 
 
 Horizons = namedtuple("Horizons", "azimuth elevation distance cast_height")
@@ -227,10 +229,12 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
     if height is not None:
         height[height == np.float32(CONST["SS_NODATA"])] = np.nan
     lead = {"azimuth": azimuth}
-    return Horizons(azimuth, grid.wrap(angle, "horizon", {"units": "deg"}, lead),
-                    None if dist is None else grid.wrap(dist, "distance", {"units": "m"}, lead),
-                    None if height is None else grid.wrap(height, "cast height",
-                                                          {"units": "m"}, lead))
+    return Horizons(azimuth, grid.wrap(angle, "horizon", {"long_name": "horizon elevation",
+                                                          "units": "degree"}, lead),
+                    None if dist is None else grid.wrap(dist, "distance", {
+                        "long_name": "horizon distance", "units": "m"}, lead),
+                    None if height is None else grid.wrap(height, "cast height", {
+                        "long_name": "horizon cast height", "units": "m"}, lead))
 
 
 def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, **kw):
@@ -246,7 +250,8 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, **kw
     out = grid.new_plane()
     ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
              out_buffer(out), ffi.NULL, progress=kw.get("progress"))
-    return grid.finish(out, "sunlit", {"units": "1", "sun_azimuth": sun_azimuth,
+    return grid.finish(out, "sunlit", {"long_name": "sunlit", "units": "1",
+                                       "sun_azimuth": sun_azimuth,
                                        "sun_elevation": sun_elevation})
 
 
@@ -296,7 +301,8 @@ def hillshade(dem, cell_size=None, *, az=None, alt=None, z=None, alg=None,
                           {"az": az, "alt": alt, "z": z, "alg": alg,
                            "multidirectional": multidirectional, "cast_shadows": cast_shadows,
                            "sky_view": sky_view})
-    return grid.finish(out, "hillshade", {"units": "1", "az": _value("hillshade", "az", az),
+    return grid.finish(out, "hillshade", {"long_name": "hillshade", "units": "1",
+                                          "az": _value("hillshade", "az", az),
                                           "alt": _value("hillshade", "alt", alt)})
 
 
@@ -308,7 +314,8 @@ def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=Non
     ctx.call(lib.ss_sun_incidence, grid.ptr, _checked("shadow", "sun_azimuth", sun_azimuth),
              _checked("shadow", "sun_elevation", sun_elevation), ffi.NULL, ffi.NULL,
              out_buffer(out))
-    return grid.finish(out, "cos incidence", {"units": "1"})
+    return grid.finish(out, "cos incidence", {"long_name": "cosine of the sun's incidence",
+                                              "units": "1"})
 
 
 def vat(dem, cell_size=None, *, blend_radius=None, nodata=None, **kw):
@@ -320,7 +327,8 @@ def vat(dem, cell_size=None, *, blend_radius=None, nodata=None, **kw):
     grid, opt, out = _shade(dem, cell_size, nodata, kw,
                             {"blend": "vat", "blend_radius": blend_radius})
     blend = np.where(out == np.float32(CONST["SS_NODATA"]), out, (out - 1.0) / 254.0)
-    return grid.finish(blend.astype(np.float32), "vat", {"units": "1",
+    return grid.finish(blend.astype(np.float32), "vat", {"long_name": "VAT relief blend",
+                                                         "units": "1",
                                                          "directions": opt.directions})
 
 

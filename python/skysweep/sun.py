@@ -9,12 +9,15 @@ from ._lib import ffi, lib
 
 
 def unix_seconds(time):
-    """UTC Unix seconds (float64 array) from instants: numpy datetime64 (taken
-    as UTC), datetime objects (naive ones as UTC, as pvlib does), a pandas
-    DatetimeIndex or Timestamp (converted to UTC), or numbers (Unix seconds)."""
+    """UTC Unix seconds (float64 array) from instants: numpy datetime64 (UTC:
+    numpy's datetimes have no zone), aware datetime objects, a pandas
+    DatetimeIndex or Timestamp with a zone (converted to UTC), or numbers
+    (Unix seconds). A datetime or pandas time without a zone is refused, as
+    the command line's --time refuses one: which zone it meant is unknown."""
     if hasattr(time, "tz") and hasattr(time, "tz_convert"):  # pandas DatetimeIndex, Timestamp
-        if time.tz is not None:
-            time = time.tz_convert("UTC").tz_localize(None)
+        if time.tz is None:
+            raise _naive(time)
+        time = time.tz_convert("UTC").tz_localize(None)
         if not hasattr(time, "shape"):  # a Timestamp
             time = [time.to_datetime64()]
         return _datetime64_seconds(np.asarray(time))
@@ -40,10 +43,15 @@ def _has_aware(time):
     return any(isinstance(t, _dt.datetime) for t in values)
 
 
+def _naive(t):
+    return ValueError(f"the time {t} has no time zone: give an aware one (tzinfo="
+                      "datetime.timezone.utc, tz_localize('UTC')) or numpy datetime64 (UTC)")
+
+
 def _datetime_seconds(t):
     if isinstance(t, _dt.datetime):
-        if t.tzinfo is None:
-            t = t.replace(tzinfo=_dt.timezone.utc)
+        if t.tzinfo is None or t.utcoffset() is None:
+            raise _naive(t)
         return t.timestamp()
     if isinstance(t, np.datetime64):
         return float(_datetime64_seconds(np.asarray(t)))

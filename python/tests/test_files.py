@@ -1,4 +1,5 @@
 """File calls: the command line with its own option table."""
+import pathlib
 import subprocess
 
 import numpy as np
@@ -8,13 +9,15 @@ import skysweep
 from conftest import read_envi, rough_dem, same, write_asc
 from skysweep.files import command_line
 
+SAMPLES = pathlib.Path(__file__).resolve().parents[2] / "samples"
+
 
 def test_a_file_call_and_an_array_call_agree(tmp_path):
     z = rough_dem()
     dem = write_asc(tmp_path / "dem.asc", z)
-    printed = skysweep.svf_file(dem, tmp_path / "svf.envi", cell_size=10, of="ENVI",
+    written = skysweep.svf_file(dem, tmp_path / "svf.envi", cell_size=10, of="ENVI",
                                 directions=16, definition="radiative")
-    assert printed == ""  # quiet unless progress is asked for
+    assert written == tmp_path / "svf.envi"  # the output, to open next
     assert same(read_envi(tmp_path / "svf.envi")[0],
                 skysweep.svf(z, 10, directions=16, definition="radiative"))
 
@@ -89,3 +92,40 @@ def test_a_rasterio_dataset_is_taken_as_the_cli_takes_its_file(tmp_path):
         assert out.crs == rasterio.crs.CRS.from_wkt(TM_45N_8E)
         assert out.descriptions[0] == "sky-view factor"
     assert same(mine, theirs)
+
+
+def test_commands_without_progress_run_without_q(tmp_path):
+    """info, sun and weather take no -q: run adds it only where it is an option."""
+    assert "skysweep" in skysweep.run("info")
+    assert "azimuth" in skysweep.run("sun", at="8,45", time="2026-06-21T10:00Z")
+    assert "ghi" in skysweep.run("weather", SAMPLES / "weather" / "pvgis_tmy_45N_8E.csv")
+
+
+class _Bar:
+    """What a tqdm bar sees: the fractions, then close."""
+
+    def __init__(self):
+        self.seen = []
+
+    def __call__(self, fraction, message):
+        self.seen.append(fraction)
+
+    def close(self):
+        self.seen.append("closed")
+
+
+def test_a_file_call_s_bar_is_full_before_it_closes(tmp_path):
+    dem = write_asc(tmp_path / "dem.asc", rough_dem(200, 200))
+    bar = _Bar()
+    skysweep.svf_file(dem, tmp_path / "o.tif", cell_size=10, directions=3000,
+                      lines="interpolated", device="reference", progress=bar)
+    assert bar.seen[-2:] == [1.0, "closed"], bar.seen[-4:]
+
+
+def test_paths_are_taken_wherever_a_path_is(tmp_path):
+    dem = pathlib.Path(write_asc(tmp_path / "dem.asc", rough_dem()))
+    out = skysweep.hillshade_file([dem], tmp_path / "h.envi", cell_size=10, of="ENVI")
+    assert isinstance(out, pathlib.Path) and out.exists()
+    printed = skysweep.run("sun", at="-155.28,19.41", time="2026-06-21T20:00Z",
+                           horizon_from=SAMPLES / "kilauea_summit_30m.tif", format="json")
+    assert "horizon" in printed

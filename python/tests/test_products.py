@@ -114,12 +114,18 @@ def test_dataarray_in_and_out():
     xr = pytest.importorskip("xarray")
     z = rough_dem(hole=False)
     da = xr.DataArray(z, dims=("y", "x"), coords={"y": 5000 - np.arange(z.shape[0]) * 10.0,
-                                                  "x": 300000 + np.arange(z.shape[1]) * 10.0},
-                      attrs={"crs": "EPSG:32633"})
+                                                  "x": 300000 + np.arange(z.shape[1]) * 10.0})
     out = skysweep.svf(da, directions=16)
-    assert isinstance(out, xr.DataArray) and out.attrs["crs"] == "EPSG:32633"
+    assert isinstance(out, xr.DataArray)
     assert np.array_equal(out["x"], da["x"]) and out.attrs["units"] == "1"
     assert same(out.values, skysweep.svf(z, 10, directions=16))
+    # Where it lies goes with it, as rioxarray reads it where installed.
+    out = skysweep.svf(da.assign_attrs(crs="EPSG:32633"), directions=16)
+    try:
+        import rioxarray  # noqa: F401
+        assert out.rio.crs == "EPSG:32633"
+    except ImportError:
+        assert out.attrs["crs"] == "EPSG:32633"
     h = skysweep.horizon(da, directions=4)
     assert h.elevation.dims == ("azimuth", "y", "x")
 

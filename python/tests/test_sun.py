@@ -40,8 +40,26 @@ def test_instants_outside_nanoseconds_and_nat():
 
 def test_instants_in_any_form_are_the_same_instants():
     aware = dt.datetime(2026, 6, 21, 12, 0, tzinfo=dt.timezone(dt.timedelta(hours=2)))
-    forms = [aware, dt.datetime(2026, 6, 21, 10, 0), np.datetime64("2026-06-21T10:00"),
+    forms = [aware, dt.datetime(2026, 6, 21, 10, 0, tzinfo=dt.timezone.utc),
+             np.datetime64("2026-06-21T10:00"),
              pd.Timestamp("2026-06-21 12:00", tz="Europe/Berlin"),
              pd.DatetimeIndex(["2026-06-21 10:00"], tz="UTC"), 1782036000.0]
     azimuths = [float(np.ravel(skysweep.sun_position(t, 45, 8)["azimuth"])[0]) for t in forms]
     assert np.allclose(azimuths, azimuths[0], atol=1e-9)
+
+
+def test_a_time_without_a_zone_is_refused_as_the_cli_refuses_it(tmp_path):
+    """Which zone a naive datetime meant is unknown: array calls refuse it
+    as the file calls (the command line) do; datetime64 is UTC."""
+    naive = dt.datetime(2026, 6, 21, 10, 0)
+    for time in (naive, [naive], pd.Timestamp(naive), pd.DatetimeIndex([naive])):
+        with pytest.raises(ValueError, match="no time zone"):
+            skysweep.sun_position(time, 45, 8)
+    z = np.full((8, 8), 100.0)
+    with pytest.raises(ValueError, match="no time zone"):
+        skysweep.insolation(z, 10, time=[naive], latitude=45, longitude=8)
+    with pytest.raises(ValueError, match="no time zone"):
+        skysweep.run("sun", at="8,45", time=naive)
+    aware = naive.replace(tzinfo=dt.timezone.utc)
+    printed = skysweep.run("sun", at="8,45", time=aware, format="json")
+    assert "azimuth" in printed
