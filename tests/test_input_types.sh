@@ -5,7 +5,9 @@
 # bit: signed bytes (GDAL 3.6's Byte with PIXELTYPE=SIGNEDBYTE, not 157
 # for -99), 32 and 64-bit integers, Float32 and Float64; unsigned types
 # hold it 200 m higher (the SVF is the same) with nodata 2^16 - 1, 2^32 - 1
-# and 2^40 (UInt64). Complex bands are refused.
+# and 2^40 (UInt64). Complex bands are refused. Other rasters (quicklook's,
+# render's drapes) are read the same way: a quicklook of the signed bytes
+# is the Int16 copy's.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
@@ -69,4 +71,19 @@ for t in CInt16 CInt32 CFloat32 CFloat64; do
         [ ! -e "$work/${t}_svf.tif" ]
     tap_ok $? "a $t band is refused: exit $rc, $(head -c 200 "$work/err")"
 done
+
+# Products and drapes: quicklook reads any band the same way.
+"$SKYSWEEP" quicklook "$work/ref.tif" "$work/ref.png" >"$work/ref.out" 2>"$work/err"
+rc=$?
+if [ $rc -eq 5 ] && grep -q 'built without OpenImageIO' "$work/err"; then
+    tap_skip "quicklook of signed bytes" "built without OpenImageIO"
+else
+    "$SKYSWEEP" quicklook "$work/Int8.tif" "$work/Int8.png" >"$work/Int8.out" 2>>"$work/err" &&
+        cmp -s "$work/Int8.png" "$work/ref.png"
+    tap_ok $? "quicklook of the signed bytes == the Int16 copy's: $(head -1 "$work/Int8.out") $(head -c 200 "$work/err")"
+fi
+"$SKYSWEEP" quicklook "$work/CInt16.tif" "$work/CInt16.png" 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/CInt16.png" ]
+tap_ok $? "quicklook of a CInt16 band is refused: exit $rc, $(head -c 200 "$work/err")"
 tap_done
