@@ -36,6 +36,20 @@ abbreviated to a unique prefix.
   `--z-units`. The summary says when heights were not metres, or were taken as metres although
   the CRS's horizontal unit is feet (US county lidar); outputs record it as `INPUT_HEIGHT_UNIT`.
   Checked by `tests/test_z_units.sh`.
+- Every real GDAL data type is read as GDAL means it: Byte, Int8 (and the signed bytes GDAL before
+  3.7 gives as Byte with `PIXELTYPE=SIGNEDBYTE`), 16, 32 and 64-bit integers signed or unsigned,
+  Float32 and Float64, each with its nodata value, scale and offset. A complex band (CInt16,
+  CFloat32, ...) is refused (exit 3): heights are real. Checked by `tests/test_input_types.sh`.
+- Several DEMs given together are tiles of one mosaic: they must share a CRS and a cell size,
+  lie on one grid (origins a whole number of cells apart) and form one connected area, else
+  exit 3 naming the tile. Each tile is read with its own data type, nodata value, scale, offset
+  and unit, whatever the others'; cells no tile covers are nodata. Where tiles overlap, their
+  heights (in metres) must agree within 1 cm, or half a step of an integer tile (an Int16 copy
+  of a Float32 tile rounds by up to 0.5 m); tiles that disagree are refused (exit 3) in one
+  line naming the two tiles and how many cells disagree, unless `--overlap first|last|mean`
+  decides: the first or the last tile given with a height there, or the mean of those heights;
+  the summary's `overlap` line then says how many cells were decided (counted once per pair of
+  tiles). Checked by `tests/test_mosaic.sh` and `tests/test_faults.sh`.
 - Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
   no output.
 - Progress (GDAL's `0...10...100 - done.`) and a summary on stdout unless `-q`, the progress

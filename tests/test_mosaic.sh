@@ -3,7 +3,8 @@
 # unequal size (as files, and as a VRT of them) gives exactly the SVF of
 # the whole file, with no seam: the tiles are mosaicked on their common
 # grid before the sweep, so horizons cross tile edges as on the merged
-# DEM. -projwin writes one window of the outputs, equal to the same window
+# DEM. Each tile keeps its own data type and nodata; tiles that overlap
+# must agree there, unless --overlap decides. -projwin writes one window of the outputs, equal to the same window
 # cut from the full output (horizons still come from the whole DEM).
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
@@ -60,4 +61,55 @@ tap_ok $? "hillshade (Byte) with the joined -projwin form == its cut"
 rc=$?
 [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/bad.tif" ]
 tap_ok $? "a window outside the DEM: exit $rc, $(head -c 100 "$work/err")"
+# Each tile as it is: a Float32 tile beside an Int16 one gives the whole
+# mosaic (not the first tile alone); a first tile without a nodata value
+# leaves a later tile's nodata nodata (not -32768 m pits).
+gdal_translate -q -srcwin 0 0 512 300 "$dem" "$work/north.tif"
+gdal_translate -q -srcwin 0 300 512 343 "$dem" "$work/south.tif"
+gdal_translate -q -ot Float32 "$work/north.tif" "$work/north_f32.tif"
+"$SKYSWEEP" svf -q --directions 16 "$work/north_f32.tif" "$work/south.tif" "$work/mixed.tif" &&
+    raw "$work/mixed.tif" "$work/mixed.raw" "$work/whole.raw"
+tap_ok $? "a Float32 tile beside an Int16 tile == the merged DEM, bit for bit ($(gdalinfo "$work/mixed.tif" 2>/dev/null | grep 'Size is'))"
+gdal_translate -q -a_nodata none "$work/north.tif" "$work/north_plain.tif"
+"$SKYSWEEP" svf -q --directions 16 "$work/north_plain.tif" "$work/south.tif" "$work/nd.tif" &&
+    raw "$work/nd.tif" "$work/nd.raw" "$work/whole.raw"
+tap_ok $? "a first tile without nodata: the later tile's nodata stays nodata (== the merged DEM, bit for bit)"
+
+# Overlaps: the north tile reaching 20 rows into the south one. Equal
+# heights there are one mosaic; 5 m higher in the south tile (its offset)
+# is refused, naming both and the cells, unless --overlap decides.
+gdal_translate -q -srcwin 0 0 512 320 "$dem" "$work/north_long.tif"
+gdal_translate -q -srcwin 0 0 512 300 "$dem" "$work/north_cut.tif"
+gdal_translate -q -a_offset 5 "$work/south.tif" "$work/south_up.tif"
+gdal_translate -q -a_offset 5 -srcwin 0 320 512 323 "$dem" "$work/south_up_cut.tif"
+shared=$((512 * 20)) # the overlap's rows have no nodata
+"$SKYSWEEP" svf -q --directions 16 "$work/north_long.tif" "$work/south.tif" "$work/agree.tif" &&
+    raw "$work/agree.tif" "$work/agree.raw" "$work/whole.raw"
+tap_ok $? "tiles that agree where they overlap == the merged DEM, bit for bit"
+"$SKYSWEEP" svf -q --directions 16 "$work/north_long.tif" "$work/south_up.tif" "$work/bad.tif" \
+    2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/bad.tif" ] &&
+    grep -q "north_long.tif' and '.*south_up.tif' overlap and disagree on $shared of the $shared cells" "$work/err"
+tap_ok $? "tiles that disagree by 5 m on $shared cells: exit $rc, $(head -c 300 "$work/err")"
+"$SKYSWEEP" svf --directions 16 --overlap first "$work/north_long.tif" "$work/south_up.tif" \
+    "$work/first.tif" >"$work/out" &&
+    "$SKYSWEEP" svf -q --directions 16 "$work/north_long.tif" "$work/south_up_cut.tif" \
+        "$work/first_ref.tif" &&
+    gdal_translate -q -of ENVI "$work/first_ref.tif" "$work/first_ref.raw" &&
+    raw "$work/first.tif" "$work/first.raw" "$work/first_ref.raw" &&
+    grep -q "^overlap $shared cells where tiles disagree took the first tile's height" "$work/out"
+tap_ok $? "--overlap first: the north tile's heights, said in the summary: $(grep '^overlap' "$work/out")"
+"$SKYSWEEP" svf -q --directions 16 --overlap last "$work/north_long.tif" "$work/south_up.tif" \
+    "$work/last.tif" &&
+    "$SKYSWEEP" svf -q --directions 16 "$work/north_cut.tif" "$work/south_up.tif" \
+        "$work/last_ref.tif" &&
+    gdal_translate -q -of ENVI "$work/last_ref.tif" "$work/last_ref.raw" &&
+    raw "$work/last.tif" "$work/last.raw" "$work/last_ref.raw"
+tap_ok $? "--overlap last: the south tile's heights"
+"$SKYSWEEP" svf --directions 16 --overlap mean "$work/north_long.tif" "$work/south_up.tif" \
+    "$work/mean.tif" >"$work/out" &&
+    grep -q "^overlap $shared cells where tiles disagree took the tiles' mean" "$work/out" &&
+    ! cmp -s "$work/mean.tif" "$work/first.tif" && ! cmp -s "$work/mean.tif" "$work/last.tif"
+tap_ok $? "--overlap mean: neither tile's heights, said in the summary"
 tap_done

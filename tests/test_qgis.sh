@@ -35,8 +35,9 @@ for a in $algorithms; do grep -q "skysweep:$a" "$work/list.out" || missing="$mis
 tap_ok "$([ -z "$missing" ]; echo $?)" "qgis_process lists skysweep's algorithms${missing:+, missing:$missing}"
 
 # What the provider leaves to the CLI (doc/qgis.md): --help, its output format and
-# quiet switch, scenes, plans and heightmaps, and horizon's site profiles.
-not_parameters=" help q of scene plan plan-format heightmap z-scale "
+# quiet switch, scenes, plans and heightmaps, the rule for overlapping tiles (a
+# layer is one DEM), and horizon's site profiles.
+not_parameters=" help q of scene plan plan-format heightmap z-scale overlap "
 for a in $algorithms; do
     "$qgis" help "skysweep:$a" >"$work/help.out" 2>&1
     skip=$not_parameters

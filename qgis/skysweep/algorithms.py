@@ -20,8 +20,9 @@ from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException,
 from .cli import ALGORITHMS
 
 #: Options that are not parameters: the provider writes GeoTIFF and reports
-#: progress itself; scenes, plans only and heightmaps belong to the CLI.
-NOT_PARAMETERS = {"q", "of", "scene", "plan", "plan-format", "heightmap", "z-scale"}
+#: progress itself; scenes, plans only and heightmaps belong to the CLI, and
+#: so does the rule for overlapping tiles (a layer is one DEM).
+NOT_PARAMETERS = {"q", "of", "scene", "plan", "plan-format", "heightmap", "z-scale", "overlap"}
 #: horizon's site profiles print tables, not rasters: the CLI's --point mode.
 NOT_PARAMETERS_OF = {"horizon": {"point", "points", "point-crs", "format", "step", "height"}}
 #: Options shown under "Advanced parameters".

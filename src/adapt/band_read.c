@@ -12,6 +12,7 @@
 #include <gdal.h>
 
 #include "band_read.h"
+#include "band_values.h"
 #include "skysweep.h"
 #include "dem_io.h"
 #include "gdal_errors.h"
@@ -31,8 +32,11 @@ static ss_status read_band(ss_ctx *ctx, const char *path, GDALDatasetH ds, int n
     out->values[k] = malloc(n * sizeof(float));
     if (!out->names[k] || !out->units[k] || !out->values[k])
         return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading band %d of '%s'", number, path);
-    int has_nodata = 0, has_scale = 0, has_offset = 0;
-    double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
+    ss_band_values values;
+    ss_status st = ss_band_values_of(ctx, path, band, &values);
+    if (st != SS_OK)
+        return st;
+    int has_scale = 0, has_offset = 0;
     double scale = GDALGetRasterScale(band, &has_scale);
     double offset = GDALGetRasterOffset(band, &has_offset);
     /* Doubles, so a nodata value that float cannot hold still compares. */
@@ -51,8 +55,8 @@ static ss_status read_band(ss_ctx *ctx, const char *path, GDALDatasetH ds, int n
         }
         float *dst = out->values[k] + (size_t)r0 * out->width;
         for (size_t i = 0; i < (size_t)out->width * rows; ++i) {
-            double v = buf[i];
-            if (!isfinite(v) || (has_nodata && v == nodata))
+            double v = ss_band_value(&values, buf[i]);
+            if (isnan(v))
                 dst[i] = SS_NODATA;
             else
                 dst[i] = (float)(v * (has_scale ? scale : 1.0) + (has_offset ? offset : 0.0));

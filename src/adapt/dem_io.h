@@ -6,6 +6,11 @@
 
 #include "skysweep.h"
 
+/* Which height a cell takes where tiles overlap and disagree: refuse the
+ * mosaic (tiles that agree are fine), the first or last tile given with a
+ * height there, or their mean. */
+typedef enum { SS_OVERLAP_REFUSE, SS_OVERLAP_FIRST, SS_OVERLAP_LAST, SS_OVERLAP_MEAN } ss_overlap_rule;
+
 /* A DEM read from files. For a geographic CRS the grid's cell sizes are NAN
  * until ss_dem_frame (frame.h) sets them from geodesy. */
 typedef struct {
@@ -14,9 +19,14 @@ typedef struct {
     char *crs_wkt;         /* NULL for a plain heightmap */
     size_t nodata_cells;   /* cells without a height: nodata value or NaN */
     size_t rejected_cells; /* heights beyond +-1e7 m, taken as nodata */
+    /* Cells where overlapping tiles disagree, decided by the overlap rule
+     * (counted once per pair of tiles); 0 for one file. */
+    size_t overlap_cells;
+    ss_overlap_rule overlap_rule; /* the rule that decided them */
     char description[600]; /* what was read, for summaries */
     /* Metres per unit of the heights as stored (they are converted to
-     * metres on reading), and where that came from, for the metadata. */
+     * metres on reading), and where that came from, for the metadata; NAN
+     * where tiles of a mosaic differ (each is read in its own). */
     double z_unit_m;
     char z_unit_source[200];
     /* The part of the grid outputs cover (-projwin): columns [col0, col0 +
@@ -32,6 +42,7 @@ typedef struct {
     /* > 0: metres per unit of the stored heights, overriding the band's
      * unit type and the CRS's vertical axis (--z-units). */
     double z_unit_m;
+    ss_overlap_rule overlap;
 } ss_dem_read_options;
 
 /* Registers GDAL's drivers once. */

@@ -1,6 +1,7 @@
 /* Reads a DEM through GDAL: one file, or several tiles on one grid mosaicked
- * by an in-memory VRT. Heights become float32 relative to a local origin,
- * nodata (tagged value, NaN, Inf, absurd heights) becomes NAN. */
+ * as they are read, each tile with its own data type, nodata, scale and
+ * unit. Heights become float32 relative to a local origin, nodata (tagged
+ * value, NaN, Inf, absurd heights) becomes NAN. */
 #include "config.h"
 
 #include <math.h>
@@ -18,6 +19,7 @@
 #include <ogr_srs_api.h>
 
 #include "skysweep.h"
+#include "band_values.h"
 #include "dem_io.h"
 #include "gdal_errors.h"
 
@@ -45,9 +47,15 @@ void ss_gdal_limit_cache(size_t bytes)
 }
 
 typedef struct {
+    const char *path;
     GDALDatasetH ds;
     double gt[6];
     int width, height;
+    int col0, row0; /* its first cell on the mosaic's grid */
+    GDALRasterBandH band;
+    ss_band_values values;
+    double scale, offset; /* metres = stored value * scale + offset */
+    double step_m;        /* metres between the values an integer band holds; 0: floating */
 } tile;
 
 /* Tiles must share a CRS and a grid (same cell size, origins on whole
@@ -180,30 +188,30 @@ static double metres_per_unit_named(const char *unit)
  * CRS's vertical axis, else metres (said so, and flagged where the CRS's
  * horizontal unit is feet, as in US county lidar). */
 static ss_status vertical_unit(ss_ctx *ctx, const char *path, GDALDatasetH ds,
-                               GDALRasterBandH band, const ss_dem_read_options *opt, ss_dem *dem)
+                               GDALRasterBandH band, const ss_dem_read_options *opt,
+                               double *metres_per_unit, char *source, size_t source_size)
 {
     const char *unit = GDALGetRasterUnitType(band);
     OGRSpatialReferenceH srs = GDALGetSpatialRef(ds);
     if (opt && opt->z_unit_m > 0) {
-        dem->z_unit_m = opt->z_unit_m;
-        snprintf(dem->z_unit_source, sizeof dem->z_unit_source, "%.10g m (given by --z-units)",
-                 opt->z_unit_m);
+        *metres_per_unit = opt->z_unit_m;
+        snprintf(source, source_size, "%.10g m (given by --z-units)", opt->z_unit_m);
         return SS_OK;
     }
     if (unit && *unit) {
         /* The whole name, else its first word ("m a.s.l.", "m (EGM96)"). */
         char word[32];
         snprintf(word, sizeof word, "%.*s", (int)strcspn(unit, " (,"), unit);
-        dem->z_unit_m = metres_per_unit_named(unit);
-        if (!(dem->z_unit_m > 0))
-            dem->z_unit_m = metres_per_unit_named(word);
-        if (!(dem->z_unit_m > 0))
+        *metres_per_unit = metres_per_unit_named(unit);
+        if (!(*metres_per_unit > 0))
+            *metres_per_unit = metres_per_unit_named(word);
+        if (!(*metres_per_unit > 0))
             return ss_ctx_error(ctx, SS_ERR_INPUT,
                            "'%s': the band's unit '%s' is not a unit of height skysweep knows: "
                            "give it with --z-units m|ft|us-ft",
                            path, unit);
-        snprintf(dem->z_unit_source, sizeof dem->z_unit_source,
-                 "%.10g m (the band's unit type '%s')", dem->z_unit_m, unit);
+        snprintf(source, source_size, "%.10g m (the band's unit type '%s')", *metres_per_unit,
+                 unit);
         return SS_OK;
     }
     if (srs && (OSRIsCompound(srs) || OSRIsVertical(srs))) {
@@ -214,14 +222,14 @@ static ss_status vertical_unit(ss_ctx *ctx, const char *path, GDALDatasetH ds,
                            "'%s': the CRS's vertical axis has no usable unit: give it with "
                            "--z-units m|ft|us-ft",
                            path);
-        dem->z_unit_m = metres;
-        snprintf(dem->z_unit_source, sizeof dem->z_unit_source,
-                 "%.10g m (the CRS's vertical unit '%s')", metres, name ? name : "?");
+        *metres_per_unit = metres;
+        snprintf(source, source_size, "%.10g m (the CRS's vertical unit '%s')", metres,
+                 name ? name : "?");
         return SS_OK;
     }
-    dem->z_unit_m = 1.0;
+    *metres_per_unit = 1.0;
     int feet = srs && OSRIsProjected(srs) && fabs(OSRGetLinearUnits(srs, NULL) - 0.3048) < 1e-3;
-    snprintf(dem->z_unit_source, sizeof dem->z_unit_source, "%s",
+    snprintf(source, source_size, "%s",
              feet ? "1 m (assumed: neither the band nor the CRS names one, although the CRS's "
                     "horizontal unit is feet; give --z-units ft or us-ft if the heights are too)"
                   : "1 m (assumed: neither the band nor the CRS names one)");
@@ -240,6 +248,7 @@ static ss_status open_tiles(ss_ctx *ctx, const char *const *paths, int n, tile *
         if (!tiles[i].ds)
             return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read '%s' as a raster: %s", paths[i],
                            ss_gdal_message());
+        tiles[i].path = paths[i];
         tiles[i].width = GDALGetRasterXSize(tiles[i].ds);
         tiles[i].height = GDALGetRasterYSize(tiles[i].ds);
         int bands = GDALGetRasterCount(tiles[i].ds);
@@ -302,43 +311,81 @@ static CPLHTTPResult *refuse_fetch(const char *url, CSLConstList options,
 struct ss_dem_source {
     tile *tiles;
     int n_tiles;
-    GDALDatasetH mosaic;       /* VRT of the tiles, or NULL for one file */
-    GDALRasterBandH band;
-    int has_nodata;
-    double nodata, scale, offset;
+    ss_overlap_rule overlap;   /* which height a cell covered by several tiles takes */
     int have_origin;           /* z_origin_m is set (from the first plausible height) */
     int fenced;                /* 1: network fenced, 2: and the fetch callback pushed */
     char *saved_allowed;
     char what[512];            /* the first path, for messages */
 };
 
-/* Mosaic cells covered by no tile are nodata, whatever the VRT filled in. */
-static void mark_uncovered(const ss_dem_source *src, const ss_dem *dem, int row0, int n_rows,
-                           float *z, size_t *nodata_cells)
+/* Reads rows [row0, row0 + n_rows) and columns [col0, col0 + n_cols) of a
+ * tile as metres into dst (lines line_cells apart), NAN for nodata. */
+static ss_status read_tile_window(ss_ctx *ctx, const tile *t, int col0, int row0, int n_cols,
+                                  int n_rows, double *dst, int line_cells)
 {
-    int w = dem->grid.width;
-    unsigned char *covered = calloc((size_t)w, 1);
-    if (!covered)
-        return;
-    for (int r = row0; r < row0 + n_rows; ++r) {
-        memset(covered, 0, (size_t)w);
-        for (int i = 0; i < src->n_tiles; ++i) {
-            const tile *t = &src->tiles[i];
-            int c0 = (int)nearbyint((t->gt[0] - dem->geotransform[0]) / dem->geotransform[1]);
-            int r0 = (int)nearbyint((t->gt[3] - dem->geotransform[3]) / dem->geotransform[5]);
-            if (r < r0 || r >= r0 + t->height)
-                continue;
-            for (int c = c0 < 0 ? 0 : c0; c < c0 + t->width && c < w; ++c)
-                covered[c] = 1;
+    CPLErrorReset();
+    if (GDALRasterIO(t->band, GF_Read, col0, row0, n_cols, n_rows, dst, n_cols, n_rows,
+                     GDT_Float64, 0, (GSpacing)line_cells * (GSpacing)sizeof *dst) != CE_None)
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read rows %d..%d of '%s': %s", row0,
+                            row0 + n_rows - 1, t->path, ss_gdal_message());
+    for (int r = 0; r < n_rows; ++r)
+        for (int c = 0; c < n_cols; ++c) {
+            double *v = &dst[(size_t)r * line_cells + c];
+            *v = ss_band_value(&t->values, *v) * t->scale + t->offset;
         }
-        float *row = z + (size_t)(r - row0) * w;
-        for (int c = 0; c < w; ++c)
-            if (!covered[c] && isfinite(row[c])) {
-                row[c] = NAN;
-                (*nodata_cells)++;
-            }
+    return SS_OK;
+}
+
+/* Puts a tile's heights (NAN: none) into the mosaic's under the overlap
+ * rule; counts[] counts the heights a cell got, for the mean. */
+static void merge_heights(ss_overlap_rule rule, double *mosaic, int *counts, const double *heights,
+                          int n)
+{
+    for (int i = 0; i < n; ++i) {
+        double v = heights[i];
+        if (isnan(v))
+            continue;
+        if (rule == SS_OVERLAP_LAST || isnan(mosaic[i]))
+            mosaic[i] = v;
+        else if (rule == SS_OVERLAP_MEAN)
+            mosaic[i] += v;
+        if (counts)
+            counts[i]++;
     }
-    free(covered);
+}
+
+/* The mosaic's rows [row0, row0 + n_rows) in metres, NAN where no tile has
+ * a height: tile after tile (in the order given) through scratch, cells no
+ * tile covers left NAN; counts is NULL but for the mean. */
+static ss_status mosaic_rows(ss_ctx *ctx, const ss_dem_source *src, int width, int row0,
+                             int n_rows, double *mosaic, double *scratch, int *counts)
+{
+    size_t n = (size_t)width * (size_t)n_rows;
+    for (size_t i = 0; i < n; ++i)
+        mosaic[i] = NAN;
+    if (counts)
+        memset(counts, 0, n * sizeof *counts);
+    for (int k = 0; k < src->n_tiles; ++k) {
+        const tile *t = &src->tiles[k];
+        int r0 = row0 > t->row0 ? row0 : t->row0;
+        int r1 = row0 + n_rows < t->row0 + t->height ? row0 + n_rows : t->row0 + t->height;
+        if (r0 >= r1)
+            continue;
+        size_t at = (size_t)(r0 - row0) * width + (size_t)t->col0;
+        ss_status st = read_tile_window(ctx, t, 0, r0 - t->row0, t->width, r1 - r0,
+                                        scratch + at, width);
+        if (st != SS_OK)
+            return st;
+        for (int r = 0; r < r1 - r0; ++r) {
+            size_t line = at + (size_t)r * width;
+            merge_heights(src->overlap, mosaic + line, counts ? counts + line : NULL,
+                          scratch + line, t->width);
+        }
+    }
+    for (size_t i = 0; counts && i < n; ++i)
+        if (counts[i] > 1)
+            mosaic[i] /= counts[i];
+    return SS_OK;
 }
 
 /* Reads rows [row0, row0 + n_rows) as they are; the first plausible
@@ -348,36 +395,169 @@ static ss_status read_rows(ss_ctx *ctx, ss_dem_source *src, ss_dem *dem, int row
 {
     ss_grid *g = &dem->grid;
     const int rows_per_chunk = n_rows < 256 ? n_rows : 256;
-    double *buf = malloc(sizeof(double) * (size_t)g->width * rows_per_chunk);
-    if (!buf)
-        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
+    size_t chunk = (size_t)g->width * rows_per_chunk;
+    int one = src->n_tiles == 1;
+    double *buf = malloc(sizeof(double) * chunk);
+    double *scratch = one ? NULL : malloc(sizeof(double) * chunk);
+    int *counts = src->overlap == SS_OVERLAP_MEAN && !one ? malloc(sizeof(int) * chunk) : NULL;
+    ss_status st = SS_OK;
+    if (!buf || (!one && !scratch) || (src->overlap == SS_OVERLAP_MEAN && !one && !counts))
+        st = ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory reading '%s'", src->what);
     size_t nodata = 0, rejected = 0;
-    for (int r0 = row0; r0 < row0 + n_rows; r0 += rows_per_chunk) {
+    for (int r0 = row0; st == SS_OK && r0 < row0 + n_rows; r0 += rows_per_chunk) {
         int rows = row0 + n_rows - r0 < rows_per_chunk ? row0 + n_rows - r0 : rows_per_chunk;
-        CPLErrorReset();
-        if (GDALRasterIO(src->band, GF_Read, 0, r0, g->width, rows, buf, g->width, rows,
-                         GDT_Float64, 0, 0) != CE_None) {
-            free(buf);
-            return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot read rows %d..%d of '%s': %s", r0,
-                           r0 + rows - 1, src->what, ss_gdal_message());
-        }
-        for (size_t i = 0; i < (size_t)g->width * rows; ++i) {
-            double v = buf[i];
+        /* One file is the mosaic: read straight into it. */
+        st = one ? read_tile_window(ctx, &src->tiles[0], 0, r0, g->width, rows, buf, g->width)
+                 : mosaic_rows(ctx, src, g->width, r0, rows, buf, scratch, counts);
+        for (size_t i = 0; st == SS_OK && i < (size_t)g->width * rows; ++i) {
             float *dst = &z[(size_t)(r0 - row0) * g->width + i];
-            if (!isfinite(v) || (src->has_nodata && v == src->nodata)) {
+            if (isnan(buf[i])) {
                 *dst = NAN;
                 nodata++;
                 continue;
             }
-            *dst = ss_grid_stored_height(g, &src->have_origin, v * src->scale + src->offset);
+            *dst = ss_grid_stored_height(g, &src->have_origin, buf[i]);
             rejected += isnan(*dst);
         }
     }
     free(buf);
-    if (src->n_tiles > 1)
-        mark_uncovered(src, dem, row0, n_rows, z, &nodata);
+    free(scratch);
+    free(counts);
     dem->nodata_cells += nodata;
     dem->rejected_cells += rejected;
+    return st;
+}
+
+/* The mosaic's grid: the box around the tiles on the first tile's cells
+ * (check_tiles has put them all on that grid), and each tile's place. */
+static void place_tiles(tile *tiles, int n, ss_dem *dem)
+{
+    double left = tiles[0].gt[0], top = tiles[0].gt[3];
+    for (int i = 1; i < n; ++i) {
+        left = fmin(left, tiles[i].gt[0]);
+        top = fmax(top, tiles[i].gt[3]);
+    }
+    double gt[6] = {left, tiles[0].gt[1], 0, top, 0, tiles[0].gt[5]};
+    memcpy(dem->geotransform, gt, sizeof gt);
+    dem->grid.width = dem->grid.height = 0;
+    for (int i = 0; i < n; ++i) {
+        tiles[i].col0 = (int)nearbyint((tiles[i].gt[0] - left) / gt[1]);
+        tiles[i].row0 = (int)nearbyint((tiles[i].gt[3] - top) / gt[5]);
+        if (tiles[i].col0 + tiles[i].width > dem->grid.width)
+            dem->grid.width = tiles[i].col0 + tiles[i].width;
+        if (tiles[i].row0 + tiles[i].height > dem->grid.height)
+            dem->grid.height = tiles[i].row0 + tiles[i].height;
+    }
+}
+
+/* How each tile's stored values become metres: its own data type, nodata,
+ * scale, offset and unit. The DEM's unit is the first tile's, or NAN with
+ * a note where tiles differ. */
+static ss_status tiles_heights(ss_ctx *ctx, tile *tiles, int n, const ss_dem_read_options *opt,
+                               ss_dem *dem)
+{
+    int mixed = 0;
+    for (int i = 0; i < n; ++i) {
+        tile *t = &tiles[i];
+        t->band = GDALGetRasterBand(t->ds, 1);
+        ss_status st = ss_band_values_of(ctx, t->path, t->band, &t->values);
+        double unit_m = 0;
+        char unit_source[sizeof dem->z_unit_source];
+        if (st == SS_OK)
+            st = vertical_unit(ctx, t->path, t->ds, t->band, opt, &unit_m, unit_source,
+                               sizeof unit_source);
+        if (st != SS_OK)
+            return st;
+        int has_scale = 0, has_offset = 0;
+        double scale = GDALGetRasterScale(t->band, &has_scale);
+        double offset = GDALGetRasterOffset(t->band, &has_offset);
+        t->scale = (has_scale ? scale : 1.0) * unit_m;
+        t->offset = (has_offset ? offset : 0.0) * unit_m;
+        t->step_m = GDALDataTypeIsFloating(GDALGetRasterDataType(t->band)) ? 0.0 : fabs(t->scale);
+        if (i == 0) {
+            dem->z_unit_m = unit_m;
+            memcpy(dem->z_unit_source, unit_source, sizeof unit_source);
+        }
+        mixed |= unit_m != dem->z_unit_m;
+    }
+    if (mixed) {
+        char first[sizeof dem->z_unit_source];
+        memcpy(first, dem->z_unit_source, sizeof first);
+        dem->z_unit_m = NAN;
+        snprintf(dem->z_unit_source, sizeof dem->z_unit_source,
+                 "each tile's own (the tiles differ; the first's: %.150s)", first);
+    }
+    return SS_OK;
+}
+
+/* Where two tiles' heights may differ and still agree: a centimetre, or
+ * half a step of the coarser integer band (an Int16 copy of a Float32
+ * tile rounds each height by up to half a metre). */
+static double agreement_m(const tile *a, const tile *b)
+{
+    return fmax(0.01, 0.5 * fmax(a->step_m, b->step_m));
+}
+
+/* Counts the cells where both tiles have heights (shared) and where those
+ * differ by more than agreement_m (differ, by up to worst metres). */
+static ss_status compare_overlap(ss_ctx *ctx, const tile *a, const tile *b, size_t *shared,
+                                 size_t *differ, double *worst)
+{
+    int c0 = a->col0 > b->col0 ? a->col0 : b->col0;
+    int r0 = a->row0 > b->row0 ? a->row0 : b->row0;
+    int c1 = a->col0 + a->width < b->col0 + b->width ? a->col0 + a->width : b->col0 + b->width;
+    int r1 = a->row0 + a->height < b->row0 + b->height ? a->row0 + a->height
+                                                       : b->row0 + b->height;
+    if (c0 >= c1 || r0 >= r1)
+        return SS_OK;
+    int cols = c1 - c0;
+    int chunk = (1 << 20) / cols > 1 ? (1 << 20) / cols : 1;
+    double *va = malloc(sizeof(double) * (size_t)cols * (size_t)chunk);
+    double *vb = malloc(sizeof(double) * (size_t)cols * (size_t)chunk);
+    ss_status st = va && vb ? SS_OK
+                            : ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory comparing tiles");
+    double agree = agreement_m(a, b);
+    for (int r = r0; st == SS_OK && r < r1; r += chunk) {
+        int rows = r1 - r < chunk ? r1 - r : chunk;
+        st = read_tile_window(ctx, a, c0 - a->col0, r - a->row0, cols, rows, va, cols);
+        if (st == SS_OK)
+            st = read_tile_window(ctx, b, c0 - b->col0, r - b->row0, cols, rows, vb, cols);
+        for (size_t i = 0; st == SS_OK && i < (size_t)cols * (size_t)rows; ++i) {
+            if (isnan(va[i]) || isnan(vb[i]))
+                continue;
+            double d = fabs(va[i] - vb[i]);
+            (*shared)++;
+            *differ += d > agree;
+            *worst = fmax(*worst, d);
+        }
+    }
+    free(va);
+    free(vb);
+    return st;
+}
+
+/* Overlapping tiles must agree, unless the overlap rule decides between
+ * them: then the cells they disagree on are counted (once per pair). */
+static ss_status check_overlaps(ss_ctx *ctx, const ss_dem_source *src, ss_dem *dem)
+{
+    for (int i = 0; i < src->n_tiles; ++i)
+        for (int j = i + 1; j < src->n_tiles; ++j) {
+            size_t shared = 0, differ = 0;
+            double worst = 0;
+            ss_status st = compare_overlap(ctx, &src->tiles[i], &src->tiles[j], &shared, &differ,
+                                           &worst);
+            if (st != SS_OK)
+                return st;
+            if (differ && src->overlap == SS_OVERLAP_REFUSE)
+                return ss_ctx_error(ctx, SS_ERR_INPUT,
+                                    "tiles '%s' and '%s' overlap and disagree on %zu of the %zu "
+                                    "cells where both have heights (by up to %.3g m): give "
+                                    "--overlap first|last|mean to decide",
+                                    src->tiles[i].path, src->tiles[j].path, differ, shared,
+                                    worst);
+            dem->overlap_cells += differ;
+            dem->overlap_rule = src->overlap;
+        }
     return SS_OK;
 }
 
@@ -420,8 +600,6 @@ void ss_dem_source_close(ss_dem_source *src)
 {
     if (!src)
         return;
-    if (src->mosaic)
-        GDALClose(src->mosaic);
     for (int i = 0; src->tiles && i < src->n_tiles; ++i)
         if (src->tiles[i].ds)
             GDALClose(src->tiles[i].ds);
@@ -463,50 +641,25 @@ ss_status ss_dem_open(ss_ctx *ctx, const char *const *paths, int n_paths,
                               : ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     if (st == SS_OK && n_paths > 1)
         st = check_tiles(ctx, paths, src->tiles, n_paths);
-    GDALDatasetH ds = src->tiles ? src->tiles[0].ds : NULL;
-    if (st == SS_OK && n_paths > 1) {
-        GDALDatasetH *handles = malloc(sizeof *handles * (size_t)n_paths);
-        for (int i = 0; handles && i < n_paths; ++i)
-            handles[i] = src->tiles[i].ds;
-        int usage_error = 0;
-        CPLErrorReset();
-        src->mosaic = handles ? GDALBuildVRT("", n_paths, handles, NULL, NULL, &usage_error)
-                              : NULL;
-        free(handles);
-        if (!src->mosaic)
-            st = ss_ctx_error(ctx, SS_ERR_INPUT, "cannot mosaic the %d tiles: %s", n_paths,
-                         ss_gdal_message());
-        ds = src->mosaic;
-    }
+    if (st == SS_OK)
+        place_tiles(src->tiles, n_paths, dem);
     double cx = 0, cy = 0;
     if (st == SS_OK) {
-        GDALGetGeoTransform(ds, dem->geotransform);
         if (!georeferenced) {
             double identity[6] = {0, 1, 0, 0, 0, -1};
             memcpy(dem->geotransform, identity, sizeof identity);
         }
-        st = cell_size_metres(ctx, paths[0], ds, dem->geotransform, opt, georeferenced, &cx, &cy,
-                              &dem->crs_wkt);
+        st = cell_size_metres(ctx, paths[0], src->tiles[0].ds, dem->geotransform, opt,
+                              georeferenced, &cx, &cy, &dem->crs_wkt);
     }
     if (st == SS_OK) {
-        ss_grid *g = &dem->grid;
-        g->width = GDALGetRasterXSize(ds);
-        g->height = GDALGetRasterYSize(ds);
-        g->cell_x_m = cx;
-        g->cell_y_m = cy;
-        src->band = GDALGetRasterBand(ds, 1);
-        src->nodata = GDALGetRasterNoDataValue(src->band, &src->has_nodata);
-        int has_scale = 0, has_offset = 0;
-        src->scale = GDALGetRasterScale(src->band, &has_scale);
-        src->offset = GDALGetRasterOffset(src->band, &has_offset);
-        if (!has_scale)
-            src->scale = 1.0;
-        if (!has_offset)
-            src->offset = 0.0;
-        st = vertical_unit(ctx, paths[0], ds, src->band, opt, dem);
-        src->scale *= dem->z_unit_m;
-        src->offset *= dem->z_unit_m;
+        dem->grid.cell_x_m = cx;
+        dem->grid.cell_y_m = cy;
+        src->overlap = opt ? opt->overlap : SS_OVERLAP_REFUSE;
+        st = tiles_heights(ctx, src->tiles, n_paths, opt, dem);
     }
+    if (st == SS_OK && n_paths > 1)
+        st = check_overlaps(ctx, src, dem);
     if (st == SS_OK) {
         snprintf(dem->description, sizeof dem->description, "%s%s",
                  n_paths > 1 ? "mosaic from " : "", paths[0]);

@@ -39,6 +39,9 @@ static const opt_spec cli_options[] = {
     {"z-units", OPT_CHOICE, COMMON(z_units), NULL, "auto", 0, 0, "auto|m|ft|us-ft",
      "unit of the stored heights (ft: international foot, us-ft: US survey foot); auto: the "
      "band's unit type, else the CRS's vertical axis, else metres"},
+    {"overlap", OPT_CHOICE, COMMON(overlap), NULL, "refuse", 0, 0, "refuse|first|last|mean",
+     "where tiles given together overlap and disagree (by more than 1 cm, or half an integer "
+     "tile's step): refuse them, or take the first or last tile's height, or their mean"},
     {"scene", OPT_STRING, COMMON(scene), "FILE", NULL, 0, 0, NULL,
      "read the job from a scene file (doc/scenes.md); options given here override it"},
     {"projwin", OPT_STRING, COMMON(projwin), "ULX ULY LRX LRY", NULL, 0, 0, NULL,
@@ -254,7 +257,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                             common->memory);
     static const double metres_per_unit[] = {0.0, 1.0, 0.3048, 1200.0 / 3937.0};
     ss_dem_read_options ro = {.heightmap_cell_m = common->cell_size_m,
-                              .z_unit_m = metres_per_unit[common->z_units]};
+                              .z_unit_m = metres_per_unit[common->z_units],
+                              .overlap = (ss_overlap_rule)common->overlap};
     if (!common->memory && !may_band)
         return ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
     if (!common->memory)
@@ -515,6 +519,11 @@ void run_print_dem(run_state *run, const ss_dem *dem, const ss_dem_frame *frame)
            g->width, g->height, g->cell_x_m, g->cell_y_m, dem->nodata_cells + dem->rejected_cells);
     if (dem->z_unit_m != 1.0 || strstr(dem->z_unit_source, "feet"))
         printf("heights %s, read as metres\n", dem->z_unit_source);
+    static const char *const overlap_took[] = {"", "the first tile's height",
+                                               "the last tile's height", "the tiles' mean"};
+    if (dem->overlap_cells)
+        printf("overlap %zu cells where tiles disagree took %s (--overlap)\n",
+               dem->overlap_cells, overlap_took[dem->overlap_rule]);
     if (frame->georeferenced)
         printf("place   %.5f, %.5f (lon, lat); grid north %+.4f deg true; cell sizes vary by "
                "%.2g over the grid\n",

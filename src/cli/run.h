@@ -25,6 +25,7 @@ typedef struct {
     int heightmap; /* read the input through OpenImageIO (heightmap_input.h) */
     double z_scale; /* --heightmap: metres per pixel value */
     int z_units;    /* index into "auto|m|ft|us-ft": the stored heights' unit */
+    int overlap;    /* index into "refuse|first|last|mean": an ss_overlap_rule (dem_io.h) */
     int plan_only, plan_json;
     const char *scene;
     const char *memory;    /* --memory SIZE: bound on the working set; NULL: half the RAM */
