@@ -51,7 +51,9 @@ abbreviated to a unique prefix.
   the summary's `overlap` line then says how many cells were decided (counted once per pair of
   tiles). Checked by `tests/test_mosaic.sh` and `tests/test_faults.sh`.
 - Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
-  no output.
+  no output. A run whose thread cannot stop within half a second (a write to a stalled disk, work
+  queued on a device) is ended by a guard thread that removes its temporaries first
+  (`doc/reliability.md`).
 - Progress (GDAL's `0...10...100 - done.`) and a summary on stdout unless `-q`, the progress
   for runs longer than a second. With `SKYSWEEP_PROGRESS=lines` in the environment, progress is
   instead a line `progress F` (F the fraction done, 0 to 1) from the start, each time it moves
