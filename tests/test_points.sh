@@ -170,6 +170,23 @@ expect_failure 3 "sites file without an id column" -- horizon --points "$work/ba
 printf 'id,lon,lat\na,%s\na,%s\n' "$ll" "$ll" >"$work/dup.csv"
 expect_failure 3 "duplicate site ids" -- horizon --points "$work/dup.csv" "$dem" "$work/out/o.csv"
 expect_failure 3 "missing sites file" -- horizon --points "$work/nope.csv" "$dem" "$work/out/o.csv"
+# A sites file is a regular file of at most 256 MiB, refused before it is
+# read: /dev/zero was read for ever (12.7 GB in 20 s), a FIFO blocked, a huge
+# file would have been held whole. The old build is stopped by timeout.
+mkfifo "$work/fifo.csv"
+printf 'id,lon,lat\n' >"$work/huge.csv"
+truncate -s 300M "$work/huge.csv"
+for f in /dev/zero "$work/fifo.csv" "$work/huge.csv"; do
+    start=$(date +%s)
+    timeout -s KILL 10 "$SKYSWEEP" horizon --points "$f" "$dem" "$work/out/o.csv" \
+        >"$work/stdout" 2>"$work/stderr"
+    rc=$?
+    took=$(($(date +%s) - start))
+    [ "$rc" -eq 3 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && grep -q '256 MiB' "$work/stderr" &&
+        [ -z "$(ls -A "$work/out")" ]
+    tap_ok $? "sites file ${f##*/}: exit $rc (want 3) in $took s, naming the cap: $(head -c 200 "$work/stderr")"
+done
+rm -f "$work/huge.csv"
 expect_failure 2 "unknown --point-crs" -- horizon --point "$ll" --point-crs EPSG:999999 "$dem" "$work/out/o.csv"
 
 # ---- skysweep sun --horizon-from ------------------------------------------------------

@@ -9,13 +9,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <strings.h>
 
 #include <json-c/json.h>
 
 #include "skysweep.h"
 #include "skysweep_sun.h"
+#include "text_input.h"
 #include "weather.h"
 
 #define MAX_FILE_BYTES (512L * 1024 * 1024)
@@ -42,20 +42,19 @@ static ss_status fail_at(reader *r, int line, const char *what)
 /* The file in memory, split into lines (\n or \r\n). */
 static ss_status load(reader *r)
 {
+    /* A folder opens too (and seeks to a huge end): only a regular file is read. */
+    char why[1200];
+    if (!ss_text_input_ok(r->path, "weather file", MAX_FILE_BYTES, why, sizeof why))
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "%s", why);
     FILE *f = fopen(r->path, "rb");
     if (!f)
         return ss_ctx_error(r->ctx, SS_ERR_INPUT, "cannot open weather file '%s': %s", r->path,
                        strerror(errno));
-    /* A folder opens too (and seeks to a huge end): only a regular file is read. */
-    struct stat st;
-    long size = -1;
-    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && fseek(f, 0, SEEK_END) == 0)
-        size = ftell(f);
+    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
     rewind(f);
-    if (size < 0 || size > MAX_FILE_BYTES) {
+    if (size < 0 || size > MAX_FILE_BYTES) { /* replaced since it was looked at */
         fclose(f);
-        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is not a weather file skysweep reads (%s)",
-                       r->path, size < 0 ? "not a regular file" : "over 512 MiB");
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT, "cannot read weather file '%s'", r->path);
     }
     r->text = malloc((size_t)size + 1);
     if (!r->text) {

@@ -92,8 +92,9 @@ int cmd_shadow(int argc, char **argv)
                        &set.common.device);
     if (rc >= 0)
         return rc;
-    /* One horizon, along the sun's azimuth. */
-    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0),
+    /* One horizon, along the sun's azimuth, and the planes facing the sun
+     * and illumination that ss_shadow_rows holds a band of. */
+    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + 2.0 * sizeof(float),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = 1};
     sweep_job job;

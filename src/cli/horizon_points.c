@@ -16,19 +16,15 @@
 #include "commands.h"
 #include "horizon_points.h"
 #include "temporaries.h"
+#include "text_input.h"
 #include "temporary_name.h"
 
 /* A million sites is far beyond a PV portfolio and keeps a typo'd file
  * from running for days. */
 #define POINTS_MAX 1000000
-#define ID_MAX 200
-
-typedef struct {
-    char id[ID_MAX + 1];
-    double x, y;     /* as given, in the sites' CRS */
-    double height_m; /* observer above the ground */
-    double lon_deg, lat_deg, ground_m;
-} site_rec;
+/* A million sites of up to 256 bytes a line: a larger file is not a sites
+ * file (and /dev/zero, one endless line, would be read for ever). */
+#define POINTS_MAX_BYTES (256LL << 20)
 
 typedef struct {
     const horizon_point_settings *pts;
@@ -124,11 +120,12 @@ static int compare_ids(const void *a, const void *b)
     return strcmp(((const site_rec *)a)->id, ((const site_rec *)b)->id);
 }
 
-/* Reads the sites CSV: a header naming id, lon (or x), lat (or y) and
- * optionally height, in any order; '#' lines and blank lines are skipped. */
-static ss_status read_sites(ss_ctx *ctx, const char *path, double default_height_m, int ids_as_files,
-                            site_rec **out, int *n_out)
+ss_status horizon_sites_read(ss_ctx *ctx, const char *path, double default_height_m,
+                             int ids_as_files, site_rec **out, int *n_out)
 {
+    char why[512];
+    if (!ss_text_input_ok(path, "sites file", POINTS_MAX_BYTES, why, sizeof why))
+        return ss_ctx_error(ctx, SS_ERR_INPUT, "%s", why);
     FILE *f = fopen(path, "r");
     if (!f)
         return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot open the sites file '%s'", path);
@@ -528,7 +525,7 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
     int folder_mode = pts->format == POINT_FORMAT_PVGIS && pts->points;
     ss_status st = SS_OK;
     if (pts->points) {
-        st = read_sites(w->ctx, pts->points, pts->height_m, folder_mode, &j->sites, &j->n_sites);
+        st = horizon_sites_read(w->ctx, pts->points, pts->height_m, folder_mode, &j->sites, &j->n_sites);
     } else {
         snprintf(j->one.id, sizeof j->one.id, "site");
         j->one.height_m = pts->height_m;

@@ -20,6 +20,23 @@ typedef struct {
     int format;            /* index into HORIZON_POINT_FORMATS */
 } horizon_point_settings;
 
+#define ID_MAX 200
+
+typedef struct {
+    char id[ID_MAX + 1];
+    double x, y;     /* as given, in the sites' CRS */
+    double height_m; /* observer above the ground */
+    double lon_deg, lat_deg, ground_m;
+} site_rec;
+
+/* Reads a sites CSV (--points): a header naming id, lon (or x), lat (or y)
+ * and optionally height, in any order; '#' lines and blank lines are
+ * skipped. A regular file of at most 256 MiB (text_input.h). ids_as_files:
+ * ids must name pvgis files. *out (to be freed) holds *n_out >= 1 sites;
+ * else the error is in ctx (SS_ERR_INPUT, SS_ERR_MEMORY). */
+ss_status horizon_sites_read(ss_ctx *ctx, const char *path, double default_height_m,
+                             int ids_as_files, site_rec **out, int *n_out);
+
 /* Point mode of skysweep horizon. pos holds the DEM tiles and, when there
  * are two or more, OUTPUT last ("-": standard output; one DEM alone: the
  * profiles go to standard output). Returns the exit code. */

@@ -13,11 +13,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "skysweep_sun.h"
 #include "scene.h"
+#include "text_input.h"
 
 #define SCENE_MAX_ARGS 256
 /* A scene is a few dozen lines: a larger file is not one (and /dev/zero
@@ -40,17 +40,7 @@ typedef struct {
  * else why not, into err. */
 static int scene_file_ok(const char *file, char *err, size_t err_size)
 {
-    struct stat st;
-    if (stat(file, &st) != 0)
-        snprintf(err, err_size, "cannot read scene file '%s'", file);
-    else if (!S_ISREG(st.st_mode))
-        snprintf(err, err_size, "scene file '%s' is not a regular file", file);
-    else if (st.st_size > SCENE_MAX_BYTES)
-        snprintf(err, err_size, "scene file '%s' is over %d KiB: not a scene", file,
-                 SCENE_MAX_BYTES >> 10);
-    else
-        return 1;
-    return 0;
+    return ss_text_input_ok(file, "scene file", SCENE_MAX_BYTES, err, err_size);
 }
 
 static char *path_beside(const char *dir, const char *name)

@@ -66,7 +66,7 @@ for f in src/core/*.c src/adapt/*.c src/adapt/*.cpp src/cli/*.c tests/testlib.c;
 done
 ar rcs "$obj/libss.a" "$obj"/*.o
 
-harnesses="fuzz_time fuzz_options fuzz_sweep fuzz_dem_read fuzz_scene fuzz_weather"
+harnesses="fuzz_time fuzz_options fuzz_sweep fuzz_dem_read fuzz_scene fuzz_weather fuzz_points"
 [ "$mode" = opencl ] && harnesses=fuzz_sweep
 for h in $harnesses; do
     name=$h
