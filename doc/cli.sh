@@ -27,8 +27,12 @@ abbreviated to a unique prefix.
   formats that can. Checked by `tests/test_formats.sh`: GTiff, COG, HFA, ENVI, EHdr and PCIDSK
   hold every product; AAIGrid, netCDF, SAGA and RST hold one-band products (svf, openness) and
   refuse more bands; PNG holds a hillshade; PNG, JPEG, GIF, BMP, XYZ, VRT, MEM and GS7BG refuse
-  float products (convert them afterwards with `gdal_translate -ot Byte -scale`). A format with
-  side-car files (ENVI's `.hdr`) needs an extension on the output's name.
+  float products (convert them afterwards with `gdal_translate -ot Byte -scale`); GPKG holds one
+  Float32 band (svf, openness) and refuses more bands and hillshade's Byte band (it reads back as
+  four). A format with side-car files (ENVI's `.hdr`, a world file from `-co TFW=YES`) needs an
+  extension on the output's name; the side-cars move into place with the output. A `-co` value
+  GDAL refuses when it creates the file (`BLOCKXSIZE=7`) is exit 2 with GDAL's reason, before any
+  work.
 - Heights are converted to metres on reading. Their unit comes from `--z-units`, else the band's
   unit type (`m`, `ft`, `US survey foot`, `ftUS`, `cm`, `mm` and spellings GDAL drivers use),
   or its first word (`m a.s.l.`), else the vertical axis of a compound CRS (e.g. `EPSG:2227+6360`, NAVD88 height in US survey
@@ -50,6 +54,14 @@ abbreviated to a unique prefix.
   decides: the first or the last tile given with a height there, or the mean of those heights;
   the summary's `overlap` line then says how many cells were decided (counted once per pair of
   tiles). Checked by `tests/test_mosaic.sh` and `tests/test_faults.sh`.
+- Threads: before a run relies on them, it checks how many threads the process can start
+  (`ulimit -u`, `ulimit -v`). Short of them, OpenMP's team and GDAL's compression pool share what
+  there is and `--device auto` runs the C twin; an OpenCL device named is refused (exit 5, one
+  line). Under an address-space limit below the machine's memory, GDAL compresses in the run's
+  own thread and auto runs the C twin; a run that does not fit ends with exit 6 and one line.
+- Options that a product ignores are refused by value (exit 2), as those another option makes
+  meaningless: `hillshade --blend vat` lights its own hillshade (315/35, Horn, z 1), so a
+  `--az`, `--alt`, `--z` or `--alg` other than the default is refused.
 - Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
   no output. A run whose thread cannot stop within half a second (a write to a stalled disk, work
   queued on a device) is ended by a guard thread that removes its temporaries first

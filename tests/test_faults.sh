@@ -240,6 +240,15 @@ expect_failure 2 "insolation --weather with --step PT1H" -- \
     insolation --weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" --step PT1H "$dem" "$o"
 expect_failure 2 "--z-scale without --heightmap" -- svf --z-scale 2 "$dem" "$o"
 expect_failure 2 "--cell-size on a georeferenced DEM" -- svf --cell-size 30 "$dem" "$o"
+# The VAT blend lights its own hillshade (315/35, Horn, z 1): a light given
+# was once ignored, the output byte for byte the same.
+for light in "--az 90" "--alt 30" "--z 2" "--alg ZevenbergenThorne"; do
+    # shellcheck disable=SC2086
+    expect_failure 2 "hillshade --blend vat with $light" -- hillshade --blend vat $light "$dem" "$o"
+done
+run hillshade -q --blend vat --az 315 --alt 45 --z 1 --alg Horn "$dem" "$o"
+tap_ok $rc "hillshade --blend vat with every light option at its default runs: exit $rc $(head -c 200 "$work/stderr")"
+rm -f "$o"
 # Front ends (QGIS) pass every default: those are accepted.
 run hillshade -q --multidirectional --az 315 --z-scale 1 "$dem" "$o"
 tap_ok $rc "hillshade --multidirectional with the default --az 315 and --z-scale 1 runs: exit $rc $(head -c 200 "$work/stderr")"
@@ -288,6 +297,86 @@ lines=$(wc -l <"$work/stderr")
     [ "$(ls -A "$work/out")" = keep.tif ]
 tap_ok $? "disk full while writing: exit $rc (want 4), $lines line(s), existing output kept, no temporary: $(head -c 200 "$work/stderr")"
 rm -f "$work/out/"*
+
+# ---- threads that cannot be started ----------------------------------------------------------
+# Under ulimit -u (which counts a user's threads) or ulimit -v (their stacks)
+# GDAL's compression pool once waited for ever, libgomp exited 1 and PoCL
+# aborted. The run must size its pools to what it can start (or refuse in
+# one line), never hang. OMP_NUM_THREADS=16 asks for the team of a larger
+# machine. The libtool wrapper forks: the program itself runs under the
+# limit. AddressSanitizer reserves terabytes of address space and its leak
+# check starts a thread at exit: the sanitizer build skips these.
+program=$SKYSWEEP
+[ -x "$(dirname "$SKYSWEEP")/.libs/skysweep" ] && program=$(dirname "$SKYSWEEP")/.libs/skysweep
+libs=$(cd "$(dirname "$SKYSWEEP")" && pwd)/.libs
+chmod 755 "$work"
+mkdir -p "$work/shared" && chmod 777 "$work/shared"
+# limited ULIMIT_OPTION VALUE [USER] -- ARGS...: runs the program under the
+# limit (as USER, a uid of no account, where given); sets $rc.
+limited() {
+    local opt=$1 value=$2 uid=$3
+    shift 4
+    local env="ulimit $opt $value; OMP_NUM_THREADS=16 HOME=$work/shared LD_LIBRARY_PATH=$libs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} exec \"\$0\" \"\$@\""
+    if [ -n "$uid" ]; then
+        timeout -s KILL "$limit" setpriv --reuid="$uid" --regid="$uid" --clear-groups \
+            bash -c "$env" "$program" "$@"
+    else
+        timeout -s KILL "$limit" bash -c "$env" "$program" "$@"
+    fi >"$work/stdout" 2>"$work/stderr"
+    rc=$?
+}
+if grep -qs '^#define HAVE_SANITIZERS 1' config.h; then
+    tap_skip "ulimit -u: runs with the threads they can start" "sanitizer build"
+    tap_skip "ulimit -v: runs within the address space they have" "sanitizer build"
+elif [ "$(id -u)" -ne 0 ] || ! command -v setpriv >/dev/null; then
+    tap_skip "ulimit -u: runs with the threads they can start" "needs root and setpriv to run as another user"
+else
+    uid=$((40000 + $$ % 20000)) # a user of its own: ulimit -u counts all of a user's threads
+    cp "$dem" "$work/shared/dem.tif"
+    bad=""
+    for u in 1 2 3 4 6; do
+        for cmd in "svf --directions 8" "hillshade --cast-shadows"; do
+            rm -f "$work/shared/o.tif"
+            # shellcheck disable=SC2086
+            limited -u "$u" "$uid" -- $cmd -q "$work/shared/dem.tif" "$work/shared/o.tif"
+            [ "$rc" -eq 0 ] && [ -s "$work/shared/o.tif" ] && [ ! -s "$work/stderr" ] ||
+                bad="$bad [-u $u ${cmd%% *}: exit $rc $(head -c 120 "$work/stderr")]"
+        done
+    done
+    [ -z "$bad" ]
+    tap_ok $? "ulimit -u 1 to 6 (svf, hillshade --cast-shadows, device auto): exit 0 with the output, no hang:$bad"
+    limited -u 2 "$uid" -- svf -q --device 0:0 "$work/shared/dem.tif" "$work/shared/o2.tif"
+    lines=$(wc -l <"$work/stderr")
+    [ "$rc" -eq 5 ] && [ "$lines" -eq 1 ] && [ ! -e "$work/shared/o2.tif" ]
+    tap_ok $? "ulimit -u 2 with an OpenCL device named: exit $rc (want 5), $lines line(s): $(head -c 200 "$work/stderr")"
+    rm -f "$work/shared/"*.tif
+fi
+if ! grep -qs '^#define HAVE_SANITIZERS 1' config.h; then
+    # From too little to load the libraries to enough: every run ends with
+    # exit 0 and its output, or exit 6 (memory) and one line; no libgomp
+    # exit 1, no GDAL failure taken for the output's (exit 4), no hang.
+    bad="" outcomes=""
+    for v in $(seq 150 10 400); do
+        for cmd in "svf --directions 8" "horizon --directions 16"; do
+            rm -f "$work/out/"* "$work/out/".* 2>/dev/null
+            # shellcheck disable=SC2086
+            limited -v "$((v * 1024))" "" -- $cmd -q "$dem" "$work/out/o.tif"
+            lines=$(wc -l <"$work/stderr")
+            outcomes="$outcomes$rc "
+            if [ "$rc" -eq 0 ]; then
+                [ -s "$work/out/o.tif" ] && [ "$lines" -eq 0 ] || bad="$bad [-v ${v}M ${cmd%% *}: exit 0, $lines line(s)]"
+            elif [ "$rc" -eq 127 ] && grep -q 'error while loading shared libraries' "$work/stderr"; then
+                : # too little to start at all: the loader's refusal
+            else
+                [ "$rc" -eq 6 ] && [ "$lines" -eq 1 ] && [ -z "$(ls -A "$work/out")" ] ||
+                    bad="$bad [-v ${v}M ${cmd%% *}: exit $rc, $lines line(s) $(head -c 120 "$work/stderr")]"
+            fi
+        done
+    done
+    rm -f "$work/out/"* "$work/out/".* 2>/dev/null
+    [ -z "$bad" ] && [ "${outcomes#*0 }" != "$outcomes" ]
+    tap_ok $? "ulimit -v 150M to 400M (svf, horizon): each exit 0 with the output or 6 with one line, some runs complete ($outcomes):$bad"
+fi
 
 # ---- signals in the middle of a long run ------------------------------------------------------
 ascii_grid "$work/big.asc" 400 400 254325 2152155 30

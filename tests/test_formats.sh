@@ -65,6 +65,12 @@ for f in "PNG .png" "JPEG .jpg" "GIF .gif" "BMP .bmp" "XYZ .xyz" "VRT .vrt" "MEM
     set -- $f
     check "$svf" "$1" "$2" refused
 done
+# GPKG holds one Float32 band (a probe without georeferencing once refused it
+# for "missing call to SetGeoTransform"), not four, and a Byte band it makes
+# reads back as four (RGBA).
+check "$svf" GPKG .gpkg written
+check "$horizon" GPKG .gpkg refused
+check "$hillshade" GPKG .gpkg refused
 # Bytes: PNG holds a hillshade (nodata 0 as its transparent value); JPEG
 # is lossy and GIF has no nodata of its own.
 check "$hillshade" GTiff .tif written
@@ -95,4 +101,29 @@ rm -rf "$work/out" && mkdir -p "$work/out"
 rc=$?
 [ "$rc" -eq 0 ] && [ "$(ls -A "$work/out")" = .hs ] && gdalinfo "$work/out/.hs" >/dev/null 2>&1
 tap_ok $? "an output named .hs is written as .hs: exit $rc, $(ls -A "$work/out" | tr '\n' ' ')"
+# -co TFW=YES: the world file lands beside the output, named after it (it
+# was once written beside the temporary and removed with it); an output
+# without an extension has no name to give it, and is refused.
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$SKYSWEEP" $svf -q -co TFW=YES "$dem" "$work/out/svf.tif" 2>"$work/stderr"
+rc=$?
+origin_x=$(sed -n 5p "$work/out/svf.tfw" 2>/dev/null)
+want_x=$(gdalinfo "$work/out/svf.tif" | sed -n 's/^Origin = (\([0-9.]*\),.*/\1/p')
+[ "$rc" -eq 0 ] && [ "$(ls -A "$work/out" | tr '\n' ' ')" = "svf.tfw svf.tif " ] &&
+    awk -v a="$origin_x" -v b="$want_x" 'BEGIN { exit !(a - b == 15) }'
+tap_ok $? "-co TFW=YES: exit $rc, $(ls -A "$work/out" | tr '\n' ' '), the world file's first cell centre $origin_x = origin $want_x + 15: $(head -c 200 "$work/stderr")"
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$SKYSWEEP" $svf -q -co TFW=YES "$dem" "$work/out/svf" 2>"$work/stderr"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && [ -z "$(ls -A "$work/out")" ]
+tap_ok $? "-co TFW=YES to a name without an extension: refused, exit $rc, nothing left: $(head -c 200 "$work/stderr")"
+# A creation option's value GDAL refuses only once the defaults join it
+# (tiles 7 wide, TILED=YES): exit 2 with GDAL's reason, before any work,
+# not 4 at the write.
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$SKYSWEEP" $svf -q -co BLOCKXSIZE=7 "$dem" "$work/out/svf.tif" 2>"$work/stderr"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && [ -z "$(ls -A "$work/out")" ] &&
+    grep -q 'TileWidth' "$work/stderr"
+tap_ok $? "-co BLOCKXSIZE=7: exit $rc (want 2), GDAL's reason, nothing left: $(head -c 200 "$work/stderr")"
 tap_done

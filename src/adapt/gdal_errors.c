@@ -12,11 +12,10 @@
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 static char first_message[1024];
-static int first_errno, failed;
+static int first_errno, first_number, failed;
 
 static void keep_first_failure(CPLErr level, CPLErrorNum number, const char *message)
 {
-    (void)number;
     int saved_errno = errno;
     if (level < CE_Failure)
         return;
@@ -24,6 +23,7 @@ static void keep_first_failure(CPLErr level, CPLErrorNum number, const char *mes
     if (!failed) {
         failed = 1;
         first_errno = saved_errno;
+        first_number = number;
         snprintf(first_message, sizeof first_message, "%s", message ? message : "");
     }
     pthread_mutex_unlock(&lock);
@@ -39,6 +39,7 @@ void ss_gdal_errors_reset(void)
     pthread_mutex_lock(&lock);
     failed = 0;
     first_errno = 0;
+    first_number = 0;
     first_message[0] = '\0';
     pthread_mutex_unlock(&lock);
     CPLErrorReset();
@@ -81,6 +82,16 @@ const char *ss_gdal_io_cause(void)
     const char *cause = failed ? cause_of(first_errno, first_message) : NULL;
     pthread_mutex_unlock(&lock);
     return cause;
+}
+
+int ss_gdal_out_of_memory(void)
+{
+    pthread_mutex_lock(&lock);
+    /* libtiff's codecs say so in words only ("Cannot allocate compressor"). */
+    int oom = failed && (first_number == CPLE_OutOfMemory || strcasestr(first_message, "cannot allocate") ||
+                         strcasestr(first_message, "out of memory"));
+    pthread_mutex_unlock(&lock);
+    return oom;
 }
 
 const char *ss_gdal_failure(char *buf, size_t size)

@@ -27,6 +27,9 @@ const char *ss_gdal_message(void);
 const char *ss_gdal_failure(char *buf, size_t size);
 /* That cause alone, or NULL where the first failure names none. */
 const char *ss_gdal_io_cause(void);
+/* Whether the first failure since the last reset was an allocation's
+ * (ulimit -v): the run is out of memory, not the output unwritable. */
+int ss_gdal_out_of_memory(void);
 /* Closes a dataset that is being thrown away without flushing its cache
  * (gdal_discard.cpp). */
 void ss_gdal_close_discarding(GDALDatasetH ds);

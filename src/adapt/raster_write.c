@@ -37,6 +37,7 @@ struct ss_raster_writer {
     char **create_opts;
     char *path, *tmp_path;
     int bands;
+    void *reserve;        /* room to close the file in (release_reserve) */
 };
 
 int ss_same_file(const char *a, const char *b)
@@ -143,6 +144,15 @@ static char **own_files(GDALDatasetH ds, const char *path)
     }
     CSLDestroy(all);
     free(stem);
+    /* A world file (-co TFW=YES, WORLDFILE=YES) is left out of the list
+     * where the georeferencing is inside the file too. */
+    static const char *const world_extensions[] = {"tfw", "wld"};
+    for (size_t i = 0; i < sizeof world_extensions / sizeof world_extensions[0]; ++i) {
+        const char *world = CPLResetExtension(path, world_extensions[i]);
+        VSIStatBufL st;
+        if (CSLFindString(own, world) < 0 && VSIStatL(world, &st) == 0)
+            own = CSLAddString(own, world);
+    }
     return own;
 }
 
@@ -246,11 +256,13 @@ static char **default_options(GDALDriverH driver, int bands, int byte_pixels,
     if (strcmp(GDALGetDriverShortName(driver), "GTiff") == 0) {
         opts = CSLSetNameValue(opts, "TILED", "YES");
         opts = CSLSetNameValue(opts, "COMPRESS", "DEFLATE");
-        /* Level 1 on every core: measured on the Kilauea DEM (doc/performance.md),
+        /* Level 1 on every core (GDAL_NUM_THREADS: as many as the process
+         * can start, src/cli/run.c): measured on the Kilauea DEM (doc/performance.md),
          * horizon --directions 16 writes in 0.75 s instead of 1.32 s for a file
          * 1.2 % larger; every DEFLATE reader (QGIS, GDAL, libtiff) reads it. */
         opts = CSLSetNameValue(opts, "ZLEVEL", "1");
-        opts = CSLSetNameValue(opts, "NUM_THREADS", "ALL_CPUS");
+        opts = CSLSetNameValue(opts, "NUM_THREADS",
+                               CPLGetConfigOption("GDAL_NUM_THREADS", "ALL_CPUS"));
         /* Floating-point prediction for floats, horizontal differencing for bytes. */
         opts = CSLSetNameValue(opts, "PREDICTOR", byte_pixels ? "2" : "3");
         opts = CSLSetNameValue(opts, "BIGTIFF", "IF_SAFER");
@@ -275,50 +287,84 @@ static char **default_options(GDALDriverH driver, int bands, int byte_pixels,
  * nodata), for the message that refuses another. */
 #define SS_FORMATS_THAT_HOLD "GTiff, COG, HFA or ENVI"
 
+/* Whether the probe read back as written; where not, says why as GDAL
+ * reports a failure (for ss_gdal_failure). */
 static int probe_holds(GDALDatasetH ds, int bands, const double *values)
 {
-    if (!ds || GDALGetRasterCount(ds) != bands)
+    if (!ds)
         return 0;
+    if (GDALGetRasterCount(ds) != bands) {
+        CPLError(CE_Failure, CPLE_AppDefined, "it reads back as %d bands",
+                 GDALGetRasterCount(ds));
+        return 0;
+    }
     for (int b = 1; b <= bands; ++b) {
         GDALRasterBandH band = GDALGetRasterBand(ds, b);
         int has_nodata = 0;
         double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
         double back[4];
-        if (!has_nodata || nodata != values[0] ||
-            GDALRasterIO(band, GF_Read, 0, 0, 2, 2, back, 2, 2, GDT_Float64, 0, 0) != CE_None)
+        if (!has_nodata || nodata != values[0]) {
+            CPLError(CE_Failure, CPLE_AppDefined, "it reads back without its nodata value");
+            return 0;
+        }
+        if (GDALRasterIO(band, GF_Read, 0, 0, 2, 2, back, 2, 2, GDT_Float64, 0, 0) != CE_None)
             return 0;
         for (int i = 0; i < 4; ++i)
-            if (back[i] != values[i])
+            if (back[i] != values[i]) {
+                CPLError(CE_Failure, CPLE_AppDefined, "it reads %g back as %g", values[i],
+                         back[i]);
                 return 0;
+            }
     }
     return 1;
 }
 
+/* Georeferences the probe and writes its values and nodata into each band,
+ * as the writer does its output; whether all went in. */
+static int fill_probe(GDALDatasetH ds, int bands, const double *values)
+{
+    /* Formats that need georeferencing (GPKG) would refuse a probe
+     * without, and a world file (-co TFW=YES) is written only with it. */
+    double gt[6] = {0, 1, 0, 2, 0, -1};
+    /* Nodata first: GPKG takes it only before its tables exist, which
+     * the georeferencing creates. */
+    for (int b = 1; b <= bands; ++b)
+        GDALSetRasterNoDataValue(GDALGetRasterBand(ds, b), values[0]); /* read back below */
+    if (GDALSetGeoTransform(ds, gt) != CE_None)
+        return 0;
+    for (int b = 1; b <= bands; ++b)
+        if (GDALRasterIO(GDALGetRasterBand(ds, b), GF_Write, 0, 0, 2, 2, (void *)values, 2, 2,
+                         GDT_Float64, 0, 0) != CE_None)
+            return 0;
+    return 1;
+}
+
 /* Writes a 2 x 2 probe with the values that would be lost (nodata,
- * fractions, values above 255) to probe_path with the format, reads it
- * back and deletes it. Returns whether the values came back unchanged;
- * *side_cars counts the files besides it (other than .aux.xml). */
+ * fractions, values above 255) to probe_path with the format, the way the
+ * writer will (GDALCreate where the driver can, else a copy of a MEM
+ * dataset: a GPKG of bytes made one way reads back as 4 bands, the other
+ * as 1), reads it back and deletes it. Returns whether the values came
+ * back unchanged; *side_cars counts the files besides it (other than
+ * .aux.xml). */
 static int probe_format(GDALDriverH driver, const char *probe_path, int bands, GDALDataType type,
                         char **create_opts, const double *values, int *side_cars)
 {
     *side_cars = 0;
-    GDALDatasetH mem = GDALCreate(GDALGetDriverByName("MEM"), "", 2, 2, bands, type, NULL);
-    for (int b = 1; mem && b <= bands; ++b) {
-        GDALRasterBandH band = GDALGetRasterBand(mem, b);
-        if (GDALSetRasterNoDataValue(band, values[0]) != CE_None ||
-            GDALRasterIO(band, GF_Write, 0, 0, 2, 2, (void *)values, 2, 2, GDT_Float64, 0, 0) !=
-                CE_None) {
-            GDALClose(mem);
-            mem = NULL;
-        }
+    int can_create = CSLFetchBoolean(GDALGetMetadata(driver, NULL), GDAL_DCAP_CREATE, FALSE);
+    GDALDatasetH ds = can_create
+                          ? GDALCreate(driver, probe_path, 2, 2, bands, type, create_opts)
+                          : GDALCreate(GDALGetDriverByName("MEM"), "", 2, 2, bands, type, NULL);
+    int filled = ds && fill_probe(ds, bands, values);
+    int written = can_create && ds != NULL; /* something may be on disk */
+    if (!can_create && filled) {
+        GDALDatasetH copy = GDALCreateCopy(driver, probe_path, ds, FALSE, create_opts, NULL, NULL);
+        written = copy != NULL;
+        if (copy)
+            GDALClose(copy);
     }
-    GDALDatasetH copy =
-        mem ? GDALCreateCopy(driver, probe_path, mem, FALSE, create_opts, NULL, NULL) : NULL;
-    if (copy)
-        GDALClose(copy);
-    if (mem)
-        GDALClose(mem);
-    GDALDatasetH back = copy ? GDALOpen(probe_path, GA_ReadOnly) : NULL;
+    if (ds)
+        GDALClose(ds);
+    GDALDatasetH back = written && filled ? GDALOpen(probe_path, GA_ReadOnly) : NULL;
     int holds = probe_holds(back, bands, values);
     char **files = back ? own_files(back, probe_path) : NULL;
     for (int i = 0; files && files[i]; ++i)
@@ -327,7 +373,7 @@ static int probe_format(GDALDriverH driver, const char *probe_path, int bands, G
         GDALClose(back);
     for (int i = 0; files && files[i]; ++i)
         VSIUnlink(files[i]);
-    if (copy && !back) /* written, but it does not open: its name is all we know */
+    if (written && !back) /* written, but it does not open: its name is all we know */
         VSIUnlink(probe_path);
     CSLDestroy(files);
     return holds;
@@ -396,6 +442,28 @@ static ss_status check_format_holds(ss_ctx *ctx, GDALDriverH driver, const char 
     return SS_OK;
 }
 
+/* What closing a file may allocate, at most: GDAL's compression of the
+ * last tiles and the format's own structures. */
+#define SS_ROOM_TO_CLOSE (16u << 20)
+
+/* Not every library under GDAL survives a failed allocation: libgeotiff's
+ * GTIFKeySet crashed writing a GeoTIFF's keys at close, finished or thrown
+ * away, once a run under ulimit -v had taken all the room. A writer keeps
+ * room for its close from the open (address space only: never touched)
+ * and gives it back just before. */
+static void release_reserve(ss_raster_writer *w)
+{
+    free(w->reserve);
+    w->reserve = NULL;
+}
+
+/* The status of a GDAL call that failed while writing: out of memory
+ * (ulimit -v) is the run's, not the output's. */
+static ss_status write_failure(void)
+{
+    return ss_gdal_out_of_memory() ? SS_ERR_MEMORY : SS_ERR_OUTPUT;
+}
+
 static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, int bands,
                              const char *format, const char *const *creation_options,
                              int byte_pixels, ss_raster_writer **writer)
@@ -438,7 +506,8 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
         ss_temporaries_track(w->path);
     w->tmp_path = temporary_name(path, "tmp");
     w->create_opts = default_options(driver, bands, byte_pixels, creation_options);
-    if (!w->path || !w->tmp_path) {
+    w->reserve = malloc(SS_ROOM_TO_CLOSE);
+    if (!w->path || !w->tmp_path || !w->reserve) {
         ss_writer_abort(w);
         return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     }
@@ -464,11 +533,22 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
         w->ds = GDALCreate(GDALGetDriverByName("MEM"), "", cols, rows, bands, type, NULL);
     if (!w->ds) {
         char why[1200];
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot create '%s': %s", path,
-                     ss_gdal_failure(why, sizeof why));
+        /* Where the folder is not the cause, the -co options are: the probe
+         * took them without the defaults they may clash with (BLOCKXSIZE=7
+         * with TILED=YES), and this is still before any work. */
+        if (creation_options && creation_options[0] && !ss_gdal_io_cause())
+            st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "-co: the %s format cannot be written with "
+                              "the options given: %s", format ? format : "GTiff",
+                              ss_gdal_failure(why, sizeof why));
+        else
+            st = ss_ctx_error(ctx, write_failure(), "cannot create '%s': %s", path,
+                              ss_gdal_failure(why, sizeof why));
         ss_writer_abort(w);
         return st;
     }
+    /* Nodata before the georeferencing, as the probe (fill_probe). */
+    for (int b = 1; b <= bands; ++b)
+        GDALSetRasterNoDataValue(GDALGetRasterBand(w->ds, b), byte_pixels ? 0 : SS_NODATA);
     double gt[6];
     memcpy(gt, like->geotransform, sizeof gt);
     gt[0] += w->col0 * gt[1];
@@ -476,8 +556,6 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     GDALSetGeoTransform(w->ds, gt);
     if (like->crs_wkt)
         GDALSetProjection(w->ds, like->crs_wkt);
-    for (int b = 1; b <= bands; ++b)
-        GDALSetRasterNoDataValue(GDALGetRasterBand(w->ds, b), byte_pixels ? 0 : SS_NODATA);
     *writer = w;
     return SS_OK;
 }
@@ -550,7 +628,7 @@ ss_status ss_writer_rows(ss_raster_writer *w, int band, int row0, int n_rows,
     free(bytes);
     char why[1200];
     if (err != CE_None || ss_gdal_failed())
-        return ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot write band %d of '%s': %s", band, w->path,
+        return ss_ctx_error(w->ctx, write_failure(), "cannot write band %d of '%s': %s", band, w->path,
                        ss_gdal_failure(why, sizeof why));
     return SS_OK;
 }
@@ -609,6 +687,7 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
     ss_ctx *ctx = w->ctx;
     ss_status st = SS_OK;
     char why[1200];
+    release_reserve(w);
     ss_gdal_errors_reset();
     if (!CSLFetchBoolean(GDALGetMetadata(w->driver, NULL), GDAL_DCAP_CREATE, FALSE)) {
         GDALDatasetH copy = GDALCreateCopy(w->driver, w->tmp_path, w->ds, FALSE, w->create_opts,
@@ -616,7 +695,7 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
         if (copy)
             GDALClose(copy);
         if (!copy || ss_gdal_failed())
-            st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", w->path,
+            st = ss_ctx_error(ctx, write_failure(), "cannot write '%s': %s", w->path,
                          ss_gdal_failure(why, sizeof why));
     }
     /* GDALClose flushes the file; an error here (disk full) loses the output. */
@@ -624,12 +703,12 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
     GDALClose(w->ds);
     w->ds = NULL;
     if (st == SS_OK && ss_gdal_failed())
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': %s", w->path,
+        st = ss_ctx_error(ctx, write_failure(), "cannot finish writing '%s': %s", w->path,
                      ss_gdal_failure(why, sizeof why));
     /* Some drivers lose a failed write without a word (ENVI's header at
      * close): what was written must open as what was meant. */
     if (st == SS_OK && !reads_back_as(w->tmp_path, cols, rows, w->bands))
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot finish writing '%s': the file written does not "
+        st = ss_ctx_error(ctx, write_failure(), "cannot finish writing '%s': the file written does not "
                      "read back whole: %s", w->path, ss_gdal_failure(why, sizeof why));
     if (st == SS_OK && progress && !progress(1.0, "", user))
         st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
@@ -654,6 +733,7 @@ void ss_writer_abort(ss_raster_writer *w)
 {
     if (!w)
         return;
+    release_reserve(w);
     if (w->ds)
         ss_gdal_close_discarding(w->ds);
     char *dir, *base;

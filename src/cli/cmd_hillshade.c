@@ -46,10 +46,19 @@ int cmd_hillshade(int argc, char **argv)
     if (rc >= 0)
         return rc;
     /* gdaldem refuses both too (front ends pass the default 315 always). */
-    if (set.hs.multidirectional &&
-        set.hs.azimuth_deg != strtod(opt_find(tables, "az")->default_text, NULL))
+    if (set.hs.multidirectional && !opt_at_default(opt_find(tables, "az"), &set))
         return run_usage_error("hillshade", "--multidirectional lights from 225, 270, 315 and "
                                             "360 degrees: leave --az out");
+    /* The VAT blend's hillshade is RVT's, lit from 315/35 by Horn's slope
+     * unexaggerated: a light given here would change nothing. */
+    static const char *const vat_light[] = {"az", "alt", "z", "alg"};
+    for (size_t i = 0; set.hs.blend && i < sizeof vat_light / sizeof vat_light[0]; ++i)
+        if (!opt_at_default(opt_find(tables, vat_light[i]), &set)) {
+            char why[160];
+            snprintf(why, sizeof why, "--%s has no effect with --blend vat (its hillshade is "
+                     "lit from 315/35 by Horn's slope, unexaggerated)", vat_light[i]);
+            return run_usage_error("hillshade", why);
+        }
     int sweeps = set.hs.blend || set.hs.cast_shadows || set.hs.sky_view > 0;
     /* A band holds its heights and a row of shades, SVF and openness;
      * sweeps add a horizon's band and its rows carried between bands. */

@@ -138,6 +138,29 @@ const opt_spec *opt_find(const opt_spec *const *tables, const char *name)
     return NULL;
 }
 
+int opt_at_default(const opt_spec *s, const void *settings)
+{
+    const char *field = (const char *)settings + s->offset;
+    const char *def = s->default_text;
+    switch (s->type) {
+    case OPT_INT:
+        return def && *(const int *)field == (int)strtol(def, NULL, 10);
+    case OPT_DOUBLE:
+        return def && *(const double *)field == strtod(def, NULL);
+    case OPT_CHOICE:
+        return *(const int *)field == (def ? choice_index(s->choices, def) : 0);
+    case OPT_FLAG:
+        return *(const int *)field == 0;
+    case OPT_STRING: {
+        const char *v = *(const char *const *)field;
+        return v == def || (v && def && strcmp(v, def) == 0);
+    }
+    case OPT_LIST:
+        return ((const opt_list *)field)->count == 0;
+    }
+    return 0;
+}
+
 int opt_check(const opt_spec *spec, const char *text, char *err, size_t err_size)
 {
     return set_value(spec, NULL, text, err, err_size);

@@ -50,6 +50,10 @@ int opt_parse(const opt_spec *const *tables, void *settings, int argc, char **ar
 
 /* The option named exactly `name` (no dashes), or NULL. */
 const opt_spec *opt_find(const opt_spec *const *tables, const char *name);
+/* Whether option s holds its default in settings (a flag: not given). The
+ * checks of options another option makes meaningless go by value, not by
+ * presence: front ends (QGIS) pass every default. */
+int opt_at_default(const opt_spec *s, const void *settings);
 /* Checks a value's text for an option without storing it: 0, or -1 with
  * one line in err. */
 int opt_check(const opt_spec *spec, const char *text, char *err, size_t err_size);

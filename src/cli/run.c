@@ -7,7 +7,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/resource.h>
 #include <time.h>
+#include <unistd.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "commands.h"
 #include "heightmap_input.h"
@@ -15,6 +21,7 @@
 #include "run.h"
 #include "scene.h"
 #include "stop_guard.h"
+#include "thread_room.h"
 
 #define COMMON(field) offsetof(common_settings, field)
 /* The command line's own options; the model's come from the library's
@@ -129,6 +136,64 @@ static int progress(double complete, const char *message, void *user)
     return ss_gdal_term_progress(complete);
 }
 
+/* Whether an address-space limit (ulimit -v) below the machine's memory
+ * bounds the run: threads started late (GDAL's compression pool at the
+ * first write, PoCL's with the device) may then find no room left for
+ * their stacks, once the run's memory is taken. */
+static int address_space_tight(void)
+{
+    struct rlimit limit;
+    double memory = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+    return getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+           (double)limit.rlim_cur < memory;
+}
+
+/* Sizes the run's thread pools to the threads this process can start
+ * (thread_room.h) and starts OpenMP's team while there is room for it:
+ * OpenMP's team and GDAL's compression pool share what there is, and a
+ * run the plan would give to an OpenCL device goes to the C twin, since no
+ * option sizes PoCL's threads. Under a tight address space GDAL compresses
+ * in the run's thread. *device is the device asked for, "reference" once
+ * the run takes the C twin. 0, or the exit code after its line. */
+static int fit_threads(const char *command, const char **device)
+{
+    int cores = (int)sysconf(_SC_NPROCESSORS_ONLN);
+#ifdef _OPENMP
+    if (omp_get_max_threads() > cores)
+        cores = omp_get_max_threads();
+#endif
+    if (cores < 1)
+        cores = 1;
+    /* OpenMP's team beside the run's thread, GDAL's pool (NUM_THREADS=ALL_CPUS),
+     * PoCL's threads, the stop guard's and the kernel build's. */
+    int want = 3 * cores + 1;
+    int room = thread_room_probe(want), tight = address_space_tight();
+    if ((room < want || tight) && strcasecmp(*device, "auto") == 0)
+        *device = "reference";
+    if (room < want && strcasecmp(*device, "reference") != 0) {
+        fprintf(stderr, "skysweep %s: this process can start only %d more threads (ulimit -u "
+                        "or -v), too few for an OpenCL device: use --device reference\n",
+                command, room);
+        return SS_ERR_DEVICE;
+    }
+    /* A team of n takes n - 1 threads, a pool of n > 1 takes n, the guard one. */
+    int share = room >= want ? cores : room / 2 > 1 ? room / 2 : 1;
+    char text[16];
+    snprintf(text, sizeof text, "%d", tight ? 1 : share);
+    if (room < want || tight)
+        setenv("GDAL_NUM_THREADS", text, 1); /* the raster writer's NUM_THREADS */
+#ifdef _OPENMP
+    if (room < want)
+        omp_set_num_threads(share);
+    /* libgomp keeps the team it starts for the regions to come: started
+     * now, it cannot fail later for want of room (libgomp would exit 1). */
+#pragma omp parallel
+    {
+    }
+#endif
+    return 0;
+}
+
 int run_begin(run_state *run, const char *command, const common_settings *common)
 {
     memset(run, 0, sizeof *run);
@@ -139,6 +204,13 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     run->started = run_now();
     const char *lines = getenv("SKYSWEEP_PROGRESS");
     run->progress_lines = lines && strcmp(lines, "lines") == 0;
+    /* The device follows the job unless one is named here or in the
+     * environment (SKYSWEEP_DEVICE, read by the library). */
+    const char *env = getenv("SKYSWEEP_DEVICE");
+    const char *device = common && common->device ? common->device : env && env[0] ? env : "auto";
+    int rc = fit_threads(command, &device);
+    if (rc)
+        return rc;
     run->ctx = ss_ctx_new();
     if (!run->ctx) {
         fprintf(stderr, "skysweep %s: out of memory\n", command);
@@ -152,11 +224,7 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     ss_ctx_set_progress(run->ctx, progress, run);
-    /* The device follows the job unless one is named here or in the
-     * environment (SKYSWEEP_DEVICE, read by the library). */
-    const char *device = common && common->device ? common->device : NULL;
-    const char *env = getenv("SKYSWEEP_DEVICE");
-    ss_ctx_use_device(run->ctx, device ? device : env && env[0] ? NULL : "auto");
+    ss_ctx_use_device(run->ctx, device);
     return 0;
 }
 
