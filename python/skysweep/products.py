@@ -373,16 +373,20 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
                                    "sun_elevation": sun_elevation})
 
 
-def _shade(dem, cell_size, nodata, kw, given):
+def _shade(dem, cell_size, nodata, kw, given, radius=None):
     """gdaldem's hillshade or RVT's VAT blend (1..255), as `skysweep
     hillshade` computes it: the library's options from its hillshade table
     (ss_hillshade_params_options), the planner asked for what they sweep,
-    and the rows of ss_hillshade_rows on the whole grid."""
+    and the rows of ss_hillshade_rows on the whole grid. radius (metres)
+    gives the blend's radius in the table's cells (the library measures
+    them with the cells' geometric mean size, as here)."""
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    cell_m = math.sqrt(grid.cell_size[0] * grid.cell_size[1])
+    if radius is not None:
+        given = dict(given, blend_radius=_checked("svf", "radius", radius) / cell_m)
     params = _params("hillshade", "hillshade", given)
     shading = ffi.new("ss_hillshade_options *")
-    lib.ss_hillshade_params_options(params, math.sqrt(grid.cell_size[0] * grid.cell_size[1]),
-                                    shading)
+    lib.ss_hillshade_params_options(params, cell_m, shading)
     opt = _sweep(ctx, grid, "hillshade", lib.ss_hillshade_params_product(params), kw)
     out = grid.new_plane()
     width = grid.shape[1]
@@ -402,7 +406,7 @@ def _shade(dem, cell_size, nodata, kw, given):
     finally:
         if failed:  # the sink's own exception, not the library's status for it
             raise failed[0][1].with_traceback(failed[0][2])
-    return grid, opt, out
+    return grid, opt, out, shading.radius_m
 
 
 def hillshade(dem, cell_size=None, *, sun_azimuth=default("hillshade", "az"),
@@ -448,7 +452,7 @@ def hillshade(dem, cell_size=None, *, sun_azimuth=default("hillshade", "az"),
                            hillshade.__kwdefaults__["sun_azimuth"], "az", az)
     sun_elevation = _renamed("hillshade", "sun_elevation", sun_elevation,
                              hillshade.__kwdefaults__["sun_elevation"], "alt", alt)
-    grid, _, out = _shade(dem, cell_size, nodata, kw,
+    grid, _, out, _ = _shade(dem, cell_size, nodata, kw,
                           {"az": sun_azimuth, "alt": sun_elevation, "z": z, "alg": alg,
                            "multidirectional": multidirectional, "cast_shadows": cast_shadows,
                            "sky_view": sky_view})
@@ -491,21 +495,24 @@ def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=Non
                                    "units": "1"})
 
 
-def vat(dem, cell_size=None, *, blend_radius=default("hillshade", "blend-radius"), nodata=None,
-        name="vat", **kw):
+def vat(dem, cell_size=None, *, radius=None, nodata=None, name="vat", blend_radius=None, **kw):
     """RVT's VAT relief blend (Kokalj & Somrak 2019), 0..1 (1 = white).
 
     gdaldem's hillshade at 315/35 degrees, Horn's slope, and SVF and positive
-    openness from horizons within `blend_radius` cells, as `skysweep hillshade
-    --blend vat` computes it (its file holds 1 + 254 times this, rounded).
+    openness from horizons within `radius`, as `skysweep hillshade --blend
+    vat` computes it (its file holds 1 + 254 times this, rounded).
 
     Parameters
     ----------
     {dem}
-    blend_radius : float, default 10
-        Cells (RVT's 10; 0: unlimited), as the CLI's --blend-radius.
+    radius : float, default None
+        Metres, as svf's and openness's radius; 0: unlimited; None: RVT's 10 cells
+        (the CLI's --blend-radius default), in metres of the DEM's cells.
     {nodata}
     {name}
+    blend_radius : float, default None
+        The former parameter: the radius in cells, as the CLI's --blend-radius; giving
+        it with radius is a TypeError.
 
     Returns
     -------
@@ -514,11 +521,14 @@ def vat(dem, cell_size=None, *, blend_radius=default("hillshade", "blend-radius"
 
     {raises}
     """
-    grid, opt, out = _shade(dem, cell_size, nodata, kw,
-                            {"blend": "vat", "blend_radius": blend_radius})
+    if radius is not None and blend_radius is not None:
+        raise TypeError("vat() got both radius (metres) and its former blend_radius (cells): "
+                        "give one")
+    grid, opt, out, radius_m = _shade(dem, cell_size, nodata, kw,
+                            {"blend": "vat", "blend_radius": blend_radius}, radius)
     blend = np.where(out == np.float32(CONST["SS_NODATA"]), out, (out - 1.0) / 254.0)
     return grid.finish(blend.astype(np.float32), name, {"long_name": "VAT relief blend",
-                                                        "units": "1",
+                                                        "units": "1", "radius": radius_m,
                                                         "directions": opt.directions})
 
 

@@ -16,10 +16,11 @@ FUNCTIONS = sorted(n for n in skysweep.__all__ if inspect.isfunction(getattr(sky
 COMMAND_OF = {"svf": "svf", "openness": "openness", "horizon": "horizon", "shadow": "shadow",
               "hillshade": "hillshade", "vat": "hillshade", "plan": "svf",
               "site_horizon": "horizon", "insolation": "insolation"}
-#: Former names kept as aliases (default None: not given), and a unit that
-#: is pvlib's, not the table's (pressure in Pa, not hPa).
+#: Former names kept as aliases (default None: not given), and units that
+#: are not the table's: pvlib's pressure in Pa (not hPa), vat's radius in
+#: metres (not the blend's cells).
 OWN_DEFAULTS = {("hillshade", "az"), ("hillshade", "alt"), ("insolation", "linke"),
-                ("insolation", "pressure")}
+                ("insolation", "pressure"), ("vat", "blend_radius")}
 
 
 def sections(doc):

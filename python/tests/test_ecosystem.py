@@ -85,6 +85,24 @@ def test_pvlib_names_with_the_former_ones_as_aliases():
         skysweep.hillshade(z, 10, az=300, sun_azimuth=300)
 
 
+def test_vats_radius_is_metres_as_every_length():
+    """vat's radius is metres, as svf's and openness's; the blend's cells
+    (the CLI's --blend-radius) remain as blend_radius."""
+    z = rough_dem()
+    by_metres = skysweep.vat(z, 10, radius=50.0, directions=8)
+    assert same(by_metres, skysweep.vat(z, 10, blend_radius=5, directions=8))
+    assert not np.array_equal(by_metres, skysweep.vat(z, 10, radius=5.0, directions=8),
+                              equal_nan=True)
+    assert same(skysweep.vat(z, 10, directions=8), skysweep.vat(z, 10, radius=100.0,
+                                                                directions=8))
+    assert same(skysweep.vat(z, 10, radius=0, directions=8),
+                skysweep.vat(z, 10, blend_radius=0, directions=8))
+    with pytest.raises(TypeError, match="radius .metres. and its former blend_radius"):
+        skysweep.vat(z, 10, radius=50.0, blend_radius=5)
+    with pytest.raises(skysweep.ArgumentError):
+        skysweep.vat(z, 10, radius=-1.0)
+
+
 def test_dataarrays_give_datasets_with_units_and_the_crs():
     rioxarray = pytest.importorskip("rioxarray")
     xr = pytest.importorskip("xarray")
