@@ -305,5 +305,18 @@ class Grid:
         return out
 
 
+    def dataset(self, arrays, attrs=None):
+        """DataArrays from wrap (one per output band group) as one xarray
+        Dataset, with the DEM's CRS and transform as wrap writes them."""
+        import xarray as xr
+        out = xr.Dataset(arrays, attrs=attrs or {})
+        crs = _crs_of(self.template)
+        if crs is not None:
+            rio = self.template.rio
+            out = out.rio.write_crs(crs, grid_mapping_name=rio.grid_mapping)
+            out = out.rio.write_transform(rio.transform(), grid_mapping_name=rio.grid_mapping)
+        return out
+
+
 def out_buffer(plane):
     return ffi.from_buffer("float[]", plane)

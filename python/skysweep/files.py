@@ -4,6 +4,7 @@ writes them. Each function's keyword arguments are its command's options
 (``svf_tolerance`` for ``--svf-tolerance``), taken from the command's option
 table and checked against it before the run."""
 import datetime
+import inspect
 import os
 import re
 import shutil
@@ -11,9 +12,12 @@ import signal
 import subprocess
 import threading
 
+import numpy as np
+
 from ._context import error_for, progress_callback
-from ._lib import BUILD, COMMANDS
+from ._lib import BUILD, COMMANDS, default
 from .products import _checked
+from .sun import iso_duration
 
 #: What the file calls may not set: the package runs the command quietly
 #: and reports progress itself.
@@ -23,7 +27,10 @@ _RESERVED = {"q", "help"}
 def _text(key, value):
     """An option's value as the command line reads it: a path as its text,
     a datetime in ISO 8601 with its zone (the command line requires one, and
-    a naive datetime is refused here as it is there)."""
+    a naive datetime is refused here as it is there), a duration (timedelta,
+    pandas.Timedelta, numpy timedelta64) in ISO 8601."""
+    if isinstance(value, (datetime.timedelta, np.timedelta64)):
+        return iso_duration(value, key)
     if isinstance(value, datetime.datetime):
         if value.tzinfo is None or value.utcoffset() is None:
             raise ValueError(f"{key}: the datetime {value.isoformat()} has no time zone; give "
@@ -112,12 +119,39 @@ class _Reader:
 
 
 def run(command, *positional, progress=None, **options):
-    """Runs `skysweep COMMAND [options] POSITIONAL...` and returns what it
-    printed on stdout. Fails with the error class of its exit status
-    (ArgumentError, InputError, ...) carrying its one-line message; Ctrl-C
-    stops it (within a second) and raises KeyboardInterrupt. With progress,
-    the command runs without -q: its progress (shown once a run has lasted a
-    second) goes to the callback, and its plan and summary are returned."""
+    """Runs `skysweep COMMAND [options] POSITIONAL...` and returns what it printed.
+
+    Parameters
+    ----------
+    command : str
+        A skysweep command (svf, info, sun, weather, ...).
+    *positional : str or os.PathLike
+        Its positional arguments (input and output paths).
+    progress : bool or callable, default None
+        None, True (tqdm or text) or callable(fraction, message). With progress the
+        command runs without -q: its progress (shown once a run has lasted a second)
+        goes to the callback, and its plan and summary are returned.
+    **options
+        The command's options, `-` written `_` (``svf_tolerance=0.01``): flags take
+        True, lists a list or dict, datetimes and timedeltas are written in ISO 8601.
+
+    Returns
+    -------
+    str
+        What the command printed on stdout.
+
+    Raises
+    ------
+    ValueError
+        An unknown command.
+    TypeError
+        An option the command does not have, or a value of the wrong kind.
+    SkysweepError
+        The command's failure, of the class of its exit status (ArgumentError,
+        InputError, OutputError, ...), carrying its one-line message.
+    KeyboardInterrupt
+        Ctrl-C, which stops the command within a second.
+    """
     if command not in COMMANDS:
         raise ValueError(f"unknown command {command!r} (skysweep has: {', '.join(COMMANDS)})")
     args = [command_line(), command] + _arguments(command, options)
@@ -164,17 +198,36 @@ def _file_call(command):
         return output
 
     call.__name__ = call.__qualname__ = f"{command}_file"
-    lines = [f"Runs `{table['usage']}`: input is a DEM path (or a list of tiles),",
-             "output the path to write (str or pathlib.Path). Returns output.", "",
-             table["summary"], "", "Options (keyword arguments; defaults from the command's table):"]
+    lines = [f"Runs `{table['usage']}` and returns output.", "", table["summary"], "",
+             "Parameters", "----------",
+             "input : str, os.PathLike or list of them",
+             "    The DEM (a list of tiles: a mosaic).",
+             "output : str or os.PathLike", "    The raster to write."]
     for o in table["options"]:
         if o["name"] in _RESERVED:
             continue
-        what = "|".join(o["choices"]) if o["type"] == "choice" else o.get("metavar", o["type"])
-        shown = f", default {o['default']}" if "default" in o else ""
-        lines.append(f"    {o['name'].replace('-', '_')} ({what}{shown}): {o['help']}")
-    lines.append("    progress: None, True (tqdm or text) or callable(fraction, message)")
+        what = ("{" + ", ".join(f'"{c}"' for c in o["choices"]) + "}" if o["type"] == "choice"
+                else o.get("metavar", o["type"]))
+        shown = f", default {o['default']}" if "default" in o else ", optional"
+        lines += [f"{o['name'].replace('-', '_')} : {what}{shown}", f"    {o['help']}"]
+    lines += ["progress : bool or callable, default None",
+              "    None, True (tqdm or text) or callable(fraction, message).", "",
+              "Returns", "-------", "str or os.PathLike", "    output, as given.", "",
+              "Raises", "------", "TypeError",
+              "    An option the command does not have, or a value of the wrong kind.",
+              "SkysweepError",
+              "    The command's failure, of the class of its exit status (ArgumentError,",
+              "    InputError, ...), carrying its one-line message."]
     call.__doc__ = "\n".join(lines)
+    # The options in the signature, with their table's defaults (help, inspect).
+    keyword = inspect.Parameter.KEYWORD_ONLY
+    options = [inspect.Parameter(o["name"].replace("-", "_"), keyword,
+                                 default=False if o["type"] == "flag" else
+                                 default(command, o["name"]))
+               for o in table["options"] if o["name"] not in _RESERVED]
+    call.__signature__ = inspect.Signature(
+        [inspect.Parameter(n, inspect.Parameter.POSITIONAL_OR_KEYWORD) for n in ("input", "output")]
+        + options + [inspect.Parameter("progress", keyword, default=None)])
     return call
 
 

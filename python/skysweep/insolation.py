@@ -6,14 +6,30 @@ import math
 import numpy as np
 
 from ._context import ArgumentError
-from ._lib import ffi, lib
-from .products import SWEEP_OPTIONS, _begin, _doc_options, _params, _sweep, _value
-from .sun import unix_seconds
+from ._lib import default, ffi, lib
+from .products import (SWEEP_OPTIONS, _begin, _doc_options, _numpydoc, _params, _renamed,
+                       _sweep, _value)
+from .sun import iso_duration, unix_seconds
 
-_PARTS = ("global", "beam", "diffuse", "reflected", "sun_hours")
-_LONG_NAMES = {"global": "global irradiation", "beam": "beam irradiation",
-               "diffuse": "diffuse irradiation", "reflected": "reflected irradiation",
+#: The library's parts (ss_insolation_out's fields, the CLI's bands, in order)
+#: by pvlib's names (pvlib.irradiance.get_total_irradiance's columns).
+_PARTS = {"poa_global": "global", "poa_direct": "beam", "poa_sky_diffuse": "diffuse",
+          "poa_ground_diffuse": "reflected", "sun_hours": "sun_hours"}
+_LONG_NAMES = {"poa_global": "global irradiation", "poa_direct": "beam irradiation",
+               "poa_sky_diffuse": "sky diffuse irradiation",
+               "poa_ground_diffuse": "reflected irradiation",
+               "poa_diffuse": "diffuse irradiation (sky and reflected)",
                "sun_hours": "hours of direct sun"}
+
+
+class Irradiation(dict):
+    """insolation's parts by pvlib's names; the former names ("global",
+    "beam", "diffuse", "reflected") still index it, as aliases."""
+
+    def __missing__(self, key):
+        if key in _PARTS.values() and key != "sun_hours":
+            return self[next(k for k, v in _PARTS.items() if v == key)]
+        raise KeyError(key)
 
 
 def _as_text(value):
@@ -37,6 +53,19 @@ def _clear_sky_params(ctx, given):
     by_month = ffi.new("double[12]")
     ctx.check(lib.ss_insolation_params_linke(ctx.ptr, params, by_month))
     return params, options, by_month
+
+
+def _surface(surface, tilt, azimuth):
+    """--surface's value from pvlib's surface_tilt and surface_azimuth, or
+    from `surface` ("cell", "horizontal", or its older (tilt, azimuth))."""
+    if tilt is None and azimuth is None:
+        return surface
+    if tilt is None or azimuth is None:
+        raise TypeError("insolation() takes surface_tilt and surface_azimuth together")
+    if surface != "cell":
+        raise TypeError("insolation() got both surface and surface_tilt, surface_azimuth: "
+                        "give one")
+    return (tilt, azimuth)
 
 
 def _steps(ctx, time, step):
@@ -65,30 +94,82 @@ def _steps(ctx, time, step):
     return mids, np.full(mids.shape, d.seconds / 3600.0)
 
 
-def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, linke=None,
-               albedo=None, shadow=None, solar_constant=None, surface="cell", altitude=None,
-               pressure=101325.0, temperature=None, delta_t=None, nodata=None, **kw):
-    """Clear-sky irradiation of every cell (ESRA with Linke turbidity, as
-    GRASS r.sun and the CLI's --time): a dict of arrays "global", "beam",
-    "diffuse", "reflected" (Wh/m^2, summed over the steps) and "sun_hours"
-    (hours of direct sun on the cell's surface).
+def insolation(dem, cell_size=None, *, time, latitude, longitude,
+               step=default("insolation", "step"),
+               linke_turbidity=default("insolation", "linke"),
+               albedo=default("insolation", "albedo"), shadow=default("insolation", "shadow"),
+               solar_constant=default("insolation", "solar-constant"), surface="cell",
+               surface_tilt=None, surface_azimuth=None, altitude=None, pressure=101325.0,
+               temperature=default("insolation", "temperature"), delta_t=None, nodata=None,
+               linke=None, **kw):
+    """Clear-sky irradiation of every cell, as `skysweep insolation --time` computes it.
 
-    time: an ISO 8601 range as --time takes it ("2026-06-21T00:00Z/P1D", the
-    step from `step` or its own /STEP; each step evaluated at its middle), or
-    instants (datetime64, datetimes, pandas, Unix seconds), each standing for
-    `step` around it. latitude, longitude: the grid's centre (degrees), where
-    one sun serves the whole grid; altitude (metres) defaults to the DEM's
-    datum height, as the CLI takes it. pressure in Pa and temperature in C
-    refract the sun. linke: one turbidity or twelve (by the UTC month of a
-    step's middle). surface: "cell" (each cell's own slope), "horizontal" or
-    (tilt, azimuth). shadow: "auto" (the planner's choice), "exact" (a sweep
-    at every daylight step) or "interpolated". Weather files and PV yield:
-    insolation_file (--weather, --pv).
+    ESRA with Linke turbidity, as GRASS r.sun: beam, sky diffuse and reflected
+    irradiation on each cell's surface, with cast shadows at every step, summed
+    over the steps. One sun, at latitude and longitude, serves the whole grid.
+    Weather files and PV yield: insolation_file (--weather, --pv).
+
+    Parameters
+    ----------
+    {dem}
+    time : str or instants
+        An ISO 8601 range as --time takes it ("2026-06-21T00:00Z/P1D"; the step from
+        `step` or its own /STEP; each step evaluated at its middle), or instants
+        (any form sun_position takes), each standing for `step` around it.
+    latitude, longitude : float
+        The grid's centre, degrees north and east.
+    step : str, datetime.timedelta, pandas.Timedelta or numpy.timedelta64, default "PT30M"
+        The steps' length: ISO 8601 ("PT1H"), a timedelta, or a pandas frequency
+        string ("1h", "15min").
+    linke_turbidity : float, str or sequence of 12 floats, default "3"
+        One Linke turbidity, or twelve (by the UTC month of a step's middle), as
+        --linke (pvlib's name; `linke` is its alias).
+    albedo : float, default 0.2
+        Ground reflectance.
+    shadow : {{"auto", "exact", "interpolated"}}, default "auto"
+        "auto" (the planner's choice), "exact" (a sweep at every daylight step) or
+        "interpolated".
+    solar_constant : float, default 1367
+        W m-2.
+    surface : {{"cell", "horizontal"}} or (float, float), default "cell"
+        Each cell's own slope, a horizontal surface, or (tilt, azimuth) degrees: the
+        older form of surface_tilt and surface_azimuth.
+    surface_tilt, surface_azimuth : float, default None
+        A tilted plane for every cell, pvlib's names: tilt from horizontal, azimuth
+        clockwise from north (degrees); given together.
+    altitude : float, default None
+        Metres; None: the DEM's datum height, as the CLI takes it.
+    pressure : float, default 101325.0
+        Pa, refracting the sun.
+    temperature : float, default 12
+        Degrees C, refracting the sun.
+    delta_t : float, default None
+        TT - UT1 in seconds; None: the Espenak-Meeus model.
+    {nodata}
+    linke : float, str or sequence of 12 floats, default None
+        The former name of linke_turbidity, kept as an alias; giving both is a
+        TypeError.
+
+    Returns
+    -------
+    Irradiation (dict of numpy.ndarray) or xarray.Dataset
+        Irradiation summed over the steps, Wh m-2, by pvlib's names: ``poa_global``,
+        ``poa_direct`` (beam), ``poa_sky_diffuse``, ``poa_ground_diffuse``
+        (reflected), ``poa_diffuse`` (sky and ground), and ``sun_hours`` (hours of
+        direct sun on the cell's surface); NaN where the DEM has no height. The dict
+        still takes the former keys "global", "beam", "diffuse" (sky) and
+        "reflected". For a DataArray DEM, a Dataset of these variables (units "Wh
+        m-2", "h") with its CRS and transform.
+
+    {raises}
     """
+    linke_turbidity = _renamed("insolation", "linke_turbidity", linke_turbidity,
+                               insolation.__kwdefaults__["linke_turbidity"], "linke", linke)
+    surface = _surface(surface, surface_tilt, surface_azimuth)
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     params, options, linke = _clear_sky_params(
-        ctx, {"step": step, "linke": linke, "albedo": albedo, "shadow": shadow,
-              "solar_constant": solar_constant, "surface": surface})
+        ctx, {"step": iso_duration(step), "linke": linke_turbidity, "albedo": albedo,
+              "shadow": shadow, "solar_constant": solar_constant, "surface": surface})
     shadow = lib.ss_insolation_params_shadow(params)
     if shadow == lib.SS_SHADOW_CUMULATIVE:
         raise ArgumentError("--shadow cumulative bins the suns of weather records: use "
@@ -122,16 +203,22 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude, step=None, lin
     planes = {k: grid.new_plane() for k in _PARTS}
     out = ffi.new("ss_insolation_out *")
     buffers = {k: ffi.from_buffer("float[]", planes[k]) for k in _PARTS}
-    for k in _PARTS:
-        setattr(out, k, buffers[k])  # "global" is a Python keyword: no out.global
+    for k, field in _PARTS.items():
+        setattr(out, field, buffers[k])  # "global" is a Python keyword: no out.global
     ctx.call(lib.ss_insolation, grid.ptr, opt, options, len(mids), sun_at, ffi.NULL, ffi.NULL,
              ffi.NULL, out, progress=kw.get("progress"))
-    units = {"global": "Wh m-2", "beam": "Wh m-2", "diffuse": "Wh m-2", "reflected": "Wh m-2",
-             "sun_hours": "h"}
     shadow_used = ffi.string(lib.ss_shadow_mode_name(plan.shadow_mode)).decode()
-    return {k: grid.finish(planes[k], k, {"long_name": _LONG_NAMES[k], "units": units[k],
-                                          "shadow": shadow_used, "steps": len(mids)})
-            for k in _PARTS}
+    parts = {k: grid.finish(plane, k, {"long_name": _LONG_NAMES[k],
+                                       "units": "h" if k == "sun_hours" else "Wh m-2"})
+             for k, plane in planes.items()}  # NaN at nodata, in the planes too
+    diffuse = planes["poa_sky_diffuse"] + planes["poa_ground_diffuse"]
+    parts["poa_diffuse"] = grid.wrap(diffuse, "poa_diffuse", {
+        "long_name": _LONG_NAMES["poa_diffuse"], "units": "Wh m-2"})
+    about = {"shadow": shadow_used, "steps": len(mids)}
+    if grid.template is None:
+        return Irradiation(parts)
+    return grid.dataset(parts, about)
 
 
+_numpydoc(insolation)
 _doc_options(insolation, "insolation", SWEEP_OPTIONS)

@@ -8,6 +8,7 @@ too. An array carries no place, so azimuths are grid azimuths (north up the
 columns), the earth's mean radius serves for curvature, and one sun serves the
 whole grid. Results hold NaN where the DEM has no height.
 """
+import inspect
 import math
 from collections import namedtuple
 
@@ -16,7 +17,6 @@ import numpy as np
 from ._context import ArgumentError, context
 from ._grid import Grid, out_buffer
 from ._lib import CONST, default, ffi, lib, option
-
 
 
 def _choice(command, name, given):
@@ -143,6 +143,18 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     return (opt, plan) if with_plan else opt
 
 
+def _renamed(function, name, value, default_value, alias, alias_value):
+    """A parameter that also has an older name (kept as an alias): the
+    alias's value where only it is given. Giving both is a TypeError. The
+    parameter was not given where it is its signature's own default object
+    (a caller's 315.0 is another object)."""
+    if alias_value is None:
+        return value
+    if value is not default_value:
+        raise TypeError(f"{function}() got both {name} and its alias {alias}: give one")
+    return alias_value
+
+
 def _begin(dem, cell_size, nodata, kw, allowed):
     unknown = set(kw) - set(allowed) - {"device", "progress"}
     if unknown:
@@ -151,13 +163,53 @@ def _begin(dem, cell_size, nodata, kw, allowed):
     return ctx, Grid(ctx, dem, cell_size, nodata)
 
 
-def svf(dem, cell_size=None, *, definition=None, radius=None, nodata=None, **kw):
+_RAISES = """Raises
+------
+ArgumentError
+    A parameter out of its table's range or choices (the CLI's wording).
+TypeError, ValueError
+    A DEM that is not 2-D real numbers, a missing or bad cell_size, an unknown keyword.
+SkysweepError
+    The library's failures (DeviceError, OutOfMemory, Cancelled, ...)."""
+
+_DEM_PARAMETERS = """dem : array_like, numpy.ma.MaskedArray, xarray.DataArray or rasterio dataset
+    Heights in metres, rows north to south (doc/python.md: how each input is read).
+cell_size : float or (float, float), default None
+    Cell size in metres, one number or (east-west, north-south); None takes it from a
+    DataArray's x, y coordinates or a rasterio dataset's transform."""
+
+_NODATA_PARAMETER = """nodata : float, default None
+    A height that marks cells without one, besides NaN and what the input declares."""
+
+
+def _name_parameter(default_name):
+    return f"""name : str, default {default_name!r}
+    The returned DataArray's name (for a DataArray DEM; as xarray-spatial's name=)."""
+
+
+def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
+        radius=default("svf", "radius"), nodata=None, name="svf", **kw):
     """Sky-view factor (0..1) of every cell.
 
-    definition: "geometric" (1 - mean sin h, Zakšek et al. 2011, RVT), "radiative"
-    (Dozier & Frew 1990, the cosine-weighted sky the sloping cell sees) or
-    "horizontal" (cosine-weighted, horizontal surface). radius: metres; horizons
-    only that far (geometric or horizontal), 0: unlimited, exact.
+    Parameters
+    ----------
+    {dem}
+    definition : {{"geometric", "radiative", "horizontal"}}, default "geometric"
+        "geometric" (1 - mean sin h, Zakšek et al. 2011, RVT), "radiative" (Dozier &
+        Frew 1990, the cosine-weighted sky the sloping cell sees) or "horizontal"
+        (cosine-weighted, horizontal surface).
+    radius : float, default 0
+        Metres; horizons only that far (geometric or horizontal). 0: unlimited, exact.
+    {nodata}
+    {name}
+
+    Returns
+    -------
+    numpy.ndarray or xarray.DataArray
+        float32, shaped like the DEM, NaN where it has no height; a DataArray (units
+        "1") for a DataArray DEM.
+
+    {raises}
     """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     definition = _value("svf", "definition", definition)
@@ -170,14 +222,33 @@ def svf(dem, cell_size=None, *, definition=None, radius=None, nodata=None, **kw)
                  progress=kw.get("progress"))
     else:
         ctx.call(lib.ss_svf, grid.ptr, opt, code, out_buffer(out), progress=kw.get("progress"))
-    return grid.finish(out, "svf", {"long_name": "sky-view factor", "units": "1",
-                                    "definition": definition,
-                                    "directions": opt.directions})
+    return grid.finish(out, name, {"long_name": "sky-view factor", "units": "1",
+                                   "definition": definition,
+                                   "directions": opt.directions})
 
 
-def openness(dem, cell_size=None, *, kind=None, radius=None, nodata=None, **kw):
-    """Topographic openness (Yokoyama et al. 2002) in degrees: kind "positive"
-    or "negative"; radius in metres (0: unlimited). A flat plane gives 90."""
+def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
+             radius=default("openness", "radius"), nodata=None, name=None, **kw):
+    """Topographic openness (Yokoyama et al. 2002) in degrees; a flat plane gives 90.
+
+    Parameters
+    ----------
+    {dem}
+    kind : {{"positive", "negative"}}, default "positive"
+        Positive (above the terrain) or negative (below it) openness.
+    radius : float, default 0
+        Metres; horizons only that far. 0: unlimited.
+    {nodata}
+    name : str, default None
+        The returned DataArray's name; None: "positive openness" or "negative openness".
+
+    Returns
+    -------
+    numpy.ndarray or xarray.DataArray
+        float32 degrees, shaped like the DEM, NaN where it has no height.
+
+    {raises}
+    """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     kind = _value("openness", "kind", kind)
     radius = _value("openness", "radius", radius)
@@ -186,8 +257,9 @@ def openness(dem, cell_size=None, *, kind=None, radius=None, nodata=None, **kw):
     out = grid.new_plane()
     ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius, out_buffer(out),
              progress=kw.get("progress"))
-    return grid.finish(out, f"{kind} openness", {"long_name": f"{kind} openness",
-                                                 "units": "degree", "directions": opt.directions})
+    return grid.finish(out, name or f"{kind} openness",
+                       {"long_name": f"{kind} openness", "units": "degree",
+                        "directions": opt.directions})
 
 
 Horizons = namedtuple("Horizons", "azimuth elevation distance cast_height")
@@ -199,7 +271,28 @@ ground height, metres; NaN: none)."""
 
 
 def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=None, **kw):
-    """Terrain horizon elevation of every cell in each direction (Horizons)."""
+    """Terrain horizon elevation of every cell in each direction.
+
+    Parameters
+    ----------
+    {dem}
+    distance : bool, default False
+        Also the distance (metres) to the terrain that casts each horizon (0: none).
+    cast_height : bool, default False
+        Also that terrain's ground height (metres; NaN: none).
+    {nodata}
+
+    Returns
+    -------
+    Horizons or xarray.Dataset
+        For an array: Horizons(azimuth, elevation, distance, cast_height), the cubes
+        directions x rows x columns (None where not asked for). For a DataArray: a
+        Dataset with variables ``elevation`` (degrees), and where asked ``distance``
+        and ``cast_height`` (m), over the dimension coordinate ``azimuth`` (degrees
+        clockwise from north) and the DEM's y, x, with its CRS and transform.
+
+    {raises}
+    """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     opt = _sweep(ctx, grid, "horizon", lib.SS_PRODUCT_HORIZON, kw)
     d, (h, w) = opt.directions, grid.shape
@@ -228,21 +321,46 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
             cube[:, nodata_cells] = np.nan
     if height is not None:
         height[height == np.float32(CONST["SS_NODATA"])] = np.nan
-    lead = {"azimuth": azimuth}
-    return Horizons(azimuth, grid.wrap(angle, "horizon", {"long_name": "horizon elevation",
-                                                          "units": "degree"}, lead),
-                    None if dist is None else grid.wrap(dist, "distance", {
-                        "long_name": "horizon distance", "units": "m"}, lead),
-                    None if height is None else grid.wrap(height, "cast height", {
-                        "long_name": "horizon cast height", "units": "m"}, lead))
+    lead = {"azimuth": ("azimuth", azimuth, {"long_name": "azimuth clockwise from north",
+                                             "units": "degree"})}
+    cubes = Horizons(azimuth, grid.wrap(angle, "elevation", {"long_name": "horizon elevation",
+                                                             "units": "degree"}, lead),
+                     None if dist is None else grid.wrap(dist, "distance", {
+                         "long_name": "horizon distance", "units": "m"}, lead),
+                     None if height is None else grid.wrap(height, "cast_height", {
+                         "long_name": "horizon cast height", "units": "m"}, lead))
+    if grid.template is None:
+        return cubes
+    return grid.dataset({k: v for k, v in cubes._asdict().items()
+                         if k != "azimuth" and v is not None},
+                        {"directions": d})
 
 
-def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, **kw):
-    """Cast shadows for one sun: 1 where a cell is sunlit (its apparent sun
-    elevation above its terrain horizon in the sun's azimuth), 0 in shadow.
-    sun_azimuth: degrees clockwise from north; sun_elevation: apparent
-    (refracted) degrees. Self-shadow (a cell facing away) is not included:
-    see hillshade and sun_incidence."""
+def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name="sunlit",
+           **kw):
+    """Cast shadows for one sun: 1 where a cell is sunlit, 0 in shadow.
+
+    A cell is sunlit where the sun's apparent elevation lies above its terrain
+    horizon in the sun's azimuth. Self-shadow (a cell facing away) is not
+    included: see hillshade and sun_incidence.
+
+    Parameters
+    ----------
+    {dem}
+    sun_azimuth : float
+        Degrees clockwise from north.
+    sun_elevation : float
+        Apparent (refracted) degrees above the horizontal.
+    {nodata}
+    {name}
+
+    Returns
+    -------
+    numpy.ndarray or xarray.DataArray
+        float32 1 (sunlit) or 0, shaped like the DEM, NaN where it has no height.
+
+    {raises}
+    """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     sun_azimuth = _checked("shadow", "sun_azimuth", sun_azimuth)
     sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
@@ -250,21 +368,25 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, **kw
     out = grid.new_plane()
     ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
              out_buffer(out), ffi.NULL, progress=kw.get("progress"))
-    return grid.finish(out, "sunlit", {"long_name": "sunlit", "units": "1",
-                                       "sun_azimuth": sun_azimuth,
-                                       "sun_elevation": sun_elevation})
+    return grid.finish(out, name, {"long_name": "sunlit", "units": "1",
+                                   "sun_azimuth": sun_azimuth,
+                                   "sun_elevation": sun_elevation})
 
 
-def _shade(dem, cell_size, nodata, kw, given):
+def _shade(dem, cell_size, nodata, kw, given, radius=None):
     """gdaldem's hillshade or RVT's VAT blend (1..255), as `skysweep
     hillshade` computes it: the library's options from its hillshade table
     (ss_hillshade_params_options), the planner asked for what they sweep,
-    and the rows of ss_hillshade_rows on the whole grid."""
+    and the rows of ss_hillshade_rows on the whole grid. radius (metres)
+    gives the blend's radius in the table's cells (the library measures
+    them with the cells' geometric mean size, as here)."""
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    cell_m = math.sqrt(grid.cell_size[0] * grid.cell_size[1])
+    if radius is not None:
+        given = dict(given, blend_radius=_checked("svf", "radius", radius) / cell_m)
     params = _params("hillshade", "hillshade", given)
     shading = ffi.new("ss_hillshade_options *")
-    lib.ss_hillshade_params_options(params, math.sqrt(grid.cell_size[0] * grid.cell_size[1]),
-                                    shading)
+    lib.ss_hillshade_params_options(params, cell_m, shading)
     opt = _sweep(ctx, grid, "hillshade", lib.ss_hillshade_params_product(params), kw)
     out = grid.new_plane()
     width = grid.shape[1]
@@ -284,64 +406,158 @@ def _shade(dem, cell_size, nodata, kw, given):
     finally:
         if failed:  # the sink's own exception, not the library's status for it
             raise failed[0][1].with_traceback(failed[0][2])
-    return grid, opt, out
+    return grid, opt, out, shading.radius_m
 
 
-def hillshade(dem, cell_size=None, *, az=None, alt=None, z=None, alg=None,
-              multidirectional=False, cast_shadows=False, sky_view=None, nodata=None, **kw):
-    """Hillshade as gdaldem computes it (1..255): light from azimuth `az` and
-    altitude `alt` (degrees), heights scaled by `z`, slope by `alg` "Horn" or
-    "ZevenbergenThorne", or gdaldem's multidirectional blend. The names are
-    gdaldem's and the CLI's. cast_shadows: cells in the light's cast shadows
-    (an exact sweep along it) take 1; sky_view: a weight W in 0..1 blending
-    in (1 - W) shade + W (1 + 254 SVF), geometric SVF over `directions`. The
-    values are the shade before the Byte rounding of the CLI's file (np.rint
-    gives the file's bytes)."""
-    grid, _, out = _shade(dem, cell_size, nodata, kw,
-                          {"az": az, "alt": alt, "z": z, "alg": alg,
+def hillshade(dem, cell_size=None, *, sun_azimuth=default("hillshade", "az"),
+              sun_elevation=default("hillshade", "alt"), z=default("hillshade", "z"),
+              alg=default("hillshade", "alg"), multidirectional=False, cast_shadows=False,
+              sky_view=default("hillshade", "sky-view"), nodata=None, name="hillshade",
+              az=None, alt=None, **kw):
+    """Hillshade as gdaldem computes it (1..255), or gdaldem's multidirectional blend.
+
+    Parameters
+    ----------
+    {dem}
+    sun_azimuth : float, default 315
+        The light's azimuth, degrees clockwise from north (gdaldem's and the CLI's -az).
+    sun_elevation : float, default 45
+        The light's elevation, degrees above the horizontal (gdaldem's -alt).
+    z : float, default 1
+        Vertical exaggeration: heights (metres) times z (a factor, not a length).
+    alg : {{"Horn", "ZevenbergenThorne"}}, default "Horn"
+        The slope's algorithm, as gdaldem's -alg.
+    multidirectional : bool, default False
+        gdaldem's multidirectional blend instead of one light.
+    cast_shadows : bool, default False
+        Cells in the light's cast shadows (an exact sweep along it) take 1.
+    sky_view : float, default 0
+        A weight W in 0..1 blending in (1 - W) shade + W (1 + 254 SVF), geometric SVF
+        over `directions`.
+    {nodata}
+    {name}
+    az, alt : float, default None
+        The former names of sun_azimuth and sun_elevation (gdaldem's), kept as aliases;
+        giving a parameter under both names is a TypeError.
+
+    Returns
+    -------
+    numpy.ndarray or xarray.DataArray
+        float32 shade, 1..255 before the CLI's Byte rounding (np.rint gives the file's
+        bytes), NaN where the DEM has no height.
+
+    {raises}
+    """
+    sun_azimuth = _renamed("hillshade", "sun_azimuth", sun_azimuth,
+                           hillshade.__kwdefaults__["sun_azimuth"], "az", az)
+    sun_elevation = _renamed("hillshade", "sun_elevation", sun_elevation,
+                             hillshade.__kwdefaults__["sun_elevation"], "alt", alt)
+    grid, _, out, _ = _shade(dem, cell_size, nodata, kw,
+                          {"az": sun_azimuth, "alt": sun_elevation, "z": z, "alg": alg,
                            "multidirectional": multidirectional, "cast_shadows": cast_shadows,
                            "sky_view": sky_view})
-    return grid.finish(out, "hillshade", {"long_name": "hillshade", "units": "1",
-                                          "az": _value("hillshade", "az", az),
-                                          "alt": _value("hillshade", "alt", alt)})
+    return grid.finish(out, name, {"long_name": "hillshade", "units": "1",
+                                   "sun_azimuth": _value("hillshade", "az", sun_azimuth),
+                                   "sun_elevation": _value("hillshade", "alt", sun_elevation)})
 
 
-def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, device=None):
-    """Cosine of the angle between the sun and each cell's surface normal
-    (Horn's gradient); <= 0 where the cell faces away from the sun."""
+def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None,
+                  name="cos_incidence", device=None):
+    """Cosine of the angle between the sun and each cell's surface normal (Horn's gradient).
+
+    Parameters
+    ----------
+    {dem}
+    sun_azimuth : float
+        Degrees clockwise from north.
+    sun_elevation : float
+        Degrees above the horizontal.
+    {nodata}
+    {name}
+    device : str, default None
+        None (SKYSWEEP_DEVICE, else "auto"), "reference" (the C twin) or a device as
+        --device names it.
+
+    Returns
+    -------
+    numpy.ndarray or xarray.DataArray
+        float32 cosines, <= 0 where the cell faces away from the sun, NaN where the DEM
+        has no height.
+
+    {raises}
+    """
     ctx, grid = _begin(dem, cell_size, nodata, {"device": device}, ())
     out = grid.new_plane()
     ctx.call(lib.ss_sun_incidence, grid.ptr, _checked("shadow", "sun_azimuth", sun_azimuth),
              _checked("shadow", "sun_elevation", sun_elevation), ffi.NULL, ffi.NULL,
              out_buffer(out))
-    return grid.finish(out, "cos incidence", {"long_name": "cosine of the sun's incidence",
-                                              "units": "1"})
+    return grid.finish(out, name, {"long_name": "cosine of the sun's incidence",
+                                   "units": "1"})
 
 
-def vat(dem, cell_size=None, *, blend_radius=None, nodata=None, **kw):
-    """RVT's VAT relief blend (Kokalj & Somrak 2019), 0..1 (1 = white):
+def vat(dem, cell_size=None, *, radius=None, nodata=None, name="vat", blend_radius=None, **kw):
+    """RVT's VAT relief blend (Kokalj & Somrak 2019), 0..1 (1 = white).
+
     gdaldem's hillshade at 315/35 degrees, Horn's slope, and SVF and positive
-    openness from horizons within `blend_radius` cells (RVT's 10; 0:
-    unlimited), as `skysweep hillshade --blend vat` computes it (its file
-    holds 1 + 254 times this, rounded)."""
-    grid, opt, out = _shade(dem, cell_size, nodata, kw,
-                            {"blend": "vat", "blend_radius": blend_radius})
+    openness from horizons within `radius`, as `skysweep hillshade --blend
+    vat` computes it (its file holds 1 + 254 times this, rounded).
+
+    Parameters
+    ----------
+    {dem}
+    radius : float, default None
+        Metres, as svf's and openness's radius; 0: unlimited; None: RVT's 10 cells
+        (the CLI's --blend-radius default), in metres of the DEM's cells.
+    {nodata}
+    {name}
+    blend_radius : float, default None
+        The former parameter: the radius in cells, as the CLI's --blend-radius; giving
+        it with radius is a TypeError.
+
+    Returns
+    -------
+    numpy.ndarray or xarray.DataArray
+        float32 0..1, shaped like the DEM, NaN where it has no height.
+
+    {raises}
+    """
+    if radius is not None and blend_radius is not None:
+        raise TypeError("vat() got both radius (metres) and its former blend_radius (cells): "
+                        "give one")
+    grid, opt, out, radius_m = _shade(dem, cell_size, nodata, kw,
+                            {"blend": "vat", "blend_radius": blend_radius}, radius)
     blend = np.where(out == np.float32(CONST["SS_NODATA"]), out, (out - 1.0) / 254.0)
-    return grid.finish(blend.astype(np.float32), "vat", {"long_name": "VAT relief blend",
-                                                         "units": "1",
-                                                         "directions": opt.directions})
+    return grid.finish(blend.astype(np.float32), name, {"long_name": "VAT relief blend",
+                                                        "units": "1", "radius": radius_m,
+                                                        "directions": opt.directions})
 
 
 _PRODUCTS = {"horizon": lib.SS_PRODUCT_HORIZON, "openness": lib.SS_PRODUCT_HORIZON,
              "svf": lib.SS_PRODUCT_SVF, "shadow": lib.SS_PRODUCT_SHADOW}
 
 
-def plan(dem, cell_size=None, *, product="svf", definition=None, nodata=None, **kw):
-    """What a run of `product` ("svf", "openness", "horizon" or "shadow")
-    would simulate on this DEM, and why: the planner's decisions as a dict
-    (`skysweep COMMAND --plan --plan-format json`): directions, sweeps,
-    estimated_seconds, device, and "effects", each with its on/off, reason
-    and the error it allows."""
+def plan(dem, cell_size=None, *, product="svf", definition=default("svf", "definition"),
+         nodata=None, **kw):
+    """What a run of `product` would simulate on this DEM, and why.
+
+    Parameters
+    ----------
+    {dem}
+    product : {{"svf", "openness", "horizon", "shadow"}}, default "svf"
+        The product to plan.
+    definition : {{"geometric", "radiative", "horizontal"}}, default "geometric"
+        The SVF definition (for product "svf").
+    {nodata}
+
+    Returns
+    -------
+    dict
+        The planner's decisions as `skysweep COMMAND --plan --plan-format json` prints
+        them: directions, sweeps, estimated_seconds, device, and "effects", each with
+        its on/off, reason and the error it allows.
+
+    {raises}
+    """
     import json
     if product not in _PRODUCTS:
         raise ValueError(f"product must be one of {', '.join(_PRODUCTS)}, not {product!r}")
@@ -354,20 +570,45 @@ def plan(dem, cell_size=None, *, product="svf", definition=None, nodata=None, **
     return json.loads(ffi.string(text).decode())
 
 
+def _numpydoc(function, **snippets):
+    """The function's docstring, dedented, with the shared sections filled in."""
+    function.__doc__ = inspect.cleandoc(function.__doc__).format(
+        dem=_DEM_PARAMETERS, nodata=_NODATA_PARAMETER, raises=_RAISES,
+        name=_name_parameter(inspect.signature(function).parameters.get(
+            "name", inspect.Parameter("name", inspect.Parameter.KEYWORD_ONLY)).default),
+        **snippets)
+
+
 def _doc_options(function, command, names):
-    """Appends the table's entries for the shared options to a docstring."""
-    lines = ["", "Options shared with `skysweep " + command + "` (defaults from its table):"]
+    """The shared options the function takes through **kw, from the table:
+    entries at the end of its docstring's Parameters section, and keyword
+    parameters with the table's defaults in its signature (inspect.signature,
+    help())."""
+    entries, parameters = [], []
     for name in names:
         entry = option(command, name.replace("_", "-"))
-        shown = entry.get("default", "-")
-        lines.append(f"    {name} (default {shown}): {entry['help']}")
-    lines.append("    device: None (SKYSWEEP_DEVICE, else \"auto\": the plan's choice), "
-                 "\"reference\" (the C twin) or a device as --device names it")
-    lines.append("    progress: None, True (tqdm or text) or callable(fraction, message); "
-                 "returning False cancels")
-    function.__doc__ = (function.__doc__ or "") + "\n".join(lines)
+        what = ("{" + ", ".join(f'"{c}"' for c in entry["choices"]) + "}"
+                if entry["type"] == "choice" else
+                {"int": "int", "double": "float"}.get(entry["type"], "str"))
+        value = default(command, name.replace("_", "-"))
+        entries.append(f"{name} : {what}, default {value!r}\n    {entry['help']}")
+        parameters.append(inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=value))
+    entries.append('device : str, default None\n    None (SKYSWEEP_DEVICE, else "auto": the '
+                   'plan\'s choice), "reference" (the C twin) or a device as --device names it.')
+    entries.append("progress : bool or callable, default None\n    None, True (tqdm or text) "
+                   "or callable(fraction, message); returning False cancels.")
+    parameters += [inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, default=None)
+                   for n in ("device", "progress")]
+    doc = function.__doc__
+    at = doc.index("\nReturns\n-------")
+    function.__doc__ = doc[:at].rstrip("\n") + "\n" + "\n".join(entries) + "\n" + doc[at:]
+    own = [p for p in inspect.signature(function).parameters.values()
+           if p.kind != inspect.Parameter.VAR_KEYWORD]
+    function.__signature__ = inspect.signature(function).replace(parameters=own + parameters)
 
 
+for _f in (svf, openness, horizon, shadow, hillshade, sun_incidence, vat, plan):
+    _numpydoc(_f)
 for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shadow, "shadow"),
                (hillshade, "hillshade"), (vat, "hillshade"), (plan, "svf")):
     _doc_options(_f, _c, SWEEP_OPTIONS)

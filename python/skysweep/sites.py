@@ -5,25 +5,53 @@ import numpy as np
 
 from ._context import context
 from ._grid import Grid
-from ._lib import CONST, ffi, lib
-from .products import _sweep_params, _value
+from ._lib import CONST, default, ffi, lib
+from .products import _numpydoc, _sweep_params, _value
 
 _FIELDS = ("azimuth", "elevation", "distance", "cast_col", "cast_row", "cast_height")
 
 
-def site_horizon(dem, cell_size=None, *, col, row, height=None, step=None, curvature=None,
-                 refraction=None, earth_radius=None, lines=None, nodata=None, device=None):
-    """Horizon profiles of sites at (col, row), cell-centre coordinates (the
-    centre of cell (c, r) is col = c, row = r; scalars or equal-length
-    arrays), `height` metres above the ground, every `step` degrees of
-    azimuth from north (grid north: an array has no place).
+def site_horizon(dem, cell_size=None, *, col, row, height=default("horizon", "height"),
+                 step=default("horizon", "step"), curvature=default("horizon", "curvature"),
+                 refraction=default("horizon", "refraction"),
+                 earth_radius=default("horizon", "earth-radius"),
+                 lines=default("horizon", "lines"), nodata=None, device=None):
+    """Horizon profiles of sites, as `skysweep horizon --point` gives them.
 
-    Returns a dict of arrays, one row per site (a single site: 1-D):
-    azimuth and elevation (degrees; -90 where no terrain lies ahead inside
-    the grid), distance (metres, 0: none), cast_col, cast_row (the casting
-    point; NaN: none) and cast_height (its ground height, metres), and
-    ground_height (per site, metres). As on the command line, curvature is
-    on only where asked for ("on").
+    Parameters
+    ----------
+    {dem}
+    col, row : float or array_like
+        Cell-centre coordinates of the sites (the centre of cell (c, r) is col = c,
+        row = r); scalars or equal-length arrays.
+    height : float, default 0
+        Metres above the ground.
+    step : float, default 1
+        Degrees of azimuth between directions, from north (grid north: an array has
+        no place); must divide 360.
+    curvature : {{"auto", "on", "off"}}, default "auto"
+        As on the command line, curvature is on only where asked for ("on").
+    refraction : float, default 0.13
+        The refraction coefficient, with curvature on.
+    earth_radius : float, default None
+        Metres, with curvature on; None: the earth's mean radius.
+    lines : {{"auto", "interpolated", "digital", "box"}}, default "auto"
+        The sweep's lines; "auto": interpolated.
+    {nodata}
+    device : str, default None
+        None (SKYSWEEP_DEVICE, else "auto"), "reference" (the C twin) or a device as
+        --device names it.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        One row per site (a single site: 1-D): ``azimuth`` and ``elevation``
+        (degrees; -90 where no terrain lies ahead inside the grid), ``distance``
+        (metres, 0: none), ``cast_col``, ``cast_row`` (the casting point; NaN: none)
+        and ``cast_height`` (its ground height, metres), and ``ground_height`` (per
+        site, metres).
+
+    {raises}
     """
     ctx = context(device)
     grid = Grid(ctx, dem, cell_size, nodata)
@@ -77,3 +105,6 @@ def site_horizon(dem, cell_size=None, *, col, row, height=None, step=None, curva
     if single:
         out = {k: v[0] for k, v in out.items()}
     return out
+
+
+_numpydoc(site_horizon)

@@ -60,7 +60,7 @@ def test_docstrings_list_every_option_help_does():
                  if line.startswith("  -")]
         doc = getattr(skysweep, f"{command}_file").__doc__
         missing = [n for n in names if n not in ("q", "help")
-                   and f"    {n.replace('-', '_')} (" not in doc]
+                   and f"\n{n.replace('-', '_')} : " not in doc]
         assert not missing, (command, missing)
 
 

@@ -26,7 +26,7 @@ CALLS = {
                                                          sun_elevation=20),
     "insolation": lambda d, c: skysweep.insolation(
         d, c, time="2026-06-21T10:00Z/PT2H", step="PT1H", latitude=45, longitude=8,
-        directions=8)["global"],
+        directions=8)["poa_global"],
 }
 
 
@@ -119,7 +119,7 @@ def test_the_product_has_its_own_attributes():
     assert skysweep.horizon(dem, directions=4).elevation.attrs["units"] == "degree"
     sums = skysweep.insolation(dem, time="2026-06-21T20:00Z/PT2H", step="PT1H", latitude=19.4,
                                longitude=-155.3, directions=8)
-    assert sums["global"].attrs["units"] == "Wh m-2"
+    assert sums["poa_global"].attrs["units"] == "Wh m-2"
 
 
 def test_implausible_fills_are_warned_about_and_taken_as_nodata():
