@@ -479,8 +479,7 @@ static ss_status place_sites(run_state *run, const common_settings *common,
 }
 
 /* Checks the settings; returns 0 or the usage error's exit code. */
-static int check_settings(const horizon_point_settings *pts, const char **pos, int n_pos,
-                          const char *output, int *directions)
+static int check_settings(const horizon_point_settings *pts, const char *output, int *directions)
 {
     double x, y;
     if ((pts->point != NULL) == (pts->points != NULL))
@@ -496,9 +495,6 @@ static int check_settings(const horizon_point_settings *pts, const char **pos, i
     if (pts->format == POINT_FORMAT_PVGIS && pts->points && (!output || !is_folder(output)))
         return run_usage_error("horizon", "--format pvgis with --points writes one file per "
                                           "site: OUTPUT must be an existing folder");
-    for (int i = 0; output && i < n_pos - 1; ++i)
-        if (strcmp(output, pos[i]) == 0 || ss_same_file(output, pos[i]))
-            return run_usage_error("horizon", "OUTPUT is also an input; choose another name");
     return 0;
 }
 
@@ -606,7 +602,7 @@ int horizon_points_run(const common_settings *common, const horizon_point_settin
     int n_inputs = n_pos > 1 ? n_pos - 1 : n_pos;
     const char *output = n_pos > 1 && strcmp(pos[n_pos - 1], "-") != 0 ? pos[n_pos - 1] : NULL;
     int directions = 0;
-    int rc = check_settings(pts, pos, n_pos, output, &directions);
+    int rc = check_settings(pts, output, &directions);
     if (rc)
         return rc;
     point_job j;

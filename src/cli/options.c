@@ -95,6 +95,8 @@ static int set_value(const opt_spec *s, void *settings, const char *text, char *
         return 0;
     }
     case OPT_STRING:
+    case OPT_INPUT:
+    case OPT_OUTPUT:
         if (field)
             *(const char **)field = text;
         return 0;

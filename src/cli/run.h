@@ -85,11 +85,11 @@ ss_line_model run_lines_asked(const common_settings *common);
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt);
 double run_earth_radius(const common_settings *common, const ss_dem_frame *frame);
-/* Refuses an output that is also an input, or (unless the run only
- * plans) that cannot be written there (ss_output_check), recording why in
- * the run's context. */
-ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
-                           int n_inputs);
+/* Refuses (unless the run only plans) an output that cannot be written
+ * there (ss_output_check), recording why in the run's context. That no
+ * output is an input or another output, run_parse has checked for every
+ * file the command names (src/adapt/run_files.h). */
+ss_status run_check_output(run_state *run, const char *output);
 /* Metadata every output carries: version, device, directions, conventions. */
 void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
                          const ss_dem_frame *frame);
