@@ -65,4 +65,54 @@ run svf -q --directions 4 dem.tif svf.tif
 [ "$rc" -eq 0 ] && [ -s svf.tif ]
 tap_ok $? "distinct files still run: exit $rc"
 
+# ---- 2. an existing output: its permissions, its mode, its link ---------------------
+svf() { run svf -q --directions 4 --device reference dem.tif "$@"; }
+svf o.tif
+chmod 444 o.tif
+refuses 4 o.tif "an output of mode 444 is not replaced, by root either" -- \
+    svf -q --directions 4 --device reference dem.tif o.tif
+grep -q 'read-only' stderr
+tap_ok $? "the refusal says the output is read-only: $(head -c 200 stderr)"
+refuses 4 o.tif "horizon's site profiles refuse a read-only output too" -- \
+    horizon -q --points sites.csv dem.tif o.tif
+chmod 640 o.tif
+svf o.tif
+mode=$(stat -c %a o.tif)
+[ "$rc" -eq 0 ] && [ "$mode" = 640 ]
+tap_ok $? "a replaced output keeps its mode: exit $rc, mode $mode (want 640)"
+mkdir -p linked
+cp -p o.tif linked/target.tif
+echo stale >linked/target.tif
+ln -s linked/target.tif link.tif
+svf link.tif
+[ "$rc" -eq 0 ] && [ -L link.tif ] && [ "$(readlink link.tif)" = linked/target.tif ] &&
+    gdalinfo linked/target.tif >/dev/null 2>&1 && [ "$(ls -A linked)" = target.tif ]
+tap_ok $? "an output that is a link is written through to its target, the link kept: exit $rc, $(ls -l link.tif | cut -c1-10) -> $(readlink link.tif), linked/: $(ls -A linked | tr '\n' ' ')"
+ln -s linked/new.tif dangling.tif
+svf dangling.tif
+[ "$rc" -eq 0 ] && [ -L dangling.tif ] && gdalinfo linked/new.tif >/dev/null 2>&1
+tap_ok $? "a link to a file not there yet is written through too: exit $rc"
+# As a user other than root, a file the user may not write (though the
+# folder is open to all, which lets rename replace it) is refused.
+if [ "$(id -u)" -eq 0 ] && command -v setpriv >/dev/null &&
+    setpriv --reuid=nobody --regid=nogroup --clear-groups true 2>/dev/null &&
+    setpriv --reuid=nobody --regid=nogroup --clear-groups test -x "$SKYSWEEP"; then
+    mkdir -m 777 open
+    cp dem.tif open/dem.tif
+    cp -p o.tif open/o.tif
+    chmod 644 open/o.tif
+    cp open/o.tif before
+    setpriv --reuid=nobody --regid=nogroup --clear-groups timeout -s KILL "$limit" \
+        "$SKYSWEEP" svf -q --directions 4 --device reference open/dem.tif open/o.tif \
+        >stdout 2>stderr
+    rc=$?
+    lines=$(wc -l <stderr)
+    [ "$rc" -eq 4 ] && [ "$lines" -eq 1 ] && cmp -s open/o.tif before &&
+        [ "$(stat -c %U open/o.tif)" = root ]
+    tap_ok $? "as nobody, root's output of mode 644 in a folder open to all is not replaced: exit $rc, $lines line(s): $(head -c 200 stderr)"
+else
+    tap_skip "as nobody, a file the user may not write is not replaced" \
+        "not root, or setpriv cannot switch to nobody"
+fi
+
 tap_done

@@ -381,7 +381,7 @@ static ss_status commit_file(ss_ctx *ctx, FILE *f, const char *tmp, const char *
     if (st == SS_OK && !ss_temporaries_hold()) /* a signal came as the file was finished */
         st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "cancelled before moving '%s' into place", path);
     else if (st == SS_OK) {
-        int moved = rename(tmp, path) == 0;
+        int moved = ss_output_rename(tmp, path) == 0;
         ss_temporaries_release();
         if (!moved)
             st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished output to '%s'", path);
@@ -571,7 +571,7 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
     w->cast_lat = w->cast_lon + directions;
     w->folder = folder_mode ? output : NULL;
     w->out = folder_mode ? NULL : stdout;
-    if (output && !folder_mode) {
+    if (output && !folder_mode && (st = ss_output_check(w->ctx, output)) == SS_OK) {
         w->out = open_temporary(output, &j->tmp);
         if (!w->out)
             st = ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", output);
