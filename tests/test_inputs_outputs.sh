@@ -115,4 +115,36 @@ else
         "not root, or setpriv cannot switch to nobody"
 fi
 
+# ---- 8. SIGPIPE and SIGHUP stop a run as SIGINT does ---------------------------------
+gdal_translate -q -outsize 400 400 "$top/samples/kilauea_summit_30m.tif" big.tif
+mkdir stop
+# The reader of standard output has gone: the progress (or summary) written
+# there raises SIGPIPE.
+(
+    timeout -s KILL "$limit" "$SKYSWEEP" svf --device reference --directions 200000 big.tif \
+        stop/o.tif 2>stderr
+    echo $? >rc
+) | true
+rc=$(cat rc)
+lines=$(wc -l <stderr)
+[ "$rc" -eq 141 ] && [ "$lines" -eq 1 ] && grep -q 'signal 13' stderr && [ -z "$(ls -A stop)" ]
+tap_ok $? "svf | (a reader that has gone): exit $rc (want 141), $lines line(s) on stderr, files left: $(ls -A stop | tr '\n' ' '): $(head -c 200 stderr)"
+for sig in HUP PIPE; do
+    # Not under timeout, which would take the signal itself.
+    "$SKYSWEEP" svf -q --device reference --directions 200000 big.tif stop/o.tif \
+        >stdout 2>stderr &
+    pid=$!
+    sleep 1.5
+    kill -"$sig" "$pid"
+    for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null && sleep 0.05; done
+    kill -KILL "$pid" 2>/dev/null
+    wait "$pid"
+    rc=$?
+    want=$((128 + $(kill -l "$sig")))
+    lines=$(wc -l <stderr)
+    [ "$rc" -eq "$want" ] && [ "$lines" -eq 1 ] && grep -q interrupted stderr &&
+        [ -z "$(ls -A stop)" ]
+    tap_ok $? "SIG$sig in the middle of svf: exit $rc (want $want), $lines line(s), files left: $(ls -A stop | tr '\n' ' '): $(head -c 200 stderr)"
+done
+
 tap_done

@@ -84,6 +84,9 @@ double run_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The signals that stop a run (stop_guard.c blocks the same in its thread). */
+static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+
 /* The context of the command running, so that a signal stops its sweep
  * between lines (ss_ctx_cancel only sets a flag). */
 static ss_ctx *signal_ctx = NULL;
@@ -96,7 +99,7 @@ static void on_signal(int sig)
 }
 
 /* GDAL's term progress, shown only once a run has lasted a second, and the
- * place where a pending SIGINT/SIGTERM cancels the run. */
+ * place where a pending stop signal cancels the run. */
 static int progress(double complete, const char *message, void *user)
 {
     (void)message;
@@ -130,8 +133,11 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    /* A closed terminal (SIGHUP) and a reader that has gone (SIGPIPE, as
+     * `skysweep ... | head -1` gives once the progress is written) stop a
+     * run as Ctrl-C does: one line on standard error, no temporary left. */
+    for (size_t i = 0; i < sizeof stop_signals / sizeof stop_signals[0]; ++i)
+        sigaction(stop_signals[i], &sa, NULL);
     ss_ctx_set_progress(run->ctx, progress, run);
     /* The device follows the job unless one is named here or in the
      * environment (SKYSWEEP_DEVICE, read by the library). */

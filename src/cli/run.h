@@ -67,7 +67,8 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
               char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
               const char *usage, const char *summary, const char *const *device_setting);
 
-/* Creates the context, installs SIGINT/SIGTERM handlers and progress. */
+/* Creates the context, installs the handlers of SIGINT, SIGTERM, SIGHUP and
+ * SIGPIPE (each stops the run, stop_guard.h) and progress. */
 int run_begin(run_state *run, const char *command, const common_settings *common);
 /* Prints "skysweep COMMAND: message" on stderr and returns the exit code:
  * the status, or 128 + signal when interrupted. */
