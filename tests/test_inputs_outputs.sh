@@ -147,4 +147,36 @@ for sig in HUP PIPE; do
     tap_ok $? "SIG$sig in the middle of svf: exit $rc (want $want), $lines line(s), files left: $(ls -A stop | tr '\n' ' '): $(head -c 200 stderr)"
 done
 
+# ---- 10. the scratch files of a run in bands follow TMPDIR; a full one is named -----
+gdal_translate -q -outsize 900 900 "$top/samples/kilauea_summit_30m.tif" banded.tif
+banded() { # a run in bands, which keeps its cells in a scratch file between bands
+    TMPDIR=$1 timeout -s KILL "$limit" "$SKYSWEEP" svf -q --device reference --directions 8 \
+        --memory 52M banded.tif stop/o.tif >stdout 2>stderr
+    rc=$?
+    lines=$(wc -l <stderr)
+}
+banded "$work/nowhere"
+[ "$rc" -eq 4 ] && [ "$lines" -eq 1 ] && grep -q "'$work/nowhere'" stderr && [ -z "$(ls -A stop)" ]
+tap_ok $? "TMPDIR is where the scratch file goes (a folder that is not there): exit $rc (want 4), $lines line(s): $(head -c 200 stderr)"
+mkdir scratch
+banded "$work/scratch"
+[ "$rc" -eq 0 ] && [ -s stop/o.tif ] && [ -z "$(ls -A scratch)" ]
+tap_ok $? "a run in bands with TMPDIR set: exit $rc, nothing left in TMPDIR"
+rm -f stop/o.tif
+# A folder that fills up: a tmpfs of 64 KiB in a mount namespace of its own.
+mkdir small
+export SKYSWEEP work limit
+if unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$work/small"' 2>/dev/null; then
+    unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$work/small" &&
+        TMPDIR=$work/small timeout -s KILL "$limit" "$SKYSWEEP" svf -q --device reference \
+            --directions 8 --memory 52M banded.tif stop/o.tif >stdout 2>stderr; echo $? >rc'
+    rc=$(cat rc)
+    lines=$(wc -l <stderr)
+    [ "$rc" -eq 4 ] && [ "$lines" -eq 1 ] && grep -q "'$work/small' is full" stderr &&
+        [ -z "$(ls -A stop)" ]
+    tap_ok $? "a full TMPDIR is named: exit $rc (want 4), $lines line(s), nothing left: $(head -c 240 stderr)"
+else
+    tap_skip "a full TMPDIR is named" "cannot mount a tmpfs in a mount namespace here"
+fi
+
 tap_done
