@@ -42,6 +42,8 @@ refuses() {
 # ---- 1. an output that is a file the run reads, or another output --------------------
 refuses 2 weather.csv "insolation's OUTPUT is its --weather file" -- \
     insolation -q --weather weather.csv dem.tif weather.csv
+refuses 2 weather.csv "insolation's --steps (a side output) is its --weather file" -- \
+    insolation -q --weather weather.csv --steps weather.csv dem.tif ins.tif
 refuses 2 sites.csv "horizon's OUTPUT is its --points file" -- \
     horizon -q --points sites.csv dem.tif sites.csv
 refuses 2 sites.csv "horizon's OUTPUT is its --points file by another name" -- \
