@@ -21,6 +21,27 @@ abbreviated to a unique prefix.
   only when complete: a failed or interrupted run leaves nothing behind and never replaces an
   existing file; a run killed with SIGKILL may leave its temporary, which the next run of that
   output removes.
+- An existing output is replaced only where the user may write it, and only if it has a write
+  bit for someone: a file of mode 444 is refused even to root (whom the system lets write
+  anything), as `rm -i` and `cp` would ask first; so is a file the user may not write in a folder
+  the user may (where a rename could replace it). The refusal is one line, exit 4, before any
+  work. A replaced output keeps its permission bits (a file of mode 640 stays 640). An output
+  that is a symbolic link is written through: the new file replaces the link's target (its
+  temporary made in the target's folder), and the link stays a link; a link to a file not there
+  yet creates that file.
+- No output may be a file the run reads or another of its outputs. Before any work every file
+  the command names is registered (`src/adapt/run_files.h`): the DEM tiles and other
+  positionals, the output (the last of two or more positionals), the scene (`--scene`,
+  `skysweep run`) and every file option, which the option tables declare as an input
+  (`--weather`, `--points`, `--drape`) or an output (`--distance`, `--cast-height`, `--steps`,
+  `--export`); a new file option is declared so too, and cannot be missed. Two files are the
+  same when they are one file (device and inode, links followed), or, for an output not there
+  yet, when their folders resolve to one and their names are equal. An overlap is refused in one
+  line naming both files and how each was given (exit 2), even with `--plan`.
+- A run in bands (`--memory`, doc/scale.md) keeps cells between bands in an unnamed scratch file
+  in `$TMPDIR`, else `/tmp` (`src/core/scratch.c`); it is unlinked as soon as made, so nothing
+  is left however the run ends. A scratch folder that is missing or full is named in the one
+  line (exit 4), with the hint to set `TMPDIR`. Every other temporary lies beside its output.
 - `-of FORMAT` takes a GDAL format that can hold the product: its data type (Float32; Byte for
   hillshade), its bands and its nodata value. Before any work a 2 × 2 probe is written and read
   back; a format that would cast, drop or lose them is refused (exit 2) in one line that names
@@ -62,8 +83,9 @@ abbreviated to a unique prefix.
 - Options that a product ignores are refused by value (exit 2), as those another option makes
   meaningless: `hillshade --blend vat` lights its own hillshade (315/35, Horn, z 1), so a
   `--az`, `--alt`, `--z` or `--alg` other than the default is refused.
-- Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
-  no output. A run whose thread cannot stop within half a second (a write to a stalled disk, work
+- Ctrl-C (SIGINT), SIGTERM, SIGHUP (the terminal closed) or SIGPIPE (the reader of standard
+  output gone, as in `skysweep ... | head -1`) stops any command within about a second: exit
+  128 + the signal (130, 143, 129, 141), one line on standard error, no output. A run whose thread cannot stop within half a second (a write to a stalled disk, work
   queued on a device) is ended by a guard thread that removes its temporaries first
   (`doc/reliability.md`).
 - Progress (GDAL's `0...10...100 - done.`) and a summary on stdout unless `-q`, the progress
@@ -90,7 +112,7 @@ abbreviated to a unique prefix.
 | 6 | out of memory, or the job would not fit |
 | 7 | cancelled |
 | 8 | internal error (a bug: please report it) |
-| 130, 143 | interrupted by SIGINT, SIGTERM: temporary files removed, no output |
+| 129, 130, 141, 143 | interrupted by SIGHUP, SIGINT, SIGPIPE, SIGTERM: temporary files removed, no output, one line on stderr |
 
 HEAD
 for command in svf horizon shadow hillshade insolation render quicklook; do

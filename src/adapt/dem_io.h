@@ -106,8 +106,11 @@ void ss_writer_abort(ss_raster_writer *w);
 
 /* Whether an output may be written at path: a non-empty name in a folder
  * that exists and is writable, and nothing there yet but a file to
- * replace (not a folder, device, pipe or socket). ss_writer_open checks
- * it; a command checks each of its outputs before any work. */
+ * replace (not a folder, device, pipe or socket) that may be replaced: one
+ * the user may write and that has a write bit for someone (root too is
+ * refused a file of mode 444). A link is checked, and written, at its
+ * target (ss_output_target). ss_writer_open checks it; a command checks
+ * each of its outputs before any work. */
 ss_status ss_output_check(ss_ctx *ctx, const char *path);
 
 /* Nonzero when two paths name the same existing file. */

@@ -299,7 +299,7 @@ static ss_status write_quicklook(ss_ctx *ctx, const char *png_path, const float 
         std::remove(tmp.c_str());
         return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': %s", png_path, why.c_str());
     }
-    if (std::rename(tmp.c_str(), png_path) != 0) {
+    if (ss_output_rename(tmp.c_str(), png_path) != 0) {
         std::remove(tmp.c_str());
         return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished file to '%s'", png_path);
     }

@@ -225,15 +225,29 @@ static char *temporary_name(const char *path, const char *kind)
     return ss_temporary_name(path, kind);
 }
 
+/* Whether an existing file may be replaced: the user may write it, and,
+ * for root too (whom access() lets write anything), someone may: a file
+ * without a write bit for anyone was made read-only on purpose, and is
+ * refused as rm -i and cp ask first. Renaming over a file needs only the
+ * folder's permission, so neither would be checked otherwise. */
+static int may_replace(const char *path, mode_t mode)
+{
+    return (mode & 0222) != 0 && access(path, W_OK) == 0;
+}
+
 ss_status ss_output_check(ss_ctx *ctx, const char *path)
 {
     if (!path[0])
         return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "an output's name is empty");
-    char *copy = strdup(path);
+    char target[PATH_MAX]; /* a link's target: written through (ss_output_target) */
+    if (!ss_output_target(path, target))
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "the output '%s' names a path too long", path);
+    char *copy = strdup(target);
     if (!copy)
         return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
     const char *dir = dirname(copy);
     VSIStatBufL st;
+    struct stat file;
     ss_status status = SS_OK;
     if (VSIStatL(dir, &st) != 0 || !VSI_ISDIR(st.st_mode))
         status = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' does not exist",
@@ -241,10 +255,18 @@ ss_status ss_output_check(ss_ctx *ctx, const char *path)
     else if (strncmp(dir, "/vsi", 4) != 0 && access(dir, W_OK | X_OK) != 0)
         status = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s': folder '%s' is not writable",
                          path, dir);
-    else if (VSIStatL(path, &st) == 0 && !VSI_ISREG(st.st_mode))
+    else if (VSIStatL(target, &st) == 0 && !VSI_ISREG(st.st_mode))
         status = ss_ctx_error(ctx, SS_ERR_OUTPUT,
                               "cannot write '%s': it is a %s, which an output may not replace",
                               path, VSI_ISDIR(st.st_mode) ? "folder" : "device, pipe or socket");
+    else if (strncmp(target, "/vsi", 4) != 0 && stat(target, &file) == 0 &&
+             !may_replace(target, file.st_mode))
+        status = ss_ctx_error(ctx, SS_ERR_OUTPUT,
+                              "cannot replace '%s': %s (mode %03o); make it writable or choose "
+                              "another name",
+                              path, file.st_mode & 0222 ? "this user may not write it"
+                                                        : "it is read-only",
+                              (unsigned)(file.st_mode & 0777));
     free(copy);
     return status;
 }
@@ -501,7 +523,9 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     w->byte_pixels = byte_pixels;
     w->driver = driver;
     w->bands = bands;
-    w->path = strdup(path);
+    char target[PATH_MAX]; /* fits: ss_output_check has resolved it */
+    ss_output_target(path, target);
+    w->path = strdup(target);
     if (w->path)
         ss_temporaries_track(w->path);
     w->tmp_path = temporary_name(path, "tmp");
@@ -515,7 +539,7 @@ static ss_status writer_open(ss_ctx *ctx, const char *path, const ss_dem *like, 
     ss_gdal_errors_reset();
     /* The user's creation options (NBITS=8 would lose values), not the
      * defaults: tiles of 256 x 256 made a probe of 2000 bands 0.5 GB. */
-    st = check_format_holds(ctx, driver, format ? format : "GTiff", path, bands, type,
+    st = check_format_holds(ctx, driver, format ? format : "GTiff", w->path, bands, type,
                             (char **)creation_options);
     if (st != SS_OK) {
         ss_writer_abort(w);
@@ -712,6 +736,8 @@ ss_status ss_writer_commit(ss_raster_writer *w, ss_progress_fn progress, void *u
                      "read back whole: %s", w->path, ss_gdal_failure(why, sizeof why));
     if (st == SS_OK && progress && !progress(1.0, "", user))
         st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "cancelled while writing '%s'", w->path);
+    if (st == SS_OK)
+        ss_output_keep_mode(w->tmp_path, w->path);
     /* The side-cars a format keeps beside the file (.aux.xml, an ENVI .hdr,
      * a .prj) move along, named as the format expects. The names of an
      * output without an extension cannot be paired so; such an output is

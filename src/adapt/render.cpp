@@ -149,7 +149,7 @@ class vtk_messages
 
 static ss_status commit_file(ss_ctx *ctx, const std::string &tmp, const char *path)
 {
-    if (std::rename(tmp.c_str(), path) != 0) {
+    if (ss_output_rename(tmp.c_str(), path) != 0) {
         std::remove(tmp.c_str());
         return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished file to '%s'", path);
     }

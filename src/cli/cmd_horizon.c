@@ -23,15 +23,15 @@ typedef struct {
 
 #define PTS(field) offsetof(horizon_settings, pts.field)
 static const opt_spec horizon_options[] = {
-    {"distance", OPT_STRING, offsetof(horizon_settings, distance_path), "FILE", NULL, 0, 0,
+    {"distance", OPT_OUTPUT, offsetof(horizon_settings, distance_path), "FILE", NULL, 0, 0,
      NULL, "also write the distance (m) to the horizon-casting point, one band per azimuth"},
-    {"cast-height", OPT_STRING, offsetof(horizon_settings, cast_height_path), "FILE", NULL, 0, 0,
+    {"cast-height", OPT_OUTPUT, offsetof(horizon_settings, cast_height_path), "FILE", NULL, 0, 0,
      NULL, "also write the ground height (m, the DEM's datum) of the horizon-casting point, one "
            "band per azimuth; nodata where no terrain lies ahead"},
     {"point", OPT_STRING, PTS(point), "LON,LAT", NULL, 0, 0, NULL,
      "horizon profile of one site instead of rasters (doc/pv-horizons.md); OUTPUT is then "
      "optional (standard output)"},
-    {"points", OPT_STRING, PTS(points), "FILE", NULL, 0, 0, NULL,
+    {"points", OPT_INPUT, PTS(points), "FILE", NULL, 0, 0, NULL,
      "profiles of the sites in a CSV file with the columns id,lon,lat and optionally height"},
     {"point-crs", OPT_STRING, PTS(point_crs), "CRS", "EPSG:4326", 0, 0, NULL,
      "CRS of --point and --points coordinates: 'dem' for the DEM's own, or any CRS GDAL reads"},
@@ -102,12 +102,6 @@ int cmd_horizon(int argc, char **argv)
     }
     if (n_pos < 2)
         return run_usage_error("horizon", "needs an input DEM and an output file");
-    if ((set.distance_path && ss_same_output(set.distance_path, pos[n_pos - 1])) ||
-        (set.cast_height_path && ss_same_output(set.cast_height_path, pos[n_pos - 1])) ||
-        (set.distance_path && set.cast_height_path &&
-         ss_same_output(set.distance_path, set.cast_height_path)))
-        return run_usage_error("horizon", "OUTPUT, --distance and --cast-height must name "
-                                          "different files");
     int want = (set.distance_path ? SS_HORIZON_DISTANCE : 0) |
                (set.cast_height_path ? SS_HORIZON_CAST_HEIGHT : 0);
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(want),
@@ -121,8 +115,7 @@ int cmd_horizon(int argc, char **argv)
     }
     const char *extras[] = {set.distance_path, set.cast_height_path};
     for (int i = 0; i < 2; ++i) {
-        ss_status bad = extras[i] ? run_check_output(&job.run, extras[i], job.inputs, job.n_inputs)
-                                  : SS_OK;
+        ss_status bad = extras[i] ? run_check_output(&job.run, extras[i]) : SS_OK;
         if (bad != SS_OK) {
             rc = run_fail(&job.run, bad);
             job_close(&job);

@@ -29,9 +29,9 @@ typedef struct {
 
 #define SET(field) offsetof(insolation_settings, field)
 static const opt_spec file_options[] = {
-    {"steps", OPT_STRING, SET(steps_path), "FILE", NULL, 0, 0, NULL,
+    {"steps", OPT_OUTPUT, SET(steps_path), "FILE", NULL, 0, 0, NULL,
      "also write each step's global irradiation (Wh/m^2), one band per step"},
-    {"weather", OPT_STRING, SET(weather), "FILE", NULL, 0, 0, NULL,
+    {"weather", OPT_INPUT, SET(weather), "FILE", NULL, 0, 0, NULL,
      "real sky: one step per record of an EPW, TMY3, PVGIS TMY (CSV, JSON), NSRDB PSM or CSV "
      "file (skysweep weather FILE shows them); --time then selects records; outputs in "
      "kWh/m2 for the year and each month (doc/insolation.md)"},
@@ -406,9 +406,7 @@ static ss_status open_outputs(insolation_run *r)
                                                         : 5,
                                    &set->common, &r->out.w);
     if (st == SS_OK && set->steps_path) {
-        st = ss_same_output(set->steps_path, job->output)
-                 ? ss_ctx_error(ctx, SS_ERR_ARGUMENT, "OUTPUT and --steps must name different files")
-                 : run_check_output(&job->run, set->steps_path, job->inputs, job->n_inputs);
+        st = run_check_output(&job->run, set->steps_path);
         if (st == SS_OK)
             st = ss_writer_open(ctx, set->steps_path, &job->dem, r->steps.n, set->common.format,
                                 set->common.creation_options.items, &r->out.steps_w);

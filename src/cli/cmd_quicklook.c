@@ -74,7 +74,7 @@ int cmd_quicklook(int argc, char **argv)
     if ((rc = run_begin(&run, "quicklook", NULL)))
         return rc;
     run.quiet = set.quiet;
-    ss_status bad = run_check_output(&run, pos[1], pos, 1);
+    ss_status bad = run_check_output(&run, pos[1]);
     if (bad != SS_OK) {
         rc = run_fail(&run, bad);
         run_end(&run);

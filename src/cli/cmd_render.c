@@ -39,7 +39,7 @@ typedef struct {
 
 #define SET(field) offsetof(render_settings, field)
 static const opt_spec render_options[] = {
-    {"drape", OPT_STRING, SET(drape), "FILE", NULL, 0, 0, NULL,
+    {"drape", OPT_INPUT, SET(drape), "FILE", NULL, 0, 0, NULL,
      "colour the surface by a raster on the DEM's grid (any skysweep product)"},
     {"drape-band", OPT_INT, SET(drape_band), "N", "1", 1, 65535, NULL,
      "band of the drape to show (with --rgb the first of three)"},
@@ -71,7 +71,7 @@ static const opt_spec render_options[] = {
     {"title", OPT_STRING, SET(title), "TEXT", NULL, 0, 0, NULL, "title at the top"},
     {"max-points", OPT_INT, SET(max_points), "N", "1000000", 0, 2147483647, NULL,
      "above this many surface points every k-th row and column is drawn (0: all)"},
-    {"export", OPT_STRING, SET(export_path), "FILE.vts", NULL, 0, 0, NULL,
+    {"export", OPT_OUTPUT, SET(export_path), "FILE.vts", NULL, 0, 0, NULL,
      "also write the surface (full resolution, true heights, CRS coordinates) with every band "
      "of the drape as point data, for ParaView"},
     OPT_END};
@@ -117,21 +117,12 @@ static int look_of(const render_settings *set, ss_render_scene *scene)
     return 0;
 }
 
-/* Neither output may overwrite an input, nor the two each other, and
- * each must be writable where it is named (run_check_output). */
+/* Each output must be writable where it is named (run_check_output; that
+ * neither replaces an input or the other, run_parse has checked). */
 static ss_status check_outputs(sweep_job *job, const render_settings *set)
 {
-    const char *inputs[COMMAND_MAX_INPUTS + 2];
-    int n = 0;
-    for (; n < job->n_inputs; ++n)
-        inputs[n] = job->inputs[n];
-    if (set->drape)
-        inputs[n++] = set->drape;
-    ss_status st = run_check_output(&job->run, job->output, inputs, n);
-    if (st != SS_OK || !set->export_path)
-        return st;
-    inputs[n++] = job->output;
-    return run_check_output(&job->run, set->export_path, inputs, n);
+    ss_status st = run_check_output(&job->run, job->output);
+    return st != SS_OK || !set->export_path ? st : run_check_output(&job->run, set->export_path);
 }
 
 /* The drape must lie on the DEM's grid: same size, and origins and cell

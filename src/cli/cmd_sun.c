@@ -51,7 +51,7 @@ static const opt_spec sun_table_options[] = {
      "site height above the ellipsoid, for parallax (default 0)"},
     {"algorithm", OPT_CHOICE, SET(algorithm), NULL, "spa", 0, 0, "spa|psa",
      "spa: NREL SPA, +-0.0003 deg; psa: PSA 2020, faster, about 0.01 deg near 2020-2050"},
-    {"horizon-from", OPT_STRING, SET(horizon_from), "DEM", NULL, 0, 0, NULL,
+    {"horizon-from", OPT_INPUT, SET(horizon_from), "DEM", NULL, 0, 0, NULL,
      "add the terrain horizon at the sun's azimuth (exact, doc/pv-horizons.md) and whether the "
      "sun is behind it; the DEM's height is then the default --altitude"},
     {"height", OPT_DOUBLE, SET(horizon.height_m), "METRES", "0", 0, 1e6, NULL,

@@ -378,7 +378,7 @@ static ss_status commit_file(ss_ctx *ctx, FILE *f, const char *tmp, const char *
     if (st == SS_OK && !ss_temporaries_hold()) /* a signal came as the file was finished */
         st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "cancelled before moving '%s' into place", path);
     else if (st == SS_OK) {
-        int moved = rename(tmp, path) == 0;
+        int moved = ss_output_rename(tmp, path) == 0;
         ss_temporaries_release();
         if (!moved)
             st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename the finished output to '%s'", path);
@@ -476,8 +476,7 @@ static ss_status place_sites(run_state *run, const common_settings *common,
 }
 
 /* Checks the settings; returns 0 or the usage error's exit code. */
-static int check_settings(const horizon_point_settings *pts, const char **pos, int n_pos,
-                          const char *output, int *directions)
+static int check_settings(const horizon_point_settings *pts, const char *output, int *directions)
 {
     double x, y;
     if ((pts->point != NULL) == (pts->points != NULL))
@@ -493,9 +492,6 @@ static int check_settings(const horizon_point_settings *pts, const char **pos, i
     if (pts->format == POINT_FORMAT_PVGIS && pts->points && (!output || !is_folder(output)))
         return run_usage_error("horizon", "--format pvgis with --points writes one file per "
                                           "site: OUTPUT must be an existing folder");
-    for (int i = 0; output && i < n_pos - 1; ++i)
-        if (strcmp(output, pos[i]) == 0 || ss_same_file(output, pos[i]))
-            return run_usage_error("horizon", "OUTPUT is also an input; choose another name");
     return 0;
 }
 
@@ -572,7 +568,7 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
     w->cast_lat = w->cast_lon + directions;
     w->folder = folder_mode ? output : NULL;
     w->out = folder_mode ? NULL : stdout;
-    if (output && !folder_mode) {
+    if (output && !folder_mode && (st = ss_output_check(w->ctx, output)) == SS_OK) {
         w->out = open_temporary(output, &j->tmp);
         if (!w->out)
             st = ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", output);
@@ -603,7 +599,7 @@ int horizon_points_run(const common_settings *common, const horizon_point_settin
     int n_inputs = n_pos > 1 ? n_pos - 1 : n_pos;
     const char *output = n_pos > 1 && strcmp(pos[n_pos - 1], "-") != 0 ? pos[n_pos - 1] : NULL;
     int directions = 0;
-    int rc = check_settings(pts, pos, n_pos, output, &directions);
+    int rc = check_settings(pts, output, &directions);
     if (rc)
         return rc;
     point_job j;

@@ -95,6 +95,8 @@ static int set_value(const opt_spec *s, void *settings, const char *text, char *
         return 0;
     }
     case OPT_STRING:
+    case OPT_INPUT:
+    case OPT_OUTPUT:
         if (field)
             *(const char **)field = text;
         return 0;
@@ -151,7 +153,9 @@ int opt_at_default(const opt_spec *s, const void *settings)
         return *(const int *)field == (def ? choice_index(s->choices, def) : 0);
     case OPT_FLAG:
         return *(const int *)field == 0;
-    case OPT_STRING: {
+    case OPT_STRING:
+    case OPT_INPUT:
+    case OPT_OUTPUT: {
         const char *v = *(const char *const *)field;
         return v == def || (v && def && strcmp(v, def) == 0);
     }

@@ -13,7 +13,13 @@ typedef enum {
     OPT_STRING, /* const char * */
     OPT_CHOICE, /* int: index into the '|'-separated choices */
     OPT_FLAG,   /* int: set to 1 when given */
-    OPT_LIST    /* opt_list: repeatable, e.g. -co KEY=VALUE */
+    OPT_LIST,   /* opt_list: repeatable, e.g. -co KEY=VALUE */
+    /* const char *, a file the run reads (OPT_INPUT) or writes (OPT_OUTPUT):
+     * every file option is one of these, so that run_parse registers it
+     * (src/adapt/run_files.h) and no output can replace another file the
+     * run names. A scene's value for either lies beside the scene. */
+    OPT_INPUT,
+    OPT_OUTPUT
 } opt_type;
 
 #define OPT_LIST_MAX 32

@@ -117,7 +117,7 @@ void opt_print_completion(const opt_spec *const *tables)
                     putchar(*c == '|' ? ' ' : *c);
             }
             else if (s->type != OPT_FLAG)
-                printf(" %s", s->metavar && strstr(s->metavar, "FILE") ? "<file>" : "<value>");
+                printf(" %s", s->type == OPT_INPUT || s->type == OPT_OUTPUT ? "<file>" : "<value>");
             printf("\n");
         }
     printf("--help\n");
@@ -152,7 +152,8 @@ static void json_number(double v)
 void opt_print_json(const opt_spec *const *tables, const char *command, const char *usage,
                     const char *summary, const char *version)
 {
-    static const char *const type_names[] = {"int", "double", "string", "choice", "flag", "list"};
+    static const char *const type_names[] = {"int", "double", "string", "choice", "flag", "list",
+                                             "string", "string"};
     printf("{\"command\": ");
     json_string(command);
     printf(", \"version\": ");

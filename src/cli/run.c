@@ -19,6 +19,7 @@
 #include "heightmap_input.h"
 #include "mpi_share.h"
 #include "run.h"
+#include "run_files.h"
 #include "scene.h"
 #include "stop_guard.h"
 #include "thread_room.h"
@@ -49,7 +50,7 @@ static const opt_spec cli_options[] = {
     {"overlap", OPT_CHOICE, COMMON(overlap), NULL, "refuse", 0, 0, "refuse|first|last|mean",
      "where tiles given together overlap and disagree (by more than 1 cm, or half an integer "
      "tile's step): refuse them, or take the first or last tile's height, or their mean"},
-    {"scene", OPT_STRING, COMMON(scene), "FILE", NULL, 0, 0, NULL,
+    {"scene", OPT_INPUT, COMMON(scene), "FILE", NULL, 0, 0, NULL,
      "read the job from a scene file (doc/scenes.md); options given here override it"},
     {"projwin", OPT_STRING, COMMON(projwin), "ULX ULY LRX LRY", NULL, 0, 0, NULL,
      "write the outputs for this window only (the DEM's CRS, as gdal_translate -projwin; "
@@ -93,6 +94,9 @@ double run_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The signals that stop a run (stop_guard.c blocks the same in its thread). */
+static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+
 /* The context of the command running, so that a signal stops its sweep
  * between lines (ss_ctx_cancel only sets a flag). */
 static ss_ctx *signal_ctx = NULL;
@@ -118,7 +122,7 @@ static int progress_line(run_state *run, double complete)
 }
 
 /* GDAL's term progress, shown only once a run has lasted a second, and the
- * place where a pending SIGINT/SIGTERM cancels the run. */
+ * place where a pending stop signal cancels the run. */
 static int progress(double complete, const char *message, void *user)
 {
     (void)message;
@@ -221,8 +225,11 @@ int run_begin(run_state *run, const char *command, const common_settings *common
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    /* A closed terminal (SIGHUP) and a reader that has gone (SIGPIPE, as
+     * `skysweep ... | head -1` gives once the progress is written) stop a
+     * run as Ctrl-C does: one line on standard error, no temporary left. */
+    for (size_t i = 0; i < sizeof stop_signals / sizeof stop_signals[0]; ++i)
+        sigaction(stop_signals[i], &sa, NULL);
     ss_ctx_set_progress(run->ctx, progress, run);
     ss_ctx_use_device(run->ctx, device);
     return 0;
@@ -462,13 +469,8 @@ void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
     opt->grid_north_deg = common->sweep.north != SS_NORTH_GRID ? frame->grid_north_deg : 0.0;
 }
 
-ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
-                           int n_inputs)
+ss_status run_check_output(run_state *run, const char *output)
 {
-    for (int i = 0; i < n_inputs; ++i)
-        if (strcmp(output, inputs[i]) == 0 || ss_same_file(output, inputs[i]))
-            return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
-                                "output '%s' is also an input; choose another name", output);
     return run->plan_only ? SS_OK : ss_output_check(run->ctx, output);
 }
 
@@ -629,6 +631,54 @@ static void join_projwin(int *argc, char **argv)
     }
 }
 
+/* The files the command names (run_files.h): its file options by their
+ * type, the scene, and its positionals, of which the last of two or more
+ * is the output ("-": standard output). Kept until the next command. */
+static ss_run_files named_files;
+
+static int register_files(const opt_spec *const *tables, const void *settings,
+                          const char *scene, const char **pos, int n_pos)
+{
+    int bad = scene ? ss_run_files_add(&named_files, scene, "--scene", 0) : 0;
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s) {
+            const char *path = (s->type == OPT_INPUT || s->type == OPT_OUTPUT)
+                                   ? *(const char *const *)((const char *)settings + s->offset)
+                                   : NULL;
+            char label[40];
+            snprintf(label, sizeof label, "%s%s", opt_dash(s->name), s->name);
+            if (path && strcmp(path, "-") != 0)
+                bad |= ss_run_files_add(&named_files, path, label, s->type == OPT_OUTPUT);
+        }
+    for (int i = 0; i < n_pos; ++i) {
+        int output = n_pos > 1 && i == n_pos - 1;
+        if (strcmp(pos[i], "-") != 0)
+            bad |= ss_run_files_add(&named_files, pos[i], output ? "OUTPUT" : "input", output);
+    }
+    return bad;
+}
+
+/* Refuses, before any work, an output that is an input or another output. */
+static int check_named_files(const char *command, const opt_spec *const *tables,
+                             const void *settings, const char *scene, const char **pos, int n_pos)
+{
+    ss_run_files_clear(&named_files);
+    if (register_files(tables, settings, scene, pos, n_pos) != 0) {
+        fprintf(stderr, "skysweep %s: out of memory\n", command);
+        return SS_ERR_MEMORY;
+    }
+    ss_ctx *ctx = ss_ctx_new();
+    if (!ctx) {
+        fprintf(stderr, "skysweep %s: out of memory\n", command);
+        return SS_ERR_MEMORY;
+    }
+    ss_status st = ss_run_files_check(ctx, &named_files);
+    if (st != SS_OK)
+        fprintf(stderr, "skysweep %s: %s\n", command, ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    return st == SS_OK ? -1 : (int)st;
+}
+
 int run_parse(const char *command, const opt_spec *const *tables, void *settings, int argc,
               char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
               const char *usage, const char *summary, const char *const *device_setting)
@@ -638,7 +688,8 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
         return 0;
     char err[512];
     char **scene_argv = NULL;
-    int scene_argc;
+    int scene_argc, scene_at = scene_arg(argc, argv);
+    const char *scene = scene_at >= 0 ? argv[scene_at + 1] : NULL;
     if (scene_expand(tables, argc, argv, &scene_argc, &scene_argv, err, sizeof err) != 0)
         return run_usage_error(command, err);
     if (scene_argv) { /* lives as long as the run: settings point into it */
@@ -660,7 +711,7 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
                                                          : "an input");
         return run_usage_error(command, err);
     }
-    return -1;
+    return check_named_files(command, tables, settings, scene, pos, *n_pos);
 }
 
 static int open_job(sweep_job *job, const char *command, const common_settings *common,
@@ -673,7 +724,7 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
     job->output = pos[n_pos - 1];
     job->inputs = pos;
     job->n_inputs = n_pos - 1;
-    ss_status st = run_check_output(&job->run, job->output, pos, job->n_inputs);
+    ss_status st = run_check_output(&job->run, job->output);
     if (st != SS_OK) {
         rc = run_fail(&job->run, st);
         run_end(&job->run);

@@ -70,7 +70,8 @@ int run_parse(const char *command, const opt_spec *const *tables, void *settings
               char **argv, const char **pos, int *n_pos, int max_pos, int min_pos,
               const char *usage, const char *summary, const char *const *device_setting);
 
-/* Creates the context, installs SIGINT/SIGTERM handlers and progress. */
+/* Creates the context, installs the handlers of SIGINT, SIGTERM, SIGHUP and
+ * SIGPIPE (each stops the run, stop_guard.h) and progress. */
 int run_begin(run_state *run, const char *command, const common_settings *common);
 /* Prints "skysweep COMMAND: message" on stderr and returns the exit code:
  * the status, or 128 + signal when interrupted. */
@@ -88,11 +89,11 @@ ss_line_model run_lines_asked(const common_settings *common);
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt);
 double run_earth_radius(const common_settings *common, const ss_dem_frame *frame);
-/* Refuses an output that is also an input, or (unless the run only
- * plans) that cannot be written there (ss_output_check), recording why in
- * the run's context. */
-ss_status run_check_output(run_state *run, const char *output, const char *const *inputs,
-                           int n_inputs);
+/* Refuses (unless the run only plans) an output that cannot be written
+ * there (ss_output_check), recording why in the run's context. That no
+ * output is an input or another output, run_parse has checked for every
+ * file the command names (src/adapt/run_files.h). */
+ss_status run_check_output(run_state *run, const char *output);
 /* Metadata every output carries: version, device, directions, conventions. */
 void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
                          const ss_dem_frame *frame);

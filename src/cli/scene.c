@@ -154,7 +154,7 @@ static int on_key(void *user, const char *section, const char *name, const char 
     if (spec->type == OPT_FLAG)
         return 1;
     /* A file an option names lies, like the DEM, beside the scene. */
-    int is_file = spec->metavar && strcmp(spec->metavar, "FILE") == 0;
+    int is_file = spec->type == OPT_INPUT || spec->type == OPT_OUTPUT;
     return push(s, is_file ? path_beside(s->dir, value) : strdup(value));
 }
 
@@ -168,7 +168,7 @@ static void scene_free(scene_state *s)
 }
 
 /* Index of the --scene option in argv, or -1. */
-static int scene_arg(int argc, char **argv)
+int scene_arg(int argc, char **argv)
 {
     for (int i = 1; i + 1 < argc; ++i)
         if (!strcmp(argv[i], "--scene") || !strcmp(argv[i], "-scene"))

@@ -14,6 +14,8 @@
  * message" in err. */
 int scene_expand(const opt_spec *const *tables, int argc, char **argv, int *out_argc,
                  char ***out_argv, char *err, size_t err_size);
+/* Index of the --scene option in argv (its file follows), or -1. */
+int scene_arg(int argc, char **argv);
 /* Frees what the last scene_expand returned (at the end of the run). */
 void scene_release(void);
 /* The scene's `product` (for skysweep plan/run SCENE). */

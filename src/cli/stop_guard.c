@@ -73,6 +73,8 @@ void stop_guard_arm(const char *command, int speaks)
     sigemptyset(&block);
     sigaddset(&block, SIGINT);
     sigaddset(&block, SIGTERM);
+    sigaddset(&block, SIGHUP);
+    sigaddset(&block, SIGPIPE);
     pthread_sigmask(SIG_BLOCK, &block, &old);
     pthread_attr_t attr;
     pthread_t thread;

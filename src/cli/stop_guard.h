@@ -1,4 +1,4 @@
-/* Ctrl-C (SIGINT) or SIGTERM ends a run within a second. The run's own
+/* Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGPIPE ends a run within a second. The run's own
  * thread sees the cancel between lines or batches, cleans up and reports;
  * where it cannot within half a second (behind work queued on a device,
  * which cannot be stopped, or in a slow write), this guard does it from a

@@ -7,12 +7,13 @@
 
 #include "cell_store.h"
 #include "engine.h"
+#include "scratch.h"
 
 struct ss_cell_store {
     ss_ctx *ctx;
     size_t row_bytes, plane_bytes;
     unsigned char *memory; /* the DEM held whole */
-    FILE *file;            /* else */
+    ss_scratch file;       /* else */
 };
 
 ss_status ss_cell_store_open(ss_ctx *ctx, const ss_source *src, int planes, size_t elem_size,
@@ -32,9 +33,10 @@ ss_status ss_cell_store_open(ss_ctx *ctx, const ss_source *src, int planes, size
         return ss_fail(ctx, SS_ERR_MEMORY, "cannot allocate %zu MB to keep %d planes of cells",
                        bytes >> 20, planes);
     }
-    if (!whole && !(s->file = tmpfile())) {
+    ss_status st = whole ? SS_OK : ss_scratch_open(ctx, &s->file);
+    if (st != SS_OK) {
         free(s);
-        return ss_fail(ctx, SS_ERR_OUTPUT, "cannot create a temporary file for a DEM in bands");
+        return st;
     }
     *out = s;
     return SS_OK;
@@ -52,12 +54,7 @@ static ss_status move_rows(ss_cell_store *s, int plane, int row0, int n_rows, vo
             memcpy(values, s->memory + at, n);
         return SS_OK;
     }
-    if (fseeko(s->file, (off_t)at, SEEK_SET) != 0)
-        return ss_fail(s->ctx, SS_ERR_OUTPUT, "temporary file: cannot seek");
-    size_t done = put ? fwrite(values, 1, n, s->file) : fread(values, 1, n, s->file);
-    return done == n ? SS_OK
-                     : ss_fail(s->ctx, SS_ERR_OUTPUT, "temporary file: %s failed%s",
-                               put ? "write" : "read", put ? " (disk full?)" : "");
+    return ss_scratch_move(s->ctx, &s->file, (off_t)at, values, n, put);
 }
 
 ss_status ss_cell_store_put(ss_cell_store *s, int plane, int row0, int n_rows,
@@ -83,8 +80,7 @@ void ss_cell_store_close(ss_cell_store *s)
     if (!s)
         return;
     free(s->memory);
-    if (s->file)
-        fclose(s->file);
+    ss_scratch_close(&s->file);
     free(s);
 }
 

@@ -19,6 +19,7 @@
 #include "engine.h"
 #include "lines.h"
 #include "products_internal.h"
+#include "scratch.h"
 #include "ss_passes.h"
 
 /* The kernels take the directions from a buffer: no padding may differ. */
@@ -106,7 +107,7 @@ typedef struct {
     float *grad;      /* their gradients (the radiative SVF) */
     float *planes;    /* the consumer's planes (horizon walks and no walk) */
     float *loaded;    /* a band's planes as earlier visits left them */
-    FILE *partial;    /* planes between visits, whole rows */
+    ss_scratch partial; /* planes between visits, whole rows (file NULL: none) */
     ss_band_dir *dirs;      /* every direction's lines; walk order in `order` */
     int *order, n_order;    /* the current group's directions, down pass first */
     int n_down;             /* how many of them walk downward */
@@ -188,13 +189,8 @@ static ss_status partial_rows(engine_run *e, int row0, int n_rows, float *data, 
 {
     size_t per_row = (size_t)e->src->width * (size_t)e->job->consumer->planes;
     size_t n = per_row * (size_t)n_rows;
-    if (fseeko(e->partial, (off_t)((size_t)row0 * per_row * sizeof(float)), SEEK_SET) != 0)
-        return ss_fail(e->ctx, SS_ERR_OUTPUT, "temporary file: cannot seek");
-    size_t done = write ? fwrite(data, sizeof(float), n, e->partial)
-                        : fread(data, sizeof(float), n, e->partial);
-    return done == n ? SS_OK
-                     : ss_fail(e->ctx, SS_ERR_OUTPUT, "temporary file: %s failed%s",
-                               write ? "write" : "read", write ? " (disk full?)" : "");
+    return ss_scratch_move(e->ctx, &e->partial, (off_t)((size_t)row0 * per_row * sizeof(float)),
+                           data, n * sizeof(float), write);
 }
 
 /* A batch slot's rows, read to the host. */
@@ -367,12 +363,12 @@ static ss_status visit_band(engine_run *e, int row0, int row1, int pass, int fir
     /* What earlier visits left is added in (a + b = b + a in floats, so the
      * order of the two does not matter), and kept for the next. */
     size_t n = own * (size_t)c->planes;
-    if (st == SS_OK && e->partial && !first_visit) {
+    if (st == SS_OK && e->partial.file && !first_visit) {
         st = partial_rows(e, row0, row1 - row0, e->loaded, 0);
         for (size_t k = 0; st == SS_OK && k < n; ++k)
             planes[k] = e->loaded[k] + planes[k];
     }
-    if (st == SS_OK && e->partial && !last_visit)
+    if (st == SS_OK && e->partial.file && !last_visit)
         st = partial_rows(e, row0, row1 - row0, planes, 1);
     if (st == SS_OK && last_visit && c->finish)
         st = c->finish(e->job->user, &view, planes);
@@ -576,9 +572,8 @@ static ss_status open_run(engine_run *e)
         if (!(e->loaded = ss_malloc(own * sizeof(float))))
             return ss_fail(e->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for a band's sums",
                            (own * sizeof(float)) >> 20);
-        if (!(e->partial = tmpfile()))
-            return ss_fail(e->ctx, SS_ERR_OUTPUT,
-                           "cannot create a temporary file for a DEM in bands");
+        if ((st = ss_scratch_open(e->ctx, &e->partial)) != SS_OK)
+            return st;
     }
     /* The whole grid is read (or negated) once, and its gradients made once. */
     if (!e->banded && !whole_in_place) {
@@ -622,8 +617,7 @@ static void close_run(engine_run *e)
     free(e->grad);
     free(e->planes);
     free(e->loaded);
-    if (e->partial)
-        fclose(e->partial);
+    ss_scratch_close(&e->partial);
     free(e->dirs);
     free(e->order);
     free(e->batch);
