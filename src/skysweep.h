@@ -623,6 +623,11 @@ typedef struct {
     double earth_radius_m;
 } ss_place;
 
+/* A weather file's site farther than this (km) from the DEM's centre is
+ * not the DEM's weather: the CLI refuses it unless confirmed
+ * (--weather-far-ok), and the plan says so (doc/weather.md). */
+#define SS_WEATHER_NEAR_KM 100.0
+
 /* Insolation from weather records, for the plan to say: what they are
  * (NULL: clear sky), how far their site lies from the DEM's centre (km;
  * NAN: the file names none), and whether Perez's horizon band is swept. */

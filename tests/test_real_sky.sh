@@ -159,6 +159,20 @@ tap_ok $? "the metadata names the sky model and the weather site's distance (or 
 rc=$?
 [ "$rc" -eq 3 ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e o.tif ]
 tap_ok $? "a missing weather file is refused: exit $rc, $(cat err.txt)"
+# A site far from the DEM (issue 40: Amsterdam's year over Hawaii lost 92 %
+# of the energy with exit 0 and a note): Amsterdam's IWEC cut over the plane
+# at 45 N, 8 E (847 km) is refused in one line, and runs when confirmed.
+amsterdam=$top/tests/data/weather/amsterdam_iwec_jan_feb.epw
+"$SKYSWEEP" insolation --weather "$amsterdam" level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e o.tif ] &&
+    grep -q "lies 847 km from the DEM's centre, farther than 100 km.*--weather-far-ok" err.txt
+tap_ok $? "a weather site 847 km away is refused: exit $rc, $(cat err.txt)"
+"$SKYSWEEP" insolation --device reference --directions 8 --weather "$amsterdam" --weather-far-ok \
+    --time 1995-01-10T00:00Z/P1D level.tif far.tif >far.txt 2>err.txt
+rc=$?
+[ "$rc" -eq 0 ] && [ -f far.tif ] && grep -q "846.6 km from the DEM's centre: its weather may not be the DEM's" far.txt
+tap_ok $? "--weather-far-ok runs it, and the summary says how far: exit $rc $(head -c 200 err.txt)"
 "$SKYSWEEP" insolation --weather three.csv --time 2030-01-01T00:00Z/P1D level.tif o.tif \
     >/dev/null 2>err.txt
 rc=$?

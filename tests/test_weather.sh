@@ -47,19 +47,19 @@ against_pvlib "$top/tests/data/psm4_sample.csv" psm4
 
 # Where the sun is taken: the middle of an EPW hour; PVGIS's stated offset,
 # also in its EPW export whose zone label is not applied.
-epw=$("$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.epw" | sed -n 6p | cut -d, -f2)
-csv=$("$SKYSWEEP" weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" | sed -n 6p | cut -d, -f2)
+epw=$("$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.epw" | grep -v "^#" | sed -n 2p | cut -d, -f2)
+csv=$("$SKYSWEEP" weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" | grep -v "^#" | sed -n 2p | cut -d, -f2)
 [ "$epw" = "2018-01-01T00:10:33.96Z" ] && [ "$csv" = "$epw" ]
 tap_ok $? "PVGIS's EPW and CSV put the first record's sun at the same instant ($epw, $csv)"
-amsterdam=$("$SKYSWEEP" weather "$cut/amsterdam_iwec_jan_feb.epw" | sed -n 6p | cut -d, -f1,2)
+amsterdam=$("$SKYSWEEP" weather "$cut/amsterdam_iwec_jan_feb.epw" | grep -v "^#" | sed -n 2p | cut -d, -f1,2)
 [ "$amsterdam" = "1994-12-31T23:00:00Z,1994-12-31T23:30:00Z" ]
 tap_ok $? "an EPW hour's sun is at its middle ($amsterdam)"
 
 # JSON laid out over many lines reads as the same records as on one.
 sed 's/}, {/},\n {/g' "$cut/pvgis_45N_8E_jan_feb.json" >"$work/pretty.json"
 lines=$(wc -l <"$work/pretty.json")
-"$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.json" | tail -n +5 >"$work/one.csv"
-"$SKYSWEEP" weather "$work/pretty.json" | tail -n +5 >"$work/many.csv"
+"$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.json" | grep -v "^#" >"$work/one.csv"
+"$SKYSWEEP" weather "$work/pretty.json" | grep -v "^#" >"$work/many.csv"
 [ "$lines" -gt 1000 ] && cmp -s "$work/one.csv" "$work/many.csv" && [ -s "$work/one.csv" ]
 tap_ok $? "PVGIS JSON over $lines lines reads as on one line"
 
@@ -78,6 +78,47 @@ printf 'time,ghi\n2026-06-21T10:00Z,500\n2026-06-21T11:00Z,600\n' >"$work/ghi.cs
 "$SKYSWEEP" weather "$work/ghi.csv" | grep -q "GHI alone"
 tap_ok $? "a CSV with GHI alone is taken as such"
 
+# Spreadsheet exports (issue 40): a UTF-8 byte-order mark, and ';' between
+# fields with decimal commas (a European locale), read as the file they
+# were made from: the TMY3 cut with a BOM, the PVGIS sample's first 60
+# lines with ';' and ','.
+same_records() { # ORIGINAL QUIRKY: the rows after the '#' lines are equal
+    "$SKYSWEEP" weather "$1" | grep -v '^#' >"$work/a.csv"
+    "$SKYSWEEP" weather "$2" | grep -v '^#' >"$work/b.csv" 2>"$work/err"
+    [ -s "$work/a.csv" ] && cmp -s "$work/a.csv" "$work/b.csv"
+}
+printf '\357\273\277' | cat - "$cut/greensboro_tmy3_jan_feb.csv" >"$work/bom_tmy3.csv"
+same_records "$cut/greensboro_tmy3_jan_feb.csv" "$work/bom_tmy3.csv"
+tap_ok $? "a TMY3 file behind a UTF-8 byte-order mark reads as without it $(head -c 200 "$work/err")"
+head -n 60 "$top/samples/weather/pvgis_tmy_45N_8E.csv" >"$work/pvgis60.csv"
+tr ',.' ';,' <"$work/pvgis60.csv" >"$work/pvgis60_semicolon.csv"
+same_records "$work/pvgis60.csv" "$work/pvgis60_semicolon.csv"
+tap_ok $? "a PVGIS CSV with ';' separators and decimal commas reads as the original $(head -c 200 "$work/err")"
+printf '\357\273\277' | cat - "$work/plain.csv" | tr ',.' ';,' >"$work/plain_bom_semicolon.csv"
+same_records "$work/plain.csv" "$work/plain_bom_semicolon.csv"
+tap_ok $? "a plain CSV with a BOM, ';' and decimal commas reads as the original"
+
+# 29 February in a year that is not a leap year is named as such (it was
+# 'an EPW record starts with year, month, day and hour').
+sed '1424s/^1999,2,28,24,/1999,2,29,1,/' "$cut/amsterdam_iwec_jan_feb.epw" >"$work/feb29.epw"
+"$SKYSWEEP" weather "$work/feb29.epw" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] &&
+    grep -q "29 February in 1999, which is not a leap year, line 1424" "$work/err"
+tap_ok $? "29 February 1999 in an EPW is named: exit $rc, $(cat "$work/err")"
+sed '3s|^01/01/1988|02/29/1989|' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/feb29_tmy3.csv"
+"$SKYSWEEP" weather "$work/feb29_tmy3.csv" >/dev/null 2>"$work/err"
+grep -q "29 February in 1989, which is not a leap year, line 3" "$work/err"
+tap_ok $? "29 February 1989 in a TMY3 file is named: $(cat "$work/err")"
+printf 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n20230229:0000,1,2,3\n' >"$work/feb29_pvgis.csv"
+"$SKYSWEEP" weather "$work/feb29_pvgis.csv" >/dev/null 2>"$work/err"
+grep -q "29 February in 2023, which is not a leap year, line 4" "$work/err"
+tap_ok $? "29 February 2023 in a PVGIS file is named: $(cat "$work/err")"
+printf 'time,ghi\n2023-02-29T10:00Z,1\n' >"$work/feb29_plain.csv"
+"$SKYSWEEP" weather "$work/feb29_plain.csv" >/dev/null 2>"$work/err"
+[ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "line 2: .*February 2023 has 28 days" "$work/err"
+tap_ok $? "29 February 2023 in a plain CSV is named at its line: $(cat "$work/err")"
+
 # refused NAME CONTENT: exit 3, one line that names the file.
 refused() {
     local name=$1
@@ -90,6 +131,16 @@ refused() {
 refused empty.csv ''
 refused binary.epw 'LOCATION,\0\1\2'
 refused no_columns.csv 'when,sun\n2026-06-21T10:00Z,1\n'
+# What a file no reader takes lacks, named (it was 'not a weather file').
+refused_saying() { # NAME CONTENT TEXT
+    refused "$1" "$2"
+    grep -qF "$3" "$work/err"
+    tap_ok $? "$1: the message says \"$3\""
+}
+refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header it has no separated columns"
+refused_saying no_time.csv 'date;ghi\n2026-06-21T10:00Z;1\n' "it has no 'time' column"
+refused_saying no_ghi.csv 'time,global\n2026-06-21T10:00Z,1\n' "it has no 'ghi' column"
+refused_saying dni_alone.csv 'time,ghi,dni\n2026-06-21T10:00Z,1,1\n' "it has 'dni' without 'dhi'"
 refused no_zone.csv 'time,ghi,dni,dhi\n2026-06-21T10:00,1,2,3\n'
 refused short.epw 'LOCATION,x,-,y,z,1,45,8,1,250\nDESIGN CONDITIONS,0\nDATA PERIODS,1,1,Data,Sunday, 1/ 1,12/31\n2018,1,1,1,0,?,2,3\n'
 refused bad_location.epw 'LOCATION,x,-,y,z,1,145,8,1,250\nDATA PERIODS,1\n'

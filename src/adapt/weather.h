@@ -19,13 +19,22 @@ typedef enum {
     SS_WEATHER_CSV
 } ss_weather_format;
 
+/* The irradiance a file gives; what it lacks is derived at run time at
+ * each record's sun (doc/weather.md): DNI from GHI and DHI by closure, or
+ * both from GHI by Erbs et al. (1982), as pvlib computes them. */
+typedef enum {
+    SS_WEATHER_GHI_DNI_DHI,
+    SS_WEATHER_GHI_DHI, /* dni NAN throughout */
+    SS_WEATHER_GHI      /* dni and dhi NAN throughout */
+} ss_weather_components;
+
 typedef struct {
     double stamp_unix_s; /* the file's time stamp (pvlib's index), UTC seconds */
     double sun_unix_s;   /* the instant the values stand for */
     double duration_h;   /* hours the record stands for */
     /* Irradiance, W/m^2 (hourly sums in Wh/m^2 are the hour's mean in
-     * W/m^2): global and diffuse horizontal, direct normal. NAN: missing;
-     * dni and dhi NAN throughout when the file gives GHI alone. */
+     * W/m^2): global and diffuse horizontal, direct normal. NAN: missing,
+     * or not given (components). */
     float ghi, dni, dhi;
     float temp_air_c, wind_speed_m_s, albedo, pressure_hpa; /* NAN: not given */
 } ss_weather_record;
@@ -37,7 +46,7 @@ typedef struct {
     double latitude_deg, longitude_deg, elevation_m;
     double utc_offset_h; /* the zone the file's stamps are written in */
     char stamps[400];    /* what a stamp means and where the sun is taken, for the plan */
-    int ghi_only;        /* no beam or diffuse column: split by a model at run time */
+    ss_weather_components components;
     size_t n;
     ss_weather_record *records;
     size_t missing; /* records with an irradiance value missing */

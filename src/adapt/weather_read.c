@@ -39,6 +39,61 @@ static ss_status fail_at(reader *r, int line, const char *what)
     return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' line %d: %s", r->path, line + 1, what);
 }
 
+/* Spreadsheets and Windows editors start a UTF-8 file with a byte-order
+ * mark (EF BB BF), which would hide the first line's keyword. */
+static void skip_bom(reader *r)
+{
+    if (r->size >= 3 && memcmp(r->text, "\xEF\xBB\xBF", 3) == 0) {
+        memmove(r->text, r->text + 3, (size_t)r->size - 2); /* with the final NUL */
+        r->size -= 3;
+    }
+}
+
+/* A spreadsheet set to a European locale exports with ';' between fields
+ * and ',' as the decimal mark. Its first lines then hold more semicolons than
+ * commas (each ',' of a decimal stands in a field that a ';' ends), where a
+ * comma-separated file holds none or a stray one in a comment. */
+static int semicolon_separated(const char *text)
+{
+    long semicolons = 0, commas = 0;
+    int lines = 0;
+    for (const char *p = text; *p && lines < 50; ++p) {
+        semicolons += *p == ';';
+        commas += *p == ',';
+        lines += *p == '\n';
+    }
+    return semicolons > commas;
+}
+
+/* Decimal commas become points, semicolons field separators. */
+static void to_comma_separated(char *text)
+{
+    for (char *p = text; *p; ++p)
+        *p = *p == ',' ? '.' : *p == ';' ? ',' : *p;
+}
+
+/* A day past its month's end, named as such: 29 February in a year that is
+ * not a leap year is the likeliest (a typical year stitches months of
+ * different years, and an edited file may keep a leap year's day under
+ * another year's number). `record` counts JSON records where line is < 0. */
+static ss_status bad_day(reader *r, int line, int record, long long year, int month, int day)
+{
+    static const char *const names[12] = {"January", "February", "March",     "April",
+                                          "May",     "June",     "July",      "August",
+                                          "September", "October", "November", "December"};
+    char what[120], where[40];
+    if (month == 2 && day == 29)
+        snprintf(what, sizeof what, "29 February in %lld, which is not a leap year", year);
+    else
+        snprintf(what, sizeof what, "day %d of %s %lld, which has %d days", day, names[month - 1],
+                 year, ss_days_in_month(year, month));
+    if (line >= 0)
+        snprintf(where, sizeof where, "line %d", line + 1);
+    else
+        snprintf(where, sizeof where, "record %d of tmy_hourly", record + 1);
+    return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s': %s, %s", r->path, what, where);
+}
+
 /* The file in memory, split into lines (\n or \r\n). */
 static ss_status load(reader *r)
 {
@@ -72,6 +127,9 @@ static ss_status load(reader *r)
         return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is empty, not a weather file", r->path);
     if (memchr(r->text, '\0', (size_t)size))
         return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is binary, not a weather file", r->path);
+    skip_bom(r);
+    if (semicolon_separated(r->text))
+        to_comma_separated(r->text);
     int cap = 1;
     for (long i = 0; i < size; ++i)
         cap += r->text[i] == '\n';
@@ -207,16 +265,16 @@ typedef struct {
 } raw_values;
 
 /* Stores v into rec, values out of range as missing or not given; counts
- * the record as missing where an irradiance value is. A file with GHI alone
- * leaves dni and dhi NAN without counting them. */
+ * the record as missing where an irradiance value is. What the file does
+ * not give (components) stays NAN without counting. */
 static void set_values(ss_weather *w, ss_weather_record *rec, const raw_values *v, double marker)
 {
     size_t missing = 0;
     rec->ghi = irradiance(v->ghi, marker, &missing);
-    if (!w->ghi_only) {
+    if (w->components == SS_WEATHER_GHI_DNI_DHI)
         rec->dni = irradiance(v->dni, marker, &missing);
+    if (w->components != SS_WEATHER_GHI)
         rec->dhi = irradiance(v->dhi, marker, &missing);
-    }
     w->missing += missing > 0;
     rec->temp_air_c = optional(v->temp_air_c, -90, 70);
     rec->wind_speed_m_s = optional(v->wind_speed_m_s, 0, 100);
@@ -284,10 +342,11 @@ static ss_status read_epw(reader *r)
         if (n < 22)
             return fail_at(r, i, "an EPW record has at least 22 fields");
         if (!integer(f[0], -9999, 99999, &year) || !integer(f[1], 1, 12, &month) ||
-            !integer(f[2], 1, 31, &day) || !integer(f[3], 1, 24, &hour) ||
-            day > ss_days_in_month(year, month))
+            !integer(f[2], 1, 31, &day) || !integer(f[3], 1, 24, &hour))
             return fail_at(r, i, "an EPW record starts with year, month (1-12), day and hour "
                                  "(1-24)");
+        if (day > ss_days_in_month(year, month))
+            return bad_day(r, i, 0, year, month, day);
         double v[35];
         const int want[] = {6, 9, 13, 14, 15, 21, 32};
         for (size_t k = 0; k < sizeof want / sizeof want[0]; ++k) {
@@ -356,10 +415,11 @@ static ss_status read_tmy3(reader *r)
         /* Short fields, so that sscanf's numbers cannot overflow. */
         if (strlen(f[0]) > 10 || strlen(f[1]) > 5 ||
             sscanf(f[0], "%d/%d/%d", &month, &day, &year) != 3 || month < 1 || month > 12 ||
-            day < 1 || day > ss_days_in_month(year, month) ||
-            sscanf(f[1], "%d:%d", &hour, &minute) != 2 || hour < 0 || hour > 24 || minute < 0 ||
-            minute > 59)
+            day < 1 || day > 31 || sscanf(f[1], "%d:%d", &hour, &minute) != 2 || hour < 0 ||
+            hour > 24 || minute < 0 || minute > 59)
             return fail_at(r, i, "a TMY3 record starts with MM/DD/YYYY and HH:MM");
+        if (day > ss_days_in_month(year, month))
+            return bad_day(r, i, 0, year, month, day);
         double v[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
         const int cols[7] = {c_ghi, c_dni, c_dhi, c_temp, c_wind, c_alb, c_pres};
         for (int k = 0; k < 7; ++k)
@@ -377,20 +437,21 @@ static ss_status read_tmy3(reader *r)
 
 /* ---- PVGIS TMY ---------------------------------------------------------- */
 
-/* "20180101:0000" (UTC) as Unix seconds; 0 if malformed. */
-static int pvgis_time(const char *s, double *unix_s)
+/* "20180101:0000" (UTC) as its fields; 0 if malformed (a day past its
+ * month's end is left to the caller to name). */
+static int pvgis_time(const char *s, int *year, int *month, int *day, double *unix_s)
 {
-    int year, month, day, hour, minute;
+    int hour, minute;
     if (strlen(s) != 13 || s[8] != ':')
         return 0;
     for (int i = 0; i < 13; ++i)
         if (i != 8 && !isdigit((unsigned char)s[i]))
             return 0;
-    if (sscanf(s, "%4d%2d%2d:%2d%2d", &year, &month, &day, &hour, &minute) != 5 ||
-        month < 1 || month > 12 || day < 1 || day > ss_days_in_month(year, month) || hour > 23 ||
-        hour < 0 || minute < 0 || minute > 59)
+    if (sscanf(s, "%4d%2d%2d:%2d%2d", year, month, day, &hour, &minute) != 5 || *month < 1 ||
+        *month > 12 || *day < 1 || *day > 31 || hour > 23 || hour < 0 || minute < 0 ||
+        minute > 59)
         return 0;
-    *unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0);
+    *unix_s = ss_unix_from_civil(*year, *month, *day, hour, minute, 0);
     return 1;
 }
 
@@ -404,16 +465,20 @@ static void pvgis_stamps(ss_weather *w, double offset_h)
 }
 
 /* One PVGIS record from its fields (time, G(h), Gb(n), Gd(h), T2m, WS10m,
- * SP in Pa) on line `line` of a CSV, or (line < 0) from the JSON. */
-static ss_status pvgis_record(reader *r, int line, size_t *cap, double offset_h,
+ * SP in Pa) on line `line` of a CSV, or (line < 0) record `record` of the
+ * JSON. */
+static ss_status pvgis_record(reader *r, int line, int record, size_t *cap, double offset_h,
                               const char *time, const double v[6])
 {
     double t;
-    if (!pvgis_time(time, &t))
+    int year, month, day;
+    if (!pvgis_time(time, &year, &month, &day, &t))
         return line < 0 ? ss_ctx_error(r->ctx, SS_ERR_INPUT,
                                   "'%s': a tmy_hourly time(UTC) is written YYYYMMDD:HHMM, not '%.40s'",
                                   r->path, time)
                         : fail_at(r, line, "a PVGIS time is written YYYYMMDD:HHMM");
+    if (day > ss_days_in_month(year, month))
+        return bad_day(r, line, record, year, month, day);
     ss_weather_record *rec = add_record(r, cap);
     if (!rec)
         return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
@@ -471,7 +536,7 @@ static ss_status read_pvgis_csv(reader *r)
         for (int k = 0; k < 6; ++k)
             if (cols[k] >= 0 && !number(f[cols[k]], &val[k]))
                 return fail_at(r, i, "a value of a PVGIS record is not a number");
-        ss_status st = pvgis_record(r, i, &cap, offset_h, f[0], val);
+        ss_status st = pvgis_record(r, i, 0, &cap, offset_h, f[0], val);
         if (st != SS_OK)
             return st;
     }
@@ -546,8 +611,7 @@ static ss_status read_pvgis_json(reader *r)
                          "'%s': record %zu of tmy_hourly lacks time(UTC), G(h), Gb(n) or Gd(h)",
                          r->path, i + 1);
         else
-            st = pvgis_record(r, -1, &cap, offset_h, json_object_get_string(time),
-                              v);
+            st = pvgis_record(r, -1, (int)i, &cap, offset_h, json_object_get_string(time), v);
     }
     json_object_put(root);
     return st;
@@ -606,10 +670,12 @@ static ss_status read_psm(reader *r)
             if (cols[k] >= 0 && !number(f[cols[k]], &v[k]))
                 return fail_at(r, i, "a value of a PSM record is not a number");
         }
-        if (v[0] != floor(v[0]) || fabs(v[0]) > 9999 || v[1] < 1 || v[1] > 12 || v[2] < 1 ||
-            v[2] > ss_days_in_month((long long)v[0], (int)v[1]) || v[3] < 0 || v[3] > 23 ||
+        if (v[0] != floor(v[0]) || fabs(v[0]) > 9999 || v[1] != floor(v[1]) || v[1] < 1 ||
+            v[1] > 12 || v[2] != floor(v[2]) || v[2] < 1 || v[2] > 31 || v[3] < 0 || v[3] > 23 ||
             v[4] < 0 || v[4] > 59)
             return fail_at(r, i, "a PSM record's date or time is not valid");
+        if (v[2] > ss_days_in_month((long long)v[0], (int)v[1]))
+            return bad_day(r, i, 0, (long long)v[0], (int)v[1], (int)v[2]);
         ss_weather_record *rec = add_record(r, &cap);
         if (!rec)
             return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
@@ -623,6 +689,28 @@ static ss_status read_psm(reader *r)
 }
 
 /* ---- plain CSV ---------------------------------------------------------- */
+
+/* The first line of a file no reader recognised, quoted with what it
+ * lacks, so that a user sees whether the file is of another kind or a CSV
+ * with other column names. */
+static ss_status not_a_weather_file(reader *r, int n_names, const int cols[4])
+{
+    char first[64];
+    snprintf(first, sizeof first, "%s", r->lines[0]);
+    for (char *p = first; *p; ++p)
+        if (!isprint((unsigned char)*p))
+            *p = '?';
+    const char *lack = n_names < 2   ? "no separated columns"
+                       : cols[0] < 0 ? "no 'time' column"
+                       : cols[1] < 0 ? "no 'ghi' column"
+                                     : "'dni' without 'dhi'";
+    return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                        "'%s' is not a weather file skysweep reads: its first line '%s%s' is "
+                        "none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header "
+                        "it has %s (time, ghi, and dhi or dhi and dni; comma or semicolon "
+                        "separated)",
+                        r->path, first, strlen(r->lines[0]) >= sizeof first ? "..." : "", lack);
+}
 
 /* A header line naming `time` and `ghi` (and `dni`, `dhi`; optionally
  * `temp_air`, `wind_speed`, `albedo`, `pressure` in hPa), then records with
@@ -638,13 +726,11 @@ static ss_status read_plain_csv(reader *r)
     int cols[8];
     for (int k = 0; k < 8; ++k)
         cols[k] = n_names > 0 ? find_column(names, n_names, wanted[k]) : -1;
-    if (cols[0] < 0 || cols[1] < 0 || (cols[2] < 0) != (cols[3] < 0))
-        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
-                       "'%s' is not a weather file skysweep reads: EPW, TMY3, PVGIS TMY (CSV or "
-                       "JSON), NSRDB PSM, or a CSV whose first line names time, ghi, dni and "
-                       "dhi (or time and ghi alone)",
-                       r->path);
-    w->ghi_only = cols[2] < 0;
+    if (cols[0] < 0 || cols[1] < 0 || (cols[2] >= 0 && cols[3] < 0))
+        return not_a_weather_file(r, n_names, cols);
+    w->components = cols[3] < 0   ? SS_WEATHER_GHI
+                    : cols[2] < 0 ? SS_WEATHER_GHI_DHI
+                                  : SS_WEATHER_GHI_DNI_DHI;
     snprintf(w->stamps, sizeof w->stamps,
              "CSV: each value stands for its stamp (instantaneous, or a mean centred on it); "
              "the sun is taken at the stamp");
@@ -657,8 +743,12 @@ static ss_status read_plain_csv(reader *r)
             return fail_at(r, i, "a record has as many fields as the column names");
         double t;
         ss_status st = ss_parse_instant(r->ctx, f[cols[0]], &t);
-        if (st != SS_OK)
-            return fail_at(r, i, "the time is ISO 8601 with a zone, e.g. 2026-06-21T10:30Z");
+        if (st != SS_OK) { /* the parser's words: a day past the month's end, no zone, ... */
+            char why[400];
+            snprintf(why, sizeof why, "%s (ISO 8601 with a zone, e.g. 2026-06-21T10:30Z)",
+                     ss_ctx_message(r->ctx));
+            return fail_at(r, i, why);
+        }
         double v[8];
         for (int k = 1; k < 8; ++k) {
             v[k] = NAN;

@@ -25,6 +25,7 @@ typedef struct {
     ss_insolation_params ins; /* the library's "insolation" table */
     const char *steps_path;   /* the command line's files */
     const char *weather;
+    int weather_far_ok;
 } insolation_settings;
 
 #define SET(field) offsetof(insolation_settings, field)
@@ -35,6 +36,9 @@ static const opt_spec file_options[] = {
      "real sky: one step per record of an EPW, TMY3, PVGIS TMY (CSV, JSON), NSRDB PSM or CSV "
      "file (skysweep weather FILE shows them); --time then selects records; outputs in "
      "kWh/m2 for the year and each month (doc/insolation.md)"},
+    {"weather-far-ok", OPT_FLAG, SET(weather_far_ok), NULL, NULL, 0, 0, NULL,
+     "with --weather: use a file whose site lies farther than 100 km from the DEM's centre "
+     "(refused without it: its hours and clouds are not the DEM's; doc/weather.md)"},
     OPT_END};
 
 /* The run's time steps: each one's instant (where the sun is taken) and
@@ -295,6 +299,22 @@ static double weather_distance_km(const ss_weather *w, const ss_dem_frame *frame
                        : NAN;
 }
 
+/* A file from elsewhere runs without error but sums the wrong hours (its
+ * stamps' days fall in another place's nights) and another sky: refused
+ * beyond SS_WEATHER_NEAR_KM unless the user says it is meant. */
+static ss_status check_weather_site(ss_ctx *ctx, const ss_weather *w, const ss_dem_frame *frame,
+                                   int far_ok)
+{
+    double km = weather_distance_km(w, frame);
+    if (far_ok || !(km > SS_WEATHER_NEAR_KM))
+        return SS_OK;
+    return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                        "the weather file's site (%.4f, %.4f lon, lat) lies %.0f km from the "
+                        "DEM's centre, farther than %.0f km: its hours and sky are not the "
+                        "DEM's; use the DEM's own weather, or --weather-far-ok to run anyway",
+                        w->longitude_deg, w->latitude_deg, km, SS_WEATHER_NEAR_KM);
+}
+
 /* The weather file's summary: format, site and its distance from the DEM,
  * what the stamps mean. */
 static void describe_weather(const ss_weather *w, const char *path, const ss_dem_frame *frame,
@@ -307,7 +327,7 @@ static void describe_weather(const ss_weather *w, const char *path, const ss_dem
         n += snprintf(buf + n, size - (size_t)n,
                       "; site %.4f, %.4f (lon, lat), %.1f km from the DEM's centre%s",
                       w->longitude_deg, w->latitude_deg, km,
-                      km > 50 ? ": its weather may not be the DEM's" : "");
+                      km > SS_WEATHER_NEAR_KM ? ": its weather may not be the DEM's" : "");
     } else if (n > 0 && (size_t)n < size) {
         n += snprintf(buf + n, size - (size_t)n, "; no site given");
     }
@@ -371,6 +391,8 @@ static ss_status prepare(insolation_run *r)
         st = ss_weather_read(ctx, set->weather, &r->weather);
         r->have_weather = st == SS_OK;
     }
+    if (st == SS_OK && r->have_weather)
+        st = check_weather_site(ctx, &r->weather, &r->job.frame, set->weather_far_ok);
     if (st == SS_OK && r->have_weather) {
         describe_weather(&r->weather, set->weather, &r->job.frame, r->weather_note,
                          sizeof r->weather_note);

@@ -66,8 +66,14 @@ int cmd_weather(int argc, char **argv)
         printf("# site %.6f, %.6f (lon, lat), %.1f m\n", w.longitude_deg, w.latitude_deg,
                w.elevation_m);
     printf("# stamps %s\n", w.stamps);
-    printf("# records %zu, %zu with an irradiance value missing%s\n", w.n, w.missing,
-           w.ghi_only ? "; GHI alone: beam and diffuse are split from it at run time" : "");
+    printf("# records %zu, %zu with an irradiance value missing\n", w.n, w.missing);
+    static const char *const components[] = {
+        [SS_WEATHER_GHI_DNI_DHI] = "GHI, DNI and DHI as the file gives them",
+        [SS_WEATHER_GHI_DHI] = "GHI and DHI from the file; DNI = (GHI - DHI) / cos(zenith) at "
+                               "each record's sun at run time (pvlib.irradiance.dni)",
+        [SS_WEATHER_GHI] = "GHI alone: DNI and DHI split from it at each record's sun at run "
+                           "time by Erbs et al. 1982 (pvlib.irradiance.erbs)"};
+    printf("# irradiance %s\n", components[w.components]);
     printf("stamp,sun_time,duration_h,ghi,dni,dhi,temp_air,wind_speed,albedo,pressure\n");
     for (size_t i = 0; i < w.n; ++i) {
         const ss_weather_record *rec = &w.records[i];
