@@ -125,6 +125,20 @@ tap_ok $? "the cumulative sky's months add up to its year"
 "$SKYSWEEP" weather "$pvgis" | awk -F, 'NR > 5 && $2 >= "2006-06-10" && $2 < "2006-06-13" {
     if (!h++) print "time,ghi"; print $2 "," $4 }' >ghi_only.csv
 poa south30.tif 30 180 perez 2006-06-10T00:00Z/P3D "$work/ghi_only.csv"
+# GHI and DHI (issue 45): DNI by closure at each record's sun.
+"$SKYSWEEP" weather "$pvgis" | awk -F, '!/^#/ && $2 >= "2006-06-10" && $2 < "2006-06-13" {
+    if (!h++) print "time,ghi,dhi"; print $2 "," $4 "," $6 }' >ghi_dhi.csv
+poa south30.tif 30 180 perez 2006-06-10T00:00Z/P3D "$work/ghi_dhi.csv"
+"$SKYSWEEP" insolation --device reference --directions 8 --weather ghi_dhi.csv level.tif gd.tif \
+    >gd.txt 2>err.txt
+grep -q "72 with DNI from GHI and DHI (closure)" gd.txt &&
+    gdalinfo gd.tif | grep -q "DNI = (GHI - DHI) / cos(zenith) at each record's sun (pvlib.irradiance.dni"
+tap_ok $? "a run from GHI and DHI names the closure in its summary and metadata: $(grep -o '[0-9]* with DNI from GHI and DHI (closure)' gd.txt) $(head -c 200 err.txt)"
+"$SKYSWEEP" insolation --device reference --directions 8 --weather ghi_only.csv level.tif go.tif \
+    >go.txt 2>err.txt
+grep -q "72 split from GHI alone (Erbs)" go.txt &&
+    gdalinfo go.tif | grep -q "split from it at each record's sun by Erbs et al. 1982 (pvlib.irradiance.erbs)"
+tap_ok $? "a run from GHI alone names Erbs in its summary and metadata: $(grep -o '[0-9]* split from GHI alone (Erbs)' go.txt) $(head -c 200 err.txt)"
 
 # A plain CSV of three records, one missing: the year's sums, the months'
 # and the per-record bands agree; the missing record adds nothing.

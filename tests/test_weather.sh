@@ -78,6 +78,34 @@ printf 'time,ghi\n2026-06-21T10:00Z,500\n2026-06-21T11:00Z,600\n' >"$work/ghi.cs
 "$SKYSWEEP" weather "$work/ghi.csv" | grep -q "GHI alone"
 tap_ok $? "a CSV with GHI alone is taken as such"
 
+# GHI alone, or GHI and DHI (issue 45): a month of the PVGIS sample (its
+# sun times as stamps) without the other columns; `--at` the file's site,
+# each record's DNI and DHI equal pvlib's erbs and dni within 0.1 %.
+for month in 2018-01 2006-06; do
+    for cols in ghi ghi,dhi; do
+        "$SKYSWEEP" weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" |
+            awk -F, -v m="$month" -v c="$cols" '!/^#/ && index($2, m) == 1 {
+                if (!h++) print "time," c; print $2 "," $4 (c == "ghi" ? "" : "," $6) }' \
+                >"$work/$month.$cols.csv"
+        if [ "$have_pvlib" -eq 0 ]; then
+            tap_skip "$month, $cols: completed as pvlib does" "no pvlib at $python (tests/run.sh installs it)"
+            continue
+        fi
+        "$python" "$top/tests/pvlib/decomposition.py" "$SKYSWEEP" "$work/$month.$cols.csv" 8,45 \
+            >"$work/out" 2>&1
+        tap_ok $? "$month, $cols: completed as pvlib does: $(grep -v '^ok' "$work/out" | head -c 300) $(grep 'within 0.1' "$work/out" | tr '\n' ' ' | head -c 400)"
+    done
+done
+out=$("$SKYSWEEP" weather "$work/2006-06.ghi,dhi.csv")
+echo "$out" | grep -q "^# irradiance GHI and DHI from the file; DNI = (GHI - DHI) / cos(zenith)" &&
+    echo "$out" | grep -q "^# model applied at the DEM's sun in a run (--at LON,LAT shows it here)" &&
+    echo "$out" | grep -q "^stamp,sun_time,duration_h,ghi,dni,dhi,temp_air,wind_speed,albedo,pressure$"
+tap_ok $? "without a site, skysweep weather says where the model applies"
+"$SKYSWEEP" weather --at 8,95 "$work/2006-06.ghi.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ]
+tap_ok $? "--at 8,95 is refused: exit $rc, $(cat "$work/err")"
+
 # Spreadsheet exports (issue 40): a UTF-8 byte-order mark, and ';' between
 # fields with decimal commas (a European locale), read as the file they
 # were made from: the TMY3 cut with a BOM, the PVGIS sample's first 60

@@ -58,4 +58,8 @@ typedef struct {
 ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w);
 void ss_weather_free(ss_weather *w);
 
+/* What a file's components mean for a run, in words naming the model: for
+ * the summary, the metadata and `skysweep weather`. */
+const char *ss_weather_components_text(ss_weather_components c);
+
 #endif

@@ -853,3 +853,17 @@ void ss_weather_free(ss_weather *w)
     w->records = NULL;
     w->n = 0;
 }
+
+const char *ss_weather_components_text(ss_weather_components c)
+{
+    switch (c) {
+    case SS_WEATHER_GHI_DHI:
+        return "GHI and DHI from the file; DNI = (GHI - DHI) / cos(zenith) at each record's "
+               "sun (pvlib.irradiance.dni; 0 where pvlib's is undefined)";
+    case SS_WEATHER_GHI:
+        return "GHI alone from the file; DNI and DHI split from it at each record's sun by "
+               "Erbs et al. 1982 (pvlib.irradiance.erbs)";
+    case SS_WEATHER_GHI_DNI_DHI: break;
+    }
+    return "GHI, DNI and DHI from the file";
+}

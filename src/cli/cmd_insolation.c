@@ -332,7 +332,8 @@ static void describe_weather(const ss_weather *w, const char *path, const ss_dem
         n += snprintf(buf + n, size - (size_t)n, "; no site given");
     }
     if (n > 0 && (size_t)n < size)
-        snprintf(buf + n, size - (size_t)n, "; %s", w->stamps);
+        snprintf(buf + n, size - (size_t)n, "; %s; irradiance: %s", w->stamps,
+                 ss_weather_components_text(w->components));
 }
 
 /* Names a run's bands: a weather run's in kWh/m^2 (hours stay hours, the PV
@@ -364,7 +365,7 @@ typedef struct {
     ss_weather weather;
     int have_weather;
     char *text; /* --time as parsed (malloc'ed), for the metadata */
-    char weather_note[900], weather_what[300];
+    char weather_note[1200], weather_what[300];
     ss_insolation_options io;
     insolation_out out;
     ss_band_stats bands;
@@ -542,10 +543,12 @@ static void print_summary(insolation_run *r)
     run_print_dem(&job->run, &job->dem, &job->frame);
     if (r->have_weather)
         printf("weather %s\n        %llu records missing, %llu split from GHI alone "
-               "(Erbs), %llu with beam on the horizontal above the global (used as "
-               "given), %llu with light while the sun is down (not used)\n",
+               "(Erbs), %llu with DNI from GHI and DHI (closure), %llu with beam on the "
+               "horizontal above the global (used as given), %llu with light while the sun "
+               "is down (not used)\n",
                r->weather_note, (unsigned long long)c.records_missing,
                (unsigned long long)c.records_split,
+               (unsigned long long)c.records_dni_from_closure,
                (unsigned long long)c.records_beam_above_global,
                (unsigned long long)c.records_light_at_night);
     command_print_job_sweep(job, &r->bands);

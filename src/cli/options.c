@@ -242,3 +242,14 @@ void opt_print_help(const opt_spec *const *tables, const char *usage, const char
         }
     printf("  %-34s %s\n", "--help", "show this help");
 }
+
+int opt_parse_site(const char *text, double *lon_deg, double *lat_deg)
+{
+    char *end;
+    *lon_deg = strtod(text, &end);
+    if (end == text || *end != ',')
+        return 0;
+    const char *lat = end + 1;
+    *lat_deg = strtod(lat, &end);
+    return end != lat && *end == '\0';
+}

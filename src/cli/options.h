@@ -79,4 +79,7 @@ int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, co
 void opt_print_markdown(const opt_spec *const *tables, const char *command, const char *usage,
                         const char *summary);
 
+/* "LON,LAT" in degrees (--at); range checks are the library's. */
+int opt_parse_site(const char *text, double *lon_deg, double *lat_deg);
+
 #endif
