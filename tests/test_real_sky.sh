@@ -187,6 +187,21 @@ tap_ok $? "a weather site 847 km away is refused: exit $rc, $(cat err.txt)"
 rc=$?
 [ "$rc" -eq 0 ] && [ -f far.tif ] && grep -q "846.6 km from the DEM's centre: its weather may not be the DEM's" far.txt
 tap_ok $? "--weather-far-ok runs it, and the summary says how far: exit $rc $(head -c 200 err.txt)"
+# A UMEP/SUEWS met file states no zone: --weather-zone gives it, else exit 2.
+printf 'iy id it imin kdown kdiff kdir Tair\n2006 161 12 0 800 150 750 20\n2006 161 13 0 780 160 730 21\n' >umep.txt
+"$SKYSWEEP" insolation --weather umep.txt level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e o.tif ] && grep -q -- "--weather-zone" err.txt
+tap_ok $? "a UMEP file without --weather-zone is refused: exit $rc, $(cat err.txt)"
+"$SKYSWEEP" insolation --weather umep.txt --weather-zone 1 level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e o.tif ] && grep -q "expects a UTC offset" err.txt
+tap_ok $? "--weather-zone 1 is refused: exit $rc, $(cat err.txt)"
+"$SKYSWEEP" insolation --device reference --directions 8 --weather umep.txt --weather-zone +01:00 \
+    level.tif umep.tif >umep.out 2>err.txt
+rc=$?
+[ "$rc" -eq 0 ] && grep -q "UMEP/SUEWS met 'umep.txt', 2 records" umep.out
+tap_ok $? "with --weather-zone +01:00 it runs: exit $rc $(head -c 200 err.txt)"
 "$SKYSWEEP" insolation --weather three.csv --time 2030-01-01T00:00Z/P1D level.tif o.tif \
     >/dev/null 2>err.txt
 rc=$?

@@ -106,6 +106,53 @@ rc=$?
 [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ]
 tap_ok $? "--at 8,95 is refused: exit $rc, $(cat "$work/err")"
 
+# UMEP/SUEWS met files (issue 45): no zone in the file, so --weather-zone
+# gives it, or the file is refused in one line; the zone also overrides an
+# EPW's. The real file is UMEP's Gothenburg year in ../shared/data (its
+# first line and 21 June here); the malformed ones are written inline.
+umep=$weather/goteborg_tmy_1977_umep.txt
+if [ -f "$umep" ]; then
+    { head -n 1 "$umep"; awk 'NR > 1 && $2 == 172' "$umep"; } >"$work/umep.txt"
+    "$SKYSWEEP" weather "$work/umep.txt" >/dev/null 2>"$work/err"
+    rc=$?
+    [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] &&
+        grep -q "a UMEP/SUEWS met file, which states no time zone: give its stamps' zone with --weather-zone" "$work/err"
+    tap_ok $? "a UMEP met file without --weather-zone is refused: exit $rc, $(cat "$work/err")"
+    out=$("$SKYSWEEP" weather --weather-zone +01:00 "$work/umep.txt")
+    noon=$(echo "$out" | grep '^1977-06-21T11:00:00Z' | cut -d, -f1-6)
+    # Local noon (hour 12 at UTC+1) is 11:00Z; kdown, kdir, kdiff as given,
+    # the sun at the middle of the hour ending there.
+    [ "$noon" = "1977-06-21T11:00:00Z,1977-06-21T10:30:00Z,1,$(awk '$3 == 12 { printf "%g,%g,%g", $15, $23, $22 }' "$work/umep.txt")" ] &&
+        [ "$(echo "$out" | grep -c '^1977-06')" -eq 24 ] && echo "$out" | grep -q "^# format UMEP/SUEWS met"
+    tap_ok $? "a UMEP met file read with --weather-zone +01:00: $noon"
+else
+    tap_skip "a UMEP met file without --weather-zone is refused" "$umep is not here"
+    tap_skip "a UMEP met file read with --weather-zone +01:00" "$umep is not here"
+fi
+umep_head='iy id it imin qn qh qe qs qf U RH Tair pres rain kdown snow ldown fcld wuh xsmd lai kdiff kdir wdir'
+printf '%s\n1977 172 12 0 -999 -999 -999 -999 -999 3.1 50 18 101.2 0 700 -999 -999 -999 -999 -999 -999 -999 -999 -999\n1977 172 13 0 -999 -999 -999 -999 -999 3.1 50 18 101.2 0 650 -999 -999 -999 -999 -999 -999 -999 -999 -999\n' \
+    "$umep_head" >"$work/umep_ghi.txt"
+"$SKYSWEEP" weather --weather-zone +01:00 "$work/umep_ghi.txt" >"$work/out" 2>"$work/err"
+grep -q "^# irradiance GHI alone" "$work/out" &&
+    grep -q "^1977-06-21T11:00:00Z,1977-06-21T10:30:00Z,1,700,,,18,3.1,,1012$" "$work/out"
+tap_ok $? "a UMEP file whose kdiff and kdir are -999 throughout gives GHI alone (pressure kPa to hPa) $(cat "$work/err")"
+refused_zone() { # NAME CONTENT TEXT [ZONE]: exit 2 or 3, one line saying TEXT
+    printf '%b' "$2" >"$work/$1"
+    "$SKYSWEEP" weather --weather-zone "${4:-+01:00}" "$work/$1" >/dev/null 2>"$work/err"
+    local rc=$?
+    [ "$rc" -ge 2 ] && [ "$rc" -le 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -qF -- "$3" "$work/err"
+    tap_ok $? "$1 refused: exit $rc, $(cat "$work/err")"
+}
+refused_zone umep_day367.txt "$umep_head\n1977 367 12 0 -999 -999 -999 -999 -999 3 50 18 101 0 700 -999 -999 -999 -999 -999 -999 -999 -999 -999\n" "line 2: a UMEP record starts with year, day of the year (1-366)"
+refused_zone umep_day366.txt "$umep_head\n1977 366 12 0 -999 -999 -999 -999 -999 3 50 18 101 0 700 -999 -999 -999 -999 -999 -999 -999 -999 -999\n" "line 2: day 366 in 1977, which is not a leap year"
+refused_zone umep_short.txt "$umep_head\n1977 172 12 0 -999 -999\n" "line 2: a UMEP record has as many fields as the column names"
+refused_zone umep_no_kdown.txt 'iy id it imin Tair\n1977 172 12 0 18\n' "line 1: a UMEP met file's first line names iy, id, it, imin and kdown"
+refused_zone zone_for_pvgis.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n20180101:0000,1,2,3\n' "--weather-zone applies to files whose stamps are local time"
+refused_zone bad_zone.txt "$umep_head\n" "--weather-zone expects a UTC offset such as +01:00" "+1:00x"
+first=$("$SKYSWEEP" weather --weather-zone +02:00 "$cut/amsterdam_iwec_jan_feb.epw" | grep -v '^#' | sed -n 2p | cut -d, -f1)
+[ "$first" = "1994-12-31T22:00:00Z" ]
+tap_ok $? "--weather-zone +02:00 overrides an EPW's zone (+1): its first stamp is $first"
+
 # Spreadsheet exports (issue 40): a UTF-8 byte-order mark, and ';' between
 # fields with decimal commas (a European locale), read as the file they
 # were made from: the TMY3 cut with a BOM, the PVGIS sample's first 60

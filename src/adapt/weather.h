@@ -1,5 +1,5 @@
 /* Weather files for real-sky irradiation: EPW, NREL TMY3 CSV, PVGIS TMY
- * (CSV and JSON), NSRDB PSM CSV and a plain CSV, read as pvlib's readers
+ * (CSV and JSON), NSRDB PSM CSV, UMEP/SUEWS met files and a plain CSV, read as pvlib's readers
  * read them (units, zones, missing values; doc/weather.md). Each record
  * keeps the file's time stamp, as pvlib's index has it, and the instant its
  * values stand for, where the sun is to be taken. */
@@ -16,6 +16,7 @@ typedef enum {
     SS_WEATHER_PVGIS_CSV,
     SS_WEATHER_PVGIS_JSON,
     SS_WEATHER_PSM,
+    SS_WEATHER_UMEP,
     SS_WEATHER_CSV
 } ss_weather_format;
 
@@ -52,10 +53,13 @@ typedef struct {
     size_t missing; /* records with an irradiance value missing */
 } ss_weather;
 
-/* Reads a weather file, the format found from its content. Refuses, in one
- * line naming the file and line, a file it cannot parse, values out of any
- * physical range, and a file with no records or none with irradiance. */
-ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w);
+/* Reads a weather file, the format found from its content, its stamps in
+ * zone_h (hours east of UTC; NAN: the file's, which a UMEP/SUEWS met file
+ * does not state). Refuses, in one line naming the file and line, a file it
+ * cannot parse, values out of any physical range, a file with no records or
+ * none with irradiance, a UMEP file without zone_h (SS_ERR_ARGUMENT), and
+ * zone_h for a file whose stamps are UTC or carry their zone (idem). */
+ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weather *w);
 void ss_weather_free(ss_weather *w);
 
 /* What a file's components mean for a run, in words naming the model: for

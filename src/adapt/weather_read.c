@@ -31,6 +31,7 @@ typedef struct {
     long size;   /* its bytes */
     char **lines;
     int n_lines;
+    double zone_h; /* --weather-zone: the stamps' zone, hours east of UTC; NAN: the file's */
     ss_weather *w;
 } reader;
 
@@ -282,6 +283,15 @@ static void set_values(ss_weather *w, ss_weather_record *rec, const raw_values *
     rec->pressure_hpa = optional(v->pressure_hpa, 300, 1200);
 }
 
+/* The zone the stamps are read in: --weather-zone where given, else the
+ * file's; kept as the file's zone (months go by it). */
+static double stamps_zone(reader *r, double file_zone_h)
+{
+    double tz = isnan(r->zone_h) ? file_zone_h : r->zone_h;
+    r->w->utc_offset_h = tz;
+    return tz;
+}
+
 /* ---- EPW ---------------------------------------------------------------- */
 
 /* EnergyPlus weather: LOCATION gives the site and the zone; records are
@@ -305,7 +315,7 @@ static ss_status read_epw(reader *r)
     w->latitude_deg = lat;
     w->longitude_deg = lon;
     w->elevation_m = elev;
-    w->utc_offset_h = tz;
+    tz = stamps_zone(r, tz);
     double pvgis_offset_h = NAN;
     int data = -1;
     for (int i = 1; i < r->n_lines && data < 0; ++i) {
@@ -388,7 +398,7 @@ static ss_status read_tmy3(reader *r)
     w->latitude_deg = lat;
     w->longitude_deg = lon;
     w->elevation_m = elev;
-    w->utc_offset_h = tz;
+    tz = stamps_zone(r, tz);
     snprintf(w->stamps, sizeof w->stamps,
              "TMY3: sums over the hour ending at the stamp, local standard time UTC%+g; the sun "
              "is taken at the middle of the hour",
@@ -640,7 +650,7 @@ static ss_status read_psm(reader *r)
     if ((c = find_column(keys, nk, "Elevation")) >= 0)
         number(vals[c], &w->elevation_m);
     w->has_site = 1;
-    w->utc_offset_h = tz;
+    tz = stamps_zone(r, tz);
     snprintf(w->stamps, sizeof w->stamps,
              "NSRDB PSM: instantaneous values at the stamp, UTC%+g; the sun is taken at the "
              "stamp",
@@ -684,6 +694,121 @@ static ss_status read_psm(reader *r)
                             tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s;
         set_values(w, rec, &(raw_values){v[5], v[6], v[7], v[8], v[9], v[10], v[11]}, -9999);
+    }
+    return SS_OK;
+}
+
+/* ---- UMEP / SUEWS met file ---------------------------------------------- */
+
+/* Splits a line at blanks in place; returns the number of fields, -1 if
+ * more than MAX_FIELDS. */
+static int split_blanks(char *line, char **fields)
+{
+    int n = 0;
+    char *p = line + strspn(line, " \t");
+    while (*p) {
+        if (n == MAX_FIELDS)
+            return -1;
+        fields[n++] = p;
+        p += strcspn(p, " \t");
+        if (*p)
+            *p++ = '\0';
+        p += strspn(p, " \t");
+    }
+    return n;
+}
+
+/* A column any of whose records holds a value other than UMEP's -999:
+ * UMEP's tools write kdiff and kdir as -999 throughout where they have
+ * only kdown, and split it themselves. */
+static int umep_column_given(reader *r, int column)
+{
+    for (int i = 1; i < r->n_lines; ++i) {
+        const char *p = r->lines[i];
+        for (int k = 0; k < column && *p; ++k) { /* past `column` fields */
+            p += strspn(p, " \t");
+            p += strcspn(p, " \t");
+        }
+        double v = strtod(p, NULL);
+        if (*p && v != -999.0)
+            return 1;
+    }
+    return 0;
+}
+
+/* UMEP / SUEWS met file: blank-separated columns named on the first line
+ * (iy id it imin ... kdown ... kdiff kdir ...), year, day of the year,
+ * hour and minute, -999 for missing; means over the interval ending at the
+ * stamp. It states neither site nor zone: the zone is --weather-zone's. */
+static ss_status read_umep(reader *r)
+{
+    ss_weather *w = r->w;
+    if (isnan(r->zone_h))
+        return ss_ctx_error(r->ctx, SS_ERR_ARGUMENT,
+                            "'%s' is a UMEP/SUEWS met file, which states no time zone: give its "
+                            "stamps' zone with --weather-zone (e.g. +01:00 for Central European "
+                            "standard time)",
+                            r->path);
+    char *names[MAX_FIELDS], *f[MAX_FIELDS];
+    char header[4096];
+    snprintf(header, sizeof header, "%s", r->lines[0]);
+    int n_names = split_blanks(header, names);
+    const char *wanted[10] = {"iy", "id", "it", "imin", "kdown", "kdiff", "kdir", "Tair", "U",
+                              "pres"};
+    int cols[10];
+    for (int k = 0; k < 10; ++k)
+        if ((cols[k] = n_names > 0 ? find_column(names, n_names, wanted[k]) : -1) < 0 && k < 5)
+            return fail_at(r, 0, "a UMEP met file's first line names iy, id, it, imin and kdown");
+    if (cols[6] >= 0 && !umep_column_given(r, cols[6]))
+        cols[6] = -1;
+    if (cols[5] >= 0 && !umep_column_given(r, cols[5]))
+        cols[5] = -1;
+    if (cols[6] >= 0 && cols[5] < 0)
+        return fail_at(r, 0, "a UMEP met file gives kdir without kdiff: skysweep needs kdown "
+                             "alone, kdown and kdiff, or all three");
+    w->components = cols[5] < 0   ? SS_WEATHER_GHI
+                    : cols[6] < 0 ? SS_WEATHER_GHI_DHI
+                                  : SS_WEATHER_GHI_DNI_DHI;
+    w->utc_offset_h = r->zone_h;
+    snprintf(w->stamps, sizeof w->stamps,
+             "UMEP/SUEWS: means over the interval ending at the stamp, local time UTC%+g "
+             "(--weather-zone; the file states none); the sun is taken at the middle of the "
+             "interval",
+             r->zone_h);
+    size_t cap = 0;
+    for (int i = 1; i < r->n_lines; ++i) {
+        int n = split_blanks(r->lines[i], f);
+        if (n == 0)
+            continue;
+        if (n != n_names)
+            return fail_at(r, i, "a UMEP record has as many fields as the column names");
+        int year, doy, hour, minute;
+        if (!integer(f[cols[0]], -9999, 99999, &year) || !integer(f[cols[1]], 1, 366, &doy) ||
+            !integer(f[cols[2]], 0, 24, &hour) || !integer(f[cols[3]], 0, 59, &minute))
+            return fail_at(r, i, "a UMEP record starts with year, day of the year (1-366), "
+                                 "hour (0-24) and minute");
+        if (doy == 366 && ss_days_in_month(year, 2) == 28) {
+            char what[80];
+            snprintf(what, sizeof what, "day 366 in %d, which is not a leap year", year);
+            return fail_at(r, i, what);
+        }
+        double v[6];
+        for (int k = 4; k < 10; ++k) {
+            v[k - 4] = NAN;
+            if (cols[k] >= 0 && !number(f[cols[k]], &v[k - 4]))
+                return fail_at(r, i, "a value of a UMEP record is not a number");
+        }
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        rec->stamp_unix_s =
+            ss_unix_from_civil(year, 1, doy, hour, minute, 0) - r->zone_h * 3600.0;
+        rec->sun_unix_s = rec->stamp_unix_s; /* moved to the interval's middle once its length is known */
+        /* -999 marks missing; pressure in kPa. */
+        set_values(w, rec,
+                   &(raw_values){v[0], v[2], v[1], v[3] == -999 ? NAN : v[3],
+                                 v[4] == -999 ? NAN : v[4], NAN, v[5] * 10.0},
+                   -999);
     }
     return SS_OK;
 }
@@ -796,17 +921,32 @@ static ss_status set_durations(reader *r)
     return SS_OK;
 }
 
-ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
+/* A UMEP / SUEWS met file's first line: iy id it imin, blank-separated. */
+static int umep_header(const char *line)
+{
+    const char *names[4] = {"iy", "id", "it", "imin"};
+    for (int k = 0; k < 4; ++k) {
+        line += strspn(line, " \t");
+        size_t len = strcspn(line, " \t");
+        if (len != strlen(names[k]) || strncasecmp(line, names[k], len) != 0)
+            return 0;
+        line += len;
+    }
+    return 1;
+}
+
+ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weather *w)
 {
     memset(w, 0, sizeof *w);
-    reader r = {.ctx = ctx, .path = path, .w = w};
+    reader r = {.ctx = ctx, .path = path, .zone_h = zone_h, .w = w};
     ss_status st = load(&r);
     const char *first = st == SS_OK && r.n_lines ? r.lines[0] : "";
     const char *second = r.n_lines > 1 ? r.lines[1] : "";
     while (st == SS_OK && isspace((unsigned char)*first))
         ++first;
-    static const char *const names[] = {"EPW", "TMY3", "PVGIS TMY CSV", "PVGIS TMY JSON",
-                                        "NSRDB PSM", "CSV"};
+    static const char *const names[] = {"EPW",       "TMY3",          "PVGIS TMY CSV",
+                                        "PVGIS TMY JSON", "NSRDB PSM", "UMEP/SUEWS met",
+                                        "CSV"};
     if (st != SS_OK)
         ;
     else if (strncmp(first, "LOCATION,", 9) == 0)
@@ -819,8 +959,21 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
         w->format = SS_WEATHER_TMY3;
     else if (strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone"))
         w->format = SS_WEATHER_PSM;
+    else if (umep_header(first))
+        w->format = SS_WEATHER_UMEP;
     else
         w->format = SS_WEATHER_CSV;
+    /* PVGIS stamps are UTC by definition, a CSV's carry their zone: there
+     * is no file zone to override. */
+    if (st == SS_OK && !isnan(zone_h) &&
+        (w->format == SS_WEATHER_PVGIS_CSV || w->format == SS_WEATHER_PVGIS_JSON ||
+         w->format == SS_WEATHER_CSV))
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--weather-zone applies to files whose stamps are local time (EPW, "
+                          "TMY3, NSRDB PSM, UMEP/SUEWS), not to '%s' (%s), whose %s",
+                          path, names[w->format],
+                          w->format == SS_WEATHER_CSV ? "times carry their zone"
+                                                      : "stamps are UTC");
     if (st == SS_OK) {
         w->format_name = names[w->format];
         switch (w->format) {
@@ -829,6 +982,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
         case SS_WEATHER_PVGIS_CSV: st = read_pvgis_csv(&r); break;
         case SS_WEATHER_PVGIS_JSON: st = read_pvgis_json(&r); break;
         case SS_WEATHER_PSM: st = read_psm(&r); break;
+        case SS_WEATHER_UMEP: st = read_umep(&r); break;
         case SS_WEATHER_CSV: st = read_plain_csv(&r); break;
         }
     }
@@ -838,8 +992,11 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
         st = ss_ctx_error(ctx, SS_ERR_INPUT,
                           "'%s' (%s): every one of its %zu records lacks an irradiance value",
                           path, w->format_name, w->n);
-    if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV))
+    if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV ||
+                        w->format == SS_WEATHER_UMEP))
         st = set_durations(&r);
+    for (size_t i = 0; st == SS_OK && w->format == SS_WEATHER_UMEP && i < w->n; ++i)
+        w->records[i].sun_unix_s -= 1800.0 * w->records[i].duration_h; /* the middle */
     free(r.lines);
     free(r.text);
     if (st != SS_OK)

@@ -26,6 +26,7 @@ typedef struct {
     const char *steps_path;   /* the command line's files */
     const char *weather;
     int weather_far_ok;
+    const char *weather_zone;
 } insolation_settings;
 
 #define SET(field) offsetof(insolation_settings, field)
@@ -39,6 +40,9 @@ static const opt_spec file_options[] = {
     {"weather-far-ok", OPT_FLAG, SET(weather_far_ok), NULL, NULL, 0, 0, NULL,
      "with --weather: use a file whose site lies farther than 100 km from the DEM's centre "
      "(refused without it: its hours and clouds are not the DEM's; doc/weather.md)"},
+    {"weather-zone", OPT_STRING, SET(weather_zone), "+HH:MM", NULL, 0, 0, NULL,
+     "with --weather: the zone the file's local stamps are in, over the one it states (EPW, "
+     "TMY3, NSRDB PSM); needed for a UMEP/SUEWS met file, which states none"},
     OPT_END};
 
 /* The run's time steps: each one's instant (where the sun is taken) and
@@ -388,8 +392,14 @@ static ss_status prepare(insolation_run *r)
         ss_insolation_params_shadow(&set->ins) == SS_SHADOW_CUMULATIVE)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--shadow cumulative needs --weather: it bins weather records' suns");
+    double zone_h = NAN;
+    if (st == SS_OK && set->weather_zone && !opt_parse_zone(set->weather_zone, &zone_h))
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--weather-zone expects a UTC offset such as +01:00 or -05:00 (at "
+                          "most 14 h), not '%s'",
+                          set->weather_zone);
     if (st == SS_OK && set->weather) {
-        st = ss_weather_read(ctx, set->weather, &r->weather);
+        st = ss_weather_read(ctx, set->weather, zone_h, &r->weather);
         r->have_weather = st == SS_OK;
     }
     if (st == SS_OK && r->have_weather)

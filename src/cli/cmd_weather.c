@@ -14,6 +14,7 @@
 
 typedef struct {
     const char *at;
+    const char *zone;
 } weather_settings;
 
 #define SET(field) offsetof(weather_settings, field)
@@ -21,6 +22,9 @@ static const opt_spec weather_options[] = {
     {"at", OPT_STRING, SET(at), "LON,LAT", NULL, 0, 0, NULL,
      "where the file names no site: the place whose sun completes a file of GHI alone, or of "
      "GHI and DHI (the rows then show the model's DNI and DHI)"},
+    {"weather-zone", OPT_STRING, SET(zone), "+HH:MM", NULL, 0, 0, NULL,
+     "the zone the file's local stamps are in, over the one it states (EPW, TMY3, NSRDB PSM); "
+     "needed for a UMEP/SUEWS met file, which states none"},
     OPT_END};
 
 /* A value, or nothing where it is missing (pandas reads that as NaN). */
@@ -32,10 +36,11 @@ static void value(double v)
         printf(",");
 }
 
-static const char weather_usage[] = "skysweep weather [--at LON,LAT] FILE";
+static const char weather_usage[] =
+    "skysweep weather [--at LON,LAT] [--weather-zone +HH:MM] FILE";
 static const char weather_summary[] =
-    "The records of a weather file (EPW, TMY3, PVGIS TMY CSV or JSON, NSRDB PSM, or a CSV\n"
-    "with time, ghi, dhi, dni) as skysweep reads them: '#' lines give the format, the site,\n"
+    "The records of a weather file (EPW, TMY3, PVGIS TMY CSV or JSON, NSRDB PSM, UMEP/SUEWS\n"
+    "met, or a CSV with time, ghi, dhi, dni) as skysweep reads them: '#' lines give the format, the site,\n"
     "what the stamps mean and which irradiance the file gives; each row gives the stamp\n"
     "(UTC), the instant the values stand for (where the sun is taken), the hours it covers\n"
     "and the values (W/m^2, C, m/s, 0..1, hPa; empty where missing). A file without DNI\n"
@@ -109,13 +114,17 @@ int cmd_weather(int argc, char **argv)
                     fabs(at_lat) <= 90))
         return run_usage_error("weather", "--at expects LON,LAT in degrees (longitude "
                                           "-180..180, latitude -90..90)");
+    double zone_h = NAN;
+    if (set.zone && !opt_parse_zone(set.zone, &zone_h))
+        return run_usage_error("weather", "--weather-zone expects a UTC offset such as +01:00 "
+                                          "or -05:00 (at most 14 h)");
     ss_ctx *ctx = ss_ctx_new();
     if (!ctx) {
         fprintf(stderr, "skysweep weather: out of memory\n");
         return SS_ERR_MEMORY;
     }
     ss_weather w;
-    ss_status st = ss_weather_read(ctx, pos[0], &w);
+    ss_status st = ss_weather_read(ctx, pos[0], zone_h, &w);
     if (st != SS_OK) {
         fprintf(stderr, "skysweep weather: %s\n", ss_ctx_message(ctx));
         ss_ctx_free(ctx);
