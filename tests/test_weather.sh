@@ -153,6 +153,25 @@ first=$("$SKYSWEEP" weather --weather-zone +02:00 "$cut/amsterdam_iwec_jan_feb.e
 [ "$first" = "1994-12-31T22:00:00Z" ]
 tap_ok $? "--weather-zone +02:00 overrides an EPW's zone (+1): its first stamp is $first"
 
+# TMY3 exports whose header differs from NREL's (issue 45): columns are
+# matched by meaning (case, blanks, units in brackets, stray characters);
+# only two columns of one meaning, or a unit other than NREL's, are refused.
+sed '2s|Date (MM/DD/YYYY)|date (mm/dd/yyyy)|; 2s|Time (HH:MM)| TIME |; 2s|GHI (W/m^2)| ghi [W/m2]|; 2s|DNI (W/m^2)|DNI(W/m2)|; 2s|Dry-bulb (C)|DRY BULB (C)|; 2s|Wspd (m/s)|wspd_[m s-1]|' \
+    "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_odd.csv"
+same_tmy3() { "$SKYSWEEP" weather "$1" | grep -v '^#' >"$work/a.csv"; "$SKYSWEEP" weather "$2" | grep -v '^#' >"$work/b.csv" 2>"$work/err"; [ -s "$work/a.csv" ] && cmp -s "$work/a.csv" "$work/b.csv"; }
+same_tmy3 "$cut/greensboro_tmy3_jan_feb.csv" "$work/tmy3_odd.csv"
+tap_ok $? "a TMY3 header with other case, blanks and brackets reads as NREL's $(head -c 200 "$work/err")"
+sed '2s|Pressure (mbar)|Pressure (kPa)|' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_kpa.csv"
+"$SKYSWEEP" weather "$work/tmy3_kpa.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "line 2: column 41 ('Pressure (kPa)') is not in Pressure's unit" "$work/err"
+tap_ok $? "a TMY3 pressure in kPa is refused: exit $rc, $(cat "$work/err")"
+sed '2s|DHI (W/m^2)|GHI|' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_two.csv"
+"$SKYSWEEP" weather "$work/tmy3_two.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "line 2: columns 5 and 11 both read as GHI" "$work/err"
+tap_ok $? "two TMY3 columns meaning GHI are refused: exit $rc, $(cat "$work/err")"
+
 # Spreadsheet exports (issue 40): a UTF-8 byte-order mark, and ';' between
 # fields with decimal commas (a European locale), read as the file they
 # were made from: the TMY3 cut with a BOM, the PVGIS sample's first 60
@@ -213,7 +232,7 @@ refused_saying() { # NAME CONTENT TEXT
     tap_ok $? "$1: the message says \"$3\""
 }
 refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header it has no separated columns"
-refused_saying no_time.csv 'date;ghi\n2026-06-21T10:00Z;1\n' "it has no 'time' column"
+refused_saying no_time.csv 'date;ghi\n2026-06-21T10:00Z;1\n' "its first line 'date,ghi' is none of"
 refused_saying no_ghi.csv 'time,global\n2026-06-21T10:00Z,1\n' "it has no 'ghi' column"
 refused_saying dni_alone.csv 'time,ghi,dni\n2026-06-21T10:00Z,1,1\n' "it has 'dni' without 'dhi'"
 refused no_zone.csv 'time,ghi,dni,dhi\n2026-06-21T10:00,1,2,3\n'

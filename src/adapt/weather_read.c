@@ -381,6 +381,73 @@ static ss_status read_epw(reader *r)
 
 /* ---- TMY3 --------------------------------------------------------------- */
 
+/* A column name's meaning: lower case, letters and digits alone, without a
+ * unit in brackets; the unit, the same way ("W/m^2" is "wm2"), into unit. */
+static void column_key(const char *name, char *key, size_t key_size, char *unit,
+                       size_t unit_size)
+{
+    size_t k = 0, u = 0;
+    int depth = 0;
+    for (const char *p = name; *p; ++p) {
+        unsigned char c = (unsigned char)*p;
+        if (c == '(' || c == '[')
+            ++depth;
+        else if (c == ')' || c == ']')
+            depth -= depth > 0;
+        else if (depth && isalnum(c) && u + 1 < unit_size)
+            unit[u++] = (char)tolower(c);
+        else if (!depth && isalnum(c) && k + 1 < key_size)
+            key[k++] = (char)tolower(c);
+    }
+    key[k] = unit[u] = '\0';
+}
+
+typedef struct {
+    const char *key, *name; /* the meaning, and NREL's name for it */
+    const char *units[2];   /* the units it may be written in ("": none given) */
+} tmy3_meaning;
+
+/* The one column that means m (-1: none); refused where two do, or where
+ * its unit is not one of m's. */
+static ss_status tmy3_column(reader *r, char **names, int n, const tmy3_meaning *m, int *col)
+{
+    *col = -1;
+    for (int i = 0; i < n; ++i) {
+        char key[64], unit[64];
+        column_key(names[i], key, sizeof key, unit, sizeof unit);
+        if (strcmp(key, m->key) != 0)
+            continue;
+        char what[200];
+        if (*col >= 0) {
+            snprintf(what, sizeof what, "columns %d and %d both read as %s: which one is meant?",
+                     *col + 1, i + 1, m->name);
+            return fail_at(r, 1, what);
+        }
+        if (*unit && strcmp(unit, m->units[0]) != 0 && strcmp(unit, m->units[1]) != 0) {
+            snprintf(what, sizeof what, "column %d ('%.40s') is not in %s's unit", i + 1,
+                     names[i], m->name);
+            return fail_at(r, 1, what);
+        }
+        *col = i;
+    }
+    return SS_OK;
+}
+
+/* NREL's second line begins "Date (MM/DD/YYYY),Time (HH:MM)"; an export
+ * may change case, blanks, brackets. */
+static int tmy3_header(const char *line)
+{
+    char copy[256], *f[MAX_FIELDS], key[64], unit[64];
+    snprintf(copy, sizeof copy, "%s", line);
+    if (split_csv(copy, f) < 2)
+        return 0;
+    column_key(f[0], key, sizeof key, unit, sizeof unit);
+    if (strcmp(key, "date") != 0)
+        return 0;
+    column_key(f[1], key, sizeof key, unit, sizeof unit);
+    return strcmp(key, "time") == 0;
+}
+
 /* NREL TMY3: station line (id, name, state, zone, lat, lon, elevation),
  * column names, then records summed over the hour ending at the stamp, local
  * standard time (24:00 is the end of the day); -9900 marks missing. */
@@ -405,13 +472,22 @@ static ss_status read_tmy3(reader *r)
              tz);
     char *names[MAX_FIELDS];
     int n_names = split_csv(r->lines[1], names);
-    int c_ghi = find_column(names, n_names, "GHI (W/m^2)");
-    int c_dni = find_column(names, n_names, "DNI (W/m^2)");
-    int c_dhi = find_column(names, n_names, "DHI (W/m^2)");
-    int c_temp = find_column(names, n_names, "Dry-bulb (C)");
-    int c_wind = find_column(names, n_names, "Wspd (m/s)");
-    int c_alb = find_column(names, n_names, "Alb (unitless)");
-    int c_pres = find_column(names, n_names, "Pressure (mbar)");
+    /* By meaning: the name without case, blanks, punctuation or its unit
+     * (NREL's "GHI (W/m^2)", an export's "ghi [W/m2]"), in a unit NREL's
+     * means or none. */
+    static const tmy3_meaning meanings[7] = {
+        {"ghi", "GHI", {"wm2", "wm2"}},   {"dni", "DNI", {"wm2", "wm2"}},
+        {"dhi", "DHI", {"wm2", "wm2"}},   {"drybulb", "Dry-bulb", {"c", "degc"}},
+        {"wspd", "Wspd", {"ms", "ms1"}},   {"alb", "Alb", {"unitless", "unitless"}},
+        {"pressure", "Pressure", {"mbar", "hpa"}}};
+    int found[7];
+    for (int k = 0; k < 7; ++k) {
+        ss_status st = tmy3_column(r, names, n_names, &meanings[k], &found[k]);
+        if (st != SS_OK)
+            return st;
+    }
+    int c_ghi = found[0], c_dni = found[1], c_dhi = found[2], c_temp = found[3],
+        c_wind = found[4], c_alb = found[5], c_pres = found[6];
     if (n_names < 2 || c_ghi < 0 || c_dni < 0 || c_dhi < 0)
         return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2), DNI (W/m^2) or DHI (W/m^2)");
     size_t cap = 0;
@@ -818,10 +894,9 @@ static ss_status read_umep(reader *r)
 /* The first line of a file no reader recognised, quoted with what it
  * lacks, so that a user sees whether the file is of another kind or a CSV
  * with other column names. */
-static ss_status not_a_weather_file(reader *r, int n_names, const int cols[4])
+static ss_status not_a_weather_file(reader *r, char *first, int cut, int n_names,
+                                    const int cols[4])
 {
-    char first[64];
-    snprintf(first, sizeof first, "%s", r->lines[0]);
     for (char *p = first; *p; ++p)
         if (!isprint((unsigned char)*p))
             *p = '?';
@@ -834,7 +909,7 @@ static ss_status not_a_weather_file(reader *r, int n_names, const int cols[4])
                         "none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header "
                         "it has %s (time, ghi, and dhi or dhi and dni; comma or semicolon "
                         "separated)",
-                        r->path, first, strlen(r->lines[0]) >= sizeof first ? "..." : "", lack);
+                        r->path, first, cut ? "..." : "", lack);
 }
 
 /* A header line naming `time` and `ghi` (and `dni`, `dhi`; optionally
@@ -845,6 +920,8 @@ static ss_status read_plain_csv(reader *r)
 {
     ss_weather *w = r->w;
     char *names[MAX_FIELDS], *f[MAX_FIELDS];
+    char first_line[64]; /* to quote, before the split cuts it */
+    int cut = snprintf(first_line, sizeof first_line, "%s", r->lines[0]) >= (int)sizeof first_line;
     int n_names = split_csv(r->lines[0], names);
     const char *wanted[8] = {"time", "ghi", "dni", "dhi", "temp_air", "wind_speed", "albedo",
                              "pressure"};
@@ -852,7 +929,7 @@ static ss_status read_plain_csv(reader *r)
     for (int k = 0; k < 8; ++k)
         cols[k] = n_names > 0 ? find_column(names, n_names, wanted[k]) : -1;
     if (cols[0] < 0 || cols[1] < 0 || (cols[2] >= 0 && cols[3] < 0))
-        return not_a_weather_file(r, n_names, cols);
+        return not_a_weather_file(r, first_line, cut, n_names, cols);
     w->components = cols[3] < 0   ? SS_WEATHER_GHI
                     : cols[2] < 0 ? SS_WEATHER_GHI_DHI
                                   : SS_WEATHER_GHI_DNI_DHI;
@@ -955,7 +1032,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         w->format = SS_WEATHER_PVGIS_JSON;
     else if (strncmp(first, "Latitude (decimal degrees):", 27) == 0)
         w->format = SS_WEATHER_PVGIS_CSV;
-    else if (strncmp(second, "Date (MM/DD/YYYY)", 17) == 0)
+    else if (tmy3_header(second))
         w->format = SS_WEATHER_TMY3;
     else if (strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone"))
         w->format = SS_WEATHER_PSM;
