@@ -105,24 +105,4 @@ SS_FN float ss_sky_diffuse_on(ss_sky_parts p, float cos_i, int lit, float sky_vi
     return sum > 0.0f ? sum : 0.0f;
 }
 
-/* Erbs et al. (1982) split of a global horizontal irradiance into direct
- * normal and diffuse horizontal, as pvlib.irradiance.erbs: clearness index
- * against the extraterrestrial on the horizontal (cos z at least 0.065),
- * no beam beyond z = 87 deg. */
-SS_FN void ss_erbs_split(float ghi, float z, float dni_extra, float *dni, float *dhi)
-{
-    float cz = SS_COS(z);
-    float kt = SS_FMIN(SS_FMAX(ghi / (dni_extra * SS_FMAX(cz, 0.065f)), 0.0f), 1.0f);
-    float df = kt <= 0.22f ? 1.0f - 0.09f * kt
-               : kt <= 0.8f
-                   ? 0.9511f + kt * (-0.1604f + kt * (4.388f + kt * (-16.638f + kt * 12.336f)))
-                   : 0.165f;
-    *dhi = df * ghi;
-    *dni = (ghi - *dhi) / cz;
-    if (z > 87.0f / SS_DEG_PER_RAD_F || ghi < 0.0f || *dni < 0.0f) {
-        *dni = 0.0f;
-        *dhi = ghi;
-    }
-}
-
 #endif

@@ -112,10 +112,11 @@ typedef struct {
     uint64_t night_steps_skipped;   /* steps with the sun below every cell's horizontal */
     uint64_t shadow_sweeps_skipped; /* steps with the sun above every possible horizon */
     /* Weather records: missing (adding nothing), split from GHI alone
-     * (Erbs), with beam on the horizontal above the global (used as given),
-     * and with beam or diffuse while the sun is below the horizontal
-     * (adding nothing). */
-    uint64_t records_missing, records_split, records_beam_above_global, records_light_at_night;
+     * (Erbs), DNI from GHI and DHI (closure), with beam on the horizontal
+     * above the global (used as given), and with beam or diffuse while the
+     * sun is below the horizontal (adding nothing). */
+    uint64_t records_missing, records_split, records_dni_from_closure, records_beam_above_global,
+        records_light_at_night;
     uint64_t records_without_temperature; /* PV yield: the options' air temperature or wind used */
     uint64_t sun_bins; /* the cumulative sky's occupied bins of suns */
     /* Insolation's cells x daylight steps, and of them those whose sun's
@@ -491,6 +492,7 @@ typedef struct {
     double duration_h;             /* hours this step stands for */
     double linke;                  /* Linke turbidity (air mass 2) */
     double extraterrestrial_w_m2;  /* normal irradiance above the atmosphere */
+    double unix_s;                 /* the instant (UTC): Erbs's day of the year */
     double azimuth_deg;            /* in the sweep options' frame (the shadow sweep) */
     double grid_azimuth_deg;       /* the same in the grid's frame (cell slopes) */
     double elevation_deg;          /* true, airless */
@@ -622,6 +624,30 @@ typedef struct {
     double diagonal_m;     /* the longest distance a horizon can span */
     double earth_radius_m;
 } ss_place;
+
+/* A weather file's site farther than this (km) from the DEM's centre is
+ * not the DEM's weather: the CLI refuses it unless confirmed
+ * (--weather-far-ok), and the plan says so (doc/weather.md). */
+#define SS_WEATHER_NEAR_KM 100.0
+
+/* How a weather record's beam and diffuse were had (ss_irradiance_complete). */
+typedef enum {
+    SS_IRRADIANCE_AS_GIVEN, /* all three given, or the record is missing */
+    SS_IRRADIANCE_CLOSURE,  /* DNI = (GHI - DHI) / cos(zenith) */
+    SS_IRRADIANCE_ERBS      /* DNI and DHI split from GHI by Erbs et al. 1982 */
+} ss_irradiance_source;
+
+/* Completes a weather record as pvlib 0.16 does, at the sun's true zenith
+ * (degrees) and instant (UTC seconds): with *dni NAN and *dhi given,
+ * DNI = (GHI - DHI) / cos(zenith) (pvlib.irradiance.dni, whose NAN, for a
+ * negative DNI or one not 0 at a zenith of 88 degrees or more, is 0 here:
+ * no beam, the diffuse kept); with both NAN, Erbs's split
+ * (pvlib.irradiance.erbs: clearness index against pvlib's extraterrestrial
+ * irradiance, Spencer's of the UTC day of the year with 1366.1 W/m^2, at
+ * cos(zenith) of at least 0.065, clipped to 0..1; no beam beyond a zenith
+ * of 87 degrees). Anything else is left as it is. */
+SS_API ss_irradiance_source ss_irradiance_complete(double ghi, double *dni, double *dhi,
+                                                   double zenith_deg, double unix_s);
 
 /* Insolation from weather records, for the plan to say: what they are
  * (NULL: clear sky), how far their site lies from the DEM's centre (km;

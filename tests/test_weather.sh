@@ -47,19 +47,19 @@ against_pvlib "$top/tests/data/psm4_sample.csv" psm4
 
 # Where the sun is taken: the middle of an EPW hour; PVGIS's stated offset,
 # also in its EPW export whose zone label is not applied.
-epw=$("$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.epw" | sed -n 6p | cut -d, -f2)
-csv=$("$SKYSWEEP" weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" | sed -n 6p | cut -d, -f2)
+epw=$("$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.epw" | grep -v "^#" | sed -n 2p | cut -d, -f2)
+csv=$("$SKYSWEEP" weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" | grep -v "^#" | sed -n 2p | cut -d, -f2)
 [ "$epw" = "2018-01-01T00:10:33.96Z" ] && [ "$csv" = "$epw" ]
 tap_ok $? "PVGIS's EPW and CSV put the first record's sun at the same instant ($epw, $csv)"
-amsterdam=$("$SKYSWEEP" weather "$cut/amsterdam_iwec_jan_feb.epw" | sed -n 6p | cut -d, -f1,2)
+amsterdam=$("$SKYSWEEP" weather "$cut/amsterdam_iwec_jan_feb.epw" | grep -v "^#" | sed -n 2p | cut -d, -f1,2)
 [ "$amsterdam" = "1994-12-31T23:00:00Z,1994-12-31T23:30:00Z" ]
 tap_ok $? "an EPW hour's sun is at its middle ($amsterdam)"
 
 # JSON laid out over many lines reads as the same records as on one.
 sed 's/}, {/},\n {/g' "$cut/pvgis_45N_8E_jan_feb.json" >"$work/pretty.json"
 lines=$(wc -l <"$work/pretty.json")
-"$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.json" | tail -n +5 >"$work/one.csv"
-"$SKYSWEEP" weather "$work/pretty.json" | tail -n +5 >"$work/many.csv"
+"$SKYSWEEP" weather "$cut/pvgis_45N_8E_jan_feb.json" | grep -v "^#" >"$work/one.csv"
+"$SKYSWEEP" weather "$work/pretty.json" | grep -v "^#" >"$work/many.csv"
 [ "$lines" -gt 1000 ] && cmp -s "$work/one.csv" "$work/many.csv" && [ -s "$work/one.csv" ]
 tap_ok $? "PVGIS JSON over $lines lines reads as on one line"
 
@@ -78,6 +78,141 @@ printf 'time,ghi\n2026-06-21T10:00Z,500\n2026-06-21T11:00Z,600\n' >"$work/ghi.cs
 "$SKYSWEEP" weather "$work/ghi.csv" | grep -q "GHI alone"
 tap_ok $? "a CSV with GHI alone is taken as such"
 
+# GHI alone, or GHI and DHI (issue 45): a month of the PVGIS sample (its
+# sun times as stamps) without the other columns; `--at` the file's site,
+# each record's DNI and DHI equal pvlib's erbs and dni within 0.1 %.
+for month in 2018-01 2006-06; do
+    for cols in ghi ghi,dhi; do
+        "$SKYSWEEP" weather "$top/samples/weather/pvgis_tmy_45N_8E.csv" |
+            awk -F, -v m="$month" -v c="$cols" '!/^#/ && index($2, m) == 1 {
+                if (!h++) print "time," c; print $2 "," $4 (c == "ghi" ? "" : "," $6) }' \
+                >"$work/$month.$cols.csv"
+        if [ "$have_pvlib" -eq 0 ]; then
+            tap_skip "$month, $cols: completed as pvlib does" "no pvlib at $python (tests/run.sh installs it)"
+            continue
+        fi
+        "$python" "$top/tests/pvlib/decomposition.py" "$SKYSWEEP" "$work/$month.$cols.csv" 8,45 \
+            >"$work/out" 2>&1
+        tap_ok $? "$month, $cols: completed as pvlib does: $(grep -v '^ok' "$work/out" | head -c 300) $(grep 'within 0.1' "$work/out" | tr '\n' ' ' | head -c 400)"
+    done
+done
+out=$("$SKYSWEEP" weather "$work/2006-06.ghi,dhi.csv")
+echo "$out" | grep -q "^# irradiance GHI and DHI from the file; DNI = (GHI - DHI) / cos(zenith)" &&
+    echo "$out" | grep -q "^# model applied at the DEM's sun in a run (--at LON,LAT shows it here)" &&
+    echo "$out" | grep -q "^stamp,sun_time,duration_h,ghi,dni,dhi,temp_air,wind_speed,albedo,pressure$"
+tap_ok $? "without a site, skysweep weather says where the model applies"
+"$SKYSWEEP" weather --at 8,95 "$work/2006-06.ghi.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ]
+tap_ok $? "--at 8,95 is refused: exit $rc, $(cat "$work/err")"
+
+# UMEP/SUEWS met files (issue 45): no zone in the file, so --weather-zone
+# gives it, or the file is refused in one line; the zone also overrides an
+# EPW's. The real file is UMEP's Gothenburg year in ../shared/data (its
+# first line and 21 June here); the malformed ones are written inline.
+umep=$weather/goteborg_tmy_1977_umep.txt
+if [ -f "$umep" ]; then
+    { head -n 1 "$umep"; awk 'NR > 1 && $2 == 172' "$umep"; } >"$work/umep.txt"
+    "$SKYSWEEP" weather "$work/umep.txt" >/dev/null 2>"$work/err"
+    rc=$?
+    [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] &&
+        grep -q "a UMEP/SUEWS met file, which states no time zone: give its stamps' zone with --weather-zone" "$work/err"
+    tap_ok $? "a UMEP met file without --weather-zone is refused: exit $rc, $(cat "$work/err")"
+    out=$("$SKYSWEEP" weather --weather-zone +01:00 "$work/umep.txt")
+    noon=$(echo "$out" | grep '^1977-06-21T11:00:00Z' | cut -d, -f1-6)
+    # Local noon (hour 12 at UTC+1) is 11:00Z; kdown, kdir, kdiff as given,
+    # the sun at the middle of the hour ending there.
+    [ "$noon" = "1977-06-21T11:00:00Z,1977-06-21T10:30:00Z,1,$(awk '$3 == 12 { printf "%g,%g,%g", $15, $23, $22 }' "$work/umep.txt")" ] &&
+        [ "$(echo "$out" | grep -c '^1977-06')" -eq 24 ] && echo "$out" | grep -q "^# format UMEP/SUEWS met"
+    tap_ok $? "a UMEP met file read with --weather-zone +01:00: $noon"
+else
+    tap_skip "a UMEP met file without --weather-zone is refused" "$umep is not here"
+    tap_skip "a UMEP met file read with --weather-zone +01:00" "$umep is not here"
+fi
+umep_head='iy id it imin qn qh qe qs qf U RH Tair pres rain kdown snow ldown fcld wuh xsmd lai kdiff kdir wdir'
+printf '%s\n1977 172 12 0 -999 -999 -999 -999 -999 3.1 50 18 101.2 0 700 -999 -999 -999 -999 -999 -999 -999 -999 -999\n1977 172 13 0 -999 -999 -999 -999 -999 3.1 50 18 101.2 0 650 -999 -999 -999 -999 -999 -999 -999 -999 -999\n' \
+    "$umep_head" >"$work/umep_ghi.txt"
+"$SKYSWEEP" weather --weather-zone +01:00 "$work/umep_ghi.txt" >"$work/out" 2>"$work/err"
+grep -q "^# irradiance GHI alone" "$work/out" &&
+    grep -q "^1977-06-21T11:00:00Z,1977-06-21T10:30:00Z,1,700,,,18,3.1,,1012$" "$work/out"
+tap_ok $? "a UMEP file whose kdiff and kdir are -999 throughout gives GHI alone (pressure kPa to hPa) $(cat "$work/err")"
+refused_zone() { # NAME CONTENT TEXT [ZONE]: exit 2 or 3, one line saying TEXT
+    printf '%b' "$2" >"$work/$1"
+    "$SKYSWEEP" weather --weather-zone "${4:-+01:00}" "$work/$1" >/dev/null 2>"$work/err"
+    local rc=$?
+    [ "$rc" -ge 2 ] && [ "$rc" -le 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -qF -- "$3" "$work/err"
+    tap_ok $? "$1 refused: exit $rc, $(cat "$work/err")"
+}
+refused_zone umep_day367.txt "$umep_head\n1977 367 12 0 -999 -999 -999 -999 -999 3 50 18 101 0 700 -999 -999 -999 -999 -999 -999 -999 -999 -999\n" "line 2: a UMEP record starts with year, day of the year (1-366)"
+refused_zone umep_day366.txt "$umep_head\n1977 366 12 0 -999 -999 -999 -999 -999 3 50 18 101 0 700 -999 -999 -999 -999 -999 -999 -999 -999 -999\n" "line 2: day 366 in 1977, which is not a leap year"
+refused_zone umep_short.txt "$umep_head\n1977 172 12 0 -999 -999\n" "line 2: a UMEP record has as many fields as the column names"
+refused_zone umep_no_kdown.txt 'iy id it imin Tair\n1977 172 12 0 18\n' "line 1: a UMEP met file's first line names iy, id, it, imin and kdown"
+refused_zone zone_for_pvgis.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n20180101:0000,1,2,3\n' "--weather-zone applies to files whose stamps are local time"
+refused_zone bad_zone.txt "$umep_head\n" "--weather-zone expects a UTC offset such as +01:00" "+1:00x"
+first=$("$SKYSWEEP" weather --weather-zone +02:00 "$cut/amsterdam_iwec_jan_feb.epw" | grep -v '^#' | sed -n 2p | cut -d, -f1)
+[ "$first" = "1994-12-31T22:00:00Z" ]
+tap_ok $? "--weather-zone +02:00 overrides an EPW's zone (+1): its first stamp is $first"
+
+# TMY3 exports whose header differs from NREL's (issue 45): columns are
+# matched by meaning (case, blanks, units in brackets, stray characters);
+# only two columns of one meaning, or a unit other than NREL's, are refused.
+sed '2s|Date (MM/DD/YYYY)|date (mm/dd/yyyy)|; 2s|Time (HH:MM)| TIME |; 2s|GHI (W/m^2)| ghi [W/m2]|; 2s|DNI (W/m^2)|DNI(W/m2)|; 2s|Dry-bulb (C)|DRY BULB (C)|; 2s|Wspd (m/s)|wspd_[m s-1]|' \
+    "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_odd.csv"
+same_tmy3() { "$SKYSWEEP" weather "$1" | grep -v '^#' >"$work/a.csv"; "$SKYSWEEP" weather "$2" | grep -v '^#' >"$work/b.csv" 2>"$work/err"; [ -s "$work/a.csv" ] && cmp -s "$work/a.csv" "$work/b.csv"; }
+same_tmy3 "$cut/greensboro_tmy3_jan_feb.csv" "$work/tmy3_odd.csv"
+tap_ok $? "a TMY3 header with other case, blanks and brackets reads as NREL's $(head -c 200 "$work/err")"
+sed '2s|Pressure (mbar)|Pressure (kPa)|' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_kpa.csv"
+"$SKYSWEEP" weather "$work/tmy3_kpa.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "line 2: column 41 ('Pressure (kPa)') is not in Pressure's unit" "$work/err"
+tap_ok $? "a TMY3 pressure in kPa is refused: exit $rc, $(cat "$work/err")"
+sed '2s|DHI (W/m^2)|GHI|' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_two.csv"
+"$SKYSWEEP" weather "$work/tmy3_two.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "line 2: columns 5 and 11 both read as GHI" "$work/err"
+tap_ok $? "two TMY3 columns meaning GHI are refused: exit $rc, $(cat "$work/err")"
+
+# Spreadsheet exports (issue 40): a UTF-8 byte-order mark, and ';' between
+# fields with decimal commas (a European locale), read as the file they
+# were made from: the TMY3 cut with a BOM, the PVGIS sample's first 60
+# lines with ';' and ','.
+same_records() { # ORIGINAL QUIRKY: the rows after the '#' lines are equal
+    "$SKYSWEEP" weather "$1" | grep -v '^#' >"$work/a.csv"
+    "$SKYSWEEP" weather "$2" | grep -v '^#' >"$work/b.csv" 2>"$work/err"
+    [ -s "$work/a.csv" ] && cmp -s "$work/a.csv" "$work/b.csv"
+}
+printf '\357\273\277' | cat - "$cut/greensboro_tmy3_jan_feb.csv" >"$work/bom_tmy3.csv"
+same_records "$cut/greensboro_tmy3_jan_feb.csv" "$work/bom_tmy3.csv"
+tap_ok $? "a TMY3 file behind a UTF-8 byte-order mark reads as without it $(head -c 200 "$work/err")"
+head -n 60 "$top/samples/weather/pvgis_tmy_45N_8E.csv" >"$work/pvgis60.csv"
+tr ',.' ';,' <"$work/pvgis60.csv" >"$work/pvgis60_semicolon.csv"
+same_records "$work/pvgis60.csv" "$work/pvgis60_semicolon.csv"
+tap_ok $? "a PVGIS CSV with ';' separators and decimal commas reads as the original $(head -c 200 "$work/err")"
+printf '\357\273\277' | cat - "$work/plain.csv" | tr ',.' ';,' >"$work/plain_bom_semicolon.csv"
+same_records "$work/plain.csv" "$work/plain_bom_semicolon.csv"
+tap_ok $? "a plain CSV with a BOM, ';' and decimal commas reads as the original"
+
+# 29 February in a year that is not a leap year is named as such (it was
+# 'an EPW record starts with year, month, day and hour').
+sed '1424s/^1999,2,28,24,/1999,2,29,1,/' "$cut/amsterdam_iwec_jan_feb.epw" >"$work/feb29.epw"
+"$SKYSWEEP" weather "$work/feb29.epw" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] &&
+    grep -q "29 February in 1999, which is not a leap year, line 1424" "$work/err"
+tap_ok $? "29 February 1999 in an EPW is named: exit $rc, $(cat "$work/err")"
+sed '3s|^01/01/1988|02/29/1989|' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/feb29_tmy3.csv"
+"$SKYSWEEP" weather "$work/feb29_tmy3.csv" >/dev/null 2>"$work/err"
+grep -q "29 February in 1989, which is not a leap year, line 3" "$work/err"
+tap_ok $? "29 February 1989 in a TMY3 file is named: $(cat "$work/err")"
+printf 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n20230229:0000,1,2,3\n' >"$work/feb29_pvgis.csv"
+"$SKYSWEEP" weather "$work/feb29_pvgis.csv" >/dev/null 2>"$work/err"
+grep -q "29 February in 2023, which is not a leap year, line 4" "$work/err"
+tap_ok $? "29 February 2023 in a PVGIS file is named: $(cat "$work/err")"
+printf 'time,ghi\n2023-02-29T10:00Z,1\n' >"$work/feb29_plain.csv"
+"$SKYSWEEP" weather "$work/feb29_plain.csv" >/dev/null 2>"$work/err"
+[ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "line 2: .*February 2023 has 28 days" "$work/err"
+tap_ok $? "29 February 2023 in a plain CSV is named at its line: $(cat "$work/err")"
+
 # refused NAME CONTENT: exit 3, one line that names the file.
 refused() {
     local name=$1
@@ -90,6 +225,16 @@ refused() {
 refused empty.csv ''
 refused binary.epw 'LOCATION,\0\1\2'
 refused no_columns.csv 'when,sun\n2026-06-21T10:00Z,1\n'
+# What a file no reader takes lacks, named (it was 'not a weather file').
+refused_saying() { # NAME CONTENT TEXT
+    refused "$1" "$2"
+    grep -qF "$3" "$work/err"
+    tap_ok $? "$1: the message says \"$3\""
+}
+refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header it has no separated columns"
+refused_saying no_time.csv 'date;ghi\n2026-06-21T10:00Z;1\n' "its first line 'date,ghi' is none of"
+refused_saying no_ghi.csv 'time,global\n2026-06-21T10:00Z,1\n' "it has no 'ghi' column"
+refused_saying dni_alone.csv 'time,ghi,dni\n2026-06-21T10:00Z,1,1\n' "it has 'dni' without 'dhi'"
 refused no_zone.csv 'time,ghi,dni,dhi\n2026-06-21T10:00,1,2,3\n'
 refused short.epw 'LOCATION,x,-,y,z,1,45,8,1,250\nDESIGN CONDITIONS,0\nDATA PERIODS,1,1,Data,Sunday, 1/ 1,12/31\n2018,1,1,1,0,?,2,3\n'
 refused bad_location.epw 'LOCATION,x,-,y,z,1,145,8,1,250\nDATA PERIODS,1\n'

@@ -31,12 +31,68 @@ typedef struct {
     long size;   /* its bytes */
     char **lines;
     int n_lines;
+    double zone_h; /* --weather-zone: the stamps' zone, hours east of UTC; NAN: the file's */
     ss_weather *w;
 } reader;
 
 static ss_status fail_at(reader *r, int line, const char *what)
 {
     return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' line %d: %s", r->path, line + 1, what);
+}
+
+/* Spreadsheets and Windows editors start a UTF-8 file with a byte-order
+ * mark (EF BB BF), which would hide the first line's keyword. */
+static void skip_bom(reader *r)
+{
+    if (r->size >= 3 && memcmp(r->text, "\xEF\xBB\xBF", 3) == 0) {
+        memmove(r->text, r->text + 3, (size_t)r->size - 2); /* with the final NUL */
+        r->size -= 3;
+    }
+}
+
+/* A spreadsheet set to a European locale exports with ';' between fields
+ * and ',' as the decimal mark. Its first lines then hold more semicolons than
+ * commas (each ',' of a decimal stands in a field that a ';' ends), where a
+ * comma-separated file holds none or a stray one in a comment. */
+static int semicolon_separated(const char *text)
+{
+    long semicolons = 0, commas = 0;
+    int lines = 0;
+    for (const char *p = text; *p && lines < 50; ++p) {
+        semicolons += *p == ';';
+        commas += *p == ',';
+        lines += *p == '\n';
+    }
+    return semicolons > commas;
+}
+
+/* Decimal commas become points, semicolons field separators. */
+static void to_comma_separated(char *text)
+{
+    for (char *p = text; *p; ++p)
+        *p = *p == ',' ? '.' : *p == ';' ? ',' : *p;
+}
+
+/* A day past its month's end, named as such: 29 February in a year that is
+ * not a leap year is the likeliest (a typical year stitches months of
+ * different years, and an edited file may keep a leap year's day under
+ * another year's number). `record` counts JSON records where line is < 0. */
+static ss_status bad_day(reader *r, int line, int record, long long year, int month, int day)
+{
+    static const char *const names[12] = {"January", "February", "March",     "April",
+                                          "May",     "June",     "July",      "August",
+                                          "September", "October", "November", "December"};
+    char what[120], where[40];
+    if (month == 2 && day == 29)
+        snprintf(what, sizeof what, "29 February in %lld, which is not a leap year", year);
+    else
+        snprintf(what, sizeof what, "day %d of %s %lld, which has %d days", day, names[month - 1],
+                 year, ss_days_in_month(year, month));
+    if (line >= 0)
+        snprintf(where, sizeof where, "line %d", line + 1);
+    else
+        snprintf(where, sizeof where, "record %d of tmy_hourly", record + 1);
+    return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s': %s, %s", r->path, what, where);
 }
 
 /* The file in memory, split into lines (\n or \r\n). */
@@ -71,6 +127,9 @@ static ss_status load(reader *r)
         return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is empty, not a weather file", r->path);
     if (memchr(r->text, '\0', (size_t)size))
         return ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s' is binary, not a weather file", r->path);
+    skip_bom(r);
+    if (semicolon_separated(r->text))
+        to_comma_separated(r->text);
     int cap = 1;
     for (long i = 0; i < size; ++i)
         cap += r->text[i] == '\n';
@@ -206,21 +265,30 @@ typedef struct {
 } raw_values;
 
 /* Stores v into rec, values out of range as missing or not given; counts
- * the record as missing where an irradiance value is. A file with GHI alone
- * leaves dni and dhi NAN without counting them. */
+ * the record as missing where an irradiance value is. What the file does
+ * not give (components) stays NAN without counting. */
 static void set_values(ss_weather *w, ss_weather_record *rec, const raw_values *v, double marker)
 {
     size_t missing = 0;
     rec->ghi = irradiance(v->ghi, marker, &missing);
-    if (!w->ghi_only) {
+    if (w->components == SS_WEATHER_GHI_DNI_DHI)
         rec->dni = irradiance(v->dni, marker, &missing);
+    if (w->components != SS_WEATHER_GHI)
         rec->dhi = irradiance(v->dhi, marker, &missing);
-    }
     w->missing += missing > 0;
     rec->temp_air_c = optional(v->temp_air_c, -90, 70);
     rec->wind_speed_m_s = optional(v->wind_speed_m_s, 0, 100);
     rec->albedo = albedo(v->albedo);
     rec->pressure_hpa = optional(v->pressure_hpa, 300, 1200);
+}
+
+/* The zone the stamps are read in: --weather-zone where given, else the
+ * file's; kept as the file's zone (months go by it). */
+static double stamps_zone(reader *r, double file_zone_h)
+{
+    double tz = isnan(r->zone_h) ? file_zone_h : r->zone_h;
+    r->w->utc_offset_h = tz;
+    return tz;
 }
 
 /* ---- EPW ---------------------------------------------------------------- */
@@ -246,7 +314,7 @@ static ss_status read_epw(reader *r)
     w->latitude_deg = lat;
     w->longitude_deg = lon;
     w->elevation_m = elev;
-    w->utc_offset_h = tz;
+    tz = stamps_zone(r, tz);
     double pvgis_offset_h = NAN;
     int data = -1;
     for (int i = 1; i < r->n_lines && data < 0; ++i) {
@@ -283,10 +351,11 @@ static ss_status read_epw(reader *r)
         if (n < 22)
             return fail_at(r, i, "an EPW record has at least 22 fields");
         if (!integer(f[0], -9999, 99999, &year) || !integer(f[1], 1, 12, &month) ||
-            !integer(f[2], 1, 31, &day) || !integer(f[3], 1, 24, &hour) ||
-            day > ss_days_in_month(year, month))
+            !integer(f[2], 1, 31, &day) || !integer(f[3], 1, 24, &hour))
             return fail_at(r, i, "an EPW record starts with year, month (1-12), day and hour "
                                  "(1-24)");
+        if (day > ss_days_in_month(year, month))
+            return bad_day(r, i, 0, year, month, day);
         double v[35];
         const int want[] = {6, 9, 13, 14, 15, 21, 32};
         for (size_t k = 0; k < sizeof want / sizeof want[0]; ++k) {
@@ -311,6 +380,73 @@ static ss_status read_epw(reader *r)
 
 /* ---- TMY3 --------------------------------------------------------------- */
 
+/* A column name's meaning: lower case, letters and digits alone, without a
+ * unit in brackets; the unit, the same way ("W/m^2" is "wm2"), into unit. */
+static void column_key(const char *name, char *key, size_t key_size, char *unit,
+                       size_t unit_size)
+{
+    size_t k = 0, u = 0;
+    int depth = 0;
+    for (const char *p = name; *p; ++p) {
+        unsigned char c = (unsigned char)*p;
+        if (c == '(' || c == '[')
+            ++depth;
+        else if (c == ')' || c == ']')
+            depth -= depth > 0;
+        else if (depth && isalnum(c) && u + 1 < unit_size)
+            unit[u++] = (char)tolower(c);
+        else if (!depth && isalnum(c) && k + 1 < key_size)
+            key[k++] = (char)tolower(c);
+    }
+    key[k] = unit[u] = '\0';
+}
+
+typedef struct {
+    const char *key, *name; /* the meaning, and NREL's name for it */
+    const char *units[2];   /* the units it may be written in ("": none given) */
+} tmy3_meaning;
+
+/* The one column that means m (-1: none); refused where two do, or where
+ * its unit is not one of m's. */
+static ss_status tmy3_column(reader *r, char **names, int n, const tmy3_meaning *m, int *col)
+{
+    *col = -1;
+    for (int i = 0; i < n; ++i) {
+        char key[64], unit[64];
+        column_key(names[i], key, sizeof key, unit, sizeof unit);
+        if (strcmp(key, m->key) != 0)
+            continue;
+        char what[200];
+        if (*col >= 0) {
+            snprintf(what, sizeof what, "columns %d and %d both read as %s: which one is meant?",
+                     *col + 1, i + 1, m->name);
+            return fail_at(r, 1, what);
+        }
+        if (*unit && strcmp(unit, m->units[0]) != 0 && strcmp(unit, m->units[1]) != 0) {
+            snprintf(what, sizeof what, "column %d ('%.40s') is not in %s's unit", i + 1,
+                     names[i], m->name);
+            return fail_at(r, 1, what);
+        }
+        *col = i;
+    }
+    return SS_OK;
+}
+
+/* NREL's second line begins "Date (MM/DD/YYYY),Time (HH:MM)"; an export
+ * may change case, blanks, brackets. */
+static int tmy3_header(const char *line)
+{
+    char copy[256], *f[MAX_FIELDS], key[64], unit[64];
+    snprintf(copy, sizeof copy, "%s", line);
+    if (split_csv(copy, f) < 2)
+        return 0;
+    column_key(f[0], key, sizeof key, unit, sizeof unit);
+    if (strcmp(key, "date") != 0)
+        return 0;
+    column_key(f[1], key, sizeof key, unit, sizeof unit);
+    return strcmp(key, "time") == 0;
+}
+
 /* NREL TMY3: station line (id, name, state, zone, lat, lon, elevation),
  * column names, then records summed over the hour ending at the stamp, local
  * standard time (24:00 is the end of the day); -9900 marks missing. */
@@ -328,20 +464,29 @@ static ss_status read_tmy3(reader *r)
     w->latitude_deg = lat;
     w->longitude_deg = lon;
     w->elevation_m = elev;
-    w->utc_offset_h = tz;
+    tz = stamps_zone(r, tz);
     snprintf(w->stamps, sizeof w->stamps,
              "TMY3: sums over the hour ending at the stamp, local standard time UTC%+g; the sun "
              "is taken at the middle of the hour",
              tz);
     char *names[MAX_FIELDS];
     int n_names = split_csv(r->lines[1], names);
-    int c_ghi = find_column(names, n_names, "GHI (W/m^2)");
-    int c_dni = find_column(names, n_names, "DNI (W/m^2)");
-    int c_dhi = find_column(names, n_names, "DHI (W/m^2)");
-    int c_temp = find_column(names, n_names, "Dry-bulb (C)");
-    int c_wind = find_column(names, n_names, "Wspd (m/s)");
-    int c_alb = find_column(names, n_names, "Alb (unitless)");
-    int c_pres = find_column(names, n_names, "Pressure (mbar)");
+    /* By meaning: the name without case, blanks, punctuation or its unit
+     * (NREL's "GHI (W/m^2)", an export's "ghi [W/m2]"), in a unit NREL's
+     * means or none. */
+    static const tmy3_meaning meanings[7] = {
+        {"ghi", "GHI", {"wm2", "wm2"}},   {"dni", "DNI", {"wm2", "wm2"}},
+        {"dhi", "DHI", {"wm2", "wm2"}},   {"drybulb", "Dry-bulb", {"c", "degc"}},
+        {"wspd", "Wspd", {"ms", "ms1"}},   {"alb", "Alb", {"unitless", "unitless"}},
+        {"pressure", "Pressure", {"mbar", "hpa"}}};
+    int found[7];
+    for (int k = 0; k < 7; ++k) {
+        ss_status st = tmy3_column(r, names, n_names, &meanings[k], &found[k]);
+        if (st != SS_OK)
+            return st;
+    }
+    int c_ghi = found[0], c_dni = found[1], c_dhi = found[2], c_temp = found[3],
+        c_wind = found[4], c_alb = found[5], c_pres = found[6];
     if (n_names < 2 || c_ghi < 0 || c_dni < 0 || c_dhi < 0)
         return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2), DNI (W/m^2) or DHI (W/m^2)");
     size_t cap = 0;
@@ -355,10 +500,11 @@ static ss_status read_tmy3(reader *r)
         /* Short fields, so that sscanf's numbers cannot overflow. */
         if (strlen(f[0]) > 10 || strlen(f[1]) > 5 ||
             sscanf(f[0], "%d/%d/%d", &month, &day, &year) != 3 || month < 1 || month > 12 ||
-            day < 1 || day > ss_days_in_month(year, month) ||
-            sscanf(f[1], "%d:%d", &hour, &minute) != 2 || hour < 0 || hour > 24 || minute < 0 ||
-            minute > 59)
+            day < 1 || day > 31 || sscanf(f[1], "%d:%d", &hour, &minute) != 2 || hour < 0 ||
+            hour > 24 || minute < 0 || minute > 59)
             return fail_at(r, i, "a TMY3 record starts with MM/DD/YYYY and HH:MM");
+        if (day > ss_days_in_month(year, month))
+            return bad_day(r, i, 0, year, month, day);
         double v[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
         const int cols[7] = {c_ghi, c_dni, c_dhi, c_temp, c_wind, c_alb, c_pres};
         for (int k = 0; k < 7; ++k)
@@ -376,20 +522,21 @@ static ss_status read_tmy3(reader *r)
 
 /* ---- PVGIS TMY ---------------------------------------------------------- */
 
-/* "20180101:0000" (UTC) as Unix seconds; 0 if malformed. */
-static int pvgis_time(const char *s, double *unix_s)
+/* "20180101:0000" (UTC) as its fields; 0 if malformed (a day past its
+ * month's end is left to the caller to name). */
+static int pvgis_time(const char *s, int *year, int *month, int *day, double *unix_s)
 {
-    int year, month, day, hour, minute;
+    int hour, minute;
     if (strlen(s) != 13 || s[8] != ':')
         return 0;
     for (int i = 0; i < 13; ++i)
         if (i != 8 && !isdigit((unsigned char)s[i]))
             return 0;
-    if (sscanf(s, "%4d%2d%2d:%2d%2d", &year, &month, &day, &hour, &minute) != 5 ||
-        month < 1 || month > 12 || day < 1 || day > ss_days_in_month(year, month) || hour > 23 ||
-        hour < 0 || minute < 0 || minute > 59)
+    if (sscanf(s, "%4d%2d%2d:%2d%2d", year, month, day, &hour, &minute) != 5 || *month < 1 ||
+        *month > 12 || *day < 1 || *day > 31 || hour > 23 || hour < 0 || minute < 0 ||
+        minute > 59)
         return 0;
-    *unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0);
+    *unix_s = ss_unix_from_civil(*year, *month, *day, hour, minute, 0);
     return 1;
 }
 
@@ -403,16 +550,20 @@ static void pvgis_stamps(ss_weather *w, double offset_h)
 }
 
 /* One PVGIS record from its fields (time, G(h), Gb(n), Gd(h), T2m, WS10m,
- * SP in Pa) on line `line` of a CSV, or (line < 0) from the JSON. */
-static ss_status pvgis_record(reader *r, int line, size_t *cap, double offset_h,
+ * SP in Pa) on line `line` of a CSV, or (line < 0) record `record` of the
+ * JSON. */
+static ss_status pvgis_record(reader *r, int line, int record, size_t *cap, double offset_h,
                               const char *time, const double v[6])
 {
     double t;
-    if (!pvgis_time(time, &t))
+    int year, month, day;
+    if (!pvgis_time(time, &year, &month, &day, &t))
         return line < 0 ? ss_ctx_error(r->ctx, SS_ERR_INPUT,
                                   "'%s': a tmy_hourly time(UTC) is written YYYYMMDD:HHMM, not '%.40s'",
                                   r->path, time)
                         : fail_at(r, line, "a PVGIS time is written YYYYMMDD:HHMM");
+    if (day > ss_days_in_month(year, month))
+        return bad_day(r, line, record, year, month, day);
     ss_weather_record *rec = add_record(r, cap);
     if (!rec)
         return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
@@ -470,7 +621,7 @@ static ss_status read_pvgis_csv(reader *r)
         for (int k = 0; k < 6; ++k)
             if (cols[k] >= 0 && !number(f[cols[k]], &val[k]))
                 return fail_at(r, i, "a value of a PVGIS record is not a number");
-        ss_status st = pvgis_record(r, i, &cap, offset_h, f[0], val);
+        ss_status st = pvgis_record(r, i, 0, &cap, offset_h, f[0], val);
         if (st != SS_OK)
             return st;
     }
@@ -545,8 +696,7 @@ static ss_status read_pvgis_json(reader *r)
                          "'%s': record %zu of tmy_hourly lacks time(UTC), G(h), Gb(n) or Gd(h)",
                          r->path, i + 1);
         else
-            st = pvgis_record(r, -1, &cap, offset_h, json_object_get_string(time),
-                              v);
+            st = pvgis_record(r, -1, (int)i, &cap, offset_h, json_object_get_string(time), v);
     }
     json_object_put(root);
     return st;
@@ -575,7 +725,7 @@ static ss_status read_psm(reader *r)
     if ((c = find_column(keys, nk, "Elevation")) >= 0)
         number(vals[c], &w->elevation_m);
     w->has_site = 1;
-    w->utc_offset_h = tz;
+    tz = stamps_zone(r, tz);
     snprintf(w->stamps, sizeof w->stamps,
              "NSRDB PSM: instantaneous values at the stamp, UTC%+g; the sun is taken at the "
              "stamp",
@@ -605,10 +755,12 @@ static ss_status read_psm(reader *r)
             if (cols[k] >= 0 && !number(f[cols[k]], &v[k]))
                 return fail_at(r, i, "a value of a PSM record is not a number");
         }
-        if (v[0] != floor(v[0]) || fabs(v[0]) > 9999 || v[1] < 1 || v[1] > 12 || v[2] < 1 ||
-            v[2] > ss_days_in_month((long long)v[0], (int)v[1]) || v[3] < 0 || v[3] > 23 ||
+        if (v[0] != floor(v[0]) || fabs(v[0]) > 9999 || v[1] != floor(v[1]) || v[1] < 1 ||
+            v[1] > 12 || v[2] != floor(v[2]) || v[2] < 1 || v[2] > 31 || v[3] < 0 || v[3] > 23 ||
             v[4] < 0 || v[4] > 59)
             return fail_at(r, i, "a PSM record's date or time is not valid");
+        if (v[2] > ss_days_in_month((long long)v[0], (int)v[1]))
+            return bad_day(r, i, 0, (long long)v[0], (int)v[1], (int)v[2]);
         ss_weather_record *rec = add_record(r, &cap);
         if (!rec)
             return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
@@ -621,7 +773,143 @@ static ss_status read_psm(reader *r)
     return SS_OK;
 }
 
+/* ---- UMEP / SUEWS met file ---------------------------------------------- */
+
+/* Splits a line at blanks in place; returns the number of fields, -1 if
+ * more than MAX_FIELDS. */
+static int split_blanks(char *line, char **fields)
+{
+    int n = 0;
+    char *p = line + strspn(line, " \t");
+    while (*p) {
+        if (n == MAX_FIELDS)
+            return -1;
+        fields[n++] = p;
+        p += strcspn(p, " \t");
+        if (*p)
+            *p++ = '\0';
+        p += strspn(p, " \t");
+    }
+    return n;
+}
+
+/* A column any of whose records holds a value other than UMEP's -999:
+ * UMEP's tools write kdiff and kdir as -999 throughout where they have
+ * only kdown, and split it themselves. */
+static int umep_column_given(reader *r, int column)
+{
+    for (int i = 1; i < r->n_lines; ++i) {
+        const char *p = r->lines[i];
+        for (int k = 0; k < column && *p; ++k) { /* past `column` fields */
+            p += strspn(p, " \t");
+            p += strcspn(p, " \t");
+        }
+        double v = strtod(p, NULL);
+        if (*p && v != -999.0)
+            return 1;
+    }
+    return 0;
+}
+
+/* UMEP / SUEWS met file: blank-separated columns named on the first line
+ * (iy id it imin ... kdown ... kdiff kdir ...), year, day of the year,
+ * hour and minute, -999 for missing; means over the interval ending at the
+ * stamp. It states neither site nor zone: the zone is --weather-zone's. */
+static ss_status read_umep(reader *r)
+{
+    ss_weather *w = r->w;
+    if (isnan(r->zone_h))
+        return ss_ctx_error(r->ctx, SS_ERR_ARGUMENT,
+                            "'%s' is a UMEP/SUEWS met file, which states no time zone: give its "
+                            "stamps' zone with --weather-zone (e.g. +01:00 for Central European "
+                            "standard time)",
+                            r->path);
+    char *names[MAX_FIELDS], *f[MAX_FIELDS];
+    char header[4096];
+    snprintf(header, sizeof header, "%s", r->lines[0]);
+    int n_names = split_blanks(header, names);
+    const char *wanted[10] = {"iy", "id", "it", "imin", "kdown", "kdiff", "kdir", "Tair", "U",
+                              "pres"};
+    int cols[10];
+    for (int k = 0; k < 10; ++k)
+        if ((cols[k] = n_names > 0 ? find_column(names, n_names, wanted[k]) : -1) < 0 && k < 5)
+            return fail_at(r, 0, "a UMEP met file's first line names iy, id, it, imin and kdown");
+    if (cols[6] >= 0 && !umep_column_given(r, cols[6]))
+        cols[6] = -1;
+    if (cols[5] >= 0 && !umep_column_given(r, cols[5]))
+        cols[5] = -1;
+    if (cols[6] >= 0 && cols[5] < 0)
+        return fail_at(r, 0, "a UMEP met file gives kdir without kdiff: skysweep needs kdown "
+                             "alone, kdown and kdiff, or all three");
+    w->components = cols[5] < 0   ? SS_WEATHER_GHI
+                    : cols[6] < 0 ? SS_WEATHER_GHI_DHI
+                                  : SS_WEATHER_GHI_DNI_DHI;
+    w->utc_offset_h = r->zone_h;
+    snprintf(w->stamps, sizeof w->stamps,
+             "UMEP/SUEWS: means over the interval ending at the stamp, local time UTC%+g "
+             "(--weather-zone; the file states none); the sun is taken at the middle of the "
+             "interval",
+             r->zone_h);
+    size_t cap = 0;
+    for (int i = 1; i < r->n_lines; ++i) {
+        int n = split_blanks(r->lines[i], f);
+        if (n == 0)
+            continue;
+        if (n != n_names)
+            return fail_at(r, i, "a UMEP record has as many fields as the column names");
+        int year, doy, hour, minute;
+        if (!integer(f[cols[0]], -9999, 99999, &year) || !integer(f[cols[1]], 1, 366, &doy) ||
+            !integer(f[cols[2]], 0, 24, &hour) || !integer(f[cols[3]], 0, 59, &minute))
+            return fail_at(r, i, "a UMEP record starts with year, day of the year (1-366), "
+                                 "hour (0-24) and minute");
+        if (doy == 366 && ss_days_in_month(year, 2) == 28) {
+            char what[80];
+            snprintf(what, sizeof what, "day 366 in %d, which is not a leap year", year);
+            return fail_at(r, i, what);
+        }
+        double v[6];
+        for (int k = 4; k < 10; ++k) {
+            v[k - 4] = NAN;
+            if (cols[k] >= 0 && !number(f[cols[k]], &v[k - 4]))
+                return fail_at(r, i, "a value of a UMEP record is not a number");
+        }
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        rec->stamp_unix_s =
+            ss_unix_from_civil(year, 1, doy, hour, minute, 0) - r->zone_h * 3600.0;
+        rec->sun_unix_s = rec->stamp_unix_s; /* moved to the interval's middle once its length is known */
+        /* -999 marks missing; pressure in kPa. */
+        set_values(w, rec,
+                   &(raw_values){v[0], v[2], v[1], v[3] == -999 ? NAN : v[3],
+                                 v[4] == -999 ? NAN : v[4], NAN, v[5] * 10.0},
+                   -999);
+    }
+    return SS_OK;
+}
+
 /* ---- plain CSV ---------------------------------------------------------- */
+
+/* The first line of a file no reader recognised, quoted with what it
+ * lacks, so that a user sees whether the file is of another kind or a CSV
+ * with other column names. */
+static ss_status not_a_weather_file(reader *r, char *first, int cut, int n_names,
+                                    const int cols[4])
+{
+    for (char *p = first; *p; ++p)
+        if (!isprint((unsigned char)*p))
+            *p = '?';
+    const char *lack = n_names < 2   ? "no separated columns"
+                       : cols[0] < 0 ? "no 'time' column"
+                       : cols[1] < 0 ? "no 'ghi' column"
+                                     : "'dni' without 'dhi'";
+    return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                        "'%s' is not a weather file skysweep reads: its first line '%s%s' is "
+                        "none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header "
+                        "it has %s (time, ghi, and dhi or dhi and dni; comma or semicolon "
+                        "separated)",
+                        r->path, first, cut ? "..." : "", lack);
+}
 
 /* A header line naming `time` and `ghi` (and `dni`, `dhi`; optionally
  * `temp_air`, `wind_speed`, `albedo`, `pressure` in hPa), then records with
@@ -631,19 +919,19 @@ static ss_status read_plain_csv(reader *r)
 {
     ss_weather *w = r->w;
     char *names[MAX_FIELDS], *f[MAX_FIELDS];
+    char first_line[64]; /* to quote, before the split cuts it */
+    int cut = snprintf(first_line, sizeof first_line, "%s", r->lines[0]) >= (int)sizeof first_line;
     int n_names = split_csv(r->lines[0], names);
     const char *wanted[8] = {"time", "ghi", "dni", "dhi", "temp_air", "wind_speed", "albedo",
                              "pressure"};
     int cols[8];
     for (int k = 0; k < 8; ++k)
         cols[k] = n_names > 0 ? find_column(names, n_names, wanted[k]) : -1;
-    if (cols[0] < 0 || cols[1] < 0 || (cols[2] < 0) != (cols[3] < 0))
-        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
-                       "'%s' is not a weather file skysweep reads: EPW, TMY3, PVGIS TMY (CSV or "
-                       "JSON), NSRDB PSM, or a CSV whose first line names time, ghi, dni and "
-                       "dhi (or time and ghi alone)",
-                       r->path);
-    w->ghi_only = cols[2] < 0;
+    if (cols[0] < 0 || cols[1] < 0 || (cols[2] >= 0 && cols[3] < 0))
+        return not_a_weather_file(r, first_line, cut, n_names, cols);
+    w->components = cols[3] < 0   ? SS_WEATHER_GHI
+                    : cols[2] < 0 ? SS_WEATHER_GHI_DHI
+                                  : SS_WEATHER_GHI_DNI_DHI;
     snprintf(w->stamps, sizeof w->stamps,
              "CSV: each value stands for its stamp (instantaneous, or a mean centred on it); "
              "the sun is taken at the stamp");
@@ -656,8 +944,12 @@ static ss_status read_plain_csv(reader *r)
             return fail_at(r, i, "a record has as many fields as the column names");
         double t;
         ss_status st = ss_parse_instant(r->ctx, f[cols[0]], &t);
-        if (st != SS_OK)
-            return fail_at(r, i, "the time is ISO 8601 with a zone, e.g. 2026-06-21T10:30Z");
+        if (st != SS_OK) { /* the parser's words: a day past the month's end, no zone, ... */
+            char why[400];
+            snprintf(why, sizeof why, "%s (ISO 8601 with a zone, e.g. 2026-06-21T10:30Z)",
+                     ss_ctx_message(r->ctx));
+            return fail_at(r, i, why);
+        }
         double v[8];
         for (int k = 1; k < 8; ++k) {
             v[k] = NAN;
@@ -705,17 +997,32 @@ static ss_status set_durations(reader *r)
     return SS_OK;
 }
 
-ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
+/* A UMEP / SUEWS met file's first line: iy id it imin, blank-separated. */
+static int umep_header(const char *line)
+{
+    const char *names[4] = {"iy", "id", "it", "imin"};
+    for (int k = 0; k < 4; ++k) {
+        line += strspn(line, " \t");
+        size_t len = strcspn(line, " \t");
+        if (len != strlen(names[k]) || strncasecmp(line, names[k], len) != 0)
+            return 0;
+        line += len;
+    }
+    return 1;
+}
+
+ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weather *w)
 {
     memset(w, 0, sizeof *w);
-    reader r = {.ctx = ctx, .path = path, .w = w};
+    reader r = {.ctx = ctx, .path = path, .zone_h = zone_h, .w = w};
     ss_status st = load(&r);
     const char *first = st == SS_OK && r.n_lines ? r.lines[0] : "";
     const char *second = r.n_lines > 1 ? r.lines[1] : "";
     while (st == SS_OK && isspace((unsigned char)*first))
         ++first;
-    static const char *const names[] = {"EPW", "TMY3", "PVGIS TMY CSV", "PVGIS TMY JSON",
-                                        "NSRDB PSM", "CSV"};
+    static const char *const names[] = {"EPW",       "TMY3",          "PVGIS TMY CSV",
+                                        "PVGIS TMY JSON", "NSRDB PSM", "UMEP/SUEWS met",
+                                        "CSV"};
     if (st != SS_OK)
         ;
     else if (strncmp(first, "LOCATION,", 9) == 0)
@@ -724,12 +1031,25 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
         w->format = SS_WEATHER_PVGIS_JSON;
     else if (strncmp(first, "Latitude (decimal degrees):", 27) == 0)
         w->format = SS_WEATHER_PVGIS_CSV;
-    else if (strncmp(second, "Date (MM/DD/YYYY)", 17) == 0)
+    else if (tmy3_header(second))
         w->format = SS_WEATHER_TMY3;
     else if (strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone"))
         w->format = SS_WEATHER_PSM;
+    else if (umep_header(first))
+        w->format = SS_WEATHER_UMEP;
     else
         w->format = SS_WEATHER_CSV;
+    /* PVGIS stamps are UTC by definition, a CSV's carry their zone: there
+     * is no file zone to override. */
+    if (st == SS_OK && !isnan(zone_h) &&
+        (w->format == SS_WEATHER_PVGIS_CSV || w->format == SS_WEATHER_PVGIS_JSON ||
+         w->format == SS_WEATHER_CSV))
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--weather-zone applies to files whose stamps are local time (EPW, "
+                          "TMY3, NSRDB PSM, UMEP/SUEWS), not to '%s' (%s), whose %s",
+                          path, names[w->format],
+                          w->format == SS_WEATHER_CSV ? "times carry their zone"
+                                                      : "stamps are UTC");
     if (st == SS_OK) {
         w->format_name = names[w->format];
         switch (w->format) {
@@ -738,6 +1058,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
         case SS_WEATHER_PVGIS_CSV: st = read_pvgis_csv(&r); break;
         case SS_WEATHER_PVGIS_JSON: st = read_pvgis_json(&r); break;
         case SS_WEATHER_PSM: st = read_psm(&r); break;
+        case SS_WEATHER_UMEP: st = read_umep(&r); break;
         case SS_WEATHER_CSV: st = read_plain_csv(&r); break;
         }
     }
@@ -747,8 +1068,11 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, ss_weather *w)
         st = ss_ctx_error(ctx, SS_ERR_INPUT,
                           "'%s' (%s): every one of its %zu records lacks an irradiance value",
                           path, w->format_name, w->n);
-    if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV))
+    if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV ||
+                        w->format == SS_WEATHER_UMEP))
         st = set_durations(&r);
+    for (size_t i = 0; st == SS_OK && w->format == SS_WEATHER_UMEP && i < w->n; ++i)
+        w->records[i].sun_unix_s -= 1800.0 * w->records[i].duration_h; /* the middle */
     free(r.lines);
     free(r.text);
     if (st != SS_OK)
@@ -761,4 +1085,18 @@ void ss_weather_free(ss_weather *w)
     free(w->records);
     w->records = NULL;
     w->n = 0;
+}
+
+const char *ss_weather_components_text(ss_weather_components c)
+{
+    switch (c) {
+    case SS_WEATHER_GHI_DHI:
+        return "GHI and DHI from the file; DNI = (GHI - DHI) / cos(zenith) at each record's "
+               "sun (pvlib.irradiance.dni; 0 where pvlib's is undefined)";
+    case SS_WEATHER_GHI:
+        return "GHI alone from the file; DNI and DHI split from it at each record's sun by "
+               "Erbs et al. 1982 (pvlib.irradiance.erbs)";
+    case SS_WEATHER_GHI_DNI_DHI: break;
+    }
+    return "GHI, DNI and DHI from the file";
 }

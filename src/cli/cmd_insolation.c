@@ -25,6 +25,8 @@ typedef struct {
     ss_insolation_params ins; /* the library's "insolation" table */
     const char *steps_path;   /* the command line's files */
     const char *weather;
+    int weather_far_ok;
+    const char *weather_zone;
 } insolation_settings;
 
 #define SET(field) offsetof(insolation_settings, field)
@@ -35,6 +37,12 @@ static const opt_spec file_options[] = {
      "real sky: one step per record of an EPW, TMY3, PVGIS TMY (CSV, JSON), NSRDB PSM or CSV "
      "file (skysweep weather FILE shows them); --time then selects records; outputs in "
      "kWh/m2 for the year and each month (doc/insolation.md)"},
+    {"weather-far-ok", OPT_FLAG, SET(weather_far_ok), NULL, NULL, 0, 0, NULL,
+     "with --weather: use a file whose site lies farther than 100 km from the DEM's centre "
+     "(refused without it: its hours and clouds are not the DEM's; doc/weather.md)"},
+    {"weather-zone", OPT_STRING, SET(weather_zone), "+HH:MM", NULL, 0, 0, NULL,
+     "with --weather: the zone the file's local stamps are in, over the one it states (EPW, "
+     "TMY3, NSRDB PSM); needed for a UMEP/SUEWS met file, which states none"},
     OPT_END};
 
 /* The run's time steps: each one's instant (where the sun is taken) and
@@ -295,6 +303,22 @@ static double weather_distance_km(const ss_weather *w, const ss_dem_frame *frame
                        : NAN;
 }
 
+/* A file from elsewhere runs without error but sums the wrong hours (its
+ * stamps' days fall in another place's nights) and another sky: refused
+ * beyond SS_WEATHER_NEAR_KM unless the user says it is meant. */
+static ss_status check_weather_site(ss_ctx *ctx, const ss_weather *w, const ss_dem_frame *frame,
+                                   int far_ok)
+{
+    double km = weather_distance_km(w, frame);
+    if (far_ok || !(km > SS_WEATHER_NEAR_KM))
+        return SS_OK;
+    return ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                        "the weather file's site (%.4f, %.4f lon, lat) lies %.0f km from the "
+                        "DEM's centre, farther than %.0f km: its hours and sky are not the "
+                        "DEM's; use the DEM's own weather, or --weather-far-ok to run anyway",
+                        w->longitude_deg, w->latitude_deg, km, SS_WEATHER_NEAR_KM);
+}
+
 /* The weather file's summary: format, site and its distance from the DEM,
  * what the stamps mean. */
 static void describe_weather(const ss_weather *w, const char *path, const ss_dem_frame *frame,
@@ -307,12 +331,13 @@ static void describe_weather(const ss_weather *w, const char *path, const ss_dem
         n += snprintf(buf + n, size - (size_t)n,
                       "; site %.4f, %.4f (lon, lat), %.1f km from the DEM's centre%s",
                       w->longitude_deg, w->latitude_deg, km,
-                      km > 50 ? ": its weather may not be the DEM's" : "");
+                      km > SS_WEATHER_NEAR_KM ? ": its weather may not be the DEM's" : "");
     } else if (n > 0 && (size_t)n < size) {
         n += snprintf(buf + n, size - (size_t)n, "; no site given");
     }
     if (n > 0 && (size_t)n < size)
-        snprintf(buf + n, size - (size_t)n, "; %s", w->stamps);
+        snprintf(buf + n, size - (size_t)n, "; %s; irradiance: %s", w->stamps,
+                 ss_weather_components_text(w->components));
 }
 
 /* Names a run's bands: a weather run's in kWh/m^2 (hours stay hours, the PV
@@ -344,7 +369,7 @@ typedef struct {
     ss_weather weather;
     int have_weather;
     char *text; /* --time as parsed (malloc'ed), for the metadata */
-    char weather_note[900], weather_what[300];
+    char weather_note[1200], weather_what[300];
     ss_insolation_options io;
     insolation_out out;
     ss_band_stats bands;
@@ -367,10 +392,18 @@ static ss_status prepare(insolation_run *r)
         ss_insolation_params_shadow(&set->ins) == SS_SHADOW_CUMULATIVE)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--shadow cumulative needs --weather: it bins weather records' suns");
+    double zone_h = NAN;
+    if (st == SS_OK && set->weather_zone && !opt_parse_zone(set->weather_zone, &zone_h))
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "--weather-zone expects a UTC offset such as +01:00 or -05:00 (at "
+                          "most 14 h), not '%s'",
+                          set->weather_zone);
     if (st == SS_OK && set->weather) {
-        st = ss_weather_read(ctx, set->weather, &r->weather);
+        st = ss_weather_read(ctx, set->weather, zone_h, &r->weather);
         r->have_weather = st == SS_OK;
     }
+    if (st == SS_OK && r->have_weather)
+        st = check_weather_site(ctx, &r->weather, &r->job.frame, set->weather_far_ok);
     if (st == SS_OK && r->have_weather) {
         describe_weather(&r->weather, set->weather, &r->job.frame, r->weather_note,
                          sizeof r->weather_note);
@@ -518,10 +551,12 @@ static void print_summary(insolation_run *r)
     run_print_dem(&job->run, &job->dem, &job->frame);
     if (r->have_weather)
         printf("weather %s\n        %llu records missing, %llu split from GHI alone "
-               "(Erbs), %llu with beam on the horizontal above the global (used as "
-               "given), %llu with light while the sun is down (not used)\n",
+               "(Erbs), %llu with DNI from GHI and DHI (closure), %llu with beam on the "
+               "horizontal above the global (used as given), %llu with light while the sun "
+               "is down (not used)\n",
                r->weather_note, (unsigned long long)c.records_missing,
                (unsigned long long)c.records_split,
+               (unsigned long long)c.records_dni_from_closure,
                (unsigned long long)c.records_beam_above_global,
                (unsigned long long)c.records_light_at_night);
     command_print_job_sweep(job, &r->bands);

@@ -64,18 +64,6 @@ static const opt_spec sun_table_options[] = {
      "with --horizon-from and curvature: terrestrial refraction coefficient k"},
     OPT_END};
 
-/* "LON,LAT" in degrees; range checks are the library's. */
-static int parse_site(const char *text, double *lon_deg, double *lat_deg)
-{
-    char *end;
-    *lon_deg = strtod(text, &end);
-    if (end == text || *end != ',')
-        return 0;
-    const char *lat = end + 1;
-    *lat_deg = strtod(lat, &end);
-    return end != lat && *end == '\0';
-}
-
 /* horizon_deg: the terrain horizon at the sun's azimuth, NAN without --horizon-from. */
 static void print_row(const sun_settings *set, const char *time, const ss_spa_result *r,
                       double horizon_deg, int first)
@@ -172,7 +160,7 @@ int cmd_sun(int argc, char **argv)
     double lon_deg, lat_deg;
     if (!set.at || !set.time)
         return run_usage_error("sun", "needs --at LON,LAT and --time ISO8601");
-    if (!parse_site(set.at, &lon_deg, &lat_deg))
+    if (!opt_parse_site(set.at, &lon_deg, &lat_deg))
         return run_usage_error("sun", "--at expects LON,LAT in degrees, e.g. 15.6,78.2");
 
     ss_spa_params p;

@@ -1,6 +1,7 @@
 /* Table-driven option parsing on top of getopt_long_only. */
 #include "config.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -268,4 +269,34 @@ void opt_print_help(const opt_spec *const *tables, const char *usage, const char
             printf("\n");
         }
     printf("  %-34s %s\n", "--help", "show this help");
+}
+
+int opt_parse_site(const char *text, double *lon_deg, double *lat_deg)
+{
+    char *end;
+    *lon_deg = strtod(text, &end);
+    if (end == text || *end != ',')
+        return 0;
+    const char *lat = end + 1;
+    *lat_deg = strtod(lat, &end);
+    return end != lat && *end == '\0';
+}
+
+int opt_parse_zone(const char *text, double *hours)
+{
+    if (strcmp(text, "Z") == 0) {
+        *hours = 0.0;
+        return 1;
+    }
+    int h, m = 0, len = 0;
+    char sign = text[0];
+    if ((sign != '+' && sign != '-') ||
+        !(sscanf(text + 1, "%2d:%2d%n", &h, &m, &len) == 2 ||
+          sscanf(text + 1, "%2d%2d%n", &h, &m, &len) == 2 ||
+          (m = 0, sscanf(text + 1, "%2d%n", &h, &len) == 1)) ||
+        text[1 + len] != '\0' || !isdigit((unsigned char)text[1]) || m < 0 || m > 59 ||
+        h * 60 + m > 14 * 60)
+        return 0;
+    *hours = (sign == '-' ? -1 : 1) * (h + m / 60.0);
+    return 1;
 }

@@ -89,4 +89,11 @@ int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, co
 void opt_print_markdown(const opt_spec *const *tables, const char *command, const char *usage,
                         const char *summary);
 
+/* "LON,LAT" in degrees (--at); range checks are the library's. */
+int opt_parse_site(const char *text, double *lon_deg, double *lat_deg);
+
+/* A UTC offset, "+01:00", "-05:00", "+0530", "+01" or "Z", as hours east of
+ * UTC (--weather-zone); 0 if it is none, or beyond +-14:00. */
+int opt_parse_zone(const char *text, double *hours);
+
 #endif

@@ -533,8 +533,9 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
         else
             add(p, "weather", 1, 0, "", "real sky from %s, whose site lies %.1f km from the DEM's "
                 "centre%s", w->what, w->distance_km,
-                w->distance_km > 50 ? ": farther than 50 km, its weather may not be the DEM's"
-                                    : "");
+                w->distance_km > SS_WEATHER_NEAR_KM
+                    ? ": farther than 100 km (--weather-far-ok), its weather may not be the DEM's"
+                    : "");
     }
     /* Perez's band comes from the sweep that stores the horizons, where
      * shadows take stored horizons. */

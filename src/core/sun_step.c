@@ -15,6 +15,7 @@ void ss_sun_step_clear_sky(const ss_spa_result *sun, double grid_azimuth_deg,
     step->linke = linke;
     double r = sun->earth_sun_distance_au;
     step->extraterrestrial_w_m2 = solar_constant_w_m2 / (r * r);
+    step->unix_s = (sun->julian_day - 2440587.5) * 86400.0; /* UT1, within a second of UTC */
     step->grid_azimuth_deg = grid_azimuth_deg;
     step->azimuth_deg = grid_azimuth_deg + options_north_deg;
     step->elevation_deg = sun->elevation_deg;

@@ -43,7 +43,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!ctx)
         abort();
     ss_weather w;
-    ss_status st = ss_weather_read(ctx, path, &w);
+    ss_status st = ss_weather_read(ctx, path, NAN, &w);
     if (st != SS_OK) {
         const char *m = ss_ctx_message(ctx);
         FUZZ_CHECK(st == SS_ERR_INPUT || st == SS_ERR_MEMORY, "status %d: %s", st, m);

@@ -66,9 +66,14 @@ sun = pvlib.solarposition.get_solarposition(times, lat, lon, altitude=500)
 r = pvlib.solarposition.nrel_earthsun_distance(times)
 dni_extra = 1367.0 / r ** 2
 ghi = rec["ghi"].clip(lower=0).values
-if rec["dni"].isna().all():  # GHI alone: skysweep splits it by Erbs, at the DEM's centre
+if rec["dni"].isna().all() and rec["dhi"].isna().all():
+    # GHI alone: skysweep splits it by Erbs, at the DEM's centre
     split = pvlib.irradiance.erbs(ghi, sun["zenith"].values, times)
     dni, dhi = split["dni"].values, split["dhi"].values
+elif rec["dni"].isna().all():  # GHI and DHI: DNI by closure (pvlib's NaN: no beam)
+    dhi = rec["dhi"].clip(lower=0).values
+    dni = pvlib.irradiance.dni(pd.Series(ghi, index=times), pd.Series(dhi, index=times),
+                               sun["zenith"]).fillna(0).values
 else:
     dni, dhi = rec["dni"].clip(lower=0).values, rec["dhi"].clip(lower=0).values
 poa = pvlib.irradiance.get_total_irradiance(
