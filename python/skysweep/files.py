@@ -12,7 +12,7 @@ import subprocess
 import threading
 
 from ._context import error_for, progress_callback
-from ._lib import BUILD, COMMANDS
+from ._lib import CLI, COMMANDS
 from .products import _checked
 
 #: What the file calls may not set: the package runs the command quietly
@@ -35,7 +35,7 @@ def _text(key, value):
 def command_line():
     """The skysweep executable: SKYSWEEP_CLI, else the one the package was
     built with, else the first on PATH."""
-    for candidate in (os.environ.get("SKYSWEEP_CLI"), BUILD["cli"], shutil.which("skysweep")):
+    for candidate in (os.environ.get("SKYSWEEP_CLI"), CLI, shutil.which("skysweep")):
         if candidate and os.access(candidate, os.X_OK):
             return candidate
     raise FileNotFoundError("no skysweep command line found (set SKYSWEEP_CLI)")
