@@ -24,7 +24,6 @@ import pathlib
 import re
 import shutil
 import subprocess
-import sys
 import tempfile
 
 from setuptools import Distribution, setup
