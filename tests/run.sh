@@ -97,6 +97,34 @@ echo "tests: $pass passed, $failed failed (build and suite: $(since "$started"))
 # made for another prefix: the libraries relink for DIR and the installed CLI
 # runs with its modules from DIR/lib/skysweep. One test, counted in the totals;
 # outside the suite, which it would relink under.
+# The Python package built over that installed library, found with pkg-config
+# (python/setup.py's third way): from a copy of python/ away from the tree, it
+# uses DIR's library and command line. One test, counted in the totals.
+check_python_over_install() {
+    py=$SKYSWEEP_PVLIB_PYTHON top=$PWD
+    if ! "$py" -c "import cffi, numpy, wheel" 2>/dev/null; then
+        echo "skip: the Python package over make install (no test venv)"
+        return
+    fi
+    cp -r python "$1/python" && rm -rf "$1/python/build" "$1"/python/*.egg-info
+    if PKG_CONFIG_PATH=$1/lib/pkgconfig "$py" -m pip install -q --disable-pip-version-check \
+        --no-build-isolation --no-deps --target "$1/site" "$1/python" >tests/install-python.log 2>&1 &&
+        (cd "$1" && PYTHONPATH=$1/site "$py" -c "
+import numpy as np, skysweep
+from skysweep._lib import BUILD, CLI
+assert BUILD['library'] == '$1/lib/libskysweep.so.0' and CLI == '$1/bin/skysweep', BUILD
+assert skysweep.svf(np.add.outer(np.arange(9.0), np.arange(7.0)) ** 2, 10).shape == (9, 7)
+skysweep.svf_file('$top/samples/kilauea_summit_30m.tif', 'svf.tif', directions=4)") \
+            >>tests/install-python.log 2>&1; then
+        echo "ok: the Python package installs over make install prefix=DIR, found with pkg-config"
+        total_pass=$((total_pass + 1))
+    else
+        echo "not ok: the Python package over make install prefix=DIR (tests/install-python.log):"
+        tail -n 5 tests/install-python.log | sed 's/^/    /'
+        total_failed=$((total_failed + 1))
+    fi
+}
+
 check_install_prefix() {
     prefix=$(mktemp -d "${TMPDIR:-/tmp}/ss-prefix.XXXXXX")
     if make install prefix="$prefix" >tests/install-prefix.log 2>&1 &&
@@ -110,6 +138,7 @@ check_install_prefix() {
         tail -n 5 tests/install-prefix.log "$prefix/info.out" 2>/dev/null | sed 's/^/    /'
         total_failed=$((total_failed + 1))
     fi
+    check_python_over_install "$prefix"
     rm -rf "$prefix"
     # Back to the prefix the build was configured for.
     make -j"$(nproc)" >/dev/null 2>&1

@@ -8,12 +8,15 @@ from cffi import FFI
 
 _HERE = pathlib.Path(__file__).resolve().parent
 
+BUILD = json.loads((_HERE / "_options.json").read_text())
+
 ffi = FFI()
 ffi.cdef((_HERE / "_cdef.h").read_text())
-#: SKYSWEEP_LIBRARY overrides the package's own copy (a sanitizer build, say).
-lib = ffi.dlopen(os.environ.get("SKYSWEEP_LIBRARY") or str(_HERE / "libskysweep.so.0"))
-
-BUILD = json.loads((_HERE / "_options.json").read_text())
+#: SKYSWEEP_LIBRARY overrides the package's library: its own copy, or the
+#: installed one it was built against (a sanitizer build, say).
+lib = ffi.dlopen(os.environ.get("SKYSWEEP_LIBRARY") or str(_HERE / BUILD["library"]))
+#: The command line the package carries or was built with (None: none).
+CLI = str(_HERE / BUILD["cli"]) if BUILD["cli"] else None
 #: Numeric constants of the public headers (SS_NODATA, ...).
 CONST = BUILD["constants"]
 #: Each command's option table, as ``skysweep COMMAND --help-json`` prints it.

@@ -15,7 +15,7 @@ import threading
 import numpy as np
 
 from ._context import error_for, progress_callback
-from ._lib import BUILD, COMMANDS, default
+from ._lib import CLI, COMMANDS, default
 from .products import _checked
 from .sun import iso_duration
 
@@ -42,7 +42,7 @@ def _text(key, value):
 def command_line():
     """The skysweep executable: SKYSWEEP_CLI, else the one the package was
     built with, else the first on PATH."""
-    for candidate in (os.environ.get("SKYSWEEP_CLI"), BUILD["cli"], shutil.which("skysweep")):
+    for candidate in (os.environ.get("SKYSWEEP_CLI"), CLI, shutil.which("skysweep")):
         if candidate and os.access(candidate, os.X_OK):
             return candidate
     raise FileNotFoundError("no skysweep command line found (set SKYSWEEP_CLI)")
