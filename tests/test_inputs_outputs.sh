@@ -181,4 +181,34 @@ else
     tap_skip "a full TMPDIR is named" "cannot mount a tmpfs in a mount namespace here"
 fi
 
+# The option tables declare every file option as read or written, and
+# --help-json says which: the QGIS provider and the Python package tell
+# outputs from inputs by these flags alone.
+undeclared="" flags=""
+for command in svf openness horizon shadow hillshade insolation render quicklook sun weather; do
+    "$SKYSWEEP" "$command" --help-json >"help-$command.json" 2>/dev/null || continue
+    found=$(python3 - "help-$command.json" <<'PY'
+import json, sys
+table = json.load(open(sys.argv[1]))
+for o in table["options"]:
+    file_like = (o.get("metavar") or "").startswith("FILE")
+    kind = "output" if o.get("output") else "input" if o.get("input") else ""
+    if file_like and not kind:
+        print("undeclared:" + table["command"] + ":" + o["name"])
+    elif kind:
+        print(kind + ":" + o["name"])
+PY
+)
+    undeclared="$undeclared $(echo "$found" | grep '^undeclared:' | tr '\n' ' ')"
+    flags="$flags $(echo "$found" | grep -v '^undeclared:' | tr '\n' ' ')"
+done
+undeclared=$(echo $undeclared)
+expected_ok=1
+for want in output:distance output:cast-height output:steps output:export input:weather \
+    input:points input:drape input:horizon-from input:scene; do
+    case " $flags " in *" $want "*) ;; *) expected_ok=0 ;; esac
+done
+[ -z "$undeclared" ] && [ "$expected_ok" -eq 1 ]
+tap_ok $? "--help-json flags every file option as input or output${undeclared:+ (undeclared:$undeclared)}"
+
 tap_done

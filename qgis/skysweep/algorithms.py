@@ -38,8 +38,9 @@ def parameter_name(option):
 
 
 def is_output_file(entry):
-    """A FILE option that the command writes ("also write ...")."""
-    return entry.get("metavar") == "FILE" and entry["help"].startswith("also write")
+    """A file option that the command writes, as its option table declares
+    (`"output": true` in --help-json)."""
+    return entry.get("output", False)
 
 
 def parameters_of(table):
@@ -156,7 +157,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             return QgsProcessingParameterBoolean(name, label, False)
         if is_output_file(entry):
             return QgsProcessingParameterRasterDestination(name, label, None, True, False)
-        if entry.get("metavar") == "FILE":
+        if entry.get("input", False):
             return QgsProcessingParameterFile(name, label, optional=True)
         return QgsProcessingParameterString(name, label, default, False, default is None)
 

@@ -171,6 +171,12 @@ void opt_print_json(const opt_spec *const *tables, const char *command, const ch
             printf(", \"dash\": ");
             json_string(opt_dash(s->name));
             printf(", \"type\": \"%s\"", type_names[s->type]);
+            /* A file the command reads or writes, as the option table declares
+             * it: front ends tell outputs from inputs by these flags. */
+            if (s->type == OPT_INPUT)
+                printf(", \"input\": true");
+            if (s->type == OPT_OUTPUT)
+                printf(", \"output\": true");
             if (s->metavar) {
                 printf(", \"metavar\": ");
                 json_string(s->metavar);
