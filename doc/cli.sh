@@ -37,7 +37,9 @@ abbreviated to a unique prefix.
   the CRS's horizontal unit is feet (US county lidar); outputs record it as `INPUT_HEIGHT_UNIT`.
   Checked by `tests/test_z_units.sh`.
 - Ctrl-C (SIGINT) or SIGTERM stops any command within about a second: exit 130 or 143, one line,
-  no output.
+  no output. A run whose thread cannot stop within half a second (a write to a stalled disk, work
+  queued on a device) is ended by a guard thread that removes its temporaries first
+  (`doc/reliability.md`).
 - Progress (GDAL's `0...10...100 - done.`) and a summary on stdout unless `-q`, the progress
   for runs longer than a second. With `SKYSWEEP_PROGRESS=lines` in the environment, progress is
   instead a line `progress F` (F the fraction done, 0 to 1) from the start, each time it moves
@@ -65,7 +67,7 @@ abbreviated to a unique prefix.
 | 130, 143 | interrupted by SIGINT, SIGTERM: temporary files removed, no output |
 
 HEAD
-for command in svf horizon shadow hillshade insolation render quicklook; do
+for command in svf horizon shadow hillshade insolation roofs render quicklook; do
     "$skysweep" "$command" --help-markdown 2>/dev/null || true
 done
 for command in sun weather info; do

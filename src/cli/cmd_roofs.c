@@ -80,6 +80,19 @@ static int is_own(const opt_spec *spec)
     return spec >= own_options && spec < own_options + sizeof own_options / sizeof *own_options;
 }
 
+/* The option a command-line word names: its full name, or a prefix of
+ * one alone (getopt_long_only's rule); NULL: none. */
+static const opt_spec *named_option(const opt_spec *const *tables, const char *name)
+{
+    const opt_spec *exact = opt_find(tables, name), *only = NULL;
+    int matches = 0;
+    for (int t = 0; !exact && tables[t]; ++t)
+        for (const opt_spec *o = tables[t]; o->name; ++o)
+            if (strncmp(o->name, name, strlen(name)) == 0)
+                matches++, only = o;
+    return exact ? exact : matches == 1 ? only : NULL;
+}
+
 /* The insolation command line: every option given that is not roofs' own
  * (so the run is exactly `skysweep insolation --weather F --pv` with the
  * same options), then --pv, -q, GeoTIFF, the DSM tiles and the
@@ -100,7 +113,7 @@ static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
         const char *start = t + (t[1] == '-' ? 2 : 1);
         size_t len = strcspn(start, "=");
         snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), start);
-        const opt_spec *spec = opt_find(tables, name);
+        const opt_spec *spec = named_option(tables, name);
         int takes_value = spec && spec->type != OPT_FLAG && !start[len];
         if (!spec || !is_own(spec)) {
             if (n + 2 >= max)

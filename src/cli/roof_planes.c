@@ -1,6 +1,7 @@
 /* Roof planes of one building (roof_planes.h). */
 #include "config.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -279,6 +280,39 @@ static int drop_small(const window *w, const roof_plane_options *o, roof_plane *
     return kept;
 }
 
+/* Numbers the planes by their first cell in the grid's row order, so that
+ * the numbers depend on the roof alone (not on the order seeds were taken
+ * in, nor on the window). rank: at least n_planes ints. */
+static void number_by_first_cell(const window *w, roof_plane *planes, int n_planes, int *label,
+                                 int *rank)
+{
+    int *first = malloc(sizeof(int) * (size_t)n_planes);
+    roof_plane *copy = malloc(sizeof *copy * (size_t)n_planes);
+    if (!first || !copy) { /* keep the seeds' order */
+        free(first);
+        free(copy);
+        return;
+    }
+    for (int p = 0; p < n_planes; ++p)
+        first[p] = INT_MAX;
+    for (size_t i = 0; i < w->n; ++i)
+        if (label[i] >= 0 && w->cells[i] < first[label[i]])
+            first[label[i]] = w->cells[i];
+    for (int p = 0; p < n_planes; ++p) {
+        rank[p] = 0;
+        for (int q = 0; q < n_planes; ++q)
+            rank[p] += first[q] < first[p];
+        copy[p] = planes[p];
+    }
+    for (int p = 0; p < n_planes; ++p)
+        planes[rank[p]] = copy[p];
+    for (size_t i = 0; i < w->n; ++i)
+        if (label[i] >= 0)
+            label[i] = rank[label[i]];
+    free(first);
+    free(copy);
+}
+
 int roof_planes_find(const float *z, int width, double cell_x_m, double cell_y_m, int col0,
                      int row0, int cols, int rows, const int *cells, size_t n_cells,
                      const roof_plane_options *o, roof_plane **planes_out, int *label)
@@ -335,8 +369,10 @@ int roof_planes_find(const float *z, int width, double cell_x_m, double cell_y_m
     join_left_over(&w, o, planes, label, queue);
     fit_robust(&w, planes, n_planes, label, rms);
     n_planes = drop_small(&w, o, planes, n_planes, label);
-    if (n_planes > 0)
+    if (n_planes > 0) {
         mark_obstacles(&w, o, planes, label);
+        number_by_first_cell(&w, planes, n_planes, label, order);
+    }
 done:
     free(w.at);
     free(ga);

@@ -12,7 +12,8 @@
 #     of it, in its shade
 #   M two flat parts of one building (a MultiPolygon), 13 m
 #   P flat at 13 m, partly east of the DSM; X wholly outside it
-#   bowtie: a self-intersecting ring (repaired); empty: no geometry
+#   bowtie: a self-intersecting ring (repaired; its edges miss the cell
+#     centres, so that rasterizing it is no coin toss); empty: no geometry
 set -eu
 dir=$1
 awk 'function tan(x) { return sin(x) / cos(x) }
@@ -49,7 +50,7 @@ BEGIN {
   print box("E", 5, 25, 20, 33) ","; print box("D", 5, 40, 20, 55) ",";
   printf "{\"type\":\"Feature\",\"properties\":{\"building_id\":\"M\"},\"geometry\":{\"type\":\"MultiPolygon\",\"coordinates\":[[%s],[%s]]}},\n", ring(30, 40, 40, 50), ring(45, 40, 55, 50);
   print box("P", 110, 50, 130, 60) ","; print box("X", 200, 10, 210, 20) ",";
-  printf "{\"type\":\"Feature\",\"properties\":{\"building_id\":\"bowtie\"},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[[[%s],[%s],[%s],[%s],[%s]]]}},\n", p(80, 40), p(90, 50), p(90, 40), p(80, 50), p(80, 40);
+  printf "{\"type\":\"Feature\",\"properties\":{\"building_id\":\"bowtie\"},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[[[%s],[%s],[%s],[%s],[%s]]]}},\n", p(80.1, 40), p(90.1, 50), p(90.1, 40), p(80.1, 50), p(80.1, 40);
   print "{\"type\":\"Feature\",\"properties\":{\"building_id\":\"empty\"},\"geometry\":null}";
   print "]}" }' >"$dir/raw.geojson"
 ogr2ogr -f GeoJSON -a_srs EPSG:32632 "$dir/footprints.geojson" "$dir/raw.geojson"
