@@ -6,7 +6,7 @@
 # loses to shade, an open one does not; footprints in another CRS give the
 # same rows; invalid (bowtie), empty, multi-part and out-of-grid footprints
 # are repaired, counted and flagged; the GeoPackage has the fixed layers and
-# fields; a file read that is also the output is refused and left as it
+# fields; --dtm gives building heights; a file read that is also the output is refused and left as it
 # was; an open plane's unshaded irradiation equals pvlib's
 # get_total_irradiance within 1 % (skips without pvlib).
 set -u
@@ -28,7 +28,7 @@ roofs() { # FOOTPRINTS OUT.gpkg CSV [options]
     "$SKYSWEEP" roofs --buildings "$fp" --weather "$weather" --time "$window" \
         --device reference --directions 8 --min-irradiation 0 --csv "$csv" "$@" city.tif "$out"
 }
-roofs footprints.geojson city.gpkg planes.csv >run.out 2>run.err
+roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif >run.out 2>run.err
 tap_ok $? "roofs runs on the synthetic city: $(head -c 300 run.err)"
 ogr2ogr -f CSV buildings.csv city.gpkg buildings 2>/dev/null
 
@@ -74,6 +74,10 @@ n=$(awk -F, 'NR > 1 && $1 == "\"A\""' planes.csv | wc -l)
 obstacle=$(field buildings.csv A obstacle_area_m2)
 awk -v n="$n" -v o="$obstacle" 'BEGIN { exit !(n == 2 && o > 0.98 && o < 1.02) }'
 tap_ok $? "the gable has 2 planes ($n) and the chimney is an obstacle of 1 m2 ($obstacle m2)"
+
+height=$(field buildings.csv E height_m)
+awk -v h="$height" 'BEGIN { exit !(h > 29.99 && h < 30.01) }'
+tap_ok $? "--dtm: the tall neighbour stands $height m above the ground (30)"
 
 # Sums: each building's against its planes', each plane's months against its year.
 worst=$(awk -F, 'NR == FNR { if (FNR == 1) { for (k = 1; k <= NF; k++) pc[$k] = k; next }

@@ -340,7 +340,9 @@ ss_status ss_polygons_of_labels(ss_ctx *ctx, const ss_dem *dem, const int *ids, 
     }
     double wgt[6] = {gt[0] + col0 * gt[1], gt[1], 0, gt[3] + row0 * gt[5], 0, gt[5]};
     GDALSetGeoTransform(ds, wgt);
-    OGR_L_CreateField(layer, OGR_Fld_Create("id", OFTInteger), 1);
+    OGRFieldDefnH id_field = OGR_Fld_Create("id", OFTInteger);
+    OGR_L_CreateField(layer, id_field, 1);
+    OGR_Fld_Destroy(id_field);
     GDALRasterBandH band = GDALGetRasterBand(ds, 1);
     CPLErr err = GDALRasterIO(band, GF_Write, 0, 0, cols, rows, (void *)ids, cols, rows,
                               GDT_Int32, 0, 0);

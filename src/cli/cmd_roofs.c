@@ -148,7 +148,8 @@ typedef struct {
 } cell_yield;
 
 /* Runs insolation into OUTPUT's hidden neighbour and reads its bands back;
- * the raster is removed. Returns the exit code (0: done). */
+ * the raster is removed. With --plan, insolation prints its plan and
+ * nothing is read. Returns the exit code (0: done). */
 static int run_insolation(sweep_job *job, const opt_spec *const *tables, int argc, char **argv,
                           cell_yield *y)
 {
@@ -165,7 +166,7 @@ static int run_insolation(sweep_job *job, const opt_spec *const *tables, int arg
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
                                                 "too many options to pass on to insolation"));
     int rc = cmd_insolation(n, args);
-    if (rc != 0) {
+    if (rc != 0 || job->run.plan_only) { /* --plan: insolation printed its plan */
         remove(raster);
         return rc;
     }
@@ -459,6 +460,15 @@ static void building_values(const ss_footprint *fp, const building_sums *b, ss_v
     v[n++].num = cls ? cls : NAN;
 }
 
+/* A text as RFC 4180 quotes it (a quote doubled). */
+static void write_csv_text(FILE *f, const char *text)
+{
+    fputc('"', f);
+    for (const char *c = text; *c; ++c)
+        fputs(*c == '"' ? "\"\"" : (char[2]){*c, 0}, f);
+    fputc('"', f);
+}
+
 /* The planes as CSV, written to a temporary and renamed into place. */
 static ss_status write_csv(ss_ctx *ctx, const char *path, const plane_row *rows, size_t n,
                            const ss_footprints *fps)
@@ -480,7 +490,7 @@ static ss_status write_csv(ss_ctx *ctx, const char *path, const plane_row *rows,
         for (int k = 0; k < PLANE_FIELDS; ++k) {
             fputs(k ? "," : "", f);
             if (plane_fields[k].type == SS_FIELD_TEXT)
-                fprintf(f, "\"%s\"", v[k].text ? v[k].text : "");
+                write_csv_text(f, v[k].text ? v[k].text : "");
             else if (isfinite(v[k].num))
                 fprintf(f, "%.10g", v[k].num);
         }
@@ -877,7 +887,7 @@ int cmd_roofs(int argc, char **argv)
     double t0 = run_now();
     rc = run_insolation(job, tables, argc, argv, &r->yield);
     r->seconds_insolation = run_now() - t0;
-    if (rc == 0) {
+    if (rc == 0 && !job->run.plan_only) {
         st = find_all(r);
         if (st == SS_OK)
             st = write_outputs(r);

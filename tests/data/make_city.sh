@@ -1,6 +1,7 @@
 # make_city.sh DIR: a synthetic city of known roofs on a 0.5 m DSM (240 x 140
 # cells, UTM 32N on its central meridian, 45 N, so grid north is true north)
-# and its footprints as GeoJSON (DIR/city.tif, DIR/footprints.geojson).
+# and its footprints as GeoJSON (DIR/city.tif, DIR/footprints.geojson), and
+# its ground as a DTM (DIR/ground.tif).
 # Coordinates e, n are metres east and north of the DSM's south-west corner
 # (x 499950, y 4983000); the ground lies at 10 m.
 #   A gable 20 x 10 m, ridge east-west at n = 10, 30 deg, eaves at 16 m; a
@@ -38,6 +39,8 @@ BEGIN {
       line = line sprintf("%.6f ", z) }
     print line } }' >"$dir/city.asc"
 gdal_translate -q -ot Float32 -a_srs EPSG:32632 "$dir/city.asc" "$dir/city.tif"
+# The ground alone (a DTM on the DSM's grid).
+gdal_translate -q -ot Float32 -scale 0 1 10 10 "$dir/city.tif" "$dir/ground.tif"
 awk 'function box(id, e0, n0, e1, n1) {
   return sprintf("{\"type\":\"Feature\",\"properties\":{\"building_id\":\"%s\"},\"geometry\":{\"type\":\"Polygon\",\"coordinates\":[%s]}}", id, ring(e0, n0, e1, n1)) }
 function ring(e0, n0, e1, n1) {
