@@ -53,14 +53,14 @@ check_plane() { # NAME BUILDING TILT AZIMUTH AREA
     says=$(plane "$@")
     tap_ok $? "$name: $says (expected tilt $2, azimuth $3, area $4)"
 }
-check_plane "gable, north face" A 30 0 "$(echo "100 / $c30" | bc -l)"
-check_plane "gable, south face less the chimney" A 30 180 "$(echo "99 / $c30" | bc -l)"
-check_plane "hip, south face" B 35 180 "$(echo "84 / $c35" | bc -l)"
-check_plane "hip, north face" B 35 0 "$(echo "84 / $c35" | bc -l)"
-check_plane "hip, east face" B 35 90 "$(echo "36 / $c35" | bc -l)"
-check_plane "hip, west face" B 35 270 "$(echo "36 / $c35" | bc -l)"
-check_plane "shed facing south" C 25 180 "$(echo "200 / $c25" | bc -l)"
-check_plane "shed facing east" S 20 90 "$(echo "150 / $c20" | bc -l)"
+check_plane "gable, north face" A 30 0 "$(awk -v c="$c30" 'BEGIN { print 100 / c }')"
+check_plane "gable, south face less the chimney" A 30 180 "$(awk -v c="$c30" 'BEGIN { print 99 / c }')"
+check_plane "hip, south face" B 35 180 "$(awk -v c="$c35" 'BEGIN { print 84 / c }')"
+check_plane "hip, north face" B 35 0 "$(awk -v c="$c35" 'BEGIN { print 84 / c }')"
+check_plane "hip, east face" B 35 90 "$(awk -v c="$c35" 'BEGIN { print 36 / c }')"
+check_plane "hip, west face" B 35 270 "$(awk -v c="$c35" 'BEGIN { print 36 / c }')"
+check_plane "shed facing south" C 25 180 "$(awk -v c="$c25" 'BEGIN { print 200 / c }')"
+check_plane "shed facing east" S 20 90 "$(awk -v c="$c20" 'BEGIN { print 150 / c }')"
 check_plane "flat roof" D 0 180 225
 check_plane "tall neighbour's flat roof" E 0 180 120
 
@@ -168,6 +168,12 @@ tap_ok $? "without --buildings: exit $rc, $(head -c 200 err.txt)"
 rc=$?
 [ $rc = 3 ] && [ ! -e out4.gpkg ] && [ "$(wc -l <err.txt)" = 1 ]
 tap_ok $? "footprints that cannot be opened: exit $rc, $(head -c 200 err.txt)"
+
+"$SKYSWEEP" roofs --plan --buildings footprints.geojson --weather "$weather" --time "$window" \
+    --device reference city.tif plan.gpkg >plan.out 2>err.txt
+rc=$?
+[ $rc = 0 ] && [ ! -e plan.gpkg ] && grep -q "^cost" plan.out && [ -z "$(ls -A | grep '^\.plan\.gpkg')" ]
+tap_ok $? "--plan prints the insolation run's plan and writes nothing (exit $rc)"
 
 # An open plane against pvlib.
 if "$python" -c "import pvlib" 2>/dev/null; then
