@@ -115,7 +115,7 @@ abbreviated to a unique prefix.
 | 129, 130, 141, 143 | interrupted by SIGHUP, SIGINT, SIGPIPE, SIGTERM: temporary files removed, no output, one line on stderr |
 
 HEAD
-for command in svf horizon shadow hillshade insolation render quicklook; do
+for command in svf horizon shadow hillshade insolation roofs render quicklook; do
     "$skysweep" "$command" --help-markdown 2>/dev/null || true
 done
 for command in sun weather info; do

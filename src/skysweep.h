@@ -569,6 +569,17 @@ SS_API ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_
  * (interpolated shadows, the cumulative sky; 0 with exact shadows). */
 SS_API double ss_insolation_band_cell_bytes(int want, int stored_directions);
 
+/* Irradiation (Wh/m^2 over the steps, into global_wh_m2[0..n_planes)) on
+ * open planes of the given tilts (0..90) and azimuths (degrees clockwise
+ * from the steps' north, the way each plane faces) over level ground: the
+ * weather records' steps (real_sky) by the options' sky model and albedo,
+ * with no horizon but the ground's, computed as every insolation run
+ * computes a cell's step (a fixed module on level ground). */
+SS_API ss_status ss_insolation_open_planes(ss_ctx *ctx, const ss_insolation_options *io,
+                                           int n_steps, ss_sun_step_fn sun_at, void *sun_user,
+                                           int n_planes, const double *tilt_deg,
+                                           const double *azimuth_deg, double *global_wh_m2);
+
 /* ---- shadows and shaded relief, in rows ---------------------------------- */
 
 /* Outputs of ss_shadow_rows. */

@@ -22,6 +22,7 @@ static const struct {
     {"openness", cmd_openness, "positive or negative topographic openness (degrees)", 1},
     {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view", 0},
     {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun", 1},
+    {"roofs", cmd_roofs, "solar cadastre: roof planes and PV yield per roof and building (GeoPackage)", 0},
     {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)", 0},
     {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView", 0},
     {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map", 0},

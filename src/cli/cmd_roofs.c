@@ -1,0 +1,892 @@
+/* skysweep roofs: a solar cadastre per roof plane and per building from a
+ * DSM, building footprints and a weather file (doc/roofs.md). The
+ * footprints (any OGR source, reprojected, repaired or skipped one by one)
+ * are rasterized onto the DSM's grid, each building's roof cells split into
+ * planes (roof_planes.h), the per-cell yield is the insolation command's
+ * run with --weather and --pv on the same DSM (the same code path, every
+ * insolation option passed on), and the planes' unshaded irradiation
+ * comes from the same sky model on the plane with no horizon. Results go
+ * to a GeoPackage (layers buildings and roof_planes), and a CSV of the
+ * planes on request. */
+#include "config.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "commands.h"
+#include "roof_planes.h"
+#include "roofs_io.h"
+#include "run.h"
+#include "skysweep_sun.h"
+#include "temporaries.h"
+#include "temporary_name.h"
+#include "weather.h"
+
+typedef struct {
+    common_settings common; /* first: common_options()' offsets are relative to it */
+    ss_insolation_params ins;
+    const char *weather, *weather_zone;
+    int weather_far_ok;
+    const char *buildings, *dtm, *csv, *id_field;
+    double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
+    double setback_m, min_irradiation, max_tilt_deg, kwp_per_m2;
+} roofs_settings;
+
+#define SET(field) offsetof(roofs_settings, field)
+/* roofs' own options; the others go on to the insolation run. */
+static const opt_spec own_options[] = {
+    {"buildings", OPT_INPUT, SET(buildings), "FILE", NULL, 0, 0, NULL,
+     "building footprints: any vector source OGR reads (Shapefile, GeoPackage, GeoJSON, ...), "
+     "its first layer; reprojected to the DSM's CRS (required)"},
+    {"id-field", OPT_STRING, SET(id_field), "NAME", NULL, 0, 0, NULL,
+     "the footprints' field that names each building (default: building_id or id where the "
+     "layer has one, else the feature id)"},
+    {"dtm", OPT_INPUT, SET(dtm), "FILE", NULL, 0, 0, NULL,
+     "terrain heights on the DSM's grid: each building's height_m is its highest roof plane "
+     "cell above the median ground under its footprint"},
+    {"csv", OPT_OUTPUT, SET(csv), "FILE", NULL, 0, 0, NULL,
+     "also write the roof planes' rows as CSV"},
+    {"min-area", OPT_DOUBLE, SET(min_area_m2), "M2", "5", 0.01, 1e6, NULL,
+     "smallest roof plane (true 3D area, m2); smaller regions are not planes"},
+    {"plane-angle", OPT_DOUBLE, SET(max_angle_deg), "DEG", "8", 0.5, 45, NULL,
+     "a cell joins a plane where its local normal (3 x 3 fit) lies within this angle"},
+    {"plane-tolerance", OPT_DOUBLE, SET(tolerance_m), "M", "0.15", 0.001, 10, NULL,
+     "a cell joins a plane where its height lies within this of the plane"},
+    {"obstacle-height", OPT_DOUBLE, SET(obstacle_m), "M", "0.3", 0.01, 100, NULL,
+     "cells of no plane higher than the nearest plane by more are obstacles (chimneys, dormers)"},
+    {"setback", OPT_DOUBLE, SET(setback_m), "M", "0.5", 0, 100, NULL,
+     "usable cells lie at least this far (horizontally) from their plane's edges and obstacles"},
+    {"min-irradiation", OPT_DOUBLE, SET(min_irradiation), "KWH_M2", "700", 0, 5000, NULL,
+     "usable cells receive at least this much in the weather file's year (kWh/m2)"},
+    {"max-tilt", OPT_DOUBLE, SET(max_tilt_deg), "DEG", "60", 0, 90, NULL,
+     "usable planes are tilted at most this much"},
+    {"kwp-per-m2", OPT_DOUBLE, SET(kwp_per_m2), "KWP_M2", "0.2", 0.01, 1, NULL,
+     "peak power of modules per m2 of usable roof (0.2: modules of 20 % efficiency)"},
+    OPT_END};
+static const opt_spec passed_on[] = {
+    {"weather", OPT_INPUT, SET(weather), "FILE", NULL, 0, 0, NULL,
+     "the weather records (EPW, TMY3, PVGIS, NSRDB PSM or CSV; required); --time selects "
+     "records as for insolation"},
+    {"weather-far-ok", OPT_FLAG, SET(weather_far_ok), NULL, NULL, 0, 0, NULL,
+     "use a weather file whose site lies farther than 100 km from the DSM's centre (as for "
+     "insolation)"},
+    {"weather-zone", OPT_STRING, SET(weather_zone), "+HH:MM", NULL, 0, 0, NULL,
+     "the zone the weather file's local stamps are in (as for insolation; needed for a "
+     "UMEP/SUEWS met file)"},
+    OPT_END};
+
+/* ---- the insolation run ------------------------------------------------- */
+
+/* Whether spec is one of roofs' own options. */
+static int is_own(const opt_spec *spec)
+{
+    return spec >= own_options && spec < own_options + sizeof own_options / sizeof *own_options;
+}
+
+/* The option a command-line word names: its full name, or a prefix of
+ * one alone (getopt_long_only's rule); NULL: none. */
+static const opt_spec *named_option(const opt_spec *const *tables, const char *name)
+{
+    const opt_spec *exact = opt_find(tables, name), *only = NULL;
+    int matches = 0;
+    for (int t = 0; !exact && tables[t]; ++t)
+        for (const opt_spec *o = tables[t]; o->name; ++o)
+            if (strncmp(o->name, name, strlen(name)) == 0)
+                matches++, only = o;
+    return exact ? exact : matches == 1 ? only : NULL;
+}
+
+/* The insolation command line: every option given that is not roofs' own
+ * (so the run is exactly `skysweep insolation --weather F --pv` with the
+ * same options), then --pv, -q, GeoTIFF, the DSM tiles and the
+ * intermediate raster. Returns the count, or -1 where it does not fit. */
+static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
+                           const char *const *dsm, int n_dsm, const char *raster, char **out,
+                           int max)
+{
+    int n = 0;
+    out[n++] = "insolation";
+    for (int i = 1; i < argc; ++i) {
+        const char *t = argv[i];
+        if (strcmp(t, "--") == 0)
+            break; /* positionals only from here */
+        if (t[0] != '-' || !t[1])
+            continue; /* a positional: the DSM tiles and OUTPUT are added below */
+        char name[64];
+        const char *start = t + (t[1] == '-' ? 2 : 1);
+        size_t len = strcspn(start, "=");
+        snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), start);
+        const opt_spec *spec = named_option(tables, name);
+        int takes_value = spec && spec->type != OPT_FLAG && !start[len];
+        if (!spec || !is_own(spec)) {
+            if (n + 2 >= max)
+                return -1;
+            out[n++] = argv[i];
+            if (takes_value && i + 1 < argc)
+                out[n++] = argv[i + 1];
+        }
+        i += takes_value;
+    }
+    const char *tail[] = {"--pv", "-q", "-of", "GTiff"};
+    if (n + 4 + n_dsm + 2 > max)
+        return -1;
+    for (int k = 0; k < 4; ++k)
+        out[n++] = (char *)tail[k];
+    for (int k = 0; k < n_dsm; ++k)
+        out[n++] = (char *)dsm[k];
+    out[n++] = (char *)raster;
+    out[n] = NULL;
+    return n;
+}
+
+/* Bands of the insolation raster roofs reads (cmd_insolation.c's order). */
+#define BAND_GLOBAL 1
+#define BAND_MONTHS 6
+#define BAND_PV_AC 19
+
+typedef struct {
+    float *global;  /* kWh/m2 for the records, per cell */
+    float *monthly; /* 12 planes of kWh/m2 */
+    float *pv_ac;   /* kWh/kWp AC */
+} cell_yield;
+
+/* Runs insolation into OUTPUT's hidden neighbour and reads its bands back;
+ * the raster is removed. With --plan, insolation prints its plan and
+ * nothing is read. Returns the exit code (0: done). */
+static int run_insolation(sweep_job *job, const opt_spec *const *tables, int argc, char **argv,
+                          cell_yield *y)
+{
+    char dir[PATH_MAX], prefix[PATH_MAX], raster[PATH_MAX + 40];
+    if (!ss_temporary_prefix(job->output, dir, prefix) ||
+        (size_t)snprintf(raster, sizeof raster, "%s/%sinsolation.tif", dir, prefix) >=
+            sizeof raster)
+        return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
+                                                "output name '%s' is too long", job->output));
+    char *args[2 * 128 + COMMAND_MAX_INPUTS + 16];
+    int n = insolation_args(tables, argc, argv, job->inputs, job->n_inputs, raster, args,
+                            (int)(sizeof args / sizeof *args) - 1);
+    if (n < 0)
+        return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
+                                                "too many options to pass on to insolation"));
+    int rc = cmd_insolation(n, args);
+    if (rc != 0 || job->run.plan_only) { /* --plan: insolation printed its plan */
+        remove(raster);
+        return rc;
+    }
+    size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
+    y->global = malloc(sizeof(float) * cells);
+    y->monthly = malloc(sizeof(float) * cells * 12);
+    y->pv_ac = malloc(sizeof(float) * cells);
+    ss_status st = y->global && y->monthly && y->pv_ac ? SS_OK : command_out_of_memory(&job->run);
+    int w = job->dem.grid.width, h = job->dem.grid.height;
+    if (st == SS_OK)
+        st = ss_raster_read_bands(job->run.ctx, raster, BAND_GLOBAL, 1, w, h, y->global);
+    if (st == SS_OK)
+        st = ss_raster_read_bands(job->run.ctx, raster, BAND_MONTHS, 12, w, h, y->monthly);
+    if (st == SS_OK)
+        st = ss_raster_read_bands(job->run.ctx, raster, BAND_PV_AC, 1, w, h, y->pv_ac);
+    remove(raster);
+    return st == SS_OK ? 0 : run_fail(&job->run, st);
+}
+
+/* ---- the planes with no horizon ------------------------------------------ */
+
+/* The weather's records as insolation steps at the DSM's centre, in a
+ * frame whose grid north is true north (the steps of the unshaded runs). */
+typedef struct {
+    ss_sun_step *steps;
+    int n;
+} sky_steps;
+
+static ss_status step_at(ss_ctx *ctx, int index, ss_sun_step *step, void *user)
+{
+    (void)ctx;
+    *step = ((const sky_steps *)user)->steps[index];
+    return SS_OK;
+}
+
+static ss_status make_sky_steps(sweep_job *job, const roofs_settings *set, const ss_weather *w,
+                                sky_steps *out)
+{
+    ss_ctx *ctx = job->run.ctx;
+    ss_time_range range = {0};
+    ss_status st = set->common.sun.time ? ss_parse_time_range(ctx, set->common.sun.time, &range)
+                                        : SS_OK;
+    out->steps = calloc(w->n ? w->n : 1, sizeof *out->steps);
+    out->n = 0;
+    if (st == SS_OK && !out->steps)
+        st = command_out_of_memory(&job->run);
+    ss_spa_params p;
+    ss_sun_params_spa(&set->common.sun, &p);
+    p.elevation_m = job->dem.grid.z_origin_m;
+    for (size_t i = 0; st == SS_OK && i < w->n; ++i) {
+        const ss_weather_record *rec = &w->records[i];
+        if (set->common.sun.time &&
+            !(rec->sun_unix_s >= range.start_unix_s && rec->sun_unix_s < range.end_unix_s))
+            continue;
+        ss_spa_result sun;
+        st = ss_spa(ctx, rec->sun_unix_s, job->frame.centre_lat_deg, job->frame.centre_lon_deg,
+                    &p, &sun);
+        if (st != SS_OK)
+            break;
+        ss_sun_step *s = &out->steps[out->n++];
+        ss_sun_step_clear_sky(&sun, sun.azimuth_deg, 0.0, rec->duration_h, 3.0,
+                              set->ins.solar_constant, s);
+        ss_civil_time local;
+        ss_civil_from_unix(rec->sun_unix_s + w->utc_offset_h * 3600.0, &local);
+        s->real_sky = 1;
+        s->ghi_w_m2 = rec->ghi, s->dni_w_m2 = rec->dni, s->dhi_w_m2 = rec->dhi;
+        s->albedo = rec->albedo;
+        s->temp_air_c = rec->temp_air_c, s->wind_speed_m_s = rec->wind_speed_m_s;
+        s->month = local.month;
+    }
+    return st;
+}
+
+/* ---- per plane and per building ------------------------------------------- */
+
+static const char *const month_abbr[12] = {"jan", "feb", "mar", "apr", "may", "jun",
+                                           "jul", "aug", "sep", "oct", "nov", "dec"};
+
+/* Suitability after sonnendach.ch's classes of annual irradiation. */
+static int suitability_class(double kwh_m2)
+{
+    return !isfinite(kwh_m2) ? 0 : kwh_m2 < 800 ? 1 : kwh_m2 < 1000 ? 2 : kwh_m2 < 1200 ? 3
+                                                   : kwh_m2 < 1400 ? 4
+                                                                   : 5;
+}
+static const char *const class_names[6] = {"none", "low", "medium", "good", "very good",
+                                           "excellent"};
+
+typedef struct {
+    size_t building;
+    int number; /* 1.. within the building */
+    roof_plane fit;
+    double tilt_deg, azimuth_deg; /* true azimuth of the downslope direction */
+    double area_m2, usable_area_m2, inner_area_m2;
+    double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
+    double kwp, kwh_ac_year, kwh_per_kwp, kwh_ac_month[12];
+    void *geometry;
+} plane_row;
+
+typedef struct {
+    double roof_area_m2, usable_area_m2, obstacle_area_m2, footprint_area_m2;
+    double kwp, kwh_ac_year, kwh_ac_month[12];
+    double inner_area_m2, inner_kwh, inner_unshaded_kwh; /* for the mean and the loss */
+    double height_m;
+    int n_planes;
+} building_sums;
+
+/* Whether window cell (c, r) of plane p lies at least setback from every
+ * cell that is not p's (outside the building's window included). */
+static int clear_of_edges(const int *plane_at, int cols, int rows, int c, int r, int p,
+                          double setback_m, double cx, double cy)
+{
+    int reach_c = (int)ceil(setback_m / cx + 0.5), reach_r = (int)ceil(setback_m / cy + 0.5);
+    for (int dr = -reach_r; dr <= reach_r; ++dr)
+        for (int dc = -reach_c; dc <= reach_c; ++dc) {
+            int cc = c + dc, rr = r + dr;
+            int other = cc < 0 || rr < 0 || cc >= cols || rr >= rows || plane_at[rr * cols + cc] != p;
+            double d = hypot(fmax(0.0, fabs((double)dc) - 0.5) * cx,
+                             fmax(0.0, fabs((double)dr) - 0.5) * cy);
+            if (other && d < setback_m)
+                return 0;
+        }
+    return 1;
+}
+
+/* Plane p's sums over its cells (label p, p + 1 in plane_at): the inner ones (clear of the edges) give
+ * its irradiation; the usable ones (inner, bright enough, not too steep)
+ * its area, kWp and yield. */
+static void plane_yield(const sweep_job *job, const roofs_settings *set, const cell_yield *y,
+                        const ss_footprint *fp, const int *label, const int *plane_at, int p,
+                        plane_row *row)
+{
+    double cx = job->dem.grid.cell_x_m, cy = job->dem.grid.cell_y_m;
+    double cell_m2 = cx * cy / cos(row->tilt_deg * M_PI / 180.0);
+    size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
+    double inner_kwh = 0, usable_poa = 0, usable_month[12] = {0}, ac = 0;
+    size_t n_inner = 0, n_usable = 0, n_all = 0;
+    double all_kwh = 0;
+    for (size_t i = 0; i < fp->n_cells; ++i) {
+        if (label[i] != p)
+            continue;
+        int cell = fp->cells[i], width = job->dem.grid.width;
+        double g = y->global[cell];
+        if (!isfinite(g) || g < 0)
+            continue;
+        n_all++, all_kwh += g;
+        int c = cell % width - fp->col0, r = cell / width - fp->row0;
+        if (!clear_of_edges(plane_at, fp->cols, fp->rows, c, r, p + 1, set->setback_m, cx, cy))
+            continue;
+        n_inner++, inner_kwh += g;
+        if (g < set->min_irradiation || row->tilt_deg > set->max_tilt_deg ||
+            !isfinite(y->pv_ac[cell]) || y->pv_ac[cell] < 0)
+            continue;
+        n_usable++;
+        usable_poa += g;
+        for (int m = 0; m < 12; ++m)
+            usable_month[m] += y->monthly[(size_t)m * cells + cell];
+        ac += y->pv_ac[cell];
+    }
+    row->area_m2 = (double)row->fit.n_cells * cell_m2;
+    row->inner_area_m2 = (double)n_inner * cell_m2;
+    row->usable_area_m2 = (double)n_usable * cell_m2;
+    /* the plane's irradiation over its inner cells (its edges' slopes mix
+     * the eaves' and ridges' neighbours); all its cells where none is inner */
+    row->kwh_m2_year = n_inner ? inner_kwh / (double)n_inner
+                       : n_all ? all_kwh / (double)n_all
+                               : NAN;
+    row->kwp = row->usable_area_m2 * set->kwp_per_m2;
+    row->kwh_ac_year = ac * cell_m2 * set->kwp_per_m2;
+    row->kwh_per_kwp = row->kwp > 0 ? row->kwh_ac_year / row->kwp : NAN;
+    /* The months share the year's AC yield as they share the usable
+     * cells' irradiation (doc/roofs.md). */
+    for (int m = 0; m < 12; ++m)
+        row->kwh_ac_month[m] = usable_poa > 0 ? row->kwh_ac_year * usable_month[m] / usable_poa : 0;
+}
+
+/* ---- outputs --------------------------------------------------------------- */
+
+#define PLANE_FIELDS 27
+#define BUILDING_FIELDS 29
+static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS];
+static char month_names[2][12][24];
+
+static int common_fields(ss_field *f, int n, int slot)
+{
+    f[n++] = (ss_field){"usable_area_m2", SS_FIELD_REAL, "m2",
+                        "true (3D) area of the usable cells: clear of edges and obstacles by the "
+                        "setback, at least the minimum irradiation, tilt at most the maximum"};
+    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "usable area x kWp per m2"};
+    f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
+                        "AC energy of modules on the usable area (PVWatts, as insolation --pv)"};
+    f[n++] = (ss_field){"kwh_per_kwp", SS_FIELD_REAL, "kWh/kWp/year", "kwh_ac_year / kwp"};
+    for (int m = 0; m < 12; ++m) {
+        snprintf(month_names[slot][m], sizeof month_names[slot][m], "kwh_ac_%s", month_abbr[m]);
+        f[n++] = (ss_field){month_names[slot][m], SS_FIELD_REAL, "kWh/month",
+                            "the month's share of kwh_ac_year (as its share of the usable "
+                            "cells' irradiation)"};
+    }
+    f[n++] = (ss_field){"kwh_m2_year", SS_FIELD_REAL, "kWh/m2/year",
+                        "mean irradiation on the roof (its cells clear of edges by the setback)"};
+    f[n++] = (ss_field){"unshaded_kwh_m2_year", SS_FIELD_REAL, "kWh/m2/year",
+                        "the same surface with no horizon (no shade, sky to the horizontal)"};
+    f[n++] = (ss_field){"shading_loss_pct", SS_FIELD_REAL, "%",
+                        "100 x (1 - kwh_m2_year / unshaded_kwh_m2_year)"};
+    f[n++] = (ss_field){"class", SS_FIELD_TEXT, "",
+                        "suitability by kwh_m2_year (sonnendach.ch): low < 800, medium < 1000, "
+                        "good < 1200, very good < 1400, excellent"};
+    f[n++] = (ss_field){"class_code", SS_FIELD_INT, "", "1 low .. 5 excellent"};
+    return n;
+}
+
+static void define_fields(void)
+{
+    int n = 0;
+    ss_field *f = plane_fields;
+    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
+                                                          "feature id"};
+    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "1.. within the building"};
+    f[n++] = (ss_field){"tilt_deg", SS_FIELD_REAL, "deg", "tilt from the horizontal"};
+    f[n++] = (ss_field){"azimuth_deg", SS_FIELD_REAL, "deg",
+                        "azimuth of the downslope direction, clockwise from true north (pvlib's "
+                        "surface_azimuth); 180 (0 south of the equator) where tilt < 1"};
+    f[n++] = (ss_field){"area_m2", SS_FIELD_REAL, "m2", "true (3D) area: planimetric / cos tilt"};
+    f[n++] = (ss_field){"fit_rms_m", SS_FIELD_REAL, "m", "rms distance of its cells from the "
+                                                          "plane"};
+    n = common_fields(f, n, 0);
+    n = 0;
+    f = building_fields;
+    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
+                                                          "feature id"};
+    f[n++] = (ss_field){"partly_outside", SS_FIELD_INT, "", "1: part of the footprint lies "
+                                                             "outside the DSM"};
+    f[n++] = (ss_field){"repaired", SS_FIELD_INT, "", "1: invalid geometry made valid"};
+    f[n++] = (ss_field){"n_planes", SS_FIELD_INT, "", "roof planes"};
+    f[n++] = (ss_field){"footprint_area_m2", SS_FIELD_REAL, "m2", "cells of the footprint"};
+    f[n++] = (ss_field){"area_m2", SS_FIELD_REAL, "m2", "true (3D) area of the roof planes"};
+    f[n++] = (ss_field){"obstacle_area_m2", SS_FIELD_REAL, "m2", "planimetric area of obstacle "
+                                                                 "cells"};
+    f[n++] = (ss_field){"height_m", SS_FIELD_REAL, "m",
+                        "highest roof-plane cell above the median ground (--dtm; null without)"};
+    n = common_fields(f, n, 1);
+}
+
+static void plane_values(const plane_row *p, const char *building_id, ss_value *v)
+{
+    int n = 0;
+    v[n++].text = building_id;
+    v[n++].num = p->number;
+    v[n++].num = p->tilt_deg;
+    v[n++].num = p->azimuth_deg;
+    v[n++].num = p->area_m2;
+    v[n++].num = p->fit.rms_m;
+    v[n++].num = p->usable_area_m2;
+    v[n++].num = p->kwp;
+    v[n++].num = p->kwh_ac_year;
+    v[n++].num = p->kwh_per_kwp;
+    for (int m = 0; m < 12; ++m)
+        v[n++].num = p->kwh_ac_month[m];
+    v[n++].num = p->kwh_m2_year;
+    v[n++].num = p->unshaded_kwh_m2_year;
+    v[n++].num = p->shading_loss_pct;
+    int cls = suitability_class(p->kwh_m2_year);
+    v[n++].text = class_names[cls];
+    v[n++].num = cls ? cls : NAN;
+}
+
+static void building_values(const ss_footprint *fp, const building_sums *b, ss_value *v)
+{
+    int n = 0;
+    v[n++].text = fp->id;
+    v[n++].num = fp->partly_outside;
+    v[n++].num = fp->repaired;
+    v[n++].num = b->n_planes;
+    v[n++].num = b->footprint_area_m2;
+    v[n++].num = b->roof_area_m2;
+    v[n++].num = b->obstacle_area_m2;
+    v[n++].num = b->height_m;
+    v[n++].num = b->usable_area_m2;
+    v[n++].num = b->kwp;
+    v[n++].num = b->kwh_ac_year;
+    v[n++].num = b->kwp > 0 ? b->kwh_ac_year / b->kwp : NAN;
+    for (int m = 0; m < 12; ++m)
+        v[n++].num = b->kwh_ac_month[m];
+    double mean = b->inner_area_m2 > 0 ? b->inner_kwh / b->inner_area_m2 : NAN;
+    double unshaded = b->inner_area_m2 > 0 ? b->inner_unshaded_kwh / b->inner_area_m2 : NAN;
+    v[n++].num = mean;
+    v[n++].num = unshaded;
+    v[n++].num = unshaded > 0 ? 100.0 * (1.0 - mean / unshaded) : NAN;
+    int cls = suitability_class(mean);
+    v[n++].text = class_names[cls];
+    v[n++].num = cls ? cls : NAN;
+}
+
+/* A text as RFC 4180 quotes it (a quote doubled). */
+static void write_csv_text(FILE *f, const char *text)
+{
+    fputc('"', f);
+    for (const char *c = text; *c; ++c)
+        fputs(*c == '"' ? "\"\"" : (char[2]){*c, 0}, f);
+    fputc('"', f);
+}
+
+/* The planes as CSV, written to a temporary and renamed into place. */
+static ss_status write_csv(ss_ctx *ctx, const char *path, const plane_row *rows, size_t n,
+                           const ss_footprints *fps)
+{
+    char *tmp = ss_temporary_name(path, "tmp");
+    FILE *f = tmp ? fopen(tmp, "w") : NULL;
+    if (!f) {
+        free(tmp);
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
+    }
+    ss_temporaries_track(path);
+    for (int k = 0; k < PLANE_FIELDS; ++k)
+        fprintf(f, "%s%s", k ? "," : "", plane_fields[k].name);
+    fprintf(f, "\n");
+    ss_value v[PLANE_FIELDS];
+    for (size_t i = 0; i < n; ++i) {
+        memset(v, 0, sizeof v);
+        plane_values(&rows[i], fps->items[rows[i].building].id, v);
+        for (int k = 0; k < PLANE_FIELDS; ++k) {
+            fputs(k ? "," : "", f);
+            if (plane_fields[k].type == SS_FIELD_TEXT)
+                write_csv_text(f, v[k].text ? v[k].text : "");
+            else if (isfinite(v[k].num))
+                fprintf(f, "%.10g", v[k].num);
+        }
+        fprintf(f, "\n");
+    }
+    int ok = !ferror(f) & (fclose(f) == 0);
+    ss_status st = SS_OK;
+    if (!ok || !ss_temporaries_hold())
+        st = ss_ctx_error(ctx, ok ? SS_ERR_CANCELLED : SS_ERR_OUTPUT, "cannot write '%s'", path);
+    else {
+        if (rename(tmp, path) != 0)
+            st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename '%s' to '%s'", tmp, path);
+        ss_temporaries_release();
+    }
+    if (st != SS_OK)
+        remove(tmp);
+    ss_temporaries_forget(path);
+    free(tmp);
+    return st;
+}
+
+/* ---- the run ---------------------------------------------------------------- */
+
+typedef struct {
+    roofs_settings set;
+    sweep_job job;
+    ss_footprints fps;
+    ss_weather weather;
+    cell_yield yield;
+    sky_steps sky;
+    plane_row *planes;
+    size_t n_planes;
+    building_sums *sums;
+    float *dtm;
+    double seconds_planes, seconds_insolation, seconds_unshaded, seconds_write;
+} roofs_run;
+
+/* The files' overlaps were refused when the options were parsed (every
+ * file option is declared an input or an output, run_parse); what is left
+ * is the CSV's own check as an existing output. */
+static ss_status check_files(roofs_run *r)
+{
+    return r->set.csv ? ss_output_check(r->job.run.ctx, r->set.csv) : SS_OK;
+}
+
+/* The --dtm's heights (absolute, NAN: none), on the DSM's grid. */
+static ss_status read_dtm(roofs_run *r)
+{
+    ss_dem d = {0};
+    ss_dem_read_options o = {0};
+    const char *paths[1] = {r->set.dtm};
+    ss_status st = ss_dem_read(r->job.run.ctx, paths, 1, &o, &d);
+    if (st != SS_OK)
+        return st;
+    const ss_dem *s = &r->job.dem;
+    int same = d.grid.width == s->grid.width && d.grid.height == s->grid.height;
+    for (int k = 0; same && k < 6; ++k)
+        same = fabs(d.geotransform[k] - s->geotransform[k]) <= 1e-6 * (1 + fabs(s->geotransform[k]));
+    if (!same) {
+        ss_dem_free(&d);
+        return ss_ctx_error(r->job.run.ctx, SS_ERR_INPUT,
+                            "--dtm '%s' must lie on the DSM's grid (size and geotransform)",
+                            r->set.dtm);
+    }
+    size_t n = (size_t)d.grid.width * (size_t)d.grid.height;
+    for (size_t i = 0; i < n; ++i)
+        d.grid.z[i] += (float)d.grid.z_origin_m;
+    r->dtm = d.grid.z;
+    d.grid.z = NULL;
+    ss_dem_free(&d);
+    return SS_OK;
+}
+
+static int by_float(const void *x, const void *y)
+{
+    float a = *(const float *)x, b = *(const float *)y;
+    return (a > b) - (a < b);
+}
+
+/* Highest roof-plane cell above the median ground under the footprint. */
+static double building_height(const roofs_run *r, const ss_footprint *fp, const int *label)
+{
+    float *ground = malloc(sizeof(float) * (fp->n_cells + 1));
+    size_t n = 0;
+    double top = -INFINITY;
+    for (size_t i = 0; ground && i < fp->n_cells; ++i) {
+        if (isfinite(r->dtm[fp->cells[i]]))
+            ground[n++] = r->dtm[fp->cells[i]];
+        if (label[i] >= 0)
+            top = fmax(top, r->job.dem.grid.z[fp->cells[i]] + r->job.dem.grid.z_origin_m);
+    }
+    if (n)
+        qsort(ground, n, sizeof *ground, by_float);
+    double h = n && isfinite(top) ? top - ground[n / 2] : NAN;
+    free(ground);
+    return h;
+}
+
+/* One building: its planes, their yield and polygons, and its sums. */
+static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at)
+{
+    const ss_footprint *fp = &r->fps.items[b];
+    sweep_job *job = &r->job;
+    const ss_grid *g = &job->dem.grid;
+    roof_plane_options o = {r->set.min_area_m2, r->set.max_angle_deg, r->set.tolerance_m,
+                            r->set.obstacle_m};
+    double t0 = run_now();
+    roof_plane *found;
+    int n = roof_planes_find(g->z, g->width, g->cell_x_m, g->cell_y_m, fp->col0, fp->row0,
+                             fp->cols, fp->rows, fp->cells, fp->n_cells, &o, &found, label);
+    if (n < 0)
+        return command_out_of_memory(&job->run);
+    building_sums *s = &r->sums[b];
+    memset(s, 0, sizeof *s);
+    s->n_planes = n;
+    s->footprint_area_m2 = (double)fp->n_cells * g->cell_x_m * g->cell_y_m;
+    for (int k = 0; k < fp->cols * fp->rows; ++k)
+        plane_at[k] = 0;
+    for (size_t i = 0; i < fp->n_cells; ++i) {
+        int c = fp->cells[i] % g->width - fp->col0, row = fp->cells[i] / g->width - fp->row0;
+        plane_at[row * fp->cols + c] = label[i] >= 0 ? label[i] + 1 : 0;
+        s->obstacle_area_m2 += label[i] == ROOF_OBSTACLE ? g->cell_x_m * g->cell_y_m : 0;
+    }
+    void **geoms = calloc((size_t)n + 1, sizeof *geoms);
+    ss_status st = geoms ? ss_polygons_of_labels(job->run.ctx, &job->dem, plane_at, fp->col0,
+                                                 fp->row0, fp->cols, fp->rows, n, geoms)
+                         : command_out_of_memory(&job->run);
+    r->seconds_planes += run_now() - t0;
+    for (int p = 0; st == SS_OK && p < n; ++p) {
+        plane_row *row = &r->planes[r->n_planes++];
+        memset(row, 0, sizeof *row);
+        row->building = b;
+        row->number = p + 1;
+        row->fit = found[p];
+        row->tilt_deg = found[p].tilt_deg;
+        double az = found[p].aspect_grid_deg + job->frame.grid_north_deg;
+        az = fmod(fmod(az, 360.0) + 360.0, 360.0);
+        row->azimuth_deg = row->tilt_deg < 1.0 ? (job->frame.centre_lat_deg >= 0 ? 180.0 : 0.0)
+                                               : az;
+        row->geometry = geoms[p];
+        geoms[p] = NULL;
+        plane_yield(job, &r->set, &r->yield, fp, label, plane_at, p, row);
+        s->roof_area_m2 += row->area_m2;
+        s->usable_area_m2 += row->usable_area_m2;
+        s->kwp += row->kwp;
+        s->kwh_ac_year += row->kwh_ac_year;
+        for (int m = 0; m < 12; ++m)
+            s->kwh_ac_month[m] += row->kwh_ac_month[m];
+    }
+    s->height_m = r->dtm ? building_height(r, fp, label) : NAN;
+    for (int p = 0; geoms && p < n; ++p)
+        ss_geometry_free(geoms[p]);
+    free(geoms);
+    free(found);
+    return st;
+}
+
+/* Every plane's irradiation (kWh/m2) with no horizon: the same records,
+ * sky model and albedo on an open plane of its tilt and true azimuth over
+ * level ground (ss_insolation_open_planes). */
+static ss_status unshaded_planes(roofs_run *r)
+{
+    ss_ctx *ctx = r->job.run.ctx;
+    size_t n = r->n_planes;
+    double *tilt = malloc(sizeof(double) * (n + 1)), *az = malloc(sizeof(double) * (n + 1));
+    double *wh = malloc(sizeof(double) * (n + 1));
+    ss_insolation_options io;
+    ss_status st = tilt && az && wh ? ss_insolation_params_options(ctx, &r->set.ins,
+                                                                   SS_SHADOW_EXACT, &io)
+                                    : command_out_of_memory(&r->job.run);
+    for (size_t i = 0; st == SS_OK && i < n; ++i)
+        tilt[i] = r->planes[i].tilt_deg, az[i] = r->planes[i].azimuth_deg;
+    if (st == SS_OK)
+        st = ss_insolation_open_planes(ctx, &io, r->sky.n, step_at, &r->sky, (int)n, tilt, az, wh);
+    for (size_t i = 0; st == SS_OK && i < n; ++i) {
+        plane_row *p = &r->planes[i];
+        p->unshaded_kwh_m2_year = wh[i] / 1000.0;
+        p->shading_loss_pct = p->unshaded_kwh_m2_year > 0
+                                  ? 100.0 * (1.0 - p->kwh_m2_year / p->unshaded_kwh_m2_year)
+                                  : NAN;
+        building_sums *s = &r->sums[p->building];
+        if (isfinite(p->kwh_m2_year)) {
+            double a = p->inner_area_m2 > 0 ? p->inner_area_m2 : p->area_m2;
+            s->inner_area_m2 += a;
+            s->inner_kwh += a * p->kwh_m2_year;
+            s->inner_unshaded_kwh += a * p->unshaded_kwh_m2_year;
+        }
+    }
+    free(tilt);
+    free(az);
+    free(wh);
+    return st;
+}
+
+/* Plane ids of a building go 1..n; the ids in plane_at are p + 1. */
+static ss_status find_all(roofs_run *r)
+{
+    size_t most_cells = 1, most_window = 1, total = 0;
+    for (size_t b = 0; b < r->fps.n; ++b) {
+        const ss_footprint *fp = &r->fps.items[b];
+        most_cells = fp->n_cells > most_cells ? fp->n_cells : most_cells;
+        size_t win = (size_t)fp->cols * (size_t)fp->rows;
+        most_window = win > most_window ? win : most_window;
+        total += fp->n_cells;
+    }
+    int *label = malloc(sizeof(int) * most_cells), *plane_at = malloc(sizeof(int) * most_window);
+    /* at most one plane per cell */
+    r->planes = calloc(total + 1, sizeof *r->planes);
+    r->sums = calloc(r->fps.n + 1, sizeof *r->sums);
+    ss_status st = label && plane_at && r->planes && r->sums ? SS_OK
+                                                             : command_out_of_memory(&r->job.run);
+    for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b)
+        st = do_building(r, b, label, plane_at);
+    double t0 = run_now();
+    if (st == SS_OK)
+        st = unshaded_planes(r);
+    r->seconds_unshaded = run_now() - t0;
+    free(label);
+    free(plane_at);
+    return st;
+}
+
+static ss_status write_outputs(roofs_run *r)
+{
+    double t0 = run_now();
+    ss_ctx *ctx = r->job.run.ctx;
+    ss_vector_writer *w;
+    ss_status st = ss_vector_open(ctx, r->job.output, &r->job.dem, &w);
+    if (st != SS_OK)
+        return st;
+    int lb, lp;
+    st = ss_vector_layer(w, "buildings",
+                         "skysweep roofs: per building, sums over its roof planes (doc/roofs.md)",
+                         building_fields, BUILDING_FIELDS, &lb);
+    if (st == SS_OK)
+        st = ss_vector_layer(w, "roof_planes",
+                             "skysweep roofs: roof planes fitted in the DSM inside each footprint "
+                             "(doc/roofs.md)",
+                             plane_fields, PLANE_FIELDS, &lp);
+    ss_value v[BUILDING_FIELDS];
+    for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b) {
+        memset(v, 0, sizeof v);
+        building_values(&r->fps.items[b], &r->sums[b], v);
+        st = ss_vector_add(w, lb, r->fps.items[b].geometry, v);
+    }
+    for (size_t i = 0; st == SS_OK && i < r->n_planes; ++i) {
+        memset(v, 0, sizeof v);
+        plane_values(&r->planes[i], r->fps.items[r->planes[i].building].id, v);
+        st = ss_vector_add(w, lp, r->planes[i].geometry, v);
+    }
+    if (st == SS_OK && r->set.csv)
+        st = write_csv(ctx, r->set.csv, r->planes, r->n_planes, &r->fps);
+    if (st == SS_OK)
+        st = ss_vector_commit(w);
+    else
+        ss_vector_abort(w);
+    r->seconds_write = run_now() - t0;
+    return st;
+}
+
+static void print_summary(roofs_run *r)
+{
+    const ss_footprints *f = &r->fps;
+    printf("buildings %zu read from '%s': %zu placed (%zu partly outside the DSM, flagged), "
+           "%zu repaired; skipped %zu invalid, %zu empty, %zu outside the DSM, %zu covering no "
+           "cell centre; ids from %s\n",
+           f->read, r->set.buildings, f->n, f->partly_outside, f->repaired, f->invalid, f->empty,
+           f->outside, f->no_cell, *f->id_field ? f->id_field : "the feature ids");
+    for (size_t i = 0; i < f->n_notes; ++i)
+        printf("          %s\n", f->notes[i]);
+    double kwp = 0, kwh = 0, usable = 0, area = 0;
+    for (size_t b = 0; b < f->n; ++b)
+        kwp += r->sums[b].kwp, kwh += r->sums[b].kwh_ac_year, usable += r->sums[b].usable_area_m2,
+            area += r->sums[b].roof_area_m2;
+    printf("planes    %zu roof planes, %.0f m2 (true area), %.0f m2 usable\n", r->n_planes, area,
+           usable);
+    printf("yield     %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", kwp, kwh,
+           kwp > 0 ? kwh / kwp : 0.0);
+    printf("time      insolation %.2f s, planes %.2f s, unshaded planes %.2f s, output %.2f s "
+           "-> %s\n",
+           r->seconds_insolation, r->seconds_planes, r->seconds_unshaded, r->seconds_write,
+           r->job.output);
+}
+
+static void close_run(roofs_run *r)
+{
+    for (size_t i = 0; r->planes && i < r->n_planes; ++i)
+        ss_geometry_free(r->planes[i].geometry);
+    free(r->planes);
+    free(r->sums);
+    free(r->yield.global);
+    free(r->yield.monthly);
+    free(r->yield.pv_ac);
+    free(r->sky.steps);
+    free(r->dtm);
+    ss_weather_free(&r->weather);
+    ss_footprints_free(&r->fps);
+    job_close(&r->job);
+}
+
+/* Options that make no sense for roofs, refused in one line. */
+static int refuse_options(const roofs_settings *set, const opt_spec *const *tables)
+{
+    if (!set->buildings)
+        return run_usage_error("roofs", "--buildings FILE is needed (the footprints)");
+    if (!set->weather)
+        return run_usage_error("roofs", "--weather FILE is needed (the records the yield is "
+                                        "summed over)");
+    if (set->common.projwin)
+        return run_usage_error("roofs", "the footprints say where: -projwin is for rasters");
+    if (strcmp(set->common.format, opt_find(tables, "of")->default_text) != 0 ||
+        set->common.creation_options.count)
+        return run_usage_error("roofs", "the output is a GeoPackage: -of and -co are for "
+                                        "rasters");
+    if (strcmp(set->ins.surface, opt_find(tables, "surface")->default_text) != 0)
+        return run_usage_error("roofs", "roofs take each cell's own surface: --surface is for "
+                                        "insolation");
+    return -1;
+}
+
+int cmd_roofs(int argc, char **argv)
+{
+    roofs_run *r = calloc(1, sizeof *r);
+    if (!r) {
+        fprintf(stderr, "skysweep roofs: out of memory\n");
+        return SS_ERR_MEMORY;
+    }
+    roofs_settings *set = &r->set;
+    common_settings_init(&set->common);
+    opt_spec insolation_options[32];
+    opt_from_params("insolation", offsetof(roofs_settings, ins), insolation_options, 32);
+    const opt_spec *tables[] = {own_options, passed_on, insolation_options, sun_options(),
+                                common_options(), NULL};
+    const char *pos[COMMAND_MAX_INPUTS + 1];
+    int n_pos = 0;
+    int rc = run_parse(
+        "roofs", tables, set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
+        "skysweep roofs --buildings FOOTPRINTS --weather FILE [--dtm DTM] [--csv FILE] "
+        "[options] DSM... OUT.gpkg",
+        "A solar cadastre: roof planes fitted in the DSM inside each footprint, their tilt, "
+        "azimuth,\ntrue area and usable area, and per plane and per building kWp, AC kWh per "
+        "year and month\n(PVWatts), kWh/kWp, shading loss and a suitability class, from the "
+        "insolation run with\n--weather and --pv on the DSM (its options apply). A GeoPackage "
+        "with layers buildings and\nroof_planes (doc/roofs.md).",
+        &set->common.device);
+    if (rc < 0)
+        rc = refuse_options(set, tables);
+    if (rc < 0)
+        rc = job_open(&r->job, "roofs", &set->common, pos, n_pos);
+    if (rc != 0 || !r->job.run.ctx) {
+        free(r);
+        return rc;
+    }
+    define_fields();
+    sweep_job *job = &r->job;
+    set->ins.pv = 1;
+    ss_status st = check_files(r);
+    double zone_h = NAN;
+    if (st == SS_OK && set->weather_zone && !opt_parse_zone(set->weather_zone, &zone_h))
+        st = ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
+                          "--weather-zone expects a UTC offset such as +01:00 or -05:00 (at "
+                          "most 14 h), not '%s'",
+                          set->weather_zone);
+    if (st == SS_OK)
+        st = ss_weather_read(job->run.ctx, set->weather, zone_h, &r->weather);
+    if (st == SS_OK)
+        st = make_sky_steps(job, set, &r->weather, &r->sky);
+    if (st == SS_OK && set->dtm)
+        st = read_dtm(r);
+    if (st == SS_OK)
+        st = ss_footprints_read(job->run.ctx, set->buildings, set->id_field, &job->dem, &r->fps);
+    if (st != SS_OK) {
+        rc = job_finish(job, st);
+        close_run(r);
+        free(r);
+        return rc;
+    }
+    double t0 = run_now();
+    rc = run_insolation(job, tables, argc, argv, &r->yield);
+    r->seconds_insolation = run_now() - t0;
+    if (rc == 0 && !job->run.plan_only) {
+        st = find_all(r);
+        if (st == SS_OK)
+            st = write_outputs(r);
+        rc = job_finish(job, st);
+        if (st == SS_OK && !job->run.quiet)
+            print_summary(r);
+    }
+    close_run(r);
+    free(r);
+    return rc;
+}

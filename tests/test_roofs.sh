@@ -1,0 +1,186 @@
+#!/bin/bash
+# skysweep roofs on a synthetic city of known roofs (tests/data/make_city.sh):
+# planes recover tilt and azimuth within 1 degree and true area within 2 %;
+# a chimney is an obstacle; sums per building equal the sums over its planes
+# and the months sum to the year; a flat roof north of a tall neighbour
+# loses to shade, an open one does not; footprints in another CRS give the
+# same rows; invalid (bowtie), empty, multi-part and out-of-grid footprints
+# are repaired, counted and flagged; the GeoPackage has the fixed layers and
+# fields; --dtm gives building heights; a file read that is also the output is refused and left as it
+# was; an open plane's unshaded irradiation equals pvlib's
+# get_total_irradiance within 1 % (skips without pvlib).
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+top=${TOP_SRCDIR:-$PWD}
+SKYSWEEP=${SKYSWEEP:-./skysweep}
+case $SKYSWEEP in /*) ;; *) SKYSWEEP=$PWD/$SKYSWEEP ;; esac
+python=${SKYSWEEP_PVLIB_PYTHON:-$top/tests/pyvenv/bin/python}
+weather=$top/samples/weather/pvgis_tmy_45N_8E.csv
+window=2018-01-10T00:00Z/P1D
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-roofs.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+sh "$top/tests/data/make_city.sh" .
+
+roofs() { # FOOTPRINTS OUT.gpkg CSV [options]
+    local fp=$1 out=$2 csv=$3
+    shift 3
+    "$SKYSWEEP" roofs --buildings "$fp" --weather "$weather" --time "$window" \
+        --device reference --directions 8 --min-irradiation 0 --csv "$csv" "$@" city.tif "$out"
+}
+roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif >run.out 2>run.err
+tap_ok $? "roofs runs on the synthetic city: $(head -c 300 run.err)"
+ogr2ogr -f CSV buildings.csv city.gpkg buildings 2>/dev/null
+
+# plane BUILDING TILT AZIMUTH AREA: the building's plane of that azimuth
+# (nearest, circularly) has tilt and azimuth within 1 degree, area within 2 %.
+plane() {
+    awk -F, -v b="\"$1\"" -v t="$2" -v a="$3" -v area="$4" '
+        NR == 1 { for (k = 1; k <= NF; k++) col[$k] = k; next }
+        $col["building_id"] == b {
+            d = $col["azimuth_deg"] - a; d = d < 0 ? -d : d; d = d > 180 ? 360 - d : d
+            if (t < 1) d = 0
+            if (!found || d < best) { best = d; found = 1; tilt = $col["tilt_deg"]; ar = $col["area_m2"] } }
+        END { dt = tilt - t; dt = dt < 0 ? -dt : dt; da = (ar - area) / area; da = da < 0 ? -da : da
+              printf "tilt %.3f azimuth off by %.3f area %.2f (%.2f %%)", tilt, best, ar, 100 * da
+              exit !(found && dt <= 1 && best <= 1 && da <= 0.02) }' planes.csv
+}
+c30=0.8660254 c35=0.8191520 c25=0.9063078 c20=0.9396926
+check_plane() { # NAME BUILDING TILT AZIMUTH AREA
+    local name=$1
+    shift
+    local says
+    says=$(plane "$@")
+    tap_ok $? "$name: $says (expected tilt $2, azimuth $3, area $4)"
+}
+check_plane "gable, north face" A 30 0 "$(awk -v c="$c30" 'BEGIN { print 100 / c }')"
+check_plane "gable, south face less the chimney" A 30 180 "$(awk -v c="$c30" 'BEGIN { print 99 / c }')"
+check_plane "hip, south face" B 35 180 "$(awk -v c="$c35" 'BEGIN { print 84 / c }')"
+check_plane "hip, north face" B 35 0 "$(awk -v c="$c35" 'BEGIN { print 84 / c }')"
+check_plane "hip, east face" B 35 90 "$(awk -v c="$c35" 'BEGIN { print 36 / c }')"
+check_plane "hip, west face" B 35 270 "$(awk -v c="$c35" 'BEGIN { print 36 / c }')"
+check_plane "shed facing south" C 25 180 "$(awk -v c="$c25" 'BEGIN { print 200 / c }')"
+check_plane "shed facing east" S 20 90 "$(awk -v c="$c20" 'BEGIN { print 150 / c }')"
+check_plane "flat roof" D 0 180 225
+check_plane "tall neighbour's flat roof" E 0 180 120
+
+# Fields of a building (buildings.csv) and of its planes (planes.csv).
+field() { # FILE BUILDING FIELD: the first row's value
+    awk -F, -v b="\"$2\"" -v f="$3" 'NR == 1 { for (k = 1; k <= NF; k++) { h = $k; gsub(/"/, "", h); col[h] = k }; next }
+        { id = $col["building_id"]; if (id !~ /^"/) id = "\"" id "\"" }
+        id == b { v = $col[f]; gsub(/"/, "", v); print v; exit }' "$1"
+}
+n=$(awk -F, 'NR > 1 && $1 == "\"A\""' planes.csv | wc -l)
+obstacle=$(field buildings.csv A obstacle_area_m2)
+awk -v n="$n" -v o="$obstacle" 'BEGIN { exit !(n == 2 && o > 0.98 && o < 1.02) }'
+tap_ok $? "the gable has 2 planes ($n) and the chimney is an obstacle of 1 m2 ($obstacle m2)"
+
+height=$(field buildings.csv E height_m)
+awk -v h="$height" 'BEGIN { exit !(h > 29.99 && h < 30.01) }'
+tap_ok $? "--dtm: the tall neighbour stands $height m above the ground (30)"
+
+# Sums: each building's against its planes', each plane's months against its year.
+worst=$(awk -F, 'NR == FNR { if (FNR == 1) { for (k = 1; k <= NF; k++) pc[$k] = k; next }
+                             b = $pc["building_id"]; kwh[b] += $pc["kwh_ac_year"]; kwp[b] += $pc["kwp"]
+                             use[b] += $pc["usable_area_m2"]
+                             m = 0; for (k = pc["kwh_ac_jan"]; k <= pc["kwh_ac_dec"]; k++) m += $k
+                             d = m - $pc["kwh_ac_year"]; d = d < 0 ? -d : d; if (d > w) w = d; next }
+                 FNR == 1 { for (k = 1; k <= NF; k++) bc[$k] = k; next }
+                 { b = "\"" $bc["building_id"] "\""; gsub(/""/, "\"", b)
+                   split("kwh_ac_year kwp usable_area_m2", f, " ")
+                   v[1] = kwh[b]; v[2] = kwp[b]; v[3] = use[b]
+                   for (i = 1; i <= 3; i++) { d = $bc[f[i]] - v[i]; d = d < 0 ? -d : d; if (d > w) w = d } }
+                 END { printf "%.3g", w }' planes.csv buildings.csv)
+awk -v w="$worst" 'BEGIN { exit !(w < 1e-6) }'
+tap_ok $? "sums per building equal the sums over its planes; months sum to the year (largest difference $worst)"
+kwh_c=$(field planes.csv C kwh_ac_year)
+awk -v k="$kwh_c" 'BEGIN { exit !(k > 0) }'
+tap_ok $? "the open south-facing shed yields ($kwh_c kWh AC in the window)"
+
+loss_d=$(field planes.csv D shading_loss_pct)
+loss_e=$(field planes.csv E shading_loss_pct)
+awk -v d="$loss_d" -v e="$loss_e" 'BEGIN { exit !(d > 10 && e < 0.5 && e > -0.5) }'
+tap_ok $? "the flat roof north of the tall neighbour loses $loss_d % to shade, the neighbour's own roof $loss_e %"
+
+# Footprints: counted and flagged.
+grep -q "11 read from 'footprints.geojson': 9 placed (1 partly outside the DSM, flagged), 1 repaired; skipped 0 invalid, 1 empty, 1 outside the DSM" run.out
+tap_ok $? "footprints counted: $(head -n 1 run.out | head -c 300)"
+grep -q "footprint empty skipped: empty geometry" run.out && grep -q "footprint X skipped: outside the DSM" run.out &&
+    grep -q "footprint bowtie repaired" run.out
+tap_ok $? "each footprint skipped or repaired is named with its reason"
+p_out=$(field buildings.csv P partly_outside) m_planes=$(field buildings.csv M n_planes)
+bow=$(field buildings.csv bowtie repaired) x_rows=$(grep -c '^"*X' buildings.csv)
+[ "$p_out" = 1 ] && [ "$m_planes" = 2 ] && [ "$bow" = 1 ] && [ "$x_rows" = 0 ]
+tap_ok $? "partly outside flagged ($p_out), multi-part gives a plane per part ($m_planes), bowtie repaired ($bow), outside not written ($x_rows)"
+
+# The GeoPackage's layers and fields.
+info=$(ogrinfo -so city.gpkg buildings 2>&1; ogrinfo -so city.gpkg roof_planes 2>&1)
+missing=
+for f in building_id tilt_deg azimuth_deg area_m2 usable_area_m2 kwp kwh_ac_year kwh_per_kwp \
+    kwh_ac_jan kwh_ac_jun kwh_ac_dec shading_loss_pct class partly_outside; do
+    grep -q "^$f: " <<<"$info" || missing="$missing $f"
+done
+ogrinfo -so city.gpkg | grep -q "1: buildings (Multi Polygon)" &&
+    ogrinfo -so city.gpkg | grep -q "2: roof_planes (Multi Polygon)" && [ -z "$missing" ] &&
+    grep -q "FIELD_kwh_ac_year=.*(kWh/year)" <<<"$info"
+tap_ok $? "the GeoPackage opens with ogrinfo: layers buildings and roof_planes, the fixed fields, units in the metadata (missing:${missing:- none})"
+left=$(ls -A | grep -c '^\.city\.gpkg\.' || true)
+[ "$left" = 0 ]
+tap_ok $? "no temporary left beside the output ($left)"
+
+# Footprints in another CRS give the same rows.
+ogr2ogr -f GeoJSON -t_srs EPSG:4326 -lco COORDINATE_PRECISION=12 fp4326.geojson footprints.geojson
+roofs fp4326.geojson wgs.gpkg planes_wgs.csv >run_wgs.out 2>&1
+# (the same cells; plane fits differ by float rounding only)
+worst=$(paste -d, planes.csv planes_wgs.csv | awk -F, 'NR > 1 { h = NF / 2
+    for (k = 1; k <= h; k++) { a = $k; b = $(k + h)
+        if (a ~ /^"/ || b ~ /^"/) { if (a != b) w = 1e9; continue }
+        d = a - b; d = d < 0 ? -d : d; s = (a < 0 ? -a : a) + 1e-6; if (d / s > w) w = d / s } }
+    END { printf "%.3g", w }')
+[ "$(wc -l <planes.csv)" = "$(wc -l <planes_wgs.csv)" ] && awk -v w="$worst" 'BEGIN { exit !(w < 1e-6) }'
+tap_ok $? "footprints in EPSG:4326 give the same planes, field for field (largest relative difference $worst)"
+
+# A file read that is also the output: refused in one line, left as it was.
+cp footprints.geojson same.gpkg
+sum=$(cksum <same.gpkg)
+"$SKYSWEEP" roofs --buildings same.gpkg --weather "$weather" --time "$window" city.tif same.gpkg \
+    >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ "$(cksum <same.gpkg)" = "$sum" ]
+tap_ok $? "--buildings that is the output refused, left as it was (exit $rc: $(head -c 200 err.txt))"
+cp "$weather" w.csv
+"$SKYSWEEP" roofs --buildings footprints.geojson --weather w.csv --time "$window" city.tif w.csv \
+    >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && cmp -s w.csv "$weather"
+tap_ok $? "--weather that is the output refused (exit $rc: $(head -c 200 err.txt))"
+"$SKYSWEEP" roofs --buildings footprints.geojson --weather "$weather" --time "$window" \
+    --csv city.tif city.tif out2.gpkg >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ ! -e out2.gpkg ]
+tap_ok $? "--csv that is the DSM refused (exit $rc: $(head -c 200 err.txt))"
+"$SKYSWEEP" roofs --weather "$weather" city.tif out3.gpkg >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ ! -e out3.gpkg ] && grep -q -- "--buildings" err.txt
+tap_ok $? "without --buildings: exit $rc, $(head -c 200 err.txt)"
+"$SKYSWEEP" roofs --buildings nothere.shp --weather "$weather" --time "$window" city.tif out4.gpkg \
+    >/dev/null 2>err.txt
+rc=$?
+[ $rc = 3 ] && [ ! -e out4.gpkg ] && [ "$(wc -l <err.txt)" = 1 ]
+tap_ok $? "footprints that cannot be opened: exit $rc, $(head -c 200 err.txt)"
+
+"$SKYSWEEP" roofs --plan --buildings footprints.geojson --weather "$weather" --time "$window" \
+    --device reference city.tif plan.gpkg >plan.out 2>err.txt
+rc=$?
+[ $rc = 0 ] && [ ! -e plan.gpkg ] && grep -q "^cost" plan.out && [ -z "$(ls -A | grep '^\.plan\.gpkg')" ]
+tap_ok $? "--plan prints the insolation run's plan and writes nothing (exit $rc)"
+
+# An open plane against pvlib.
+if "$python" -c "import pvlib" 2>/dev/null; then
+    "$python" "$top/tests/pvlib/roof_plane.py" "$SKYSWEEP" "$weather" "$window" planes.csv C \
+        500055 4983010 2 >pvlib.out 2>&1
+    tap_ok $? "$(tail -n 1 pvlib.out | head -c 400)"
+else
+    tap_skip "an open plane's irradiation equals pvlib's" "no pvlib at $python (tests/run.sh installs it)"
+fi
+tap_done
