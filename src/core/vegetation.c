@@ -1,0 +1,213 @@
+/* Trees: which rays toward the sun cross a crown (doc/vegetation.md).
+ *
+ * Along a line toward the sun, lower every height by s tan(e), s the
+ * distance along the sun's azimuth: the ray from cell i becomes the level
+ * z'_i, and the crown of a cell j ahead the open interval (bottom'_j,
+ * top'_j). The ray crosses a crown iff z'_i lies inside the union of the
+ * intervals of the cells ahead. Walking each line from its sunny end, the
+ * union is kept as a sorted array of disjoint intervals: a binary search
+ * answers each cell, then its own crown is merged in. */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "products_internal.h"
+
+typedef struct {
+    double lo, hi;
+} crown_span;
+
+/* The union of the crowns ahead on one line. */
+typedef struct {
+    crown_span *span;
+    size_t n, cap;
+} crown_union;
+
+/* The index of the first span whose lo is >= z (spans are sorted and
+ * disjoint, so their his are sorted too). */
+static size_t first_at_or_above(const crown_union *u, double z)
+{
+    size_t a = 0, b = u->n;
+    while (a < b) {
+        size_t m = a + (b - a) / 2;
+        if (u->span[m].lo < z)
+            a = m + 1;
+        else
+            b = m;
+    }
+    return a;
+}
+
+static int union_holds(const crown_union *u, double z)
+{
+    size_t k = first_at_or_above(u, z);
+    return k > 0 && z < u->span[k - 1].hi;
+}
+
+/* Merges (lo, hi) in: spans that overlap it (open intervals that share
+ * more than an end) become one. */
+static int union_add(crown_union *u, double lo, double hi)
+{
+    size_t k = first_at_or_above(u, lo);
+    if (k > 0 && u->span[k - 1].hi > lo)
+        --k;
+    size_t end = k;
+    while (end < u->n && u->span[end].lo < hi) {
+        lo = fmin(lo, u->span[end].lo);
+        hi = fmax(hi, u->span[end].hi);
+        ++end;
+    }
+    if (end == k) { /* nothing overlaps: insert */
+        if (u->n == u->cap) {
+            size_t cap = u->cap ? 2 * u->cap : 16;
+            crown_span *s = realloc(u->span, cap * sizeof *s);
+            if (!s)
+                return -1;
+            u->span = s;
+            u->cap = cap;
+        }
+        memmove(u->span + k + 1, u->span + k, (u->n - k) * sizeof *u->span);
+        ++u->n;
+    } else { /* spans k .. end-1 become one */
+        memmove(u->span + k + 1, u->span + end, (u->n - end) * sizeof *u->span);
+        u->n -= end - k - 1;
+    }
+    u->span[k] = (crown_span){lo, hi};
+    return 0;
+}
+
+static double trunk_of(const ss_canopy *c, size_t i)
+{
+    return c->trunk_m ? c->trunk_m[i] : c->trunk_ratio * c->height_m[i];
+}
+
+ss_status ss_canopy_check(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy)
+{
+    ss_call_begin(ctx);
+    if (!(canopy->transmissivity >= 0.0 && canopy->transmissivity <= 1.0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "transmissivity %g is not within 0..1",
+                       canopy->transmissivity);
+    if (!canopy->trunk_m && !(canopy->trunk_ratio >= 0.0 && canopy->trunk_ratio <= 1.0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "trunk ratio %g is not within 0..1",
+                       canopy->trunk_ratio);
+    size_t n = (size_t)grid->width * (size_t)grid->height;
+    for (size_t i = 0; i < n; ++i) {
+        float h = canopy->height_m[i];
+        int row = (int)(i / (size_t)grid->width), col = (int)(i % (size_t)grid->width);
+        if (!(h >= 0.0f) || !isfinite(h))
+            return ss_fail(ctx, SS_ERR_INPUT,
+                           "canopy height %g m at column %d, row %d is not a height of 0 or more",
+                           h, col, row);
+        double t = trunk_of(canopy, i);
+        if (!(t >= 0.0) || t > h)
+            return ss_fail(ctx, SS_ERR_INPUT,
+                           "trunk height %g m at column %d, row %d is not within 0..%g m (its "
+                           "canopy height)",
+                           t, col, row, h);
+    }
+    return SS_OK;
+}
+
+/* One family of digital lines: the line's cells step one along the major
+ * axis (stride major_step in the grid, n_major of them) and round along
+ * the minor one (minor_per_major cells per step). Walked from the sunny
+ * end: s falls by ds_major per major step and ds_minor per minor one. */
+typedef struct {
+    const ss_grid *grid;
+    const ss_canopy *canopy;
+    int n_major, n_minor;
+    int major_is_col;
+    int walk_down; /* the sunny end is the major index n_major - 1 */
+    double minor_per_major;
+    double rise_major, rise_minor; /* s tan(e) per major / minor index */
+    unsigned char *crossed;
+} line_family;
+
+static size_t cell_of(const line_family *f, int major, int minor)
+{
+    int col = f->major_is_col ? major : minor, row = f->major_is_col ? minor : major;
+    return (size_t)row * (size_t)f->grid->width + (size_t)col;
+}
+
+static int walk_line(const line_family *f, long b, crown_union *u)
+{
+    u->n = 0;
+    for (int k = 0; k < f->n_major; ++k) {
+        int major = f->walk_down ? f->n_major - 1 - k : k;
+        double m = floor((double)b + major * f->minor_per_major + 0.5);
+        if (m < 0 || m >= f->n_minor)
+            continue;
+        int minor = (int)m;
+        size_t i = cell_of(f, major, minor);
+        float z = f->grid->z[i];
+        if (!isfinite(z))
+            continue;
+        double drop = major * f->rise_major + minor * f->rise_minor;
+        f->crossed[i] = union_holds(u, z - drop);
+        double top = f->canopy->height_m[i], bottom = trunk_of(f->canopy, i);
+        if (top > bottom && union_add(u, z + bottom - drop, z + top - drop) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                            double sun_grid_azimuth_deg, double sun_elevation_deg,
+                            unsigned char *crossed)
+{
+    ss_call_begin(ctx);
+    if (!isfinite(sun_grid_azimuth_deg) || !(fabs(sun_elevation_deg) <= 90.0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "sun azimuth %g / elevation %g degrees is not a sun position",
+                       sun_grid_azimuth_deg, sun_elevation_deg);
+    size_t n = (size_t)grid->width * (size_t)grid->height;
+    memset(crossed, 0, n);
+    if (fabs(sun_elevation_deg) >= 90.0) /* the ray rises straight up, past no cell */
+        return SS_OK;
+    double az = sun_grid_azimuth_deg * M_PI / 180.0, t = tan(sun_elevation_deg * M_PI / 180.0);
+    /* Toward the sun in metres (east, north); a column is cell_x_m east, a
+     * row cell_y_m south. */
+    double ue = sin(az), un = cos(az);
+    double dc = ue / grid->cell_x_m, dr = -un / grid->cell_y_m; /* cells per metre */
+    line_family f = {.grid = grid, .canopy = canopy, .crossed = crossed};
+    double s_col = ue * grid->cell_x_m, s_row = -un * grid->cell_y_m; /* s per index */
+    f.major_is_col = fabs(dc) >= fabs(dr);
+    double d_major = f.major_is_col ? dc : dr, d_minor = f.major_is_col ? dr : dc;
+    f.n_major = f.major_is_col ? grid->width : grid->height;
+    f.n_minor = f.major_is_col ? grid->height : grid->width;
+    f.minor_per_major = d_minor / d_major;
+    f.walk_down = d_major > 0;
+    f.rise_major = (f.major_is_col ? s_col : s_row) * t;
+    f.rise_minor = (f.major_is_col ? s_row : s_col) * t;
+    /* Intercepts b whose line meets the grid: minor = b + major * slope. */
+    double reach = (f.n_major - 1) * f.minor_per_major;
+    long b0 = (long)floor(-fmax(0.0, reach)) - 1, b1 = (long)ceil(f.n_minor - fmin(0.0, reach)) + 1;
+    crown_union u = {0};
+    int failed = 0;
+    for (long b = b0; b <= b1 && !failed; ++b)
+        failed = walk_line(&f, b, &u);
+    free(u.span);
+    return failed ? ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line")
+                  : SS_OK;
+}
+
+void ss_canopy_classes(const ss_canopy *canopy, size_t n, const float *sunlit,
+                       const unsigned char *crossed, float *klass, float *fraction)
+{
+    for (size_t i = 0; i < n; ++i) {
+        if (sunlit[i] == SS_NODATA) {
+            klass[i] = fraction[i] = SS_NODATA;
+        } else if (sunlit[i] != 1.0f) {
+            klass[i] = 1.0f;
+            fraction[i] = 0.0f;
+        } else if (crossed[i]) {
+            klass[i] = 2.0f;
+            fraction[i] = (float)canopy->transmissivity;
+        } else {
+            klass[i] = 0.0f;
+            fraction[i] = 1.0f;
+        }
+    }
+}
