@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lines.h"
 #include "products_internal.h"
 
 typedef struct {
@@ -110,44 +111,29 @@ ss_status ss_canopy_check(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *can
     return SS_OK;
 }
 
-/* One family of digital lines: the line's cells step one along the major
- * axis (stride major_step in the grid, n_major of them) and round along
- * the minor one (minor_per_major cells per step). Walked from the sunny
- * end: s falls by ds_major per major step and ds_minor per minor one. */
-typedef struct {
-    const ss_grid *grid;
-    const ss_canopy *canopy;
-    int n_major, n_minor;
-    int major_is_col;
-    int walk_down; /* the sunny end is the major index n_major - 1 */
-    double minor_per_major;
-    double rise_major, rise_minor; /* s tan(e) per major / minor index */
-    unsigned char *crossed;
-} line_family;
-
-static size_t cell_of(const line_family *f, int major, int minor)
-{
-    int col = f->major_is_col ? major : minor, row = f->major_is_col ? minor : major;
-    return (size_t)row * (size_t)f->grid->width + (size_t)col;
-}
-
-static int walk_line(const line_family *f, long b, crown_union *u)
+/* One digital line of the engine's (lines.h, the same cells and distances
+ * as the solid sweep's), walked from its sunny end: a cell's level is its
+ * height plus w tan(e), w the distance walked away from the sun. */
+static int walk_line(const ss_grid *grid, const ss_canopy *canopy, const ss_line_set *ls,
+                     int line, double t, crown_union *u, unsigned char *crossed)
 {
     u->n = 0;
-    for (int k = 0; k < f->n_major; ++k) {
-        int major = f->walk_down ? f->n_major - 1 - k : k;
-        double m = floor((double)b + major * f->minor_per_major + 0.5);
-        if (m < 0 || m >= f->n_minor)
+    ss_i64 b16 = ss_line_intercept16(ls, line);
+    double away_major = (double)ls->along_per_step_m * ls->step,
+           away_minor = (double)ls->along_per_minor_m;
+    for (int k = 0; k < ls->major_len; ++k) {
+        int major = ls->step > 0 ? k : ls->major_len - 1 - k;
+        int minor = ss_line_minor(ls, b16, major);
+        if (minor < 0 || minor >= ls->minor_len)
             continue;
-        int minor = (int)m;
-        size_t i = cell_of(f, major, minor);
-        float z = f->grid->z[i];
+        size_t i = (size_t)major * (size_t)ls->stride_major + (size_t)minor * (size_t)ls->stride_minor;
+        float z = grid->z[i];
         if (!isfinite(z))
             continue;
-        double drop = major * f->rise_major + minor * f->rise_minor;
-        f->crossed[i] = union_holds(u, z - drop);
-        double top = f->canopy->height_m[i], bottom = trunk_of(f->canopy, i);
-        if (top > bottom && union_add(u, z + bottom - drop, z + top - drop) != 0)
+        double rise = (major * away_major + minor * away_minor) * t;
+        crossed[i] = union_holds(u, z + rise);
+        double top = canopy->height_m[i], bottom = trunk_of(canopy, i);
+        if (top > bottom && union_add(u, z + bottom + rise, z + top + rise) != 0)
             return -1;
     }
     return 0;
@@ -166,28 +152,14 @@ ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *c
     memset(crossed, 0, n);
     if (fabs(sun_elevation_deg) >= 90.0) /* the ray rises straight up, past no cell */
         return SS_OK;
-    double az = sun_grid_azimuth_deg * M_PI / 180.0, t = tan(sun_elevation_deg * M_PI / 180.0);
-    /* Toward the sun in metres (east, north); a column is cell_x_m east, a
-     * row cell_y_m south. */
-    double ue = sin(az), un = cos(az);
-    double dc = ue / grid->cell_x_m, dr = -un / grid->cell_y_m; /* cells per metre */
-    line_family f = {.grid = grid, .canopy = canopy, .crossed = crossed};
-    double s_col = ue * grid->cell_x_m, s_row = -un * grid->cell_y_m; /* s per index */
-    f.major_is_col = fabs(dc) >= fabs(dr);
-    double d_major = f.major_is_col ? dc : dr, d_minor = f.major_is_col ? dr : dc;
-    f.n_major = f.major_is_col ? grid->width : grid->height;
-    f.n_minor = f.major_is_col ? grid->height : grid->width;
-    f.minor_per_major = d_minor / d_major;
-    f.walk_down = d_major > 0;
-    f.rise_major = (f.major_is_col ? s_col : s_row) * t;
-    f.rise_minor = (f.major_is_col ? s_row : s_col) * t;
-    /* Intercepts b whose line meets the grid: minor = b + major * slope. */
-    double reach = (f.n_major - 1) * f.minor_per_major;
-    long b0 = (long)floor(-fmax(0.0, reach)) - 1, b1 = (long)ceil(f.n_minor - fmin(0.0, reach)) + 1;
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
+                            sun_grid_azimuth_deg, SS_LINE_MODEL_DIGITAL);
+    double t = tan(sun_elevation_deg * M_PI / 180.0);
     crown_union u = {0};
     int failed = 0;
-    for (long b = b0; b <= b1 && !failed; ++b)
-        failed = walk_line(&f, b, &u);
+    for (int line = 0; line < ls.n_lines && !failed; ++line)
+        failed = walk_line(grid, canopy, &ls, line, t, &u, crossed);
     free(u.span);
     return failed ? ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line")
                   : SS_OK;
