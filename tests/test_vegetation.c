@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "dem_io.h"
+#include "lines.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -26,7 +27,7 @@ static double rad(double deg)
 /* Classes 0 lit, 1 solid, 2 vegetation from the library: the solid sweep
  * on digital lines without curvature, then the crowns. */
 static int library_classes(const ss_grid *g, const ss_canopy *cn, double az, double el,
-                           float *klass)
+                           float *klass, unsigned char *crossed_out)
 {
     size_t n = (size_t)g->width * g->height;
     ss_ctx *ctx = ss_ctx_new();
@@ -40,6 +41,8 @@ static int library_classes(const ss_grid *g, const ss_canopy *cn, double az, dou
              ss_canopy_crossed(ctx, g, cn, az, el, crossed) == SS_OK;
     if (ok)
         ss_canopy_classes(cn, n, sunlit, crossed, klass, fraction);
+    if (ok && crossed_out)
+        memcpy(crossed_out, crossed, n);
     else
         tap_diag("library: %s", ss_ctx_message(ctx));
     free(sunlit), free(fraction), free(crossed);
@@ -90,18 +93,69 @@ static double zmax_of(const ss_grid *g, const ss_canopy *cn)
     return m;
 }
 
-/* Agreement of the library's classes with the march over every cell. */
-static void against_march(const char *what, const ss_grid *g, const ss_canopy *cn)
+/* The crowns crossed by brute force on the engine's digital lines (the
+ * sweep's geometry, not its union of intervals): every cell against every
+ * cell ahead of it on its line, trunk to top. Returns the cells where the
+ * sweep differs. */
+static size_t brute_on_lines(const ss_grid *g, const ss_canopy *cn, double az, double el,
+                             const unsigned char *crossed)
+{
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, az,
+                            SS_LINE_MODEL_DIGITAL);
+    double t = tan(rad(el)), away_major = (double)ls.along_per_step_m * ls.step;
+    size_t *cell = malloc(sizeof(size_t) * ls.major_len), wrong = 0;
+    double *level = malloc(sizeof(double) * ls.major_len);
+    for (int line = 0; line < ls.n_lines; ++line) {
+        ss_i64 b16 = ss_line_intercept16(&ls, line);
+        int m = 0;
+        for (int k = 0; k < ls.major_len; ++k) { /* the sunny end first */
+            int major = ls.step > 0 ? k : ls.major_len - 1 - k;
+            int minor = ss_line_minor(&ls, b16, major);
+            if (minor < 0 || minor >= ls.minor_len)
+                continue;
+            size_t i = (size_t)major * ls.stride_major + (size_t)minor * ls.stride_minor;
+            if (!isfinite(g->z[i]))
+                continue;
+            cell[m] = i;
+            /* Heights relative to the ray: + distance walked x tan e. */
+            level[m++] = (major * away_major + minor * (double)ls.along_per_minor_m) * t;
+        }
+        for (int p = 0; p < m; ++p) {
+            int hit = 0;
+            double ray = g->z[cell[p]] + level[p];
+            for (int q = 0; q < p && !hit; ++q) {
+                size_t j = cell[q];
+                hit = cn->height_m[j] > trunk_at(cn, j) &&
+                      ray > g->z[j] + trunk_at(cn, j) + level[q] &&
+                      ray < g->z[j] + cn->height_m[j] + level[q];
+            }
+            wrong += hit != crossed[cell[p]];
+        }
+    }
+    free(cell), free(level);
+    return wrong;
+}
+
+/* The sweep against brute force on its own lines (exactly), and the
+ * library's classes against the march over every cell: at least `floor`
+ * percent agree (digital lines take cells up to half a cell beside the
+ * ray, doc/vegetation.md). */
+static void against_march(const char *what, const ss_grid *g, const ss_canopy *cn, double floor)
 {
     size_t n = (size_t)g->width * g->height;
     float *klass = malloc(n * sizeof(float));
+    unsigned char *crossed = malloc(n);
     double zmax = zmax_of(g, cn);
     for (size_t s = 0; s < sizeof suns / sizeof *suns; ++s) {
         double az = suns[s][0], el = suns[s][1];
-        if (!library_classes(g, cn, az, el, klass)) {
+        if (!library_classes(g, cn, az, el, klass, crossed)) {
             tap_ok(0, "%s, sun %g/%g: the library failed", what, az, el);
             continue;
         }
+        size_t wrong = brute_on_lines(g, cn, az, el, crossed);
+        tap_ok(wrong == 0, "%s, sun %g/%g: the crown sweep equals brute force on its lines "
+               "(%zu cells differ)", what, az, el, wrong);
         size_t same = 0, valid = 0, veg = 0, veg_same = 0;
         for (int r = 0; r < g->height; ++r)
             for (int c = 0; c < g->width; ++c) {
@@ -115,12 +169,13 @@ static void against_march(const char *what, const ss_grid *g, const ss_canopy *c
                 veg_same += m == 2 && klass[i] == 2.0f;
             }
         double agree = 100.0 * same / valid;
-        tap_ok(agree >= 99.5 && veg > 0,
-               "%s, sun %g/%g: classes agree with the march on %.3f %% of cells (>= 99.5); "
+        tap_ok(agree >= floor && veg > 0,
+               "%s, sun %g/%g: classes agree with the march on %.3f %% of cells (>= %g); "
                "%zu march cells in vegetation shadow, %.2f %% of them found",
-               what, az, el, agree, veg, veg ? 100.0 * veg_same / veg : 0.0);
+               what, az, el, agree, floor, veg, veg ? 100.0 * veg_same / veg : 0.0);
     }
     free(klass);
+    free(crossed);
 }
 
 /* A cylinder of radius R from B to H above flat ground at the grid's
@@ -266,8 +321,8 @@ static void columns_equal_crowns(void)
     none.height_m = zero;
     for (size_t s = 0; s < sizeof suns / sizeof *suns; ++s) {
         double az = suns[s][0], el = suns[s][1];
-        library_classes(&g, &cn, az, el, a);
-        library_classes(&raised, &none, az, el, b);
+        library_classes(&g, &cn, az, el, a, NULL);
+        library_classes(&raised, &none, az, el, b, NULL);
         size_t same = 0, free_cells = 0, shaded = 0;
         for (size_t i = 0; i < cells; ++i) {
             if (height[i] > 0)
@@ -298,7 +353,7 @@ static void synthetic_scene(void)
     float *height = malloc(sizeof(float) * (size_t)n * n);
     plant(&g, height, 5, 60);
     ss_canopy cn = {height, NULL, 0.25, 0.03};
-    against_march("a synthetic scene (3 m hills, 12 buildings, 60 trees)", &g, &cn);
+    against_march("a synthetic scene (3 m hills, 12 buildings, 60 trees)", &g, &cn, 94.0);
     free(height);
     ss_grid_free(&g);
 }
@@ -328,7 +383,7 @@ static void gothenburg(void)
         height[i] = isfinite(h) && h > 0 ? (float)h : 0.0f;
     }
     ss_canopy cn = {height, NULL, 0.25, 0.03};
-    against_march("the Gothenburg 1 m DSM and CDSM", &d.grid, &cn);
+    against_march("the Gothenburg 1 m DSM and CDSM", &d.grid, &cn, 98.0);
     free(height);
     ss_dem_free(&d);
     ss_dem_free(&c);
