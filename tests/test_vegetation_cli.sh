@@ -106,6 +106,7 @@ refuse 2 "--trunk-ratio 2" --canopy canopy.tif --trunk-ratio 2 dsm.tif bad.tif
 refuse 3 "a canopy on another grid without georeferencing" --canopy nogeo.tif dsm.tif bad.tif
 refuse 3 "a canopy that does not cover the DSM" --canopy small.tif dsm.tif bad.tif
 refuse 2 "--trunk without --canopy" --trunk canopy.tif dsm.tif bad.tif
+refuse 2 "--trunk with --trunk-ratio" --canopy canopy.tif --trunk zeros.tif --trunk-ratio 0.5 dsm.tif bad.tif
 refuse 2 "--transmissivity without --canopy" --transmissivity 0.5 dsm.tif bad.tif
 cp canopy.tif same.tif
 shadow --canopy same.tif dsm.tif same.tif 2>err.txt >/dev/null

@@ -229,7 +229,8 @@ static void trees_metadata(ss_raster_writer *w, const shadow_settings *set, cons
                        "1");
 }
 
-/* Tree options without --canopy are refused rather than ignored. */
+/* Tree options without --canopy, and --trunk-ratio beside --trunk, are
+ * refused rather than ignored. */
 static int trees_options_alone(const opt_spec *const *tables, const shadow_settings *set)
 {
     static const char *const needs[] = {"canopy-heights", "trunk", "trunk-ratio",
@@ -240,6 +241,8 @@ static int trees_options_alone(const opt_spec *const *tables, const shadow_setti
             snprintf(why, sizeof why, "--%s needs --canopy", needs[i]);
             return run_usage_error("shadow", why);
         }
+    if (set->trunk && !opt_at_default(opt_find(tables, "trunk-ratio"), set))
+        return run_usage_error("shadow", "--trunk and --trunk-ratio are alternatives: give one");
     return -1;
 }
 
