@@ -400,7 +400,8 @@ SS_API ss_status ss_canopy_check(ss_ctx *ctx, const ss_grid *grid, const ss_cano
 /* For one sun (grid azimuth, elevation in degrees): crossed[c] = 1 where the
  * ray from cell c's surface toward the sun passes strictly inside a crown
  * of a cell ahead, else 0 (solid terrain is not looked at: that is
- * ss_cast_shadow's). An exact sweep on digital lines, the earth flat. */
+ * ss_cast_shadow's). An exact sweep on the engine's digital lines (lines.h),
+ * the earth flat. */
 SS_API ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                                    double sun_grid_azimuth_deg, double sun_elevation_deg,
                                    unsigned char *crossed);

@@ -1,7 +1,8 @@
 /* skysweep shadow: where the terrain casts shadows for one sun (an exact
  * sweep along the sun's azimuth), where cells face away from it, and the
  * shaded relief that combines both (ss_shadow_rows), on the DEM held whole
- * or read band by band. */
+ * or read band by band; with --canopy, the trees' shadow besides
+ * (doc/vegetation.md). */
 #include "config.h"
 
 #include <math.h>
