@@ -63,7 +63,7 @@ static int union_add(crown_union *u, double lo, double hi)
     if (end == k) { /* nothing overlaps: insert */
         if (u->n == u->cap) {
             size_t cap = u->cap ? 2 * u->cap : 16;
-            crown_span *s = realloc(u->span, cap * sizeof *s);
+            crown_span *s = ss_realloc(u->span, cap * sizeof *s);
             if (!s)
                 return -1;
             u->span = s;
@@ -157,12 +157,15 @@ ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *c
                             sun_grid_azimuth_deg, SS_LINE_MODEL_DIGITAL);
     double t = tan(sun_elevation_deg * M_PI / 180.0);
     crown_union u = {0};
-    int failed = 0;
-    for (int line = 0; line < ls.n_lines && !failed; ++line)
-        failed = walk_line(grid, canopy, &ls, line, t, &u, crossed);
+    ss_status st = SS_OK;
+    for (int line = 0; line < ls.n_lines && st == SS_OK; ++line) {
+        if (line % 256 == 0) /* Ctrl-C and ss_ctx_cancel reach a long sweep */
+            st = ss_check_cancel(ctx, "the crown sweep");
+        if (st == SS_OK && walk_line(grid, canopy, &ls, line, t, &u, crossed) != 0)
+            st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
+    }
     free(u.span);
-    return failed ? ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line")
-                  : SS_OK;
+    return st;
 }
 
 void ss_canopy_classes(const ss_canopy *canopy, size_t n, const float *sunlit,
