@@ -55,6 +55,8 @@ shadow --canopy zeros.tif dsm.tif z.tif
 same=0
 for b in 1 2 3; do cmp -s <(band plain.tif $b) <(band z.tif $b) || same=1; done
 tap_ok $same "a canopy of zeros: bands 1-3 byte for byte as without --canopy"
+[ "$(gdalinfo plain.tif | grep -c '^Band ')" -eq 3 ] && [ "$(gdalinfo z.tif | grep -c '^Band ')" -eq 5 ]
+tap_ok $? "without --canopy 3 bands, with it 5"
 paste <(band z.tif 1) <(band z.tif 4) <(band z.tif 5) |
     awk '($1 == 1 && ($2 != 0 || $3 != 1)) || ($1 == 0 && ($2 != 1 || $3 != 0)) {bad++}
          END {exit bad > 0}'
@@ -88,6 +90,17 @@ rc=$?
 veg=$(band fine_out.tif 4 | grep -c '^2$')
 [ $rc -eq 0 ] && grep -q "warped onto the DEM's grid" <<<"$out" && [ "$veg" -gt 20 ]
 tap_ok $? "a canopy on a 0.5 m grid is warped onto the DSM's ($veg cells in vegetation shadow)"
+
+# A DSM swept in bands (--memory): the crowns read it whole, the same classes.
+data=${TOP_SRCDIR:-$OLDPWD}/../shared/data
+if [ -r "$data/goteborg_kronenhuset_dsm_1m.tif" ] && [ -r "$data/goteborg_kronenhuset_cdsm_1m.tif" ]; then
+    g=(--lines interpolated --canopy "$data/goteborg_kronenhuset_cdsm_1m.tif" "$data/goteborg_kronenhuset_dsm_1m.tif")
+    shadow "${g[@]}" gw.tif && "$SKYSWEEP" shadow "${sun[@]}" --memory 49M "${g[@]}" gb.tif | grep -q "in bands$" &&
+        cmp -s <(band gw.tif 4) <(band gb.tif 4) && cmp -s <(band gw.tif 5) <(band gb.tif 5)
+    tap_ok $? "Gothenburg swept in bands: bands 4 and 5 as on the DSM held whole"
+else
+    tap_skip "Gothenburg swept in bands" "../shared/data is not here"
+fi
 
 # refuse EXIT DESCRIPTION ARGS...: exit EXIT, one line on stderr, no output.
 refuse() {
