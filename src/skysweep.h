@@ -400,11 +400,12 @@ SS_API ss_status ss_canopy_check(ss_ctx *ctx, const ss_grid *grid, const ss_cano
 /* For one sun (grid azimuth, elevation in degrees): crossed[c] = 1 where the
  * ray from cell c's surface toward the sun passes strictly inside a crown
  * of a cell ahead, else 0 (solid terrain is not looked at: that is
- * ss_cast_shadow's). An exact sweep on the engine's digital lines (lines.h),
- * the earth flat. */
+ * ss_cast_shadow's). An exact sweep on the engine's lines, the earth flat:
+ * box lines (crowns as columns from trunk to top, lines->box_lines per cell)
+ * where lines asks for them, else digital lines (lines may be NULL). */
 SS_API ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
-                                   double sun_grid_azimuth_deg, double sun_elevation_deg,
-                                   unsigned char *crossed);
+                                   const ss_sweep_options *lines, double sun_grid_azimuth_deg,
+                                   double sun_elevation_deg, unsigned char *crossed);
 /* Shadow classes of n cells from the solid verdict (sunlit 1 / 0 /
  * SS_NODATA) and the crowns crossed: klass 0 lit, 1 solid shadow, 2
  * vegetation shadow; fraction of the beam that arrives: 1, 0, or the

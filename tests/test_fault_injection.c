@@ -189,7 +189,7 @@ static ss_status call_canopy(ss_ctx *ctx, float *out)
     for (size_t i = 0; i < CELLS; ++i)
         height[i] = i % 5 == 0 ? 3.0f : 0.0f;
     ss_canopy canopy = {height, NULL, 0.25, 0.03};
-    ss_status st = ss_canopy_crossed(ctx, &grid, &canopy, 123.0, 12.0, crossed);
+    ss_status st = ss_canopy_crossed(ctx, &grid, &canopy, NULL, 123.0, 12.0, crossed);
     for (size_t i = 0; st == SS_OK && i < CELLS; ++i)
         out[i] = crossed[i];
     return st;

@@ -193,7 +193,7 @@ static ss_status trees_write(sweep_job *job, trees *t, shadow_out *out, const ss
     unsigned char *crossed = malloc(n);
     float *klass = malloc(n * sizeof(float)), *fraction = malloc(n * sizeof(float));
     ss_status st = crossed && klass && fraction
-                       ? ss_canopy_crossed(job->run.ctx, &ground, &t->canopy,
+                       ? ss_canopy_crossed(job->run.ctx, &ground, &t->canopy, &job->opt,
                                            sun->centre_grid_azimuth_deg,
                                            sun->centre.apparent_elevation_deg, crossed)
                        : ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
@@ -352,10 +352,11 @@ int cmd_shadow(int argc, char **argv)
                job.output);
         if (set.canopy)
             printf("trees   %s (heights %s%s), transmissivity %.4g: %.1f %% of cells in "
-                   "vegetation shadow (crowns swept on the host, %.3f s)\n",
+                   "vegetation shadow (crowns swept on the host on %s lines, %.3f s)\n",
                    set.canopy, set.canopy_heights ? "absolute" : "above ground",
                    tr.warped ? ", warped onto the DEM's grid" : "", set.transmissivity,
-                   valid ? 100.0 * tr.shaded / valid : 0.0, trees_s);
+                   valid ? 100.0 * tr.shaded / valid : 0.0,
+                   job.opt.lines == SS_LINES_BOX ? "box" : "digital", trees_s);
         if (set.canopy && tr.below_ground)
             printf("trees   %zu absolute crown tops below the DSM taken as no tree\n",
                    tr.below_ground);

@@ -139,9 +139,89 @@ static int walk_line(const ss_grid *grid, const ss_canopy *canopy, const ss_line
     return 0;
 }
 
+/* Box crowns: each crown a flat-topped column from its trunk to its top,
+ * met by exact lines (box_lines families per cell across, as the solid
+ * sweep's box lines, kernels/ss_box.h); each cell takes the family whose
+ * line passes nearest its centre (at most half a spacing beside it). A
+ * square crossed from walked distance wa to wb holds the levels (bottom +
+ * min(w t), top + max(w t)). */
+typedef struct {
+    const ss_grid *grid;
+    const ss_canopy *canopy;
+    const ss_line_set *ls;
+    double t, slope;
+    double away_major, away_minor; /* distance walked per +1 major / minor index */
+    unsigned char *crossed;
+} box_walk;
+
+static double walked(const box_walk *b, double major, double minor)
+{
+    return major * b->away_major + minor * b->away_minor;
+}
+
+static size_t box_cell(const box_walk *b, int major, int minor)
+{
+    return (size_t)major * (size_t)b->ls->stride_major + (size_t)minor * (size_t)b->ls->stride_minor;
+}
+
+/* Merges the crown of square (major, minor), crossed from x0 to x1 along
+ * the major axis by the line y = y0 + (x - major) slope. */
+static int box_add(const box_walk *b, crown_union *u, int major, int minor, double x0, double x1,
+                   double y_at_major)
+{
+    if (minor < 0 || minor >= b->ls->minor_len)
+        return 0;
+    size_t i = box_cell(b, major, minor);
+    float z = b->grid->z[i];
+    double top = b->canopy->height_m[i], bottom = trunk_of(b->canopy, i);
+    if (!isfinite(z) || !(top > bottom))
+        return 0;
+    double wa = walked(b, x0, y_at_major + (x0 - major) * b->slope) * b->t,
+           wb = walked(b, x1, y_at_major + (x1 - major) * b->slope) * b->t;
+    return union_add(u, z + bottom + fmin(wa, wb), z + top + fmax(wa, wb));
+}
+
+static int walk_box_line(const box_walk *b, int line, crown_union *u)
+{
+    const ss_line_set *ls = b->ls;
+    u->n = 0;
+    ss_i64 b16 = ss_line_intercept16(ls, line);
+    ss_i64 half = 32768 / ls->families; /* half a family spacing, 16.16 */
+    for (int k = 0; k < ls->major_len; ++k) {
+        int m = ls->step > 0 ? k : ls->major_len - 1 - k;
+        ss_i64 y16 = ss_line_y16(ls, b16, m); /* + one half: floor is the nearest cell */
+        double y = (double)(y16 - 32768) / 65536.0;
+        int n_centre = (int)ss_floor16(y16);
+        ss_i64 delta16 = y16 - (ss_i64)n_centre * 65536 - 32768;
+        int answers = delta16 >= -half && delta16 < half && n_centre >= 0 &&
+                      n_centre < ls->minor_len;
+        /* The column's squares in walk order: from x_in to x_out. */
+        double x_in = m - 0.5 * ls->step, x_out = m + 0.5 * ls->step;
+        int n_in = (int)floor(y + (x_in - m) * b->slope + 0.5),
+            n_out = (int)floor(y + (x_out - m) * b->slope + 0.5);
+        double x_cross = n_in == n_out ? x_out
+                                       : m + ((n_in + n_out) / 2.0 - y) / b->slope;
+        /* The cell answered looks past the squares ahead of its centre
+         * only: the first square when its centre lies in the second. */
+        int centre_second = answers && n_out != n_in && n_centre == n_out;
+        if (centre_second && box_add(b, u, m, n_in, x_in, x_cross, y) != 0)
+            return -1;
+        if (answers) {
+            size_t i = box_cell(b, m, n_centre);
+            if (isfinite(b->grid->z[i]))
+                b->crossed[i] = union_holds(u, b->grid->z[i] + walked(b, m, n_centre) * b->t);
+        }
+        if (!centre_second && box_add(b, u, m, n_in, x_in, x_cross, y) != 0)
+            return -1;
+        if (n_out != n_in && box_add(b, u, m, n_out, x_cross, x_out, y) != 0)
+            return -1;
+    }
+    return 0;
+}
+
 ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
-                            double sun_grid_azimuth_deg, double sun_elevation_deg,
-                            unsigned char *crossed)
+                            const ss_sweep_options *lines, double sun_grid_azimuth_deg,
+                            double sun_elevation_deg, unsigned char *crossed)
 {
     ss_call_begin(ctx);
     if (!isfinite(sun_grid_azimuth_deg) || !(fabs(sun_elevation_deg) <= 90.0))
@@ -152,16 +232,27 @@ ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *c
     memset(crossed, 0, n);
     if (fabs(sun_elevation_deg) >= 90.0) /* the ray rises straight up, past no cell */
         return SS_OK;
+    int box = lines && lines->lines == SS_LINES_BOX;
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
-                            sun_grid_azimuth_deg, SS_LINE_MODEL_DIGITAL);
+                            sun_grid_azimuth_deg,
+                            box ? SS_LINE_MODEL_BOX : SS_LINE_MODEL_DIGITAL);
+    ls.families = box ? lines->box_lines : 1;
     double t = tan(sun_elevation_deg * M_PI / 180.0);
+    /* Box lines: distances walked (away from the sun) per index, as lines.c. */
+    double az = sun_grid_azimuth_deg * (M_PI / 180.0);
+    double per_col = -sin(az) * grid->cell_x_m, per_row = cos(az) * grid->cell_y_m;
+    box_walk bw = {grid, canopy, &ls, t, (double)ls.slope_fx / 4294967296.0,
+                   ls.major_is_row ? per_row : per_col, ls.major_is_row ? per_col : per_row,
+                   crossed};
     crown_union u = {0};
     ss_status st = SS_OK;
-    for (int line = 0; line < ls.n_lines && st == SS_OK; ++line) {
+    for (int line = 0; line < ss_line_count(&ls) && st == SS_OK; ++line) {
         if (line % 256 == 0) /* Ctrl-C and ss_ctx_cancel reach a long sweep */
             st = ss_check_cancel(ctx, "the crown sweep");
-        if (st == SS_OK && walk_line(grid, canopy, &ls, line, t, &u, crossed) != 0)
+        int failed = box ? walk_box_line(&bw, line, &u)
+                         : walk_line(grid, canopy, &ls, line, t, &u, crossed);
+        if (st == SS_OK && failed)
             st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
     }
     free(u.span);
