@@ -241,6 +241,32 @@ static void cylinder_closed_form(void)
                "(%+.2f %%, within %.0f cells)",
                R, B, H, az, el, got, want, 100.0 * (got - want) / want, slack);
     }
+    /* Box lines: the crown is its cells' squares, whose shadow is their
+     * union's area plus its width w across the sun times (H - B) / tan e;
+     * the cells' centres sample it, within a cell at each end of each line
+     * across it (w + 1 lines, 1 / cos a apart). */
+    ss_sweep_options box;
+    ss_sweep_options_default(&box);
+    box.lines = SS_LINES_BOX;
+    for (size_t s = 0; s < sizeof suns / sizeof *suns; ++s) {
+        double az = suns[s][0], el = suns[s][1], lo = INFINITY, hi = -INFINITY;
+        for (int r = 0; r < n; ++r) /* the squares' corners across the sun */
+            for (int c = 0; c < n; ++c)
+                for (int k = 0; height[(size_t)r * n + c] > 0 && k < 4; ++k) {
+                    double x = c + (k & 1), y = r + (k >> 1);
+                    double across = x * cos(rad(az)) + y * sin(rad(az));
+                    lo = fmin(lo, across), hi = fmax(hi, across);
+                }
+        double want = disc + (hi - lo) * (H - B) / tan(rad(el));
+        double a = fmax(fabs(sin(rad(az))), fabs(cos(rad(az))));
+        double slack = 2 * (hi - lo + 1) / a;
+        ss_canopy_crossed(ctx, &g, &cn, &box, az, el, crossed);
+        double got = (double)count_set(crossed, cells);
+        tap_ok(fabs(got - want) <= slack,
+               "box lines, cylinder R %g from %g to %g m, sun %g/%g: %.0f cells shaded, closed "
+               "form %.1f (%+.2f %%, within %.0f cells)",
+               R, B, H, az, el, got, want, 100.0 * (got - want) / want, slack);
+    }
     /* The same crown by the trunk ratio B / H gives the same cells. */
     unsigned char *by_ratio = malloc(cells);
     ss_canopy ratio = {height, NULL, B / H, 0.03};
