@@ -6,7 +6,9 @@
  * top'_j). The ray crosses a crown iff z'_i lies inside the union of the
  * intervals of the cells ahead. Walking each line from its sunny end, the
  * union is kept as a sorted array of disjoint intervals: a binary search
- * answers each cell, then its own crown is merged in. */
+ * answers each cell, then its own crown is merged in. The lines are the
+ * engine's (lines.h): box lines where the solid sweep takes them, crowns
+ * then columns from trunk to top; else digital lines. */
 #include "config.h"
 
 #include <math.h>
@@ -96,17 +98,19 @@ ss_status ss_canopy_check(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *can
     size_t n = (size_t)grid->width * (size_t)grid->height;
     for (size_t i = 0; i < n; ++i) {
         float h = canopy->height_m[i];
+        double t = trunk_of(canopy, i);
+        int height_ok = h >= 0.0f && isfinite(h), trunk_ok = t >= 0.0 && t <= h;
+        if (height_ok && trunk_ok)
+            continue;
         int row = (int)(i / (size_t)grid->width), col = (int)(i % (size_t)grid->width);
-        if (!(h >= 0.0f) || !isfinite(h))
+        if (!height_ok)
             return ss_fail(ctx, SS_ERR_INPUT,
                            "canopy height %g m at column %d, row %d is not a height of 0 or more",
                            h, col, row);
-        double t = trunk_of(canopy, i);
-        if (!(t >= 0.0) || t > h)
-            return ss_fail(ctx, SS_ERR_INPUT,
-                           "trunk height %g m at column %d, row %d is not within 0..%g m (its "
-                           "canopy height)",
-                           t, col, row, h);
+        return ss_fail(ctx, SS_ERR_INPUT,
+                       "trunk height %g m at column %d, row %d is not within 0..%g m (its canopy "
+                       "height)",
+                       t, col, row, h);
     }
     return SS_OK;
 }
