@@ -384,6 +384,36 @@ SS_API ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep
                          const float *sun_elevation_per_cell_deg, float *sunlit,
                          float *horizon_deg);
 
+/* Trees (doc/vegetation.md; UMEP/SOLWEIG's model): crowns over the grid's
+ * surface, which holds ground and buildings, never trees. A cell's crown
+ * spans (z + trunk, z + height) above its surface z; light that crosses a
+ * crown keeps the fraction `transmissivity`. */
+typedef struct {
+    const float *height_m; /* crown top above the surface, width*height; 0: no tree */
+    const float *trunk_m;  /* crown bottom above the surface; NULL: trunk_ratio x height */
+    double trunk_ratio;    /* 0..1, where trunk_m is NULL */
+    double transmissivity; /* 0..1, leaf on */
+} ss_canopy;
+
+/* Refuses heights below 0 or not finite, a trunk below 0 or above its
+ * crown's top, a ratio or transmissivity outside 0..1. */
+SS_API ss_status ss_canopy_check(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy);
+/* For one sun (grid azimuth, elevation in degrees): crossed[c] = 1 where the
+ * ray from cell c's surface toward the sun passes strictly inside a crown
+ * of a cell ahead, else 0 (solid terrain is not looked at: that is
+ * ss_cast_shadow's). An exact sweep on the engine's lines, the earth flat:
+ * box lines (crowns as columns from trunk to top, lines->box_lines per cell)
+ * where lines asks for them, else digital lines (lines may be NULL). */
+SS_API ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                   const ss_sweep_options *lines, double sun_grid_azimuth_deg,
+                                   double sun_elevation_deg, unsigned char *crossed);
+/* Shadow classes of n cells from the solid verdict (sunlit 1 / 0 /
+ * SS_NODATA) and the crowns crossed: klass 0 lit, 1 solid shadow, 2
+ * vegetation shadow; fraction of the beam that arrives: 1, 0, or the
+ * transmissivity. SS_NODATA where sunlit is. */
+SS_API void ss_canopy_classes(const ss_canopy *canopy, size_t n, const float *sunlit,
+                              const unsigned char *crossed, float *klass, float *fraction);
+
 /* Cosine of the angle between the sun and each cell's surface normal (Horn's
  * 3x3 gradient; cell azimuths in the grid's frame): <= 0 where the cell
  * faces away from the sun (self-shadow). Per-cell sun arrays may be NULL

@@ -181,6 +181,20 @@ static ss_status call_insolation_banded(ss_ctx *ctx, float *out)
     return ss_insolation_rows(ctx, &src, &opt, &o, 3, sun_rows, NULL, 0, NULL, write_rows, &r);
 }
 
+/* Crowns 3 m tall on every fifth cell: the crown sweep's union grows. */
+static ss_status call_canopy(ss_ctx *ctx, float *out)
+{
+    float height[CELLS];
+    unsigned char crossed[CELLS];
+    for (size_t i = 0; i < CELLS; ++i)
+        height[i] = i % 5 == 0 ? 3.0f : 0.0f;
+    ss_canopy canopy = {height, NULL, 0.25, 0.03};
+    ss_status st = ss_canopy_crossed(ctx, &grid, &canopy, NULL, 123.0, 12.0, crossed);
+    for (size_t i = 0; st == SS_OK && i < CELLS; ++i)
+        out[i] = crossed[i];
+    return st;
+}
+
 typedef struct {
     const char *name;
     call_fn fn;
@@ -191,6 +205,7 @@ static const call_case cases[] = {
     {"ss_openness", call_openness},
     {"ss_horizon", call_horizon},
     {"ss_cast_shadow", call_shadow},
+    {"ss_canopy_crossed", call_canopy},
     {"ss_vat", call_vat},
     {"ss_hillshade", call_hillshade},
     {"ss_insolation", call_insolation},

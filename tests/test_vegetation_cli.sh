@@ -1,0 +1,129 @@
+#!/bin/bash
+# shadow --canopy (doc/vegetation.md) from the command line: a canopy of
+# zeros leaves bands 1-3 byte for byte as without one and adds classes 0/1;
+# a tree adds vegetation shadow (class 2) whose fraction is the
+# transmissivity (0 and 1 checked); absolute heights give the classes of
+# the same trees above ground; a canopy on a finer grid is warped onto the
+# DSM's; the metadata name canopy, trunk rule and transmissivity; bad
+# canopies, trunks, transmissivities, grids and a canopy that is also the
+# output are refused in one line with the documented exit code.
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+SKYSWEEP=${SKYSWEEP:-$PWD/skysweep}
+case $SKYSWEEP in /*) ;; *) SKYSWEEP=$PWD/$SKYSWEEP ;; esac
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-trees.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+
+# asc NAME CELL N EXPR: an N x N AAIGrid of CELL m cells over the same
+# 60 m square (EPSG:3006), EXPR of x, y (metres east and south of the
+# north-west corner) in awk, then a GeoTIFF.
+asc() {
+    awk -v n="$3" -v cell="$2" "BEGIN {
+        print \"ncols \" n; print \"nrows \" n
+        print \"xllcorner 400000\"; print \"yllcorner 6400000\"; print \"cellsize \" cell
+        for (r = 0; r < n; ++r) { line = \"\"
+            for (c = 0; c < n; ++c) { x = (c + 0.5) * cell; y = (r + 0.5) * cell
+                line = line \" \" ($4) }
+            print line } }" >"$1.asc"
+    gdal_translate -q -ot Float32 -a_srs EPSG:3006 "$1.asc" "$1.tif"
+}
+ground='(x > 40 && x < 50 && y > 10 && y < 30) ? 12 : 0.02 * x'
+tree='((x - 22) ^ 2 + (y - 20) ^ 2 <= 16) ? 10 : 0'
+asc dsm 1 60 "$ground"
+asc zeros 1 60 0
+asc canopy 1 60 "$tree"
+asc absolute 1 60 "($tree) > 0 ? ($tree) + ($ground) : 0"
+asc fine 0.5 120 "$tree"
+asc negative 1 60 "($tree) > 0 ? -1 : 0"
+asc tall_trunk 1 60 "($tree) > 0 ? 11 : 0"
+asc small 1 30 "$tree" # covers only the north-west quarter
+# 50 x 50 cells without georeferencing (a VRT without its geotransform and CRS).
+gdal_translate -q -srcwin 0 0 50 50 -of VRT canopy.tif nogeo.vrt
+sed -i '/<GeoTransform>/d; /<SRS.*<\/SRS>/d' nogeo.vrt
+gdal_translate -q nogeo.vrt nogeo.tif
+
+sun=(--device reference --sun-azimuth 250 --sun-elevation 30)
+shadow() { "$SKYSWEEP" shadow -q "${sun[@]}" "$@"; }
+# band FILE N: the band's values, one a line.
+band() {
+    gdal_translate -q -b "$2" -of ENVI "$1" "$1.b$2.raw" && od -An -v -f -w4 "$1.b$2.raw" | tr -d ' '
+}
+
+shadow dsm.tif plain.tif
+shadow --canopy zeros.tif dsm.tif z.tif
+same=0
+for b in 1 2 3; do cmp -s <(band plain.tif $b) <(band z.tif $b) || same=1; done
+tap_ok $same "a canopy of zeros: bands 1-3 byte for byte as without --canopy"
+[ "$(gdalinfo plain.tif | grep -c '^Band ')" -eq 3 ] && [ "$(gdalinfo z.tif | grep -c '^Band ')" -eq 5 ]
+tap_ok $? "without --canopy 3 bands, with it 5"
+paste <(band z.tif 1) <(band z.tif 4) <(band z.tif 5) |
+    awk '($1 == 1 && ($2 != 0 || $3 != 1)) || ($1 == 0 && ($2 != 1 || $3 != 0)) {bad++}
+         END {exit bad > 0}'
+tap_ok $? "a canopy of zeros: class 0 where sunlit, 1 where not; fraction = sunlit"
+
+for t in 0 1 0.03; do
+    shadow --canopy canopy.tif --transmissivity $t dsm.tif t$t.tif
+    cmp -s <(band plain.tif 1) <(band t$t.tif 1)
+    tap_ok $? "--transmissivity $t: band 1 unchanged by the trees"
+    paste <(band t$t.tif 4) <(band t$t.tif 5) |
+        awk -v t=$t '$1 == 2 {veg++; if ($2 != t + 0 && sprintf("%.6g", $2) != t) bad++}
+                     $1 == 1 && $2 != 0 {bad++} $1 == 0 && $2 != 1 {bad++}
+                     END {exit !(veg > 20 && bad == 0)}'
+    tap_ok $? "--transmissivity $t: vegetation shadow (class 2) gets fraction $t, solid 0, lit 1"
+done
+md=$(gdalinfo t0.03.tif)
+grep -q "CANOPY=canopy.tif (heights above the ground)" <<<"$md" &&
+    grep -q "TRUNK=crown bottoms at 0.25 x the canopy height" <<<"$md" &&
+    grep -q "TRANSMISSIVITY=0.03" <<<"$md" &&
+    grep -q "Description = shadow class: 0 lit, 1 solid shadow, 2 vegetation shadow" <<<"$md"
+tap_ok $? "the metadata name the canopy, its convention, the trunk rule and the transmissivity"
+
+shadow --canopy absolute.tif --canopy-heights absolute dsm.tif abs.tif
+cmp -s <(band t0.03.tif 4) <(band abs.tif 4)
+tap_ok $? "--canopy-heights absolute: the same classes as the heights above ground"
+gdalinfo abs.tif | grep -q "CANOPY=absolute.tif (heights absolute, the DSM subtracted)"
+tap_ok $? "--canopy-heights absolute is recorded"
+
+out=$("$SKYSWEEP" shadow "${sun[@]}" --canopy fine.tif dsm.tif fine_out.tif 2>&1)
+rc=$?
+veg=$(band fine_out.tif 4 | grep -c '^2$')
+[ $rc -eq 0 ] && grep -q "warped onto the DEM's grid" <<<"$out" && [ "$veg" -gt 20 ]
+tap_ok $? "a canopy on a 0.5 m grid is warped onto the DSM's ($veg cells in vegetation shadow)"
+
+# A DSM swept in bands (--memory): the crowns read it whole, the same classes.
+data=${TOP_SRCDIR:-$OLDPWD}/../shared/data
+if [ -r "$data/goteborg_kronenhuset_dsm_1m.tif" ] && [ -r "$data/goteborg_kronenhuset_cdsm_1m.tif" ]; then
+    g=(--lines interpolated --canopy "$data/goteborg_kronenhuset_cdsm_1m.tif" "$data/goteborg_kronenhuset_dsm_1m.tif")
+    shadow "${g[@]}" gw.tif && "$SKYSWEEP" shadow "${sun[@]}" --memory 49M "${g[@]}" gb.tif | grep -q "in bands$" &&
+        cmp -s <(band gw.tif 4) <(band gb.tif 4) && cmp -s <(band gw.tif 5) <(band gb.tif 5)
+    tap_ok $? "Gothenburg swept in bands: bands 4 and 5 as on the DSM held whole"
+else
+    tap_skip "Gothenburg swept in bands" "../shared/data is not here"
+fi
+
+# refuse EXIT DESCRIPTION ARGS...: exit EXIT, one line on stderr, no output.
+refuse() {
+    local want=$1 what=$2
+    shift 2
+    rm -f bad.tif
+    shadow "$@" 2>err.txt >/dev/null
+    local rc=$?
+    [ $rc -eq "$want" ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e bad.tif ]
+    tap_ok $? "$what: exit $rc ($(head -c 160 err.txt))"
+}
+refuse 3 "a canopy below 0" --canopy negative.tif dsm.tif bad.tif
+refuse 3 "a trunk above its canopy" --canopy canopy.tif --trunk tall_trunk.tif dsm.tif bad.tif
+refuse 2 "--transmissivity 1.5" --canopy canopy.tif --transmissivity 1.5 dsm.tif bad.tif
+refuse 2 "--trunk-ratio 2" --canopy canopy.tif --trunk-ratio 2 dsm.tif bad.tif
+refuse 3 "a canopy on another grid without georeferencing" --canopy nogeo.tif dsm.tif bad.tif
+refuse 3 "a canopy that does not cover the DSM" --canopy small.tif dsm.tif bad.tif
+refuse 2 "--trunk without --canopy" --trunk canopy.tif dsm.tif bad.tif
+refuse 2 "--trunk with --trunk-ratio" --canopy canopy.tif --trunk zeros.tif --trunk-ratio 0.5 dsm.tif bad.tif
+refuse 2 "--transmissivity without --canopy" --transmissivity 0.5 dsm.tif bad.tif
+cp canopy.tif same.tif
+shadow --canopy same.tif dsm.tif same.tif 2>err.txt >/dev/null
+rc=$?
+[ $rc -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && cmp -s canopy.tif same.tif
+tap_ok $? "a canopy that is also the output is refused and left alone: exit $rc ($(cat err.txt))"
+tap_done
