@@ -44,6 +44,24 @@ against_pvlib "$weather/723170TYA.CSV" tmy3
 against_pvlib "$weather/tmy_45.000_8.000_2005_2023.csv" pvgis
 against_pvlib "$weather/tmy_45.000_8.000_2005_2023.json" pvgis
 against_pvlib "$top/tests/data/psm4_sample.csv" psm4
+against_pvlib "$cut/miami_tmy2_jan_1_2.tm2" tmy2
+# pvlib ships NREL's whole Miami TMY2 file with its package.
+pvlib_data=$("$python" -c "import os, pvlib; print(os.path.dirname(pvlib.__file__) + '/data')" 2>/dev/null)
+against_pvlib "${pvlib_data:-no-pvlib}/12839.tm2" tmy2
+
+# TMY2: the hour field (1-24) ends the hour summed; the sun at its middle;
+# a solar source flag '?' while the sun is up marks missing data (the
+# manual's Table 3-3): counted, the values missing. Line 14 is 12:00 on
+# 1 January 1962 (UTC-5).
+tm2=$cut/miami_tmy2_jan_1_2.tm2
+noon=$("$SKYSWEEP" weather "$tm2" | grep -v '^#' | sed -n 14p | cut -d, -f1-6)
+[ "$noon" = "1962-01-01T17:00:00Z,1962-01-01T17:30:00Z,1,145,9,137" ]
+tap_ok $? "a TMY2 hour ending 13:00 local is stamped at its start, the sun at its middle: $noon"
+sed '14s/^\(.\{21\}\)C/\1?/' "$tm2" >"$work/flagged.tm2"
+out=$("$SKYSWEEP" weather "$work/flagged.tm2")
+echo "$out" | grep -q "^# records 48, 1 with an irradiance value missing (1 of them flagged missing by the file)" &&
+    [ "$(echo "$out" | grep -v '^#' | sed -n 14p | cut -d, -f4-6)" = ",9,137" ]
+tap_ok $? "a TMY2 GHI flagged '?' at noon is missing and counted: $(echo "$out" | grep '^# records')"
 
 # Where the sun is taken: the middle of an EPW hour; PVGIS's stated offset,
 # also in its EPW export whose zone label is not applied.
@@ -231,7 +249,7 @@ refused_saying() { # NAME CONTENT TEXT
     grep -qF "$3" "$work/err"
     tap_ok $? "$1: the message says \"$3\""
 }
-refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header it has no separated columns"
+refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM's, and as a CSV header it has no separated columns"
 refused_saying no_time.csv 'date;ghi\n2026-06-21T10:00Z;1\n' "its first line 'date,ghi' is none of"
 refused_saying no_ghi.csv 'time,global\n2026-06-21T10:00Z,1\n' "it has no 'ghi' column"
 refused_saying dni_alone.csv 'time,ghi,dni\n2026-06-21T10:00Z,1,1\n' "it has 'dni' without 'dhi'"
@@ -241,6 +259,8 @@ refused bad_location.epw 'LOCATION,x,-,y,z,1,145,8,1,250\nDATA PERIODS,1\n'
 refused broken.json '{"inputs": {"location": {"latitude": 45'
 refused other.json '{"a": 1}'
 refused bad_time.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n2018011:0000,1,2,3\n'
+refused_saying short.tm2 "$(head -3 "$tm2" | cut -c1-100)" "line 2: a TMY2 record has 142 characters"
+refused_saying bad_hour.tm2 "$(head -2 "$tm2" | sed '2s/^\(.\{7\}\)01/\125/')" "line 2: a TMY2 record starts with year (2 digits), month (1-12), day and hour (1-24)"
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'

@@ -1,6 +1,6 @@
 /* Weather file readers (weather.h). Each follows pvlib 0.16's reader of the
  * format for columns, units, zones and missing values (doc/weather.md):
- * read_epw, read_tmy3, read_pvgis_tmy, read_nsrdb_psm4. */
+ * read_epw, read_tmy3, read_tmy2, read_pvgis_tmy, read_nsrdb_psm4. */
 #include "config.h"
 
 #include <ctype.h>
@@ -520,6 +520,137 @@ static ss_status read_tmy3(reader *r)
     return SS_OK;
 }
 
+/* ---- TMY2 --------------------------------------------------------------- */
+
+/* A fixed-width field of a TMY2 record (the manual's columns, counted from
+ * 0 as pvlib's read_tmy2 does: a blank, then year at 1..2). */
+typedef struct {
+    int start, width;
+} tmy2_field;
+
+static const tmy2_field TMY2_YEAR = {1, 2}, TMY2_MONTH = {3, 2}, TMY2_DAY = {5, 2},
+                        TMY2_HOUR = {7, 2}, TMY2_ETR = {9, 4}, TMY2_GHI = {17, 4},
+                        TMY2_DNI = {23, 4}, TMY2_DHI = {29, 4}, TMY2_DRY_BULB = {67, 4},
+                        TMY2_PRESSURE = {84, 4}, TMY2_WSPD = {95, 3};
+#define TMY2_RECORD_LENGTH 142
+
+/* The field's integer (blanks allowed around it), 0 if it is not one. */
+static int tmy2_value(const char *line, tmy2_field f, double *v)
+{
+    char s[8];
+    memcpy(s, line + f.start, (size_t)f.width);
+    s[f.width] = '\0';
+    return number(s, v);
+}
+
+/* TMY2's first line, fixed width: WBAN, city, state, zone, N|S deg min,
+ * E|W deg min, elevation. Read from its end, since a city's name holds
+ * blanks. */
+static int tmy2_station(const char *line, double *tz, double *lat, double *lon, double *elev)
+{
+    char copy[256], *t[32];
+    snprintf(copy, sizeof copy, "%s", line);
+    int n = 0;
+    for (char *p = strtok(copy, " \t"); p && n < 32; p = strtok(NULL, " \t"))
+        t[n++] = p;
+    double d[6];
+    if (n < 10 || strlen(t[n - 7]) != 1 || !strchr("NS", *t[n - 7]) || strlen(t[n - 4]) != 1 ||
+        !strchr("EW", *t[n - 4]) || !number(t[n - 8], tz) || !number(t[n - 6], &d[0]) ||
+        !number(t[n - 5], &d[1]) || !number(t[n - 3], &d[2]) || !number(t[n - 2], &d[3]) ||
+        !number(t[n - 1], elev) || d[1] >= 60 || d[3] >= 60)
+        return 0;
+    *lat = (d[0] + d[1] / 60.0) * (*t[n - 7] == 'N' ? 1 : -1);
+    *lon = (d[2] + d[3] / 60.0) * (*t[n - 4] == 'E' ? 1 : -1);
+    return fabs(*lat) <= 90 && fabs(*lon) <= 180 && fabs(*tz) <= 14;
+}
+
+/* A TMY2 file: the station line, then records whose second to ninth
+ * characters are digits (year, month, day, hour); a record cut short is
+ * named by the reader. */
+static int tmy2_file(const char *first, const char *second)
+{
+    double tz, lat, lon, elev;
+    if (strlen(second) < 9)
+        return 0;
+    for (int i = 1; i < 9; ++i)
+        if (!isdigit((unsigned char)second[i]) && second[i] != ' ')
+            return 0;
+    return tmy2_station(first, &tz, &lat, &lon, &elev);
+}
+
+/* An irradiance field whose source flag (TMY2 manual, Table 3-3) is '?'
+ * while the sun is up (extraterrestrial > 0) is missing data: the manual
+ * uses '?' "mostly for missing data", and at night for the zeros. */
+static double tmy2_irradiance(const char *line, tmy2_field f, double etr, double v,
+                              int *flagged)
+{
+    if (line[f.start + f.width] == '?' && etr > 0) {
+        *flagged = 1;
+        return NAN;
+    }
+    return v;
+}
+
+/* NREL TMY2 (Marion and Urban 1995): the station line, then fixed-width
+ * records: sums over the hour ending at the hour field (1-24), local
+ * standard time; each value followed by a source and an uncertainty flag;
+ * temperature and wind in tenths, pressure in mbar; 9999 missing. */
+static ss_status read_tmy2(reader *r)
+{
+    ss_weather *w = r->w;
+    double tz;
+    if (!tmy2_station(r->lines[0], &tz, &w->latitude_deg, &w->longitude_deg, &w->elevation_m))
+        return fail_at(r, 0, "the TMY2 station line needs zone, N|S degrees minutes, E|W "
+                             "degrees minutes and elevation");
+    w->has_site = 1;
+    tz = stamps_zone(r, tz);
+    snprintf(w->stamps, sizeof w->stamps,
+             "TMY2: sums over the hour ending at the hour field, local standard time UTC%+g "
+             "(stamped, as pvlib does, at the hour's start, in the record's own year); the sun "
+             "is taken at the middle of the hour",
+             tz);
+    size_t cap = 0;
+    for (int i = 1; i < r->n_lines; ++i) {
+        const char *line = r->lines[i];
+        if (!line[strspn(line, " ")])
+            continue;
+        if (strlen(line) < TMY2_RECORD_LENGTH)
+            return fail_at(r, i, "a TMY2 record has 142 characters (the manual's fixed-width "
+                                 "fields)");
+        double yy, month, day, hour;
+        if (!tmy2_value(line, TMY2_YEAR, &yy) || !tmy2_value(line, TMY2_MONTH, &month) ||
+            !tmy2_value(line, TMY2_DAY, &day) || !tmy2_value(line, TMY2_HOUR, &hour) ||
+            yy < 0 || month < 1 || month > 12 || day < 1 || day > 31 || hour < 1 || hour > 24)
+            return fail_at(r, i, "a TMY2 record starts with year (2 digits), month (1-12), day "
+                                 "and hour (1-24)");
+        long long year = 1900 + (long long)yy;
+        if (day > ss_days_in_month(year, (int)month))
+            return bad_day(r, i, 0, year, (int)month, (int)day);
+        /* extraterrestrial, GHI, DNI, DHI, dry bulb, pressure, wind */
+        const tmy2_field fields[7] = {TMY2_ETR, TMY2_GHI, TMY2_DNI, TMY2_DHI, TMY2_DRY_BULB,
+                                      TMY2_PRESSURE, TMY2_WSPD};
+        double v[7];
+        for (int k = 0; k < 7; ++k)
+            if (!tmy2_value(line, fields[k], &v[k]))
+                return fail_at(r, i, "a value of a TMY2 record is not a number");
+        int flagged = 0;
+        for (int k = 1; k < 4; ++k)
+            v[k] = tmy2_irradiance(line, fields[k], v[0], v[k], &flagged);
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        rec->stamp_unix_s =
+            ss_unix_from_civil(year, (int)month, (int)day, (int)hour - 1, 0, 0) - tz * 3600.0;
+        rec->sun_unix_s = rec->stamp_unix_s + 1800.0;
+        w->flagged += flagged;
+        set_values(w, rec,
+                   &(raw_values){v[1], v[2], v[3], v[4] / 10.0, v[6] == 999 ? NAN : v[6] / 10.0,
+                                 NAN, v[5]},
+                   9999);
+    }
+    return SS_OK;
+}
+
 /* ---- PVGIS TMY ---------------------------------------------------------- */
 
 /* "20180101:0000" (UTC) as its fields; 0 if malformed (a day past its
@@ -905,7 +1036,7 @@ static ss_status not_a_weather_file(reader *r, char *first, int cut, int n_names
                                      : "'dni' without 'dhi'";
     return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                         "'%s' is not a weather file skysweep reads: its first line '%s%s' is "
-                        "none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header "
+                        "none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM's, and as a CSV header "
                         "it has %s (time, ghi, and dhi or dhi and dni; comma or semicolon "
                         "separated)",
                         r->path, first, cut ? "..." : "", lack);
@@ -1020,7 +1151,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
     const char *second = r.n_lines > 1 ? r.lines[1] : "";
     while (st == SS_OK && isspace((unsigned char)*first))
         ++first;
-    static const char *const names[] = {"EPW",       "TMY3",          "PVGIS TMY CSV",
+    static const char *const names[] = {"EPW",       "TMY3",          "TMY2",     "PVGIS TMY CSV",
                                         "PVGIS TMY JSON", "NSRDB PSM", "UMEP/SUEWS met",
                                         "CSV"};
     if (st != SS_OK)
@@ -1033,6 +1164,8 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         w->format = SS_WEATHER_PVGIS_CSV;
     else if (tmy3_header(second))
         w->format = SS_WEATHER_TMY3;
+    else if (tmy2_file(first, second))
+        w->format = SS_WEATHER_TMY2;
     else if (strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone"))
         w->format = SS_WEATHER_PSM;
     else if (umep_header(first))
@@ -1046,7 +1179,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
          w->format == SS_WEATHER_CSV))
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--weather-zone applies to files whose stamps are local time (EPW, "
-                          "TMY3, NSRDB PSM, UMEP/SUEWS), not to '%s' (%s), whose %s",
+                          "TMY3, TMY2, NSRDB PSM, UMEP/SUEWS), not to '%s' (%s), whose %s",
                           path, names[w->format],
                           w->format == SS_WEATHER_CSV ? "times carry their zone"
                                                       : "stamps are UTC");
@@ -1055,6 +1188,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         switch (w->format) {
         case SS_WEATHER_EPW: st = read_epw(&r); break;
         case SS_WEATHER_TMY3: st = read_tmy3(&r); break;
+        case SS_WEATHER_TMY2: st = read_tmy2(&r); break;
         case SS_WEATHER_PVGIS_CSV: st = read_pvgis_csv(&r); break;
         case SS_WEATHER_PVGIS_JSON: st = read_pvgis_json(&r); break;
         case SS_WEATHER_PSM: st = read_psm(&r); break;
