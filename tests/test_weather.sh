@@ -114,6 +114,36 @@ for month in 2018-01 2006-06; do
         tap_ok $? "$month, $cols: completed as pvlib does: $(grep -v '^ok' "$work/out" | head -c 300) $(grep 'within 0.1' "$work/out" | tr '\n' ' ' | head -c 400)"
     done
 done
+# Item 2 of issue 45: a TMY3, EPW, PVGIS or PSM file whose DNI column is
+# absent or missing throughout (DNI and DHI: GHI alone) is completed as a
+# plain CSV is, at its own site, and says so; pvlib's erbs and dni agree.
+# completed NAME FILE LON,LAT WORDS
+completed() {
+    local out
+    out=$("$SKYSWEEP" weather "$2" 2>"$work/err")
+    echo "$out" | grep -q "^# irradiance $4" && echo "$out" | grep -q "^# model the DNI and DHI columns are the model's"
+    tap_ok $? "$1: read as '$4' $(head -c 200 "$work/err")"
+    if [ "$have_pvlib" -eq 0 ]; then
+        tap_skip "$1: completed as pvlib does" "no pvlib at $python (tests/run.sh installs it)"
+    else
+        "$python" "$top/tests/pvlib/decomposition.py" "$SKYSWEEP" "$2" "$3" >"$work/out" 2>&1
+        tap_ok $? "$1: completed as pvlib does: $(grep -v '^ok' "$work/out" | head -c 300) $(grep -o '[0-9]* of [0-9]* records within 0.1 %' "$work/out" | tr '\n' ' ')"
+    fi
+}
+awk -F, -v OFS=, 'NR == 1 { print; next } { $8 = $9 = $10 = ""; print }' "$cut/greensboro_tmy3_jan_feb.csv" |
+    sed 's/,,,,/,/' >"$work/tmy3_no_dni.csv"
+completed "a TMY3 file without its DNI columns" "$work/tmy3_no_dni.csv" -79.95,36.1 "GHI and DHI"
+awk -F, -v OFS=, 'NR <= 8 { print; next } { $15 = 9999; $16 = 9999; print }' "$cut/amsterdam_iwec_jan_feb.epw" \
+    >"$work/epw_ghi.epw"
+completed "an EPW whose DNI and DHI are 9999 throughout" "$work/epw_ghi.epw" 4.77,52.3 "GHI alone"
+awk -F, -v OFS=, '/^time\(UTC\)|^20[0-9][0-9][01][0-9]/ { $5 = ""; sub(/,,/, ",") } { print }' \
+    "$top/samples/weather/pvgis_tmy_45N_8E.csv" >"$work/pvgis_no_gbn.csv"
+completed "a PVGIS CSV without Gb(n)" "$work/pvgis_no_gbn.csv" 8,45 "GHI and DHI"
+sed 's/"Gb(n)": [-0-9.e]*, //g; s/"Gd(h)": [-0-9.e]*, //g' "$cut/pvgis_45N_8E_jan_feb.json" >"$work/pvgis_ghi.json"
+completed "a PVGIS JSON without Gb(n) and Gd(h)" "$work/pvgis_ghi.json" 8,45 "GHI alone"
+awk -F, -v OFS=, 'NR <= 2 { print; next } { $7 = $8 = ""; print }' "$top/tests/data/psm4_sample.csv" |
+    sed 's/,,,/,/' >"$work/psm_ghi.csv"
+completed "an NSRDB PSM file of GHI alone" "$work/psm_ghi.csv" -105.18,39.73 "GHI alone"
 out=$("$SKYSWEEP" weather "$work/2006-06.ghi,dhi.csv")
 echo "$out" | grep -q "^# irradiance GHI and DHI from the file; DNI = (GHI - DHI) / cos(zenith)" &&
     echo "$out" | grep -q "^# model applied at the DEM's sun in a run (--at LON,LAT shows it here)" &&
@@ -261,6 +291,8 @@ refused other.json '{"a": 1}'
 refused bad_time.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n2018011:0000,1,2,3\n'
 refused_saying short.tm2 "$(head -3 "$tm2" | cut -c1-100)" "line 2: a TMY2 record has 142 characters"
 refused_saying bad_hour.tm2 "$(head -2 "$tm2" | sed '2s/^\(.\{7\}\)01/\125/')" "line 2: a TMY2 record starts with year (2 digits), month (1-12), day and hour (1-24)"
+refused_saying tmy3_no_ghi.csv "$(head -3 "$cut/greensboro_tmy3_jan_feb.csv" | sed '2s/,GHI (W\/m^2),/,GHX,/')" "line 2: the TMY3 column names lack GHI (W/m^2)"
+refused_saying pvgis_no_gh.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),Gb(n),Gd(h)\n20180101:0000,2,3\n' "line 3: the PVGIS columns lack G(h)"
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'

@@ -209,13 +209,9 @@ static int integer(const char *s, int lo, int hi, int *v)
 
 /* An irradiance value: NAN for the format's missing marker or anything
  * outside a physical range. */
-static float irradiance(double v, double marker, size_t *missing)
+static float irradiance(double v, double marker)
 {
-    if (v == marker || !(v >= IRRADIANCE_MIN && v <= IRRADIANCE_MAX)) {
-        (*missing)++;
-        return NAN;
-    }
-    return (float)v;
+    return v == marker || !(v >= IRRADIANCE_MIN && v <= IRRADIANCE_MAX) ? NAN : (float)v;
 }
 
 /* A value in [lo, hi], else NAN (not given). */
@@ -264,18 +260,14 @@ typedef struct {
     double ghi, dni, dhi, temp_air_c, wind_speed_m_s, albedo, pressure_hpa;
 } raw_values;
 
-/* Stores v into rec, values out of range as missing or not given; counts
- * the record as missing where an irradiance value is. What the file does
- * not give (components) stays NAN without counting. */
-static void set_values(ss_weather *w, ss_weather_record *rec, const raw_values *v, double marker)
+/* Stores v into rec, values out of range as missing or not given (the
+ * records missing a value are counted once the file's components are
+ * known: settle_components). */
+static void set_values(ss_weather_record *rec, const raw_values *v, double marker)
 {
-    size_t missing = 0;
-    rec->ghi = irradiance(v->ghi, marker, &missing);
-    if (w->components == SS_WEATHER_GHI_DNI_DHI)
-        rec->dni = irradiance(v->dni, marker, &missing);
-    if (w->components != SS_WEATHER_GHI)
-        rec->dhi = irradiance(v->dhi, marker, &missing);
-    w->missing += missing > 0;
+    rec->ghi = irradiance(v->ghi, marker);
+    rec->dni = irradiance(v->dni, marker);
+    rec->dhi = irradiance(v->dhi, marker);
     rec->temp_air_c = optional(v->temp_air_c, -90, 70);
     rec->wind_speed_m_s = optional(v->wind_speed_m_s, 0, 100);
     rec->albedo = albedo(v->albedo);
@@ -372,7 +364,7 @@ static ss_status read_epw(reader *r)
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour - 1, 0, 0) - tz * 3600.0;
         rec->sun_unix_s = pvgis ? rec->stamp_unix_s + (tz + 1.0 + pvgis_offset_h) * 3600.0
                                 : rec->stamp_unix_s + 1800.0;
-        set_values(w, rec,
+        set_values(rec,
                    &(raw_values){v[13], v[14], v[15], v[6], v[21], v[32], v[9] / 100.0}, 9999);
     }
     return SS_OK;
@@ -487,8 +479,8 @@ static ss_status read_tmy3(reader *r)
     }
     int c_ghi = found[0], c_dni = found[1], c_dhi = found[2], c_temp = found[3],
         c_wind = found[4], c_alb = found[5], c_pres = found[6];
-    if (n_names < 2 || c_ghi < 0 || c_dni < 0 || c_dhi < 0)
-        return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2), DNI (W/m^2) or DHI (W/m^2)");
+    if (n_names < 2 || c_ghi < 0)
+        return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2)");
     size_t cap = 0;
     for (int i = 2; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
@@ -515,7 +507,7 @@ static ss_status read_tmy3(reader *r)
             return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0) - tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s - 1800.0;
-        set_values(w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], v[5], v[6]}, -9900);
+        set_values(rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], v[5], v[6]}, -9900);
     }
     return SS_OK;
 }
@@ -643,7 +635,7 @@ static ss_status read_tmy2(reader *r)
             ss_unix_from_civil(year, (int)month, (int)day, (int)hour - 1, 0, 0) - tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s + 1800.0;
         w->flagged += flagged;
-        set_values(w, rec,
+        set_values(rec,
                    &(raw_values){v[1], v[2], v[3], v[4] / 10.0, v[6] == 999 ? NAN : v[6] / 10.0,
                                  NAN, v[5]},
                    9999);
@@ -700,7 +692,7 @@ static ss_status pvgis_record(reader *r, int line, int record, size_t *cap, doub
         return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
     rec->stamp_unix_s = t;
     rec->sun_unix_s = t + offset_h * 3600.0;
-    set_values(r->w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], NAN, v[5] / 100.0}, NAN);
+    set_values(rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], NAN, v[5] / 100.0}, NAN);
     return SS_OK;
 }
 
@@ -738,8 +730,8 @@ static ss_status read_pvgis_csv(reader *r)
     int cols[6];
     for (int k = 0; k < 6; ++k)
         cols[k] = find_column(names, n_names, wanted[k]);
-    if (cols[0] < 0 || cols[1] < 0 || cols[2] < 0)
-        return fail_at(r, header, "the PVGIS columns lack G(h), Gb(n) or Gd(h)");
+    if (cols[0] < 0)
+        return fail_at(r, header, "the PVGIS columns lack G(h)");
     size_t cap = 0;
     for (int i = header + 1; i < r->n_lines; ++i) {
         /* The records end where the footer (a blank line, then notes) begins. */
@@ -821,10 +813,10 @@ static ss_status read_pvgis_json(reader *r)
                  json_object_object_get_ex(rec, "time(UTC)", &time) &&
                  json_object_is_type(time, json_type_string);
         for (int k = 0; k < 6 && ok; ++k)
-            ok = json_number(rec, keys[k], &v[k]) || k >= 3;
+            ok = json_number(rec, keys[k], &v[k]) || k >= 1;
         if (!ok)
             st = ss_ctx_error(r->ctx, SS_ERR_INPUT,
-                         "'%s': record %zu of tmy_hourly lacks time(UTC), G(h), Gb(n) or Gd(h)",
+                         "'%s': record %zu of tmy_hourly lacks time(UTC) or G(h)",
                          r->path, i + 1);
         else
             st = pvgis_record(r, -1, (int)i, &cap, offset_h, json_object_get_string(time), v);
@@ -868,9 +860,8 @@ static ss_status read_psm(reader *r)
                               "Temperature", "Wind Speed"};
     int cols[12];
     for (int k = 0; k < 10; ++k)
-        if ((cols[k] = find_column(names, n_names, wanted[k])) < 0 && k < 8)
-            return fail_at(r, 2, "the PSM columns lack Year, Month, Day, Hour, Minute, GHI, DNI "
-                                 "or DHI");
+        if ((cols[k] = find_column(names, n_names, wanted[k])) < 0 && k < 6)
+            return fail_at(r, 2, "the PSM columns lack Year, Month, Day, Hour, Minute or GHI");
     cols[10] = find_column(names, n_names, "Surface Albedo");
     cols[11] = find_column(names, n_names, "Pressure");
     size_t cap = 0;
@@ -899,7 +890,7 @@ static ss_status read_psm(reader *r)
                                                (int)v[4], 0) -
                             tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s;
-        set_values(w, rec, &(raw_values){v[5], v[6], v[7], v[8], v[9], v[10], v[11]}, -9999);
+        set_values(rec, &(raw_values){v[5], v[6], v[7], v[8], v[9], v[10], v[11]}, -9999);
     }
     return SS_OK;
 }
@@ -1011,7 +1002,7 @@ static ss_status read_umep(reader *r)
             ss_unix_from_civil(year, 1, doy, hour, minute, 0) - r->zone_h * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s; /* moved to the interval's middle once its length is known */
         /* -999 marks missing; pressure in kPa. */
-        set_values(w, rec,
+        set_values(rec,
                    &(raw_values){v[0], v[2], v[1], v[3] == -999 ? NAN : v[3],
                                  v[4] == -999 ? NAN : v[4], NAN, v[5] * 10.0},
                    -999);
@@ -1091,9 +1082,38 @@ static ss_status read_plain_csv(reader *r)
         if (!rec)
             return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = rec->sun_unix_s = t;
-        set_values(w, rec, &(raw_values){v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, NAN);
+        set_values(rec, &(raw_values){v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, NAN);
     }
     return SS_OK;
+}
+
+/* What the file gives, from its values: a DNI (or DHI) column absent or
+ * missing throughout leaves GHI and DHI (or GHI alone) for the models to
+ * complete at each record's sun, as a plain CSV without those columns.
+ * Without DHI a DNI is not used: the models complete from GHI and DHI, or
+ * from GHI alone. Then counts the records lacking a value the file gives. */
+static void settle_components(ss_weather *w)
+{
+    int any_dni = 0, any_dhi = 0;
+    for (size_t i = 0; i < w->n; ++i) {
+        any_dni |= !isnan(w->records[i].dni);
+        any_dhi |= !isnan(w->records[i].dhi);
+    }
+    ss_weather_components found = !any_dhi   ? SS_WEATHER_GHI
+                                  : !any_dni ? SS_WEATHER_GHI_DHI
+                                             : SS_WEATHER_GHI_DNI_DHI;
+    if (found > w->components)
+        w->components = found;
+    w->missing = 0;
+    for (size_t i = 0; i < w->n; ++i) {
+        ss_weather_record *rec = &w->records[i];
+        if (w->components != SS_WEATHER_GHI_DNI_DHI)
+            rec->dni = NAN;
+        if (w->components == SS_WEATHER_GHI)
+            rec->dhi = NAN;
+        w->missing += isnan(rec->ghi) || (w->components == SS_WEATHER_GHI_DNI_DHI && isnan(rec->dni)) ||
+                      (w->components != SS_WEATHER_GHI && isnan(rec->dhi));
+    }
 }
 
 /* Instantaneous values stand for the spacing of their stamps: the smallest
@@ -1196,6 +1216,8 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         case SS_WEATHER_CSV: st = read_plain_csv(&r); break;
         }
     }
+    if (st == SS_OK)
+        settle_components(w);
     if (st == SS_OK && w->n == 0)
         st = ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' (%s) holds no records", path, w->format_name);
     else if (st == SS_OK && w->missing == w->n)
