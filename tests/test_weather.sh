@@ -44,6 +44,17 @@ against_pvlib "$weather/723170TYA.CSV" tmy3
 against_pvlib "$weather/tmy_45.000_8.000_2005_2023.csv" pvgis
 against_pvlib "$weather/tmy_45.000_8.000_2005_2023.json" pvgis
 against_pvlib "$top/tests/data/psm4_sample.csv" psm4
+# NSRDB PSM4 half-hourly (pvlib's test_read_psm4.csv, its empty spreadsheet
+# columns kept) and 5-minute records (pvlib's 5-minute frame under the same
+# header); a typical year stitching 31 January 2020 to 1 February 2007 at
+# UTC-7, where the months change in the file's zone but not in UTC (it was
+# refused as "times do not increase").
+against_pvlib "$cut/nsrdb_psm4_30min_cut.csv" psm4
+against_pvlib "$cut/nsrdb_psm4_5min_cut.csv" psm4
+against_pvlib "$cut/nsrdb_psm4_tmy_stitched.csv" psm4
+steps=$(for f in 30min_cut 5min_cut tmy_stitched; do "$SKYSWEEP" weather "$cut/nsrdb_psm4_$f.csv" | grep -v '^#' | sed -n 2p | cut -d, -f3; done | tr '\n' ' ')
+[ "$steps" = "0.5 0.0833333 1 " ]
+tap_ok $? "PSM records stand for their spacing: 30 min, 5 min, an hour ($steps)"
 against_pvlib "$cut/miami_tmy2_jan_1_2.tm2" tmy2
 # pvlib ships NREL's whole Miami TMY2 file with its package.
 pvlib_data=$("$python" -c "import os, pvlib; print(os.path.dirname(pvlib.__file__) + '/data')" 2>/dev/null)
@@ -293,6 +304,8 @@ refused_saying short.tm2 "$(head -3 "$tm2" | cut -c1-100)" "line 2: a TMY2 recor
 refused_saying bad_hour.tm2 "$(head -2 "$tm2" | sed '2s/^\(.\{7\}\)01/\125/')" "line 2: a TMY2 record starts with year (2 digits), month (1-12), day and hour (1-24)"
 refused_saying tmy3_no_ghi.csv "$(head -3 "$cut/greensboro_tmy3_jan_feb.csv" | sed '2s/,GHI (W\/m^2),/,GHX,/')" "line 2: the TMY3 column names lack GHI (W/m^2)"
 refused_saying pvgis_no_gh.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),Gb(n),Gd(h)\n20180101:0000,2,3\n' "line 3: the PVGIS columns lack G(h)"
+refused_saying psm_minute60.csv "$(head -3 "$cut/nsrdb_psm4_5min_cut.csv")\n2023,1,1,9,60,0.1,0.024,48,808,264,0,6,-0.4,41,0,0,41,0.294,96.74,74.47,0.95,0.65,770,1,188,4.5\n" "line 4: a PSM record's date or time is not valid"
+refused_saying psm_back_in_month.csv "$(head -5 "$cut/nsrdb_psm4_tmy_stitched.csv")\n2019,1,31,23,30,-8.1,0.012,0,0,0,0,4,-9.4,0,0,0,0,0.339,90.28,159.73,0.91,0.8,779,0.5,246,1.8\n" "the records' times do not increase (record 3)"
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'

@@ -1118,8 +1118,8 @@ static void settle_components(ss_weather *w)
 
 /* Instantaneous values stand for the spacing of their stamps: the smallest
  * positive gap (a gap can span missing records). Stamps must increase; in a
- * PSM file they may go back where the month changes, as a typical year
- * stitches months of different years. */
+ * PSM file they may go back where the month (in the file's zone) changes,
+ * as a typical year stitches months of different years. */
 static ss_status set_durations(reader *r)
 {
     ss_weather *w = r->w;
@@ -1129,9 +1129,12 @@ static ss_status set_durations(reader *r)
         if (d > 0 && (step == 0 || d < step))
             step = d;
         if (d <= 0) {
+            /* The months the file names: in its zone (a US typical year's
+             * 31 January 23:30 at UTC-7 is 1 February in UTC). */
             ss_civil_time a, b;
-            ss_civil_from_unix(w->records[i - 1].stamp_unix_s, &a);
-            ss_civil_from_unix(w->records[i].stamp_unix_s, &b);
+            double zone_s = w->utc_offset_h * 3600.0;
+            ss_civil_from_unix(w->records[i - 1].stamp_unix_s + zone_s, &a);
+            ss_civil_from_unix(w->records[i].stamp_unix_s + zone_s, &b);
             if (w->format != SS_WEATHER_PSM || a.month == b.month)
                 return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                                "'%s': the records' times do not increase (record %zu)", r->path,
