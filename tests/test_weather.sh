@@ -55,6 +55,17 @@ against_pvlib "$cut/nsrdb_psm4_tmy_stitched.csv" psm4
 steps=$(for f in 30min_cut 5min_cut tmy_stitched; do "$SKYSWEEP" weather "$cut/nsrdb_psm4_$f.csv" | grep -v '^#' | sed -n 2p | cut -d, -f3; done | tr '\n' ' ')
 [ "$steps" = "0.5 0.0833333 1 " ]
 tap_ok $? "PSM records stand for their spacing: 30 min, 5 min, an hour ($steps)"
+# PVGIS hourly series (seriescalc), CSV and JSON: pvlib's test file asks for
+# a plane tilted 30 degrees (refused below); with its slope set to 0 it
+# reads as a horizontal series: G(i) as GHI, Gd(i) as DHI, at the stamp.
+sed 's/^Slope: 30 deg. $/Slope: 0 deg. /' "$cut/pvgis_hourly_45N_8E_30deg_2016.csv" >"$work/pvgis_hourly_0deg.csv"
+against_pvlib "$work/pvgis_hourly_0deg.csv" pvgis_hourly
+against_pvlib "$cut/pvgis_hourly_45N_8E_0deg_2016.json" pvgis_hourly
+csv=$("$SKYSWEEP" weather "$work/pvgis_hourly_0deg.csv" | grep -v '^#')
+json=$("$SKYSWEEP" weather "$cut/pvgis_hourly_45N_8E_0deg_2016.json" | grep -v '^#')
+row=$(echo "$csv" | sed -n 10p | cut -d, -f1-6,12)
+[ "$csv" = "$json" ] && [ "$row" = "2016-01-01T08:10:00Z,2016-01-01T08:10:00Z,1,35.2,193.821,8.28,closure" ]
+tap_ok $? "a PVGIS hourly series reads the same from CSV and JSON, the sun at the stamp, DNI by the closure: $row"
 against_pvlib "$cut/miami_tmy2_jan_1_2.tm2" tmy2
 # pvlib ships NREL's whole Miami TMY2 file with its package.
 pvlib_data=$("$python" -c "import os, pvlib; print(os.path.dirname(pvlib.__file__) + '/data')" 2>/dev/null)
@@ -306,6 +317,9 @@ refused_saying tmy3_no_ghi.csv "$(head -3 "$cut/greensboro_tmy3_jan_feb.csv" | s
 refused_saying pvgis_no_gh.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),Gb(n),Gd(h)\n20180101:0000,2,3\n' "line 3: the PVGIS columns lack G(h)"
 refused_saying psm_minute60.csv "$(head -3 "$cut/nsrdb_psm4_5min_cut.csv")\n2023,1,1,9,60,0.1,0.024,48,808,264,0,6,-0.4,41,0,0,41,0.294,96.74,74.47,0.95,0.65,770,1,188,4.5\n" "line 4: a PSM record's date or time is not valid"
 refused_saying psm_back_in_month.csv "$(head -5 "$cut/nsrdb_psm4_tmy_stitched.csv")\n2019,1,31,23,30,-8.1,0.012,0,0,0,0,4,-9.4,0,0,0,0,0.339,90.28,159.73,0.91,0.8,779,0.5,246,1.8\n" "the records' times do not increase (record 3)"
+refused_saying pvgis_hourly_30deg.csv "$(cat "$cut/pvgis_hourly_45N_8E_30deg_2016.csv")" "is a PVGIS hourly series on a plane tilted 30 degrees, not global horizontal irradiance"
+sed 's/"slope": {"value": 0/"slope": {"value": 35/' "$cut/pvgis_hourly_45N_8E_0deg_2016.json" >"$work/tilted.json"
+refused_saying pvgis_hourly_35deg.json "$(cat "$work/tilted.json")" "is a PVGIS hourly series on a plane tilted 35 degrees"
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'

@@ -696,16 +696,57 @@ static ss_status pvgis_record(reader *r, int line, int record, size_t *cap, doub
     return SS_OK;
 }
 
+/* PVGIS's hourly series (seriescalc) gives irradiance on the plane it
+ * was asked for: only a horizontal one (slope 0) gives GHI (G(i), or
+ * Gb(i) + Gd(i) + Gr(i)) and DHI (Gd(i)). Its stamps are the instants the
+ * values stand for (UTC, the minutes of the satellite's hourly reading). */
+static ss_status pvgis_series_plane(reader *r, double slope_deg)
+{
+    if (slope_deg == 0)
+        return SS_OK;
+    if (isnan(slope_deg))
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                            "'%s' is a PVGIS hourly series that states no slope: skysweep "
+                            "needs the horizontal plane's (slope 0) to read GHI", r->path);
+    return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                        "'%s' is a PVGIS hourly series on a plane tilted %g degrees, not "
+                        "global horizontal irradiance: ask PVGIS for slope 0 (the terrain "
+                        "tilts the planes itself)", r->path, slope_deg);
+}
+
+static void pvgis_series_stamps(ss_weather *w)
+{
+    w->format_name = "PVGIS hourly series";
+    snprintf(w->stamps, sizeof w->stamps,
+             "PVGIS hourly series (seriescalc, horizontal plane): values at UTC stamps (the "
+             "minutes of the satellite's reading); the sun is taken at the stamp");
+}
+
+/* A series record's values in a TMY record's order (G(h), Gb(n), Gd(h),
+ * T2m, WS10m, SP) from G(i) or its three parts, Gd(i), T2m, WS10m. */
+static void pvgis_series_values(const double in[6], double v[6])
+{
+    double g = !isnan(in[0]) ? in[0] : in[1] + in[2] + (isnan(in[3]) ? 0 : in[3]);
+    const double out[6] = {g, NAN, in[2], in[4], in[5], NAN};
+    memcpy(v, out, sizeof out);
+}
+
 static ss_status read_pvgis_csv(reader *r)
 {
     ss_weather *w = r->w;
-    double offset_h = NAN, v;
-    int header = -1;
+    double offset_h = NAN, slope_deg = NAN, v;
+    int header = -1, series = 0;
     for (int i = 0; i < r->n_lines && header < 0; ++i) {
         const char *line = r->lines[i], *colon = strchr(line, ':');
-        if (strncmp(line, "time(UTC),", 10) == 0)
+        if (strncmp(line, "time(UTC),", 10) == 0 || strncmp(line, "time,", 5) == 0) {
             header = i;
-        else if (colon && number(colon + 1, &v)) {
+            series = line[4] == ',';
+        } else if (strncmp(line, "Slope:", 6) == 0) {
+            char *end;
+            slope_deg = strtod(line + 6, &end);
+            if (end == line + 6)
+                slope_deg = NAN;
+        } else if (colon && number(colon + 1, &v)) {
             if (strncmp(line, "Latitude", 8) == 0)
                 w->latitude_deg = v, w->has_site |= 1;
             else if (strncmp(line, "Longitude", 9) == 0)
@@ -717,21 +758,33 @@ static ss_status read_pvgis_csv(reader *r)
         }
     }
     if (header < 0)
-        return fail_at(r, 0, "a PVGIS TMY CSV has a 'time(UTC),...' column line");
+        return fail_at(r, 0, "a PVGIS CSV has a 'time(UTC),...' (TMY) or 'time,...' (hourly "
+                             "series) column line");
     if (w->has_site != 3 || fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180)
         return fail_at(r, 0, "a PVGIS TMY CSV states its latitude and longitude");
     w->has_site = 1;
-    if (!(fabs(offset_h) <= 1.0))
+    ss_status st = series ? pvgis_series_plane(r, slope_deg) : SS_OK;
+    if (st != SS_OK)
+        return st;
+    if (series)
+        offset_h = 0.0;
+    else if (!(fabs(offset_h) <= 1.0))
         offset_h = 0.5; /* hourly means: the middle of the hour */
-    pvgis_stamps(w, offset_h);
+    if (series)
+        pvgis_series_stamps(w);
+    else
+        pvgis_stamps(w, offset_h);
     char *names[MAX_FIELDS], *f[MAX_FIELDS];
     int n_names = split_csv(r->lines[header], names);
-    const char *wanted[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *tmy[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *hourly[6] = {"G(i)", "Gb(i)", "Gd(i)", "Gr(i)", "T2m", "WS10m"};
     int cols[6];
     for (int k = 0; k < 6; ++k)
-        cols[k] = find_column(names, n_names, wanted[k]);
-    if (cols[0] < 0)
+        cols[k] = find_column(names, n_names, series ? hourly[k] : tmy[k]);
+    if (!series && cols[0] < 0)
         return fail_at(r, header, "the PVGIS columns lack G(h)");
+    if (series && cols[0] < 0 && (cols[1] < 0 || cols[2] < 0))
+        return fail_at(r, header, "the PVGIS hourly columns lack G(i), or Gb(i) and Gd(i)");
     size_t cap = 0;
     for (int i = header + 1; i < r->n_lines; ++i) {
         /* The records end where the footer (a blank line, then notes) begins. */
@@ -744,7 +797,9 @@ static ss_status read_pvgis_csv(reader *r)
         for (int k = 0; k < 6; ++k)
             if (cols[k] >= 0 && !number(f[cols[k]], &val[k]))
                 return fail_at(r, i, "a value of a PVGIS record is not a number");
-        ss_status st = pvgis_record(r, i, 0, &cap, offset_h, f[0], val);
+        if (series)
+            pvgis_series_values(val, val);
+        st = pvgis_record(r, i, 0, &cap, offset_h, f[0], val);
         if (st != SS_OK)
             return st;
     }
@@ -781,43 +836,63 @@ static ss_status read_pvgis_json(reader *r)
                        err == json_tokener_continue ? "it ends inside a value"
                                                     : json_tokener_error_desc(err));
     }
-    json_object *inputs, *location, *outputs, *hourly;
+    json_object *inputs, *location, *outputs, *hourly = NULL;
     ss_status st = SS_OK;
     double offset_h = NAN;
+    int series = 0;
     if (!json_object_object_get_ex(root, "inputs", &inputs) ||
         !json_object_object_get_ex(inputs, "location", &location) ||
         !json_number(location, "latitude", &w->latitude_deg) ||
         !json_number(location, "longitude", &w->longitude_deg) ||
         fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180 ||
         !json_object_object_get_ex(root, "outputs", &outputs) ||
-        !json_object_object_get_ex(outputs, "tmy_hourly", &hourly) ||
+        !((json_object_object_get_ex(outputs, "tmy_hourly", &hourly)) ||
+          (series = json_object_object_get_ex(outputs, "hourly", &hourly))) ||
         !json_object_is_type(hourly, json_type_array))
         st = ss_ctx_error(r->ctx, SS_ERR_INPUT,
-                     "'%s' is not a PVGIS TMY JSON file (inputs.location with latitude and "
-                     "longitude, outputs.tmy_hourly)",
+                     "'%s' is not a PVGIS JSON file (inputs.location with latitude and "
+                     "longitude, outputs.tmy_hourly or outputs.hourly)",
                      r->path);
-    if (st == SS_OK) {
-        w->has_site = 1;
-        json_number(location, "elevation", &w->elevation_m);
+    if (st == SS_OK && series) {
+        json_object *mounting, *fixed, *slope;
+        double slope_deg = NAN;
+        if (json_object_object_get_ex(inputs, "mounting_system", &mounting) &&
+            json_object_object_get_ex(mounting, "fixed", &fixed) &&
+            json_object_object_get_ex(fixed, "slope", &slope))
+            json_number(slope, "value", &slope_deg);
+        st = pvgis_series_plane(r, slope_deg);
+        offset_h = 0.0;
+        if (st == SS_OK)
+            pvgis_series_stamps(w);
+    } else if (st == SS_OK) {
         if (!json_number(location, "irradiance_time_offset", &offset_h) ||
             !(fabs(offset_h) <= 1.0))
             offset_h = 0.5;
         pvgis_stamps(w, offset_h);
     }
+    if (st == SS_OK) {
+        w->has_site = 1;
+        json_number(location, "elevation", &w->elevation_m);
+    }
     size_t cap = 0, n = st == SS_OK ? json_object_array_length(hourly) : 0;
-    const char *keys[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *tmy[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *per_hour[6] = {"G(i)", "Gb(i)", "Gd(i)", "Gr(i)", "T2m", "WS10m"};
+    const char *const *keys = series ? per_hour : tmy;
+    const char *time_key = series ? "time" : "time(UTC)", *list = series ? "hourly" : "tmy_hourly";
     for (size_t i = 0; i < n && st == SS_OK; ++i) {
         json_object *rec = json_object_array_get_idx(hourly, i), *time;
         double v[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
         int ok = json_object_is_type(rec, json_type_object) &&
-                 json_object_object_get_ex(rec, "time(UTC)", &time) &&
+                 json_object_object_get_ex(rec, time_key, &time) &&
                  json_object_is_type(time, json_type_string);
         for (int k = 0; k < 6 && ok; ++k)
-            ok = json_number(rec, keys[k], &v[k]) || k >= 1;
-        if (!ok)
-            st = ss_ctx_error(r->ctx, SS_ERR_INPUT,
-                         "'%s': record %zu of tmy_hourly lacks time(UTC) or G(h)",
-                         r->path, i + 1);
+            json_number(rec, keys[k], &v[k]);
+        if (series)
+            pvgis_series_values(v, v);
+        if (!ok || isnan(v[0]))
+            st = ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s': record %zu of %s lacks %s or %s",
+                              r->path, i + 1, list, time_key,
+                              series ? "G(i) (or Gb(i) and Gd(i))" : "G(h)");
         else
             st = pvgis_record(r, -1, (int)i, &cap, offset_h, json_object_get_string(time), v);
     }
