@@ -66,6 +66,13 @@ json=$("$SKYSWEEP" weather "$cut/pvgis_hourly_45N_8E_0deg_2016.json" | grep -v '
 row=$(echo "$csv" | sed -n 10p | cut -d, -f1-6,12)
 [ "$csv" = "$json" ] && [ "$row" = "2016-01-01T08:10:00Z,2016-01-01T08:10:00Z,1,35.2,193.821,8.28,closure" ]
 tap_ok $? "a PVGIS hourly series reads the same from CSV and JSON, the sun at the stamp, DNI by the closure: $row"
+# SAM's CSV weather format with NREL's short names (lat, lon, tz, elev;
+# Tdry, Wspd, Pres, Albedo): the half-hourly PSM4 cut rewritten so, which
+# must read as the PSM4 file does (that one equals pvlib's reader above).
+sam=$("$SKYSWEEP" weather "$cut/sam_csv_30min.csv")
+echo "$sam" | grep -q '^# format SAM CSV' &&
+    [ "$(echo "$sam" | grep -v '^#')" = "$("$SKYSWEEP" weather "$cut/nsrdb_psm4_30min_cut.csv" | grep -v '^#')" ]
+tap_ok $? "a SAM CSV with NREL's short names reads as the NSRDB file it was written from"
 against_pvlib "$cut/miami_tmy2_jan_1_2.tm2" tmy2
 # pvlib ships NREL's whole Miami TMY2 file with its package.
 pvlib_data=$("$python" -c "import os, pvlib; print(os.path.dirname(pvlib.__file__) + '/data')" 2>/dev/null)
@@ -301,7 +308,7 @@ refused_saying() { # NAME CONTENT TEXT
     grep -qF "$3" "$work/err"
     tap_ok $? "$1: the message says \"$3\""
 }
-refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM's, and as a CSV header it has no separated columns"
+refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM/SAM CSV's, and as a CSV header it has no separated columns"
 refused_saying no_time.csv 'date;ghi\n2026-06-21T10:00Z;1\n' "its first line 'date,ghi' is none of"
 refused_saying no_ghi.csv 'time,global\n2026-06-21T10:00Z,1\n' "it has no 'ghi' column"
 refused_saying dni_alone.csv 'time,ghi,dni\n2026-06-21T10:00Z,1,1\n' "it has 'dni' without 'dhi'"
@@ -320,6 +327,9 @@ refused_saying psm_back_in_month.csv "$(head -5 "$cut/nsrdb_psm4_tmy_stitched.cs
 refused_saying pvgis_hourly_30deg.csv "$(cat "$cut/pvgis_hourly_45N_8E_30deg_2016.csv")" "is a PVGIS hourly series on a plane tilted 30 degrees, not global horizontal irradiance"
 sed 's/"slope": {"value": 0/"slope": {"value": 35/' "$cut/pvgis_hourly_45N_8E_0deg_2016.json" >"$work/tilted.json"
 refused_saying pvgis_hourly_35deg.json "$(cat "$work/tilted.json")" "is a PVGIS hourly series on a plane tilted 35 degrees"
+refused_saying sam_no_zone.csv 'lat,lon,elev\n40.53,-108.54,2168\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "it has no 'time' column"
+refused_saying sam_bad_zone.csv 'lat,lon,tz\n40.53,-108.54,x\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "line 2: the PSM/SAM metadata needs Latitude, Longitude and Time Zone"
+refused_saying sam_no_ghi.csv 'lat,lon,tz\n40.53,-108.54,-7\nYear,Month,Day,Hour,Minute,DNI\n2023,1,1,7,30,0\n' "line 3: the PSM/SAM columns lack Year, Month, Day, Hour, Minute or GHI"
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'

@@ -902,8 +902,41 @@ static ss_status read_pvgis_json(reader *r)
 
 /* ---- NSRDB PSM ---------------------------------------------------------- */
 
-/* NSRDB PSM3/PSM4 (SAM CSV): metadata names and values, column names, then
- * records of instantaneous values at the stamp, in the metadata's zone. */
+/* The first of a meaning's names that the header holds (SAM's CSV takes
+ * NREL's short names beside the NSRDB's), -1 if none. */
+static int find_alias(char **fields, int n, const char *const *aliases)
+{
+    for (; *aliases; ++aliases) {
+        int c = find_column(fields, n, *aliases);
+        if (c >= 0)
+            return c;
+    }
+    return -1;
+}
+
+static const char *const SAM_LATITUDE[] = {"Latitude", "lat", NULL},
+                         *const SAM_LONGITUDE[] = {"Longitude", "lon", NULL},
+                         *const SAM_ZONE[] = {"Time Zone", "tz", NULL},
+                         *const SAM_ELEVATION[] = {"Elevation", "elev", NULL};
+
+/* SAM's CSV weather format (NREL, "SAM CSV Files for Solar Resource
+ * Data"), of which an NSRDB PSM file is one: the metadata's names on the
+ * first line (latitude, longitude and zone among them), their values on
+ * the second, the columns on the third, starting with Year. */
+static int sam_csv(const reader *r)
+{
+    if (r->n_lines < 3 || strncasecmp(r->lines[2], "Year,", 5) != 0)
+        return 0;
+    char copy[4096], *keys[MAX_FIELDS];
+    snprintf(copy, sizeof copy, "%s", r->lines[0]);
+    int nk = split_csv(copy, keys);
+    return nk > 0 && find_alias(keys, nk, SAM_LATITUDE) >= 0 &&
+           find_alias(keys, nk, SAM_LONGITUDE) >= 0 && find_alias(keys, nk, SAM_ZONE) >= 0;
+}
+
+/* NSRDB PSM3/PSM4 and other SAM CSV files: metadata names and values,
+ * column names, then records of instantaneous values at the stamp, in the
+ * metadata's zone. */
 static ss_status read_psm(reader *r)
 {
     ss_weather *w = r->w;
@@ -915,30 +948,36 @@ static ss_status read_psm(reader *r)
     double tz = 0;
     if (nk < 0 || nv < nk)
         return fail_at(r, 1, "the PSM metadata values do not match their names");
-    if ((c = find_column(keys, nk, "Latitude")) < 0 || !number(vals[c], &w->latitude_deg) ||
-        (c = find_column(keys, nk, "Longitude")) < 0 || !number(vals[c], &w->longitude_deg) ||
-        (c = find_column(keys, nk, "Time Zone")) < 0 || !number(vals[c], &tz) ||
+    if ((c = find_alias(keys, nk, SAM_LATITUDE)) < 0 || !number(vals[c], &w->latitude_deg) ||
+        (c = find_alias(keys, nk, SAM_LONGITUDE)) < 0 || !number(vals[c], &w->longitude_deg) ||
+        (c = find_alias(keys, nk, SAM_ZONE)) < 0 || !number(vals[c], &tz) ||
         fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180 || fabs(tz) > 14)
-        return fail_at(r, 1, "the PSM metadata needs Latitude, Longitude and Time Zone");
-    if ((c = find_column(keys, nk, "Elevation")) >= 0)
+        return fail_at(r, 1, "the PSM/SAM metadata needs Latitude, Longitude and Time Zone");
+    if ((c = find_alias(keys, nk, SAM_ELEVATION)) >= 0)
         number(vals[c], &w->elevation_m);
+    c = find_column(keys, nk, "Source");
+    if (c < 0 || strcasecmp(vals[c], "NSRDB") != 0)
+        w->format_name = "SAM CSV";
     w->has_site = 1;
     tz = stamps_zone(r, tz);
     snprintf(w->stamps, sizeof w->stamps,
-             "NSRDB PSM: instantaneous values at the stamp, UTC%+g; the sun is taken at the "
-             "stamp",
-             tz);
+             "%s: instantaneous values at the stamp, UTC%+g; the sun is taken at the stamp",
+             w->format_name, tz);
     int n_names = split_csv(r->lines[2], names);
     while (n_names > 0 && !names[n_names - 1][0])
         --n_names; /* spreadsheets leave empty columns */
-    const char *wanted[10] = {"Year", "Month", "Day", "Hour", "Minute", "GHI", "DNI", "DHI",
-                              "Temperature", "Wind Speed"};
+    /* The NSRDB's names, then SAM's short ones. */
+    static const char *const wanted[12][4] = {
+        {"Year", NULL},           {"Month", NULL},     {"Day", NULL},
+        {"Hour", NULL},           {"Minute", NULL},    {"GHI", NULL},
+        {"DNI", NULL},            {"DHI", NULL},       {"Temperature", "Tdry", NULL},
+        {"Wind Speed", "Wspd", NULL}, {"Surface Albedo", "Albedo", "Alb", NULL},
+        {"Pressure", "Pres", NULL}};
     int cols[12];
-    for (int k = 0; k < 10; ++k)
-        if ((cols[k] = find_column(names, n_names, wanted[k])) < 0 && k < 6)
-            return fail_at(r, 2, "the PSM columns lack Year, Month, Day, Hour, Minute or GHI");
-    cols[10] = find_column(names, n_names, "Surface Albedo");
-    cols[11] = find_column(names, n_names, "Pressure");
+    for (int k = 0; k < 12; ++k)
+        if ((cols[k] = find_alias(names, n_names, wanted[k])) < 0 && k < 6)
+            return fail_at(r, 2, "the PSM/SAM columns lack Year, Month, Day, Hour, Minute or "
+                                 "GHI");
     size_t cap = 0;
     for (int i = 3; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
@@ -1102,7 +1141,7 @@ static ss_status not_a_weather_file(reader *r, char *first, int cut, int n_names
                                      : "'dni' without 'dhi'";
     return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                         "'%s' is not a weather file skysweep reads: its first line '%s%s' is "
-                        "none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM's, and as a CSV header "
+                        "none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM/SAM CSV's, and as a CSV header "
                         "it has %s (time, ghi, and dhi or dhi and dni; comma or semicolon "
                         "separated)",
                         r->path, first, cut ? "..." : "", lack);
@@ -1264,7 +1303,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         w->format = SS_WEATHER_TMY3;
     else if (tmy2_file(first, second))
         w->format = SS_WEATHER_TMY2;
-    else if (strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone"))
+    else if ((strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone")) || sam_csv(&r))
         w->format = SS_WEATHER_PSM;
     else if (umep_header(first))
         w->format = SS_WEATHER_UMEP;
