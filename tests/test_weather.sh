@@ -330,6 +330,14 @@ refused_saying pvgis_hourly_35deg.json "$(cat "$work/tilted.json")" "is a PVGIS 
 refused_saying sam_no_zone.csv 'lat,lon,elev\n40.53,-108.54,2168\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "it has no 'time' column"
 refused_saying sam_bad_zone.csv 'lat,lon,tz\n40.53,-108.54,x\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "line 2: the PSM/SAM metadata needs Latitude, Longitude and Time Zone"
 refused_saying sam_no_ghi.csv 'lat,lon,tz\n40.53,-108.54,-7\nYear,Month,Day,Hour,Minute,DNI\n2023,1,1,7,30,0\n' "line 3: the PSM/SAM columns lack Year, Month, Day, Hour, Minute or GHI"
+# Gaps (issue 45, item 4): records absent from a file's spacing are counted;
+# a file most of whose records are absent or missing is refused in one line.
+sed '100,129d' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_gap.csv"
+"$SKYSWEEP" weather "$work/tmy3_gap.csv" | grep -q "^# records 1386, 0 with an irradiance value missing, 30 absent from the file's spacing"
+tap_ok $? "30 records cut from a TMY3 file are counted absent: $("$SKYSWEEP" weather "$work/tmy3_gap.csv" 2>&1 | grep '^# records')"
+awk 'NR <= 2 || NR % 3 == 0' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_sparse.csv"
+refused_saying tmy3_sparse.csv "$(cat "$work/tmy3_sparse.csv")" "is mostly gaps: 940 of its 1412 records are absent (940) or lack an irradiance value (0), more than half"
+refused_saying epw_mostly_missing.epw "$(awk -F, -v OFS=, 'NR > 8 && NR % 3 != 0 { $14 = 9999 } { print }' "$cut/amsterdam_iwec_jan_feb.epw")" "is mostly gaps: 944 of its 1416 records are absent (0) or lack an irradiance value (944), more than half"
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'

@@ -53,6 +53,7 @@ typedef struct {
     ss_weather_record *records;
     size_t missing; /* records with an irradiance value missing */
     size_t flagged; /* of those, records a quality flag marks missing (TMY2) */
+    size_t gaps;    /* records absent: stamps further apart than the file's spacing */
 } ss_weather;
 
 /* Reads a weather file, the format found from its content, its stamps in

@@ -1265,6 +1265,33 @@ static ss_status set_durations(reader *r)
     return SS_OK;
 }
 
+/* Records absent from the file: where consecutive stamps of one year (in
+ * the file's zone) lie further apart than a record's duration. A typical
+ * year's stitches change the year, and are not gaps; a plain CSV lists the
+ * instants its user chose, and has none. Refuses a file most of whose
+ * records are absent or lack a value: too few to sum a period. */
+static ss_status count_gaps(reader *r)
+{
+    ss_weather *w = r->w;
+    double zone_s = w->utc_offset_h * 3600.0;
+    for (size_t i = 1; i < w->n && w->format != SS_WEATHER_CSV; ++i) {
+        const ss_weather_record *a = &w->records[i - 1], *b = &w->records[i];
+        double step_s = a->duration_h * 3600.0, d = b->stamp_unix_s - a->stamp_unix_s;
+        ss_civil_time ca, cb;
+        ss_civil_from_unix(a->stamp_unix_s + zone_s, &ca);
+        ss_civil_from_unix(b->stamp_unix_s + zone_s, &cb);
+        if (ca.year == cb.year && d > 1.5 * step_s)
+            w->gaps += (size_t)(d / step_s + 0.5) - 1;
+    }
+    size_t expected = w->n + w->gaps, lacking = w->missing + w->gaps;
+    if (2 * lacking > expected)
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                            "'%s' (%s) is mostly gaps: %zu of its %zu records are absent (%zu) "
+                            "or lack an irradiance value (%zu), more than half",
+                            r->path, w->format_name, lacking, expected, w->gaps, w->missing);
+    return SS_OK;
+}
+
 /* A UMEP / SUEWS met file's first line: iy id it imin, blank-separated. */
 static int umep_header(const char *line)
 {
@@ -1344,6 +1371,8 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
     if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV ||
                         w->format == SS_WEATHER_UMEP))
         st = set_durations(&r);
+    if (st == SS_OK)
+        st = count_gaps(&r);
     for (size_t i = 0; st == SS_OK && w->format == SS_WEATHER_UMEP && i < w->n; ++i)
         w->records[i].sun_unix_s -= 1800.0 * w->records[i].duration_h; /* the middle */
     free(r.lines);

@@ -138,7 +138,7 @@ int cmd_weather(int argc, char **argv)
     printf("# records %zu, %zu with an irradiance value missing", w.n, w.missing);
     if (w.flagged)
         printf(" (%zu of them flagged missing by the file)", w.flagged);
-    printf("\n");
+    printf(", %zu absent from the file's spacing\n", w.gaps);
     printf("# irradiance %s\n", ss_weather_components_text(w.components));
     /* The file's own site first: --at is for files that name none. */
     double lon = w.has_site ? w.longitude_deg : at_lon, lat = w.has_site ? w.latitude_deg : at_lat;
