@@ -113,10 +113,11 @@ typedef struct {
     uint64_t shadow_sweeps_skipped; /* steps with the sun above every possible horizon */
     /* Weather records: missing (adding nothing), split from GHI alone
      * (Erbs), DNI from GHI and DHI (closure), with beam on the horizontal
-     * above the global (used as given), and with beam or diffuse while the
-     * sun is below the horizontal (adding nothing). */
+     * above the global (used as given), with beam or diffuse while the
+     * sun is below the horizontal (adding nothing), and with the file's DNI
+     * above the extraterrestrial (adding nothing). */
     uint64_t records_missing, records_split, records_dni_from_closure, records_beam_above_global,
-        records_light_at_night;
+        records_light_at_night, records_dni_above_extraterrestrial;
     uint64_t records_without_temperature; /* PV yield: the options' air temperature or wind used */
     uint64_t sun_bins; /* the cumulative sky's occupied bins of suns */
     /* Insolation's cells x daylight steps, and of them those whose sun's

@@ -139,6 +139,23 @@ tap_ok $? "a run from GHI and DHI names the closure in its summary and metadata:
 grep -q "72 split from GHI alone (Erbs)" go.txt &&
     gdalinfo go.tif | grep -q "split from it at each record's sun by Erbs et al. 1982 (pvlib.irradiance.erbs)"
 tap_ok $? "a run from GHI alone names Erbs in its summary and metadata: $(grep -o '[0-9]* split from GHI alone (Erbs)' go.txt) $(head -c 200 err.txt)"
+# A PVGIS file without its Gb(n) column (issue 45, item 2): completed by
+# the closure as the CSV of GHI and DHI is, and named so.
+awk -F, -v OFS=, '/^time\(UTC\)|^20[0-9][0-9][01][0-9]/ { $5 = ""; sub(/,,/, ",") } { print }' \
+    "$pvgis" >pvgis_no_gbn.csv
+"$SKYSWEEP" insolation --device reference --directions 8 --weather pvgis_no_gbn.csv \
+    --time 2006-06-10T00:00Z/2006-06-13T00:00Z level.tif gn.tif >gn.txt 2>err.txt
+grep -q "72 with DNI from GHI and DHI (closure)" gn.txt &&
+    gdalinfo gn.tif | grep -q "DNI = (GHI - DHI) / cos(zenith) at each record's sun (pvlib.irradiance.dni"
+tap_ok $? "a run from a PVGIS file without Gb(n) names the closure in its summary and metadata: $(grep -o '[0-9]* with DNI from GHI and DHI (closure)' gn.txt) $(head -c 200 err.txt)"
+# A DNI above the extraterrestrial (1500 W/m^2 on 21 June) is dropped and
+# counted; the summary says what was used, filled and dropped (issue 45).
+printf 'time,ghi,dni,dhi\n2026-06-21T10:30Z,800,1500,150\n2026-06-21T11:30Z,800,700,150\n2026-06-21T12:30Z,780,,150\n' >beam_high.csv
+"$SKYSWEEP" insolation --device reference --directions 8 --weather beam_high.csv level.tif bh.tif \
+    >bh.txt 2>err.txt
+grep -q "1 with DNI above the extraterrestrial (not used)" bh.txt &&
+    grep -q "records used 2 (daylight), filled 1 (by the models), dropped 1 (missing, light at night, DNI above the extraterrestrial); 0 absent" bh.txt
+tap_ok $? "a DNI above the extraterrestrial is dropped and counted: $(grep -o 'records used.*' bh.txt) $(head -c 200 err.txt)"
 
 # A plain CSV of three records, one missing: the year's sums, the months'
 # and the per-record bands agree; the missing record adds nothing.

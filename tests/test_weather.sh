@@ -44,6 +44,53 @@ against_pvlib "$weather/723170TYA.CSV" tmy3
 against_pvlib "$weather/tmy_45.000_8.000_2005_2023.csv" pvgis
 against_pvlib "$weather/tmy_45.000_8.000_2005_2023.json" pvgis
 against_pvlib "$top/tests/data/psm4_sample.csv" psm4
+# NSRDB PSM4 half-hourly (pvlib's test_read_psm4.csv, its empty spreadsheet
+# columns kept) and 5-minute records (pvlib's 5-minute frame under the same
+# header); a typical year stitching 31 January 2020 to 1 February 2007 at
+# UTC-7, where the months change in the file's zone but not in UTC (it was
+# refused as "times do not increase").
+against_pvlib "$cut/nsrdb_psm4_30min_cut.csv" psm4
+against_pvlib "$cut/nsrdb_psm4_5min_cut.csv" psm4
+against_pvlib "$cut/nsrdb_psm4_tmy_stitched.csv" psm4
+steps=$(for f in 30min_cut 5min_cut tmy_stitched; do "$SKYSWEEP" weather "$cut/nsrdb_psm4_$f.csv" | grep -v '^#' | sed -n 2p | cut -d, -f3; done | tr '\n' ' ')
+[ "$steps" = "0.5 0.0833333 1 " ]
+tap_ok $? "PSM records stand for their spacing: 30 min, 5 min, an hour ($steps)"
+# PVGIS hourly series (seriescalc), CSV and JSON: pvlib's test file asks for
+# a plane tilted 30 degrees (refused below); with its slope set to 0 it
+# reads as a horizontal series: G(i) as GHI, Gd(i) as DHI, at the stamp.
+sed 's/^Slope: 30 deg. $/Slope: 0 deg. /' "$cut/pvgis_hourly_45N_8E_30deg_2016.csv" >"$work/pvgis_hourly_0deg.csv"
+against_pvlib "$work/pvgis_hourly_0deg.csv" pvgis_hourly
+against_pvlib "$cut/pvgis_hourly_45N_8E_0deg_2016.json" pvgis_hourly
+csv=$("$SKYSWEEP" weather "$work/pvgis_hourly_0deg.csv" | grep -v '^#')
+json=$("$SKYSWEEP" weather "$cut/pvgis_hourly_45N_8E_0deg_2016.json" | grep -v '^#')
+row=$(echo "$csv" | sed -n 10p | cut -d, -f1-6,12)
+[ "$csv" = "$json" ] && [ "$row" = "2016-01-01T08:10:00Z,2016-01-01T08:10:00Z,1,35.2,193.821,8.28,closure" ]
+tap_ok $? "a PVGIS hourly series reads the same from CSV and JSON, the sun at the stamp, DNI by the closure: $row"
+# SAM's CSV weather format with NREL's short names (lat, lon, tz, elev;
+# Tdry, Wspd, Pres, Albedo): the half-hourly PSM4 cut rewritten so, which
+# must read as the PSM4 file does (that one equals pvlib's reader above).
+sam=$("$SKYSWEEP" weather "$cut/sam_csv_30min.csv")
+echo "$sam" | grep -q '^# format SAM CSV' &&
+    [ "$(echo "$sam" | grep -v '^#')" = "$("$SKYSWEEP" weather "$cut/nsrdb_psm4_30min_cut.csv" | grep -v '^#')" ]
+tap_ok $? "a SAM CSV with NREL's short names reads as the NSRDB file it was written from"
+against_pvlib "$cut/miami_tmy2_jan_1_2.tm2" tmy2
+# pvlib ships NREL's whole Miami TMY2 file with its package.
+pvlib_data=$("$python" -c "import os, pvlib; print(os.path.dirname(pvlib.__file__) + '/data')" 2>/dev/null)
+against_pvlib "${pvlib_data:-no-pvlib}/12839.tm2" tmy2
+
+# TMY2: the hour field (1-24) ends the hour summed; the sun at its middle;
+# a solar source flag '?' while the sun is up marks missing data (the
+# manual's Table 3-3): counted, the values missing. Line 14 is 12:00 on
+# 1 January 1962 (UTC-5).
+tm2=$cut/miami_tmy2_jan_1_2.tm2
+noon=$("$SKYSWEEP" weather "$tm2" | grep -v '^#' | sed -n 14p | cut -d, -f1-6)
+[ "$noon" = "1962-01-01T17:00:00Z,1962-01-01T17:30:00Z,1,145,9,137" ]
+tap_ok $? "a TMY2 hour ending 13:00 local is stamped at its start, the sun at its middle: $noon"
+sed '14s/^\(.\{21\}\)C/\1?/' "$tm2" >"$work/flagged.tm2"
+out=$("$SKYSWEEP" weather "$work/flagged.tm2")
+echo "$out" | grep -q "^# records 48, 1 with an irradiance value missing (1 of them flagged missing by the file)" &&
+    [ "$(echo "$out" | grep -v '^#' | sed -n 14p | cut -d, -f4-6)" = ",9,137" ]
+tap_ok $? "a TMY2 GHI flagged '?' at noon is missing and counted: $(echo "$out" | grep '^# records')"
 
 # Where the sun is taken: the middle of an EPW hour; PVGIS's stated offset,
 # also in its EPW export whose zone label is not applied.
@@ -96,6 +143,36 @@ for month in 2018-01 2006-06; do
         tap_ok $? "$month, $cols: completed as pvlib does: $(grep -v '^ok' "$work/out" | head -c 300) $(grep 'within 0.1' "$work/out" | tr '\n' ' ' | head -c 400)"
     done
 done
+# Item 2 of issue 45: a TMY3, EPW, PVGIS or PSM file whose DNI column is
+# absent or missing throughout (DNI and DHI: GHI alone) is completed as a
+# plain CSV is, at its own site, and says so; pvlib's erbs and dni agree.
+# completed NAME FILE LON,LAT WORDS
+completed() {
+    local out
+    out=$("$SKYSWEEP" weather "$2" 2>"$work/err")
+    echo "$out" | grep -q "^# irradiance $4" && echo "$out" | grep -q "^# model the DNI and DHI columns are the model's"
+    tap_ok $? "$1: read as '$4' $(head -c 200 "$work/err")"
+    if [ "$have_pvlib" -eq 0 ]; then
+        tap_skip "$1: completed as pvlib does" "no pvlib at $python (tests/run.sh installs it)"
+    else
+        "$python" "$top/tests/pvlib/decomposition.py" "$SKYSWEEP" "$2" "$3" >"$work/out" 2>&1
+        tap_ok $? "$1: completed as pvlib does: $(grep -v '^ok' "$work/out" | head -c 300) $(grep -o '[0-9]* of [0-9]* records within 0.1 %' "$work/out" | tr '\n' ' ')"
+    fi
+}
+awk -F, -v OFS=, 'NR == 1 { print; next } { $8 = $9 = $10 = ""; print }' "$cut/greensboro_tmy3_jan_feb.csv" |
+    sed 's/,,,,/,/' >"$work/tmy3_no_dni.csv"
+completed "a TMY3 file without its DNI columns" "$work/tmy3_no_dni.csv" -79.95,36.1 "GHI and DHI"
+awk -F, -v OFS=, 'NR <= 8 { print; next } { $15 = 9999; $16 = 9999; print }' "$cut/amsterdam_iwec_jan_feb.epw" \
+    >"$work/epw_ghi.epw"
+completed "an EPW whose DNI and DHI are 9999 throughout" "$work/epw_ghi.epw" 4.77,52.3 "GHI alone"
+awk -F, -v OFS=, '/^time\(UTC\)|^20[0-9][0-9][01][0-9]/ { $5 = ""; sub(/,,/, ",") } { print }' \
+    "$top/samples/weather/pvgis_tmy_45N_8E.csv" >"$work/pvgis_no_gbn.csv"
+completed "a PVGIS CSV without Gb(n)" "$work/pvgis_no_gbn.csv" 8,45 "GHI and DHI"
+sed 's/"Gb(n)": [-0-9.e]*, //g; s/"Gd(h)": [-0-9.e]*, //g' "$cut/pvgis_45N_8E_jan_feb.json" >"$work/pvgis_ghi.json"
+completed "a PVGIS JSON without Gb(n) and Gd(h)" "$work/pvgis_ghi.json" 8,45 "GHI alone"
+awk -F, -v OFS=, 'NR <= 2 { print; next } { $7 = $8 = ""; print }' "$top/tests/data/psm4_sample.csv" |
+    sed 's/,,,/,/' >"$work/psm_ghi.csv"
+completed "an NSRDB PSM file of GHI alone" "$work/psm_ghi.csv" -105.18,39.73 "GHI alone"
 out=$("$SKYSWEEP" weather "$work/2006-06.ghi,dhi.csv")
 echo "$out" | grep -q "^# irradiance GHI and DHI from the file; DNI = (GHI - DHI) / cos(zenith)" &&
     echo "$out" | grep -q "^# model applied at the DEM's sun in a run (--at LON,LAT shows it here)" &&
@@ -231,7 +308,7 @@ refused_saying() { # NAME CONTENT TEXT
     grep -qF "$3" "$work/err"
     tap_ok $? "$1: the message says \"$3\""
 }
-refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header it has no separated columns"
+refused_saying tabs.csv 'time\tghi\n2026-06-21T10:00Z\t1\n' "first line 'time?ghi' is none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM/SAM CSV's, and as a CSV header it has no separated columns"
 refused_saying no_time.csv 'date;ghi\n2026-06-21T10:00Z;1\n' "its first line 'date,ghi' is none of"
 refused_saying no_ghi.csv 'time,global\n2026-06-21T10:00Z,1\n' "it has no 'ghi' column"
 refused_saying dni_alone.csv 'time,ghi,dni\n2026-06-21T10:00Z,1,1\n' "it has 'dni' without 'dhi'"
@@ -241,6 +318,26 @@ refused bad_location.epw 'LOCATION,x,-,y,z,1,145,8,1,250\nDATA PERIODS,1\n'
 refused broken.json '{"inputs": {"location": {"latitude": 45'
 refused other.json '{"a": 1}'
 refused bad_time.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),G(h),Gb(n),Gd(h)\n2018011:0000,1,2,3\n'
+refused_saying short.tm2 "$(head -3 "$tm2" | cut -c1-100)" "line 2: a TMY2 record has 142 characters"
+refused_saying bad_hour.tm2 "$(head -2 "$tm2" | sed '2s/^\(.\{7\}\)01/\125/')" "line 2: a TMY2 record starts with year (2 digits), month (1-12), day and hour (1-24)"
+refused_saying tmy3_no_ghi.csv "$(head -3 "$cut/greensboro_tmy3_jan_feb.csv" | sed '2s/,GHI (W\/m^2),/,GHX,/')" "line 2: the TMY3 column names lack GHI (W/m^2)"
+refused_saying pvgis_no_gh.csv 'Latitude (decimal degrees): 45\nLongitude (decimal degrees): 8\ntime(UTC),Gb(n),Gd(h)\n20180101:0000,2,3\n' "line 3: the PVGIS columns lack G(h)"
+refused_saying psm_minute60.csv "$(head -3 "$cut/nsrdb_psm4_5min_cut.csv")\n2023,1,1,9,60,0.1,0.024,48,808,264,0,6,-0.4,41,0,0,41,0.294,96.74,74.47,0.95,0.65,770,1,188,4.5\n" "line 4: a PSM record's date or time is not valid"
+refused_saying psm_back_in_month.csv "$(head -5 "$cut/nsrdb_psm4_tmy_stitched.csv")\n2019,1,31,23,30,-8.1,0.012,0,0,0,0,4,-9.4,0,0,0,0,0.339,90.28,159.73,0.91,0.8,779,0.5,246,1.8\n" "the records' times do not increase (record 3)"
+refused_saying pvgis_hourly_30deg.csv "$(cat "$cut/pvgis_hourly_45N_8E_30deg_2016.csv")" "is a PVGIS hourly series on a plane tilted 30 degrees, not global horizontal irradiance"
+sed 's/"slope": {"value": 0/"slope": {"value": 35/' "$cut/pvgis_hourly_45N_8E_0deg_2016.json" >"$work/tilted.json"
+refused_saying pvgis_hourly_35deg.json "$(cat "$work/tilted.json")" "is a PVGIS hourly series on a plane tilted 35 degrees"
+refused_saying sam_no_zone.csv 'lat,lon,elev\n40.53,-108.54,2168\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "it has no 'time' column"
+refused_saying sam_bad_zone.csv 'lat,lon,tz\n40.53,-108.54,x\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "line 2: the PSM/SAM metadata needs Latitude, Longitude and Time Zone"
+refused_saying sam_no_ghi.csv 'lat,lon,tz\n40.53,-108.54,-7\nYear,Month,Day,Hour,Minute,DNI\n2023,1,1,7,30,0\n' "line 3: the PSM/SAM columns lack Year, Month, Day, Hour, Minute or GHI"
+# Gaps (issue 45, item 4): records absent from a file's spacing are counted;
+# a file most of whose records are absent or missing is refused in one line.
+sed '100,129d' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_gap.csv"
+"$SKYSWEEP" weather "$work/tmy3_gap.csv" | grep -q "^# records 1386, 0 with an irradiance value missing, 30 absent from the file's spacing"
+tap_ok $? "30 records cut from a TMY3 file are counted absent: $("$SKYSWEEP" weather "$work/tmy3_gap.csv" 2>&1 | grep '^# records')"
+awk 'NR <= 2 || NR % 3 == 0' "$cut/greensboro_tmy3_jan_feb.csv" >"$work/tmy3_sparse.csv"
+refused_saying tmy3_sparse.csv "$(cat "$work/tmy3_sparse.csv")" "is mostly gaps: 940 of its 1412 records are absent (940) or lack an irradiance value (0), more than half"
+refused_saying epw_mostly_missing.epw "$(awk -F, -v OFS=, 'NR > 8 && NR % 3 != 0 { $14 = 9999 } { print }' "$cut/amsterdam_iwec_jan_feb.epw")" "is mostly gaps: 944 of its 1416 records are absent (0) or lack an irradiance value (944), more than half"
 refused backwards.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T10:00Z,1,2,3\n'
 refused back_later.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,1,2,3\n2026-06-21T11:00Z,1,2,3\n2026-06-21T10:30Z,1,2,3\n'
 refused no_irradiance.csv 'time,ghi,dni,dhi\n2026-06-21T10:00Z,,,\n2026-06-21T11:00Z,,,\n'

@@ -1,4 +1,4 @@
-/* Weather files for real-sky irradiation: EPW, NREL TMY3 CSV, PVGIS TMY
+/* Weather files for real-sky irradiation: EPW, NREL TMY3 CSV and TMY2, PVGIS TMY
  * (CSV and JSON), NSRDB PSM CSV, UMEP/SUEWS met files and a plain CSV, read as pvlib's readers
  * read them (units, zones, missing values; doc/weather.md). Each record
  * keeps the file's time stamp, as pvlib's index has it, and the instant its
@@ -13,6 +13,7 @@
 typedef enum {
     SS_WEATHER_EPW,
     SS_WEATHER_TMY3,
+    SS_WEATHER_TMY2,
     SS_WEATHER_PVGIS_CSV,
     SS_WEATHER_PVGIS_JSON,
     SS_WEATHER_PSM,
@@ -51,6 +52,8 @@ typedef struct {
     size_t n;
     ss_weather_record *records;
     size_t missing; /* records with an irradiance value missing */
+    size_t flagged; /* of those, records a quality flag marks missing (TMY2) */
+    size_t gaps;    /* records absent: stamps further apart than the file's spacing */
 } ss_weather;
 
 /* Reads a weather file, the format found from its content, its stamps in

@@ -1,6 +1,6 @@
 /* Weather file readers (weather.h). Each follows pvlib 0.16's reader of the
  * format for columns, units, zones and missing values (doc/weather.md):
- * read_epw, read_tmy3, read_pvgis_tmy, read_nsrdb_psm4. */
+ * read_epw, read_tmy3, read_tmy2, read_pvgis_tmy, read_nsrdb_psm4. */
 #include "config.h"
 
 #include <ctype.h>
@@ -209,13 +209,9 @@ static int integer(const char *s, int lo, int hi, int *v)
 
 /* An irradiance value: NAN for the format's missing marker or anything
  * outside a physical range. */
-static float irradiance(double v, double marker, size_t *missing)
+static float irradiance(double v, double marker)
 {
-    if (v == marker || !(v >= IRRADIANCE_MIN && v <= IRRADIANCE_MAX)) {
-        (*missing)++;
-        return NAN;
-    }
-    return (float)v;
+    return v == marker || !(v >= IRRADIANCE_MIN && v <= IRRADIANCE_MAX) ? NAN : (float)v;
 }
 
 /* A value in [lo, hi], else NAN (not given). */
@@ -264,18 +260,14 @@ typedef struct {
     double ghi, dni, dhi, temp_air_c, wind_speed_m_s, albedo, pressure_hpa;
 } raw_values;
 
-/* Stores v into rec, values out of range as missing or not given; counts
- * the record as missing where an irradiance value is. What the file does
- * not give (components) stays NAN without counting. */
-static void set_values(ss_weather *w, ss_weather_record *rec, const raw_values *v, double marker)
+/* Stores v into rec, values out of range as missing or not given (the
+ * records missing a value are counted once the file's components are
+ * known: settle_components). */
+static void set_values(ss_weather_record *rec, const raw_values *v, double marker)
 {
-    size_t missing = 0;
-    rec->ghi = irradiance(v->ghi, marker, &missing);
-    if (w->components == SS_WEATHER_GHI_DNI_DHI)
-        rec->dni = irradiance(v->dni, marker, &missing);
-    if (w->components != SS_WEATHER_GHI)
-        rec->dhi = irradiance(v->dhi, marker, &missing);
-    w->missing += missing > 0;
+    rec->ghi = irradiance(v->ghi, marker);
+    rec->dni = irradiance(v->dni, marker);
+    rec->dhi = irradiance(v->dhi, marker);
     rec->temp_air_c = optional(v->temp_air_c, -90, 70);
     rec->wind_speed_m_s = optional(v->wind_speed_m_s, 0, 100);
     rec->albedo = albedo(v->albedo);
@@ -372,7 +364,7 @@ static ss_status read_epw(reader *r)
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour - 1, 0, 0) - tz * 3600.0;
         rec->sun_unix_s = pvgis ? rec->stamp_unix_s + (tz + 1.0 + pvgis_offset_h) * 3600.0
                                 : rec->stamp_unix_s + 1800.0;
-        set_values(w, rec,
+        set_values(rec,
                    &(raw_values){v[13], v[14], v[15], v[6], v[21], v[32], v[9] / 100.0}, 9999);
     }
     return SS_OK;
@@ -487,8 +479,8 @@ static ss_status read_tmy3(reader *r)
     }
     int c_ghi = found[0], c_dni = found[1], c_dhi = found[2], c_temp = found[3],
         c_wind = found[4], c_alb = found[5], c_pres = found[6];
-    if (n_names < 2 || c_ghi < 0 || c_dni < 0 || c_dhi < 0)
-        return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2), DNI (W/m^2) or DHI (W/m^2)");
+    if (n_names < 2 || c_ghi < 0)
+        return fail_at(r, 1, "the TMY3 column names lack GHI (W/m^2)");
     size_t cap = 0;
     for (int i = 2; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
@@ -515,7 +507,138 @@ static ss_status read_tmy3(reader *r)
             return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = ss_unix_from_civil(year, month, day, hour, minute, 0) - tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s - 1800.0;
-        set_values(w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], v[5], v[6]}, -9900);
+        set_values(rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], v[5], v[6]}, -9900);
+    }
+    return SS_OK;
+}
+
+/* ---- TMY2 --------------------------------------------------------------- */
+
+/* A fixed-width field of a TMY2 record (the manual's columns, counted from
+ * 0 as pvlib's read_tmy2 does: a blank, then year at 1..2). */
+typedef struct {
+    int start, width;
+} tmy2_field;
+
+static const tmy2_field TMY2_YEAR = {1, 2}, TMY2_MONTH = {3, 2}, TMY2_DAY = {5, 2},
+                        TMY2_HOUR = {7, 2}, TMY2_ETR = {9, 4}, TMY2_GHI = {17, 4},
+                        TMY2_DNI = {23, 4}, TMY2_DHI = {29, 4}, TMY2_DRY_BULB = {67, 4},
+                        TMY2_PRESSURE = {84, 4}, TMY2_WSPD = {95, 3};
+#define TMY2_RECORD_LENGTH 142
+
+/* The field's integer (blanks allowed around it), 0 if it is not one. */
+static int tmy2_value(const char *line, tmy2_field f, double *v)
+{
+    char s[8];
+    memcpy(s, line + f.start, (size_t)f.width);
+    s[f.width] = '\0';
+    return number(s, v);
+}
+
+/* TMY2's first line, fixed width: WBAN, city, state, zone, N|S deg min,
+ * E|W deg min, elevation. Read from its end, since a city's name holds
+ * blanks. */
+static int tmy2_station(const char *line, double *tz, double *lat, double *lon, double *elev)
+{
+    char copy[256], *t[32];
+    snprintf(copy, sizeof copy, "%s", line);
+    int n = 0;
+    for (char *p = strtok(copy, " \t"); p && n < 32; p = strtok(NULL, " \t"))
+        t[n++] = p;
+    double d[6];
+    if (n < 10 || strlen(t[n - 7]) != 1 || !strchr("NS", *t[n - 7]) || strlen(t[n - 4]) != 1 ||
+        !strchr("EW", *t[n - 4]) || !number(t[n - 8], tz) || !number(t[n - 6], &d[0]) ||
+        !number(t[n - 5], &d[1]) || !number(t[n - 3], &d[2]) || !number(t[n - 2], &d[3]) ||
+        !number(t[n - 1], elev) || d[1] >= 60 || d[3] >= 60)
+        return 0;
+    *lat = (d[0] + d[1] / 60.0) * (*t[n - 7] == 'N' ? 1 : -1);
+    *lon = (d[2] + d[3] / 60.0) * (*t[n - 4] == 'E' ? 1 : -1);
+    return fabs(*lat) <= 90 && fabs(*lon) <= 180 && fabs(*tz) <= 14;
+}
+
+/* A TMY2 file: the station line, then records whose second to ninth
+ * characters are digits (year, month, day, hour); a record cut short is
+ * named by the reader. */
+static int tmy2_file(const char *first, const char *second)
+{
+    double tz, lat, lon, elev;
+    if (strlen(second) < 9)
+        return 0;
+    for (int i = 1; i < 9; ++i)
+        if (!isdigit((unsigned char)second[i]) && second[i] != ' ')
+            return 0;
+    return tmy2_station(first, &tz, &lat, &lon, &elev);
+}
+
+/* An irradiance field whose source flag (TMY2 manual, Table 3-3) is '?'
+ * while the sun is up (extraterrestrial > 0) is missing data: the manual
+ * uses '?' "mostly for missing data", and at night for the zeros. */
+static double tmy2_irradiance(const char *line, tmy2_field f, double etr, double v,
+                              int *flagged)
+{
+    if (line[f.start + f.width] == '?' && etr > 0) {
+        *flagged = 1;
+        return NAN;
+    }
+    return v;
+}
+
+/* NREL TMY2 (Marion and Urban 1995): the station line, then fixed-width
+ * records: sums over the hour ending at the hour field (1-24), local
+ * standard time; each value followed by a source and an uncertainty flag;
+ * temperature and wind in tenths, pressure in mbar; 9999 missing. */
+static ss_status read_tmy2(reader *r)
+{
+    ss_weather *w = r->w;
+    double tz;
+    if (!tmy2_station(r->lines[0], &tz, &w->latitude_deg, &w->longitude_deg, &w->elevation_m))
+        return fail_at(r, 0, "the TMY2 station line needs zone, N|S degrees minutes, E|W "
+                             "degrees minutes and elevation");
+    w->has_site = 1;
+    tz = stamps_zone(r, tz);
+    snprintf(w->stamps, sizeof w->stamps,
+             "TMY2: sums over the hour ending at the hour field, local standard time UTC%+g "
+             "(stamped, as pvlib does, at the hour's start, in the record's own year); the sun "
+             "is taken at the middle of the hour",
+             tz);
+    size_t cap = 0;
+    for (int i = 1; i < r->n_lines; ++i) {
+        const char *line = r->lines[i];
+        if (!line[strspn(line, " ")])
+            continue;
+        if (strlen(line) < TMY2_RECORD_LENGTH)
+            return fail_at(r, i, "a TMY2 record has 142 characters (the manual's fixed-width "
+                                 "fields)");
+        double yy, month, day, hour;
+        if (!tmy2_value(line, TMY2_YEAR, &yy) || !tmy2_value(line, TMY2_MONTH, &month) ||
+            !tmy2_value(line, TMY2_DAY, &day) || !tmy2_value(line, TMY2_HOUR, &hour) ||
+            yy < 0 || month < 1 || month > 12 || day < 1 || day > 31 || hour < 1 || hour > 24)
+            return fail_at(r, i, "a TMY2 record starts with year (2 digits), month (1-12), day "
+                                 "and hour (1-24)");
+        long long year = 1900 + (long long)yy;
+        if (day > ss_days_in_month(year, (int)month))
+            return bad_day(r, i, 0, year, (int)month, (int)day);
+        /* extraterrestrial, GHI, DNI, DHI, dry bulb, pressure, wind */
+        const tmy2_field fields[7] = {TMY2_ETR, TMY2_GHI, TMY2_DNI, TMY2_DHI, TMY2_DRY_BULB,
+                                      TMY2_PRESSURE, TMY2_WSPD};
+        double v[7];
+        for (int k = 0; k < 7; ++k)
+            if (!tmy2_value(line, fields[k], &v[k]))
+                return fail_at(r, i, "a value of a TMY2 record is not a number");
+        int flagged = 0;
+        for (int k = 1; k < 4; ++k)
+            v[k] = tmy2_irradiance(line, fields[k], v[0], v[k], &flagged);
+        ss_weather_record *rec = add_record(r, &cap);
+        if (!rec)
+            return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
+        rec->stamp_unix_s =
+            ss_unix_from_civil(year, (int)month, (int)day, (int)hour - 1, 0, 0) - tz * 3600.0;
+        rec->sun_unix_s = rec->stamp_unix_s + 1800.0;
+        w->flagged += flagged;
+        set_values(rec,
+                   &(raw_values){v[1], v[2], v[3], v[4] / 10.0, v[6] == 999 ? NAN : v[6] / 10.0,
+                                 NAN, v[5]},
+                   9999);
     }
     return SS_OK;
 }
@@ -569,20 +692,61 @@ static ss_status pvgis_record(reader *r, int line, int record, size_t *cap, doub
         return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
     rec->stamp_unix_s = t;
     rec->sun_unix_s = t + offset_h * 3600.0;
-    set_values(r->w, rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], NAN, v[5] / 100.0}, NAN);
+    set_values(rec, &(raw_values){v[0], v[1], v[2], v[3], v[4], NAN, v[5] / 100.0}, NAN);
     return SS_OK;
+}
+
+/* PVGIS's hourly series (seriescalc) gives irradiance on the plane it
+ * was asked for: only a horizontal one (slope 0) gives GHI (G(i), or
+ * Gb(i) + Gd(i) + Gr(i)) and DHI (Gd(i)). Its stamps are the instants the
+ * values stand for (UTC, the minutes of the satellite's hourly reading). */
+static ss_status pvgis_series_plane(reader *r, double slope_deg)
+{
+    if (slope_deg == 0)
+        return SS_OK;
+    if (isnan(slope_deg))
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                            "'%s' is a PVGIS hourly series that states no slope: skysweep "
+                            "needs the horizontal plane's (slope 0) to read GHI", r->path);
+    return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                        "'%s' is a PVGIS hourly series on a plane tilted %g degrees, not "
+                        "global horizontal irradiance: ask PVGIS for slope 0 (the terrain "
+                        "tilts the planes itself)", r->path, slope_deg);
+}
+
+static void pvgis_series_stamps(ss_weather *w)
+{
+    w->format_name = "PVGIS hourly series";
+    snprintf(w->stamps, sizeof w->stamps,
+             "PVGIS hourly series (seriescalc, horizontal plane): values at UTC stamps (the "
+             "minutes of the satellite's reading); the sun is taken at the stamp");
+}
+
+/* A series record's values in a TMY record's order (G(h), Gb(n), Gd(h),
+ * T2m, WS10m, SP) from G(i) or its three parts, Gd(i), T2m, WS10m. */
+static void pvgis_series_values(const double in[6], double v[6])
+{
+    double g = !isnan(in[0]) ? in[0] : in[1] + in[2] + (isnan(in[3]) ? 0 : in[3]);
+    const double out[6] = {g, NAN, in[2], in[4], in[5], NAN};
+    memcpy(v, out, sizeof out);
 }
 
 static ss_status read_pvgis_csv(reader *r)
 {
     ss_weather *w = r->w;
-    double offset_h = NAN, v;
-    int header = -1;
+    double offset_h = NAN, slope_deg = NAN, v;
+    int header = -1, series = 0;
     for (int i = 0; i < r->n_lines && header < 0; ++i) {
         const char *line = r->lines[i], *colon = strchr(line, ':');
-        if (strncmp(line, "time(UTC),", 10) == 0)
+        if (strncmp(line, "time(UTC),", 10) == 0 || strncmp(line, "time,", 5) == 0) {
             header = i;
-        else if (colon && number(colon + 1, &v)) {
+            series = line[4] == ',';
+        } else if (strncmp(line, "Slope:", 6) == 0) {
+            char *end;
+            slope_deg = strtod(line + 6, &end);
+            if (end == line + 6)
+                slope_deg = NAN;
+        } else if (colon && number(colon + 1, &v)) {
             if (strncmp(line, "Latitude", 8) == 0)
                 w->latitude_deg = v, w->has_site |= 1;
             else if (strncmp(line, "Longitude", 9) == 0)
@@ -594,21 +758,33 @@ static ss_status read_pvgis_csv(reader *r)
         }
     }
     if (header < 0)
-        return fail_at(r, 0, "a PVGIS TMY CSV has a 'time(UTC),...' column line");
+        return fail_at(r, 0, "a PVGIS CSV has a 'time(UTC),...' (TMY) or 'time,...' (hourly "
+                             "series) column line");
     if (w->has_site != 3 || fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180)
         return fail_at(r, 0, "a PVGIS TMY CSV states its latitude and longitude");
     w->has_site = 1;
-    if (!(fabs(offset_h) <= 1.0))
+    ss_status st = series ? pvgis_series_plane(r, slope_deg) : SS_OK;
+    if (st != SS_OK)
+        return st;
+    if (series)
+        offset_h = 0.0;
+    else if (!(fabs(offset_h) <= 1.0))
         offset_h = 0.5; /* hourly means: the middle of the hour */
-    pvgis_stamps(w, offset_h);
+    if (series)
+        pvgis_series_stamps(w);
+    else
+        pvgis_stamps(w, offset_h);
     char *names[MAX_FIELDS], *f[MAX_FIELDS];
     int n_names = split_csv(r->lines[header], names);
-    const char *wanted[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *tmy[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *hourly[6] = {"G(i)", "Gb(i)", "Gd(i)", "Gr(i)", "T2m", "WS10m"};
     int cols[6];
     for (int k = 0; k < 6; ++k)
-        cols[k] = find_column(names, n_names, wanted[k]);
-    if (cols[0] < 0 || cols[1] < 0 || cols[2] < 0)
-        return fail_at(r, header, "the PVGIS columns lack G(h), Gb(n) or Gd(h)");
+        cols[k] = find_column(names, n_names, series ? hourly[k] : tmy[k]);
+    if (!series && cols[0] < 0)
+        return fail_at(r, header, "the PVGIS columns lack G(h)");
+    if (series && cols[0] < 0 && (cols[1] < 0 || cols[2] < 0))
+        return fail_at(r, header, "the PVGIS hourly columns lack G(i), or Gb(i) and Gd(i)");
     size_t cap = 0;
     for (int i = header + 1; i < r->n_lines; ++i) {
         /* The records end where the footer (a blank line, then notes) begins. */
@@ -621,7 +797,9 @@ static ss_status read_pvgis_csv(reader *r)
         for (int k = 0; k < 6; ++k)
             if (cols[k] >= 0 && !number(f[cols[k]], &val[k]))
                 return fail_at(r, i, "a value of a PVGIS record is not a number");
-        ss_status st = pvgis_record(r, i, 0, &cap, offset_h, f[0], val);
+        if (series)
+            pvgis_series_values(val, val);
+        st = pvgis_record(r, i, 0, &cap, offset_h, f[0], val);
         if (st != SS_OK)
             return st;
     }
@@ -658,43 +836,63 @@ static ss_status read_pvgis_json(reader *r)
                        err == json_tokener_continue ? "it ends inside a value"
                                                     : json_tokener_error_desc(err));
     }
-    json_object *inputs, *location, *outputs, *hourly;
+    json_object *inputs, *location, *outputs, *hourly = NULL;
     ss_status st = SS_OK;
     double offset_h = NAN;
+    int series = 0;
     if (!json_object_object_get_ex(root, "inputs", &inputs) ||
         !json_object_object_get_ex(inputs, "location", &location) ||
         !json_number(location, "latitude", &w->latitude_deg) ||
         !json_number(location, "longitude", &w->longitude_deg) ||
         fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180 ||
         !json_object_object_get_ex(root, "outputs", &outputs) ||
-        !json_object_object_get_ex(outputs, "tmy_hourly", &hourly) ||
+        !((json_object_object_get_ex(outputs, "tmy_hourly", &hourly)) ||
+          (series = json_object_object_get_ex(outputs, "hourly", &hourly))) ||
         !json_object_is_type(hourly, json_type_array))
         st = ss_ctx_error(r->ctx, SS_ERR_INPUT,
-                     "'%s' is not a PVGIS TMY JSON file (inputs.location with latitude and "
-                     "longitude, outputs.tmy_hourly)",
+                     "'%s' is not a PVGIS JSON file (inputs.location with latitude and "
+                     "longitude, outputs.tmy_hourly or outputs.hourly)",
                      r->path);
-    if (st == SS_OK) {
-        w->has_site = 1;
-        json_number(location, "elevation", &w->elevation_m);
+    if (st == SS_OK && series) {
+        json_object *mounting, *fixed, *slope;
+        double slope_deg = NAN;
+        if (json_object_object_get_ex(inputs, "mounting_system", &mounting) &&
+            json_object_object_get_ex(mounting, "fixed", &fixed) &&
+            json_object_object_get_ex(fixed, "slope", &slope))
+            json_number(slope, "value", &slope_deg);
+        st = pvgis_series_plane(r, slope_deg);
+        offset_h = 0.0;
+        if (st == SS_OK)
+            pvgis_series_stamps(w);
+    } else if (st == SS_OK) {
         if (!json_number(location, "irradiance_time_offset", &offset_h) ||
             !(fabs(offset_h) <= 1.0))
             offset_h = 0.5;
         pvgis_stamps(w, offset_h);
     }
+    if (st == SS_OK) {
+        w->has_site = 1;
+        json_number(location, "elevation", &w->elevation_m);
+    }
     size_t cap = 0, n = st == SS_OK ? json_object_array_length(hourly) : 0;
-    const char *keys[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *tmy[6] = {"G(h)", "Gb(n)", "Gd(h)", "T2m", "WS10m", "SP"};
+    const char *per_hour[6] = {"G(i)", "Gb(i)", "Gd(i)", "Gr(i)", "T2m", "WS10m"};
+    const char *const *keys = series ? per_hour : tmy;
+    const char *time_key = series ? "time" : "time(UTC)", *list = series ? "hourly" : "tmy_hourly";
     for (size_t i = 0; i < n && st == SS_OK; ++i) {
         json_object *rec = json_object_array_get_idx(hourly, i), *time;
         double v[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
         int ok = json_object_is_type(rec, json_type_object) &&
-                 json_object_object_get_ex(rec, "time(UTC)", &time) &&
+                 json_object_object_get_ex(rec, time_key, &time) &&
                  json_object_is_type(time, json_type_string);
         for (int k = 0; k < 6 && ok; ++k)
-            ok = json_number(rec, keys[k], &v[k]) || k >= 3;
-        if (!ok)
-            st = ss_ctx_error(r->ctx, SS_ERR_INPUT,
-                         "'%s': record %zu of tmy_hourly lacks time(UTC), G(h), Gb(n) or Gd(h)",
-                         r->path, i + 1);
+            json_number(rec, keys[k], &v[k]);
+        if (series)
+            pvgis_series_values(v, v);
+        if (!ok || isnan(v[0]))
+            st = ss_ctx_error(r->ctx, SS_ERR_INPUT, "'%s': record %zu of %s lacks %s or %s",
+                              r->path, i + 1, list, time_key,
+                              series ? "G(i) (or Gb(i) and Gd(i))" : "G(h)");
         else
             st = pvgis_record(r, -1, (int)i, &cap, offset_h, json_object_get_string(time), v);
     }
@@ -704,8 +902,41 @@ static ss_status read_pvgis_json(reader *r)
 
 /* ---- NSRDB PSM ---------------------------------------------------------- */
 
-/* NSRDB PSM3/PSM4 (SAM CSV): metadata names and values, column names, then
- * records of instantaneous values at the stamp, in the metadata's zone. */
+/* The first of a meaning's names that the header holds (SAM's CSV takes
+ * NREL's short names beside the NSRDB's), -1 if none. */
+static int find_alias(char **fields, int n, const char *const *aliases)
+{
+    for (; *aliases; ++aliases) {
+        int c = find_column(fields, n, *aliases);
+        if (c >= 0)
+            return c;
+    }
+    return -1;
+}
+
+static const char *const SAM_LATITUDE[] = {"Latitude", "lat", NULL},
+                         *const SAM_LONGITUDE[] = {"Longitude", "lon", NULL},
+                         *const SAM_ZONE[] = {"Time Zone", "tz", NULL},
+                         *const SAM_ELEVATION[] = {"Elevation", "elev", NULL};
+
+/* SAM's CSV weather format (NREL, "SAM CSV Files for Solar Resource
+ * Data"), of which an NSRDB PSM file is one: the metadata's names on the
+ * first line (latitude, longitude and zone among them), their values on
+ * the second, the columns on the third, starting with Year. */
+static int sam_csv(const reader *r)
+{
+    if (r->n_lines < 3 || strncasecmp(r->lines[2], "Year,", 5) != 0)
+        return 0;
+    char copy[4096], *keys[MAX_FIELDS];
+    snprintf(copy, sizeof copy, "%s", r->lines[0]);
+    int nk = split_csv(copy, keys);
+    return nk > 0 && find_alias(keys, nk, SAM_LATITUDE) >= 0 &&
+           find_alias(keys, nk, SAM_LONGITUDE) >= 0 && find_alias(keys, nk, SAM_ZONE) >= 0;
+}
+
+/* NSRDB PSM3/PSM4 and other SAM CSV files: metadata names and values,
+ * column names, then records of instantaneous values at the stamp, in the
+ * metadata's zone. */
 static ss_status read_psm(reader *r)
 {
     ss_weather *w = r->w;
@@ -717,31 +948,36 @@ static ss_status read_psm(reader *r)
     double tz = 0;
     if (nk < 0 || nv < nk)
         return fail_at(r, 1, "the PSM metadata values do not match their names");
-    if ((c = find_column(keys, nk, "Latitude")) < 0 || !number(vals[c], &w->latitude_deg) ||
-        (c = find_column(keys, nk, "Longitude")) < 0 || !number(vals[c], &w->longitude_deg) ||
-        (c = find_column(keys, nk, "Time Zone")) < 0 || !number(vals[c], &tz) ||
+    if ((c = find_alias(keys, nk, SAM_LATITUDE)) < 0 || !number(vals[c], &w->latitude_deg) ||
+        (c = find_alias(keys, nk, SAM_LONGITUDE)) < 0 || !number(vals[c], &w->longitude_deg) ||
+        (c = find_alias(keys, nk, SAM_ZONE)) < 0 || !number(vals[c], &tz) ||
         fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180 || fabs(tz) > 14)
-        return fail_at(r, 1, "the PSM metadata needs Latitude, Longitude and Time Zone");
-    if ((c = find_column(keys, nk, "Elevation")) >= 0)
+        return fail_at(r, 1, "the PSM/SAM metadata needs Latitude, Longitude and Time Zone");
+    if ((c = find_alias(keys, nk, SAM_ELEVATION)) >= 0)
         number(vals[c], &w->elevation_m);
+    c = find_column(keys, nk, "Source");
+    if (c < 0 || strcasecmp(vals[c], "NSRDB") != 0)
+        w->format_name = "SAM CSV";
     w->has_site = 1;
     tz = stamps_zone(r, tz);
     snprintf(w->stamps, sizeof w->stamps,
-             "NSRDB PSM: instantaneous values at the stamp, UTC%+g; the sun is taken at the "
-             "stamp",
-             tz);
+             "%s: instantaneous values at the stamp, UTC%+g; the sun is taken at the stamp",
+             w->format_name, tz);
     int n_names = split_csv(r->lines[2], names);
     while (n_names > 0 && !names[n_names - 1][0])
         --n_names; /* spreadsheets leave empty columns */
-    const char *wanted[10] = {"Year", "Month", "Day", "Hour", "Minute", "GHI", "DNI", "DHI",
-                              "Temperature", "Wind Speed"};
+    /* The NSRDB's names, then SAM's short ones. */
+    static const char *const wanted[12][4] = {
+        {"Year", NULL},           {"Month", NULL},     {"Day", NULL},
+        {"Hour", NULL},           {"Minute", NULL},    {"GHI", NULL},
+        {"DNI", NULL},            {"DHI", NULL},       {"Temperature", "Tdry", NULL},
+        {"Wind Speed", "Wspd", NULL}, {"Surface Albedo", "Albedo", "Alb", NULL},
+        {"Pressure", "Pres", NULL}};
     int cols[12];
-    for (int k = 0; k < 10; ++k)
-        if ((cols[k] = find_column(names, n_names, wanted[k])) < 0 && k < 8)
-            return fail_at(r, 2, "the PSM columns lack Year, Month, Day, Hour, Minute, GHI, DNI "
-                                 "or DHI");
-    cols[10] = find_column(names, n_names, "Surface Albedo");
-    cols[11] = find_column(names, n_names, "Pressure");
+    for (int k = 0; k < 12; ++k)
+        if ((cols[k] = find_alias(names, n_names, wanted[k])) < 0 && k < 6)
+            return fail_at(r, 2, "the PSM/SAM columns lack Year, Month, Day, Hour, Minute or "
+                                 "GHI");
     size_t cap = 0;
     for (int i = 3; i < r->n_lines; ++i) {
         if (!r->lines[i][0])
@@ -768,7 +1004,7 @@ static ss_status read_psm(reader *r)
                                                (int)v[4], 0) -
                             tz * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s;
-        set_values(w, rec, &(raw_values){v[5], v[6], v[7], v[8], v[9], v[10], v[11]}, -9999);
+        set_values(rec, &(raw_values){v[5], v[6], v[7], v[8], v[9], v[10], v[11]}, -9999);
     }
     return SS_OK;
 }
@@ -880,7 +1116,7 @@ static ss_status read_umep(reader *r)
             ss_unix_from_civil(year, 1, doy, hour, minute, 0) - r->zone_h * 3600.0;
         rec->sun_unix_s = rec->stamp_unix_s; /* moved to the interval's middle once its length is known */
         /* -999 marks missing; pressure in kPa. */
-        set_values(w, rec,
+        set_values(rec,
                    &(raw_values){v[0], v[2], v[1], v[3] == -999 ? NAN : v[3],
                                  v[4] == -999 ? NAN : v[4], NAN, v[5] * 10.0},
                    -999);
@@ -905,7 +1141,7 @@ static ss_status not_a_weather_file(reader *r, char *first, int cut, int n_names
                                      : "'dni' without 'dhi'";
     return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                         "'%s' is not a weather file skysweep reads: its first line '%s%s' is "
-                        "none of EPW's, TMY3's, PVGIS's or NSRDB PSM's, and as a CSV header "
+                        "none of EPW's, TMY3's, TMY2's, PVGIS's or NSRDB PSM/SAM CSV's, and as a CSV header "
                         "it has %s (time, ghi, and dhi or dhi and dni; comma or semicolon "
                         "separated)",
                         r->path, first, cut ? "..." : "", lack);
@@ -960,15 +1196,44 @@ static ss_status read_plain_csv(reader *r)
         if (!rec)
             return ss_ctx_error(r->ctx, SS_ERR_MEMORY, "out of memory reading '%s'", r->path);
         rec->stamp_unix_s = rec->sun_unix_s = t;
-        set_values(w, rec, &(raw_values){v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, NAN);
+        set_values(rec, &(raw_values){v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, NAN);
     }
     return SS_OK;
 }
 
+/* What the file gives, from its values: a DNI (or DHI) column absent or
+ * missing throughout leaves GHI and DHI (or GHI alone) for the models to
+ * complete at each record's sun, as a plain CSV without those columns.
+ * Without DHI a DNI is not used: the models complete from GHI and DHI, or
+ * from GHI alone. Then counts the records lacking a value the file gives. */
+static void settle_components(ss_weather *w)
+{
+    int any_dni = 0, any_dhi = 0;
+    for (size_t i = 0; i < w->n; ++i) {
+        any_dni |= !isnan(w->records[i].dni);
+        any_dhi |= !isnan(w->records[i].dhi);
+    }
+    ss_weather_components found = !any_dhi   ? SS_WEATHER_GHI
+                                  : !any_dni ? SS_WEATHER_GHI_DHI
+                                             : SS_WEATHER_GHI_DNI_DHI;
+    if (found > w->components)
+        w->components = found;
+    w->missing = 0;
+    for (size_t i = 0; i < w->n; ++i) {
+        ss_weather_record *rec = &w->records[i];
+        if (w->components != SS_WEATHER_GHI_DNI_DHI)
+            rec->dni = NAN;
+        if (w->components == SS_WEATHER_GHI)
+            rec->dhi = NAN;
+        w->missing += isnan(rec->ghi) || (w->components == SS_WEATHER_GHI_DNI_DHI && isnan(rec->dni)) ||
+                      (w->components != SS_WEATHER_GHI && isnan(rec->dhi));
+    }
+}
+
 /* Instantaneous values stand for the spacing of their stamps: the smallest
  * positive gap (a gap can span missing records). Stamps must increase; in a
- * PSM file they may go back where the month changes, as a typical year
- * stitches months of different years. */
+ * PSM file they may go back where the month (in the file's zone) changes,
+ * as a typical year stitches months of different years. */
 static ss_status set_durations(reader *r)
 {
     ss_weather *w = r->w;
@@ -978,9 +1243,12 @@ static ss_status set_durations(reader *r)
         if (d > 0 && (step == 0 || d < step))
             step = d;
         if (d <= 0) {
+            /* The months the file names: in its zone (a US typical year's
+             * 31 January 23:30 at UTC-7 is 1 February in UTC). */
             ss_civil_time a, b;
-            ss_civil_from_unix(w->records[i - 1].stamp_unix_s, &a);
-            ss_civil_from_unix(w->records[i].stamp_unix_s, &b);
+            double zone_s = w->utc_offset_h * 3600.0;
+            ss_civil_from_unix(w->records[i - 1].stamp_unix_s + zone_s, &a);
+            ss_civil_from_unix(w->records[i].stamp_unix_s + zone_s, &b);
             if (w->format != SS_WEATHER_PSM || a.month == b.month)
                 return ss_ctx_error(r->ctx, SS_ERR_INPUT,
                                "'%s': the records' times do not increase (record %zu)", r->path,
@@ -994,6 +1262,33 @@ static ss_status set_durations(reader *r)
                        r->path, step / 3600.0);
     for (size_t i = 0; i < w->n; ++i)
         w->records[i].duration_h = step > 0 ? step / 3600.0 : 1.0;
+    return SS_OK;
+}
+
+/* Records absent from the file: where consecutive stamps of one year (in
+ * the file's zone) lie further apart than a record's duration. A typical
+ * year's stitches change the year, and are not gaps; a plain CSV lists the
+ * instants its user chose, and has none. Refuses a file most of whose
+ * records are absent or lack a value: too few to sum a period. */
+static ss_status count_gaps(reader *r)
+{
+    ss_weather *w = r->w;
+    double zone_s = w->utc_offset_h * 3600.0;
+    for (size_t i = 1; i < w->n && w->format != SS_WEATHER_CSV; ++i) {
+        const ss_weather_record *a = &w->records[i - 1], *b = &w->records[i];
+        double step_s = a->duration_h * 3600.0, d = b->stamp_unix_s - a->stamp_unix_s;
+        ss_civil_time ca, cb;
+        ss_civil_from_unix(a->stamp_unix_s + zone_s, &ca);
+        ss_civil_from_unix(b->stamp_unix_s + zone_s, &cb);
+        if (ca.year == cb.year && d > 1.5 * step_s)
+            w->gaps += (size_t)(d / step_s + 0.5) - 1;
+    }
+    size_t expected = w->n + w->gaps, lacking = w->missing + w->gaps;
+    if (2 * lacking > expected)
+        return ss_ctx_error(r->ctx, SS_ERR_INPUT,
+                            "'%s' (%s) is mostly gaps: %zu of its %zu records are absent (%zu) "
+                            "or lack an irradiance value (%zu), more than half",
+                            r->path, w->format_name, lacking, expected, w->gaps, w->missing);
     return SS_OK;
 }
 
@@ -1020,7 +1315,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
     const char *second = r.n_lines > 1 ? r.lines[1] : "";
     while (st == SS_OK && isspace((unsigned char)*first))
         ++first;
-    static const char *const names[] = {"EPW",       "TMY3",          "PVGIS TMY CSV",
+    static const char *const names[] = {"EPW",       "TMY3",          "TMY2",     "PVGIS TMY CSV",
                                         "PVGIS TMY JSON", "NSRDB PSM", "UMEP/SUEWS met",
                                         "CSV"};
     if (st != SS_OK)
@@ -1033,7 +1328,9 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         w->format = SS_WEATHER_PVGIS_CSV;
     else if (tmy3_header(second))
         w->format = SS_WEATHER_TMY3;
-    else if (strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone"))
+    else if (tmy2_file(first, second))
+        w->format = SS_WEATHER_TMY2;
+    else if ((strncmp(first, "Source,", 7) == 0 && strstr(first, "Time Zone")) || sam_csv(&r))
         w->format = SS_WEATHER_PSM;
     else if (umep_header(first))
         w->format = SS_WEATHER_UMEP;
@@ -1046,7 +1343,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
          w->format == SS_WEATHER_CSV))
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--weather-zone applies to files whose stamps are local time (EPW, "
-                          "TMY3, NSRDB PSM, UMEP/SUEWS), not to '%s' (%s), whose %s",
+                          "TMY3, TMY2, NSRDB PSM, UMEP/SUEWS), not to '%s' (%s), whose %s",
                           path, names[w->format],
                           w->format == SS_WEATHER_CSV ? "times carry their zone"
                                                       : "stamps are UTC");
@@ -1055,6 +1352,7 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         switch (w->format) {
         case SS_WEATHER_EPW: st = read_epw(&r); break;
         case SS_WEATHER_TMY3: st = read_tmy3(&r); break;
+        case SS_WEATHER_TMY2: st = read_tmy2(&r); break;
         case SS_WEATHER_PVGIS_CSV: st = read_pvgis_csv(&r); break;
         case SS_WEATHER_PVGIS_JSON: st = read_pvgis_json(&r); break;
         case SS_WEATHER_PSM: st = read_psm(&r); break;
@@ -1062,6 +1360,8 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
         case SS_WEATHER_CSV: st = read_plain_csv(&r); break;
         }
     }
+    if (st == SS_OK)
+        settle_components(w);
     if (st == SS_OK && w->n == 0)
         st = ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' (%s) holds no records", path, w->format_name);
     else if (st == SS_OK && w->missing == w->n)
@@ -1071,6 +1371,8 @@ ss_status ss_weather_read(ss_ctx *ctx, const char *path, double zone_h, ss_weath
     if (st == SS_OK && (w->format == SS_WEATHER_PSM || w->format == SS_WEATHER_CSV ||
                         w->format == SS_WEATHER_UMEP))
         st = set_durations(&r);
+    if (st == SS_OK)
+        st = count_gaps(&r);
     for (size_t i = 0; st == SS_OK && w->format == SS_WEATHER_UMEP && i < w->n; ++i)
         w->records[i].sun_unix_s -= 1800.0 * w->records[i].duration_h; /* the middle */
     free(r.lines);

@@ -549,16 +549,26 @@ static void print_summary(insolation_run *r)
     sweep_job *job = &r->job;
     ss_counters c = ss_ctx_counters(job->run.ctx);
     run_print_dem(&job->run, &job->dem, &job->frame);
-    if (r->have_weather)
+    if (r->have_weather) {
+        unsigned long long dropped = c.records_missing + c.records_light_at_night +
+                                     c.records_dni_above_extraterrestrial;
         printf("weather %s\n        %llu records missing, %llu split from GHI alone "
                "(Erbs), %llu with DNI from GHI and DHI (closure), %llu with beam on the "
                "horizontal above the global (used as given), %llu with light while the sun "
-               "is down (not used)\n",
+               "is down (not used), %llu with DNI above the extraterrestrial (not used)\n",
                r->weather_note, (unsigned long long)c.records_missing,
                (unsigned long long)c.records_split,
                (unsigned long long)c.records_dni_from_closure,
                (unsigned long long)c.records_beam_above_global,
-               (unsigned long long)c.records_light_at_night);
+               (unsigned long long)c.records_light_at_night,
+               (unsigned long long)c.records_dni_above_extraterrestrial);
+        printf("        records used %llu (daylight), filled %llu (by the models), dropped "
+               "%llu (missing, light at night, DNI above the extraterrestrial); %zu absent "
+               "from the file's spacing\n",
+               (unsigned long long)c.time_steps,
+               (unsigned long long)(c.records_split + c.records_dni_from_closure), dropped,
+               r->weather.gaps);
+    }
     command_print_job_sweep(job, &r->bands);
     printf("steps   %d: %llu in daylight, %llu at night skipped, %llu shadow sweeps skipped "
            "(sun above every horizon)",

@@ -39,7 +39,7 @@ static void value(double v)
 static const char weather_usage[] =
     "skysweep weather [--at LON,LAT] [--weather-zone +HH:MM] FILE";
 static const char weather_summary[] =
-    "The records of a weather file (EPW, TMY3, PVGIS TMY CSV or JSON, NSRDB PSM, UMEP/SUEWS\n"
+    "The records of a weather file (EPW, TMY3, TMY2, PVGIS TMY CSV or JSON, NSRDB PSM, UMEP/SUEWS\n"
     "met, or a CSV with time, ghi, dhi, dni) as skysweep reads them: '#' lines give the format, the site,\n"
     "what the stamps mean and which irradiance the file gives; each row gives the stamp\n"
     "(UTC), the instant the values stand for (where the sun is taken), the hours it covers\n"
@@ -135,7 +135,10 @@ int cmd_weather(int argc, char **argv)
         printf("# site %.6f, %.6f (lon, lat), %.1f m\n", w.longitude_deg, w.latitude_deg,
                w.elevation_m);
     printf("# stamps %s\n", w.stamps);
-    printf("# records %zu, %zu with an irradiance value missing\n", w.n, w.missing);
+    printf("# records %zu, %zu with an irradiance value missing", w.n, w.missing);
+    if (w.flagged)
+        printf(" (%zu of them flagged missing by the file)", w.flagged);
+    printf(", %zu absent from the file's spacing\n", w.gaps);
     printf("# irradiance %s\n", ss_weather_components_text(w.components));
     /* The file's own site first: --at is for files that name none. */
     double lon = w.has_site ? w.longitude_deg : at_lon, lat = w.has_site ? w.latitude_deg : at_lat;

@@ -99,13 +99,21 @@ int ss_insolation_sky_record(ss_ctx *ctx, const ss_sun_step *sun,
     rec->dni_extra = (float)sun->extraterrestrial_w_m2;
     rec->albedo = (float)(isfinite(sun->albedo) ? sun->albedo : io->albedo);
     *light = 0;
-    switch (ss_irradiance_complete(ghi, &dni, &dhi, 90.0 - sun->elevation_deg, sun->unix_s)) {
+    ss_irradiance_source source =
+        ss_irradiance_complete(ghi, &dni, &dhi, 90.0 - sun->elevation_deg, sun->unix_s);
+    switch (source) {
     case SS_IRRADIANCE_ERBS: ctx->counters.records_split += count; break;
     case SS_IRRADIANCE_CLOSURE: ctx->counters.records_dni_from_closure += count; break;
     case SS_IRRADIANCE_AS_GIVEN: break;
     }
     if (!isfinite(ghi) || !isfinite(dni) || !isfinite(dhi)) {
         ctx->counters.records_missing += count;
+        return 0;
+    }
+    /* A file's beam above the sun's own (1 W/m^2 spared for rounding) is
+     * corrupt, not weather. The models' DNI is theirs, as pvlib's. */
+    if (source == SS_IRRADIANCE_AS_GIVEN && dni > sun->extraterrestrial_w_m2 + 1.0) {
+        ctx->counters.records_dni_above_extraterrestrial += count;
         return 0;
     }
     rec->ghi = (float)ghi;

