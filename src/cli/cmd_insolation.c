@@ -393,11 +393,10 @@ static ss_status prepare(insolation_run *r)
         st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
                           "--shadow cumulative needs --weather: it bins weather records' suns");
     double zone_h = NAN;
-    if (st == SS_OK && set->weather_zone && !opt_parse_zone(set->weather_zone, &zone_h))
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                          "--weather-zone expects a UTC offset such as +01:00 or -05:00 (at "
-                          "most 14 h), not '%s'",
-                          set->weather_zone);
+    char zone_err[160];
+    if (st == SS_OK && set->weather_zone &&
+        !opt_parse_zone(set->weather_zone, &zone_h, zone_err, sizeof zone_err))
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT, "%s", zone_err);
     if (st == SS_OK && set->weather) {
         st = ss_weather_read(ctx, set->weather, zone_h, &r->weather);
         r->have_weather = st == SS_OK;

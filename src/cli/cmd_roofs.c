@@ -856,11 +856,10 @@ int cmd_roofs(int argc, char **argv)
     set->ins.pv = 1;
     ss_status st = check_files(r);
     double zone_h = NAN;
-    if (st == SS_OK && set->weather_zone && !opt_parse_zone(set->weather_zone, &zone_h))
-        st = ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
-                          "--weather-zone expects a UTC offset such as +01:00 or -05:00 (at "
-                          "most 14 h), not '%s'",
-                          set->weather_zone);
+    char zone_err[160];
+    if (st == SS_OK && set->weather_zone &&
+        !opt_parse_zone(set->weather_zone, &zone_h, zone_err, sizeof zone_err))
+        st = ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT, "%s", zone_err);
     if (st == SS_OK)
         st = ss_weather_read(job->run.ctx, set->weather, zone_h, &r->weather);
     if (st == SS_OK)

@@ -115,9 +115,9 @@ int cmd_weather(int argc, char **argv)
         return run_usage_error("weather", "--at expects LON,LAT in degrees (longitude "
                                           "-180..180, latitude -90..90)");
     double zone_h = NAN;
-    if (set.zone && !opt_parse_zone(set.zone, &zone_h))
-        return run_usage_error("weather", "--weather-zone expects a UTC offset such as +01:00 "
-                                          "or -05:00 (at most 14 h)");
+    char zone_err[160];
+    if (set.zone && !opt_parse_zone(set.zone, &zone_h, zone_err, sizeof zone_err))
+        return run_usage_error("weather", zone_err);
     ss_ctx *ctx = ss_ctx_new();
     if (!ctx) {
         fprintf(stderr, "skysweep weather: out of memory\n");

@@ -282,7 +282,7 @@ int opt_parse_site(const char *text, double *lon_deg, double *lat_deg)
     return end != lat && *end == '\0';
 }
 
-int opt_parse_zone(const char *text, double *hours)
+int opt_parse_zone(const char *text, double *hours, char *err, size_t err_size)
 {
     if (strcmp(text, "Z") == 0) {
         *hours = 0.0;
@@ -295,8 +295,13 @@ int opt_parse_zone(const char *text, double *hours)
           sscanf(text + 1, "%2d%2d%n", &h, &m, &len) == 2 ||
           (m = 0, sscanf(text + 1, "%2d%n", &h, &len) == 1)) ||
         text[1 + len] != '\0' || !isdigit((unsigned char)text[1]) || m < 0 || m > 59 ||
-        h * 60 + m > 14 * 60)
+        h * 60 + m > 14 * 60) {
+        snprintf(err, err_size,
+                 "--weather-zone expects a UTC offset such as +01:00 or -05:00 (at most 14 h), "
+                 "not '%s'",
+                 text);
         return 0;
+    }
     *hours = (sign == '-' ? -1 : 1) * (h + m / 60.0);
     return 1;
 }

@@ -93,7 +93,8 @@ void opt_print_markdown(const opt_spec *const *tables, const char *command, cons
 int opt_parse_site(const char *text, double *lon_deg, double *lat_deg);
 
 /* A UTC offset, "+01:00", "-05:00", "+0530", "+01" or "Z", as hours east of
- * UTC (--weather-zone); 0 if it is none, or beyond +-14:00. */
-int opt_parse_zone(const char *text, double *hours);
+ * UTC (--weather-zone); 0, with the one line that says so in err, if it is
+ * none, or beyond +-14:00. */
+int opt_parse_zone(const char *text, double *hours, char *err, size_t err_size);
 
 #endif
