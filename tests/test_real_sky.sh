@@ -269,4 +269,92 @@ tap_ok $? "a surface without a tilt is refused: exit $rc"
 rc=$?
 [ "$rc" -eq 2 ] && grep -q -- "--surface expects" err.txt && [ ! -e o.tif ]
 tap_ok $? "a tilt beyond 90 degrees is refused: exit $rc, $(cat err.txt)"
+# Multi-year files (--years): the PVGIS year's records as a plain CSV of
+# 2018 and again of 2019. With --years each, each year's block of bands
+# equals a run over that year alone, and the two years agree (the sun moves
+# a little from one year to the next); --years mean is their mean, the
+# default their total; a typical year is never split; leap days are kept;
+# the mean year is refused over partial years.
+plain_years() { # YEAR... > CSV: the PVGIS records stamped in each year, 29 February from the 28th
+    awk -F, -v years="$*" 'BEGIN { n = split(years, Y, " ") }
+        /^[0-9][0-9][0-9][0-9][0-9][0-9][0-9][0-9]:[0-9][0-9][0-9][0-9],/ {
+            md = substr($1, 5, 2) "-" substr($1, 7, 2)
+            for (y = 1; y <= n; y++) {
+                leap = Y[y] % 4 == 0 && (Y[y] % 100 != 0 || Y[y] % 400 == 0)
+                for (d = 1; d <= 1 + (leap && md == "02-28"); d++)
+                    rows[y] = rows[y] sprintf("%s-%s-%sT%s:%sZ,%s,%s,%s,%s,%s\n", Y[y],
+                        substr($1, 5, 2), d == 1 ? substr($1, 7, 2) : "29", substr($1, 10, 2),
+                        substr($1, 12, 2), $4, $5, $6, $2, $8) } }
+        END { for (y = 1; y <= n; y++) printf "%s", rows[y] }' "$pvgis" >years.body
+    echo "time,ghi,dni,dhi,temp_air,wind_speed"
+    sort years.body # 29 February in its place
+}
+plain_years 2018 2019 >two_years.csv
+plain_years 2018 >y2018.csv
+plain_years 2019 >y2019.csv
+plain_years 2019 2020 >leap_years.csv
+plain_years 2020 >y2020.csv
+years_run() { # WEATHER OUT [OPTIONS...]
+    local weather=$1 out=$2
+    shift 2
+    "$SKYSWEEP" insolation --device reference --directions 8 --weather "$weather" "$@" level.tif \
+        "$out" >"$out.txt" 2>err.txt
+}
+values() { # FILE FIRST_BAND COUNT: the centre cell's values
+    for b in $(seq "$2" $(($2 + $3 - 1))); do gdallocationinfo -valonly -b "$b" "$1" 30 30; done | tr '\n' ' '
+}
+years_run y2018.csv y2018.tif && years_run y2019.csv y2019.tif && years_run two_years.csv each.tif --years each
+rc=$?
+[ "$rc" -eq 0 ] && [ "$(values each.tif 1 17)" = "$(values y2018.tif 1 17)" ] &&
+    [ "$(values each.tif 18 17)" = "$(values y2019.tif 1 17)" ] &&
+    [ "$(gdalinfo each.tif | grep -c 'Description = ')" -eq 34 ] &&
+    awk -v a="$(values each.tif 1 17)" -v b="$(values each.tif 18 17)" 'BEGIN {
+        n = split(a, x, " "); split(b, y, " "); ok = n == 17
+        for (i = 1; i <= n; i++) ok = ok && (x[i] - y[i]) ^ 2 <= (5e-3 * x[i]) ^ 2
+        exit !ok }'
+tap_ok $? "--years each: each year's 17 bands equal its own run's, and 2018's equal 2019's within 0.5 %: exit $rc, $(values each.tif 1 1)/ $(values each.tif 18 1)kWh/m2 $(head -c 300 err.txt)"
+gdalinfo each.tif | grep -q "Description = global, 2019$" &&
+    gdalinfo each.tif | grep -q "Description = global, March 2018$" &&
+    gdalinfo each.tif | grep -q "Description = sun_hours, 2019$"
+tap_ok $? "each year's bands are named by the year: $(gdalinfo each.tif | grep 'Description = ' | sed -n '1p;23p' | tr -s ' ' | tr '\n' '|')"
+grep -q "^years   2 calendar years, 2018 to 2019: each year's bands in turn$" each.tif.txt &&
+    grep -q "^global  2019 min" each.tif.txt
+tap_ok $? "the summary says how many years: $(grep '^years' each.tif.txt)"
+years_run two_years.csv mean.tif --years mean && years_run two_years.csv total.tif
+rc=$?
+[ "$rc" -eq 0 ] && awk -v m="$(values mean.tif 1 17)" -v t="$(values total.tif 1 17)" \
+    -v a="$(values y2018.tif 1 17)" -v b="$(values y2019.tif 1 17)" 'BEGIN {
+        n = split(m, x, " "); split(t, y, " "); split(a, p, " "); split(b, q, " "); ok = n == 17
+        for (i = 1; i <= n; i++) ok = ok && (x[i] - (p[i] + q[i]) / 2) ^ 2 <= (1e-5 * x[i]) ^ 2 &&
+            (x[i] - p[i]) ^ 2 <= (5e-3 * x[i]) ^ 2 && (y[i] - 2 * x[i]) ^ 2 <= (1e-5 * y[i]) ^ 2
+        exit !ok }' && gdalinfo mean.tif | grep -q "Description = global, mean year of 2018-2019" &&
+    grep -q "their mean year" mean.tif.txt && grep -q "summed (--years mean" total.tif.txt
+tap_ok $? "--years mean is the two years' mean (within 0.5 % of one year), the default their total: $(values mean.tif 1 1)/ $(values total.tif 1 1)kWh/m2, exit $rc"
+years_run "$pvgis" tmy_each.tif --years each && years_run "$pvgis" tmy_total.tif
+rc=$?
+[ "$rc" -eq 0 ] && [ "$(values tmy_each.tif 1 17)" = "$(values tmy_total.tif 1 17)" ] &&
+    [ "$(gdalinfo tmy_each.tif | grep -c 'Description = ')" -eq 17 ] &&
+    gdalinfo tmy_each.tif | grep -q "Description = global, year$" &&
+    grep -q "^years   1, a typical year of months from 2006 to 2020, never split" tmy_each.tif.txt
+tap_ok $? "a typical year (months of 2006 to 2020) is one year, never split: exit $rc, $(grep '^years' tmy_each.tif.txt)"
+years_run leap_years.csv leap.tif --years each && years_run y2020.csv y2020.tif
+rc=$?
+[ "$rc" -eq 0 ] && [ "$(values leap.tif 18 17)" = "$(values y2020.tif 1 17)" ] &&
+    gdalinfo leap.tif | grep -q "Description = global, 2020$" &&
+    awk -v f19="$(values leap.tif 7 1)" -v f20="$(values leap.tif 24 1)" \
+        'BEGIN { exit !(f20 > f19 * 1.02) }'
+tap_ok $? "a leap year keeps its 29 February: 2020 whole (8784 h), its February $(values leap.tif 24 1)against 2019's $(values leap.tif 7 1)kWh/m2, exit $rc"
+years_run two_years.csv part.tif --years mean --time 2018-06-01T00:00Z/2019-06-01T00:00Z
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e part.tif ] &&
+    grep -q "needs whole calendar years: the records of 2018 span 5136 of its 8760 hours" err.txt
+tap_ok $? "the mean year over partial years is refused: exit $rc, $(cat err.txt)"
+years_run two_years.csv part.tif --years each --time 2018-06-01T00:00Z/2019-06-01T00:00Z
+rc=$?
+[ "$rc" -eq 0 ] && gdalinfo part.tif | grep -q "Description = global, 2019 (3624 of 8760 h)"
+tap_ok $? "--years each names a partial year's hours: exit $rc, $(gdalinfo part.tif | grep 'Description = global, 2019 ' | tr -s ' ')"
+"$SKYSWEEP" insolation --time 2018-06-01T00:00Z/P1D --years mean level.tif o.tif >/dev/null 2>err.txt
+rc=$?
+[ "$rc" -eq 2 ] && [ ! -e o.tif ] && grep -q -- "--years is for --weather" err.txt
+tap_ok $? "--years without --weather is refused: exit $rc, $(cat err.txt)"
 tap_done

@@ -25,12 +25,6 @@ from .cli import ALGORITHMS
 NOT_PARAMETERS = {"q", "of", "scene", "plan", "plan-format", "heightmap", "z-scale", "overlap"}
 #: horizon's site profiles print tables, not rasters: the CLI's --point mode.
 NOT_PARAMETERS_OF = {"horizon": {"point", "points", "point-crs", "format", "step", "height"}}
-#: Options shown under "Advanced parameters".
-ADVANCED = {"device", "co", "cell-size", "z-units", "curvature", "refraction", "earth-radius",
-            "horizon-tolerance", "svf-tolerance", "sun-tolerance", "projwin", "memory",
-            "lines", "offset", "north", "delta-t", "pressure", "temperature", "sun-per-cell",
-            "elevation-step", "solar-constant", "insolation-tolerance", "inverter-efficiency",
-            "dc-ac-ratio"}
 
 
 def parameter_name(option):
@@ -41,6 +35,13 @@ def is_output_file(entry):
     """A file option that the command writes, as its option table declares
     (`"output": true` in --help-json)."""
     return entry.get("output", False)
+
+
+def is_advanced(entry):
+    """An option the CLI groups with the advanced ones (`"group": "advanced"`
+    in --help-json; its --help lists them last): shown under "Advanced
+    parameters"."""
+    return entry.get("group") == "advanced"
 
 
 def parameters_of(table):
@@ -134,7 +135,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
         for entry in parameters_of(self.table):
             parameter = self._parameter(entry)
             parameter.setHelp(entry["help"])
-            if entry["name"] in ADVANCED:
+            if is_advanced(entry):
                 parameter.setFlags(parameter.flags()
                                    | QgsProcessingParameterDefinition.FlagAdvanced)
             self.addParameter(parameter)

@@ -27,7 +27,11 @@ typedef struct {
     const char *weather;
     int weather_far_ok;
     const char *weather_zone;
+    int years; /* YEARS_TOTAL, YEARS_MEAN, YEARS_EACH */
 } insolation_settings;
+
+/* What a weather run gives over several calendar years (--years). */
+enum { YEARS_TOTAL, YEARS_MEAN, YEARS_EACH };
 
 #define SET(field) offsetof(insolation_settings, field)
 static const opt_spec file_options[] = {
@@ -43,6 +47,10 @@ static const opt_spec file_options[] = {
     {"weather-zone", OPT_STRING, SET(weather_zone), "+HH:MM", NULL, 0, 0, NULL,
      "with --weather: the zone the file's local stamps are in, over the one it states (EPW, "
      "TMY3, NSRDB PSM); needed for a UMEP/SUEWS met file, which states none"},
+    {"years", OPT_CHOICE, SET(years), NULL, "total", 0, 0, "total|mean|each",
+     "with --weather over several calendar years: total sums them all; mean gives the mean "
+     "year (whole years only); each gives every year's bands in turn, named by the year. A "
+     "typical year (months of different years) is one year (doc/weather.md)"},
     OPT_END};
 
 /* The run's time steps: each one's instant (where the sun is taken) and
@@ -54,6 +62,7 @@ typedef struct {
     double *mid_s, *hours;
     const ss_weather_record **record; /* NULL: clear sky */
     int *month;                       /* 1..12 in the weather file's zone */
+    int *year;                        /* the calendar year, in the same zone */
     double linke[12];
     ss_sun_field field;
     ss_sun_lattice lattice; /* a view of field's, per step */
@@ -133,8 +142,10 @@ static ss_status steps_alloc(steps_state *ss, int n, int weather)
     if (weather) {
         ss->record = malloc(sizeof *ss->record * (size_t)n);
         ss->month = malloc(sizeof(int) * (size_t)n);
+        ss->year = malloc(sizeof(int) * (size_t)n);
     }
-    int ok = ss->mid_s && ss->hours && ss->labels && (!weather || (ss->record && ss->month));
+    int ok = ss->mid_s && ss->hours && ss->labels &&
+             (!weather || (ss->record && ss->month && ss->year));
     for (int k = 0; ok && k < n; ++k)
         ok = (ss->labels[k] = malloc(40)) != NULL;
     return ok ? SS_OK : command_out_of_memory(&ss->job->run);
@@ -151,6 +162,7 @@ static void steps_free(steps_state *ss)
     free(ss->hours);
     free(ss->record);
     free(ss->month);
+    free(ss->year);
 }
 
 /* Clear sky: the steps of a time range, each evaluated at its middle. */
@@ -189,10 +201,92 @@ static ss_status steps_from_weather(steps_state *ss, const ss_weather *w,
         ss_civil_time local;
         ss_civil_from_unix(rec->sun_unix_s + w->utc_offset_h * 3600.0, &local);
         ss->month[k] = local.month;
+        ss->year[k] = (int)local.year;
         ss_format_instant(rec->stamp_unix_s, ss->labels[k], 40);
         k++;
     }
     return st;
+}
+
+/* The calendar years of a weather run's steps (in the file's zone), each a
+ * run of consecutive steps. A typical year, whose months come from
+ * different years, is one year. */
+typedef struct {
+    int typical;    /* months of different years stitched: one year, never split */
+    int n;          /* calendar years; 1 for a typical year */
+    int first_year, last_year;
+    int *year, *first, *count; /* each year's number and its steps */
+    double *hours, *year_hours; /* the hours its steps span; the hours it has */
+    int *whole;                 /* its steps span it, to within a record at each end */
+} weather_years;
+
+/* A typical year changes year where the month moves on (or back to an
+ * earlier year); calendar years change only where the months start over. */
+static int steps_stitched(const steps_state *ss)
+{
+    for (int k = 1; k < ss->n; ++k)
+        if (ss->year[k] != ss->year[k - 1] &&
+            (ss->year[k] < ss->year[k - 1] || ss->month[k] >= ss->month[k - 1]))
+            return 1;
+    return 0;
+}
+
+/* Year j's steps: how many hours they span and whether they span the
+ * year, its start and end taken in the file's zone. */
+static void year_extent(weather_years *y, int j, const steps_state *ss, double zone_h)
+{
+    int f = y->first[j], l = f + y->count[j] - 1;
+    double start = ss_unix_from_civil(y->year[j], 1, 1, 0, 0, 0) - zone_h * 3600.0;
+    double end = ss_unix_from_civil(y->year[j] + 1LL, 1, 1, 0, 0, 0) - zone_h * 3600.0;
+    y->hours[j] = (ss->mid_s[l] - ss->mid_s[f]) / 3600.0 + ss->hours[l];
+    y->year_hours[j] = (end - start) / 3600.0;
+    y->whole[j] = y->typical || (ss->mid_s[f] - start <= ss->hours[f] * 3600.0 + 1.0 &&
+                                 end - ss->mid_s[l] <= ss->hours[l] * 3600.0 + 1.0);
+}
+
+static ss_status years_of_steps(ss_ctx *ctx, const steps_state *ss, double zone_h,
+                                weather_years *y)
+{
+    y->typical = steps_stitched(ss);
+    y->n = 1;
+    y->first_year = y->last_year = ss->year[0];
+    for (int k = 1; k < ss->n; ++k) {
+        y->n += !y->typical && ss->year[k] != ss->year[k - 1];
+        y->first_year = ss->year[k] < y->first_year ? ss->year[k] : y->first_year;
+        y->last_year = ss->year[k] > y->last_year ? ss->year[k] : y->last_year;
+    }
+    size_t n = (size_t)y->n;
+    y->year = malloc(sizeof(int) * n);
+    y->first = malloc(sizeof(int) * n);
+    y->count = malloc(sizeof(int) * n);
+    y->whole = malloc(sizeof(int) * n);
+    y->hours = malloc(sizeof(double) * n);
+    y->year_hours = malloc(sizeof(double) * n);
+    if (!y->year || !y->first || !y->count || !y->whole || !y->hours || !y->year_hours)
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for the weather's years");
+    int j = 0;
+    y->year[0] = ss->year[0];
+    y->first[0] = 0;
+    for (int k = 1; k < ss->n; ++k)
+        if (!y->typical && ss->year[k] != ss->year[k - 1]) {
+            y->count[j] = k - y->first[j];
+            y->year[++j] = ss->year[k];
+            y->first[j] = k;
+        }
+    y->count[j] = ss->n - y->first[j];
+    for (j = 0; j < y->n; ++j)
+        year_extent(y, j, ss, zone_h);
+    return SS_OK;
+}
+
+static void years_free(weather_years *y)
+{
+    free(y->year);
+    free(y->first);
+    free(y->count);
+    free(y->whole);
+    free(y->hours);
+    free(y->year_hours);
 }
 
 static const char *const band_names[5] = {"global", "beam", "diffuse", "reflected", "sun_hours"};
@@ -205,13 +299,16 @@ static const char *const month_names[12] = {"January", "February", "March",     
 
 
 /* Where the rows of the run go: rank 0's outputs (a weather run's sums in
- * kWh/m^2, the band numbers of write_weather_bands), each step's global,
- * and the statistics of the summary. */
+ * kWh/m^2, of the mean year where asked; with --years each, a block of
+ * bands per year), each step's global, and the statistics of the summary. */
 typedef struct {
     ss_raster_writer *w, *steps_w; /* NULL on other ranks */
     int width, weather;
-    run_tally global, pv, pv_ac;   /* Wh/m^2; kWh/kWp */
-    float *row;                    /* a band's rows in kWh/m^2 */
+    int years;              /* the sums are divided by it: the mean year's */
+    int block, block_bands; /* the year whose bands the rows go to, and bands per year */
+    int step0;              /* the first step of the year's run */
+    run_tally *tally;       /* per block: global (Wh/m^2), pv, pv_ac (kWh/kWp) */
+    float *row;             /* a band's rows in kWh/m^2 */
 } insolation_out;
 
 static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
@@ -220,12 +317,12 @@ static ss_status write_rows(void *user, int output, int index, int row0, int n_r
     insolation_out *o = user;
     size_t n = (size_t)n_rows * (size_t)o->width;
     if (output == SS_OUT_STEP)
-        return ss_writer_rows(o->steps_w, index + 1, row0, n_rows, values);
+        return ss_writer_rows(o->steps_w, o->step0 + index + 1, row0, n_rows, values);
     if (!o->w) /* another process's sums: rank 0 writes */
         return SS_OK;
-    run_tally *tally = output == SS_OUT_GLOBAL ? &o->global
-                       : output == SS_OUT_PV   ? &o->pv
-                       : output == SS_OUT_PV_AC ? &o->pv_ac
+    run_tally *tally = output == SS_OUT_GLOBAL  ? &o->tally[3 * o->block]
+                       : output == SS_OUT_PV    ? &o->tally[3 * o->block + 1]
+                       : output == SS_OUT_PV_AC ? &o->tally[3 * o->block + 2]
                                                 : NULL;
     if (tally)
         run_tally_add(tally, values, n);
@@ -234,14 +331,17 @@ static ss_status write_rows(void *user, int output, int index, int row0, int n_r
                : output == SS_OUT_PV_AC ? WEATHER_BANDS + 2
                                         : output + 1;
     /* A weather run's irradiation in kWh/m^2 (hours stay hours, the PV
-     * yields are kWh/kWp already). */
-    if (o->weather && output != SS_OUT_SUN_HOURS && output != SS_OUT_PV &&
-        output != SS_OUT_PV_AC) {
+     * yields are kWh/kWp already), and all of it of the mean year. */
+    float kilo = o->weather && output != SS_OUT_SUN_HOURS && output != SS_OUT_PV &&
+                         output != SS_OUT_PV_AC
+                     ? 1000.0f
+                     : 1.0f;
+    if (kilo != 1.0f || o->years > 1) {
         for (size_t c = 0; c < n; ++c)
-            o->row[c] = values[c] == SS_NODATA ? SS_NODATA : values[c] / 1000.0f;
+            o->row[c] = values[c] == SS_NODATA ? SS_NODATA : values[c] / kilo / (float)o->years;
         values = o->row;
     }
-    return ss_writer_rows(o->w, band, row0, n_rows, values);
+    return ss_writer_rows(o->w, o->block * o->block_bands + band, row0, n_rows, values);
 }
 
 
@@ -340,23 +440,25 @@ static void describe_weather(const ss_weather *w, const char *path, const ss_dem
                  ss_weather_components_text(w->components));
 }
 
-/* Names a run's bands: a weather run's in kWh/m^2 (hours stay hours, the PV
- * yields, DC then AC, are kWh/kWp) for the year where the steps cover one
- * (8700 to 8800 hours), else "period"; a clear-sky run's in Wh/m^2. */
-static void describe_bands(ss_raster_writer *w, int weather, int pv, double hours)
+/* Names a block of a run's bands from band first + 1: a weather run's in
+ * kWh/m^2 (hours stay hours, the PV yields, DC then AC, are kWh/kWp), the
+ * sums for `span` and the months' followed by `months`; a clear-sky run's in
+ * Wh/m^2. */
+static void describe_bands(ss_raster_writer *w, int first, int weather, int pv, const char *span,
+                           const char *months)
 {
-    const char *span = hours >= 8700 && hours <= 8800 ? "year" : "period";
-    char name[64];
+    char name[96];
     for (int b = 0; b < (weather ? WEATHER_BANDS : 5); ++b) {
-        if (weather)
-            snprintf(name, sizeof name, "%s, %s", b < 5 ? band_names[b] : "global",
-                     b < 5 ? span : month_names[b - 5]);
-        ss_writer_describe(w, b + 1, weather ? name : band_names[b],
+        if (weather && b < 5)
+            snprintf(name, sizeof name, "%s, %s", band_names[b], span);
+        else if (weather)
+            snprintf(name, sizeof name, "global, %s%s", month_names[b - 5], months);
+        ss_writer_describe(w, first + b + 1, weather ? name : band_names[b],
                            b == 4 ? "h" : weather ? "kWh/m2" : "Wh/m2");
     }
     for (int b = 0; b < 2 && pv; ++b) {
         snprintf(name, sizeof name, "%s, %s", b ? "pv_ac_yield" : "pv_yield", span);
-        ss_writer_describe(w, WEATHER_BANDS + 1 + b, name, "kWh/kWp");
+        ss_writer_describe(w, first + WEATHER_BANDS + 1 + b, name, "kWh/kWp");
     }
 }
 
@@ -368,12 +470,32 @@ typedef struct {
     steps_state steps;
     ss_weather weather;
     int have_weather;
+    weather_years years;
+    int blocks; /* blocks of bands: one per year with --years each, else 1 */
     char *text; /* --time as parsed (malloc'ed), for the metadata */
     char weather_note[1200], weather_what[300];
     ss_insolation_options io;
     insolation_out out;
     ss_band_stats bands;
 } insolation_run;
+
+/* The weather's calendar years, and the blocks of bands --years asks for;
+ * the mean year is refused over a year the steps do not span. */
+static ss_status prepare_years(insolation_run *r)
+{
+    ss_ctx *ctx = r->job.run.ctx;
+    weather_years *y = &r->years;
+    ss_status st = years_of_steps(ctx, &r->steps, r->weather.utc_offset_h, y);
+    for (int j = 0; st == SS_OK && r->set.years == YEARS_MEAN && j < y->n; ++j)
+        if (!y->whole[j])
+            st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                              "--years mean needs whole calendar years: the records of %d "
+                              "span %.0f of its %.0f hours; select whole years with --time, "
+                              "or use --years each",
+                              y->year[j], y->hours[j], y->year_hours[j]);
+    r->blocks = r->set.years == YEARS_EACH ? y->n : 1;
+    return st;
+}
 
 /* What the run needs before it is planned: the options, the weather and
  * the time steps. */
@@ -415,6 +537,9 @@ static ss_status prepare(insolation_run *r)
     }
     if (st == SS_OK)
         st = make_steps(&r->steps, set, r->have_weather ? &r->weather : NULL, &r->text);
+    r->blocks = 1;
+    if (st == SS_OK && r->have_weather)
+        st = prepare_years(r);
     if (st == SS_OK)
         st = ss_insolation_params_linke(ctx, &set->ins, r->steps.linke);
     if (st == SS_OK && set->ins.pv && !r->have_weather)
@@ -430,13 +555,17 @@ static ss_status open_outputs(insolation_run *r)
     ss_ctx *ctx = r->job.run.ctx;
     const insolation_settings *set = &r->set;
     sweep_job *job = &r->job;
-    r->out = (insolation_out){.width = job->dem.grid.width, .weather = r->have_weather};
+    r->out = (insolation_out){
+        .width = job->dem.grid.width,
+        .weather = r->have_weather,
+        .years = r->have_weather && set->years == YEARS_MEAN ? r->years.n : 1,
+        .block_bands = r->have_weather ? WEATHER_BANDS + 2 * (set->ins.pv != 0) : 5};
     size_t rows = (size_t)(job->source ? job->band_rows : job->dem.grid.height);
-    if (!(r->out.row = malloc(sizeof(float) * (size_t)job->dem.grid.width * rows)))
+    r->out.row = malloc(sizeof(float) * (size_t)job->dem.grid.width * rows);
+    r->out.tally = calloc(3 * (size_t)r->blocks, sizeof *r->out.tally);
+    if (!r->out.row || !r->out.tally)
         return command_out_of_memory(&job->run);
-    ss_status st = job_open_output(job, r->have_weather ? WEATHER_BANDS + 2 * (set->ins.pv != 0)
-                                                        : 5,
-                                   &set->common, &r->out.w);
+    ss_status st = job_open_output(job, r->blocks * r->out.block_bands, &set->common, &r->out.w);
     if (st == SS_OK && set->steps_path) {
         st = run_check_output(&job->run, set->steps_path);
         if (st == SS_OK)
@@ -448,19 +577,44 @@ static ss_status open_outputs(insolation_run *r)
     return st;
 }
 
+/* The steps of one of the library's runs: the run's from k0 on. */
+typedef struct {
+    steps_state *steps;
+    int k0;
+} steps_part;
+
+static ss_status sun_of_part_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_step *step,
+                                  void *user)
+{
+    steps_part *part = user;
+    return sun_of_step_rows(ctx, part->k0 + k, row0, n_rows, step, part->steps);
+}
+
+/* The library's run over all the steps, or with --years each over each
+ * year's steps in turn into its block of bands. */
 static ss_status run(insolation_run *r)
 {
     const insolation_settings *set = &r->set;
     int want = (r->have_weather ? SS_INSOLATION_MONTHLY : 0) |
                (set->ins.pv ? SS_INSOLATION_PV : 0) | (set->steps_path ? SS_INSOLATION_STEPS : 0);
     r->io.shadow_mode = r->job.plan.shadow_mode;
-    ss_source src = job_source(&r->job, &r->bands);
-    share_reducer reducer;
-    ss_share share = share_of(&reducer, &r->job.run, job_bands(&r->job));
-    return share_end(&reducer,
-                     ss_insolation_rows(r->job.run.ctx, &src, &r->job.opt, &r->io, r->steps.n,
-                                        sun_of_step_rows, &r->steps, want, &share, write_rows,
-                                        &r->out));
+    ss_status st = SS_OK;
+    for (int b = 0; st == SS_OK && b < r->blocks; ++b) {
+        steps_part part = {&r->steps, r->blocks > 1 ? r->years.first[b] : 0};
+        int n = r->blocks > 1 ? r->years.count[b] : r->steps.n;
+        r->out.block = b;
+        r->out.step0 = part.k0;
+        run_progress_part(&r->job.run, b, r->blocks);
+        ss_source src = job_source(&r->job, &r->bands);
+        share_reducer reducer;
+        ss_share share = share_of(&reducer, &r->job.run, job_bands(&r->job));
+        st = share_end(&reducer,
+                       ss_insolation_rows(r->job.run.ctx, &src, &r->job.opt, &r->io, n,
+                                          sun_of_part_rows, &part, want, &share, write_rows,
+                                          &r->out));
+    }
+    run_progress_part(&r->job.run, 0, 1);
+    return st;
 }
 
 static double steps_hours(const insolation_run *r)
@@ -469,6 +623,60 @@ static double steps_hours(const insolation_run *r)
     for (int k = 0; k < r->steps.n; ++k)
         hours += r->steps.hours[k];
     return hours;
+}
+
+/* Names each block's bands by what its sums stand for: one calendar year
+ * of --years each (with the hours its records span where they do not span
+ * it), the mean year of several, else the year where the steps cover one
+ * (8700 to 8800 hours) or the period. */
+static void name_bands(insolation_run *r)
+{
+    const weather_years *y = &r->years;
+    int pv = r->set.ins.pv, each = r->set.years == YEARS_EACH && !y->typical;
+    char span[96], months[64] = "";
+    for (int b = 0; b < r->blocks; ++b) {
+        if (!r->have_weather) {
+            span[0] = '\0';
+        } else if (each && y->whole[b]) {
+            snprintf(span, sizeof span, "%d", y->year[b]);
+            snprintf(months, sizeof months, " %d", y->year[b]);
+        } else if (each) {
+            snprintf(span, sizeof span, "%d (%.0f of %.0f h)", y->year[b], y->hours[b],
+                     y->year_hours[b]);
+            snprintf(months, sizeof months, " %d", y->year[b]);
+        } else if (r->set.years == YEARS_MEAN && y->n > 1) {
+            snprintf(span, sizeof span, "mean year of %d-%d", y->first_year, y->last_year);
+            snprintf(months, sizeof months, ", mean of %d-%d", y->first_year, y->last_year);
+        } else {
+            double hours = steps_hours(r);
+            snprintf(span, sizeof span, "%s", hours >= 8700 && hours <= 8800 ? "year" : "period");
+        }
+        describe_bands(r->out.w, b * r->out.block_bands, r->have_weather, pv, span, months);
+    }
+}
+
+/* The weather's years and what the run made of them, for the summary and
+ * the metadata. */
+static void describe_years(const insolation_run *r, char *buf, size_t size)
+{
+    const weather_years *y = &r->years;
+    int n;
+    if (y->typical)
+        n = snprintf(buf, size, "1, a typical year of months from %d to %d, never split",
+                     y->first_year, y->last_year);
+    else if (y->n == 1)
+        n = snprintf(buf, size, "1 (%d)", y->year[0]);
+    else
+        n = snprintf(buf, size, "%d calendar years, %d to %d: %s", y->n, y->first_year,
+                     y->last_year,
+                     r->set.years == YEARS_MEAN   ? "their mean year (the sums divided by them)"
+                     : r->set.years == YEARS_EACH ? "each year's bands in turn"
+                                                  : "summed (--years mean gives the mean "
+                                                    "year, --years each every year's bands)");
+    for (int j = 0; !y->typical && j < y->n && n > 0 && (size_t)n < size; ++j)
+        if (!y->whole[j])
+            n += snprintf(buf + n, size - (size_t)n, "; %d's records span %.0f of its %.0f h",
+                          y->year[j], y->hours[j], y->year_hours[j]);
 }
 
 /* The run described in its outputs' metadata, into meta as well. */
@@ -519,7 +727,12 @@ static void describe_run(insolation_run *r, char *meta, size_t size)
                  set->ins.dc_ac_ratio);
         ss_writer_metadata(w, "PV", pv);
     }
-    describe_bands(w, r->have_weather, set->ins.pv, steps_hours(r));
+    if (r->have_weather) {
+        char years[600];
+        describe_years(r, years, sizeof years);
+        ss_writer_metadata(w, "YEARS", years);
+    }
+    name_bands(r);
 }
 
 /* Commits rank 0's output, then the steps' file; aborts what is left. */
@@ -540,6 +753,37 @@ static ss_status commit(insolation_run *r, const char *meta)
     ss_writer_abort(r->out.steps_w);
     r->out.w = r->out.steps_w = NULL;
     return st;
+}
+
+/* The summary's line of the global (and the PV yields) of block b: the
+ * year's with --years each, else the run's (of the mean year with --years
+ * mean). */
+static void print_block_sums(const insolation_run *r, int b)
+{
+    const insolation_settings *set = &r->set;
+    const run_tally *tally = &r->out.tally[3 * b];
+    double lo, mean, hi, scale = (r->have_weather ? 1000.0 : 1.0) * r->out.years;
+    char year[16] = "";
+    if (r->blocks > 1)
+        snprintf(year, sizeof year, " %d", r->years.year[b]);
+    run_tally_result(&tally[0], NAN, &lo, &mean, &hi);
+    printf("global %s min %.1f mean %.1f max %.1f %s -> %s\n", year, lo / scale, mean / scale,
+           hi / scale, r->have_weather ? "kWh/m2" : "Wh/m2", r->job.output);
+    if (!set->ins.pv)
+        return;
+    int band = b * r->out.block_bands + WEATHER_BANDS;
+    ss_counters c = ss_ctx_counters(r->job.run.ctx);
+    run_tally_result(&tally[1], NAN, &lo, &mean, &hi);
+    printf("pv     %s min %.1f mean %.1f max %.1f kWh/kWp (band %d); %llu records without "
+           "air temperature or wind took %g C, %g m/s\n",
+           year, lo / r->out.years, mean / r->out.years, hi / r->out.years, band + 1,
+           (unsigned long long)c.records_without_temperature, set->ins.temp_air_c,
+           set->ins.wind_speed_m_s);
+    run_tally_result(&tally[2], NAN, &lo, &mean, &hi);
+    printf("pv ac  %s min %.1f mean %.1f max %.1f kWh/kWp (band %d) after an inverter of "
+           "%g %% at a DC/AC ratio of %g\n",
+           year, lo / r->out.years, mean / r->out.years, hi / r->out.years, band + 2,
+           set->ins.inverter_efficiency_percent, set->ins.dc_ac_ratio);
 }
 
 static void print_summary(insolation_run *r)
@@ -567,6 +811,9 @@ static void print_summary(insolation_run *r)
                (unsigned long long)c.time_steps,
                (unsigned long long)(c.records_split + c.records_dni_from_closure), dropped,
                r->weather.gaps);
+        char years[600];
+        describe_years(r, years, sizeof years);
+        printf("years   %s\n", years);
     }
     command_print_job_sweep(job, &r->bands);
     printf("steps   %d: %llu in daylight, %llu at night skipped, %llu shadow sweeps skipped "
@@ -601,22 +848,8 @@ static void print_summary(insolation_run *r)
         printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
                "this one's), sums added at rank 0\n",
                share_size());
-    double lo, mean, hi, scale = r->have_weather ? 1000.0 : 1.0;
-    run_tally_result(&r->out.global, NAN, &lo, &mean, &hi);
-    printf("global  min %.1f mean %.1f max %.1f %s -> %s\n", lo / scale, mean / scale,
-           hi / scale, r->have_weather ? "kWh/m2" : "Wh/m2", job->output);
-    if (!set->ins.pv)
-        return;
-    run_tally_result(&r->out.pv, NAN, &lo, &mean, &hi);
-    printf("pv      min %.1f mean %.1f max %.1f kWh/kWp (band %d); %llu records without "
-           "air temperature or wind took %g C, %g m/s\n",
-           lo, mean, hi, WEATHER_BANDS + 1, (unsigned long long)c.records_without_temperature,
-           set->ins.temp_air_c, set->ins.wind_speed_m_s);
-    run_tally_result(&r->out.pv_ac, NAN, &lo, &mean, &hi);
-    printf("pv ac   min %.1f mean %.1f max %.1f kWh/kWp (band %d) after an inverter of "
-           "%g %% at a DC/AC ratio of %g\n",
-           lo, mean, hi, WEATHER_BANDS + 2, set->ins.inverter_efficiency_percent,
-           set->ins.dc_ac_ratio);
+    for (int b = 0; b < r->blocks; ++b)
+        print_block_sums(r, b);
 }
 
 static void close_run(insolation_run *r)
@@ -626,8 +859,10 @@ static void close_run(insolation_run *r)
     if (r->steps.have_field)
         ss_sun_field_free(&r->steps.field);
     steps_free(&r->steps);
+    years_free(&r->years);
     ss_weather_free(&r->weather);
     free(r->out.row);
+    free(r->out.tally);
     free(r->text);
     job_close(&r->job);
 }
@@ -669,6 +904,9 @@ int cmd_insolation(int argc, char **argv)
         rc = run_usage_error("insolation", "with --weather each record is a step and its "
                                            "irradiance is measured: --step and --linke are for "
                                            "the clear sky");
+    if (rc < 0 && !set->weather && set->years != YEARS_TOTAL)
+        rc = run_usage_error("insolation", "--years is for --weather: a clear-sky run sums "
+                                           "its own --time range");
     /* Under mpirun every process evaluates every N-th step; a band per step
      * would have to travel whole to rank 0. */
     if (rc < 0 && share_size() > 1 && set->steps_path)

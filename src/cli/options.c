@@ -252,23 +252,63 @@ const char *opt_dash(const char *name)
     return "--";
 }
 
+int opt_advanced(const char *name)
+{
+    static const char *advanced[] = {
+        /* where the work runs, how the outputs are written, how --plan prints */
+        "device", "co", "memory", "projwin", "plan-format",
+        /* reading the DEM where its own description is wrong or missing */
+        "cell-size", "z-units", "overlap",
+        /* the sweep's accuracy knobs and the earth's figure */
+        "offset", "north", "curvature", "refraction", "earth-radius", "horizon-tolerance",
+        "svf-tolerance", "sun-tolerance", "lines", "box-lines",
+        /* the sun's position: per cell, Delta T, the air's refraction */
+        "sun-per-cell", "delta-t", "pressure", "temperature",
+        /* insolation's accuracy knobs and constants, the inverter's fine print */
+        "elevation-step", "solar-constant", "insolation-tolerance", "inverter-efficiency",
+        "dc-ac-ratio"};
+    for (size_t i = 0; i < sizeof advanced / sizeof advanced[0]; ++i)
+        if (strcmp(name, advanced[i]) == 0)
+            return 1;
+    return 0;
+}
+
+int opt_any_advanced(const opt_spec *const *tables)
+{
+    for (int t = 0; tables[t]; ++t)
+        for (const opt_spec *s = tables[t]; s->name; ++s)
+            if (opt_advanced(s->name))
+                return 1;
+    return 0;
+}
+
+static void print_help_line(const opt_spec *s)
+{
+    char left[64];
+    if (s->type == OPT_FLAG)
+        snprintf(left, sizeof left, "%s%s", opt_dash(s->name), s->name);
+    else
+        snprintf(left, sizeof left, "%s%s %s", opt_dash(s->name), s->name,
+                 s->type == OPT_CHOICE ? s->choices : s->metavar);
+    printf("  %-34s %s", left, s->help);
+    if (s->default_text && s->type != OPT_FLAG)
+        printf(" (default %s)", s->default_text);
+    printf("\n");
+}
+
 void opt_print_help(const opt_spec *const *tables, const char *usage, const char *summary)
 {
     printf("Usage: %s\n\n%s\n\nOptions:\n", usage, summary);
-    for (int t = 0; tables[t]; ++t)
-        for (const opt_spec *s = tables[t]; s->name; ++s) {
-            char left[64];
-            if (s->type == OPT_FLAG)
-                snprintf(left, sizeof left, "%s%s", opt_dash(s->name), s->name);
-            else
-                snprintf(left, sizeof left, "%s%s %s", opt_dash(s->name), s->name,
-                         s->type == OPT_CHOICE ? s->choices : s->metavar);
-            printf("  %-34s %s", left, s->help);
-            if (s->default_text && s->type != OPT_FLAG)
-                printf(" (default %s)", s->default_text);
-            printf("\n");
-        }
-    printf("  %-34s %s\n", "--help", "show this help");
+    for (int advanced = 0; advanced < 2; ++advanced) {
+        if (advanced && opt_any_advanced(tables))
+            printf("\n%s:\n", OPT_ADVANCED_HEADING);
+        for (int t = 0; tables[t]; ++t)
+            for (const opt_spec *s = tables[t]; s->name; ++s)
+                if (opt_advanced(s->name) == advanced)
+                    print_help_line(s);
+        if (!advanced)
+            printf("  %-34s %s\n", "--help", "show this help");
+    }
 }
 
 int opt_parse_site(const char *text, double *lon_deg, double *lat_deg)

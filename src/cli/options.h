@@ -64,6 +64,17 @@ int opt_at_default(const opt_spec *s, const void *settings);
  * one line in err. */
 int opt_check(const opt_spec *spec, const char *text, char *err, size_t err_size);
 
+/* The CLI's groups of options: whether the option named `name` is
+ * advanced (where the work runs and how outputs are written, the model's
+ * accuracy knobs and constants, whose defaults serve nearly every DEM), and
+ * whether any of the tables' options is. --help, doc/cli.md and the man
+ * pages list them after the others under OPT_ADVANCED_HEADING; --help-json
+ * gives each option's "group" ("basic" or "advanced"), which the QGIS
+ * provider shows as its advanced parameters. */
+int opt_advanced(const char *name);
+int opt_any_advanced(const opt_spec *const *tables);
+#define OPT_ADVANCED_HEADING "Advanced options (their defaults serve nearly every DEM)"
+
 /* Prints the options of the tables as a --help text. */
 /* "-" for the options GDAL's tools spell with one dash (-of, -co, -projwin,
  * -q), "--" for the others: how help and doc/cli.md show them. */
@@ -77,7 +88,7 @@ void opt_print_man(const opt_spec *const *tables, const char *command, const cha
                    const char *summary, const char *version);
 void opt_print_completion(const opt_spec *const *tables);
 /* The command's reference as JSON: command, version, usage, summary and
- * options (name, dash, type, metavar, default, min and max, choices, help),
+ * options (name, dash, type, metavar, default, min and max, choices, group, help),
  * for front ends that derive their parameters from the CLI's tables. */
 void opt_print_json(const opt_spec *const *tables, const char *command, const char *usage,
                     const char *summary, const char *version);

@@ -17,13 +17,16 @@ static void cell(const char *text)
         fputs(*p == '|' ? "\\|" : (char[2]){*p, 0}, stdout);
 }
 
-void opt_print_markdown(const opt_spec *const *tables, const char *command, const char *usage,
-                        const char *summary)
+/* The tables' basic or advanced options as a Markdown table. */
+static void markdown_table(const opt_spec *const *tables, int advanced)
 {
-    printf("## `%s`\n\n```\n%s\n```\n\n%s\n\n", command, usage, summary);
+    if (advanced)
+        printf("%s:\n\n", OPT_ADVANCED_HEADING);
     printf("| option | value | default | meaning |\n|---|---|---|---|\n");
     for (int t = 0; tables[t]; ++t)
         for (const opt_spec *s = tables[t]; s->name; ++s) {
+            if (opt_advanced(s->name) != advanced)
+                continue;
             printf("| `%s%s` | ", opt_dash(s->name), s->name);
             if (s->type == OPT_CHOICE)
                 cell(s->choices);
@@ -37,6 +40,15 @@ void opt_print_markdown(const opt_spec *const *tables, const char *command, cons
             printf(" |\n");
         }
     printf("\n");
+}
+
+void opt_print_markdown(const opt_spec *const *tables, const char *command, const char *usage,
+                        const char *summary)
+{
+    printf("## `%s`\n\n```\n%s\n```\n\n%s\n\n", command, usage, summary);
+    markdown_table(tables, 0);
+    if (opt_any_advanced(tables))
+        markdown_table(tables, 1);
 }
 
 /* Text for roff: backslashes escaped, dashes as \-, and a line that
@@ -55,6 +67,26 @@ static void roff(const char *text)
             putchar(*p);
         line_start = *p == '\n';
     }
+}
+
+static void man_option(const opt_spec *s)
+{
+    printf(".TP\n.B ");
+    roff(opt_dash(s->name));
+    roff(s->name);
+    if (s->type != OPT_FLAG) {
+        printf(" \\fI");
+        roff(s->type == OPT_CHOICE ? s->choices : s->metavar);
+        printf("\\fR");
+    }
+    printf("\n");
+    roff(s->help);
+    if (s->default_text && s->type != OPT_FLAG) {
+        printf(" (default ");
+        roff(s->default_text);
+        printf(")");
+    }
+    printf("\n");
 }
 
 void opt_print_man(const opt_spec *const *tables, const char *command, const char *usage,
@@ -82,26 +114,16 @@ void opt_print_man(const opt_spec *const *tables, const char *command, const cha
     printf("\n.fi\n.SH DESCRIPTION\n");
     roff(summary);
     printf("\n.SH OPTIONS\n");
-    for (int t = 0; tables[t]; ++t)
-        for (const opt_spec *s = tables[t]; s->name; ++s) {
-            printf(".TP\n.B ");
-            roff(opt_dash(s->name));
-            roff(s->name);
-            if (s->type != OPT_FLAG) {
-                printf(" \\fI");
-                roff(s->type == OPT_CHOICE ? s->choices : s->metavar);
-                printf("\\fR");
-            }
-            printf("\n");
-            roff(s->help);
-            if (s->default_text && s->type != OPT_FLAG) {
-                printf(" (default ");
-                roff(s->default_text);
-                printf(")");
-            }
-            printf("\n");
-        }
-    printf(".TP\n.B \\-\\-help\nshow this help\n");
+    for (int advanced = 0; advanced < 2; ++advanced) {
+        if (advanced && opt_any_advanced(tables))
+            printf(".SS \"%s\"\n", OPT_ADVANCED_HEADING);
+        for (int t = 0; tables[t]; ++t)
+            for (const opt_spec *s = tables[t]; s->name; ++s)
+                if (opt_advanced(s->name) == advanced)
+                    man_option(s);
+        if (!advanced)
+            printf(".TP\n.B \\-\\-help\nshow this help\n");
+    }
     printf(".SH SEE ALSO\n.BR skysweep (1);\n"
            "doc/cli.md in the source tree has every command's options in one place.\n");
 }
@@ -204,6 +226,7 @@ void opt_print_json(const opt_spec *const *tables, const char *command, const ch
                 }
                 printf("]");
             }
+            printf(", \"group\": \"%s\"", opt_advanced(s->name) ? "advanced" : "basic");
             printf(", \"help\": ");
             json_string(s->help);
             printf("}");

@@ -131,6 +131,8 @@ static int progress(double complete, const char *message, void *user)
         return 0;
     if (run->quiet)
         return 1;
+    if (run->progress_parts > 1)
+        complete = (run->progress_part + complete) / run->progress_parts;
     if (run->progress_lines)
         return progress_line(run, complete);
     if (!run->progress_shown && run_now() - run->started < 1.0)
@@ -138,6 +140,12 @@ static int progress(double complete, const char *message, void *user)
     run->progress_shown = 1;
     stop_guard_line_open(complete < 1.0);
     return ss_gdal_term_progress(complete);
+}
+
+void run_progress_part(run_state *run, int part, int parts)
+{
+    run->progress_part = part;
+    run->progress_parts = parts;
 }
 
 /* Whether an address-space limit (ulimit -v) below the machine's memory

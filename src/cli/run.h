@@ -61,8 +61,14 @@ typedef struct {
     int progress_shown;
     int progress_lines;     /* SKYSWEEP_PROGRESS=lines: one "progress F" line per step */
     double progress_last;   /* the fraction last printed as a line */
+    int progress_part, progress_parts; /* a run of several library calls: which one runs */
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
 } run_state;
+
+/* A run made of `parts` library calls, each reporting its progress from 0
+ * to 1: the fraction shown goes on from call to call (part 0 of 1: the
+ * whole). */
+void run_progress_part(run_state *run, int part, int parts);
 
 /* Parses a command's options and positionals; handles --help and
  * --device list. Returns -1 to go on, else the exit code to return. */

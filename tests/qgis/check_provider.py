@@ -4,6 +4,7 @@ reaches the feedback; a cancelled run stops within seconds and leaves
 nothing behind. Prints one "PASS|FAIL description" line per check.
 
 usage: python3 check_provider.py PLUGIN_DIR WORK_DIR  (SKYSWEEP_CLI set)"""
+import json
 import os
 import subprocess
 import sys
@@ -13,7 +14,7 @@ import time
 import numpy as np
 from osgeo import gdal
 from qgis.core import (QgsApplication, QgsProcessingContext, QgsProcessingFeedback,
-                       QgsRasterLayer)
+                       QgsProcessingParameterDefinition, QgsRasterLayer)
 
 plugin_dir, work = sys.argv[1], sys.argv[2]
 cli = os.environ["SKYSWEEP_CLI"]
@@ -134,6 +135,23 @@ try:
     check(False, "DEFINITION=3 (one past the last choice) is refused")
 except Exception as e:
     check("DEFINITION" in str(e), f"DEFINITION=3 is refused: {' '.join(str(e).split())}")
+
+# Advanced parameters are the options the CLI groups as advanced, and no others.
+wrong, advanced = [], 0
+for algorithm in provider.algorithms():
+    table = json.loads(subprocess.run([cli, algorithm.name(), "--help-json"], check=True,
+                                      capture_output=True, text=True).stdout)
+    groups = {o["name"].replace("-", "_").upper(): o["group"] for o in table["options"]}
+    for parameter in algorithm.parameterDefinitions():
+        if parameter.name() in ("INPUT", "OUTPUT"):
+            continue
+        flagged = bool(parameter.flags() & QgsProcessingParameterDefinition.FlagAdvanced)
+        advanced += flagged
+        if flagged != (groups.get(parameter.name()) == "advanced"):
+            wrong.append(f"{algorithm.name()}:{parameter.name()}")
+check(not wrong and advanced >= 50,
+      f"the advanced parameters are the CLI's advanced options ({advanced} in "
+      f"{len(provider.algorithms())} algorithms){', not: ' + ' '.join(wrong) if wrong else ''}")
 
 # A CLI that is not there gives a message, not an empty provider in silence;
 # the provider's setting names the CLI over SKYSWEEP_CLI and PATH.
