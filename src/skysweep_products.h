@@ -54,15 +54,15 @@ typedef struct {
     ss_product plans_as;     /* the planner's product at the parameters' defaults */
     int shares;              /* its directions or time steps can be dealt out (MPI) */
     /* Fills what the parameters add to a plan request: the planner's product, and where
-     * they set them the SVF definition and the radius. */
+     * they set them the SVF definition, the radius and the shadow mode. */
     void (*request)(const void *params, ss_plan_request *req);
     /* Bytes the product holds per cell of a band, halo rows included, for the optional
      * outputs asked for (bits as `run`'s): the least, at a sweep's own needs; a run that
      * stores horizons between its walks (insolation's interpolated shadows and cumulative
      * sky) adds ss_insolation_band_cell_bytes' share for them. */
     double (*cell_bytes)(const void *params, unsigned outputs);
-    /* Metres of terrain beyond a band it reads (its radius), on cells of cell_size_m;
-     * 0: the sweep's own halo. */
+    /* Metres of terrain beyond a band it reads (its radius), on cells of cell_size_m (NAN
+     * before the DEM is read: a radius in metres does not need it); 0: the sweep's own halo. */
     double (*halo_m)(const void *params, double cell_size_m);
     /* NULL where a run needs more than its parameters (the sun of each time step:
      * shadow and insolation run through ss_shadow_rows and ss_insolation_rows). */
