@@ -18,14 +18,14 @@ extern "C" {
 
 /* One output of a product: a raster the product writes. */
 typedef struct {
-    const char *name;   /* "svf", "distance": for a front end's parameter */
-    const char *option; /* NULL: the command's OUTPUT argument; else the option that names
-                           the file, "distance" for --distance FILE */
-    const char *unit;   /* "1", "deg", "m", "Wh/m2" (the bands' GDAL unit); "" where none */
-    int bands;          /* its band count; 0: one band per direction or time step */
+    const char *name;       /* "svf", "distance": for a front end's parameter */
+    const char *option;     /* NULL: the command's OUTPUT argument; else the option that names
+                               the file, "distance" for --distance FILE */
+    const char *unit;       /* "1", "deg", "m", "Wh/m2" (the bands' GDAL unit); "" where none */
+    int bands;              /* its band count; 0: one band per direction or time step */
     const char *band_names; /* '|'-separated, the bands' GDAL descriptions where bands > 0;
                                with bands 0, the pattern of each band's ("azimuth DEG") */
-    int optional;       /* written only when its option is given */
+    int optional;           /* written only when its option is given */
 } ss_product_output;
 
 /* Runs a product on src into sink (output i of the product's outputs is
@@ -35,8 +35,8 @@ typedef struct {
  * deals out its directions where the product shares (`shares`). */
 typedef ss_status (*ss_product_run_fn)(ss_ctx *ctx, const ss_source *src,
                                        const ss_sweep_options *opt, const void *params,
-                                       unsigned outputs, const ss_share *share,
-                                       ss_rows_sink sink, void *user);
+                                       unsigned outputs, const ss_share *share, ss_rows_sink sink,
+                                       void *user);
 
 typedef struct {
     const char *name;        /* "svf": its command, scene key and Python function */
@@ -49,10 +49,10 @@ typedef struct {
      * and the shared ones it takes besides ("sweep", "sun"), NULL-ended. */
     const char *own_table;
     const char *const *tables;
-    size_t params_size;      /* bytes of the product's own table's struct; 0: it has none */
+    size_t params_size; /* bytes of the product's own table's struct; 0: it has none */
     const ss_product_output *outputs; /* NULL name ends them; output 0 is OUTPUT */
-    ss_product plans_as;     /* the planner's product at the parameters' defaults */
-    int shares;              /* its directions or time steps can be dealt out (MPI) */
+    ss_product plans_as;              /* the planner's product at the parameters' defaults */
+    int shares;                       /* its directions or time steps can be dealt out (MPI) */
     /* Fills what the parameters add to a plan request: the planner's product, and where
      * they set them the SVF definition, the radius and the shadow mode. */
     void (*request)(const void *params, ss_plan_request *req);

@@ -34,17 +34,17 @@ static const char *output_fault(const ss_product_output *o, int k)
     for (const char *c = o->band_names ? o->band_names : ""; *c; ++c)
         names += *c == '|';
     return !o->unit || !o->band_names || !o->band_names[0] ? "no unit or band names"
-           : o->bands < 0                                    ? "a negative band count"
-           : o->bands > 0 && names != o->bands               ? "band names not one per band"
-           : k == 0 && (o->option || o->optional)            ? "an OUTPUT that is optional"
-           : k > 0 && (!o->option || !o->optional)           ? "an optional output without its option"
-                                                              : NULL;
+           : o->bands < 0                                  ? "a negative band count"
+           : o->bands > 0 && names != o->bands             ? "band names not one per band"
+           : k == 0 && (o->option || o->optional)          ? "an OUTPUT that is optional"
+           : k > 0 && (!o->option || !o->optional)         ? "an optional output with no option"
+                                                           : NULL;
 }
 
 static const char *product_fault(const ss_product_info *p)
 {
-    if (!p->name || !p->summary || !p->title || !p->description || !p->name[0] ||
-        !p->summary[0] || !p->title[0] || !p->description[0])
+    if (!p->name || !p->summary || !p->title || !p->description || !p->name[0] || !p->summary[0] ||
+        !p->title[0] || !p->description[0])
         return "no name, summary, title or description";
     if (!p->group || (strcmp(p->group, "Terrain") != 0 && strcmp(p->group, "Sun") != 0))
         return "a group that is neither Terrain nor Sun";
@@ -141,12 +141,14 @@ static void runs(void)
             continue;
         }
         double params[32] = {0};
-        if (strcmp(p->name, "hillshade") == 0) /* a light above the horizon, no exaggeration */
-            ((ss_hillshade_params *)params)->altitude_deg = 45,
-            ((ss_hillshade_params *)params)->z_factor = 1;
+        if (strcmp(p->name, "hillshade") == 0) { /* a light above the horizon, no exaggeration */
+            ss_hillshade_params *light = (ss_hillshade_params *)params;
+            light->altitude_deg = 45;
+            light->z_factor = 1;
+        }
         row_count c = {{0}};
-        ss_status st = p->run(ctx, &src, &opt, p->params_size ? params : NULL, 0, NULL,
-                              count_rows, &c);
+        ss_status st =
+            p->run(ctx, &src, &opt, p->params_size ? params : NULL, 0, NULL, count_rows, &c);
         int want = p->outputs[0].bands ? p->outputs[0].bands * H : DIRECTIONS * H;
         tap_ok(st == SS_OK && c.rows[0] == want && c.rows[1] == 0,
                "%s: its run delivers %d rows of OUTPUT (want %d), none of the optional outputs "

@@ -35,7 +35,7 @@ typedef struct {
 typedef struct {
     ss_raster_writer *w; /* rank 0's */
     int width;
-    run_tally tally;     /* of the finished rows */
+    run_tally tally; /* of the finished rows */
 } sky_rows;
 
 static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
@@ -108,9 +108,8 @@ int cmd_sky(int argc, char **argv)
     int n_pos = 0;
     char usage[96];
     snprintf(usage, sizeof usage, "skysweep %s [options] DEM... OUTPUT", product->name);
-    int rc = run_parse(product->name, tables, &set, argc, argv, pos, &n_pos,
-                       COMMAND_MAX_INPUTS + 1, 2, usage, product->description,
-                       &set.common.device);
+    int rc = run_parse(product->name, tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1,
+                       2, usage, product->description, &set.common.device);
     if (rc >= 0)
         return rc;
     sweep_job job;

@@ -65,8 +65,7 @@ static ss_status openness_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_
 {
     (void)outputs;
     const ss_openness_params *p = params;
-    return ss_sky_rows(ctx, src, opt, ss_openness_params_term(p), p->radius_m, share, sink,
-                       user);
+    return ss_sky_rows(ctx, src, opt, ss_openness_params_term(p), p->radius_m, share, sink, user);
 }
 
 static void horizon_request(const void *params, ss_plan_request *req)
@@ -163,37 +162,34 @@ static double no_halo(const void *params, double cell_size_m)
 static const char *const sweep_only[] = {"sweep", NULL};
 static const char *const sweep_and_sun[] = {"sweep", "sun", NULL};
 
-#define OUTPUTS_END {NULL, NULL, NULL, 0, NULL, 0}
-
+/* Each list ends with an entry without a name ({0}). */
 static const ss_product_output horizon_outputs[] = {
     {"horizon", NULL, "deg", 0, "azimuth DEG", 0},
     {"distance", "distance", "m", 0, "azimuth DEG", 1},
     {"cast-height", "cast-height", "m", 0, "azimuth DEG", 1},
-    OUTPUTS_END};
-static const ss_product_output svf_outputs[] = {
-    {"svf", NULL, "1", 1, "sky-view factor", 0}, OUTPUTS_END};
+    {0}};
+static const ss_product_output svf_outputs[] = {{"svf", NULL, "1", 1, "sky-view factor", 0}, {0}};
 static const ss_product_output openness_outputs[] = {
-    {"openness", NULL, "deg", 1, "KIND openness", 0}, OUTPUTS_END};
-static const ss_product_output hillshade_outputs[] = {
-    {"hillshade", NULL, "", 1, "hillshade", 0}, OUTPUTS_END};
+    {"openness", NULL, "deg", 1, "KIND openness", 0}, {0}};
+static const ss_product_output hillshade_outputs[] = {{"hillshade", NULL, "", 1, "hillshade", 0},
+                                                      {0}};
 /* With --canopy two bands follow: the shadow class and the beam's fraction. */
 static const ss_product_output shadow_outputs[] = {
     {"shadow", NULL, "1", 3,
      "sunlit (1) or in a cast shadow (0)|facing the sun (1) or away from it (0)|"
      "illumination cos(incidence), 0 in shadow",
      0},
-    OUTPUTS_END};
+    {0}};
 /* sun_hours is in hours. A weather run writes 17 bands in kWh/m2 (the five
  * for the year, the global of each month) and, with --pv, two of PV yield
  * (kWh/kWp). */
 static const ss_product_output insolation_outputs[] = {
     {"insolation", NULL, "Wh/m2", 5, "global|beam|diffuse|reflected|sun_hours", 0},
     {"steps", "steps", "Wh/m2", 0, "the step's instant (ISO 8601)", 1},
-    OUTPUTS_END};
+    {0}};
 
 static const ss_product_info products[] = {
-    {"horizon", "horizon elevation angle per azimuth (one band each)", "Horizon angles",
-     "Terrain",
+    {"horizon", "horizon elevation angle per azimuth (one band each)", "Horizon angles", "Terrain",
      "Horizon elevation angle (degrees above the horizontal; -90 where no terrain lies ahead)\n"
      "of every cell, one band per azimuth, exact at unlimited distance; or the horizon "
      "profiles of sites.",
@@ -213,9 +209,8 @@ static const ss_product_info products[] = {
      "Terrain",
      "Shaded relief as gdaldem hillshade computes it (Byte 1..255, 0 = nodata), optionally with"
      "\nexact cast shadows and sky-view shading.",
-     "hillshade", sweep_only, sizeof(ss_hillshade_params), hillshade_outputs,
-     SS_PRODUCT_HILLSHADE, 0, hillshade_request, hillshade_cell_bytes, hillshade_halo_m,
-     hillshade_run},
+     "hillshade", sweep_only, sizeof(ss_hillshade_params), hillshade_outputs, SS_PRODUCT_HILLSHADE,
+     0, hillshade_request, hillshade_cell_bytes, hillshade_halo_m, hillshade_run},
     {"insolation", "clear-sky beam, diffuse, reflected irradiation, hours of sun",
      "Insolation and PV yield", "Sun",
      "Irradiation on each cell's slope with exact cast shadows. Clear sky over a time range "
@@ -230,8 +225,8 @@ static const ss_product_info products[] = {
      "on sunlit cells facing\nthe sun, else 0 (shaded relief with cast shadows). With "
      "--canopy: 4 lit (0), solid\nshadow (1) or vegetation shadow (2); 5 fraction of the beam "
      "that arrives.",
-     NULL, sweep_and_sun, 0,
-     shadow_outputs, SS_PRODUCT_SHADOW, 0, shadow_request, shadow_cell_bytes, no_halo, NULL},
+     NULL, sweep_and_sun, 0, shadow_outputs, SS_PRODUCT_SHADOW, 0, shadow_request,
+     shadow_cell_bytes, no_halo, NULL},
 };
 
 int ss_product_count(void)
