@@ -6,6 +6,7 @@ import os
 import shutil
 import subprocess
 
+
 def command_line(configured=None):
     """(path, problem): the program named in the provider's setting, else
     SKYSWEEP_CLI, else skysweep on PATH (make install puts it there). path is

@@ -42,16 +42,29 @@ static const char *command_summary(size_t i)
                                : ss_product_named(commands[i].name)->summary;
 }
 
+/* "svf, openness, insolation": the products that share their runs. */
+static void sharing_products(char *buf, size_t size)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < ss_product_count() && n < size; ++k)
+        if (ss_product_at(k)->shares)
+            n += (size_t)snprintf(buf + n, size - n, "%s%s", n ? ", " : "",
+                                  ss_product_at(k)->name);
+}
+
 /* Runs command i, unless several MPI processes would each do all of it. */
 static int run_command(size_t i, int argc, char **argv)
 {
     const ss_product_info *product = ss_product_named(commands[i].name);
     if (share_size() > 1 && !(product && product->shares)) {
+        char sharing[128];
+        sharing_products(sharing, sizeof sharing);
         if (share_rank() == 0)
             fprintf(stderr,
-                    "skysweep %s: runs in one process; under mpirun only svf and openness "
-                    "share their work (%d processes were started)\n",
-                    commands[i].name, share_size());
+                    "skysweep %s: runs in one process; under mpirun only %s share their work "
+                    "(%d processes were started)\n",
+                    commands[i].name, sharing, share_size());
         return SS_ERR_ARGUMENT;
     }
     return commands[i].run(argc, argv);
@@ -132,11 +145,8 @@ static void man_page(void)
         printf("\n");
     }
     printf(".SH SEE ALSO\n");
-    for (size_t i = 0, first = 1; i < sizeof commands / sizeof commands[0]; ++i)
-        if (commands[i].run) {
-            printf("%s.BR skysweep\\-%s (1)", first ? "" : ",\n", commands[i].name);
-            first = 0;
-        }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+        printf("%s.BR skysweep\\-%s (1)", i ? ",\n" : "", commands[i].name);
     printf("\n");
 }
 
