@@ -119,7 +119,10 @@ ones as its advanced parameters.
 | 129, 130, 141, 143 | interrupted by SIGHUP, SIGINT, SIGPIPE, SIGTERM: temporary files removed, no output, one line on stderr |
 
 HEAD
-for command in svf horizon shadow hillshade insolation roofs render quicklook; do
+# Every command with options of its own: the library's products (its
+# registry, through --help-commands) among them; sun, weather and info below.
+for command in $("$skysweep" --help-commands); do
+    case $command in sun | weather | info | plan | run) continue ;; esac
     "$skysweep" "$command" --help-markdown 2>/dev/null || true
 done
 for command in sun weather info; do

@@ -36,7 +36,8 @@ except ImportError:  # setuptools < 70.1
     from wheel.bdist_wheel import bdist_wheel
 
 HERE = pathlib.Path(__file__).resolve().parent
-HEADERS = ["skysweep.h", "skysweep_sun.h", "skysweep_sites.h", "skysweep_params.h"]
+HEADERS = ["skysweep.h", "skysweep_sun.h", "skysweep_sites.h", "skysweep_params.h",
+           "skysweep_products.h"]
 # The sdist carries the C sources here (SourceDist below).
 SDIST_SOURCES = "csrc"
 # Only what the library and the command line need: the optional modules

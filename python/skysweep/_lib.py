@@ -21,6 +21,10 @@ CLI = str(_HERE / BUILD["cli"]) if BUILD["cli"] else None
 CONST = BUILD["constants"]
 #: Each command's option table, as ``skysweep COMMAND --help-json`` prints it.
 COMMANDS = BUILD["commands"]
+#: The library's products (its registry, skysweep_products.h) by name, in its
+#: order: each has its array call, its file call and its command.
+PRODUCTS = {ffi.string(p.name).decode(): p
+            for p in (lib.ss_product_at(i) for i in range(lib.ss_product_count()))}
 
 
 def option(command, name):

@@ -15,7 +15,7 @@ import threading
 import numpy as np
 
 from ._context import error_for, progress_callback
-from ._lib import CLI, COMMANDS, default
+from ._lib import CLI, COMMANDS, PRODUCTS, default
 from .products import _checked
 from .sun import iso_duration
 
@@ -231,7 +231,7 @@ def _file_call(command):
     return call
 
 
-#: The commands that turn a DEM into a raster.
-FILE_COMMANDS = tuple(c for c in ("svf", "openness", "horizon", "shadow", "hillshade",
-                                  "insolation", "render", "quicklook") if c in COMMANDS)
+#: The commands that turn a DEM into a raster: the library's products
+#: (its registry) and the pictures.
+FILE_COMMANDS = tuple(c for c in (*PRODUCTS, "render", "quicklook") if c in COMMANDS)
 FILE_CALLS = {f"{c}_file": _file_call(c) for c in FILE_COMMANDS}

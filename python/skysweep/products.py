@@ -16,7 +16,7 @@ import numpy as np
 
 from ._context import ArgumentError, context
 from ._grid import Grid, out_buffer
-from ._lib import CONST, default, ffi, lib, option
+from ._lib import CONST, PRODUCTS, default, ffi, lib, option
 
 
 def _choice(command, name, given):
@@ -252,7 +252,7 @@ def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     kind = _value("openness", "kind", kind)
     radius = _value("openness", "radius", radius)
-    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_HORIZON, kw,  # as cmd_openness plans it
+    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_HORIZON, kw,  # as cmd_sky plans openness
                  radius=radius)
     out = grid.new_plane()
     ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius, out_buffer(out),
@@ -532,8 +532,10 @@ def vat(dem, cell_size=None, *, radius=None, nodata=None, name="vat", blend_radi
                                                         "directions": opt.directions})
 
 
-_PRODUCTS = {"horizon": lib.SS_PRODUCT_HORIZON, "openness": lib.SS_PRODUCT_HORIZON,
-             "svf": lib.SS_PRODUCT_SVF, "shadow": lib.SS_PRODUCT_SHADOW}
+#: The products plan() plans: the registry's whose plan needs no time steps
+#: or weather (insolation's does).
+_PLANNED = tuple(name for name, p in PRODUCTS.items()
+                 if p.plans_as != lib.SS_PRODUCT_INSOLATION)
 
 
 def plan(dem, cell_size=None, *, product="svf", definition=default("svf", "definition"),
@@ -543,8 +545,8 @@ def plan(dem, cell_size=None, *, product="svf", definition=default("svf", "defin
     Parameters
     ----------
     {dem}
-    product : {{"svf", "openness", "horizon", "shadow"}}, default "svf"
-        The product to plan.
+    product : {{"horizon", "svf", "openness", "hillshade", "shadow"}}, default "svf"
+        The product to plan (the library's products but insolation).
     definition : {{"geometric", "radiative", "horizontal"}}, default "geometric"
         The SVF definition (for product "svf").
     {nodata}
@@ -559,11 +561,12 @@ def plan(dem, cell_size=None, *, product="svf", definition=default("svf", "defin
     {raises}
     """
     import json
-    if product not in _PRODUCTS:
-        raise ValueError(f"product must be one of {', '.join(_PRODUCTS)}, not {product!r}")
+    if product not in _PLANNED:
+        raise ValueError(f"product must be one of {', '.join(_PLANNED)}, not {product!r}")
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     code = _svf_definition(definition) if product == "svf" else lib.SS_SVF_DEF_GEOMETRIC
-    _, made = _sweep(ctx, grid, product, _PRODUCTS[product], kw, code, with_plan=True)
+    _, made = _sweep(ctx, grid, product, PRODUCTS[product].plans_as, kw, code,
+                      with_plan=True)
     size = lib.ss_plan_format(made, 1, ffi.NULL, 0) + 1
     text = ffi.new("char[]", size)
     lib.ss_plan_format(made, 1, text, size)

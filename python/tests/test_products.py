@@ -197,6 +197,19 @@ def test_plan_says_what_the_run_does():
         skysweep.plan(z, 10, product="sky")
 
 
+def test_every_product_of_the_registry_has_its_calls_and_plans():
+    from skysweep._lib import PRODUCTS
+    assert {"horizon", "svf", "openness", "hillshade", "shadow", "insolation"} <= set(PRODUCTS)
+    z = rough_dem()
+    for name, product in PRODUCTS.items():
+        assert callable(getattr(skysweep, name)) and callable(getattr(skysweep, f"{name}_file"))
+        if name == "insolation":  # its plan needs the steps
+            with pytest.raises(ValueError, match="product"):
+                skysweep.plan(z, 10, product=name)
+            continue
+        assert skysweep.plan(z, 10, product=name, directions=8)["directions"] == 8, name
+
+
 def test_nodata_that_the_dtype_cannot_hold_masks_nothing():
     z = np.full((20, 20), 241, dtype=np.uint8)
     z[3, 3] = 10

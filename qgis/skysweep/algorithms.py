@@ -17,8 +17,6 @@ from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterDestination,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString)
 
-from .cli import ALGORITHMS
-
 #: Options that are not parameters: the provider writes GeoTIFF and reports
 #: progress itself; scenes, plans only and heightmaps belong to the CLI, and
 #: so does the rule for overlapping tiles (a layer is one DEM).
@@ -31,10 +29,10 @@ def parameter_name(option):
     return option.replace("-", "_").upper()
 
 
-def is_output_file(entry):
-    """A file option that the command writes, as its option table declares
-    (`"output": true` in --help-json)."""
-    return entry.get("output", False)
+def output_named(table, entry):
+    """The output an option names the file of (its entry in the table's
+    "outputs", which the library's product registry declares), or None."""
+    return next((o for o in table["outputs"] if o.get("option") == entry["name"]), None)
 
 
 def is_advanced(entry):
@@ -111,15 +109,13 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
         return self.table["command"]
 
     def displayName(self):
-        return {"svf": "Sky-view factor", "openness": "Openness", "horizon": "Horizon angles",
-                "hillshade": "Hillshade", "shadow": "Cast shadows",
-                "insolation": "Insolation and PV yield"}.get(self.name(), self.name())
+        return self.table["title"]
 
     def group(self):
-        return ALGORITHMS[self.name()]
+        return self.table["group"]
 
     def groupId(self):
-        return ALGORITHMS[self.name()].lower()
+        return self.table["group"].lower()
 
     def shortHelpString(self):
         lines = [self.table["summary"].replace("\n", " "), "", f"Runs: {self.table['usage']}", ""]
@@ -156,7 +152,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             return ChoiceParameter(name, label, entry["choices"], default)
         if kind == "flag":
             return QgsProcessingParameterBoolean(name, label, False)
-        if is_output_file(entry):
+        if output_named(self.table, entry):
             return QgsProcessingParameterRasterDestination(name, label, None, True, False)
         if entry.get("input", False):
             return QgsProcessingParameterFile(name, label, optional=True)
@@ -180,7 +176,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             elif kind == "flag":
                 if self.parameterAsBoolean(parameters, name, context):
                     args.append(flag)
-            elif is_output_file(entry):
+            elif output_named(self.table, entry):
                 path = self.parameterAsOutputLayer(parameters, name, context)
                 if path:
                     args += [flag, path]
@@ -216,7 +212,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             feedback.pushWarning(line)
         outputs = {"OUTPUT": self.parameterAsOutputLayer(parameters, "OUTPUT", context)}
         for entry in parameters_of(self.table):
-            if is_output_file(entry) and parameters.get(parameter_name(entry["name"])):
+            if output_named(self.table, entry) and parameters.get(parameter_name(entry["name"])):
                 outputs[parameter_name(entry["name"])] = self.parameterAsOutputLayer(
                     parameters, parameter_name(entry["name"]), context)
         return outputs

@@ -1,13 +1,10 @@
 """The skysweep command line and its option tables (`skysweep COMMAND
---help-json`), from which the algorithms are made."""
+--help-json`), from which the algorithms are made: one per product of the
+library's registry, which is what a table with "outputs" is."""
 import json
 import os
 import shutil
 import subprocess
-
-#: The commands that become algorithms, and their Processing groups.
-ALGORITHMS = {"svf": "Terrain", "openness": "Terrain", "horizon": "Terrain",
-              "hillshade": "Terrain", "shadow": "Sun", "insolation": "Sun"}
 
 
 def command_line(configured=None):
@@ -30,22 +27,29 @@ def command_line(configured=None):
                   "skysweep, or in SKYSWEEP_CLI")
 
 
+def _run(cli, *args):
+    return subprocess.run([cli, *args], capture_output=True, text=True,
+                          stdin=subprocess.DEVNULL, timeout=60)
+
+
 def option_tables(cli):
-    """({command: table} for the commands in ALGORITHMS that the CLI has,
-    problem or None)."""
+    """({command: table} for the products the CLI has: the commands whose
+    table lists "outputs", problem or None)."""
     tables, failed = {}, []
-    for command in ALGORITHMS:
-        try:
-            run = subprocess.run([cli, command, "--help-json"], capture_output=True, text=True,
-                                 stdin=subprocess.DEVNULL, timeout=60)
-        except (OSError, subprocess.TimeoutExpired) as e:
-            return {}, f"{cli} could not be run: {e}"
-        if run.returncode == 0 and run.stdout.startswith("{"):
-            tables[command] = json.loads(run.stdout)
-        else:
-            failed.append(command)
+    try:
+        commands = _run(cli, "--help-commands")
+        for command in commands.stdout.split() if commands.returncode == 0 else []:
+            run = _run(cli, command, "--help-json")
+            if run.returncode == 0 and run.stdout.startswith("{"):
+                table = json.loads(run.stdout)
+                if table.get("outputs"):
+                    tables[command] = table
+            elif command not in ("plan", "run"):  # scene verbs: no table of their own
+                failed.append(command)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        return {}, f"{cli} could not be run: {e}"
     problem = None
-    if failed:
-        problem = (f"{cli} gave no option table for {', '.join(failed)} "
+    if not tables or failed:
+        problem = (f"{cli} gave no option table for {', '.join(failed) or 'any product'} "
                    "(is it skysweep, and of this plugin's version?)")
     return tables, problem

@@ -40,8 +40,7 @@ int cmd_hillshade(int argc, char **argv)
     int n_pos = 0;
     int rc = run_parse("hillshade", tables, &set, argc, argv, pos, &n_pos,
                        COMMAND_MAX_INPUTS + 1, 2, "skysweep hillshade [options] DEM... OUTPUT",
-                       "Shaded relief as gdaldem hillshade computes it (Byte 1..255, 0 = "
-                       "nodata), optionally with\nexact cast shadows and sky-view shading.",
+                       ss_product_named("hillshade")->description,
                        &set.common.device);
     if (rc >= 0)
         return rc;

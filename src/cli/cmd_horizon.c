@@ -88,9 +88,7 @@ int cmd_horizon(int argc, char **argv)
                        "skysweep horizon [options] DEM... OUTPUT\n"
                        "       skysweep horizon --point LON,LAT | --points FILE [options] DEM... "
                        "[OUTPUT|-]",
-                       "Horizon elevation angle (degrees above the horizontal; -90 where no "
-                       "terrain lies ahead)\nof every cell, one band per azimuth, exact at "
-                       "unlimited distance; or the horizon profiles of sites.",
+                       ss_product_named("horizon")->description,
                        &set.common.device);
     if (rc >= 0)
         return rc;

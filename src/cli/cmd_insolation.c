@@ -886,10 +886,7 @@ int cmd_insolation(int argc, char **argv)
         "insolation", tables, set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
         "skysweep insolation --time START/END|START/DURATION [--step PT30M] [options] DEM... "
         "OUTPUT\n       skysweep insolation --weather FILE [--sky-model M] [options] DEM... OUTPUT",
-        "Irradiation on each cell's slope with exact cast shadows. Clear sky over a time range "
-        "(ESRA,\nLinke turbidity): bands 1 global, 2 beam, 3 diffuse, 4 reflected (Wh/m2), 5 "
-        "hours of direct\nsun. Real sky from a weather file: the same five (kWh/m2, hours) for "
-        "the year, then the\nglobal of each month.",
+        ss_product_named("insolation")->description,
         &set->common.device);
     /* Options another makes meaningless are refused, not ignored, where
      * their value is not the default (front ends pass every default). */

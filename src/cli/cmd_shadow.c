@@ -249,12 +249,7 @@ int cmd_shadow(int argc, char **argv)
     int rc = run_parse("shadow", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
                        "skysweep shadow (--time ISO8601 | --sun-azimuth DEG --sun-elevation DEG) "
                        "[options] DEM... OUTPUT",
-                       "Cast shadows for one sun, by an exact sweep along its azimuth. Bands: 1 "
-                       "sunlit (1) or in a cast\nshadow (0); 2 facing the sun (1) or away "
-                       "(self-shadow, 0); 3 illumination cos(i) on sunlit cells facing\nthe "
-                       "sun, else 0 (shaded relief with cast shadows). With --canopy: 4 lit (0), "
-                       "solid\nshadow (1) or vegetation shadow (2); 5 fraction of the beam that "
-                       "arrives.",
+                       ss_product_named("shadow")->description,
                        &set.common.device);
     if (rc < 0)
         rc = trees_options_alone(tables, &set);

@@ -6,7 +6,8 @@
 
 #define COMMAND_MAX_INPUTS 256
 
-int cmd_svf(int argc, char **argv);
+/* svf and openness: the registry's sky products (argv[0] names which). */
+int cmd_sky(int argc, char **argv);
 int cmd_horizon(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_sun(int argc, char **argv);
@@ -14,7 +15,6 @@ int cmd_weather(int argc, char **argv);
 int cmd_shadow(int argc, char **argv);
 int cmd_hillshade(int argc, char **argv);
 int cmd_insolation(int argc, char **argv);
-int cmd_openness(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_quicklook(int argc, char **argv);
 int cmd_roofs(int argc, char **argv);

@@ -10,38 +10,61 @@
 #include "run.h"
 #include "scene.h"
 #include "skysweep.h"
+#include "skysweep_products.h"
 
+/* The commands; a product's summary and whether it shares its run
+ * between MPI processes (mpi_share.h) are the registry's
+ * (skysweep_products.h). */
 static const struct {
     const char *name;
     int (*run)(int argc, char **argv);
-    const char *summary;
-    int shares; /* runs shared between MPI processes (mpi_share.h) */
+    const char *summary; /* NULL: a product's, from the registry */
 } commands[] = {
-    {"horizon", cmd_horizon, "horizon elevation angle per azimuth (one band each)", 0},
-    {"svf", cmd_svf, "sky-view factor (geometric, radiative or horizontal)", 1},
-    {"openness", cmd_openness, "positive or negative topographic openness (degrees)", 1},
-    {"hillshade", cmd_hillshade, "gdaldem-compatible hillshade, with cast shadows and sky view", 0},
-    {"insolation", cmd_insolation, "clear-sky beam, diffuse, reflected irradiation, hours of sun", 1},
-    {"roofs", cmd_roofs, "solar cadastre: roof planes and PV yield per roof and building (GeoPackage)", 0},
-    {"shadow", cmd_shadow, "cast shadows and self-shadow for one sun (exact sweep)", 0},
-    {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView", 0},
-    {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map", 0},
-    {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range", 0},
-    {"weather", cmd_weather, "the records of a weather file (EPW, TMY3, PVGIS, PSM, CSV) as read", 0},
-    {"plan", NULL, "what a scene needs: effects on/off with reason and error bound, cost", 0},
-    {"run", NULL, "run the job a scene file describes", 0},
-    {"info", cmd_info, "version, dependencies, devices, kernel build status", 0},
+    {"horizon", cmd_horizon, NULL},
+    {"svf", cmd_sky, NULL},
+    {"openness", cmd_sky, NULL},
+    {"hillshade", cmd_hillshade, NULL},
+    {"insolation", cmd_insolation, NULL},
+    {"roofs", cmd_roofs, "solar cadastre: roof planes and PV yield per roof and building (GeoPackage)"},
+    {"shadow", cmd_shadow, NULL},
+    {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView"},
+    {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map"},
+    {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range"},
+    {"weather", cmd_weather, "the records of a weather file (EPW, TMY3, PVGIS, PSM, CSV) as read"},
+    {"plan", NULL, "what a scene needs: effects on/off with reason and error bound, cost"},
+    {"run", NULL, "run the job a scene file describes"},
+    {"info", cmd_info, "version, dependencies, devices, kernel build status"},
 };
+
+static const char *command_summary(size_t i)
+{
+    return commands[i].summary ? commands[i].summary
+                               : ss_product_named(commands[i].name)->summary;
+}
+
+/* "svf, openness, insolation": the products that share their runs. */
+static void sharing_products(char *buf, size_t size)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < ss_product_count() && n < size; ++k)
+        if (ss_product_at(k)->shares)
+            n += (size_t)snprintf(buf + n, size - n, "%s%s", n ? ", " : "",
+                                  ss_product_at(k)->name);
+}
 
 /* Runs command i, unless several MPI processes would each do all of it. */
 static int run_command(size_t i, int argc, char **argv)
 {
-    if (share_size() > 1 && !commands[i].shares) {
+    const ss_product_info *product = ss_product_named(commands[i].name);
+    if (share_size() > 1 && !(product && product->shares)) {
+        char sharing[128];
+        sharing_products(sharing, sizeof sharing);
         if (share_rank() == 0)
             fprintf(stderr,
-                    "skysweep %s: runs in one process; under mpirun only svf and openness "
-                    "share their work (%d processes were started)\n",
-                    commands[i].name, share_size());
+                    "skysweep %s: runs in one process; under mpirun only %s share their work "
+                    "(%d processes were started)\n",
+                    commands[i].name, sharing, share_size());
         return SS_ERR_ARGUMENT;
     }
     return commands[i].run(argc, argv);
@@ -51,12 +74,20 @@ static int run_command(size_t i, int argc, char **argv)
  * --scene SCENE (and --plan). */
 static int scene_command(const char *verb, int argc, char **argv)
 {
+    char usage[64], description[400];
+    snprintf(usage, sizeof usage, "skysweep %s SCENE [options]", verb);
+    snprintf(description, sizeof description,
+             "%s the job a scene file describes: an INI file whose keys are the options of\nits "
+             "product's command (doc/scenes.md). Options given after SCENE override the "
+             "scene's;\nskysweep PRODUCT --help lists them.",
+             strcmp(verb, "plan") == 0 ? "Plans (and writes nothing for)" : "Runs");
     if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
-        printf("Usage: skysweep %s SCENE [options]\n\n%s the job a scene file describes: an INI "
-               "file whose keys are the options of\nits product's command (doc/scenes.md). "
-               "Options given after SCENE override the scene's;\nskysweep PRODUCT --help lists "
-               "them.\n",
-               verb, strcmp(verb, "plan") == 0 ? "Plans (and writes nothing for)" : "Runs");
+        printf("Usage: %s\n\n%s\n", usage, description);
+        return 0;
+    }
+    if (argc == 2 && strcmp(argv[1], "--help-man") == 0) { /* its options are its product's */
+        const opt_spec *none[] = {NULL};
+        opt_print_man(none, verb, usage, description, ss_version());
         return 0;
     }
     if (argc < 2 || argv[1][0] == '-') {
@@ -91,7 +122,7 @@ static void usage(FILE *to)
 {
     fprintf(to, "Usage: skysweep COMMAND [options] INPUT... OUTPUT\n\nCommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-        fprintf(to, "  %-9s %s\n", commands[i].name, commands[i].summary);
+        fprintf(to, "  %-9s %s\n", commands[i].name, command_summary(i));
     fprintf(to, "\nskysweep COMMAND --help lists a command's options. Azimuths are degrees "
                 "clockwise from north.\n");
 }
@@ -109,16 +140,13 @@ static void man_page(void)
            "degrees clockwise from north.\n.SH COMMANDS\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i) {
         printf(".TP\n.B %s\n", commands[i].name);
-        for (const char *c = commands[i].summary; *c; ++c)
+        for (const char *c = command_summary(i); *c; ++c)
             fputs(*c == '-' ? "\\-" : (char[2]){*c, 0}, stdout);
         printf("\n");
     }
     printf(".SH SEE ALSO\n");
-    for (size_t i = 0, first = 1; i < sizeof commands / sizeof commands[0]; ++i)
-        if (commands[i].run) {
-            printf("%s.BR skysweep\\-%s (1)", first ? "" : ",\n", commands[i].name);
-            first = 0;
-        }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+        printf("%s.BR skysweep\\-%s (1)", i ? ",\n" : "", commands[i].name);
     printf("\n");
 }
 

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "options.h"
+#include "skysweep_products.h"
 
 static void cell(const char *text)
 {
@@ -171,6 +172,41 @@ static void json_number(double v)
         printf("null");
 }
 
+/* A product's face from the registry (skysweep_products.h): its label,
+ * group and outputs, each marked "output": true, so that front ends make
+ * their output parameters and algorithms from the library's declaration. */
+static void print_json_product(const ss_product_info *product)
+{
+    if (!product)
+        return;
+    printf(", \"title\": ");
+    json_string(product->title);
+    printf(", \"group\": ");
+    json_string(product->group);
+    printf(", \"outputs\": [");
+    for (const ss_product_output *o = product->outputs; o->name; ++o) {
+        printf("%s\n  {\"name\": ", o == product->outputs ? "" : ",");
+        json_string(o->name);
+        if (o->option) {
+            printf(", \"option\": ");
+            json_string(o->option);
+        }
+        printf(", \"unit\": ");
+        json_string(o->unit);
+        printf(", \"bands\": %d, \"band_names\": [", o->bands);
+        for (const char *c = o->band_names; *c;) {
+            size_t len = strcspn(c, "|");
+            char name[128];
+            snprintf(name, sizeof name, "%.*s", (int)len, c);
+            printf("%s", c == o->band_names ? "" : ", ");
+            json_string(name);
+            c += len + (c[len] == '|');
+        }
+        printf("], \"optional\": %s, \"output\": true}", o->optional ? "true" : "false");
+    }
+    printf("\n]");
+}
+
 void opt_print_json(const opt_spec *const *tables, const char *command, const char *usage,
                     const char *summary, const char *version)
 {
@@ -232,7 +268,9 @@ void opt_print_json(const opt_spec *const *tables, const char *command, const ch
             printf("}");
             sep = ",";
         }
-    printf("\n]}\n");
+    printf("\n]");
+    print_json_product(ss_product_named(command));
+    printf("}\n");
 }
 
 int opt_print_reference(const opt_spec *const *tables, int argc, char **argv, const char *command,

@@ -11,6 +11,7 @@
 #include "options.h"
 #include "skysweep.h"
 #include "skysweep_params.h"
+#include "skysweep_products.h"
 
 typedef struct {
     /* The library's parameters every sweeping command takes

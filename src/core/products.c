@@ -1,0 +1,248 @@
+/* The product registry (skysweep_products.h): each product declared once,
+ * pointing at the parameter tables (params.c), the band costs
+ * (band_memory.c) and the rows calls that exist for it. */
+#include "config.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "skysweep_products.h"
+
+/* ---- what each product's parameters become ---------------------------------- */
+
+static void svf_request(const void *params, ss_plan_request *req)
+{
+    const ss_svf_params *p = params;
+    req->product = SS_PRODUCT_SVF;
+    req->svf_definition = (ss_svf_definition)ss_svf_params_term(p);
+    req->radius_m = p->radius_m;
+}
+
+static double svf_cell_bytes(const void *params, unsigned outputs)
+{
+    (void)outputs;
+    return ss_sky_band_cell_bytes(ss_svf_params_term(params));
+}
+
+static double svf_halo_m(const void *params, double cell_size_m)
+{
+    (void)cell_size_m;
+    return ((const ss_svf_params *)params)->radius_m;
+}
+
+static ss_status svf_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                         const void *params, unsigned outputs, const ss_share *share,
+                         ss_rows_sink sink, void *user)
+{
+    (void)outputs;
+    const ss_svf_params *p = params;
+    return ss_sky_rows(ctx, src, opt, ss_svf_params_term(p), p->radius_m, share, sink, user);
+}
+
+/* Openness reads horizons, not an SVF: the planner's horizon product. */
+static void openness_request(const void *params, ss_plan_request *req)
+{
+    req->product = SS_PRODUCT_HORIZON;
+    req->radius_m = ((const ss_openness_params *)params)->radius_m;
+}
+
+static double openness_cell_bytes(const void *params, unsigned outputs)
+{
+    (void)params, (void)outputs;
+    return ss_sky_band_cell_bytes(SS_SKY_OPENNESS_POSITIVE); /* either kind's */
+}
+
+static double openness_halo_m(const void *params, double cell_size_m)
+{
+    (void)cell_size_m;
+    return ((const ss_openness_params *)params)->radius_m;
+}
+
+static ss_status openness_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                              const void *params, unsigned outputs, const ss_share *share,
+                              ss_rows_sink sink, void *user)
+{
+    (void)outputs;
+    const ss_openness_params *p = params;
+    return ss_sky_rows(ctx, src, opt, ss_openness_params_term(p), p->radius_m, share, sink, user);
+}
+
+static void horizon_request(const void *params, ss_plan_request *req)
+{
+    (void)params;
+    req->product = SS_PRODUCT_HORIZON;
+}
+
+/* The optional outputs' bits (1 << SS_OUT_HORIZON_DISTANCE, ...) are
+ * ss_horizon_rows' want shifted by one. */
+static double horizon_cell_bytes(const void *params, unsigned outputs)
+{
+    (void)params;
+    return ss_horizon_band_cell_bytes((int)(outputs >> 1));
+}
+
+static ss_status horizon_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                             const void *params, unsigned outputs, const ss_share *share,
+                             ss_rows_sink sink, void *user)
+{
+    (void)params, (void)share; /* it does not share */
+    return ss_horizon_rows(ctx, src, opt, (int)(outputs >> 1), sink, user);
+}
+
+static void hillshade_request(const void *params, ss_plan_request *req)
+{
+    req->product = ss_hillshade_params_product(params);
+}
+
+static int hillshade_sweeps(const ss_hillshade_params *p)
+{
+    return p->blend || p->cast_shadows || p->sky_view > 0;
+}
+
+/* Its heights and a row of shades, SVF and openness; sweeps add a horizon's band. */
+static double hillshade_cell_bytes(const void *params, unsigned outputs)
+{
+    (void)outputs;
+    return 16.0 + (hillshade_sweeps(params) ? ss_horizon_band_cell_bytes(0) : 4.0);
+}
+
+static double hillshade_halo_m(const void *params, double cell_size_m)
+{
+    const ss_hillshade_params *p = params;
+    return p->blend ? p->blend_radius_cells * cell_size_m : 0.0;
+}
+
+static ss_status hillshade_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                               const void *params, unsigned outputs, const ss_share *share,
+                               ss_rows_sink sink, void *user)
+{
+    (void)outputs, (void)share; /* it does not share */
+    ss_hillshade_options ho;
+    ss_hillshade_params_options(params, sqrt(src->cell_x_m * src->cell_y_m), &ho);
+    return ss_hillshade_rows(ctx, src, opt, &ho, sink, user);
+}
+
+static void shadow_request(const void *params, ss_plan_request *req)
+{
+    (void)params;
+    req->product = SS_PRODUCT_SHADOW;
+}
+
+/* A horizon's band and the lit and facing rows. */
+static double shadow_cell_bytes(const void *params, unsigned outputs)
+{
+    (void)params, (void)outputs;
+    return ss_horizon_band_cell_bytes(0) + 2.0 * sizeof(float);
+}
+
+static void insolation_request(const void *params, ss_plan_request *req)
+{
+    req->product = SS_PRODUCT_INSOLATION;
+    req->shadow_mode = ss_insolation_params_shadow(params);
+}
+
+/* Output 1 is the steps' (SS_INSOLATION_STEPS); weather's monthly sums and
+ * stored horizons add to it (ss_insolation_band_cell_bytes). */
+static double insolation_cell_bytes(const void *params, unsigned outputs)
+{
+    const ss_insolation_params *p = params;
+    int want = (p->pv ? SS_INSOLATION_PV : 0) | (outputs & 2u ? SS_INSOLATION_STEPS : 0);
+    return ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(want, 0);
+}
+
+static double no_halo(const void *params, double cell_size_m)
+{
+    (void)params, (void)cell_size_m;
+    return 0.0;
+}
+
+/* ---- the registry ------------------------------------------------------------- */
+
+static const char *const sweep_only[] = {"sweep", NULL};
+static const char *const sweep_and_sun[] = {"sweep", "sun", NULL};
+
+/* Each list ends with an entry without a name ({0}). */
+static const ss_product_output horizon_outputs[] = {
+    {"horizon", NULL, "deg", 0, "azimuth DEG", 0},
+    {"distance", "distance", "m", 0, "azimuth DEG", 1},
+    {"cast-height", "cast-height", "m", 0, "azimuth DEG", 1},
+    {0}};
+static const ss_product_output svf_outputs[] = {{"svf", NULL, "1", 1, "sky-view factor", 0}, {0}};
+static const ss_product_output openness_outputs[] = {
+    {"openness", NULL, "deg", 1, "KIND openness", 0}, {0}};
+static const ss_product_output hillshade_outputs[] = {{"hillshade", NULL, "", 1, "hillshade", 0},
+                                                      {0}};
+/* With --canopy two bands follow: the shadow class and the beam's fraction. */
+static const ss_product_output shadow_outputs[] = {
+    {"shadow", NULL, "1", 3,
+     "sunlit (1) or in a cast shadow (0)|facing the sun (1) or away from it (0)|"
+     "illumination cos(incidence), 0 in shadow",
+     0},
+    {0}};
+/* sun_hours is in hours. A weather run writes 17 bands in kWh/m2 (the five
+ * for the year, the global of each month) and, with --pv, two of PV yield
+ * (kWh/kWp). */
+static const ss_product_output insolation_outputs[] = {
+    {"insolation", NULL, "Wh/m2", 5, "global|beam|diffuse|reflected|sun_hours", 0},
+    {"steps", "steps", "Wh/m2", 0, "the step's instant (ISO 8601)", 1},
+    {0}};
+
+static const ss_product_info products[] = {
+    {"horizon", "horizon elevation angle per azimuth (one band each)", "Horizon angles", "Terrain",
+     "Horizon elevation angle (degrees above the horizontal; -90 where no terrain lies ahead)\n"
+     "of every cell, one band per azimuth, exact at unlimited distance; or the horizon "
+     "profiles of sites.",
+     NULL, sweep_only, 0, horizon_outputs, SS_PRODUCT_HORIZON, 0, horizon_request,
+     horizon_cell_bytes, no_halo, horizon_run},
+    {"svf", "sky-view factor (geometric, radiative or horizontal)", "Sky-view factor", "Terrain",
+     "Sky-view factor of every cell (0..1), from exact horizons in evenly spaced azimuths.\n"
+     "Several DEM tiles are mosaicked first.",
+     "svf", sweep_only, sizeof(ss_svf_params), svf_outputs, SS_PRODUCT_SVF, 1, svf_request,
+     svf_cell_bytes, svf_halo_m, svf_run},
+    {"openness", "positive or negative topographic openness (degrees)", "Openness", "Terrain",
+     "Topographic openness in degrees (Yokoyama et al. 2002), from horizons in evenly spaced "
+     "azimuths.\nSeveral DEM tiles are mosaicked first.",
+     "openness", sweep_only, sizeof(ss_openness_params), openness_outputs, SS_PRODUCT_HORIZON, 1,
+     openness_request, openness_cell_bytes, openness_halo_m, openness_run},
+    {"hillshade", "gdaldem-compatible hillshade, with cast shadows and sky view", "Hillshade",
+     "Terrain",
+     "Shaded relief as gdaldem hillshade computes it (Byte 1..255, 0 = nodata), optionally with"
+     "\nexact cast shadows and sky-view shading.",
+     "hillshade", sweep_only, sizeof(ss_hillshade_params), hillshade_outputs, SS_PRODUCT_HILLSHADE,
+     0, hillshade_request, hillshade_cell_bytes, hillshade_halo_m, hillshade_run},
+    {"insolation", "clear-sky beam, diffuse, reflected irradiation, hours of sun",
+     "Insolation and PV yield", "Sun",
+     "Irradiation on each cell's slope with exact cast shadows. Clear sky over a time range "
+     "(ESRA,\nLinke turbidity): bands 1 global, 2 beam, 3 diffuse, 4 reflected (Wh/m2), 5 "
+     "hours of direct\nsun. Real sky from a weather file: the same five (kWh/m2, hours) for "
+     "the year, then the\nglobal of each month.",
+     "insolation", sweep_and_sun, sizeof(ss_insolation_params), insolation_outputs,
+     SS_PRODUCT_INSOLATION, 1, insolation_request, insolation_cell_bytes, no_halo, NULL},
+    {"shadow", "cast shadows and self-shadow for one sun (exact sweep)", "Cast shadows", "Sun",
+     "Cast shadows for one sun, by an exact sweep along its azimuth. Bands: 1 sunlit (1) or in "
+     "a cast\nshadow (0); 2 facing the sun (1) or away (self-shadow, 0); 3 illumination cos(i) "
+     "on sunlit cells facing\nthe sun, else 0 (shaded relief with cast shadows). With "
+     "--canopy: 4 lit (0), solid\nshadow (1) or vegetation shadow (2); 5 fraction of the beam "
+     "that arrives.",
+     NULL, sweep_and_sun, 0, shadow_outputs, SS_PRODUCT_SHADOW, 0, shadow_request,
+     shadow_cell_bytes, no_halo, NULL},
+};
+
+int ss_product_count(void)
+{
+    return (int)(sizeof products / sizeof products[0]);
+}
+
+const ss_product_info *ss_product_at(int i)
+{
+    return i >= 0 && i < ss_product_count() ? &products[i] : NULL;
+}
+
+const ss_product_info *ss_product_named(const char *name)
+{
+    for (int i = 0; name && i < ss_product_count(); ++i)
+        if (strcmp(products[i].name, name) == 0)
+            return &products[i];
+    return NULL;
+}

@@ -1,0 +1,82 @@
+/* skysweep: the product registry. Every product the library makes from a
+ * DEM is declared here once: its name and summary, its parameter tables
+ * (skysweep_params.h), its outputs (name, unit, bands, optional or not),
+ * what it asks the planner, what a cell of a band costs, the halo it
+ * reads, and the call that runs it. The command line's product commands
+ * and command list, `skysweep COMMAND --help-json` (its "outputs"), the
+ * Python package and the QGIS provider derive each product from it
+ * (doc/engine.md, "Product registry"). The table is read-only. */
+#ifndef SKYSWEEP_PRODUCTS_H
+#define SKYSWEEP_PRODUCTS_H
+
+#include "skysweep.h"
+#include "skysweep_params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One output of a product: a raster the product writes. */
+typedef struct {
+    const char *name;       /* "svf", "distance": for a front end's parameter */
+    const char *option;     /* NULL: the command's OUTPUT argument; else the option that names
+                               the file, "distance" for --distance FILE */
+    const char *unit;       /* "1", "deg", "m", "Wh/m2" (the bands' GDAL unit); "" where none */
+    int bands;              /* its band count; 0: one band per direction or time step */
+    const char *band_names; /* '|'-separated, the bands' GDAL descriptions where bands > 0;
+                               with bands 0, the pattern of each band's ("azimuth DEG") */
+    int optional;           /* written only when its option is given */
+} ss_product_output;
+
+/* Runs a product on src into sink (output i of the product's outputs is
+ * the sink's output i): params is the struct of the product's own
+ * parameter table (NULL for a product without one), outputs the
+ * bits (1 << i) of the optional outputs asked for, share (may be NULL)
+ * deals out its directions where the product shares (`shares`). */
+typedef ss_status (*ss_product_run_fn)(ss_ctx *ctx, const ss_source *src,
+                                       const ss_sweep_options *opt, const void *params,
+                                       unsigned outputs, const ss_share *share, ss_rows_sink sink,
+                                       void *user);
+
+typedef struct {
+    const char *name;        /* "svf": its command, scene key and Python function */
+    const char *summary;     /* one line: the command list's, `skysweep --help` */
+    const char *title;       /* "Sky-view factor": a front end's label for it */
+    const char *group;       /* "Terrain" or "Sun" (it needs a sun): a front end's group */
+    const char *description; /* what the command's --help says it makes ('\n' breaks lines) */
+    /* Its parameter tables (skysweep_params.h): its own (NULL: none), whose struct is what
+     * `run`, `cell_bytes`, `halo_m` and `request` take (NULL for a product without one),
+     * and the shared ones it takes besides ("sweep", "sun"), NULL-ended. */
+    const char *own_table;
+    const char *const *tables;
+    size_t params_size; /* bytes of the product's own table's struct; 0: it has none */
+    const ss_product_output *outputs; /* NULL name ends them; output 0 is OUTPUT */
+    ss_product plans_as;              /* the planner's product at the parameters' defaults */
+    int shares;                       /* its directions or time steps can be dealt out (MPI) */
+    /* Fills what the parameters add to a plan request: the planner's product, and where
+     * they set them the SVF definition, the radius and the shadow mode. */
+    void (*request)(const void *params, ss_plan_request *req);
+    /* Bytes the product holds per cell of a band, halo rows included, for the optional
+     * outputs asked for (bits as `run`'s): the least, at a sweep's own needs; a run that
+     * stores horizons between its walks (insolation's interpolated shadows and cumulative
+     * sky) adds ss_insolation_band_cell_bytes' share for them. */
+    double (*cell_bytes)(const void *params, unsigned outputs);
+    /* Metres of terrain beyond a band it reads (its radius), on cells of cell_size_m (NAN
+     * before the DEM is read: a radius in metres does not need it); 0: the sweep's own halo. */
+    double (*halo_m)(const void *params, double cell_size_m);
+    /* NULL where a run needs more than its parameters (the sun of each time step:
+     * shadow and insolation run through ss_shadow_rows and ss_insolation_rows). */
+    ss_product_run_fn run;
+} ss_product_info;
+
+/* How many products the registry holds. */
+SS_API int ss_product_count(void);
+/* Product i (0 <= i < ss_product_count()), or NULL. */
+SS_API const ss_product_info *ss_product_at(int i);
+/* The product named `name`, or NULL. */
+SS_API const ss_product_info *ss_product_named(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

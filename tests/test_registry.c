@@ -1,0 +1,172 @@
+/* The product registry (skysweep_products.h): every entry well formed (a
+ * name, summary, title, group and description; parameter tables that
+ * exist; outputs with a unit and their bands, OUTPUT first, every other
+ * output optional and named by its option), found by index and by name,
+ * asking the planner for its own product at the parameters' defaults, and
+ * running where it has a run: every row of its first output delivered.
+ * `test_registry --list` prints each product's name and outputs, one
+ * product a line, for tests/test_registry.sh (the front ends' faces). */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "skysweep_products.h"
+#include "tap.h"
+
+static void list(void)
+{
+    for (int i = 0; i < ss_product_count(); ++i) {
+        const ss_product_info *p = ss_product_at(i);
+        printf("%s", p->name);
+        for (const ss_product_output *o = p->outputs; o->name; ++o)
+            printf(" %s", o->name);
+        printf("\n");
+    }
+}
+
+/* What is wrong with output o (index k) of a product, or NULL. */
+static const char *output_fault(const ss_product_output *o, int k)
+{
+    int names = 1;
+    for (const char *c = o->band_names ? o->band_names : ""; *c; ++c)
+        names += *c == '|';
+    return !o->unit || !o->band_names || !o->band_names[0] ? "no unit or band names"
+           : o->bands < 0                                  ? "a negative band count"
+           : o->bands > 0 && names != o->bands             ? "band names not one per band"
+           : k == 0 && (o->option || o->optional)          ? "an OUTPUT that is optional"
+           : k > 0 && (!o->option || !o->optional)         ? "an optional output with no option"
+                                                           : NULL;
+}
+
+static const char *product_fault(const ss_product_info *p)
+{
+    if (!p->name || !p->summary || !p->title || !p->description || !p->name[0] || !p->summary[0] ||
+        !p->title[0] || !p->description[0])
+        return "no name, summary, title or description";
+    if (!p->group || (strcmp(p->group, "Terrain") != 0 && strcmp(p->group, "Sun") != 0))
+        return "a group that is neither Terrain nor Sun";
+    if (p->own_table ? !ss_param_table_named(p->own_table) || !p->params_size : p->params_size != 0)
+        return "an own table that does not exist, or a struct size without one";
+    for (const char *const *t = p->tables; *t; ++t)
+        if (!ss_param_table_named(*t))
+            return "a shared table that does not exist";
+    if (!p->outputs || !p->outputs[0].name)
+        return "no outputs";
+    if (!p->request || !p->cell_bytes || !p->halo_m)
+        return "no request, cell cost or halo";
+    return NULL;
+}
+
+static void well_formed(void)
+{
+    tap_ok(ss_product_count() >= 6, "the registry holds %d products", ss_product_count());
+    for (int i = 0; i < ss_product_count(); ++i) {
+        const ss_product_info *p = ss_product_at(i);
+        const char *fault = product_fault(p);
+        char why[160] = "";
+        int k = 0;
+        for (const ss_product_output *o = p->outputs; !fault && o->name; ++o, ++k)
+            if ((fault = output_fault(o, k)))
+                snprintf(why, sizeof why, " (output '%s')", o->name);
+        tap_ok(!fault, "%s: well formed, %d outputs%s%s%s", p->name, k, fault ? ": " : "",
+               fault ? fault : "", why);
+    }
+}
+
+static void found(void)
+{
+    int bad = 0;
+    for (int i = 0; i < ss_product_count(); ++i) {
+        const ss_product_info *p = ss_product_at(i);
+        bad += ss_product_named(p->name) != p;
+        for (int j = 0; j < i; ++j)
+            bad += strcmp(ss_product_at(j)->name, p->name) == 0;
+    }
+    tap_ok(!bad && !ss_product_at(-1) && !ss_product_at(ss_product_count()) &&
+               !ss_product_named("nothing") && !ss_product_named(NULL),
+           "each product found by index and by name, once; none past the ends");
+}
+
+/* At the parameters' zeros (the defaults of what decides the planner's
+ * product: no cast shadows, sky view or blend), each asks for its own. */
+static void plans(void)
+{
+    for (int i = 0; i < ss_product_count(); ++i) {
+        const ss_product_info *p = ss_product_at(i);
+        double params[32] = {0}; /* room for any parameter struct, aligned */
+        ss_plan_request req = {0};
+        req.product = (ss_product)-1;
+        p->request(p->params_size ? params : NULL, &req);
+        tap_ok(p->params_size <= sizeof params && req.product == p->plans_as,
+               "%s: its request asks the planner for product %d (declared %d)", p->name,
+               (int)req.product, (int)p->plans_as);
+    }
+}
+
+typedef struct {
+    int rows[4]; /* per output, summed over bands */
+} row_count;
+
+static ss_status count_rows(void *user, int output, int index, int row0, int n_rows,
+                            const float *values)
+{
+    (void)index, (void)row0, (void)values;
+    row_count *c = user;
+    if (output >= 0 && output < 4)
+        c->rows[output] += n_rows;
+    return SS_OK;
+}
+
+/* A small cone: every product has terrain to see. */
+static void runs(void)
+{
+    enum { W = 24, H = 20, DIRECTIONS = 8 };
+    static float z[W * H];
+    for (int r = 0; r < H; ++r)
+        for (int c = 0; c < W; ++c)
+            z[r * W + c] = (float)(100.0 - 3.0 * hypot(c - W / 2.0, r - H / 2.0));
+    ss_source src = {.width = W, .height = H, .cell_x_m = 10, .cell_y_m = 10, .z = z};
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = DIRECTIONS;
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    for (int i = 0; i < ss_product_count(); ++i) {
+        const ss_product_info *p = ss_product_at(i);
+        if (!p->run) {
+            tap_skip(p->name, "its run needs the sun of each step (no registry run)");
+            continue;
+        }
+        double params[32] = {0};
+        if (strcmp(p->name, "hillshade") == 0) { /* a light above the horizon, no exaggeration */
+            ss_hillshade_params *light = (ss_hillshade_params *)params;
+            light->altitude_deg = 45;
+            light->z_factor = 1;
+        }
+        row_count c = {{0}};
+        ss_status st =
+            p->run(ctx, &src, &opt, p->params_size ? params : NULL, 0, NULL, count_rows, &c);
+        int want = p->outputs[0].bands ? p->outputs[0].bands * H : DIRECTIONS * H;
+        tap_ok(st == SS_OK && c.rows[0] == want && c.rows[1] == 0,
+               "%s: its run delivers %d rows of OUTPUT (want %d), none of the optional outputs "
+               "not asked for (status %d: %s)",
+               p->name, c.rows[0], want, (int)st, ss_ctx_message(ctx));
+    }
+    ss_ctx_free(ctx);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 2 && strcmp(argv[1], "--list") == 0) {
+        list();
+        return 0;
+    }
+    well_formed();
+    found();
+    plans();
+    runs();
+    return tap_done();
+}
