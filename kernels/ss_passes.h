@@ -508,12 +508,14 @@ SS_FN SS_GLOBAL float *ss_band_plane(SS_GLOBAL float *outs, const ss_band_run *r
 SS_FN int ss_line_shadow_end(const ss_walker *w, const ss_line_set *ls, int s_lo, int s_hi,
                              SS_GLOBAL const unsigned char *levels, int lit_level)
 {
+    int box = ls->model == SS_LINE_MODEL_BOX;
     for (int s = s_hi - 1; s >= s_lo; --s) {
         ss_line_sample p = ss_walker_sample(ls, w, s);
         int cell = ss_line_cell(ls, p.major, p.minor0);
-        if (p.minor0 >= 0 && levels[cell] > lit_level)
+        if (p.minor0 >= 0 && p.minor0 < ls->minor_len && levels[cell] > lit_level)
             return s + 1;
-        if (p.minor0 + 1 < ls->minor_len && p.w1 > 0.0f &&
+        /* A box line's step gives a horizon to its nearest cell alone. */
+        if (!box && p.minor0 + 1 < ls->minor_len && p.w1 > 0.0f &&
             levels[cell + ls->stride_minor] > lit_level)
             return s + 1;
     }
@@ -535,8 +537,9 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
     int s_lo, s_hi, count, skipped = 0;
     if (!ss_band_line_begin(&w, d, run, line, hulls, &s_lo, &s_hi, &count))
         return 0;
-    /* The bounds hold for interpolated lines, bent down by curvature or not. */
-    int lit = lit_levels && run->whole && d->ls.model == SS_LINE_MODEL_INTERPOLATED &&
+    /* The bounds hold for interpolated and box lines (the host makes them
+     * for the run's model), bent down by curvature or not. */
+    int lit = lit_levels && run->whole && d->ls.model != SS_LINE_MODEL_DIGITAL &&
                       run->curv_k >= 0.0f
                   ? d->lit_level
                   : -1;

@@ -119,6 +119,10 @@ product "insolation, bands" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H
 # clears by their horizon bounds (src/core/lit_levels.c, since 54a655d).
 product "insolation, 5 days of exact shadows" insolation --time 2026-06-19T00:00Z/P5D \
     --step PT1H --directions 16 --shadow exact "$dem" out.tif
+# The same on box lines, whose walks stop early too (since issue 42).
+product "insolation, 5 days of exact shadows, box lines" insolation \
+    --time 2026-06-19T00:00Z/P5D --step PT1H --directions 16 --shadow exact --lines box \
+    --box-lines 4 "$dem" out.tif
 loose=
 echo "$same same, $differ differ"
 [ "$differ" -eq 0 ]

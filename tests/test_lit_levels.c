@@ -1,9 +1,12 @@
 /* The per-cell horizon bounds (src/core/lit_levels.c) against the walks
  * they bound: on terrains made to break them (spikes far and near, cliffs,
  * plateaus of ties, nodata holes, cells longer one way, grids of one row
- * or column up), every horizon the library's interpolated walk gives a
- * cell, in 240 azimuths with and without curvature, lies below its level's
- * angle. A bound that failed would light a shaded cell. Then the walks
+ * or column up, a shield island in a nodata sea) and on the Gothenburg DSM
+ * and the Kilauea DEM where ../shared/data has them, every horizon the
+ * library's interpolated and box walks (few and many families) give a
+ * cell, in up to 240 azimuths (the axes and diagonals, and others a
+ * hundredth of a degree off them) with and without curvature, lies below
+ * its level's angle. Digital lines have no per-cell bound. A bound that failed would light a shaded cell. Then the walks
  * that stop past the last cell a sun may not clear (ss_walk.lit_levels),
  * and give no horizon to the cells the bounds know lit: every cell is lit
  * or shaded as by the whole walk, and the cells the bounds leave open
@@ -15,6 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dem_io.h"
+#include "lines.h"
 #include "lit_levels.h"
 #include "products_internal.h"
 #include "tap.h"
@@ -48,20 +53,51 @@ static int check_direction(int index, double azimuth_deg, const float *angle_deg
     return 1;
 }
 
+/* Lines to bound: interpolated (families 0) or box lines of `families`. */
+typedef struct {
+    int families;
+} line_kind;
+
+static const line_kind INTERPOLATED = {0};
+
+static unsigned char *levels_for(const ss_grid *g, line_kind k)
+{
+    return k.families ? ss_lit_levels_box(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m,
+                                          k.families)
+                      : ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m);
+}
+
+static void use_lines(ss_sweep_options *o, line_kind k)
+{
+    o->lines = k.families ? SS_LINES_BOX : SS_LINES_INTERPOLATED;
+    if (k.families)
+        o->box_lines = k.families;
+}
+
+static const char *lines_name(line_kind k)
+{
+    static char name[32];
+    if (k.families)
+        snprintf(name, sizeof name, "box lines x%d", k.families);
+    else
+        snprintf(name, sizeof name, "interpolated lines");
+    return name;
+}
+
 /* Every horizon of g in `directions` azimuths from offset_deg, curvature
  * on (earth_radius_m > 0) or off, against the bounds. */
 static void check_grid(const char *name, const ss_grid *g, int directions, double offset_deg,
-                       double earth_radius_m)
+                       double earth_radius_m, line_kind k)
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
-    unsigned char *levels = ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m);
+    unsigned char *levels = levels_for(g, k);
     size_t cells = (size_t)g->width * g->height;
     ss_sweep_options o;
     ss_sweep_options_default(&o);
     o.directions = directions;
     o.offset_deg = offset_deg;
-    o.lines = SS_LINES_INTERPOLATED;
+    use_lines(&o, k);
     o.earth_radius_m = earth_radius_m;
     o.refraction_k = 0.0;
     check_state s = {levels, cells, 0, 0, -INFINITY};
@@ -74,10 +110,11 @@ static void check_grid(const char *name, const ss_grid *g, int directions, doubl
             level_sum += ss_lit_level_deg(levels[c]);
         }
     tap_ok(st == SS_OK && s.above == 0,
-           "%s (%d x %d, %d directions, curvature %s): status %d%s%s, %ld horizons of %ld at or above their "
+           "%s, %s (%d x %d, %d directions from %g deg, curvature %s): status %d%s%s, %ld horizons of %ld at or above their "
            "cell's bound (want 0), the closest %.3f deg from it; %ld cells bounded, mean "
            "bound %.1f deg",
-           name, g->width, g->height, directions, earth_radius_m > 0 ? "on" : "off", (int)st,
+           name, lines_name(k), g->width, g->height, directions, offset_deg,
+           earth_radius_m > 0 ? "on" : "off", (int)st,
            st == SS_OK ? "" : ": ", st == SS_OK ? "" : ss_ctx_message(ctx), s.above,
            s.checked, s.worst_deg, bounded, bounded ? level_sum / bounded : 0.0);
     free(levels);
@@ -123,15 +160,16 @@ static ss_status shadow_angles(const char *device, const ss_grid *g, const ss_sw
 /* Suns in 16 azimuths (off the axes) at 5 elevations, curvature on or off,
  * on a device ("reference", or the default OpenCL device). */
 static void check_early_stops(const char *device, const char *name, const ss_grid *g,
-                              double earth_radius_m)
+                              double earth_radius_m, line_kind k)
 {
     static const double elevations[] = {2.0, 8.0, 20.0, 40.0, 65.0};
-    unsigned char *levels = ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m);
+    unsigned char *levels = levels_for(g, k);
     size_t n = (size_t)g->width * g->height;
     float *whole = malloc(n * sizeof(float)), *early = malloc(n * sizeof(float));
     ss_sweep_options o;
     ss_sweep_options_default(&o);
     o.earth_radius_m = earth_radius_m;
+    use_lines(&o, k);
     long verdicts = 0, flipped = 0, open = 0, changed = 0, known = 0, stopped = 0;
     long failed = !levels;
     for (int a = 0; a < 16 && !failed; ++a) {
@@ -157,11 +195,11 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
         }
     }
     tap_ok(!failed && flipped == 0 && changed == 0 && stopped > 0,
-           "%s on %s, curvature %s: walks stopped early light and shade %ld cell-suns as whole "
+           "%s, %s on %s, curvature %s: walks stopped early light and shade %ld cell-suns as whole "
            "walks (%ld differ, want 0); %ld cells left open keep their horizons to the bit (%ld "
            "differ); %.0f %% of cell-suns known lit by their bounds, %ld of them with a horizon "
            "left short or none (want some)",
-           name, device, earth_radius_m > 0 ? "on" : "off", verdicts, flipped, open, changed,
+           name, lines_name(k), device, earth_radius_m > 0 ? "on" : "off", verdicts, flipped, open, changed,
            verdicts ? 100.0 * known / verdicts : 0.0, stopped);
     free(levels);
     free(whole);
@@ -170,12 +208,51 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
 
 /* The same on PoCL where there is one. */
 static void check_early_stops_on_pocl(int have_pocl, const char *name, const ss_grid *g,
-                                      double earth_radius_m)
+                                      double earth_radius_m, line_kind k)
 {
     if (have_pocl)
-        check_early_stops("Portable", name, g, earth_radius_m);
+        check_early_stops("Portable", name, g, earth_radius_m, k);
     else
         tap_skip("walks stopped early on PoCL", "no PoCL device");
+}
+
+/* A shield island: a broad dome with a summit caldera and a steep-sided
+ * pit crater on its flank, rising from a sea of nodata. */
+static ss_grid shield_island(void)
+{
+    ss_grid g = test_grid(180, 160, 30.0, 30.0);
+    for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x) {
+            double r = hypot(x - 90.0, y - 80.0), pit = hypot(x - 120.0, y - 60.0);
+            double z = r < 70.0 ? 1250.0 * (1.0 - pow(r / 70.0, 1.6)) : NAN;
+            if (r < 9.0)
+                z -= 180.0; /* caldera floor */
+            if (pit < 3.5)
+                z -= 120.0; /* pit crater */
+            g.z[(size_t)y * g.width + x] = (float)z;
+        }
+    return g;
+}
+
+/* Bounds against walks on a DEM of ../shared/data, skipped without it. */
+static void check_shared(const char *file, const char *name, int directions, line_kind k)
+{
+    const char *path = test_shared_data(file);
+    if (!path) {
+        tap_skip(name, "../shared/data is not here");
+        return;
+    }
+    ss_ctx *ctx = ss_ctx_new();
+    ss_dem dem;
+    const char *paths[] = {path};
+    if (ss_dem_read(ctx, paths, 1, NULL, &dem) == SS_OK) {
+        check_grid(name, &dem.grid, directions, 0.0, 0.0, k);
+        check_grid(name, &dem.grid, directions / 2, 0.01, 6371000.0, k);
+        ss_dem_free(&dem);
+    } else {
+        tap_ok(0, "cannot read %s: %s", path, ss_ctx_message(ctx));
+    }
+    ss_ctx_free(ctx);
 }
 
 int main(void)
@@ -201,14 +278,25 @@ int main(void)
         {"gentle hills", TERRAIN_SMOOTH, 260, 200, 30.0, 30.0, 60.0, 4},
         {"three by two", TERRAIN_NOISE, 3, 2, 10.0, 10.0, 20.0, 0},
     };
+    /* Box lines of 2 families put a centre a quarter cell beside its line,
+     * of 32 (the default on city DSMs) a 64th. */
+    static const line_kind box_few = {2}, box_many = {32};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         ss_grid g = test_grid(cases[i].width, cases[i].height, cases[i].cell_x, cases[i].cell_y);
         test_fill(&g, cases[i].kind, 17 + (unsigned)i, cases[i].relief);
         if (cases[i].holes)
             test_holes(&g, 5 + (unsigned)i, cases[i].holes, 8);
-        check_grid(cases[i].name, &g, 240, 0.37, 0.0);
-        if (i < 3 || i == 10)
-            check_grid(cases[i].name, &g, 97, 1.9, 6371000.0);
+        /* Box lines take cells at most twice as long one way. */
+        int box = ss_box_lines_take_cells(cases[i].cell_x, cases[i].cell_y);
+        check_grid(cases[i].name, &g, 240, 0.37, 0.0, INTERPOLATED);
+        if (box) {
+            check_grid(cases[i].name, &g, 96, 0.0, 0.0, box_few);
+            check_grid(cases[i].name, &g, 24, 0.01, 0.0, box_many);
+        }
+        if (i < 3 || i == 10) {
+            check_grid(cases[i].name, &g, 97, 1.9, 6371000.0, INTERPOLATED);
+            check_grid(cases[i].name, &g, 24, 1.9, 6371000.0, box_many);
+        }
         ss_grid_free(&g);
     }
     /* One tall spike far from a low plain: only the far rings see it, and
@@ -218,26 +306,44 @@ int main(void)
         far.z[c] = 0.0f;
     far.z[(size_t)371 * 400 + 393] = 3000.0f;
     far.z[(size_t)5 * 400 + 7] = 1500.0f;
-    check_grid("two spikes far apart on a plain", &far, 240, 0.11, 0.0);
+    check_grid("two spikes far apart on a plain", &far, 240, 0.11, 0.0, INTERPOLATED);
+    check_grid("two spikes far apart on a plain", &far, 96, 0.0, 0.0, box_few);
     ss_grid_free(&far);
+    ss_grid island = shield_island();
+    check_grid("a shield island", &island, 240, 0.0, 0.0, INTERPOLATED);
+    check_grid("a shield island", &island, 240, 0.01, 6371000.0, INTERPOLATED);
+    check_grid("a shield island", &island, 96, 0.0, 0.0, box_few);
+    check_grid("a shield island", &island, 24, 0.01, 6371000.0, box_many);
+    ss_grid_free(&island);
+    check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 96, INTERPOLATED);
+    check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 24, box_many);
+    check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 64, box_few);
+    check_shared("hawaii_kilauea_utm5n_30m.tif", "the Kilauea 30 m DEM", 16, INTERPOLATED);
+    check_shared("hawaii_kilauea_utm5n_30m.tif", "the Kilauea 30 m DEM", 8, box_few);
 
     ss_grid hills = test_grid(150, 120, 30.0, 30.0);
     test_fill(&hills, TERRAIN_SMOOTH, 3, 150.0);
     test_holes(&hills, 9, 5, 7);
     int have_pocl = test_have_pocl();
-    check_early_stops("reference", "hills with holes", &hills, 0.0);
-    check_early_stops("reference", "hills with holes", &hills, 6371000.0);
-    check_early_stops_on_pocl(have_pocl, "hills with holes", &hills, 6371000.0);
+    check_early_stops("reference", "hills with holes", &hills, 0.0, INTERPOLATED);
+    check_early_stops("reference", "hills with holes", &hills, 6371000.0, INTERPOLATED);
+    check_early_stops_on_pocl(have_pocl, "hills with holes", &hills, 6371000.0, INTERPOLATED);
+    check_early_stops("reference", "hills with holes", &hills, 0.0, box_many);
+    check_early_stops_on_pocl(have_pocl, "hills with holes", &hills, 0.0, box_many);
     ss_grid_free(&hills);
     ss_grid gentle = test_grid(130, 110, 10.0, 20.0);
     test_fill(&gentle, TERRAIN_SMOOTH, 8, 15.0);
     test_holes(&gentle, 4, 3, 6);
-    check_early_stops("reference", "gentle hills, cells twice as long north-south", &gentle, 0.0);
+    check_early_stops("reference", "gentle hills, cells twice as long north-south", &gentle, 0.0,
+                      INTERPOLATED);
+    check_early_stops("reference", "gentle hills, cells twice as long north-south", &gentle, 0.0,
+                      box_few);
     ss_grid_free(&gentle);
     ss_grid spikes = test_grid(90, 110, 20.0, 20.0);
     test_fill(&spikes, TERRAIN_SPIKES, 8, 60.0);
-    check_early_stops("reference", "spikes on a plain", &spikes, 0.0);
-    check_early_stops_on_pocl(have_pocl, "spikes on a plain", &spikes, 0.0);
+    check_early_stops("reference", "spikes on a plain", &spikes, 0.0, INTERPOLATED);
+    check_early_stops_on_pocl(have_pocl, "spikes on a plain", &spikes, 0.0, INTERPOLATED);
+    check_early_stops("reference", "spikes on a plain", &spikes, 0.0, box_many);
     ss_grid_free(&spikes);
     return tap_done();
 }

@@ -746,6 +746,9 @@ static unsigned char *shadow_levels(const ss_insolation_job *job, const steps_pl
     if (!ss_lit_levels_used(plan->n_swept, job->opt->lines) || !src->z ||
         ss_source_band_rows(src) < src->height)
         return NULL;
+    if (job->opt->lines == SS_LINES_BOX)
+        return ss_lit_levels_box(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m,
+                                 job->opt->box_lines);
     return ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m);
 }
 

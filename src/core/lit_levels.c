@@ -28,9 +28,34 @@
  * heights, at the nearest distance from any cell of c's own block, for
  * blocks RING_LO..RING_M blocks away. The zones cover the grid. Each
  * zone's bound 1 is capped by bound 2 over the window that holds the
- * zone, and c's bound is the largest over the zones. */
+ * zone, and c's bound is the largest over the zones.
+ *
+ * The proof, for box lines (kernels/ss_box.h) of f families. Cell c takes
+ * its horizon at its centre C, projected on the one line that runs
+ * nearest: P, at height z_c itself. The line runs beside C by at most half
+ * a family spacing, 1/(2f) of a cell across it, so C lies at most
+ * e = max(cx, cy) / (2f) from the line. Every point Q that can give P a
+ * horizon lies on the line and is either the centre of a cell q, at z_q,
+ * or a point of the boundary between two columns, at the taller one's
+ * height: then q is that taller column, and Q lies on its square. So z_Q
+ * <= z_q with Q in the closed square of a cell q that has a height. If q
+ * is c, the tangent is at most 0. Otherwise the walk's distance from P to
+ * Q, measured along the line, is |PQ| = sqrt(|CQ|^2 - |CP|^2) >= sqrt(D^2
+ * - e^2), D being the distance from C to q's square: hypot((|d_x| - 1/2)
+ * cx, (|d_y| - 1/2) cy) for q |d_x|, |d_y| cells away (a term 0 where its
+ * offset is 0). The tangent (z_Q - z_c - curvature) / |PQ| is at most
+ * (z_q - z_c) / sqrt(D^2 - e^2): curvature only lowers it, and where D <=
+ * e no bound holds (a taller q then leaves c unbounded; one family per
+ * cell lets a point touch a face). Positions along the walk are floats of
+ * up to half a line's steps, so each may be off by that times 2^-24
+ * steps: the distance bound is lowered by max(w, h) hypot(cx, cy) 2^-20,
+ * many times that. Bound 2 has no counterpart (a column's face rises
+ * without a slope), so box bounds are bound 1's alone, over the same
+ * zones, with z_c for the lowest sample and the box distance for each
+ * zone's nearest cell. */
 #include "config.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -44,7 +69,7 @@
 
 int ss_lit_levels_used(int walked_steps, int lines)
 {
-    return walked_steps >= 48 && lines == SS_LINES_INTERPOLATED;
+    return walked_steps >= 48 && (lines == SS_LINES_INTERPOLATED || lines == SS_LINES_BOX);
 }
 
 double ss_lit_level_deg(int level)
@@ -61,6 +86,31 @@ int ss_lit_level_below(double elevation_deg)
     while (k >= 0 && ss_lit_level_deg(k) > elevation_deg)
         --k;
     return k < SS_LIT_LEVELS ? k : SS_LIT_LEVELS - 1;
+}
+
+/* The lines a bound is for, and what its distances need. */
+typedef struct {
+    int box;        /* box lines (else interpolated) */
+    double cx, cy;  /* cell sizes, metres */
+    double beside;  /* box: the farthest a cell's centre lies from its line (e) */
+    double slack;   /* box: the walks' float error in a distance */
+} line_geometry;
+
+/* The box proof's distance for cells ax, ay >= 0 apart along the axes, not
+ * both 0; 0 where none is proven. */
+static double box_distance(int ax, int ay, const line_geometry *g)
+{
+    double dx = fmax(0.0, ax - 0.5) * g->cx, dy = fmax(0.0, ay - 0.5) * g->cy;
+    double sq = dx * dx + dy * dy - g->beside * g->beside;
+    return sq > 0.0 ? fmax(0.0, sqrt(sq) - g->slack) : 0.0;
+}
+
+/* The factor that turns a height difference into a tangent bound over a
+ * distance d: past the largest float where d is 0, so that any rise
+ * leaves the cell unbounded and none leaves it at 0. */
+static float inverse_distance(double d)
+{
+    return d > 0.0 ? (float)(1.0 / d) : FLT_MAX;
 }
 
 /* Bound 1's distance for cells dx, dy >= 0 cells apart along the axes, by
@@ -163,18 +213,19 @@ static int window_max(const float *in, int w, int h, int r, float *out, float *t
 }
 
 /* Caps every zone bound in zone[] at bound 2 over the square of radius
- * reach + 2 around its cell, and raises best to it. */
+ * reach + 2 around its cell (gx NULL: no cap, box lines), and raises best
+ * to it. */
 static int add_zone(const float *gx, const float *gy, int w, int h, double cx, double cy,
                     int reach, float *zone, float *best, float *win_x, float *win_y, float *tmp)
 {
-    if (!window_max(gx, w, h, reach + 2, win_x, tmp) ||
-        !window_max(gy, w, h, reach + 2, win_y, tmp))
+    if (gx && (!window_max(gx, w, h, reach + 2, win_x, tmp) ||
+               !window_max(gy, w, h, reach + 2, win_y, tmp)))
         return 0;
     size_t n = (size_t)w * h;
     float icx = (float)(1.0 / cx), icy = (float)(1.0 / cy);
 #pragma omp parallel for schedule(static)
     for (size_t c = 0; c < n; ++c) {
-        float slope = hypotf(win_x[c] * icx, win_y[c] * icy);
+        float slope = gx ? hypotf(win_x[c] * icx, win_y[c] * icy) : INFINITY;
         float t = zone[c] < slope ? zone[c] : slope;
         best[c] = t > best[c] ? t : best[c];
         zone[c] = -INFINITY;
@@ -194,10 +245,12 @@ static void add_tangents(float *zone, const float *e, const float *lo, int x0, i
 }
 
 /* Bound 1 over the cells r_lo..r_hi away (Chebyshev), one by one, for
- * each line orientation that can pair them, with its own lowest samples. */
+ * each line orientation that can pair them, with its own lowest samples
+ * (box lines: one distance, lo_ns and lo_ew both the centres' heights). */
 static void near_zone(const float *z, const float *lo_ns, const float *lo_ew, int w, int h,
-                      double cx, double cy, int r_lo, int r_hi, float *zone)
+                      const line_geometry *g, int r_lo, int r_hi, float *zone)
 {
+    double cx = g->cx, cy = g->cy;
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < h; ++y) {
         float *row_zone = zone + (size_t)y * w;
@@ -209,6 +262,11 @@ static void near_zone(const float *z, const float *lo_ns, const float *lo_ew, in
                 int ax = abs(dx), ay = abs(dy), x0 = dx < 0 ? -dx : 0, x1 = dx > 0 ? w - dx : w;
                 if ((ax > ay ? ax : ay) < r_lo)
                     continue;
+                if (g->box) {
+                    add_tangents(row_zone, row, lo_ns + (size_t)y * w, x0, x1, dx,
+                                 inverse_distance(box_distance(ax, ay, g)));
+                    continue;
+                }
                 double along_x = pair_distance(ax, ay, ax > 0 && ay <= ax + 1, 0, cx, cy);
                 double along_y = pair_distance(ax, ay, 0, ay > 0 && ax <= ay + 1, cx, cy);
                 if (along_x > 0)
@@ -244,7 +302,7 @@ static void halve(const float *below, int pw, int ph, float *out, int nbx, int n
  * over cells once (spread[x] = the block over cell x) and serve its s rows
  * of cells. */
 static int ring_zone(const float *level, int nbx, int nby, int j, const float *lo, int w, int h,
-                     double cx, double cy, float *zone)
+                     const line_geometry *g, float *zone)
 {
     int s = 1 << j, span = nbx * s;
     int ok = 1;
@@ -271,7 +329,9 @@ static int ring_zone(const float *level, int nbx, int nby, int j, const float *l
                     if ((ax > ay ? ax : ay) < RING_LO)
                         continue;
                     int gap_x = ax > 0 ? (ax - 1) * s + 1 : 0;
-                    float inv = (float)(1.0 / pair_distance(gap_x, gap_y, 1, 1, cx, cy));
+                    float inv = inverse_distance(
+                        g->box ? box_distance(gap_x, gap_y, g)
+                               : pair_distance(gap_x, gap_y, 1, 1, g->cx, g->cy));
                     int x0 = dbx < 0 ? -dbx * s : 0;
                     int x1 = span - (dbx > 0 ? dbx * s : 0);
                     x1 = x1 < w ? x1 : w;
@@ -286,27 +346,43 @@ static int ring_zone(const float *level, int nbx, int nby, int j, const float *l
     return ok;
 }
 
+/* The centres' own heights, +INFINITY at nodata cells: the lowest
+ * samples of box lines. */
+static void centre_heights(const float *z, size_t n, float *lo)
+{
+#pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < n; ++c)
+        lo[c] = isfinite(z[c]) ? z[c] : INFINITY;
+}
+
 /* The tangent bound of every cell into best (w x h), the planes p being
  * work space of the same size. */
 #define WORK_PLANES 10
-static int bound_tangents(const float *z, int w, int h, double cx, double cy, float *best,
+static int bound_tangents(const float *z, int w, int h, const line_geometry *g, float *best,
                           float *p[WORK_PLANES])
 {
     float *lo = p[0], *zone = p[1], *level = p[2], *next = p[3], *gx = p[4], *gy = p[5];
     float *win_x = p[6], *win_y = p[7], *lo_ns = p[8], *lo_ew = p[9];
     size_t n = (size_t)w * h;
-    lowest_samples(z, w, h, lo_ns, lo_ew, lo);
+    if (g->box) {
+        centre_heights(z, n, lo);
+        lo_ns = lo_ew = lo;
+        gx = gy = NULL; /* no slope caps */
+    } else {
+        lowest_samples(z, w, h, lo_ns, lo_ew, lo);
+        neighbour_steps(z, w, h, gx, gy);
+    }
     for (size_t c = 0; c < n; ++c) {
         best[c] = zone[c] = -INFINITY;
         level[c] = isfinite(z[c]) ? z[c] : -INFINITY; /* never the highest */
     }
-    neighbour_steps(z, w, h, gx, gy);
+    double cx = g->cx, cy = g->cy;
     /* The nearest cells in rings of their own, each capped by the slopes
      * of a window only as wide as it needs. */
     static const int near_rings[][2] = {{1, 2}, {3, 4}, {5, NEAR_R}};
     int ok = 1;
     for (int k = 0; ok && k < 3; ++k) {
-        near_zone(level, lo_ns, lo_ew, w, h, cx, cy, near_rings[k][0], near_rings[k][1], zone);
+        near_zone(level, lo_ns, lo_ew, w, h, g, near_rings[k][0], near_rings[k][1], zone);
         ok = add_zone(gx, gy, w, h, cx, cy, near_rings[k][1], zone, best, win_x, win_y, next);
     }
     /* Level j's ring holds cells within (RING_M + 1) 2^j - 1 of c and
@@ -323,7 +399,7 @@ static int bound_tangents(const float *z, int w, int h, double cx, double cy, fl
         pw = nbx;
         ph = nby;
         /* next, the level below, is work space from here on. */
-        ok = ring_zone(level, nbx, nby, j, lo, w, h, cx, cy, zone) &&
+        ok = ring_zone(level, nbx, nby, j, lo, w, h, g, zone) &&
              add_zone(gx, gy, w, h, cx, cy, (RING_M + 1) * (1 << j) - 1, zone, best, win_x,
                       win_y, next);
         cover = (RING_M - 1) * (1 << j) + 1;
@@ -331,7 +407,8 @@ static int bound_tangents(const float *z, int w, int h, double cx, double cy, fl
     return ok;
 }
 
-unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
+/* The levels of the bounds g's proof gives (lit_levels.h). */
+static unsigned char *levels_of(const float *z, int w, int h, const line_geometry *g)
 {
     size_t n = (size_t)w * h;
     float *best = ss_malloc(n * sizeof(float)), *p[WORK_PLANES];
@@ -341,7 +418,7 @@ unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
         ok = ok && p[i];
     }
     unsigned char *out = ss_malloc(n);
-    ok = ok && out && bound_tangents(z, w, h, cx, cy, best, p);
+    ok = ok && out && bound_tangents(z, w, h, g, best, p);
     if (ok) {
 #pragma omp parallel for schedule(static)
         for (size_t c = 0; c < n; ++c) {
@@ -363,4 +440,18 @@ unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
         return NULL;
     }
     return out;
+}
+
+unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
+{
+    line_geometry g = {0, cx, cy, 0.0, 0.0};
+    return levels_of(z, w, h, &g);
+}
+
+unsigned char *ss_lit_levels_box(const float *z, int w, int h, double cx, double cy,
+                                 int families)
+{
+    line_geometry g = {1, cx, cy, 0.5 / families * fmax(cx, cy),
+                       (w > h ? w : h) * hypot(cx, cy) * 0x1p-20};
+    return levels_of(z, w, h, &g);
 }

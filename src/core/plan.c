@@ -353,7 +353,7 @@ static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place
 }
 
 /* Whether insolation's shadow walks will stop early (insolation.c,
- * lit_levels.h): exact shadows with interpolated lines on a grid held
+ * lit_levels.h): exact shadows with interpolated or box lines on a grid held
  * whole, with walks enough. */
 static int stops_shadow_walks(const ss_plan *p, const ss_plan_request *r)
 {
