@@ -9,12 +9,11 @@
 #            Amsterdam's IWEC year (the nearest weather file at hand);
 #   terrain  the Kilauea sample DEM moved to 45 N, 8 E (UTM 32N; interpolated
 #            lines), the PVGIS typical year of that site (samples/weather/).
-# The year is thinned to bound the cost on 2 cores: every ${THIN:-14}th day
-# keeps its records, the others' irradiance is set to 0 (their records stay,
-# so the file keeps its spacing; a record without light gets no shadow sweep
-# in any mode). The sums compared are thus the year's and each month's over
-# the days kept: a month's sum is two or three days, a stricter test than a
-# whole month's.
+# The year is thinned to bound the cost on 2 cores: the records of every
+# ${THIN:-21}st day are kept, in a plain CSV of them as the reader reads the
+# file. The sums compared are thus the year's and each month's over the
+# days kept: a month's sum is one or two days, a stricter test than a whole
+# month's.
 # The reference is exact shadows (a sweep per record) with 64 directions
 # for the sky; each row is a run with --shadow interpolated at D directions
 # or --shadow cumulative at D (1 degree bins), all with --pv but the
@@ -25,14 +24,14 @@
 # Usage: doc/shadow_modes.sh [--quick] (--quick: 60 x 60 crops, two rows
 # per scene, CI's check that it runs; doc/ and src/ are left alone).
 # Environment: SKYSWEEP (default ./skysweep), PYTHON with numpy (default
-# tests/pyvenv's), DATA (default ../shared/data), THIN (default 14).
+# tests/pyvenv's), DATA (default ../shared/data), THIN (default 21).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 top=$(dirname "$here")
 skysweep=${SKYSWEEP:-$top/skysweep}
 python=${PYTHON:-$top/tests/pyvenv/bin/python}
 data=${DATA:-$top/../shared/data}
-thin=${THIN:-14}
+thin=${THIN:-21}
 quick=0
 [ "${1:-}" = --quick ] && quick=1
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-shadow-modes.XXXXXX")
@@ -40,30 +39,23 @@ trap 'rm -rf "$work"' EXIT
 started=$(date +%s)
 load_before=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 
-# thin FILE OUT: keeps the light of every $thin-th day of an EPW or PVGIS CSV
+# thin FILE OUT: the records of every $thin-th day of a weather file, as the
+# reader reads them (skysweep weather), in a plain CSV stamped where the sun
+# is taken, in one year (a typical year's months come from several); a
+# plain CSV counts no gaps between the days kept.
 thin() {
-    "$python" - "$1" "$2" "$thin" <<'PY'
+    "$skysweep" weather "$1" | "$python" -c '
 import sys, datetime
-src, dst, every = sys.argv[1], sys.argv[2], int(sys.argv[3])
-out = []
-irr = None  # the columns of the irradiance, from a PVGIS header
-for line in open(src, encoding="latin-1"):
-    f = line.rstrip("\r\n").split(",")
-    if f[0].startswith("time(UTC)"):
-        irr = [f.index(c) for c in ("G(h)", "Gb(n)", "Gd(h)")]
-    day = None
-    if len(f) > 20 and f[0].isdigit() and len(f[0]) == 4:  # EPW: year, month, day, ...
-        day = datetime.date(2001, int(f[1]), int(f[2]))
-        cols = (13, 14, 15)
-    elif irr and len(f[0]) == 13 and f[0][8] == ":":  # PVGIS: YYYYMMDD:HHMM
-        day = datetime.date(2001, int(f[0][4:6]), int(f[0][6:8]))
-        cols = irr
-    if day is not None and day.timetuple().tm_yday % every != every // 2:
-        for c in cols:
-            f[c] = "0"
-    out.append(",".join(f) + "\n")
-open(dst, "w", encoding="latin-1").writelines(out)
-PY
+every = int(sys.argv[1])
+print("time,ghi,dni,dhi,temp_air,wind_speed,pressure")
+for line in sys.stdin:
+    if line.startswith("#") or line.startswith("stamp,"):
+        continue
+    stamp, sun, _, ghi, dni, dhi, temp, wind, _, pressure = line.rstrip("\n").split(",")
+    day = datetime.date(2001, int(stamp[5:7]), int(stamp[8:10])).timetuple().tm_yday
+    if day % every == every // 2:  # a typical year mixes years: all in one
+        print(",".join(("2001" + sun[4:], ghi, dni, dhi, temp, wind, pressure)))
+' "$thin" >"$2"
 }
 
 city_dem=$data/goteborg_kronenhuset_dsm_1m.tif
@@ -75,10 +67,8 @@ if [ $quick -eq 1 ]; then
     city_rows="interpolated:16 interpolated:64" terrain_rows="interpolated:16 cumulative:32"
 else
     crop=() ullr=(421000 4990000 436360 4970710) city_crop=()
-    city_rows="interpolated:16 interpolated:32 interpolated:64 interpolated:128
-               interpolated:256 cumulative:32 cumulative:64"
-    terrain_rows="interpolated:16 interpolated:32 interpolated:64 interpolated:128
-                  cumulative:32 cumulative:64"
+    city_rows="interpolated:16 interpolated:32 interpolated:64 interpolated:128 cumulative:32"
+    terrain_rows="interpolated:16 interpolated:32 interpolated:64 cumulative:32 cumulative:64"
 fi
 gdal_translate -q "${crop[@]}" -a_srs EPSG:32632 -a_ullr "${ullr[@]}" \
     "$top/samples/kilauea_summit_30m.tif" "$work/terrain.tif"
@@ -86,7 +76,7 @@ thin "$terrain_weather" "$work/terrain.csv"
 scenes=terrain
 if [ -r "$city_dem" ] && [ -r "$city_weather" ]; then
     gdal_translate -q "${city_crop[@]}" "$city_dem" "$work/city.tif"
-    thin "$city_weather" "$work/city.epw"
+    thin "$city_weather" "$work/city.csv"
     scenes="city terrain"
 else
     echo "shadow_modes: no $city_dem or $city_weather: the city scene is left out" >&2
@@ -96,12 +86,12 @@ fi
 run() {
     local scene=$1 mode directions
     IFS=: read -r mode directions <<<"$2"
-    local name=$scene-$mode-$directions weather=$work/terrain.csv far=() pv=(--pv)
-    [ "$scene" = city ] && weather=$work/city.epw far=(--weather-far-ok)
+    local name=$scene-$mode-$directions weather=$work/terrain.csv pv=(--pv)
+    [ "$scene" = city ] && weather=$work/city.csv
     [ "$mode" = cumulative ] && pv=() # the cumulative sky gives no PV yield
     local t0 t1
     t0=$(date +%s.%N)
-    "$skysweep" insolation -q --device reference --weather "$weather" "${far[@]}" "${pv[@]}" \
+    "$skysweep" insolation -q --device reference --weather "$weather" "${pv[@]}" \
         --directions "$directions" --curvature off --shadow "$mode" "$work/$scene.tif" \
         "$work/$name.tif"
     t1=$(date +%s.%N)
@@ -180,15 +170,14 @@ machine was shared: the times are a guide, the errors are not affected). The pla
 errors from \`src/core/shadow_table.c\`, which the same run wrote (doc/planner.md, \`shadow_mode\`).
 
 - **city**: Gothenburg's 1 m DSM ($(size "$work/city.tif") cells; box lines, 32 per cell, as the
-  planner picks them), Amsterdam's IWEC year (\`--weather-far-ok\`).
+  planner picks them), Amsterdam's IWEC year (the nearest weather file at hand).
 - **terrain**: the Kīlauea sample DEM ($(size "$work/terrain.tif") cells of 30 m; interpolated
   lines), moved to 45° N, 8° E, with the PVGIS typical year of that site.
 
 Every run but the cumulative sky's (which gives no PV yield) has \`--pv\`; a Perez sky, albedo 0.2, curvature off. To bound the cost, the year is
-thinned: the records of every ${thin}th day keep their light, the others' irradiance is set to 0
-($kept days of 365 kept; a record without light gets no shadow sweep). The sums compared are the
-year's and each month's over those days, so a month's is two or three days: shorter than a
-month, a stricter test than a whole month's. The reference is exact shadows with 64 directions
+thinned: the records of every ${thin}st day are kept ($kept days of 365), as the reader reads
+them, in a plain CSV. The sums compared are the year's and each month's over those days, so a
+month's is one or two days: shorter than a month, a stricter test than a whole month's. The reference is exact shadows with 64 directions
 (for the sky as well); each row is one run of the mode at D directions (which also set the sky's
 directions; cumulative: 1° bins), with errors per cell of |run − reference| / reference over
 lit cells (monthly: pooled over the twelve months, cells above 1 % of the scene's mean month).
