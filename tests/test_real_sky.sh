@@ -257,7 +257,7 @@ for tolerance in 50 0; do
     "$SKYSWEEP" insolation --weather "$pvgis" --insolation-tolerance $tolerance --plan \
         level.tif o.tif >plan_$tolerance.txt 2>err.txt
 done
-grep -Eq "^shadow_mode .*(interpolated|cumulative) shadows at .*within the 50 % tolerance" plan_50.txt &&
+grep -Eq "^shadow_mode .*(interpolated shadows|the cumulative sky) at .*within the 50 % tolerance" plan_50.txt &&
     grep -q "^shadow_mode .*exact shadows: the least error measured .*above the 0 % tolerance" \
         plan_0.txt
 tap_ok $? "the shadow mode follows --insolation-tolerance: $(grep -h '^shadow_mode' plan_50.txt plan_0.txt | cut -c 20-160 | tr '\n' '|')"

@@ -379,11 +379,12 @@ static void plan_shadows(ss_plan *p, const ss_plan_request *r, double error)
                              : "annual and monthly globals";
     if (p->shadow_mode != SS_SHADOW_EXACT) {
         add(p, "shadow_mode", 1, error, "%",
-            "%s shadows at %d directions (the sky's too): the cheapest mode whose measured error "
+            "%s at %d directions (the sky's too): the cheapest mode whose measured error "
             "on %s (p95 over cells of the %s, doc/shadow_modes.md) is within the %.3g %% "
             "tolerance; modelled on the C twin, exact shadows would take about %.2g s, this "
             "%.2g s",
-            shadow_names[p->shadow_mode], p->directions, scene, sums, w->tolerance_pct,
+            p->shadow_mode == SS_SHADOW_CUMULATIVE ? "the cumulative sky" : "interpolated shadows",
+            p->directions, scene, sums, w->tolerance_pct,
             p->cells * shadow_seconds(p, SS_SHADOW_EXACT, p->directions, r->n_steps),
             p->cells * shadow_seconds(p, p->shadow_mode, p->directions, r->n_steps));
         return;
