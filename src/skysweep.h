@@ -698,10 +698,12 @@ typedef struct {
     const char *what;
     double distance_km;
     int horizon_band;
-    int per_record; /* PV yield or per-step bands asked for: each record is needed */
-    /* The error a cell's annual and monthly sums may take, percent at p95:
-     * the cumulative sky is chosen (shadow mode auto) only where its
-     * measured error is within it; 0 allows none, so exact shadows. */
+    int per_step; /* per-step bands asked for: each record is needed, exactly */
+    int pv;       /* the PV yield asked for: each record is needed, and its error counts */
+    /* The error a cell's annual and monthly sums (and PV yield) may take,
+     * percent at p95: shadow mode auto takes interpolated shadows or the
+     * cumulative sky only where their measured error is within it
+     * (doc/planner.md); 0 allows none, so exact shadows. */
     double tolerance_pct;
 } ss_plan_weather;
 

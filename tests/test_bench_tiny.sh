@@ -5,7 +5,7 @@
 # table succeeded, and every peer that ran was compared with skysweep; skips
 # when the benchmark's own prerequisites (/usr/bin/time, gdal_translate,
 # python3-gdal) are missing, as the script itself does. Then the cumulative
-# sky's error table in its quick mode, and the phases of issue 17's jobs
+# sky's and the shadow modes' error tables in their quick modes, and the phases of issue 17's jobs
 # (doc/bench/phases.sh) once each.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
@@ -66,7 +66,16 @@ if "$python" -c "import numpy" 2>/dev/null; then
     rows=$(grep -c '^| cumulative' "$work/cumulative.md")
     [ "$rc" -eq 0 ] && [ "$rows" -ge 2 ] && ! grep -q 'nan' "$work/cumulative.md"
     tap_ok $? "doc/cumulative_sky.sh --quick: exit $rc, $rows cumulative rows $(tail -n 2 "$work/stderr" | head -c 200)"
+    # The shadow modes' table (doc/shadow_modes.sh --quick): every row
+    # measured on terrain (and the city where ../shared/data has it).
+    SKYSWEEP=$(realpath "$SKYSWEEP") PYTHON=$python TMPDIR=$work timeout 300 \
+        bash "${TOP_SRCDIR:-.}/doc/shadow_modes.sh" --quick >"$work/modes.md" 2>"$work/stderr"
+    rc=$?
+    rows=$(grep -c '^| terrain' "$work/modes.md")
+    [ "$rc" -eq 0 ] && [ "$rows" -eq 2 ] && ! grep -q 'nan' "$work/modes.md"
+    tap_ok $? "doc/shadow_modes.sh --quick: exit $rc, $rows terrain rows $(tail -n 2 "$work/stderr" | head -c 200)"
 else
     tap_skip "doc/cumulative_sky.sh --quick" "no numpy at $python (tests/run.sh installs it)"
+    tap_skip "doc/shadow_modes.sh --quick" "no numpy at $python (tests/run.sh installs it)"
 fi
 tap_done

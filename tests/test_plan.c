@@ -10,6 +10,7 @@
 
 #include "accuracy_table.h"
 #include "box_march.h"
+#include "shadow_table.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -394,8 +395,158 @@ static void lines(void)
     ss_grid_free(&hills);
 }
 
+/* A year of hourly weather records (instants only: the plan reads no
+ * irradiance), for the shadow mode's choice. */
+#define YEAR_HOURS 8760
+static double year_hours[YEAR_HOURS];
+
+static ss_plan_request weather_year(double tolerance_pct, int pv)
+{
+    for (int k = 0; k < YEAR_HOURS; ++k)
+        year_hours[k] = 1767225600.0 + (k + 0.5) * 3600; /* 2026 */
+    ss_plan_request r = request(SS_PRODUCT_INSOLATION);
+    r.shadow_mode = SS_SHADOW_AUTO;
+    r.lines = SS_LINES_AUTO;
+    r.n_steps = YEAR_HOURS;
+    r.step_unix_s = year_hours;
+    r.weather = (ss_plan_weather){"a test year", 10.0, 1, 0, pv, tolerance_pct};
+    return r;
+}
+
+/* The shadow table read as the planner reads it: where it covers a count,
+ * it covers every larger one, and never expects more error from more
+ * directions. */
+static void shadow_table_monotone(void)
+{
+    int ok = 1, rows = 0;
+    char where[120] = "";
+    for (int scene = SS_SHADOW_SCENE_CITY; scene <= SS_SHADOW_SCENE_TERRAIN; ++scene)
+        for (int mode = SS_SHADOW_INTERPOLATED; mode <= SS_SHADOW_CUMULATIVE; ++mode)
+            for (int pv = 0; pv <= 1; ++pv) {
+                double previous = NAN;
+                for (int d = 1; d <= 1024; ++d) {
+                    double e = ss_shadow_expected_error((ss_shadow_scene)scene,
+                                                        (ss_shadow_mode)mode, d, pv);
+                    int bad = isnan(e) ? !isnan(previous) && !(mode == SS_SHADOW_CUMULATIVE && pv)
+                                       : e > previous || e < 0;
+                    if (bad && ok)
+                        snprintf(where, sizeof where, "scene %d mode %d pv %d at %d: %g after %g",
+                                 scene, mode, pv, d, e, previous);
+                    ok &= !bad;
+                    rows += !isnan(e) && d == 256;
+                    previous = isnan(e) ? previous : e;
+                }
+            }
+    tap_ok(ok && rows > 0 && ss_shadow_mode_n_rows >= 4,
+           "the shadow table's expected error never grows with the directions (%d rows) %s",
+           ss_shadow_mode_n_rows, where);
+    /* What the choice rests on, measured: on the city, interpolated shadows
+     * err less at 128 directions than at 16. */
+    double e16 = ss_shadow_expected_error(SS_SHADOW_SCENE_CITY, SS_SHADOW_INTERPOLATED, 16, 1);
+    double e128 = ss_shadow_expected_error(SS_SHADOW_SCENE_CITY, SS_SHADOW_INTERPOLATED, 128, 1);
+    tap_ok(e128 < e16, "city, PV: interpolated shadows %.3g %% at 16 directions, %.3g %% at 128",
+           e16, e128);
+}
+
+/* --shadow auto: the cheapest mode whose tabulated error meets the
+ * tolerance, PV included; exact shadows where none does, for per-step
+ * bands, short runs and the clear sky; an explicit mode or count wins. */
+static void shadow_modes(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_grid city = box_march_city(120);
+    ss_place place = place_of(&city, 0, 57.7);
+    ss_plan p;
+    ss_plan_request r = weather_year(100, 1);
+    ss_status st = ss_plan_make(ctx, &city, &place, &r, &p);
+    const ss_plan_item *it = item(&p, "shadow_mode");
+    double want = ss_shadow_expected_error(SS_SHADOW_SCENE_CITY, SS_SHADOW_INTERPOLATED,
+                                           p.directions, 1);
+    tap_ok(st == SS_OK && p.lines == SS_LINES_BOX && p.shadow_mode == SS_SHADOW_INTERPOLATED &&
+               it && it->bound == want && it->bound <= 100 && strstr(it->reason, "PV yield") &&
+               p.sweeps == 2 * p.directions,
+           "a PV year on a city, 100 %% allowed: interpolated shadows, %d sweeps (%s) [%g %%]",
+           p.sweeps, it ? it->reason : ss_ctx_message(ctx), it ? it->bound : NAN);
+    int loose_sweeps = p.sweeps;
+    r = weather_year(0.001, 1);
+    st = ss_plan_make(ctx, &city, &place, &r, &p);
+    it = item(&p, "shadow_mode");
+    tap_ok(st == SS_OK && p.shadow_mode == SS_SHADOW_EXACT && it &&
+               strstr(it->reason, "above the 0.001 % tolerance") && p.sweeps > loose_sweeps,
+           "... 0.001 %% allowed: exact shadows, %d sweeps (%s)", p.sweeps, it ? it->reason : "-");
+    /* A looser tolerance never costs more sweeps. */
+    int previous = 1 << 30, monotone = 1;
+    for (double tol = 0.01; tol <= 100; tol *= 1.5) {
+        r = weather_year(tol, 1);
+        monotone &= ss_plan_make(ctx, &city, &place, &r, &p) == SS_OK && p.sweeps <= previous &&
+                    (p.shadow_mode == SS_SHADOW_EXACT || item(&p, "shadow_mode")->bound <= tol);
+        previous = p.sweeps;
+    }
+    tap_ok(monotone, "tolerances 0.01 to 100 %%: the expected error within each, the sweeps "
+                     "never more for a looser one");
+    r = weather_year(100, 1);
+    r.shadow_mode = SS_SHADOW_EXACT;
+    st = ss_plan_make(ctx, &city, &place, &r, &p);
+    it = item(&p, "shadow_mode");
+    tap_ok(st == SS_OK && p.shadow_mode == SS_SHADOW_EXACT && it && strstr(it->reason, "requested"),
+           "--shadow exact wins over a loose tolerance (%s)", it ? it->reason : "-");
+    r = weather_year(100, 1);
+    r.directions = 48;
+    st = ss_plan_make(ctx, &city, &place, &r, &p);
+    it = item(&p, "shadow_mode");
+    want = ss_shadow_expected_error(SS_SHADOW_SCENE_CITY, SS_SHADOW_INTERPOLATED, 48, 1);
+    tap_ok(st == SS_OK && p.directions == 48 && p.shadow_mode == SS_SHADOW_INTERPOLATED && it &&
+               it->bound == want,
+           "--directions 48 wins: interpolated at 48, the error read at the count below (%g %%)",
+           want);
+    r = weather_year(100, 1);
+    r.weather.per_step = 1;
+    st = ss_plan_make(ctx, &city, &place, &r, &p);
+    it = item(&p, "shadow_mode");
+    tap_ok(st == SS_OK && p.shadow_mode == SS_SHADOW_EXACT && it && strstr(it->reason, "per-step"),
+           "per-step bands: exact shadows (%s)", it ? it->reason : "-");
+    r = weather_year(100, 1);
+    r.n_steps = 48;
+    st = ss_plan_make(ctx, &city, &place, &r, &p);
+    it = item(&p, "shadow_mode");
+    tap_ok(st == SS_OK && p.shadow_mode == SS_SHADOW_EXACT && it && strstr(it->reason, "720"),
+           "48 records: exact shadows, the table does not cover them (%s)", it ? it->reason : "-");
+    /* Terrain, 64 directions asked for: without PV the cumulative sky (it
+     * ties interpolated shadows in sweeps, and its per-cell work is per bin
+     * of suns), with PV interpolated shadows (the cumulative sky gives no
+     * PV yield). */
+    ss_grid hills = test_grid(64, 64, 30, 30);
+    test_fill(&hills, TERRAIN_SMOOTH, 4, 300);
+    ss_place ph = place_of(&hills, 0, 45);
+    ss_shadow_mode chosen[2];
+    for (int pv = 0; pv <= 1; ++pv) {
+        r = weather_year(100, pv);
+        r.directions = 64;
+        st = ss_plan_make(ctx, &hills, &ph, &r, &p);
+        chosen[pv] = st == SS_OK && p.lines == SS_LINES_INTERPOLATED && p.directions == 64
+                         ? p.shadow_mode
+                         : SS_SHADOW_AUTO;
+    }
+    it = item(&p, "shadow_mode");
+    tap_ok(chosen[0] == SS_SHADOW_CUMULATIVE && chosen[1] == SS_SHADOW_INTERPOLATED,
+           "a year on terrain at 64 directions: the cumulative sky without PV, interpolated "
+           "shadows with it (%s)",
+           it ? it->reason : ss_ctx_message(ctx));
+    r = weather_year(100, 0);
+    r.weather.what = NULL;
+    st = ss_plan_make(ctx, &hills, &ph, &r, &p);
+    it = item(&p, "shadow_mode");
+    tap_ok(st == SS_OK && p.shadow_mode == SS_SHADOW_EXACT && it && strstr(it->reason, "clear sky"),
+           "the clear sky: exact shadows (%s)", it ? it->reason : "-");
+    ss_grid_free(&hills);
+    ss_grid_free(&city);
+    ss_ctx_free(ctx);
+}
+
 int main(void)
 {
+    shadow_table_monotone();
+    shadow_modes();
     lines();
     device_auto();
     directions();

@@ -250,17 +250,50 @@ tap_ok $? "a month with --steps keeps exact shadows: exit $rc, noon of 12 June h
 rc=$?
 [ "$rc" -eq 2 ] && grep -q "no per-step bands" err.txt && [ ! -e o.tif ] && [ ! -e s.tif ]
 tap_ok $? "the cumulative sky with --steps is refused: exit $rc, $(cat err.txt)"
-# --shadow auto takes the cumulative sky for a year only where the tolerance
-# admits its measured error (0.21 % on monthly sums, p95): at 0.5 % (the
-# default) it does, at 0.1 % it keeps exact shadows, and the plan says why.
-for tolerance in 0.5 0.1; do
+# --shadow auto leaves exact shadows for a year only where the tolerance
+# admits another mode's measured error (src/core/shadow_table.c): at 50 % it
+# does, at 0 it keeps exact shadows, and the plan says why.
+for tolerance in 50 0; do
     "$SKYSWEEP" insolation --weather "$pvgis" --insolation-tolerance $tolerance --plan \
         level.tif o.tif >plan_$tolerance.txt 2>err.txt
 done
-grep -q "^shadow_mode .*cumulative sky for 8760 .*within the 0.5 % tolerance" plan_0.5.txt &&
-    grep -q "^shadow_mode .*exact shadows: the cumulative sky's 0.21 % .*above the 0.1 % tolerance" \
-        plan_0.1.txt
-tap_ok $? "the cumulative sky follows --insolation-tolerance: $(grep -h '^shadow_mode' plan_0.5.txt plan_0.1.txt | cut -c 20-140 | tr '\n' '|')"
+grep -Eq "^shadow_mode .*(interpolated shadows|the cumulative sky) at .*within the 50 % tolerance" plan_50.txt &&
+    grep -q "^shadow_mode .*exact shadows: the least error measured .*above the 0 % tolerance" \
+        plan_0.txt
+tap_ok $? "the shadow mode follows --insolation-tolerance: $(grep -h '^shadow_mode' plan_50.txt plan_0.txt | cut -c 20-160 | tr '\n' '|')"
+# The error the plan states is honoured: a month of PV on a small city
+# (1 m cells, box lines: 16 m blocks of 12-20 m, 8 m streets, as central
+# Gothenburg's), --shadow auto at a tolerance that admits interpolated
+# shadows, against exact shadows. The table was measured on Gothenburg's DSM
+# over a thinned year; this scene and span differ, so the p95 of the global
+# and PV yield must stay within twice the stated error (the safety factor,
+# doc/planner.md; denser blocks, 3 m streets between 6-22 m, erred by 2.1
+# times it).
+awk 'BEGIN { n = 48; print "ncols " n; print "nrows " n; print "xllcorner 421000";
+  print "yllcorner 4982000"; print "cellsize 1";
+  for (r = 0; r < n; r++) { line = "";
+    for (k = 0; k < n; k++) { h = 0; bx = int(k / 24); by = int(r / 24);
+      if (k % 24 >= 4 && k % 24 <= 19 && r % 24 >= 4 && r % 24 <= 19) h = 12 + 4 * ((bx + 2 * by) % 3);
+      line = line sprintf("%d ", h) }
+    print line } }' >city.asc
+gdal_translate -q -ot Float32 -a_srs EPSG:32632 city.asc city.tif
+month=(--weather "$pvgis" --time 2011-07-01T00:00Z/P31D --pv --box-lines 8 --device reference
+    --insolation-tolerance 20)
+"$SKYSWEEP" insolation "${month[@]}" --plan city.tif o.tif >city_plan.txt 2>err.txt
+bound=$(sed -n 's/^shadow_mode .*interpolated shadows at .*\[error allowed: \([0-9.e+-]*\) %\]$/\1/p' city_plan.txt)
+"$SKYSWEEP" insolation -q "${month[@]}" city.tif city_auto.tif 2>err.txt &&
+    "$SKYSWEEP" insolation -q "${month[@]}" --shadow exact city.tif city_exact.tif 2>>err.txt
+p95() { # BAND: the 95th percentile over cells of |auto - exact| / exact, percent
+    paste <(gdal_translate -q -of AAIGrid -b "$1" city_exact.tif /vsistdout/ | tail -n +7 |
+        tr -s ' ' '\n' | grep .) <(gdal_translate -q -of AAIGrid -b "$1" city_auto.tif \
+        /vsistdout/ | tail -n +7 | tr -s ' ' '\n' | grep .) |
+        awk '$1 > 0 { e = ($2 - $1) / $1; print (e < 0 ? -e : e) * 100 }' | sort -g |
+        awk '{ v[NR] = $1 } END { print v[int(0.95 * NR + 0.5)] }'
+}
+global=$(p95 1) pv=$(p95 18)
+[ -n "$bound" ] && awk -v b="$bound" -v g="$global" -v p="$pv" \
+    'BEGIN { exit !(g > 0 && g <= 2 * b && p <= 2 * b) }'
+tap_ok $? "a month of PV on a city of blocks, --shadow auto: the plan states ${bound:-no} % (interpolated shadows), measured p95 $global % (global), $pv % (PV yield) against exact shadows"
 "$SKYSWEEP" insolation --weather three.csv --surface ,180 level.tif o.tif >/dev/null 2>err.txt
 rc=$?
 [ "$rc" -eq 2 ] && grep -q -- "--surface expects" err.txt

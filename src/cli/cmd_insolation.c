@@ -532,7 +532,7 @@ static ss_status prepare(insolation_run *r)
                  set->weather);
         r->job.weather = (ss_plan_weather){
             r->weather_what, weather_distance_km(&r->weather, &r->job.frame),
-            r->io.sky_model == SS_SKY_MODEL_PEREZ, set->ins.pv || set->steps_path,
+            r->io.sky_model == SS_SKY_MODEL_PEREZ, set->steps_path != NULL, set->ins.pv,
             set->ins.tolerance_percent};
     }
     if (st == SS_OK)

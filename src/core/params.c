@@ -128,13 +128,14 @@ static const ss_param insolation_params[] = {
      "auto|exact|interpolated|cumulative",
      "exact: a sweep at each step's sun azimuth; interpolated: horizons stored at --directions "
      "and interpolated; cumulative (--weather): the suns binned by direction and "
-     "--elevation-step, each bin lit at its direction's horizon; auto: cumulative for 720 "
-     "weather records or more without --pv or --steps, else exact (doc/insolation.md)"},
+     "--elevation-step, each bin lit at its direction's horizon; auto: for 720 weather records "
+     "or more without --steps, the cheapest mode whose measured error meets "
+     "--insolation-tolerance, else exact (doc/planner.md)"},
     {"insolation-tolerance", SS_PARAM_DOUBLE, INSOL(tolerance_percent), "PERCENT", "0.5", 0, 100,
      NULL,
-     "with --weather and --shadow auto: the error (p95, %) a cell's annual and monthly sums may "
-     "take; the cumulative sky is chosen where its measured error is within it "
-     "(doc/cumulative_sky.md), 0: exact shadows"},
+     "with --weather and --shadow auto: the error (p95, %) a cell's annual and monthly sums and "
+     "PV yield may take; interpolated shadows or the cumulative sky are chosen where their "
+     "measured error is within it (doc/shadow_modes.md), 0: exact shadows"},
     {"elevation-step", SS_PARAM_DOUBLE, INSOL(elevation_step_deg), "DEG", "1", 0.01, 90, NULL,
      "with --shadow cumulative: height of a sun bin"},
     {"solar-constant", SS_PARAM_DOUBLE, INSOL(solar_constant), "W/M2", "1367", 1000, 2000, NULL,

@@ -14,6 +14,7 @@
 #include "ctx_internal.h"
 #include "lines.h"
 #include "lit_levels.h"
+#include "shadow_table.h"
 #include "skysweep_sun.h"
 
 #define DEG (180.0 / M_PI)
@@ -267,64 +268,161 @@ static void plan_cells(ss_plan *p, const ss_plan_request *r, const ss_place *pla
                                              : "");
 }
 
-/* Records in a run from which the cumulative sky pays: a month of hours.
- * Its error, measured against exact shadows over a year on the Kilauea
- * sample (doc/cumulative_sky.md, 32 directions, 1 degree bins): the annual
- * sums' mean and p95, and the monthly sums' p95, which is the larger and so
- * the one held against the run's tolerance. */
-#define CUMULATIVE_MIN_RECORDS 720
-#define CUMULATIVE_MEAN_ERROR_PCT 0.04
-#define CUMULATIVE_P95_ERROR_PCT 0.09
-#define CUMULATIVE_MONTHLY_P95_ERROR_PCT 0.21
+/* Records in a run that the shadow table covers: a month of hours. It was
+ * measured on the sums of days spread over a year (doc/shadow_modes.md);
+ * a shorter run's sums are a shorter span, whose error the table does not
+ * bound. */
+#define SHADOW_TABLE_MIN_RECORDS 720
 
-/* Insolation's shadow mode: as requested, or (auto) the cumulative sky for
- * a long run of weather records without PV yield whose tolerance admits
- * its error, else exact shadows. */
-static ss_shadow_mode choose_shadows(const ss_plan_request *r)
+static const char *const shadow_names[] = {"exact", "interpolated", "cumulative"};
+
+/* The scene kind of the shadow table a line model was measured on; -1:
+ * none (digital lines). */
+static int shadow_scene(ss_line_model lines)
 {
-    if (r->shadow_mode != SS_SHADOW_AUTO)
-        return r->shadow_mode;
-    const ss_plan_weather *w = &r->weather;
-    return r->product == SS_PRODUCT_INSOLATION && w->what && !w->per_record &&
-                   r->n_steps >= CUMULATIVE_MIN_RECORDS &&
-                   w->tolerance_pct >= CUMULATIVE_MONTHLY_P95_ERROR_PCT
-               ? SS_SHADOW_CUMULATIVE
-               : SS_SHADOW_EXACT;
+    return lines == SS_LINES_BOX            ? SS_SHADOW_SCENE_CITY
+           : lines == SS_LINES_INTERPOLATED ? SS_SHADOW_SCENE_TERRAIN
+                                            : -1;
 }
 
-/* The plan's word on the shadow mode chosen. */
-static void plan_shadows(ss_plan *p, const ss_plan_request *r)
+/* Why the shadow table does not cover a run (NULL: it does). */
+static const char *shadow_table_gap(const ss_plan *p, const ss_plan_request *r)
+{
+    const ss_plan_weather *w = &r->weather;
+    if (!w->what)
+        return "the clear sky's steps are swept each (the table of modes is measured on weather "
+               "records)";
+    if (w->per_step)
+        return "the per-step bands need each record on each cell, exactly";
+    if (r->n_steps < SHADOW_TABLE_MIN_RECORDS)
+        return "fewer than 720 records: the table of modes is measured on sums over a year";
+    if (shadow_scene(p->lines) < 0)
+        return "the table of modes is measured on box and interpolated lines, not digital";
+    return NULL;
+}
+
+/* The modelled seconds per cell of a year's shadows in a mode with
+ * `directions` (the sky's too), on the C twin: the sweeps (box sweeps
+ * walking box_lines lines per cell) and the per-cell work per record, or,
+ * for the cumulative sky, per bin of suns, at most directions x 90 (the
+ * default 1 degree bins). Daylight records are taken as half the records
+ * (a year's share; the plan's own count comes after the choice). */
+static double shadow_seconds(const ss_plan *p, ss_shadow_mode mode, int directions, int n_steps)
+{
+    double daylight = 0.5 * n_steps;
+    double sweeps = directions + (mode == SS_SHADOW_EXACT ? daylight : directions);
+    if (p->lines == SS_LINES_BOX)
+        sweeps *= COST_BOX_PER_LINE * p->box_lines;
+    double steps = mode == SS_SHADOW_CUMULATIVE ? fmin(daylight, 90.0 * directions) : daylight;
+    return sweeps / COST_REF_RATE + steps * PLAN_CELL_STEP_S;
+}
+
+/* Insolation's shadow mode with --shadow auto: of the modes the table
+ * covers, the cheapest in modelled time (shadow_seconds) whose expected
+ * error (shadow_table.h) is within --insolation-tolerance, never with fewer
+ * directions than the sky was planned with (or exactly those asked for);
+ * at equal time the cumulative sky, whose bins are fewer than the bound
+ * the model takes. Exact shadows where none is cheaper or none meets the
+ * tolerance. Sets the plan's mode and directions, and *error to the error
+ * expected. */
+static void choose_shadows(ss_plan *p, const ss_plan_request *r, double *error)
+{
+    *error = 0;
+    p->shadow_mode = r->shadow_mode;
+    if (r->product != SS_PRODUCT_INSOLATION || r->shadow_mode != SS_SHADOW_AUTO)
+        return;
+    p->shadow_mode = SS_SHADOW_EXACT;
+    if (shadow_table_gap(p, r) || !(r->weather.tolerance_pct > 0)) /* 0: none allowed */
+        return;
+    double best = shadow_seconds(p, SS_SHADOW_EXACT, p->directions, r->n_steps);
+    int directions = p->directions;
+    for (int i = 0; i < ss_shadow_mode_n_rows; ++i) {
+        const ss_shadow_mode_row *row = &ss_shadow_mode_rows[i];
+        int d = r->directions ? r->directions : row->directions;
+        if ((int)row->scene != shadow_scene(p->lines) || d < p->directions)
+            continue;
+        double e = ss_shadow_expected_error(row->scene, row->mode, d, r->weather.pv);
+        double seconds = shadow_seconds(p, row->mode, d, r->n_steps);
+        int cheaper = seconds < best || (seconds == best && row->mode == SS_SHADOW_CUMULATIVE &&
+                                         p->shadow_mode != SS_SHADOW_CUMULATIVE);
+        if (e <= r->weather.tolerance_pct && cheaper) { /* NAN: not covered */
+            best = seconds;
+            p->shadow_mode = row->mode;
+            directions = d;
+            *error = e;
+        }
+    }
+    if (directions != p->directions)
+        for (int i = 0; i < p->n_items; ++i)
+            if (strcmp(p->items[i].key, "directions") == 0)
+                snprintf(p->items[i].reason, sizeof p->items[i].reason,
+                         "%d directions: for the shadow mode chosen (shadow_mode), more than the "
+                         "%d the sky was planned with",
+                         directions, p->directions);
+    p->directions = directions;
+}
+
+/* The plan's word on the shadow mode chosen, and the error it expects. */
+static void plan_shadows(ss_plan *p, const ss_plan_request *r, double error)
 {
     if (r->product != SS_PRODUCT_INSOLATION)
         return;
     const ss_plan_weather *w = &r->weather;
     if (r->shadow_mode != SS_SHADOW_AUTO) {
-        static const char *const names[] = {"exact", "interpolated", "cumulative"};
-        add(p, "shadow_mode", 1, 0, "", "%s shadows, as requested", names[r->shadow_mode]);
+        add(p, "shadow_mode", 1, 0, "", "%s shadows, as requested", shadow_names[r->shadow_mode]);
         return;
     }
-    if (p->shadow_mode == SS_SHADOW_CUMULATIVE) {
-        add(p, "shadow_mode", 1, CUMULATIVE_MONTHLY_P95_ERROR_PCT, "%",
-            "cumulative sky for %d weather records (at least %d): against exact shadows a "
-            "year's global erred by %.2f %% on average and %.2f %% at p95, the months by %.2f %% "
-            "at p95, on the Kilauea sample, in 1/50 of the time (doc/cumulative_sky.md): within "
-            "the %.3g %% tolerance",
-            r->n_steps, CUMULATIVE_MIN_RECORDS, CUMULATIVE_MEAN_ERROR_PCT,
-            CUMULATIVE_P95_ERROR_PCT, CUMULATIVE_MONTHLY_P95_ERROR_PCT, w->tolerance_pct);
+    const char *gap = shadow_table_gap(p, r);
+    const char *scene = p->lines == SS_LINES_BOX ? "a city DSM on box lines"
+                                                 : "terrain on interpolated lines";
+    const char *sums = w->pv ? "annual and monthly globals and PV yield"
+                             : "annual and monthly globals";
+    if (p->shadow_mode != SS_SHADOW_EXACT) {
+        add(p, "shadow_mode", 1, error, "%",
+            "%s at %d directions (the sky's too): the cheapest mode whose measured error "
+            "on %s (p95 over cells of the %s, doc/shadow_modes.md) is within the %.3g %% "
+            "tolerance; modelled on the C twin, exact shadows would take about %.2g s, this "
+            "%.2g s",
+            p->shadow_mode == SS_SHADOW_CUMULATIVE ? "the cumulative sky" : "interpolated shadows",
+            p->directions, scene, sums, w->tolerance_pct,
+            p->cells * shadow_seconds(p, SS_SHADOW_EXACT, p->directions, r->n_steps),
+            p->cells * shadow_seconds(p, p->shadow_mode, p->directions, r->n_steps));
         return;
     }
-    char why[200];
-    if (!w->what)
-        snprintf(why, sizeof why, "the clear sky's steps are swept each");
-    else if (w->per_record)
-        snprintf(why, sizeof why, "the PV yield or the per-step bands need each record on each cell");
-    else if (r->n_steps < CUMULATIVE_MIN_RECORDS)
-        snprintf(why, sizeof why, "too few records for the cumulative sky to pay");
+    if (gap) {
+        add(p, "shadow_mode", 1, 0, "", "exact shadows: %s", gap);
+        return;
+    }
+    /* The best the table offers on this scene, to say how far it is. */
+    double least = NAN;
+    int at = 0;
+    for (int i = 0; i < ss_shadow_mode_n_rows; ++i) {
+        const ss_shadow_mode_row *row = &ss_shadow_mode_rows[i];
+        int d = r->directions ? r->directions : row->directions;
+        double e = (int)row->scene == shadow_scene(p->lines) && d >= p->directions
+                       ? ss_shadow_expected_error(row->scene, row->mode, d, w->pv)
+                       : NAN;
+        if (e < least || (isnan(least) && !isnan(e))) {
+            least = e;
+            at = i;
+        }
+    }
+    if (isnan(least))
+        add(p, "shadow_mode", 1, 0, "",
+            "exact shadows: no other mode is measured for %s at %d directions", scene,
+            p->directions);
+    else if (least > w->tolerance_pct)
+        add(p, "shadow_mode", 1, 0, "",
+            "exact shadows: the least error measured on %s (%s) is %s shadows' at %d "
+            "directions, %.3g %% (p95, doc/shadow_modes.md): above the %.3g %% tolerance",
+            scene, sums, shadow_names[ss_shadow_mode_rows[at].mode],
+            r->directions ? r->directions : ss_shadow_mode_rows[at].directions, least,
+            w->tolerance_pct);
     else
-        snprintf(why, sizeof why,
-                 "the cumulative sky's %.2f %% (monthly sums, p95) is above the %.3g %% tolerance",
-                 CUMULATIVE_MONTHLY_P95_ERROR_PCT, w->tolerance_pct);
-    add(p, "shadow_mode", 1, 0, "", "exact shadows: %s", why);
+        add(p, "shadow_mode", 1, 0, "",
+            "exact shadows: cheaper in modelled time than the modes whose measured error on %s "
+            "is within the %.3g %% tolerance",
+            scene, w->tolerance_pct);
 }
 
 static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place)
@@ -345,6 +443,7 @@ static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place
         return;
     }
     int on = r->sun_per_cell == SS_AUTO ? spread > r->sun_tolerance_deg : r->sun_per_cell == SS_ON;
+    p->sun_per_cell = on;
     add(p, "sun_per_cell", on, on ? 0 : spread, "deg",
         "the sun's direction differs by up to %.4f deg between the centre and a corner: %s the "
         "%.3g deg sun tolerance",
@@ -394,6 +493,11 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
             "directions and by elevation, one horizon sweep per direction instead of one per "
             "record",
             r->n_steps - p->steps_night, p->directions);
+    else if (p->shadow_mode == SS_SHADOW_INTERPOLATED)
+        add(p, "shadow_sweeps", 1, 0, "",
+            "interpolated shadows: horizons stored at the %d directions in one sweep each and "
+            "interpolated to each of the %d daylight records' suns, no sweep per record",
+            p->directions, r->n_steps - p->steps_night);
     else if (bound_deg >= 90.0)
         add(p, "shadow_sweeps", 1, 0, "",
             "the DEM is read in bands, so no bound on its horizons is known: every one of the "
@@ -506,18 +610,18 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     plan_curvature(p, r, place);
     plan_north(p, r, place);
     plan_cells(p, r, place);
-    p->shadow_mode = choose_shadows(r);
-    plan_sun(p, r, place);
     p->curvature = p->items[0].on;
     p->true_north = p->items[1].on;
-    p->sun_per_cell = p->items[3].on;
 
     plan_lines(p, r, grid);
     plan_directions(p, r);
+    double shadow_error;
+    choose_shadows(p, r, &shadow_error);
+    plan_sun(p, r, place);
 
     double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;
     double bound = uses_sun(r->product) ? ss_horizon_bound_deg(grid, p->lines) : 90.0;
-    plan_shadows(p, r);
+    plan_shadows(p, r, shadow_error);
     ss_status st = plan_steps(ctx, p, r, place, bound, spread);
     if (st != SS_OK)
         return st;
