@@ -434,10 +434,11 @@ SS_API ss_status ss_hillshade(ss_ctx *ctx, const ss_grid *grid, double light_azi
                        int multidirectional_light, float *shade);
 
 /* An upper bound (degrees) on every terrain horizon the grid can cast in the
- * line model, curvature or not: no cell is in a cast shadow when the sun is
- * above it (doc/insolation.md gives the proof). 90 for a grid whose heights
- * are not in memory (z NULL). */
-SS_API double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines);
+ * line model (box_lines per cell for box lines; ignored by the others),
+ * curvature or not: no cell is in a cast shadow when the sun is above it
+ * (doc/insolation.md gives the proof). 90 for a grid whose heights are not
+ * in memory (z NULL). */
+SS_API double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines, int box_lines);
 
 /* ---- insolation --------------------------------------------------------- */
 

@@ -176,7 +176,7 @@ static void skipped_work(void)
     ss_ctx *ctx = ss_ctx_new();
     ss_grid g = test_grid(60, 60, 30, 30);
     test_fill(&g, TERRAIN_SMOOTH, 8, 20); /* gentle: the horizon bound is low */
-    double bound = ss_horizon_bound_deg(&g, SS_LINES_INTERPOLATED);
+    double bound = ss_horizon_bound_deg(&g, SS_LINES_INTERPOLATED, 0);
     int night = 0, high = 0;
     for (int k = 0; k < 24; ++k) {
         ss_sun_step s;

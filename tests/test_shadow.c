@@ -148,24 +148,26 @@ static void against_brute_force(int device)
 }
 
 /* The proven horizon bound (ss_horizon_bound_deg) lets insolation skip
- * shadow sweeps: a sun just above it must light every cell, in both line
- * models, on rough terrain with cliffs and at every azimuth tried. */
+ * shadow sweeps: a sun just above it must light every cell, in every line
+ * model (box lines with 32 per cell), on rough terrain with cliffs and at
+ * every azimuth tried. */
 static void above_the_bound(int device)
 {
     ss_grid g = test_grid(70, 50, 30, 30);
     test_fill(&g, TERRAIN_SMOOTH, 21, 60);
     g.z[35 * 70 + 20] += 40.0f; /* a one-cell tower: a horizon with a steep edge */
     int dark = 0, runs = 0;
-    double bound_deg = ss_horizon_bound_deg(&g, SS_LINES_INTERPOLATED);
+    double bound_deg = ss_horizon_bound_deg(&g, SS_LINES_INTERPOLATED, 0);
     char err[300] = "";
-    for (int model = 0; model < 2; ++model) {
-        double el = ss_horizon_bound_deg(&g, (ss_line_model)model) + 1e-6;
+    for (int model = SS_LINES_INTERPOLATED; model <= SS_LINES_BOX; ++model) {
+        double el = ss_horizon_bound_deg(&g, (ss_line_model)model, 32) + 1e-6;
         for (double az = 7.5; az < 360; az += 45) {
             ss_ctx *ctx = ss_ctx_new();
             ss_ctx_use_device(ctx, devices[device]);
             ss_sweep_options opt;
             ss_sweep_options_default(&opt);
             opt.lines = (ss_line_model)model;
+            opt.box_lines = 32;
             float *lit = malloc(sizeof(float) * 70 * 50);
             if (el > 90 || ss_cast_shadow(ctx, &g, &opt, az, el, NULL, lit, NULL) != SS_OK) {
                 snprintf(err, sizeof err, "%s", ss_ctx_message(ctx));

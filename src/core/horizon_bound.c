@@ -64,13 +64,13 @@ static double bound_deg(const bound_parts *b, double cell_x_m, double cell_y_m,
     return atan(t) * 180.0 / M_PI;
 }
 
-double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines)
+double ss_horizon_bound_deg(const ss_grid *grid, ss_line_model lines, int box_lines)
 {
     if (!grid->z) /* not in memory: nothing is bounded */
         return 90.0;
     bound_parts b = {0, 0, INFINITY, -INFINITY, 0};
     add_rows(&b, grid->z, grid->width, grid->height, 0, grid->height);
-    return bound_deg(&b, grid->cell_x_m, grid->cell_y_m, lines, 1);
+    return bound_deg(&b, grid->cell_x_m, grid->cell_y_m, lines, box_lines);
 }
 
 /* Each band's own rows, with the row below them held. */

@@ -461,9 +461,11 @@ static int stops_shadow_walks(const ss_plan *p, const ss_plan_request *r)
            ss_lit_levels_used(walked, p->lines);
 }
 
-/* Counts of the time steps that need no work, from SPA at the centre. */
+/* Counts of the time steps that need no work, from SPA at the centre;
+ * bound_deg is 90 where none is known, for the reason held_whole tells. */
 static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
-                            const ss_place *place, double bound_deg, double spread_deg)
+                            const ss_place *place, double bound_deg, int held_whole,
+                            double spread_deg)
 {
     if (!uses_sun(r->product) || r->n_steps == 0 || !place->georeferenced)
         return SS_OK;
@@ -500,8 +502,9 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
             p->directions, r->n_steps - p->steps_night);
     else if (bound_deg >= 90.0)
         add(p, "shadow_sweeps", 1, 0, "",
-            "the DEM is read in bands, so no bound on its horizons is known: every one of the "
-            "%d daylight steps gets its shadow sweep%s",
+            "%s, so no bound on its horizons is known: every one of the %d daylight steps gets "
+            "its shadow sweep%s",
+            held_whole ? "its box lines may touch a column's face" : "the DEM is read in bands",
             r->n_steps - p->steps_night,
             r->weather.what ? ", but records with neither beam nor circumsolar light" : "");
     else
@@ -620,9 +623,9 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     plan_sun(p, r, place);
 
     double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;
-    double bound = uses_sun(r->product) ? ss_horizon_bound_deg(grid, p->lines) : 90.0;
+    double bound = uses_sun(r->product) ? ss_horizon_bound_deg(grid, p->lines, p->box_lines) : 90.0;
     plan_shadows(p, r, shadow_error);
-    ss_status st = plan_steps(ctx, p, r, place, bound, spread);
+    ss_status st = plan_steps(ctx, p, r, place, bound, grid->z != NULL, spread);
     if (st != SS_OK)
         return st;
     if (r->product == SS_PRODUCT_INSOLATION)
