@@ -73,6 +73,19 @@ sam=$("$SKYSWEEP" weather "$cut/sam_csv_30min.csv")
 echo "$sam" | grep -q '^# format SAM CSV' &&
     [ "$(echo "$sam" | grep -v '^#')" = "$("$SKYSWEEP" weather "$cut/nsrdb_psm4_30min_cut.csv" | grep -v '^#')" ]
 tap_ok $? "a SAM CSV with NREL's short names reads as the NSRDB file it was written from"
+# The same without tz (SAM itself may do without): refused naming SAM and
+# --weather-zone (exit 2), and read as before when the option gives the zone.
+awk -F, -v OFS=, 'NR <= 2 { for (i = 1; i <= NF; ++i) if (NR == 1 && $i == "tz") col = i }
+    NR <= 2 && col { $col = "" } { print }' "$cut/sam_csv_30min.csv" >"$work/sam_no_tz.csv"
+zone=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "tz") col = i } NR == 2 { print $col }' \
+    "$cut/sam_csv_30min.csv")
+"$SKYSWEEP" weather "$work/sam_no_tz.csv" >/dev/null 2>"$work/err"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "is a SAM CSV file whose metadata states no Time Zone: give its stamps' zone with --weather-zone" "$work/err"
+tap_ok $? "a SAM CSV without tz is refused naming SAM and --weather-zone: exit $rc, $(cat "$work/err")"
+hours=$(printf '%+03d:00' "$zone")
+[ "$("$SKYSWEEP" weather --weather-zone "$hours" "$work/sam_no_tz.csv" | grep -v '^#')" = "$(echo "$sam" | grep -v '^#')" ]
+tap_ok $? "... and with --weather-zone $hours (the zone it had) it reads as the file with tz"
 against_pvlib "$cut/miami_tmy2_jan_1_2.tm2" tmy2
 # pvlib ships NREL's whole Miami TMY2 file with its package.
 pvlib_data=$("$python" -c "import os, pvlib; print(os.path.dirname(pvlib.__file__) + '/data')" 2>/dev/null)
@@ -327,8 +340,8 @@ refused_saying psm_back_in_month.csv "$(head -5 "$cut/nsrdb_psm4_tmy_stitched.cs
 refused_saying pvgis_hourly_30deg.csv "$(cat "$cut/pvgis_hourly_45N_8E_30deg_2016.csv")" "is a PVGIS hourly series on a plane tilted 30 degrees, not global horizontal irradiance"
 sed 's/"slope": {"value": 0/"slope": {"value": 35/' "$cut/pvgis_hourly_45N_8E_0deg_2016.json" >"$work/tilted.json"
 refused_saying pvgis_hourly_35deg.json "$(cat "$work/tilted.json")" "is a PVGIS hourly series on a plane tilted 35 degrees"
-refused_saying sam_no_zone.csv 'lat,lon,elev\n40.53,-108.54,2168\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "it has no 'time' column"
-refused_saying sam_bad_zone.csv 'lat,lon,tz\n40.53,-108.54,x\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "line 2: the PSM/SAM metadata needs Latitude, Longitude and Time Zone"
+refused_saying sam_no_latitude.csv 'lon,tz\n-108.54,-7\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "none of EPW's"
+refused_saying sam_bad_zone.csv 'lat,lon,tz\n40.53,-108.54,x\nYear,Month,Day,Hour,Minute,GHI\n2023,1,1,7,30,0\n' "line 2: the PSM/SAM metadata's Time Zone is not hours from UTC (-14..14)"
 refused_saying sam_no_ghi.csv 'lat,lon,tz\n40.53,-108.54,-7\nYear,Month,Day,Hour,Minute,DNI\n2023,1,1,7,30,0\n' "line 3: the PSM/SAM columns lack Year, Month, Day, Hour, Minute or GHI"
 # Gaps (issue 45, item 4): records absent from a file's spacing are counted;
 # a file most of whose records are absent or missing is refused in one line.

@@ -921,8 +921,9 @@ static const char *const SAM_LATITUDE[] = {"Latitude", "lat", NULL},
 
 /* SAM's CSV weather format (NREL, "SAM CSV Files for Solar Resource
  * Data"), of which an NSRDB PSM file is one: the metadata's names on the
- * first line (latitude, longitude and zone among them), their values on
- * the second, the columns on the third, starting with Year. */
+ * first line (latitude and longitude among them; the zone, which SAM
+ * itself may do without, read_psm asks for), their values on the second,
+ * the columns on the third, starting with Year. */
 static int sam_csv(const reader *r)
 {
     if (r->n_lines < 3 || strncasecmp(r->lines[2], "Year,", 5) != 0)
@@ -931,7 +932,7 @@ static int sam_csv(const reader *r)
     snprintf(copy, sizeof copy, "%s", r->lines[0]);
     int nk = split_csv(copy, keys);
     return nk > 0 && find_alias(keys, nk, SAM_LATITUDE) >= 0 &&
-           find_alias(keys, nk, SAM_LONGITUDE) >= 0 && find_alias(keys, nk, SAM_ZONE) >= 0;
+           find_alias(keys, nk, SAM_LONGITUDE) >= 0;
 }
 
 /* NSRDB PSM3/PSM4 and other SAM CSV files: metadata names and values,
@@ -950,9 +951,16 @@ static ss_status read_psm(reader *r)
         return fail_at(r, 1, "the PSM metadata values do not match their names");
     if ((c = find_alias(keys, nk, SAM_LATITUDE)) < 0 || !number(vals[c], &w->latitude_deg) ||
         (c = find_alias(keys, nk, SAM_LONGITUDE)) < 0 || !number(vals[c], &w->longitude_deg) ||
-        (c = find_alias(keys, nk, SAM_ZONE)) < 0 || !number(vals[c], &tz) ||
-        fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180 || fabs(tz) > 14)
-        return fail_at(r, 1, "the PSM/SAM metadata needs Latitude, Longitude and Time Zone");
+        fabs(w->latitude_deg) > 90 || fabs(w->longitude_deg) > 180)
+        return fail_at(r, 1, "the PSM/SAM metadata needs Latitude and Longitude in degrees");
+    if ((c = find_alias(keys, nk, SAM_ZONE)) < 0 && isnan(r->zone_h))
+        return ss_ctx_error(r->ctx, SS_ERR_ARGUMENT,
+                            "'%s' is a SAM CSV file whose metadata states no Time Zone: give its "
+                            "stamps' zone with --weather-zone (e.g. -05:00 for US Eastern "
+                            "standard time)",
+                            r->path);
+    if (c >= 0 && (!number(vals[c], &tz) || fabs(tz) > 14))
+        return fail_at(r, 1, "the PSM/SAM metadata's Time Zone is not hours from UTC (-14..14)");
     if ((c = find_alias(keys, nk, SAM_ELEVATION)) >= 0)
         number(vals[c], &w->elevation_m);
     c = find_column(keys, nk, "Source");
