@@ -62,6 +62,8 @@ typedef struct {
     int progress_lines;     /* SKYSWEEP_PROGRESS=lines: one "progress F" line per step */
     double progress_last;   /* the fraction last printed as a line */
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
+    double memory_bound;     /* --memory in bytes (0: none given), for the summary */
+    ss_memory_plan memory;   /* the memory plan its bands and device buffers follow */
 } run_state;
 
 /* Parses a command's options and positionals; handles --help and
@@ -113,6 +115,10 @@ typedef struct {
     /* Held beyond a band's two halo rows on each side (radius walks):
      * metres, and cells. */
     double halo_m, halo_cells;
+    /* Held per cell by a whole-grid run's outputs until they are written
+     * (horizon's planes of every direction), beyond cell_bytes. */
+    double output_bytes;
+    int no_sweep; /* sweeps nothing (a plain hillshade): opens no device */
 } band_cost;
 
 /* A sweeping command's input side: the output named last, the DEM tiles
