@@ -97,5 +97,6 @@ for device in $devices; do
     else
         tap_ok 1 "svf on $device, --memory 24M: refused with the least budget (exit $rc, least $least)"
     fi
+    rm -f "$work/out.tif"
 done
 tap_done
