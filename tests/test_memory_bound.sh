@@ -99,4 +99,15 @@ for device in $devices; do
     fi
     rm -f "$work/out.tif"
 done
+# Insolation's least budget here is above 256M (64 suns' hulls at a time):
+# 32 MiB above it, it keeps within its bound too.
+ins="${products[5]}"
+read -r peak rc least < <(bounded "$ins" reference 24)
+if [ "$rc" -eq 6 ] && [ "$least" -gt 24 ]; then
+    read -r peak rc2 least2 < <(bounded "$ins" reference "$((least + 32))")
+    [ "$rc2" -eq 0 ] && [ "$peak" -le "$((least + 32))" ]
+    tap_ok $? "insolation on reference at $((least + 32))M, 32 MiB above the least named: peak resident $peak MiB (exit $rc2) $(grep '^memory' "$work/out" | head -c 120)"
+else
+    tap_ok 1 "insolation on reference, --memory 24M: refused with the least budget (exit $rc, least $least)"
+fi
 tap_done

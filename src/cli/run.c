@@ -56,7 +56,8 @@ static const opt_spec cli_options[] = {
      "write the outputs for this window only (the DEM's CRS, as gdal_translate -projwin; "
      "also ULX,ULY,LRX,LRY); horizons still come from the whole DEM"},
     {"memory", OPT_STRING, COMMON(memory), "SIZE", NULL, 0, 0, NULL,
-     "bound on the working set, e.g. 512M or 4G; a larger DEM is swept in bands of rows "
+     "bound on the process's peak resident memory (the program, GDAL and a CPU device's "
+     "buffers included), e.g. 512M or 4G; a larger DEM is swept in bands of rows "
      "(exact, doc/scale.md; render alone refuses it) (default: half the RAM)"},
     {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
