@@ -323,10 +323,11 @@ static double peak_bytes(void)
     return getrusage(RUSAGE_SELF, &ru) == 0 ? (double)ru.ru_maxrss * 1024.0 : 0.0;
 }
 
-/* GDAL's block cache, capped under a budget, whole or in bands: else an output written
- * whole keeps its dirty blocks up to GDAL's default (5 % of the RAM);
- * horizon's 32 bands of angles, distances and casting heights of a 2048^2
- * DEM peaked at 1419 MiB under --memory 300M. */
+/* GDAL's block cache, capped under a budget, whole or in bands, and counted
+ * by the memory plan: else an output written whole keeps its dirty blocks
+ * up to GDAL's default (5 % of the RAM); horizon's 32 bands of angles,
+ * distances and casting heights of a 2048^2 DEM peaked at 1419 MiB under
+ * --memory 300M. */
 #define GDAL_CACHE_BYTES (16 * 1048576)
 
 /* Band rows for the budget from the memory planner (memory_plan.c): the
@@ -446,11 +447,6 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                               paths[0], need / 1048576.0,
                               common->memory ? "--memory" : "half this machine's memory");
     }
-    /* GDAL's block cache is among the fixed buffers the bound counts,
-     * whole or in bands: else an output written whole keeps its dirty
-     * blocks up to GDAL's default (5 % of the RAM); horizon's 32 bands of
-     * angles, distances and casting heights of a 2048^2 DEM peaked at
-     * 1419 MiB under --memory 300M. */
     if (st == SS_OK)
         ss_gdal_limit_cache(GDAL_CACHE_BYTES);
     if (st == SS_OK && rows == 0) {

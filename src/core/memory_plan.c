@@ -86,11 +86,13 @@ int ss_memory_plan_rows(const ss_ctx *ctx, const ss_memory_need *need, ss_memory
     } else {
         double fixed = ss_memory_planned(ctx, need, 0);
         double per_row = ss_memory_planned(ctx, need, 1) - fixed;
-        double rows = (budget - fixed) / per_row;
+        /* More rows than the grid's make one band of them all. */
+        double rows = fmin((budget - fixed) / per_row, (double)need->height);
         /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
         int r = rows < 1 ? -1 : rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
-        p.band_rows = r < need->height ? r : need->height - 1;
-        p.planned_bytes = r > 0 ? ss_memory_planned(ctx, need, p.band_rows) : one_band;
+        p.band_rows = r;
+        p.planned_bytes = r > 0 ? ss_memory_planned(ctx, need, r < need->height ? r : need->height - 1)
+                                : one_band;
     }
     /* A CPU device's buffers are counted above within the budget (a batch
      * of CPU_BATCH_IN_BANDS in bands): they may take what was counted for
