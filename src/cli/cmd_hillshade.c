@@ -131,6 +131,7 @@ int cmd_hillshade(int argc, char **argv)
         else
             printf("shade   light %g/%g deg -> %s\n", set.hs.azimuth_deg, set.hs.altitude_deg,
                    job.output);
+        command_print_memory(&job, job.source ? "bands" : "whole grid");
         run_print_phases(&job.run);
     }
     job_close(&job);

@@ -49,9 +49,7 @@ static double peak_resident_mib(void)
     return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : NAN;
 }
 
-/* The summary's memory line: the peak, and beside it the bound it kept to
- * and the peak the memory plan expected. */
-static void print_memory(const sweep_job *job, const char *how)
+void command_print_memory(const sweep_job *job, const char *how)
 {
     const run_state *run = &job->run;
     if (run->memory_bound > 0)
@@ -67,7 +65,7 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
     const ss_grid *g = &job->dem.grid;
     if (!job->source) {
         command_print_sweep(&job->run, &job->opt, g->width, g->height);
-        print_memory(job, "whole grid");
+        command_print_memory(job, "whole grid");
         run_print_phases(&job->run);
         return;
     }
@@ -89,7 +87,7 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
            bands->handoffs,
            bands->handoffs ? (double)bands->hull_points_handed_on / (double)bands->handoffs : 0.0,
            bands->max_hull_points, job->run.memory.hull_bytes / 1048576.0);
-    print_memory(job, "bands");
+    command_print_memory(job, "bands");
     run_print_phases(&job->run);
 }
 
