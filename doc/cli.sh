@@ -42,6 +42,10 @@ ones as its advanced parameters.
   same when they are one file (device and inode, links followed), or, for an output not there
   yet, when their folders resolve to one and their names are equal. An overlap is refused in one
   line naming both files and how each was given (exit 2), even with `--plan`.
+- `--memory` bounds the process's peak resident memory: the program and its libraries, GDAL's
+  cache and a CPU OpenCL device's buffers (PoCL's) included, measured once the device is open. A
+  budget the process cannot keep to is refused before any work (exit 6) with the least that would
+  do; the summary prints the peak beside the bound (doc/scale.md).
 - A run in bands (`--memory`, doc/scale.md) keeps cells between bands in an unnamed scratch file
   in `$TMPDIR`, else `/tmp` (`src/core/scratch.c`); it is unlinked as soon as made, so nothing
   is left however the run ends. A scratch folder that is missing or full is named in the one

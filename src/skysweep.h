@@ -280,6 +280,39 @@ typedef struct {
     void *user;
 } ss_share;
 
+/* ---- memory: one planner (doc/engine.md) ------------------------------------ */
+
+/* What a run costs, for ss_memory_plan_make. */
+typedef struct {
+    double budget_bytes;     /* the bound on the whole process's peak resident memory */
+    double baseline_bytes;   /* resident now: the program, its libraries, GDAL, the device */
+    double peak_bytes;       /* the process's peak so far (a device's kernel build); 0: none */
+    int width, height;       /* the grid */
+    double cell_bytes;       /* held per cell of a band, halo rows included */
+    double whole_cell_bytes; /* held per cell swept whole (at least cell_bytes and 24) */
+    double column_bytes;     /* per column and hull line carried between bands */
+    int hull_lines;          /* lines per column and band edge handing hulls on: directions
+                                (times box lines per cell) */
+    int halo_rows;           /* rows held on each side beyond the sweep's own (radius walks) */
+    double cache_bytes;      /* GDAL's block cache, as capped */
+} ss_memory_need;
+
+/* The plan: band rows, and what the device's buffers may take. */
+typedef struct {
+    int band_rows;        /* 0: the whole grid at once; -1: the budget is too small */
+    double least_budget;  /* the least budget_bytes that would do */
+    double planned_bytes; /* the peak the plan expects */
+    double hull_bytes;    /* the allowance for the hulls handed on between bands */
+    double device_bytes;  /* a CPU device's buffers (host memory), its batch's and its cells';
+                             0: a quarter of the device's memory */
+} ss_memory_plan;
+
+/* Plans a run within need->budget_bytes on ctx's device (opened, so that
+ * its buffers are counted where they are host memory); the context keeps
+ * the plan for its device's batch and cells. */
+SS_API ss_status ss_memory_plan_make(ss_ctx *ctx, const ss_memory_need *need,
+                                     ss_memory_plan *plan);
+
 /* The bytes a banded sweep holds for its bands (the hulls handed on come
  * on top; ss_band_stats counts them). */
 SS_API size_t ss_band_bytes(int width, int band_rows);

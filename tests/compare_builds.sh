@@ -16,8 +16,8 @@ top=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-compare.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 dem=$top/samples/kilauea_summit_30m.tif
-# Twice as many cells each way: insolation's bands need a DEM whose whole
-# grid takes more than one band does.
+# Twice as many cells each way: the bands need a DEM whose whole grid takes
+# more than one band does (its hulls included).
 dem2=$work/kilauea_15m.tif
 gdal_translate -q -outsize 200% 200% -r bilinear "$dem" "$dem2"
 same=0 differ=0 loose=
@@ -46,6 +46,45 @@ sys.exit(0 if worst <= (1.0 if byte else 1e-6) else 1)
 PY
 }
 
+# --memory bounds the whole process since issue 41 (the program, its
+# libraries and the device counted), where it bounded the run's buffers
+# before: a banded case gives the new build the budget with which it sweeps
+# the old build's band rows at the old budget (same rows, same sums), which
+# same_rows finds for the product that follows. The old budgets give whole
+# 256-row strips (512 for shadow), which a range of budgets gives.
+new_memory=
+# swap_memory M ARGS...: ARGS, one a line, --memory's value replaced by M
+# (M empty: unchanged). Arguments here hold no blanks.
+swap_memory() {
+    m=$1
+    shift
+    for a in "$@"; do echo "$a"; done |
+        awk -v m="$m" 'prev == "--memory" && m != "" { print m; prev = ""; next } { print; prev = $0 }'
+}
+# rows_of BIN OPTION ARGS...: the band rows the run prints ("bands N rows").
+rows_of() {
+    bin=$1 option=$2
+    shift 2
+    # shellcheck disable=SC2086
+    (cd "$work" && "$bin" "$@" $option 2>/dev/null) | sed -n 's/^bands *\([0-9]*\) rows.*/\1/p'
+}
+# same_rows ARGS... (with --memory): sets new_memory to the least budget, in
+# 1 MiB steps up from the least the new build names, giving the old rows.
+same_rows() {
+    want=$(rows_of "$old" "$old_option" "$@")
+    # shellcheck disable=SC2046,SC2086
+    start=$(cd "$work" && "$new" $(swap_memory 1M "$@") $new_option 2>&1 >/dev/null |
+        sed -n 's/.*at least --memory \([0-9]*\)M.*/\1/p')
+    new_memory=
+    for m in $(seq "${start:-1}" $((${start:-1} + 400))); do
+        # shellcheck disable=SC2046
+        got=$(rows_of "$new" "$new_option" $(swap_memory "${m}M" "$@"))
+        [ "$got" = "$want" ] && { new_memory=${m}M; return; }
+        # swept whole, or past the rows: no budget gives them
+        { [ -z "$got" ] || [ "$got" -gt "$want" ]; } && return
+    done
+}
+
 # product NAME ARGS... (the last two are DEM and OUTPUT, OUTPUT relative to
 # the build's folder; extra outputs are named with --distance/--cast-height).
 product() {
@@ -54,6 +93,8 @@ product() {
     for b in old new; do
         mkdir -p "$work/$b"
         eval "bin=\$$b option=\$${b}_option"
+        # shellcheck disable=SC2046
+        [ "$b" = new ] && set -- $(swap_memory "$new_memory" "$@")
         # shellcheck disable=SC2086
         (cd "$work/$b" && "$bin" "$@" -q $option >/dev/null 2>"$work/$b.err") ||
             { echo "$name: $b build failed: $(head -c 200 "$work/$b.err")"; differ=$((differ + 1)); return; }
@@ -82,7 +123,8 @@ product() {
 t=2026-06-21T19:00Z
 for def in geometric radiative horizontal; do
     product "svf $def" svf --directions 16 --definition "$def" "$dem" out.tif
-    product "svf $def, bands" svf --directions 16 --definition "$def" --memory 52M "$dem" out.tif
+    same_rows svf --directions 16 --definition "$def" --memory 58M "$dem2" out.tif
+    product "svf $def, bands" svf --directions 16 --definition "$def" --memory 58M "$dem2" out.tif
 done
 # Radius-limited horizons are found by chunked hulls since before-engine, not
 # by a scan: a sample that sees two equally steep horizons may take the
@@ -94,13 +136,15 @@ loose=
 product "openness +" openness --directions 16 "$dem" out.tif
 product "openness -" openness --directions 16 --kind negative "$dem" out.tif
 product "horizon" horizon --directions 8 --distance d.tif --cast-height c.tif "$dem" out.tif
+same_rows horizon --directions 8 --distance d.tif --cast-height c.tif --memory 60M "$dem2" out.tif
 product "horizon, bands" horizon --directions 8 --distance d.tif --cast-height c.tif \
-    --memory 52M "$dem" out.tif
+    --memory 60M "$dem2" out.tif
 # Refraction is interpolated between the sun lattice's nodes since 97b95e5
 # (src/adapt/sun_field.c): a cell's sun may move by a float's rounding.
 loose=1
 product "shadow" shadow --time "$t" "$dem" out.tif
-product "shadow, bands" shadow --time "$t" --memory 52M "$dem" out.tif
+same_rows shadow --time "$t" --memory 58M "$dem2" out.tif
+product "shadow, bands" shadow --time "$t" --memory 58M "$dem2" out.tif
 loose=
 product "hillshade" hillshade "$dem" out.tif
 product "hillshade --cast-shadows" hillshade --cast-shadows --directions 16 "$dem" out.tif
@@ -113,8 +157,10 @@ product "insolation" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H --dire
     "$dem" out.tif
 product "insolation --shadow interpolated" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H \
     --directions 16 --shadow interpolated "$dem" out.tif
+same_rows insolation --time 2026-06-21T16:00Z/PT6H --step PT1H --directions 16 --memory 110M \
+    "$dem2" out.tif
 product "insolation, bands" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H \
-    --directions 16 --memory 76M "$dem2" out.tif
+    --directions 16 --memory 110M "$dem2" out.tif
 # Walked steps enough for the shadow walks to stop past the cells the sun
 # clears by their horizon bounds (src/core/lit_levels.c, since 54a655d).
 product "insolation, 5 days of exact shadows" insolation --time 2026-06-19T00:00Z/P5D \

@@ -150,10 +150,10 @@ for sig in HUP PIPE; do
 done
 
 # ---- 10. the scratch files of a run in bands follow TMPDIR; a full one is named -----
-gdal_translate -q -outsize 900 900 "$top/samples/kilauea_summit_30m.tif" banded.tif
+gdal_translate -q -outsize 1800 1800 "$top/samples/kilauea_summit_30m.tif" banded.tif
 banded() { # a run in bands, which keeps its cells in a scratch file between bands
     TMPDIR=$1 timeout -s KILL "$limit" "$SKYSWEEP" svf -q --device reference --directions 8 \
-        --memory 52M banded.tif stop/o.tif >stdout 2>stderr
+        --memory 110M banded.tif stop/o.tif >stdout 2>stderr
     rc=$?
     lines=$(wc -l <stderr)
 }
@@ -171,7 +171,7 @@ export SKYSWEEP work limit
 if unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$work/small"' 2>/dev/null; then
     unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$work/small" &&
         TMPDIR=$work/small timeout -s KILL "$limit" "$SKYSWEEP" svf -q --device reference \
-            --directions 8 --memory 52M banded.tif stop/o.tif >stdout 2>stderr; echo $? >rc'
+            --directions 8 --memory 110M banded.tif stop/o.tif >stdout 2>stderr; echo $? >rc'
     rc=$(cat rc)
     lines=$(wc -l <stderr)
     [ "$rc" -eq 4 ] && [ "$lines" -eq 1 ] && grep -q "'$work/small' is full" stderr &&

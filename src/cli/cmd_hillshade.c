@@ -64,6 +64,7 @@ int cmd_hillshade(int argc, char **argv)
     band_cost cost = {.cell_bytes = 16.0 + (sweeps ? ss_horizon_band_cell_bytes(0) : 4.0),
                       .column_bytes = sweeps ? ss_horizon_column_bytes() : 0.0,
                       .directions = sweeps ? 0 : 1,
+                      .no_sweep = !sweeps,
                       .halo_cells = set.hs.blend ? set.hs.blend_radius_cells : 0.0};
     sweep_job job;
     if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
@@ -129,6 +130,7 @@ int cmd_hillshade(int argc, char **argv)
         else
             printf("shade   light %g/%g deg -> %s\n", set.hs.azimuth_deg, set.hs.altitude_deg,
                    job.output);
+        command_print_memory(&job, job.source ? "bands" : "whole grid");
         run_print_phases(&job.run);
     }
     job_close(&job);

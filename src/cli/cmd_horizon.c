@@ -102,8 +102,15 @@ int cmd_horizon(int argc, char **argv)
         return run_usage_error("horizon", "needs an input DEM and an output file");
     int want = (set.distance_path ? SS_HORIZON_DISTANCE : 0) |
                (set.cast_height_path ? SS_HORIZON_CAST_HEIGHT : 0);
+    /* Swept whole, GDAL holds about a float per cell and output band as
+     * the directions' rows arrive (measured: 50 bytes a cell for 4
+     * directions with distances, doc/scale.md); --directions auto may
+     * take up to 64. */
+    int outputs = 1 + (set.distance_path != NULL) + (set.cast_height_path != NULL);
+    int directions = set.common.sweep.directions ? set.common.sweep.directions : 64;
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(want),
-                      .column_bytes = ss_horizon_column_bytes()};
+                      .column_bytes = ss_horizon_column_bytes(),
+                      .output_bytes = 4.0 * outputs * directions};
     sweep_job job;
     if ((rc = job_open_banded(&job, "horizon", &set.common, pos, n_pos, cost)))
         return rc;

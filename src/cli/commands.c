@@ -49,12 +49,23 @@ static double peak_resident_mib(void)
     return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : NAN;
 }
 
+void command_print_memory(const sweep_job *job, const char *how)
+{
+    const run_state *run = &job->run;
+    if (run->memory_bound > 0)
+        printf("memory  peak resident %.0f MiB (%s), bound --memory %.0f MiB, planned %.0f MiB\n",
+               peak_resident_mib(), how, run->memory_bound / 1048576.0,
+               run->memory.planned_bytes / 1048576.0);
+    else
+        printf("memory  peak resident %.0f MiB (%s)\n", peak_resident_mib(), how);
+}
+
 void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
 {
     const ss_grid *g = &job->dem.grid;
     if (!job->source) {
         command_print_sweep(&job->run, &job->opt, g->width, g->height);
-        printf("memory  peak resident %.0f MiB (whole grid)\n", peak_resident_mib());
+        command_print_memory(job, "whole grid");
         run_print_phases(&job->run);
         return;
     }
@@ -69,14 +80,14 @@ void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)
            c.sweep_seconds > 0 ? (double)c.cells_swept / c.sweep_seconds / 1e6 : 0.0, g->width,
            g->height);
     printf("bands   %d rows of %d cells at a time (%.0f MiB); hulls handed on between bands: "
-           "%zu, mean %.1f points, largest %zu\n",
+           "%zu, mean %.1f points, largest %zu (%.0f MiB allowed for)\n",
            job->band_rows, job->dem.grid.width,
            /* the band's rows and its 4 halo rows */
            job->band.cell_bytes * (job->band_rows + 4.0) * job->dem.grid.width / 1048576.0,
            bands->handoffs,
            bands->handoffs ? (double)bands->hull_points_handed_on / (double)bands->handoffs : 0.0,
-           bands->max_hull_points);
-    printf("memory  peak resident %.0f MiB (bands)\n", peak_resident_mib());
+           bands->max_hull_points, job->run.memory.hull_bytes / 1048576.0);
+    command_print_memory(job, "bands");
     run_print_phases(&job->run);
 }
 

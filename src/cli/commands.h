@@ -26,6 +26,10 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
 /* The sweep summary of a job that may be banded (with the rows per band
  * and the hulls handed on). */
 void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands);
+/* The summary's memory line: the peak resident memory, swept how ("whole
+ * grid", "bands"), and beside it the bound it kept to and the peak the
+ * memory plan expected. */
+void command_print_memory(const sweep_job *job, const char *how);
 /* Records an out-of-memory failure in the context; returns its status. */
 ss_status command_out_of_memory(run_state *run);
 

@@ -56,7 +56,8 @@ static const opt_spec cli_options[] = {
      "write the outputs for this window only (the DEM's CRS, as gdal_translate -projwin; "
      "also ULX,ULY,LRX,LRY); horizons still come from the whole DEM"},
     {"memory", OPT_STRING, COMMON(memory), "SIZE", NULL, 0, 0, NULL,
-     "bound on the working set, e.g. 512M or 4G; a larger DEM is swept in bands of rows "
+     "bound on the process's peak resident memory (the program, GDAL and a CPU device's "
+     "buffers included), e.g. 512M or 4G; a larger DEM is swept in bands of rows "
      "(exact, doc/scale.md; render alone refuses it) (default: half the RAM)"},
     {"plan", OPT_FLAG, COMMON(plan_only), NULL, NULL, 0, 0, NULL,
      "print the plan (effects on/off, why, the error allowed, cost) and stop"},
@@ -311,6 +312,56 @@ static ss_status open_dem(run_state *run, const char *const *paths, int n_paths,
     return st;
 }
 
+/* The process's resident memory now (/proc/self/statm), bytes; 0 where
+ * the system does not say. */
+static double resident_bytes(void)
+{
+    FILE *f = fopen("/proc/self/statm", "r");
+    unsigned long size = 0, resident = 0;
+    int got = f && fscanf(f, "%lu %lu", &size, &resident) == 2;
+    if (f)
+        fclose(f);
+    return got ? (double)resident * (double)sysconf(_SC_PAGESIZE) : 0.0;
+}
+
+/* The process's peak resident memory so far (getrusage), bytes. */
+static double peak_bytes(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? (double)ru.ru_maxrss * 1024.0 : 0.0;
+}
+
+/* GDAL's block cache, capped under a budget, whole or in bands, and counted
+ * by the memory plan: else an output written whole keeps its dirty blocks
+ * up to GDAL's default (5 % of the RAM); horizon's 32 bands of angles,
+ * distances and casting heights of a 2048^2 DEM peaked at 1419 MiB under
+ * --memory 300M. */
+#define GDAL_CACHE_BYTES (16 * 1048576)
+
+/* Band rows for the budget from the memory planner (memory_plan.c): the
+ * device is opened first (a sweeping command's), so that what the process
+ * then holds, libraries, GDAL, the DEM's dataset and the device with its
+ * kernels, is measured and counted, and a CPU device's buffers are too. */
+static int plan_memory(run_state *run, const ss_dem *dem, const band_cost *cost, double budget,
+                       double cell_bytes, int hull_directions, int halo)
+{
+    if (!cost->no_sweep)
+        ss_ctx_device_name(run->ctx);
+    ss_memory_need need = {.budget_bytes = budget,
+                           .baseline_bytes = resident_bytes(),
+                           .peak_bytes = peak_bytes(),
+                           .width = dem->grid.width,
+                           .height = dem->grid.height,
+                           .cell_bytes = cell_bytes,
+                           .whole_cell_bytes = cell_bytes + cost->output_bytes,
+                           .column_bytes = cost->column_bytes,
+                           .hull_lines = hull_directions,
+                           .halo_rows = halo,
+                           .cache_bytes = GDAL_CACHE_BYTES};
+    ss_memory_plan_make(run->ctx, &need, &run->memory);
+    return run->memory.band_rows;
+}
+
 static ss_status open_dem_file(run_state *run, const char *const *paths, int n_paths,
                                const common_settings *common, const band_cost *cost,
                                ss_dem *dem, ss_dem_source **source, int *band_rows)
@@ -346,6 +397,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         return ss_dem_read(run->ctx, paths, n_paths, &ro, dem);
     if (!common->memory)
         budget = 0.5 * (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+    else
+        run->memory_bound = budget;
     ss_dem_source *src;
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
     /* Its stack slots, where the radius takes hulls: the VAT blend's radius
@@ -355,22 +408,22 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         cell_bytes += ss_radius_extra_cell_bytes(cost->halo_m + cost->halo_cells * fmax(cx, cy),
                                                  cx, cy);
     }
-    int rows = st != SS_OK ? -2
-               : may_band  ? ss_band_rows_within(dem->grid.width, dem->grid.height,
-                                                 hull_directions, budget, cell_bytes,
-                                                 cost->column_bytes)
-                           : ss_band_rows_for(dem->grid.width, dem->grid.height,
-                                              common->sweep.directions, budget);
-    /* A radius walk holds the rows within its radius beside each band (a
-     * geographic grid's rows, whose sizes come with its frame, counted at
-     * their smallest: a degree of latitude is 110.574 km or more). */
-    if (rows > 0 && radius_walk) {
+    int halo = 0;
+    if (st == SS_OK && radius_walk) {
+        /* A radius walk holds the rows within its radius beside each band
+         * (a geographic grid's rows, whose sizes come with its frame,
+         * counted at their smallest: a degree of latitude is 110.574 km or
+         * more); more rows than the grid's height cannot be held either way. */
         double cell_y = isfinite(dem->grid.cell_y_m) ? dem->grid.cell_y_m
                                                      : fabs(dem->geotransform[5]) * 110574.0;
-        /* More rows than the grid's height cannot be held either way. */
-        int halo = (int)fmin(ceil(cost->halo_m / cell_y + cost->halo_cells), dem->grid.height);
-        rows = rows - 2 * halo >= 1 ? rows - 2 * halo : -1;
+        halo = (int)fmin(ceil(cost->halo_m / cell_y + cost->halo_cells), dem->grid.height);
     }
+    int rows = -2;
+    if (st == SS_OK && may_band)
+        rows = plan_memory(run, dem, cost, budget, cell_bytes, hull_directions, halo);
+    else if (st == SS_OK)
+        rows = ss_band_rows_for(dem->grid.width, dem->grid.height, common->sweep.directions,
+                                budget);
     /* Processes sharing a run sweep the same bands (their machines' memory
      * may differ); a process that could not open the DEM stops them all. */
     if (may_band)
@@ -385,16 +438,15 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     }
     if (rows != 0 && (!may_band || rows < 0)) {
         double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
-        if (may_band) {
-            double least = ss_band_min_budget(dem->grid.width, dem->grid.height,
-                                              hull_directions, cell_bytes, cost->column_bytes);
+        if (may_band)
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "the memory budget (%s) is too small for this DEM and command: "
-                              "it needs at least --memory %.0fM (one band of %d cells with "
-                              "the hulls handed on, and 48 MiB of fixed buffers; doc/scale.md)",
+                              "it needs at least --memory %.0fM (the process's %.0f MiB, one "
+                              "band of %d cells with the hulls handed on, GDAL's cache and "
+                              "the device's buffers; doc/scale.md)",
                               common->memory ? common->memory : "half this machine's memory",
-                              ceil(least / 1048576.0), dem->grid.width);
-        }
+                              ceil(run->memory.least_budget / 1048576.0),
+                              resident_bytes() / 1048576.0, dem->grid.width);
         else
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "'%s' needs about %.0f MiB for a whole-grid sweep, more than "
@@ -403,13 +455,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                               paths[0], need / 1048576.0,
                               common->memory ? "--memory" : "half this machine's memory");
     }
-    /* GDAL's block cache is among the fixed buffers the bound counts,
-     * whole or in bands: else an output written whole keeps its dirty
-     * blocks up to GDAL's default (5 % of the RAM); horizon's 32 bands of
-     * angles, distances and casting heights of a 2048^2 DEM peaked at
-     * 1419 MiB under --memory 300M. */
     if (st == SS_OK)
-        ss_gdal_limit_cache(16 * 1048576);
+        ss_gdal_limit_cache(GDAL_CACHE_BYTES);
     if (st == SS_OK && rows == 0) {
         /* It fits: read it whole, as ss_dem_read would. */
         ss_grid *g = &dem->grid;

@@ -64,6 +64,8 @@ typedef struct {
     double progress_last;   /* the fraction last printed as a line */
     int progress_part, progress_parts; /* a run of several library calls: which one runs */
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
+    double memory_bound;     /* --memory in bytes (0: none given), for the summary */
+    ss_memory_plan memory;   /* the memory plan its bands and device buffers follow */
 } run_state;
 
 /* A run made of `parts` library calls, each reporting its progress from 0
@@ -120,6 +122,10 @@ typedef struct {
     /* Held beyond a band's two halo rows on each side (radius walks):
      * metres, and cells. */
     double halo_m, halo_cells;
+    /* Held per cell by a whole-grid run's outputs until they are written
+     * (horizon's planes of every direction), beyond cell_bytes. */
+    double output_bytes;
+    int no_sweep; /* sweeps nothing (a plain hillshade): opens no device */
 } band_cost;
 
 /* A sweeping command's input side: the output named last, the DEM tiles

@@ -434,6 +434,11 @@ static ss_status ocl_acquire(ss_ctx *ctx)
     return SS_OK;
 }
 
+int ss_ocl_is_cpu(const ss_ctx *ctx)
+{
+    return ctx && !ctx->use_reference && ctx->ocl && ctx->ocl->is_cpu;
+}
+
 const char *ss_ctx_device_name(ss_ctx *ctx)
 {
     if (!ctx->use_reference && !ctx->ocl && ocl_acquire(ctx) != SS_OK) {
@@ -1137,8 +1142,8 @@ static const ss_backend_ops ocl_ops = {.load = ocl_load,
                                        .cells_step = ocl_cells_step,
                                        .cells_end = ocl_cells_end};
 
-/* The directions a batch can hold: what was asked, within a quarter of the
- * device's memory and its largest buffer. A CPU device walks one direction
+/* The directions a batch can hold: what was asked, within what the memory
+ * plan gives the device's buffers (memory_plan.c) and its largest buffer. A CPU device walks one direction
  * of a whole grid at a time unless the context asks for more: a launch
  * costs it about 0.1 ms against milliseconds of work, while a batch's own
  * sums and stack grids cost memory traffic; in bands, where each round of
@@ -1157,7 +1162,8 @@ static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
                                        (horizon ? 4.0 * ss_walk_planes(&b->walk) : 4.0));
     int planes = horizon ? ss_walk_planes(&b->walk) : 1;
     double largest = (double)cells * 4.0 * (planes > b->stack_per_cell ? planes : b->stack_per_cell);
-    double budget = (double)o->global_mem / 4.0, alloc = (double)o->max_alloc;
+    double budget = ss_memory_device_bytes(b->ctx, (double)o->global_mem);
+    double alloc = (double)o->max_alloc;
     int by_memory = per_slot > 0 ? (int)fmin(budget / per_slot, alloc / largest) : b->batch;
     int n = b->batch < by_memory ? b->batch : by_memory;
     return n > 0 ? n : 1;
@@ -1211,9 +1217,10 @@ ss_status ss_backend_ocl_open(ss_backend *b)
         !(q->lattice_stage = ss_calloc((size_t)q->lattice_stages, sizeof(lattice_entry))))
         err = CL_OUT_OF_HOST_MEMORY;
     /* The cells' terms, sums, stored horizons and step take their own
-     * buffers, together within the device's largest and a quarter of its
-     * memory (the batch takes another; engine.c, cells_fit). */
-    b->cells_max_bytes = (size_t)fmin((double)o->max_alloc, (double)o->global_mem / 4.0);
+     * buffers, together within the device's largest and what the memory
+     * plan gives the device (engine.c, cells_fit). */
+    b->cells_max_bytes =
+        (size_t)fmin((double)o->max_alloc, ss_memory_device_bytes(b->ctx, (double)o->global_mem));
     /* Shadow walks stop early on a whole grid only (engine.c sets lit_level
      * -1 elsewhere). */
     if (horizon && b->walk.lit_levels && b->whole_z)

@@ -2,6 +2,7 @@
  * budget (the CLI's --memory, doc/scale.md). */
 #include "config.h"
 
+#include "ctx_internal.h"
 #include "engine.h"
 #include "insolation_cell.h"
 #include "ss_passes.h"
@@ -68,20 +69,28 @@ double ss_insolation_band_cell_bytes(int want, int stored_directions)
            (want & SS_INSOLATION_STEPS ? 4.0 : 0.0) + 2.0 * stored_directions;
 }
 
-/* A whole-grid SVF or openness holds at most 24 bytes a cell: heights,
- * hull stack slots, sums and the product, and either an inverted copy
- * (negative openness) or the surface gradients (radiative SVF, 8 bytes);
- * besides the sweep's grids a run needs buffers for reading and writing
- * (GDAL's block cache, capped at 16 MiB by the CLI in banded runs). A walk
- * within a radius long enough for hulls holds 12 bytes more (its stack
- * slots: ss_radius_extra_cell_bytes), 28 or 32 a cell, which its band bytes
- * (24) stand in for: up to 8 a cell are not counted (doc/scale.md). */
-#define WHOLE_BYTES_PER_CELL 24.0
-#define FIXED_BYTES (48.0 * 1048576.0)
+/* Without a measured process: 16 MiB stand for the program and 16 for
+ * GDAL's cache, which with the run's own 16 make the 48 MiB of fixed
+ * buffers these sizes have always counted. */
+static ss_memory_need need_without_process(int width, int height, int directions,
+                                           double budget_bytes, double band_cell_bytes,
+                                           double column_bytes)
+{
+    ss_memory_need n = {.budget_bytes = budget_bytes,
+                        .baseline_bytes = 16.0 * 1048576.0,
+                        .width = width,
+                        .height = height,
+                        .cell_bytes = band_cell_bytes,
+                        .column_bytes = column_bytes,
+                        .hull_lines = directions > 0 ? directions : 64,
+                        .cache_bytes = 16.0 * 1048576.0};
+    return n;
+}
 
 double ss_whole_sweep_bytes(int width, int height)
 {
-    return (double)width * (double)height * WHOLE_BYTES_PER_CELL + FIXED_BYTES;
+    ss_memory_need n = need_without_process(width, height, 0, 0.0, 0.0, 0.0);
+    return ss_memory_planned(NULL, &n, height);
 }
 
 int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
@@ -90,48 +99,20 @@ int ss_band_rows_for(int width, int height, int directions, double budget_bytes)
                                (double)ss_band_bytes(1, 1) / (1 + 2 * HALO), 0.0);
 }
 
-/* What a banded run holds besides its band's rows: fixed buffers, the
- * hulls handed on (about 8 points of 16 bytes per line and direction on
- * terrain, doc/scale.md measures them) and what it carries per column and
- * direction between bands. */
-static double band_overhead_bytes(int width, int height, int directions, double column_bytes)
-{
-    int dirs = directions > 0 ? directions : 64;
-    double hulls = ((double)width + height) * dirs * 8.0 * 16.0;
-    double carried = (double)width * dirs * column_bytes;
-    return FIXED_BYTES + hulls + carried;
-}
-
-/* What a run holds on the whole grid: the SVF's bytes a cell, or the
- * product's per cell of a band where more (a whole grid is one band of all
- * rows: insolation's terms and sums, horizons' planes, box lines' slots). */
-static double whole_bytes(int width, int height, double band_cell_bytes)
-{
-    double per_cell = band_cell_bytes > WHOLE_BYTES_PER_CELL ? band_cell_bytes : WHOLE_BYTES_PER_CELL;
-    return (double)width * (double)height * per_cell + FIXED_BYTES;
-}
-
 int ss_band_rows_within(int width, int height, int directions, double budget_bytes,
                         double band_cell_bytes, double column_bytes)
 {
-    if (whole_bytes(width, height, band_cell_bytes) <= budget_bytes)
-        return 0;
-    double per_row = band_cell_bytes * width;
-    double rows = (budget_bytes - band_overhead_bytes(width, height, directions, column_bytes)) /
-                      per_row -
-                  2 * HALO;
-    if (rows < 1)
-        return -1;
-    /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
-    int r = rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
-    return r < height ? r : height;
+    ss_memory_need n = need_without_process(width, height, directions, budget_bytes,
+                                            band_cell_bytes, column_bytes);
+    return ss_memory_plan_rows(NULL, &n, NULL);
 }
 
 double ss_band_min_budget(int width, int height, int directions, double band_cell_bytes,
                           double column_bytes)
 {
-    double one_band = band_overhead_bytes(width, height, directions, column_bytes) +
-                      band_cell_bytes * width * (1 + 2 * HALO);
-    double whole = whole_bytes(width, height, band_cell_bytes);
-    return one_band < whole ? one_band : whole;
+    ss_memory_need n = need_without_process(width, height, directions, 0.0, band_cell_bytes,
+                                            column_bytes);
+    ss_memory_plan p;
+    ss_memory_plan_rows(NULL, &n, &p);
+    return p.least_budget;
 }

@@ -13,6 +13,17 @@ extern "C" {
 
 struct ss_ocl; /* backend_ocl.c: the opened OpenCL device, context and kernels */
 void ss_ocl_release(struct ss_ocl *ocl);
+/* Whether ctx runs on an OpenCL CPU device (opened), whose buffers are
+ * host memory. */
+int ss_ocl_is_cpu(const ss_ctx *ctx);
+/* The bytes a device's buffers (a batch, or the cells') may take: the
+ * memory plan's for a CPU device, else a quarter of global_mem. */
+double ss_memory_device_bytes(const ss_ctx *ctx, double global_mem);
+/* The planner (memory_plan.c) on a context or none (NULL: no device): the
+ * bytes the process holds with bands of rows rows (the grid's height:
+ * whole), and the band rows for need's budget, its plan in *plan (or NULL). */
+double ss_memory_planned(const ss_ctx *ctx, const ss_memory_need *need, int rows);
+int ss_memory_plan_rows(const ss_ctx *ctx, const ss_memory_need *need, ss_memory_plan *plan);
 
 struct ss_ctx {
     char message[2048];
@@ -23,6 +34,7 @@ struct ss_ctx {
     int device_auto;   /* "auto": each plan chooses device_spec */
     int batch;         /* directions per batch (ss_ctx_set_batch); 0: the device's choice */
     ss_cells_where cells; /* ss_ctx_set_cells */
+    ss_memory_plan memory; /* the last ss_memory_plan_make's */
     struct ss_ocl *ocl;
     char device_name[600];
     ss_counters counters;

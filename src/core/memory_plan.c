@@ -1,0 +1,124 @@
+/* The one memory planner (doc/engine.md, "One memory planner"): from a
+ * budget for the whole process's peak resident memory, what the process
+ * already holds, and what a run's cells, columns, hulls, GDAL's cache and
+ * the device's buffers cost, the rows of a band, the device's batch and the
+ * bytes its buffers may take. The CLI's band rows, and backend_ocl.c's
+ * batch and device cells (engine.c, cells_fit) all come from here. */
+#include "config.h"
+
+#include <math.h>
+
+#include "ctx_internal.h"
+#include "engine.h"
+
+#define HALO SS_BAND_HALO
+#define MIB 1048576.0
+
+/* A whole-grid SVF or openness holds up to 24 bytes a cell: heights, hull
+ * stack slots, sums and the product, and an inverted copy or gradients. */
+#define WHOLE_BYTES_PER_CELL 24.0
+/* What the program allocates beside the sweep's grids and GDAL's cache:
+ * the writer's compression buffers (a block per thread), its rows handed
+ * to GDAL, the allocator's slack (an allowance; test_memory_bound.sh
+ * checks the peaks it gives). */
+#define RUN_FIXED_BYTES (16.0 * MIB)
+/* Points a carried hull holds on average, per line and direction crossing
+ * a band's edge: measured 10.3 on test_memory_bound's hills, 11.8 on the
+ * Kilauea DEM, 19.8 for insolation's suns there, 28 on a 4096^2 of broad
+ * hills, where about two lines in three of a direction cross the edge (a
+ * line per column is counted); at most a line's length. */
+#define HULL_POINTS_PER_LINE 24.0
+/* The most directions a CPU device walks at once in bands (backend_ocl.c,
+ * fit_batch; one on a whole grid). */
+#define CPU_BATCH_IN_BANDS 4
+
+/* Hulls handed on between bands: a line of each direction (box lines:
+ * several) per column crossing a band's edge, the hulls read and the hulls
+ * written held together, each array grown by half again as it fills. */
+static double hull_bytes(const ss_memory_need *n)
+{
+    double points = fmin(HULL_POINTS_PER_LINE, (double)n->height);
+    return (double)n->width * n->hull_lines * points * sizeof(ss_hull_point) * 2.0 * 1.5;
+}
+
+/* Bytes per cell a CPU OpenCL device's buffers take from the host's
+ * memory: its copy of the heights and its sums, and per direction of a
+ * batch its stack slots and planes, which a cell of the host's band
+ * bounds. 0 for the C twin and for a GPU (its own memory). */
+static double device_host_cell_bytes(const ss_ctx *ctx, const ss_memory_need *n, int batch)
+{
+    if (!ss_ocl_is_cpu(ctx))
+        return 0.0;
+    return 2.0 * sizeof(float) + batch * n->cell_bytes;
+}
+
+/* Bytes the process holds with bands of rows rows (height: the whole grid,
+ * which hands no hulls on). */
+double ss_memory_planned(const ss_ctx *ctx, const ss_memory_need *n, int rows)
+{
+    double fixed = n->baseline_bytes + n->cache_bytes + RUN_FIXED_BYTES;
+    double w = (double)n->width;
+    if (rows >= n->height) {
+        double per_cell = fmax(fmax(n->cell_bytes, WHOLE_BYTES_PER_CELL), n->whole_cell_bytes) +
+                          device_host_cell_bytes(ctx, n, 1);
+        return fixed + per_cell * w * n->height;
+    }
+    double held_rows = rows + 2.0 * (HALO + n->halo_rows);
+    double per_cell = n->cell_bytes + device_host_cell_bytes(ctx, n, CPU_BATCH_IN_BANDS);
+    double devices_hulls = ss_ocl_is_cpu(ctx) ? 2.0 : 1.0; /* PoCL's copies too */
+    return fixed + per_cell * w * held_rows + devices_hulls * hull_bytes(n) +
+           w * n->hull_lines * n->column_bytes;
+}
+
+int ss_memory_plan_rows(const ss_ctx *ctx, const ss_memory_need *need, ss_memory_plan *plan)
+{
+    ss_memory_plan p = {0};
+    double budget = need->budget_bytes;
+    double whole = ss_memory_planned(ctx, need, need->height);
+    double one_band = ss_memory_planned(ctx, need, 1);
+    p.least_budget = fmax(fmin(whole, one_band), need->peak_bytes);
+    p.hull_bytes = hull_bytes(need);
+    if (need->peak_bytes > budget) {
+        p.band_rows = -1;
+    } else if (whole <= budget) {
+        p.band_rows = 0;
+        p.planned_bytes = whole;
+    } else {
+        double fixed = ss_memory_planned(ctx, need, 0);
+        double per_row = ss_memory_planned(ctx, need, 1) - fixed;
+        /* More rows than the grid's make one band of them all. */
+        double rows = fmin((budget - fixed) / per_row, (double)need->height);
+        /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
+        int r = rows < 1 ? -1 : rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
+        p.band_rows = r;
+        p.planned_bytes = r > 0 ? ss_memory_planned(ctx, need, r < need->height ? r : need->height - 1)
+                                : one_band;
+    }
+    /* A CPU device's buffers are counted above within the budget (a batch
+     * of CPU_BATCH_IN_BANDS in bands): they may take what was counted for
+     * them and what the budget leaves. A GPU's own memory: a quarter of it
+     * (ss_memory_device_bytes). */
+    if (ss_ocl_is_cpu(ctx) && budget > 0 && p.band_rows >= 0) {
+        int rows = p.band_rows ? p.band_rows : need->height;
+        double held_rows = p.band_rows ? rows + 2.0 * (HALO + need->halo_rows) : rows;
+        int batch = p.band_rows ? CPU_BATCH_IN_BANDS : 1;
+        p.device_bytes = device_host_cell_bytes(ctx, need, batch) * need->width * held_rows +
+                         fmax(budget - p.planned_bytes, 0.0);
+    }
+    if (plan)
+        *plan = p;
+    return p.band_rows;
+}
+
+ss_status ss_memory_plan_make(ss_ctx *ctx, const ss_memory_need *need, ss_memory_plan *plan)
+{
+    ss_call_begin(ctx);
+    ss_memory_plan_rows(ctx, need, plan);
+    ctx->memory = *plan;
+    return SS_OK;
+}
+
+double ss_memory_device_bytes(const ss_ctx *ctx, double global_mem)
+{
+    return ctx->memory.device_bytes > 0 ? ctx->memory.device_bytes : global_mem / 4.0;
+}

@@ -1,0 +1,115 @@
+#!/bin/bash
+# --memory bounds the peak resident memory of the whole process (issue 41):
+# for every sweeping product, on the C twin and on an OpenCL CPU device
+# (PoCL, whose buffers are host memory), at --memory 64M, 96M and 256M, the
+# peak the kernel reports for the process (GNU time's %M, getrusage's
+# ru_maxrss) stays at or below --memory, or the run is refused before any
+# work (exit 6) in one line that names the least budget that would do; a
+# run at that least budget then keeps within it.
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+SKYSWEEP=${SKYSWEEP:-./skysweep}
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-memory-bound.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+if "$SKYSWEEP" info | grep -q 'sanitizers yes'; then
+    tap_skip "peak resident memory within --memory" "AddressSanitizer's shadow memory inflates it"
+    tap_done
+    exit
+fi
+if [ ! -x /usr/bin/time ]; then
+    tap_skip "peak resident memory within --memory" "no GNU time (/usr/bin/time) to read the peak"
+    tap_done
+    exit
+fi
+
+# 2048 x 2048 cells of hills (UTM 5N, 10 m): a whole-grid SVF holds 24 bytes
+# a cell (96 MiB) besides the program, insolation over 100; smooth hills
+# (bilinear between a coarse grid's samples) with ridges of every size.
+awk 'BEGIN {
+    W = 128; H = 128
+    print "ncols " W; print "nrows " H; print "xllcorner 254325"; print "yllcorner 2140000"
+    print "cellsize 160"; print "NODATA_value -9999"
+    for (r = 0; r < H; r++) {
+        line = ""
+        for (c = 0; c < W; c++) {
+            v = 300 * sin(c / 11.0) * cos(r / 14.0) + 90 * sin((c + 2 * r) / 4.0) \
+                + 25 * sin(c / 1.3 + r / 1.7)
+            line = line sprintf("%.2f ", 600 + v)
+        }
+        print line
+    }
+}' >"$work/coarse.asc"
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/coarse.asc" "$work/coarse.tif"
+gdal_translate -q -r bilinear -outsize 2048 2048 -co TILED=YES "$work/coarse.tif" "$work/dem.tif"
+
+devices="reference"
+if "$SKYSWEEP" svf --device list 2>/dev/null | grep -q 'Portable Computing Language'; then
+    devices="$devices Portable"
+else
+    tap_diag "no PoCL device: the OpenCL CPU device's cases are not run"
+fi
+
+products=(
+    "svf --directions 4"
+    "openness --directions 4"
+    "horizon --directions 4 --distance $work/dist.tif"
+    "shadow --sun-azimuth 120 --sun-elevation 9"
+    "hillshade --sky-view 0.3 --cast-shadows --directions 4"
+    "insolation --time 2026-12-21T09:00-10:00/PT4H --step PT2H --directions 4"
+)
+
+# bounded PRODUCT DEVICE BUDGET_MIB: runs it under GNU time; prints
+# "PEAK_MIB RC LEAST_MIB" (LEAST_MIB: the least budget a refusal named).
+bounded() {
+    # shellcheck disable=SC2086
+    /usr/bin/time -o "$work/time" -f '%M' "$SKYSWEEP" $1 --device "$2" --memory "$3M" \
+        "$work/dem.tif" "$work/out.tif" >"$work/out" 2>"$work/err"
+    local rc=$?
+    local kib least
+    kib=$(tail -1 "$work/time")
+    least=$(sed -n 's/.*at least --memory \([0-9]*\)M.*/\1/p' "$work/err")
+    echo "$((kib / 1024)) $rc ${least:-0}"
+}
+
+for device in $devices; do
+    for budget in 64 96 256; do
+        for p in "${products[@]}"; do
+            name=${p%% *}
+            read -r peak rc least < <(bounded "$p" "$device" "$budget")
+            if [ "$rc" -eq 6 ]; then
+                # one line (after the newline that ends a progress line shown
+                # while a loaded machine built the device's kernels)
+                [ "$(grep -c . "$work/err")" -eq 1 ] && [ "$least" -gt "$budget" ] &&
+                    [ ! -e "$work/out.tif" ]
+                tap_ok $? "$name on $device, --memory ${budget}M: refused (exit 6), least $least MiB: $(grep . "$work/err" | head -c 160)"
+            else
+                [ "$rc" -eq 0 ] && [ "$peak" -le "$budget" ]
+                tap_ok $? "$name on $device, --memory ${budget}M: peak resident $peak MiB (exit $rc) $(grep '^memory' "$work/out" | head -c 120)"
+            fi
+            rm -f "$work/out.tif" "$work/dist.tif"
+        done
+    done
+    # The least budget a refusal names is one that does.
+    read -r peak rc least < <(bounded "svf --directions 4" "$device" 24)
+    if [ "$rc" -eq 6 ] && [ "$least" -gt 24 ]; then
+        read -r peak rc2 least2 < <(bounded "svf --directions 4" "$device" "$least")
+        [ "$rc2" -eq 0 ] && [ "$peak" -le "$least" ]
+        tap_ok $? "svf on $device at the least budget named, ${least}M: peak resident $peak MiB (exit $rc2)"
+    else
+        tap_ok 1 "svf on $device, --memory 24M: refused with the least budget (exit $rc, least $least)"
+    fi
+    rm -f "$work/out.tif"
+done
+# Insolation's least budget here is above 256M (64 suns' hulls at a time):
+# 32 MiB above it, it keeps within its bound too.
+ins="${products[5]}"
+read -r peak rc least < <(bounded "$ins" reference 24)
+if [ "$rc" -eq 6 ] && [ "$least" -gt 24 ]; then
+    read -r peak rc2 least2 < <(bounded "$ins" reference "$((least + 32))")
+    [ "$rc2" -eq 0 ] && [ "$peak" -le "$((least + 32))" ]
+    tap_ok $? "insolation on reference at $((least + 32))M, 32 MiB above the least named: peak resident $peak MiB (exit $rc2) $(grep '^memory' "$work/out" | head -c 120)"
+else
+    tap_ok 1 "insolation on reference, --memory 24M: refused with the least budget (exit $rc, least $least)"
+fi
+tap_done
