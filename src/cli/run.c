@@ -401,6 +401,17 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         run->memory_bound = budget;
     ss_dem_source *src;
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
+    /* The engine indexes a run's cells with ints (engine.c): no budget
+     * sweeps more, so say that rather than size bands for it. */
+    if (st == SS_OK && (double)dem->grid.width * dem->grid.height > 2147483647.0) {
+        st = ss_ctx_error(run->ctx, SS_ERR_INPUT,
+                          "'%s' has %d x %d cells, beyond the 2^31 cells one run sweeps: cut it "
+                          "into tiles (gdal_translate -srcwin) and run each with a margin",
+                          paths[0], dem->grid.width, dem->grid.height);
+        ss_dem_source_close(src);
+        ss_dem_free(dem);
+        return st;
+    }
     /* Its stack slots, where the radius takes hulls: the VAT blend's radius
      * in cells taken at the larger cell size, which it never exceeds. */
     if (st == SS_OK && radius_walk) {
