@@ -160,7 +160,9 @@ static ss_status sky_trees_write(sweep_job *job, const tree_settings *set,
 static void sky_trees_metadata(ss_raster_writer *w, const tree_settings *set, const sky_trees *s)
 {
     trees_metadata(w, set, &s->t);
-    ss_writer_metadata(w, "TRUNK_GAPS", "ignore: each crown taken down to the ground");
+    ss_writer_metadata(w, "TRUNK_GAPS", set->trunk_gaps == SS_TRUNK_GAPS_OPEN
+                                            ? "open: the sky seen under the crowns"
+                                            : "ignore: each crown taken down to the ground");
     ss_writer_describe(w, 2, "svfveg: 1 - the share of the sky crowns hide above the solid horizon",
                        "1");
     ss_writer_describe(w, 3, "svfbuveg: svf - (1 - svfveg) x (1 - transmissivity)", "1");
@@ -261,9 +263,10 @@ int cmd_sky(int argc, char **argv)
         if (tree_rank)
             trees_describe(&set.trees, &tr.t, described, sizeof described);
         if (tree_rank)
-            printf("trees   %s: svfveg mean %.4f, svfbuveg mean %.4f (trunk gaps ignored; "
+            printf("trees   %s: svfveg mean %.4f, svfbuveg mean %.4f (trunk gaps %s; "
                    "crowns swept on the host on digital lines, %.3f s)\n",
-                   described, tr.veg_mean, tr.total_mean, tr.seconds);
+                   described, tr.veg_mean, tr.total_mean,
+                   set.trees.trunk_gaps == SS_TRUNK_GAPS_OPEN ? "open" : "ignored", tr.seconds);
         if (tree_rank && tr.t.below_ground)
             printf("trees   %zu absolute crown tops below the DSM taken as no tree\n",
                    tr.t.below_ground);

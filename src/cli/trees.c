@@ -25,9 +25,10 @@ static const opt_spec tree_table[] = {
      "crown bottoms at R x the canopy height"},
     {"transmissivity", OPT_DOUBLE, SET(transmissivity), "T", "0.03", 0, 1, NULL,
      "fraction of the light that crosses a crown (leaf on)"},
-    {"trunk-gaps", OPT_CHOICE, SET(trunk_gaps), NULL, "ignore", 0, 0, "ignore",
-     "the sky under crowns: ignore takes each crown down to the ground (its error against a "
-     "ray march: doc/vegetation.md)"},
+    {"trunk-gaps", OPT_CHOICE, SET(trunk_gaps), NULL, "open", 0, 0, "ignore|open",
+     "the sky under crowns: open sees it between the ground and the trunk height; ignore takes "
+     "each crown down to the ground, about half the crowns' time (its error: "
+     "doc/vegetation.md)"},
     OPT_END};
 #undef SET
 

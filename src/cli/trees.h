@@ -11,7 +11,7 @@ typedef struct {
     const char *canopy, *trunk;
     double trunk_ratio, transmissivity;
     int canopy_heights; /* index into "above-ground|absolute" */
-    int trunk_gaps;     /* index into "ignore": an ss_trunk_gaps (svf's) */
+    int trunk_gaps;     /* index into "ignore|open": an ss_trunk_gaps (svf's) */
 } tree_settings;
 
 #define TREE_OPTIONS_MAX 8

@@ -1,20 +1,26 @@
 /* Trees in the sky view (doc/vegetation.md, "svf"): the share of each
  * cell's sky that crowns hide above the solid horizon.
  *
- * Trunk gaps ignored (SS_TRUNK_GAPS_IGNORE, the one treatment so far):
- * every crown is a column from the ground to its top, so in each direction
- * the crowns hide the elevations between the solid horizon (of the DSM)
- * and the canopy-top horizon (of DSM + canopy), both seen from the cell's
- * surface (the ground under its own crown, which it does not see). Each
- * horizon is the tangent from the cell to the upper convex hull of the
- * cells walked before it on the direction's digital line (the engine's
- * lines, lines.h, walked from the far end): O(log n) a cell, exact on
- * those lines, no distance limit, the earth flat. */
+ * Both horizons, seen from the cell's surface (the ground under its own
+ * crown, which it does not see), are tangents from the cell to the upper
+ * convex hull of the cells walked before it on the direction's digital
+ * line (the engine's lines, lines.h, walked from the far end): the solid
+ * horizon of the DSM, and the canopy-top horizon of DSM + canopy. O(log n)
+ * a cell, exact on those lines, no distance limit, the earth flat.
+ *
+ * Trunk gaps ignored (SS_TRUNK_GAPS_IGNORE): every crown is a column from
+ * the ground to its top, so the crowns hide the elevations between the two
+ * horizons. Open (SS_TRUNK_GAPS_OPEN): the crowns hide the union of their
+ * rises, (bottom - z) / d to (top - z) / d for each crown cell d before
+ * the cell, above the solid horizon; the crowns are taken nearest first,
+ * and the walk back stops once the union covers everything from the solid
+ * horizon to the canopy-top horizon (at once under a closed canopy). */
 #include "config.h"
 
 #include <math.h>
 #include <stdlib.h>
 
+#include "crown_union.h"
 #include "lines.h"
 #include "products_internal.h"
 
@@ -78,18 +84,56 @@ static double hidden_share(ss_svf_definition definition, double t)
     return definition == SS_SVF_DEF_GEOMETRIC ? t / sqrt(1.0 + t * t) : t * t / (1.0 + t * t);
 }
 
+/* A crown walked on the line: where, and its bottom and top heights. */
+typedef struct {
+    double w, bottom, top;
+} line_crown;
+
 typedef struct {
     const ss_grid *grid;
     const ss_canopy *canopy;
     ss_svf_definition definition;
+    ss_trunk_gaps gaps;
     upper_hull solid, top;
+    line_crown *crowns; /* the line's, in walk order */
+    size_t n_crowns;
+    crown_union rises; /* SS_TRUNK_GAPS_OPEN: those hidden from one cell */
     double *solid_sum, *crown_sum; /* per cell, over the directions */
 } sky_walk;
 
-/* One digital line, walked from the far end of the direction looked in. */
-static void walk_line(sky_walk *s, const ss_line_set *ls, int line)
+/* SS_TRUNK_GAPS_OPEN: the share the crowns before q hide above the solid
+ * horizon's rise ts, up to the canopy-top horizon's ttop > ts; -1 when
+ * out of memory. */
+static double open_gaps_share(sky_walk *s, hull_point q, double ts, double ttop)
+{
+    crown_union *u = &s->rises;
+    u->n = 0;
+    for (size_t k = s->n_crowns; k-- > 0;) {
+        const line_crown *c = &s->crowns[k];
+        double d = q.w - c->w;
+        if (!(d > 0.0))
+            continue;
+        double lo = fmax((c->bottom - q.z) / d, ts), hi = (c->top - q.z) / d;
+        if (!(hi > lo))
+            continue;
+        if (union_add(u, lo, hi) != 0)
+            return -1.0;
+        if (u->span[0].lo <= ts && u->span[0].hi >= ttop)
+            break; /* covered: crowns further back hide nothing more */
+    }
+    double share = 0.0;
+    for (size_t k = 0; k < u->n; ++k)
+        share += hidden_share(s->definition, u->span[k].hi) -
+                 hidden_share(s->definition, u->span[k].lo);
+    return share;
+}
+
+/* One digital line, walked from the far end of the direction looked in;
+ * -1 when out of memory. */
+static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
 {
     s->solid.n = s->top.n = 0;
+    s->n_crowns = 0;
     ss_i64 b16 = ss_line_intercept16(ls, line);
     double away_major = (double)ls->along_per_step_m * ls->step,
            away_minor = (double)ls->along_per_minor_m;
@@ -103,14 +147,23 @@ static void walk_line(sky_walk *s, const ss_line_set *ls, int line)
         if (!isfinite(z))
             continue;
         hull_point q = {major * away_major + minor * away_minor, z};
-        double solid = hidden_share(s->definition, hull_rise(&s->solid, q));
-        double both = hidden_share(s->definition, fmax(hull_rise(&s->solid, q),
-                                                       hull_rise(&s->top, q)));
+        double ts = hull_rise(&s->solid, q), ttop = hull_rise(&s->top, q);
+        double solid = hidden_share(s->definition, ts), crowns = 0.0;
+        if (ttop > ts && s->gaps == SS_TRUNK_GAPS_OPEN)
+            crowns = open_gaps_share(s, q, ts, ttop);
+        else if (ttop > ts)
+            crowns = hidden_share(s->definition, ttop) - solid;
+        if (crowns < 0.0)
+            return -1;
         s->solid_sum[i] += solid;
-        s->crown_sum[i] += both - solid;
+        s->crown_sum[i] += crowns;
+        double top = s->canopy->height_m[i], bottom = trunk_of(s->canopy, i);
         hull_add(&s->solid, q);
-        hull_add(&s->top, (hull_point){q.w, z + (double)s->canopy->height_m[i]});
+        hull_add(&s->top, (hull_point){q.w, z + top});
+        if (top > bottom)
+            s->crowns[s->n_crowns++] = (line_crown){q.w, z + bottom, z + top};
     }
+    return 0;
 }
 
 ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
@@ -122,17 +175,25 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "trees in the SVF take the geometric or horizontal definition, not %d",
                        (int)definition);
-    if (gaps != SS_TRUNK_GAPS_IGNORE)
+    if (gaps != SS_TRUNK_GAPS_IGNORE && gaps != SS_TRUNK_GAPS_OPEN)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown treatment of trunk gaps %d", (int)gaps);
     ss_status st = ss_sweep_options_check(ctx, opt);
     if (st != SS_OK)
         return st;
     size_t n = (size_t)grid->width * (size_t)grid->height;
     size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
-    sky_walk s = {grid, canopy, definition, {ss_malloc(longest * sizeof(hull_point)), 0},
-                  {ss_malloc(longest * sizeof(hull_point)), 0}, calloc(n, sizeof(double)),
+    sky_walk s = {grid,
+                  canopy,
+                  definition,
+                  gaps,
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  ss_malloc(longest * sizeof(line_crown)),
+                  0,
+                  {0},
+                  calloc(n, sizeof(double)),
                   calloc(n, sizeof(double))};
-    if (!s.solid.p || !s.top.p || !s.solid_sum || !s.crown_sum)
+    if (!s.solid.p || !s.top.p || !s.crowns || !s.solid_sum || !s.crown_sum)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' sky");
     for (int d = 0; st == SS_OK && d < opt->directions; ++d) {
         st = ss_check_cancel(ctx, "the crowns' sky");
@@ -141,7 +202,8 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
                                 ss_direction_azimuth(opt, d), SS_LINE_MODEL_DIGITAL);
         ls.families = 1;
         for (int line = 0; st == SS_OK && line < ss_line_count(&ls); ++line)
-            walk_line(&s, &ls, line);
+            if (walk_line(&s, &ls, line) != 0)
+                st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
     }
     for (size_t i = 0; st == SS_OK && i < n; ++i) {
         int valid = isfinite(grid->z[i]);
@@ -151,6 +213,8 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
     }
     free(s.solid.p);
     free(s.top.p);
+    free(s.crowns);
+    free(s.rises.span);
     free(s.solid_sum);
     free(s.crown_sum);
     return st;
