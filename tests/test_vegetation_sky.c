@@ -40,8 +40,8 @@ static double hidden(ss_svf_definition def, double t)
     return def == SS_SVF_DEF_GEOMETRIC ? t / sqrt(1.0 + t * t) : t * t / (1.0 + t * t);
 }
 
-static int library_sky(const ss_grid *g, const ss_canopy *cn, int directions,
-                       ss_svf_definition def, ss_trunk_gaps gaps, float *solid, float *crown)
+static int library_sky(const ss_grid *g, const ss_canopy *cn, int directions, ss_svf_definition def,
+                       ss_trunk_gaps gaps, float *solid, float *crown)
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_sweep_options opt;
@@ -189,11 +189,10 @@ static void against_march(const char *what, const ss_grid *g, const ss_canopy *c
     ss_sweep_options_default(&opt);
     opt.directions = directions;
     double t0 = now_s();
-    int ok = library_sky(g, cn, directions, SS_SVF_DEF_GEOMETRIC, SS_TRUNK_GAPS_IGNORE, solid,
-                         ignore);
+    int ok =
+        library_sky(g, cn, directions, SS_SVF_DEF_GEOMETRIC, SS_TRUNK_GAPS_IGNORE, solid, ignore);
     double t1 = now_s();
-    ok = ok && library_sky(g, cn, directions, SS_SVF_DEF_GEOMETRIC, SS_TRUNK_GAPS_OPEN, NULL,
-                           open);
+    ok = ok && library_sky(g, cn, directions, SS_SVF_DEF_GEOMETRIC, SS_TRUNK_GAPS_OPEN, NULL, open);
     double t2 = now_s();
     double ignore_err = 0.0, open_err = 0.0, knob_err = 0.0, solid_err = 0.0, crowned = 0.0;
     size_t cells = 0;
@@ -205,8 +204,8 @@ static void against_march(const char *what, const ss_grid *g, const ss_canopy *c
             double s = 0, col = 0, gap = 0;
             for (int d = 0; d < directions; ++d) {
                 double s1, c1, g1;
-                march(g, cn, SS_SVF_DEF_GEOMETRIC, r, c, ss_direction_azimuth(&opt, d), spans,
-                      &s1, &c1, &g1);
+                march(g, cn, SS_SVF_DEF_GEOMETRIC, r, c, ss_direction_azimuth(&opt, d), spans, &s1,
+                      &c1, &g1);
                 s += s1 / directions, col += c1 / directions, gap += g1 / directions;
             }
             ignore_err += fabs(ignore[i] - col);
@@ -305,8 +304,8 @@ static void refusals(void)
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = 8;
-    tap_ok(ss_canopy_sky(ctx, &g, &cn, &opt, SS_SVF_DEF_TILTED, SS_TRUNK_GAPS_IGNORE, NULL,
-                         out) == SS_ERR_ARGUMENT,
+    tap_ok(ss_canopy_sky(ctx, &g, &cn, &opt, SS_SVF_DEF_TILTED, SS_TRUNK_GAPS_IGNORE, NULL, out) ==
+               SS_ERR_ARGUMENT,
            "the radiative definition is refused: %s", ss_ctx_message(ctx));
     ss_ctx_free(ctx);
     ss_grid_free(&g);

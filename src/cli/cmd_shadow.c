@@ -179,8 +179,7 @@ int cmd_shadow(int argc, char **argv)
         st = ss_ctx_error(job.run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
     if (st == SS_OK)
         st = ss_writer_open(job.run.ctx, job.output, &job.dem, set.trees.canopy ? 5 : 3,
-                            set.common.format,
-                            set.common.creation_options.items, &out.w);
+                            set.common.format, set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
     double sun_az_true = sun.centre_grid_azimuth_deg + job.opt.grid_north_deg;
     shadow_sun ss = {&job, &sun};

@@ -108,26 +108,24 @@ static void sky_metadata(ss_raster_writer *w, const ss_product_info *product,
  * whole (doc/vegetation.md, "svf"). */
 typedef struct {
     trees t;
-    float *svf;          /* band 1 */
+    float *svf;                  /* band 1 */
     double veg_mean, total_mean; /* bands 2 and 3's */
-    double seconds;      /* the crowns' sweep and bands */
+    double seconds;              /* the crowns' sweep and bands */
 } sky_trees;
 
 /* Band 2, svfveg: 1 less the share of the sky that crowns hide above the
  * solid horizon; band 3, svfbuveg: SOLWEIG's svf - (1 - svfveg)(1 - T). */
 static ss_status sky_trees_write(sweep_job *job, const tree_settings *set,
-                                 ss_svf_definition definition, sky_trees *s,
-                                 ss_raster_writer *w)
+                                 ss_svf_definition definition, sky_trees *s, ss_raster_writer *w)
 {
     double started = run_now();
     ss_grid ground = trees_ground(job, &s->t);
     size_t n = (size_t)ground.width * (size_t)ground.height;
     float *veg = malloc(n * sizeof(float)), *total = malloc(n * sizeof(float));
-    ss_status st = veg && total ? ss_canopy_sky(job->run.ctx, &ground, &s->t.canopy, &job->opt,
-                                                definition, (ss_trunk_gaps)set->trunk_gaps, NULL,
-                                                veg)
-                                : ss_ctx_error(job->run.ctx, SS_ERR_MEMORY,
-                                               "out of memory for the trees");
+    ss_status st = veg && total
+                       ? ss_canopy_sky(job->run.ctx, &ground, &s->t.canopy, &job->opt, definition,
+                                       (ss_trunk_gaps)set->trunk_gaps, NULL, veg)
+                       : ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
     double lost = 1.0 - set->transmissivity;
     for (size_t i = 0; st == SS_OK && i < n; ++i) {
         if (s->svf[i] == SS_NODATA) {
@@ -160,9 +158,10 @@ static ss_status sky_trees_write(sweep_job *job, const tree_settings *set,
 static void sky_trees_metadata(ss_raster_writer *w, const tree_settings *set, const sky_trees *s)
 {
     trees_metadata(w, set, &s->t);
-    ss_writer_metadata(w, "TRUNK_GAPS", set->trunk_gaps == SS_TRUNK_GAPS_OPEN
-                                            ? "open: the sky seen under the crowns"
-                                            : "ignore: each crown taken down to the ground");
+    ss_writer_metadata(w, "TRUNK_GAPS",
+                       set->trunk_gaps == SS_TRUNK_GAPS_OPEN
+                           ? "open: the sky seen under the crowns"
+                           : "ignore: each crown taken down to the ground");
     ss_writer_describe(w, 2, "svfveg: 1 - the share of the sky crowns hide above the solid horizon",
                        "1");
     ss_writer_describe(w, 3, "svfbuveg: svf - (1 - svfveg) x (1 - transmissivity)", "1");

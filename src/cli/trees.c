@@ -53,8 +53,8 @@ const opt_spec *tree_options(size_t base, int sky, const char *bands,
 int trees_options_alone(const char *command, const opt_spec *const *tables, const void *settings,
                         const tree_settings *set)
 {
-    static const char *const needs[] = {"canopy-heights", "trunk", "trunk-ratio",
-                                        "transmissivity", "trunk-gaps"};
+    static const char *const needs[] = {"canopy-heights", "trunk", "trunk-ratio", "transmissivity",
+                                        "trunk-gaps"};
     for (size_t i = 0; !set->canopy && i < sizeof needs / sizeof *needs; ++i) {
         const opt_spec *o = opt_find(tables, needs[i]);
         if (o && !opt_at_default(o, settings)) {

@@ -97,7 +97,7 @@ typedef struct {
     upper_hull solid, top;
     line_crown *crowns; /* the line's, in walk order */
     size_t n_crowns;
-    crown_union rises; /* SS_TRUNK_GAPS_OPEN: those hidden from one cell */
+    crown_union rises;             /* SS_TRUNK_GAPS_OPEN: those hidden from one cell */
     double *solid_sum, *crown_sum; /* per cell, over the directions */
 } sky_walk;
 
@@ -123,8 +123,8 @@ static double open_gaps_share(sky_walk *s, hull_point q, double ts, double ttop)
     }
     double share = 0.0;
     for (size_t k = 0; k < u->n; ++k)
-        share += hidden_share(s->definition, u->span[k].hi) -
-                 hidden_share(s->definition, u->span[k].lo);
+        share +=
+            hidden_share(s->definition, u->span[k].hi) - hidden_share(s->definition, u->span[k].lo);
     return share;
 }
 
@@ -142,7 +142,8 @@ static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
         int minor = ss_line_minor(ls, b16, major);
         if (minor < 0 || minor >= ls->minor_len)
             continue;
-        size_t i = (size_t)major * (size_t)ls->stride_major + (size_t)minor * (size_t)ls->stride_minor;
+        size_t i =
+            (size_t)major * (size_t)ls->stride_major + (size_t)minor * (size_t)ls->stride_minor;
         float z = s->grid->z[i];
         if (!isfinite(z))
             continue;
