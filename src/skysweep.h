@@ -448,6 +448,23 @@ SS_API ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_ca
 SS_API void ss_canopy_classes(const ss_canopy *canopy, size_t n, const float *sunlit,
                               const unsigned char *crossed, float *klass, float *fraction);
 
+/* How the sky view treats the gaps under crowns (between the ground and the
+ * trunk height): IGNORE takes each crown as a column down to the ground
+ * (two horizons a cell, O(log n)); OPEN sees the sky through them (the
+ * crowns of a line walked back from each cell until they cover its sky
+ * up to the canopy-top horizon). */
+typedef enum { SS_TRUNK_GAPS_IGNORE = 0, SS_TRUNK_GAPS_OPEN = 1 } ss_trunk_gaps;
+/* Trees in the sky view (doc/vegetation.md, "svf"): crown_share[c] = the
+ * share of cell c's sky (the SVF's mean over opt->directions, geometric or
+ * horizontal definition) that crowns of other cells hide above the solid
+ * horizon, seen from the cell's surface, the gaps under crowns as `gaps`
+ * says; solid_share (may be NULL) = the share the surface hides, on the
+ * same lines. The SVF with crowns opaque is the SVF less crown_share.
+ * Digital lines, the earth flat; SS_NODATA where the grid has none. */
+SS_API ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                               const ss_sweep_options *opt, ss_svf_definition definition,
+                               ss_trunk_gaps gaps, float *solid_share, float *crown_share);
+
 /* Cosine of the angle between the sun and each cell's surface normal (Horn's
  * 3x3 gradient; cell azimuths in the grid's frame): <= 0 where the cell
  * faces away from the sun (self-shadow). Per-cell sun arrays may be NULL

@@ -210,5 +210,13 @@ for want in output:distance output:cast-height output:steps output:export input:
 done
 [ -z "$undeclared" ] && [ "$expected_ok" -eq 1 ]
 tap_ok $? "--help-json flags every file option as input or output${undeclared:+ (undeclared:$undeclared)}"
+for command in shadow svf; do
+    python3 - "help-$command.json" <<'PY'
+import json, sys
+options = {o["name"]: o for o in json.load(open(sys.argv[1]))["options"]}
+sys.exit(not all(options.get(n, {}).get("input") for n in ("canopy", "trunk")))
+PY
+    tap_ok $? "$command --help-json flags --canopy and --trunk as inputs"
+done
 
 tap_done

@@ -6,7 +6,10 @@
 # the same trees above ground; a canopy on a finer grid is warped onto the
 # DSM's; the metadata name canopy, trunk rule and transmissivity; bad
 # canopies, trunks, transmissivities, grids and a canopy that is also the
-# output are refused in one line with the documented exit code.
+# output are refused in one line with the documented exit code. svf
+# --canopy: a canopy of zeros leaves band 1 byte for byte, svfveg 1 and
+# svfbuveg = svf; a tree gives svfbuveg = svf - (1 - svfveg)(1 - T) at T
+# 0, 0.03 and 1; the metadata; the DSM in bands; its refusals.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-$PWD/skysweep}
@@ -126,4 +129,58 @@ shadow --canopy same.tif dsm.tif same.tif 2>err.txt >/dev/null
 rc=$?
 [ $rc -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && cmp -s canopy.tif same.tif
 tap_ok $? "a canopy that is also the output is refused and left alone: exit $rc ($(cat err.txt))"
+# svf --canopy (doc/vegetation.md, "svf"): bands 2 svfveg and 3 svfbuveg.
+svf() { "$SKYSWEEP" svf -q --device reference --directions 16 "$@"; }
+svf dsm.tif svf_plain.tif && svf --canopy zeros.tif dsm.tif svf_zeros.tif
+cmp -s <(band svf_plain.tif 1) <(band svf_zeros.tif 1) &&
+    cmp -s <(band svf_plain.tif 1) <(band svf_zeros.tif 3) &&
+    [ "$(band svf_zeros.tif 2 | sort -u)" = 1 ] &&
+    [ "$(gdalinfo svf_plain.tif | grep -c '^Band ')" -eq 1 ] &&
+    [ "$(gdalinfo svf_zeros.tif | grep -c '^Band ')" -eq 3 ]
+tap_ok $? "svf, a canopy of zeros: band 1 byte for byte as without --canopy (1 band, with it 3), svfveg 1, svfbuveg = svf"
+for t in 0 0.03 1; do
+    svf --canopy canopy.tif --transmissivity $t dsm.tif svf_t$t.tif
+    paste <(band svf_t$t.tif 1) <(band svf_t$t.tif 2) <(band svf_t$t.tif 3) |
+        awk -v t=$t '{ want = $1 - (1 - $2) * (1 - t); d = $3 - want; if (d < 0) d = -d
+                       if (d > 1e-6 || $2 > 1 || $2 < 0) bad++; if ($2 < 0.999) veg++ }
+                     END {exit !(veg > 100 && bad == 0)}'
+    tap_ok $? "svf --transmissivity $t: svfbuveg = svf - (1 - svfveg)(1 - $t) on every cell, svfveg below 1 on more than 100"
+done
+cmp -s <(band svf_plain.tif 1) <(band svf_t0.03.tif 1)
+tap_ok $? "svf --canopy: band 1 byte for byte as without it"
+md=$(gdalinfo svf_t0.03.tif)
+grep -q "CANOPY=canopy.tif (heights above the ground)" <<<"$md" &&
+    grep -q "TRUNK=crown bottoms at 0.25 x the canopy height" <<<"$md" &&
+    grep -q "TRANSMISSIVITY=0.03" <<<"$md" && grep -q "TRUNK_GAPS=open" <<<"$md" &&
+    grep -q "Description = svfveg" <<<"$md" && grep -q "Description = svfbuveg" <<<"$md"
+tap_ok $? "svf --canopy: the metadata name the canopy, the trunk rule, the transmissivity and the trunk gaps"
+svf --canopy canopy.tif --trunk-gaps ignore dsm.tif svf_ignore.tif
+paste <(band svf_t0.03.tif 2) <(band svf_ignore.tif 2) |
+    awk '$2 > $1 + 1e-6 {bad++} $2 < $1 - 1e-4 {lower++} END {exit !(bad == 0 && lower > 10)}'
+tap_ok $? "svf --trunk-gaps ignore: crowns down to the ground hide more, never less"
+if [ -r "$data/goteborg_kronenhuset_dsm_1m.tif" ] && [ -r "$data/goteborg_kronenhuset_cdsm_1m.tif" ]; then
+    g=(--canopy "$data/goteborg_kronenhuset_cdsm_1m.tif" "$data/goteborg_kronenhuset_dsm_1m.tif")
+    svf --lines digital "${g[@]}" sw.tif && "$SKYSWEEP" svf --device reference --directions 16 --lines digital --memory 49M "${g[@]}" sb.tif | grep -q "in bands$" &&
+        cmp -s <(band sw.tif 2) <(band sb.tif 2) &&
+        paste <(band sw.tif 3) <(band sb.tif 3) | awk '{d = $1 - $2} d > 1e-6 || d < -1e-6 {bad++} END {exit bad > 0}'
+    # band 1 (so 3) of a banded sweep may differ from the whole one's in the last float bit
+    tap_ok $? "svf, Gothenburg swept in bands: band 2 as on the DSM held whole, band 3 within 1e-6"
+else
+    tap_skip "svf, Gothenburg swept in bands" "../shared/data is not here"
+fi
+refuse_svf() {
+    local want=$1 what=$2 command=$3
+    shift 3
+    rm -f bad.tif
+    "$SKYSWEEP" "$command" -q "$@" 2>err.txt >/dev/null
+    local rc=$?
+    [ $rc -eq "$want" ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e bad.tif ]
+    tap_ok $? "$command, $what: exit $rc ($(head -c 160 err.txt))"
+}
+refuse_svf 2 "--trunk-gaps without --canopy" svf --trunk-gaps ignore dsm.tif bad.tif
+refuse_svf 2 "--canopy with the radiative definition" svf --canopy canopy.tif --definition radiative dsm.tif bad.tif
+refuse_svf 2 "--canopy with --radius" svf --canopy canopy.tif --radius 20 dsm.tif bad.tif
+refuse_svf 3 "a canopy below 0" svf --canopy negative.tif dsm.tif bad.tif
+refuse_svf 2 "--canopy (openness takes no trees)" openness --canopy canopy.tif dsm.tif bad.tif
+refuse_svf 2 "--trunk-gaps (shadow has no sky view)" shadow "${sun[@]}" --canopy canopy.tif --trunk-gaps open dsm.tif bad.tif
 tap_done

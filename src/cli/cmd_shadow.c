@@ -13,34 +13,14 @@
 
 #include "commands.h"
 #include "skysweep_sun.h"
-#include "grid_warp.h"
 #include "run.h"
 #include "sun_field.h"
+#include "trees.h"
 
 typedef struct {
     common_settings common; /* first: common_options()' offsets are relative to it */
-    const char *canopy, *trunk;
-    double trunk_ratio, transmissivity;
-    int canopy_heights; /* index into "above-ground|absolute" */
+    tree_settings trees;
 } shadow_settings;
-
-#define SET(field) offsetof(shadow_settings, field)
-static const opt_spec tree_options[] = {
-    {"canopy", OPT_INPUT, SET(canopy), "FILE", NULL, 0, 0, NULL,
-     "trees (doc/vegetation.md): crown tops on the DSM's grid (warped onto it otherwise), 0 "
-     "where no tree; adds bands 4 (class) and 5 (fraction of the beam that arrives)"},
-    {"canopy-heights", OPT_CHOICE, SET(canopy_heights), NULL, "above-ground", 0, 0,
-     "above-ground|absolute",
-     "--canopy's heights: above the ground (UMEP's), or above the datum (the DSM is "
-     "subtracted where they are above 0)"},
-    {"trunk", OPT_INPUT, SET(trunk), "FILE", NULL, 0, 0, NULL,
-     "crown bottoms above the ground (a raster like --canopy), instead of --trunk-ratio"},
-    {"trunk-ratio", OPT_DOUBLE, SET(trunk_ratio), "R", "0.25", 0, 1, NULL,
-     "crown bottoms at R x the canopy height"},
-    {"transmissivity", OPT_DOUBLE, SET(transmissivity), "T", "0.03", 0, 1, NULL,
-     "fraction of the beam that crosses a crown (leaf on)"},
-    OPT_END};
-#undef SET
 
 /* The sun of the run for the library: the centre's, and each cell's for
  * the rows asked for where the plan put a sun in every cell. */
@@ -102,85 +82,13 @@ static ss_status write_rows(void *user, int output, int index, int row0, int n_r
     return ss_writer_rows(o->w, output + 1, row0, n_rows, values);
 }
 
-/* The trees of a run (--canopy), on the DEM's grid and held whole, with
- * the DSM's heights they stand on. */
-typedef struct {
-    ss_canopy canopy;
-    float *height, *trunk, *z;
-    int z_owned; /* z read here: the DEM is swept in bands */
-    int warped;  /* the canopy or the trunks were warped onto the DEM's grid */
-    size_t below_ground; /* absolute tops below the DSM, taken as no tree */
-    size_t shaded;       /* cells in vegetation shadow */
-} trees;
-
-static void trees_free(trees *t)
-{
-    free(t->height);
-    free(t->trunk);
-    if (t->z_owned)
-        free(t->z);
-}
-
-/* Nodata in a tree raster is no tree (0); absolute tops become heights
- * above the DSM, those below it no tree. */
-static void trees_heights(sweep_job *job, const shadow_settings *set, trees *t, size_t n)
-{
-    for (size_t i = 0; i < n; ++i) {
-        float *h = &t->height[i];
-        if (*h == SS_NODATA || isnan(*h))
-            *h = 0.0f;
-        if (set->canopy_heights == 1 && *h > 0.0f) {
-            double above = isfinite(t->z[i]) ? *h - (t->z[i] + job->dem.grid.z_origin_m) : 0.0;
-            t->below_ground += above < 0.0;
-            *h = above > 0.0 ? (float)above : 0.0f;
-        }
-        if (t->trunk && (t->trunk[i] == SS_NODATA || isnan(t->trunk[i])))
-            t->trunk[i] = 0.0f;
-    }
-}
-
-/* Reads --canopy and --trunk onto the DEM's grid and checks them (neither
- * can be the output: both are declared inputs, refused as outputs when the
- * options are parsed). */
-static ss_status trees_open(sweep_job *job, const shadow_settings *set, trees *t)
-{
-    ss_status st = SS_OK;
-    const ss_grid *g = &job->dem.grid;
-    size_t n = (size_t)g->width * (size_t)g->height;
-    t->height = malloc(n * sizeof(float));
-    t->trunk = set->trunk ? malloc(n * sizeof(float)) : NULL;
-    t->z = g->z;
-    if (!t->z) {
-        t->z = malloc(n * sizeof(float));
-        t->z_owned = 1;
-    }
-    if (!t->height || !t->z || (set->trunk && !t->trunk))
-        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
-    if (t->z_owned)
-        st = job_read_rows(job, 0, g->height, t->z);
-    int warped = 0;
-    if (st == SS_OK)
-        st = ss_raster_onto_dem(job->run.ctx, set->canopy, "canopy", &job->dem, t->height,
-                                &t->warped);
-    if (st == SS_OK && set->trunk)
-        st = ss_raster_onto_dem(job->run.ctx, set->trunk, "trunk raster", &job->dem, t->trunk,
-                                &warped);
-    if (st != SS_OK)
-        return st;
-    t->warped |= warped;
-    trees_heights(job, set, t, n);
-    t->canopy = (ss_canopy){t->height, t->trunk, set->trunk_ratio, set->transmissivity};
-    ss_grid ground = *g;
-    ground.z = t->z;
-    return ss_canopy_check(job->run.ctx, &ground, &t->canopy);
-}
-
 /* Bands 4 and 5: the crowns crossed on the way to the sun (the centre's),
- * over the solid verdict kept in out->sunlit. */
-static ss_status trees_write(sweep_job *job, trees *t, shadow_out *out, const ss_sun_field *sun)
+ * over the solid verdict kept in out->sunlit; *shaded counts the cells in
+ * vegetation shadow. */
+static ss_status trees_write(sweep_job *job, trees *t, shadow_out *out, const ss_sun_field *sun,
+                             size_t *shaded)
 {
-    ss_grid ground = job->dem.grid;
-    ground.z = t->z;
+    ss_grid ground = trees_ground(job, t);
     size_t n = (size_t)ground.width * (size_t)ground.height;
     unsigned char *crossed = malloc(n);
     float *klass = malloc(n * sizeof(float)), *fraction = malloc(n * sizeof(float));
@@ -192,7 +100,7 @@ static ss_status trees_write(sweep_job *job, trees *t, shadow_out *out, const ss
     if (st == SS_OK) {
         ss_canopy_classes(&t->canopy, n, out->sunlit, crossed, klass, fraction);
         for (size_t i = 0; i < n; ++i)
-            t->shaded += klass[i] == 2.0f;
+            *shaded += klass[i] == 2.0f;
         st = ss_writer_rows(out->w, 4, 0, ground.height, klass);
     }
     if (st == SS_OK)
@@ -203,47 +111,22 @@ static ss_status trees_write(sweep_job *job, trees *t, shadow_out *out, const ss
     return st;
 }
 
-static void trees_metadata(ss_raster_writer *w, const shadow_settings *set, const trees *t)
+static void trees_bands(ss_raster_writer *w)
 {
-    char buf[600];
-    snprintf(buf, sizeof buf, "%s (heights %s%s)", set->canopy,
-             set->canopy_heights ? "absolute, the DSM subtracted" : "above the ground",
-             t->warped ? "; warped onto the DEM's grid, highest cell" : "");
-    ss_writer_metadata(w, "CANOPY", buf);
-    if (set->trunk)
-        snprintf(buf, sizeof buf, "crown bottoms from %s (above the ground)", set->trunk);
-    else
-        snprintf(buf, sizeof buf, "crown bottoms at %.6g x the canopy height", set->trunk_ratio);
-    ss_writer_metadata(w, "TRUNK", buf);
-    snprintf(buf, sizeof buf, "%.6g", set->transmissivity);
-    ss_writer_metadata(w, "TRANSMISSIVITY", buf);
     ss_writer_describe(w, 4, "shadow class: 0 lit, 1 solid shadow, 2 vegetation shadow", "1");
     ss_writer_describe(w, 5, "fraction of the beam that arrives: 1 lit, 0 solid, T through crowns",
                        "1");
-}
-
-/* Tree options without --canopy, and --trunk-ratio beside --trunk, are
- * refused rather than ignored. */
-static int trees_options_alone(const opt_spec *const *tables, const shadow_settings *set)
-{
-    static const char *const needs[] = {"canopy-heights", "trunk", "trunk-ratio",
-                                        "transmissivity"};
-    for (size_t i = 0; !set->canopy && i < sizeof needs / sizeof *needs; ++i)
-        if (!opt_at_default(opt_find(tables, needs[i]), set)) {
-            char why[80];
-            snprintf(why, sizeof why, "--%s needs --canopy", needs[i]);
-            return run_usage_error("shadow", why);
-        }
-    if (set->trunk && !opt_at_default(opt_find(tables, "trunk-ratio"), set))
-        return run_usage_error("shadow", "--trunk and --trunk-ratio are alternatives: give one");
-    return -1;
 }
 
 int cmd_shadow(int argc, char **argv)
 {
     shadow_settings set = {0};
     common_settings_init(&set.common);
-    const opt_spec *tables[] = {tree_options, sun_options(), common_options(), NULL};
+    opt_spec tree_opts[TREE_OPTIONS_MAX];
+    const opt_spec *tables[] = {
+        tree_options(offsetof(shadow_settings, trees), 0,
+                     "bands 4 (class) and 5 (fraction of the beam that arrives)", tree_opts),
+        sun_options(), common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("shadow", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
@@ -252,7 +135,7 @@ int cmd_shadow(int argc, char **argv)
                        ss_product_named("shadow")->description,
                        &set.common.device);
     if (rc < 0)
-        rc = trees_options_alone(tables, &set);
+        rc = trees_options_alone("shadow", tables, &set, &set.trees);
     if (rc >= 0)
         return rc;
     /* One horizon, along the sun's azimuth, and the planes facing the sun
@@ -285,18 +168,18 @@ int cmd_shadow(int argc, char **argv)
     ss_sun_field sun = {0};
     ss_band_stats bands = {0};
     trees tr = {0};
-    ss_status st = set.canopy ? trees_open(&job, &set, &tr) : SS_OK;
+    size_t shaded = 0;
+    ss_status st = set.trees.canopy ? trees_open(&job, &set.trees, &tr) : SS_OK;
     if (st == SS_OK)
         st = job_sun(&job, &set.common, &sun);
     int have_sun = st == SS_OK;
     size_t cells = (size_t)job.dem.grid.width * (size_t)job.dem.grid.height;
     shadow_out out = {NULL, job.dem.grid.width, 0, 0, NULL};
-    if (st == SS_OK && set.canopy && !(out.sunlit = malloc(cells * sizeof(float))))
+    if (st == SS_OK && set.trees.canopy && !(out.sunlit = malloc(cells * sizeof(float))))
         st = ss_ctx_error(job.run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
     if (st == SS_OK)
-        st = ss_writer_open(job.run.ctx, job.output, &job.dem, set.canopy ? 5 : 3,
-                            set.common.format,
-                            set.common.creation_options.items, &out.w);
+        st = ss_writer_open(job.run.ctx, job.output, &job.dem, set.trees.canopy ? 5 : 3,
+                            set.common.format, set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
     double sun_az_true = sun.centre_grid_azimuth_deg + job.opt.grid_north_deg;
     shadow_sun ss = {&job, &sun};
@@ -304,8 +187,8 @@ int cmd_shadow(int argc, char **argv)
     if (st == SS_OK)
         st = ss_shadow_rows(job.run.ctx, &src, &job.opt, sun_rows, &ss, write_rows, &out);
     double trees_s = run_now();
-    if (st == SS_OK && set.canopy)
-        st = trees_write(&job, &tr, &out, &sun);
+    if (st == SS_OK && set.trees.canopy)
+        st = trees_write(&job, &tr, &out, &sun, &shaded);
     trees_s = run_now() - trees_s;
     size_t lit = out.lit, valid = out.valid;
     if (st == SS_OK) {
@@ -321,8 +204,10 @@ int cmd_shadow(int argc, char **argv)
         ss_writer_describe(w, 1, "sunlit (1) or in a cast shadow (0)", "1");
         ss_writer_describe(w, 2, "facing the sun (1) or away from it (0)", "1");
         ss_writer_describe(w, 3, "illumination cos(incidence), 0 in shadow", "1");
-        if (set.canopy)
-            trees_metadata(w, &set, &tr);
+        if (set.trees.canopy) {
+            trees_metadata(w, &set.trees, &tr);
+            trees_bands(w);
+        }
     }
     if (st == SS_OK)
         st = run_commit(&job.run, w);
@@ -337,14 +222,14 @@ int cmd_shadow(int argc, char **argv)
                ss_sun_field_per_cell(&sun) ? "per cell" : "one sun", sun.spread_deg);
         printf("shadow  %.1f %% of cells sunlit -> %s\n", valid ? 100.0 * lit / valid : 0.0,
                job.output);
-        if (set.canopy)
-            printf("trees   %s (heights %s%s), transmissivity %.4g: %.1f %% of cells in "
+        char described[400];
+        trees_describe(&set.trees, &tr, described, sizeof described);
+        if (set.trees.canopy)
+            printf("trees   %s: %.1f %% of cells in "
                    "vegetation shadow (crowns swept on the host on %s lines, %.3f s)\n",
-                   set.canopy, set.canopy_heights ? "absolute" : "above ground",
-                   tr.warped ? ", warped onto the DEM's grid" : "", set.transmissivity,
-                   valid ? 100.0 * tr.shaded / valid : 0.0,
+                   described, valid ? 100.0 * shaded / valid : 0.0,
                    job.opt.lines == SS_LINES_BOX ? "box" : "digital", trees_s);
-        if (set.canopy && tr.below_ground)
+        if (set.trees.canopy && tr.below_ground)
             printf("trees   %zu absolute crown tops below the DSM taken as no tree\n",
                    tr.below_ground);
     }

@@ -197,7 +197,8 @@ static const ss_product_info products[] = {
      horizon_cell_bytes, no_halo, horizon_run},
     {"svf", "sky-view factor (geometric, radiative or horizontal)", "Sky-view factor", "Terrain",
      "Sky-view factor of every cell (0..1), from exact horizons in evenly spaced azimuths.\n"
-     "Several DEM tiles are mosaicked first.",
+     "Several DEM tiles are mosaicked first. With --canopy, bands 2 svfveg (1 less the sky\n"
+     "that crowns hide) and 3 svfbuveg (svf - (1 - svfveg)(1 - transmissivity)).",
      "svf", sweep_only, sizeof(ss_svf_params), svf_outputs, SS_PRODUCT_SVF, 1, svf_request,
      svf_cell_bytes, svf_halo_m, svf_run},
     {"openness", "positive or negative topographic openness (degrees)", "Openness", "Terrain",

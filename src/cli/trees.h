@@ -1,0 +1,49 @@
+/* Trees on the command line (doc/vegetation.md): the options that give a
+ * canopy, declared once for every command that takes them (shadow, svf),
+ * and its reading onto the DEM's grid, its checks and its metadata. */
+#ifndef SS_CLI_TREES_H
+#define SS_CLI_TREES_H
+
+#include "commands.h"
+#include "run.h"
+
+typedef struct {
+    const char *canopy, *trunk;
+    double trunk_ratio, transmissivity;
+    int canopy_heights; /* index into "above-ground|absolute" */
+    int trunk_gaps;     /* index into "ignore|open": an ss_trunk_gaps (svf's) */
+} tree_settings;
+
+#define TREE_OPTIONS_MAX 8
+/* The tree options into out, their values in a tree_settings at `base` in
+ * the command's settings; `sky` adds the sky view's --trunk-gaps; `bands`
+ * ends --canopy's help with the bands it adds. Returns out. */
+const opt_spec *tree_options(size_t base, int sky, const char *bands,
+                             opt_spec out[TREE_OPTIONS_MAX]);
+
+/* Tree options without --canopy, and --trunk-ratio beside --trunk, are
+ * refused rather than ignored: an exit code, or -1 when they are fine. */
+int trees_options_alone(const char *command, const opt_spec *const *tables, const void *settings,
+                        const tree_settings *set);
+
+/* The trees of a run (--canopy), on the DEM's grid and held whole, with
+ * the DSM's heights they stand on. */
+typedef struct {
+    ss_canopy canopy;
+    float *height, *trunk, *z;
+    int z_owned;         /* z read here: the DEM is swept in bands */
+    int warped;          /* the canopy or the trunks were warped onto the DEM's grid */
+    size_t below_ground; /* absolute tops below the DSM, taken as no tree */
+} trees;
+
+/* Reads --canopy and --trunk onto the DEM's grid and checks them. */
+ss_status trees_open(sweep_job *job, const tree_settings *set, trees *t);
+void trees_free(trees *t);
+/* The DSM the crowns stand on: the DEM's grid with the heights held whole. */
+ss_grid trees_ground(const sweep_job *job, const trees *t);
+/* CANOPY, TRUNK and TRANSMISSIVITY. */
+void trees_metadata(ss_raster_writer *w, const tree_settings *set, const trees *t);
+/* "canopy.tif (heights above ground), transmissivity 0.03": the summary's. */
+void trees_describe(const tree_settings *set, const trees *t, char *buf, size_t size);
+
+#endif

@@ -1,0 +1,222 @@
+/* Trees in the sky view (doc/vegetation.md, "svf"): the share of each
+ * cell's sky that crowns hide above the solid horizon.
+ *
+ * Both horizons, seen from the cell's surface (the ground under its own
+ * crown, which it does not see), are tangents from the cell to the upper
+ * convex hull of the cells walked before it on the direction's digital
+ * line (the engine's lines, lines.h, walked from the far end): the solid
+ * horizon of the DSM, and the canopy-top horizon of DSM + canopy. O(log n)
+ * a cell, exact on those lines, no distance limit, the earth flat.
+ *
+ * Trunk gaps ignored (SS_TRUNK_GAPS_IGNORE): every crown is a column from
+ * the ground to its top, so the crowns hide the elevations between the two
+ * horizons. Open (SS_TRUNK_GAPS_OPEN): the crowns hide the union of their
+ * rises, (bottom - z) / d to (top - z) / d for each crown cell d before
+ * the cell, above the solid horizon; the crowns are taken nearest first,
+ * and the walk back stops once the union covers everything from the solid
+ * horizon to the canopy-top horizon (at once under a closed canopy). */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "crown_union.h"
+#include "lines.h"
+#include "products_internal.h"
+
+typedef struct {
+    double w, z; /* distance walked, height */
+} hull_point;
+
+/* The upper convex hull of the points walked so far on a line, their w
+ * rising. */
+typedef struct {
+    hull_point *p;
+    size_t n;
+} upper_hull;
+
+/* (b - a) x (c - a) >= 0: b lies on or below the chord a-c, so it leaves
+ * the upper hull. */
+static int not_above_chord(hull_point a, hull_point b, hull_point c)
+{
+    return (b.w - a.w) * (c.z - a.z) - (b.z - a.z) * (c.w - a.w) >= 0.0;
+}
+
+static void hull_add(upper_hull *h, hull_point q)
+{
+    while (h->n > 0 && h->p[h->n - 1].w >= q.w) { /* the same distance: the higher stays */
+        if (h->p[h->n - 1].z >= q.z)
+            return;
+        --h->n;
+    }
+    while (h->n >= 2 && not_above_chord(h->p[h->n - 2], h->p[h->n - 1], q))
+        --h->n;
+    h->p[h->n++] = q;
+}
+
+/* The steepest rise (dz / dw) from q back to the hull's points, q beyond
+ * them all; -HUGE_VAL where the hull is empty. Along an upper hull the
+ * rise is unimodal: a binary search for its peak. */
+static double hull_rise(const upper_hull *h, hull_point q)
+{
+    if (h->n == 0)
+        return -HUGE_VAL;
+    size_t a = 0, b = h->n - 1;
+    while (a < b) {
+        size_t m = a + (b - a) / 2;
+        hull_point p0 = h->p[m], p1 = h->p[m + 1];
+        /* rise to p1 >= rise to p0, the denominators (q.w - p.w) > 0 */
+        if ((p1.z - q.z) * (q.w - p0.w) >= (p0.z - q.z) * (q.w - p1.w))
+            a = m + 1;
+        else
+            b = m;
+    }
+    return (h->p[a].z - q.z) / (q.w - h->p[a].w);
+}
+
+/* The share of one direction's sky that a horizon of rise t (tan of its
+ * elevation) hides, clipped at the horizontal: sin h (geometric) or
+ * 1 - cos^2 h (horizontal), as the SVF's terms (kernels/ss_terms.h). */
+static double hidden_share(ss_svf_definition definition, double t)
+{
+    if (!(t > 0.0))
+        return 0.0;
+    return definition == SS_SVF_DEF_GEOMETRIC ? t / sqrt(1.0 + t * t) : t * t / (1.0 + t * t);
+}
+
+/* A crown walked on the line: where, and its bottom and top heights. */
+typedef struct {
+    double w, bottom, top;
+} line_crown;
+
+typedef struct {
+    const ss_grid *grid;
+    const ss_canopy *canopy;
+    ss_svf_definition definition;
+    ss_trunk_gaps gaps;
+    upper_hull solid, top;
+    line_crown *crowns; /* the line's, in walk order */
+    size_t n_crowns;
+    crown_union rises;             /* SS_TRUNK_GAPS_OPEN: those hidden from one cell */
+    double *solid_sum, *crown_sum; /* per cell, over the directions */
+} sky_walk;
+
+/* SS_TRUNK_GAPS_OPEN: the share the crowns before q hide above the solid
+ * horizon's rise ts, up to the canopy-top horizon's ttop > ts; -1 when
+ * out of memory. */
+static double open_gaps_share(sky_walk *s, hull_point q, double ts, double ttop)
+{
+    crown_union *u = &s->rises;
+    u->n = 0;
+    for (size_t k = s->n_crowns; k-- > 0;) {
+        const line_crown *c = &s->crowns[k];
+        double d = q.w - c->w;
+        if (!(d > 0.0))
+            continue;
+        double lo = fmax((c->bottom - q.z) / d, ts), hi = (c->top - q.z) / d;
+        if (!(hi > lo))
+            continue;
+        if (union_add(u, lo, hi) != 0)
+            return -1.0;
+        if (u->span[0].lo <= ts && u->span[0].hi >= ttop)
+            break; /* covered: crowns further back hide nothing more */
+    }
+    double share = 0.0;
+    for (size_t k = 0; k < u->n; ++k)
+        share +=
+            hidden_share(s->definition, u->span[k].hi) - hidden_share(s->definition, u->span[k].lo);
+    return share;
+}
+
+/* One digital line, walked from the far end of the direction looked in;
+ * -1 when out of memory. */
+static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
+{
+    s->solid.n = s->top.n = 0;
+    s->n_crowns = 0;
+    ss_i64 b16 = ss_line_intercept16(ls, line);
+    double away_major = (double)ls->along_per_step_m * ls->step,
+           away_minor = (double)ls->along_per_minor_m;
+    for (int k = 0; k < ls->major_len; ++k) {
+        int major = ls->step > 0 ? k : ls->major_len - 1 - k;
+        int minor = ss_line_minor(ls, b16, major);
+        if (minor < 0 || minor >= ls->minor_len)
+            continue;
+        size_t i =
+            (size_t)major * (size_t)ls->stride_major + (size_t)minor * (size_t)ls->stride_minor;
+        float z = s->grid->z[i];
+        if (!isfinite(z))
+            continue;
+        hull_point q = {major * away_major + minor * away_minor, z};
+        double ts = hull_rise(&s->solid, q), ttop = hull_rise(&s->top, q);
+        double solid = hidden_share(s->definition, ts), crowns = 0.0;
+        if (ttop > ts && s->gaps == SS_TRUNK_GAPS_OPEN)
+            crowns = open_gaps_share(s, q, ts, ttop);
+        else if (ttop > ts)
+            crowns = hidden_share(s->definition, ttop) - solid;
+        if (crowns < 0.0)
+            return -1;
+        s->solid_sum[i] += solid;
+        s->crown_sum[i] += crowns;
+        double top = s->canopy->height_m[i], bottom = trunk_of(s->canopy, i);
+        hull_add(&s->solid, q);
+        hull_add(&s->top, (hull_point){q.w, z + top});
+        if (top > bottom)
+            s->crowns[s->n_crowns++] = (line_crown){q.w, z + bottom, z + top};
+    }
+    return 0;
+}
+
+ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                        const ss_sweep_options *opt, ss_svf_definition definition,
+                        ss_trunk_gaps gaps, float *solid_share, float *crown_share)
+{
+    ss_call_begin(ctx);
+    if (definition != SS_SVF_DEF_GEOMETRIC && definition != SS_SVF_DEF_HORIZONTAL)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "trees in the SVF take the geometric or horizontal definition, not %d",
+                       (int)definition);
+    if (gaps != SS_TRUNK_GAPS_IGNORE && gaps != SS_TRUNK_GAPS_OPEN)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown treatment of trunk gaps %d", (int)gaps);
+    ss_status st = ss_sweep_options_check(ctx, opt);
+    if (st != SS_OK)
+        return st;
+    size_t n = (size_t)grid->width * (size_t)grid->height;
+    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
+    sky_walk s = {grid,
+                  canopy,
+                  definition,
+                  gaps,
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  ss_malloc(longest * sizeof(line_crown)),
+                  0,
+                  {0},
+                  calloc(n, sizeof(double)),
+                  calloc(n, sizeof(double))};
+    if (!s.solid.p || !s.top.p || !s.crowns || !s.solid_sum || !s.crown_sum)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' sky");
+    for (int d = 0; st == SS_OK && d < opt->directions; ++d) {
+        st = ss_check_cancel(ctx, "the crowns' sky");
+        ss_line_set ls;
+        ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
+                                ss_direction_azimuth(opt, d), SS_LINE_MODEL_DIGITAL);
+        ls.families = 1;
+        for (int line = 0; st == SS_OK && line < ss_line_count(&ls); ++line)
+            if (walk_line(&s, &ls, line) != 0)
+                st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
+    }
+    for (size_t i = 0; st == SS_OK && i < n; ++i) {
+        int valid = isfinite(grid->z[i]);
+        if (solid_share)
+            solid_share[i] = valid ? (float)(s.solid_sum[i] / opt->directions) : SS_NODATA;
+        crown_share[i] = valid ? (float)(s.crown_sum[i] / opt->directions) : SS_NODATA;
+    }
+    free(s.solid.p);
+    free(s.top.p);
+    free(s.crowns);
+    free(s.rises.span);
+    free(s.solid_sum);
+    free(s.crown_sum);
+    return st;
+}
