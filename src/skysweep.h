@@ -295,6 +295,8 @@ typedef struct {
                                 (times box lines per cell) */
     int halo_rows;           /* rows held on each side beyond the sweep's own (radius walks) */
     double cache_bytes;      /* GDAL's block cache, as capped */
+    double grid_cell_bytes;  /* held per cell of the whole grid beside the sweep's own
+                                (svf's trees); 0: none */
 } ss_memory_need;
 
 /* The plan: band rows, and what the device's buffers may take. */

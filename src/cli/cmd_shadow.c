@@ -142,7 +142,8 @@ int cmd_shadow(int argc, char **argv)
      * and illumination that ss_shadow_rows holds a band of. */
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + 2.0 * sizeof(float),
                       .column_bytes = ss_horizon_column_bytes(),
-                      .directions = 1};
+                      .directions = 1,
+                      .grid_cell_bytes = set.trees.canopy ? TREES_SHADOW_CELL_BYTES : 0.0};
     sweep_job job;
     if ((rc = job_open_banded(&job, "shadow", &set.common, pos, n_pos, cost)))
         return rc;

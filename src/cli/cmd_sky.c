@@ -210,7 +210,8 @@ int cmd_sky(int argc, char **argv)
         return rc;
     sweep_job job;
     band_cost cost = {.cell_bytes = product->cell_bytes(&set.sky, 0),
-                      .halo_m = product->halo_m(&set.sky, NAN)};
+                      .halo_m = product->halo_m(&set.sky, NAN),
+                      .grid_cell_bytes = set.trees.canopy ? TREES_SKY_CELL_BYTES : 0.0};
     if ((rc = job_open_banded(&job, product->name, &set.common, pos, n_pos, cost)))
         return rc;
     job.svf_definition = req.svf_definition;

@@ -357,7 +357,8 @@ static int plan_memory(run_state *run, const ss_dem *dem, const band_cost *cost,
                            .column_bytes = cost->column_bytes,
                            .hull_lines = hull_directions,
                            .halo_rows = halo,
-                           .cache_bytes = GDAL_CACHE_BYTES};
+                           .cache_bytes = GDAL_CACHE_BYTES,
+                           .grid_cell_bytes = cost->grid_cell_bytes};
     ss_memory_plan_make(run->ctx, &need, &run->memory);
     return run->memory.band_rows;
 }

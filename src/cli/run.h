@@ -126,6 +126,8 @@ typedef struct {
      * (horizon's planes of every direction), beyond cell_bytes. */
     double output_bytes;
     int no_sweep; /* sweeps nothing (a plain hillshade): opens no device */
+    /* Held per cell of the whole grid beside the bands (svf's trees). */
+    double grid_cell_bytes;
 } band_cost;
 
 /* A sweeping command's input side: the output named last, the DEM tiles

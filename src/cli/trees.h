@@ -36,6 +36,17 @@ typedef struct {
     size_t below_ground; /* absolute tops below the DSM, taken as no tree */
 } trees;
 
+/* Bytes per cell svf's trees hold for the whole grid beside the sweep
+ * (counted by the memory planner): the crown heights, the trunks, the DSM
+ * read whole, band 1 kept, bands 2 and 3, and ss_canopy_sky's two sums of
+ * doubles. */
+#define TREES_SKY_CELL_BYTES (6.0 * sizeof(float) + 2.0 * sizeof(double))
+
+/* ... and shadow's: the crown heights, the trunks, the DSM, the sunlit
+ * band kept, the classes and fractions, and a byte a cell for the crowns
+ * crossed. */
+#define TREES_SHADOW_CELL_BYTES (6.0 * sizeof(float) + 1.0)
+
 /* Reads --canopy and --trunk onto the DEM's grid and checks them. */
 ss_status trees_open(sweep_job *job, const tree_settings *set, trees *t);
 void trees_free(trees *t);

@@ -56,8 +56,9 @@ static double device_host_cell_bytes(const ss_ctx *ctx, const ss_memory_need *n,
  * which hands no hulls on). */
 double ss_memory_planned(const ss_ctx *ctx, const ss_memory_need *n, int rows)
 {
-    double fixed = n->baseline_bytes + n->cache_bytes + RUN_FIXED_BYTES;
     double w = (double)n->width;
+    double fixed = n->baseline_bytes + n->cache_bytes + RUN_FIXED_BYTES +
+                   n->grid_cell_bytes * w * n->height;
     if (rows >= n->height) {
         double per_cell = fmax(fmax(n->cell_bytes, WHOLE_BYTES_PER_CELL), n->whole_cell_bytes) +
                           device_host_cell_bytes(ctx, n, 1);
