@@ -1,0 +1,251 @@
+"""memory=: array calls run in bands of rows within a memory budget, as the
+command line's --memory runs them (doc/python.md, "Memory").
+
+The budget bounds the call's own working memory: the process's peak resident
+memory stays within what it held when the call began, plus the arrays the call
+returns, plus the budget. The library's one memory planner
+(ss_memory_plan_make, doc/engine.md) sizes the bands from it, and the product
+runs through the library's banded calls (ss_*_rows) with the caller's array as
+the band source, read a band at a time, and a sink that writes the finished
+rows into the result."""
+import math
+import re
+import resource
+import sys
+import warnings
+
+import numpy as np
+
+from ._context import ArgumentError, OutOfMemory
+from ._grid import Grid, _fill_extremes, _fill_warning, _Heights, _rejected_warning
+from ._lib import CONST, ffi, lib
+
+_SIZE = re.compile(r"([0-9]+\.?[0-9]*(?:[eE][-+]?[0-9]+)?)([kMGT]?)")
+_UNITS = "kMGT"
+_MIB = 1048576.0
+
+
+def parse_size(memory):
+    """Bytes from memory=: a number of bytes (int or float), or a size as
+    the command line's --memory takes it: a number with an optional k, M, G
+    or T (powers of 1024), "512M", "4G". Raises ArgumentError for anything
+    else, zero and negatives included."""
+    if isinstance(memory, (bool, np.bool_)):
+        raise TypeError(f"memory must be bytes or a size such as '512M', not {memory!r}")
+    if isinstance(memory, str):
+        m = _SIZE.fullmatch(memory.strip())
+        value = (float(m.group(1)) * 1024.0 ** (_UNITS.index(m.group(2)) + 1 if m.group(2)
+                                                 else 0)) if m else math.nan
+    elif isinstance(memory, (int, float, np.integer, np.floating)):
+        value = float(memory)
+    else:
+        raise TypeError(f"memory must be bytes or a size such as '512M', not {memory!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise ArgumentError(f"memory expects bytes or a size such as 512M or 4G, not {memory!r}",
+                            2)
+    return value
+
+
+def resident_bytes():
+    """The process's resident memory now. /proc/self/statm's, as the
+    command line measures it: the planner's baseline is what the process
+    holds now, and getrusage gives only the peak so far, which an earlier
+    call may have left far above it (bands would shrink for nothing). Where
+    there is no /proc (macOS), that peak: an overestimate, so bands only
+    get smaller."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * resource.getpagesize()
+    except (OSError, IndexError, ValueError):
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        return float(peak) * (1 if sys.platform == "darwin" else 1024)
+
+
+class BandedGrid(Grid):
+    """A DEM the library reads a band of rows at a time from the caller's
+    array (not copied whole): each band's heights are masked and stored as
+    Grid stores them (ss_grid_stored_height: relative to the first
+    plausible height, rounded to the metre), so that bands give the whole
+    grid's values bit for bit."""
+
+    def __init__(self, ctx, dem, cell_size=None, nodata=None):
+        a, masked, nodata_values, (cx, cy) = self._take(dem, cell_size, nodata)
+        if a.ndim != 2 or a.shape[0] * a.shape[1] < 2:
+            Grid.__init__(self, ctx, dem, cell_size, nodata)  # its own refusal
+        self.ctx, self.shape, self.cell_size = ctx, a.shape, (cx, cy)
+        self._heights = _Heights(a, masked, nodata_values)
+        self._fills = _fill_extremes(a)
+        self._origin = ffi.new("double *", 0.0)
+        self._scan(a)
+
+    def _chunks(self, rows=256):
+        for row0 in range(0, self.shape[0], rows):
+            yield row0, self._band(row0, min(row0 + rows, self.shape[0]))
+
+    def _band(self, row0, row1):
+        heights = self._heights.rows(row0, row1)
+        for fill in self._fills:
+            heights[heights == fill] = np.nan
+        return heights
+
+    def _scan(self, a):
+        """One pass in bands of rows: the stored zero, and the warnings and
+        refusals Grid gives for the whole array."""
+        found, filled, rejected, valid = False, dict.fromkeys(self._fills, 0), 0, 0
+        limit = CONST["SS_Z_PLAUSIBLE_M"]
+        for row0, heights in self._chunks():
+            raw = np.asarray(a[row0:row0 + heights.shape[0]])
+            for fill in filled:
+                filled[fill] += np.count_nonzero(raw == fill)
+            plausible = np.abs(heights) <= limit
+            rejected += np.count_nonzero(np.isfinite(heights) & ~plausible)
+            valid += np.count_nonzero(plausible)
+            if not found and plausible.any():
+                self._origin[0] = np.rint(heights[plausible][0])  # nearbyint's
+                found = True
+        for fill, count in filled.items():
+            if count:
+                warnings.warn(_fill_warning(count, fill, a.dtype), stacklevel=4)
+        if rejected:
+            warnings.warn(_rejected_warning(rejected), stacklevel=4)
+        if not valid:
+            self.ctx.fail(lib.SS_ERR_INPUT, "the DEM has no valid height")
+
+    @property
+    def ptr(self):
+        """An ss_grid without heights (z NULL), for the planner: as for the
+        command line's DEM read in bands, it is not searched for walls (lines
+        "auto" is interpolated) nor for its highest horizon."""
+        return ffi.new("ss_grid *", {"width": self.shape[1], "height": self.shape[0],
+                                     "cell_x_m": self.cell_size[0],
+                                     "cell_y_m": self.cell_size[1],
+                                     "z_origin_m": self._origin[0]})
+
+    def finish(self, plane, name=None, attrs=None):
+        """As Grid's: the sink has written NaN at nodata already (the whole
+        plane is not searched again, which would take a byte a cell)."""
+        return self.wrap(plane, name, attrs)
+
+    def source(self, band_rows=0):
+        """The DEM as the row-wise calls take it: read band_rows rows at a
+        time (0: the whole grid in one band) from the caller's array."""
+        limit = CONST["SS_Z_PLAUSIBLE_M"]
+        origin = self._origin[0]
+        width = self.shape[1]
+        failed = []
+
+        @ffi.callback("ss_status(void *, int, int, float *)", error=lib.SS_ERR_INTERNAL,
+                      onerror=lambda *e: failed.append(e))
+        def read(user, row0, n_rows, z):
+            heights = self._band(row0, row0 + n_rows)
+            stored = (heights - origin).astype(np.float32)
+            stored[~(np.abs(heights) <= limit)] = np.nan
+            ffi.memmove(z, stored, 4 * n_rows * width)
+            return lib.SS_OK
+
+        self._keep = (read, failed)  # the callback lives as long as the source
+        return ffi.new("ss_source *", {"width": width, "height": self.shape[0],
+                                       "cell_x_m": self.cell_size[0],
+                                       "cell_y_m": self.cell_size[1],
+                                       "z_origin_m": self._origin, "z": ffi.NULL,
+                                       "read": read, "band_rows": band_rows})
+
+    def raise_failure(self):
+        """The read callback's own exception, if it raised one."""
+        failed = self._keep[1]
+        if failed:
+            raise failed[0][1].with_traceback(failed[0][2])
+
+
+class BandCost:
+    """What a band of the product holds (the CLI's band_cost): bytes per
+    cell, per column and hull line carried between bands, the lines handing
+    hulls on, and the metres of terrain read beyond a band (radius walks)."""
+
+    def __init__(self, cell_bytes, column_bytes=0.0, hull_lines=None, halo_m=0.0):
+        self.cell_bytes, self.column_bytes = cell_bytes, column_bytes
+        self.hull_lines, self.halo_m = hull_lines, halo_m
+
+
+def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
+    """Band rows for the call (0: the whole grid in one band) from
+    ss_memory_plan_make, within `memory` bytes (parse_size's) of working
+    memory on top of the process's resident memory now and the results'
+    result_bytes. The context's device is opened first, as the command line
+    opens it, so that what it holds is measured. A budget too small for one
+    band raises OutOfMemory naming the least memory= that would do."""
+    ctx.device_name()
+    width, height = grid.shape[1], grid.shape[0]
+    cx, cy = grid.cell_size
+    cell_bytes = cost.cell_bytes + lib.ss_lines_extra_cell_bytes(opt.lines)
+    halo_rows = 0
+    if cost.halo_m > 0:
+        cell_bytes += lib.ss_radius_extra_cell_bytes(cost.halo_m, cx, cy)
+        halo_rows = min(math.ceil(cost.halo_m / cy), height)
+    lines = cost.hull_lines if cost.hull_lines is not None else opt.directions
+    if opt.lines == lib.SS_LINES_BOX:
+        lines *= opt.box_lines
+    held = resident_bytes() + result_bytes
+    need = ffi.new("ss_memory_need *", {
+        "budget_bytes": held + memory, "baseline_bytes": held,
+        # The process's earlier peak is not this call's: 0, as for a run
+        # whose device built its kernels before (the context keeps them).
+        "peak_bytes": 0.0, "width": width, "height": height, "cell_bytes": cell_bytes,
+        "whole_cell_bytes": cell_bytes, "column_bytes": cost.column_bytes,
+        "hull_lines": max(lines, 1), "halo_rows": halo_rows, "cache_bytes": 0.0})
+    plan = ffi.new("ss_memory_plan *")
+    ctx.check(lib.ss_memory_plan_make(ctx.ptr, need, plan))
+    if plan.band_rows < 0:
+        least = math.ceil((plan.least_budget - held) / _MIB)
+        forget_plan(ctx)
+        raise OutOfMemory(f"memory ({memory:.0f} bytes) is too small for this DEM and call: "
+                          f"it needs at least memory='{least}M' (one band of {width} cells with "
+                          "the hulls handed on and the device's buffers, besides the process's "
+                          f"{held / _MIB:.0f} MiB with the results; doc/python.md)", 6)
+    return plan.band_rows
+
+
+def forget_plan(ctx):
+    """Clears the plan the context keeps for its device's batch and cells,
+    so that later calls on it without memory= size them as before."""
+    lib.ss_memory_plan_make(ctx.ptr, ffi.new("ss_memory_need *"), ffi.new("ss_memory_plan *"))
+
+
+def rows_sink(targets, width):
+    """A sink (ss_rows_sink) writing finished rows into targets[output]
+    (2-D planes) or targets[output][index] (cubes), NaN at nodata. Returns
+    the callback and a list that holds its own exception, if any."""
+    failed = []
+    nodata = np.float32(CONST["SS_NODATA"])
+
+    @ffi.callback("ss_status(void *, int, int, int, int, const float *)",
+                  error=lib.SS_ERR_INTERNAL, onerror=lambda *e: failed.append(e))
+    def sink(user, output, index, row0, n_rows, values):
+        plane = targets.get(output)
+        if plane is None:  # an output the call does not return
+            return lib.SS_OK
+        if plane.ndim == 3:
+            plane = plane[index]
+        rows = plane[row0:row0 + n_rows]
+        rows[...] = np.frombuffer(ffi.buffer(values, 4 * n_rows * width),
+                                  np.float32).reshape(n_rows, width)
+        rows[rows == nodata] = np.nan
+        return lib.SS_OK
+
+    return sink, failed
+
+
+def run_banded(ctx, grid, opt, cost, memory, targets, run, progress=None):
+    """Runs `run(source, sink)` (a library call returning a status, its
+    context first) in the bands the planner gives, into targets (see
+    rows_sink), NaN at nodata."""
+    result_bytes = sum(t.nbytes for t in targets.values())
+    rows = plan_bands(ctx, grid, opt, cost, memory, result_bytes)
+    sink, failed = rows_sink(targets, grid.shape[1])
+    try:
+        ctx.call(lambda c: run(c, grid.source(rows), sink), progress=progress)
+    finally:
+        forget_plan(ctx)
+        grid.raise_failure()
+        if failed:
+            raise failed[0][1].with_traceback(failed[0][2])
