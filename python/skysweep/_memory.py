@@ -78,9 +78,11 @@ class BandedGrid(Grid):
         self._origin = ffi.new("double *", 0.0)
         self._scan(a)
 
-    def _chunks(self, rows=256):
-        for row0 in range(0, self.shape[0], rows):
-            yield row0, self._band(row0, min(row0 + rows, self.shape[0]))
+    def _chunks(self, row0=0, row1=None):
+        """(row, heights) of rows [row0, row1) a chunk of rows at a time."""
+        row1 = self.shape[0] if row1 is None else row1
+        for r in range(row0, row1, chunk_rows(self.shape[1])):
+            yield r, self._band(r, min(r + chunk_rows(self.shape[1]), row1))
 
     def _band(self, row0, row1):
         heights = self._heights.rows(row0, row1)
@@ -137,10 +139,12 @@ class BandedGrid(Grid):
         @ffi.callback("ss_status(void *, int, int, float *)", error=lib.SS_ERR_INTERNAL,
                       onerror=lambda *e: failed.append(e))
         def read(user, row0, n_rows, z):
-            heights = self._band(row0, row0 + n_rows)
-            stored = (heights - origin).astype(np.float32)
-            stored[~(np.abs(heights) <= limit)] = np.nan
-            ffi.memmove(z, stored, 4 * n_rows * width)
+            band = np.frombuffer(ffi.buffer(z, 4 * n_rows * width), np.float32)
+            band = band.reshape(n_rows, width)
+            for r, heights in self._chunks(row0, row0 + n_rows):
+                stored = band[r - row0:r - row0 + heights.shape[0]]
+                stored[...] = heights - origin  # in double, then rounded: as the C
+                stored[~(np.abs(heights) <= limit)] = np.nan
             return lib.SS_OK
 
         self._keep = (read, failed)  # the callback lives as long as the source
@@ -155,6 +159,16 @@ class BandedGrid(Grid):
         failed = self._keep[1]
         if failed:
             raise failed[0][1].with_traceback(failed[0][2])
+
+
+#: Cells the front end converts at once (heights read, rows received): its
+#: own temporaries (about 30 bytes a cell, 2 MiB) stay within the planner's
+#: fixed 16 MiB allowance for what a run holds beside its bands.
+CHUNK_CELLS = 65536
+
+
+def chunk_rows(width):
+    return max(1, CHUNK_CELLS // width)
 
 
 class BandCost:
@@ -226,10 +240,13 @@ def rows_sink(targets, width):
             return lib.SS_OK
         if plane.ndim == 3:
             plane = plane[index]
-        rows = plane[row0:row0 + n_rows]
-        rows[...] = np.frombuffer(ffi.buffer(values, 4 * n_rows * width),
-                                  np.float32).reshape(n_rows, width)
-        rows[rows == nodata] = np.nan
+        given = np.frombuffer(ffi.buffer(values, 4 * n_rows * width),
+                              np.float32).reshape(n_rows, width)
+        step = chunk_rows(width)
+        for r in range(0, n_rows, step):
+            rows = plane[row0 + r:row0 + min(r + step, n_rows)]
+            rows[...] = given[r:r + rows.shape[0]]
+            rows[rows == nodata] = np.nan
         return lib.SS_OK
 
     return sink, failed

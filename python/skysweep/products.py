@@ -663,11 +663,21 @@ def _numpydoc(function, **snippets):
         **snippets)
 
 
-def _doc_options(function, command, names):
+_MEMORY_ENTRY = """memory : int, float or str, default None
+    A budget for the call's working memory: bytes, or a size as --memory takes it ("512M",
+    "4G"; k, M, G, T are powers of 1024). The call then runs in bands of rows that the
+    library's memory planner sizes, reading the DEM a band at a time, so that the process's
+    peak resident memory stays within what it held when called, plus the result, plus the
+    budget. The result equals the whole grid's (up to the order of float sums); "auto"
+    lines are interpolated (the DEM is not searched for walls). None: the whole grid at
+    once. OutOfMemory (a MemoryError) where not one band fits, naming the least budget."""
+
+
+def _doc_options(function, command, names, memory=True):
     """The shared options the function takes through **kw, from the table:
     entries at the end of its docstring's Parameters section, and keyword
     parameters with the table's defaults in its signature (inspect.signature,
-    help())."""
+    help()); memory= for a call that runs in bands."""
     entries, parameters = [], []
     for name in names:
         entry = option(command, name.replace("_", "-"))
@@ -681,8 +691,12 @@ def _doc_options(function, command, names):
                    'plan\'s choice), "reference" (the C twin) or a device as --device names it.')
     entries.append("progress : bool or callable, default None\n    None, True (tqdm or text) "
                    "or callable(fraction, message); returning False cancels.")
+    extra = ("device", "progress")
+    if memory:
+        entries.append(_MEMORY_ENTRY)
+        extra += ("memory",)
     parameters += [inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, default=None)
-                   for n in ("device", "progress")]
+                   for n in extra]
     doc = function.__doc__
     at = doc.index("\nReturns\n-------")
     function.__doc__ = doc[:at].rstrip("\n") + "\n" + "\n".join(entries) + "\n" + doc[at:]
@@ -694,5 +708,6 @@ def _doc_options(function, command, names):
 for _f in (svf, openness, horizon, shadow, hillshade, sun_incidence, vat, plan):
     _numpydoc(_f)
 for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shadow, "shadow"),
-               (hillshade, "hillshade"), (vat, "hillshade"), (plan, "svf")):
+               (hillshade, "hillshade"), (vat, "hillshade")):
     _doc_options(_f, _c, SWEEP_OPTIONS)
+_doc_options(plan, "svf", SWEEP_OPTIONS, memory=False)
