@@ -70,8 +70,6 @@ class BandedGrid(Grid):
 
     def __init__(self, ctx, dem, cell_size=None, nodata=None):
         a, masked, nodata_values, (cx, cy) = self._take(dem, cell_size, nodata)
-        if a.ndim != 2 or a.shape[0] * a.shape[1] < 2:
-            Grid.__init__(self, ctx, dem, cell_size, nodata)  # its own refusal
         self.ctx, self.shape, self.cell_size = ctx, a.shape, (cx, cy)
         self._heights = _Heights(a, masked, nodata_values)
         self._fills = _fill_extremes(a)
@@ -90,28 +88,56 @@ class BandedGrid(Grid):
             heights[heights == fill] = np.nan
         return heights
 
+    def _store(self, heights, out):
+        """Heights (metres, float64) into out as ss_grid_stored_height stores
+        them: relative to the origin in double, then rounded to float; NaN
+        where not plausible."""
+        out[...] = heights - self._origin[0]
+        out[~(np.abs(heights) <= CONST["SS_Z_PLAUSIBLE_M"])] = np.nan
+
+    def _check(self, row0, stored):
+        """ss_grid_check on rows of stored heights, as Grid checks the whole:
+        the first rows with the grid's sizes and cell sizes (a valid height
+        put in where they have none: only the sizes are asked then), every
+        row's heights against the origin; rows named from the DEM's first."""
+        if row0 == 0 and not np.isfinite(stored).any():
+            stored = np.zeros_like(stored)
+        elif not np.isfinite(stored).any():
+            return
+        g = ffi.new("ss_grid *", {"width": self.shape[1], "height": stored.shape[0],
+                                  "cell_x_m": self.cell_size[0], "cell_y_m": self.cell_size[1],
+                                  "z_origin_m": self._origin[0],
+                                  "z": ffi.from_buffer("float[]", stored)})
+        status = lib.ss_grid_check(self.ctx.ptr, g, ffi.NULL)
+        if status != lib.SS_OK:
+            message = re.sub(r"row (\d+)", lambda m: f"row {int(m.group(1)) + row0}",
+                             self.ctx.message())
+            self.ctx.fail(status, message)
+
     def _scan(self, a):
-        """One pass in bands of rows: the stored zero, and the warnings and
+        """One pass in chunks of rows: the stored zero, and the warnings and
         refusals Grid gives for the whole array."""
         found, filled, rejected, valid = False, dict.fromkeys(self._fills, 0), 0, 0
-        limit = CONST["SS_Z_PLAUSIBLE_M"]
         for row0, heights in self._chunks():
             raw = np.asarray(a[row0:row0 + heights.shape[0]])
             for fill in filled:
                 filled[fill] += np.count_nonzero(raw == fill)
-            plausible = np.abs(heights) <= limit
+            plausible = np.abs(heights) <= CONST["SS_Z_PLAUSIBLE_M"]
             rejected += np.count_nonzero(np.isfinite(heights) & ~plausible)
             valid += np.count_nonzero(plausible)
             if not found and plausible.any():
                 self._origin[0] = np.rint(heights[plausible][0])  # nearbyint's
                 found = True
+            stored = np.empty(heights.shape, np.float32)
+            self._store(heights, stored)
+            self._check(row0, stored)
         for fill, count in filled.items():
             if count:
                 warnings.warn(_fill_warning(count, fill, a.dtype), stacklevel=4)
         if rejected:
             warnings.warn(_rejected_warning(rejected), stacklevel=4)
         if not valid:
-            self.ctx.fail(lib.SS_ERR_INPUT, "the DEM has no valid height")
+            self.ctx.fail(lib.SS_ERR_INPUT, "the DEM has no valid heights (every cell is nodata)")
 
     @property
     def ptr(self):
@@ -131,8 +157,6 @@ class BandedGrid(Grid):
     def source(self, band_rows=0):
         """The DEM as the row-wise calls take it: read band_rows rows at a
         time (0: the whole grid in one band) from the caller's array."""
-        limit = CONST["SS_Z_PLAUSIBLE_M"]
-        origin = self._origin[0]
         width = self.shape[1]
         failed = []
 
@@ -142,9 +166,7 @@ class BandedGrid(Grid):
             band = np.frombuffer(ffi.buffer(z, 4 * n_rows * width), np.float32)
             band = band.reshape(n_rows, width)
             for r, heights in self._chunks(row0, row0 + n_rows):
-                stored = band[r - row0:r - row0 + heights.shape[0]]
-                stored[...] = heights - origin  # in double, then rounded: as the C
-                stored[~(np.abs(heights) <= limit)] = np.nan
+                self._store(heights, band[r - row0:r - row0 + heights.shape[0]])
             return lib.SS_OK
 
         self._keep = (read, failed)  # the callback lives as long as the source

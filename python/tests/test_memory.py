@@ -211,3 +211,19 @@ def test_a_dataarray_with_rising_y_runs_in_bands_as_whole():
     assert banded.dims == whole.dims and banded.attrs == whole.attrs
     np.testing.assert_allclose(banded.values, whole.values, rtol=0, atol=CALLS["svf"][1],
                                equal_nan=True)
+
+
+@pytest.mark.parametrize("dem, cell", [
+    (TALL, 1e9),                      # cells beyond the library's sizes
+    (TALL[:1, :1], 10.0),             # one cell: no horizon
+    (np.full((300, 40), np.nan), 10.0),  # no valid height
+    # Heights 2e7 m apart, the far one in a later chunk of rows than the first.
+    (np.where(np.arange(40) == 7, 1e7, 4.0) * np.where(np.arange(3000) < 2000, 1, -1)[:, None],
+     10.0),
+])
+def test_a_dem_read_in_bands_is_refused_as_whole(dem, cell):
+    with pytest.raises(skysweep.InputError) as whole:
+        skysweep.svf(dem, cell, **SWEEP)
+    with pytest.raises(skysweep.InputError) as banded:
+        skysweep.svf(dem, cell, memory="1G", **SWEEP)
+    assert str(banded.value) == str(whole.value)
