@@ -61,6 +61,18 @@ def resident_bytes():
         return float(peak) * (1 if sys.platform == "darwin" else 1024)
 
 
+def peak_resident_bytes():
+    """The process's peak resident memory so far: the kernel's VmHWM
+    (/proc/self/status); 0 where there is none. Not getrusage's ru_maxrss,
+    which in a child also keeps its parent's resident size at the fork."""
+    try:
+        with open("/proc/self/status") as f:
+            return next((int(line.split()[1]) * 1024 for line in f
+                         if line.startswith("VmHWM:")), 0)
+    except (OSError, ValueError):
+        return 0
+
+
 class BandedGrid(Grid):
     """A DEM the library reads a band of rows at a time from the caller's
     array (not copied whole): each band's heights are masked and stored as
@@ -68,9 +80,12 @@ class BandedGrid(Grid):
     plausible height, rounded to the metre), so that bands give the whole
     grid's values bit for bit."""
 
-    def __init__(self, ctx, dem, cell_size=None, nodata=None):
+    def __init__(self, ctx, dem, cell_size=None, nodata=None, start=(0.0,)):
+        """start: (the process's resident memory when the call began, before
+        its context: resident_bytes)."""
         a, masked, nodata_values, (cx, cy) = self._take(dem, cell_size, nodata)
         self.ctx, self.shape, self.cell_size = ctx, a.shape, (cx, cy)
+        self.start = start
         self._heights = _Heights(a, masked, nodata_values)
         self._fills = _fill_extremes(a)
         self._origin = ffi.new("double *", 0.0)
@@ -206,11 +221,16 @@ class BandCost:
 def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
     """Band rows for the call (0: the whole grid in one band) from
     ss_memory_plan_make, within `memory` bytes (parse_size's) of working
-    memory on top of the process's resident memory now and the results'
-    result_bytes. The context's device is opened first, as the command line
-    opens it, so that what it holds is measured. A budget too small for one
-    band raises OutOfMemory naming the least memory= that would do."""
+    memory on top of the process's resident memory when the call began
+    (grid.start) and the results' result_bytes. The context's device is
+    opened before it plans, as the command line opens it, so that what it
+    holds and the peak of its kernels' build count within the budget (on the
+    first call of a context; later calls find it open). A budget too small
+    for one band raises OutOfMemory naming the least memory= that would do."""
+    held = grid.start[0] + result_bytes
+    peak_before = peak_resident_bytes()
     ctx.device_name()
+    peak = peak_resident_bytes()
     width, height = grid.shape[1], grid.shape[0]
     cx, cy = grid.cell_size
     cell_bytes = cost.cell_bytes + lib.ss_lines_extra_cell_bytes(opt.lines)
@@ -221,12 +241,16 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
     lines = cost.hull_lines if cost.hull_lines is not None else opt.directions
     if opt.lines == lib.SS_LINES_BOX:
         lines *= opt.box_lines
-    held = resident_bytes() + result_bytes
     need = ffi.new("ss_memory_need *", {
-        "budget_bytes": held + memory, "baseline_bytes": held,
-        # The process's earlier peak is not this call's: 0, as for a run
-        # whose device built its kernels before (the context keeps them).
-        "peak_bytes": 0.0, "width": width, "height": height, "cell_bytes": cell_bytes,
+        # What the process holds now, the device included; never less than
+        # when the call began (memory freed since is not this call's to use:
+        # the least named stays the same from call to call).
+        "budget_bytes": held + memory,
+        "baseline_bytes": max(resident_bytes(), grid.start[0]) + result_bytes,
+        # The device's set-up peak, where opening it raised the process's
+        # peak; an earlier peak of the process is not this call's.
+        "peak_bytes": peak if peak > peak_before else 0.0,
+        "width": width, "height": height, "cell_bytes": cell_bytes,
         "whole_cell_bytes": cell_bytes, "column_bytes": cost.column_bytes,
         "hull_lines": max(lines, 1), "halo_rows": halo_rows, "cache_bytes": 0.0})
     plan = ffi.new("ss_memory_plan *")

@@ -17,7 +17,7 @@ import numpy as np
 from ._context import ArgumentError, context
 from ._grid import Grid, out_buffer
 from ._lib import CONST, PRODUCTS, default, ffi, lib, option
-from ._memory import BandCost, BandedGrid, parse_size, run_banded
+from ._memory import BandCost, BandedGrid, parse_size, resident_bytes, run_banded
 
 
 def _choice(command, name, given):
@@ -162,11 +162,13 @@ def _begin(dem, cell_size, nodata, kw, allowed, bands=True):
     unknown = set(kw) - set(allowed) - {"device", "progress"} - ({"memory"} if bands else set())
     if unknown:
         raise TypeError(f"unexpected keyword argument(s): {', '.join(sorted(unknown))}")
-    ctx = context(kw.get("device"))
     if kw.get("memory") is None:
+        ctx = context(kw.get("device"))
         return ctx, Grid(ctx, dem, cell_size, nodata)
     kw["memory"] = parse_size(kw["memory"])
-    return ctx, BandedGrid(ctx, dem, cell_size, nodata)
+    start = (resident_bytes(),)  # before the context and its device
+    ctx = context(kw.get("device"))
+    return ctx, BandedGrid(ctx, dem, cell_size, nodata, start)
 
 
 def _product_cost(name, params, outputs=0, cell_m=math.nan, **more):
