@@ -21,7 +21,7 @@ from ._grid import Grid, _fill_extremes, _fill_warning, _Heights, _rejected_warn
 from ._lib import CONST, ffi, lib
 
 _SIZE = re.compile(r"([0-9]+\.?[0-9]*(?:[eE][-+]?[0-9]+)?)([kMGT]?)")
-_UNITS = "kMGT"
+_UNIT_BYTES = {"": 1.0, "k": 1024.0, "M": 1024.0 ** 2, "G": 1024.0 ** 3, "T": 1024.0 ** 4}
 _MIB = 1048576.0
 
 
@@ -34,8 +34,7 @@ def parse_size(memory):
         raise TypeError(f"memory must be bytes or a size such as '512M', not {memory!r}")
     if isinstance(memory, str):
         m = _SIZE.fullmatch(memory.strip())
-        value = (float(m.group(1)) * 1024.0 ** (_UNITS.index(m.group(2)) + 1 if m.group(2)
-                                                 else 0)) if m else math.nan
+        value = float(m.group(1)) * _UNIT_BYTES[m.group(2)] if m else math.nan
     elif isinstance(memory, (int, float, np.integer, np.floating)):
         value = float(memory)
     else:
@@ -80,12 +79,12 @@ class BandedGrid(Grid):
     plausible height, rounded to the metre), so that bands give the whole
     grid's values bit for bit."""
 
-    def __init__(self, ctx, dem, cell_size=None, nodata=None, start=(0.0,)):
-        """start: (the process's resident memory when the call began, before
-        its context: resident_bytes)."""
+    def __init__(self, ctx, dem, cell_size=None, nodata=None, start_resident=0.0):
+        """start_resident: the process's resident memory when the call
+        began, before its context (resident_bytes)."""
         a, masked, nodata_values, (cx, cy) = self._take(dem, cell_size, nodata)
         self.ctx, self.shape, self.cell_size = ctx, a.shape, (cx, cy)
-        self.start = start
+        self.start_resident = start_resident
         self._heights = _Heights(a, masked, nodata_values)
         self._fills = _fill_extremes(a)
         self._origin = ffi.new("double *", 0.0)
@@ -222,12 +221,12 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
     """Band rows for the call (0: the whole grid in one band) from
     ss_memory_plan_make, within `memory` bytes (parse_size's) of working
     memory on top of the process's resident memory when the call began
-    (grid.start) and the results' result_bytes. The context's device is
+    (grid.start_resident) and the results' result_bytes. The context's device is
     opened before it plans, as the command line opens it, so that what it
     holds and the peak of its kernels' build count within the budget (on the
     first call of a context; later calls find it open). A budget too small
     for one band raises OutOfMemory naming the least memory= that would do."""
-    held = grid.start[0] + result_bytes
+    held = grid.start_resident + result_bytes
     peak_before = peak_resident_bytes()
     ctx.device_name()
     peak = peak_resident_bytes()
@@ -246,7 +245,7 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
         # when the call began (memory freed since is not this call's to use:
         # the least named stays the same from call to call).
         "budget_bytes": held + memory,
-        "baseline_bytes": max(resident_bytes(), grid.start[0]) + result_bytes,
+        "baseline_bytes": max(resident_bytes(), grid.start_resident) + result_bytes,
         # The device's set-up peak, where opening it raised the process's
         # peak; an earlier peak of the process is not this call's.
         "peak_bytes": peak if peak > peak_before else 0.0,

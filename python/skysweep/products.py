@@ -166,9 +166,9 @@ def _begin(dem, cell_size, nodata, kw, allowed, bands=True):
         ctx = context(kw.get("device"))
         return ctx, Grid(ctx, dem, cell_size, nodata)
     kw["memory"] = parse_size(kw["memory"])
-    start = (resident_bytes(),)  # before the context and its device
+    start_resident = resident_bytes()  # before the context and its device
     ctx = context(kw.get("device"))
-    return ctx, BandedGrid(ctx, dem, cell_size, nodata, start)
+    return ctx, BandedGrid(ctx, dem, cell_size, nodata, start_resident)
 
 
 def _product_cost(name, params, outputs=0, cell_m=math.nan, **more):
