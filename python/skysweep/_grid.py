@@ -201,6 +201,32 @@ def _mask_nodata(a, heights, nodata_values):
 _GEOREFERENCING_ATTRS = ("crs", "grid_mapping", "spatial_ref", "transform")
 
 
+def _fill_warning(filled, fill, dtype):
+    return (f"{filled} heights of {fill} ({dtype}'s {'lowest' if fill < 0 else 'highest'} "
+            "value, beyond any terrain) are a fill, not terrain: taken as nodata (pass "
+            "nodata= or a masked array to say so)")
+
+
+def _rejected_warning(rejected):
+    return (f"{rejected} heights beyond +-{CONST['SS_Z_PLAUSIBLE_M']:g} m are not terrain: "
+            "taken as nodata")
+
+
+class _Heights:
+    """Heights in metres (float64, NaN at nodata) of rows of the caller's
+    array, its mask and nodata values applied, as Grid reads them all."""
+
+    def __init__(self, a, masked, nodata_values):
+        self.a, self.masked, self.nodata_values = a, masked, nodata_values
+
+    def rows(self, row0, row1):
+        heights = np.array(self.a[row0:row1], dtype=np.float64, order="C")
+        if self.masked is not None:
+            heights[self.masked[row0:row1]] = np.nan
+        _mask_nodata(self.a[row0:row1], heights, self.nodata_values)
+        return heights
+
+
 class Grid:
     """A DEM held by the library: heights in metres, rows north to south,
     NaN (or `nodata`) where there is no height. Taken from a numpy array (a
@@ -209,6 +235,28 @@ class Grid:
     rasterio dataset (band 1, its nodata)."""
 
     def __init__(self, ctx, dem, cell_size=None, nodata=None):
+        a, masked, nodata_values, (cx, cy) = self._take(dem, cell_size, nodata)
+        heights = _Heights(a, masked, nodata_values).rows(0, a.shape[0])
+        for fill in _fill_extremes(a):
+            filled = np.count_nonzero(heights == fill)
+            if filled:
+                warnings.warn(_fill_warning(filled, fill, a.dtype), stacklevel=3)
+                heights[heights == fill] = np.nan
+        self.ctx = ctx
+        self.shape = heights.shape
+        grid = ffi.new("ss_grid *")
+        ctx.check(lib.ss_grid_alloc(ctx.ptr, grid, heights.shape[1], heights.shape[0], cx, cy))
+        self._grid = ffi.gc(grid, lib.ss_grid_free)
+        rejected = ffi.new("size_t *")
+        lib.ss_grid_set_heights(grid, ffi.from_buffer("double[]", heights), rejected)
+        if rejected[0]:
+            warnings.warn(_rejected_warning(rejected[0]), stacklevel=3)
+        ctx.check(lib.ss_grid_check(ctx.ptr, grid, ffi.NULL))
+        self.cell_size = (cx, cy)
+
+    def _take(self, dem, cell_size, nodata):
+        """The DEM as an array (not copied where it is one), its mask, the
+        nodata values it declares, and its cell sizes; sets template and flips."""
         self.template = dem if _is_dataarray(dem) else None
         self.flips = []
         nodata_values = [] if nodata is None else [nodata]
@@ -223,37 +271,14 @@ class Grid:
             raise TypeError("cell_size is needed (metres, one number or (east-west, "
                             "north-south)) unless the DEM is a DataArray with regular x, y "
                             "coordinates in metres")
-        cx, cy = _cell_sizes(cell_size)
-        a = np.asarray(dem)
+        cell = _cell_sizes(cell_size)
+        a = np.ma.getdata(dem) if masked is not None else np.asarray(dem)
         if a.dtype.kind not in "iuf":
             raise TypeError(f"the DEM must hold real numbers (heights in metres), not dtype {a.dtype}")
         if a.ndim != 2:
             raise ValueError(f"the DEM must be a 2-D array (rows north to south), not {a.ndim}-D "
                              f"of shape {a.shape}")
-        heights = np.array(a, dtype=np.float64, order="C")
-        if masked is not None:
-            heights[masked] = np.nan
-        _mask_nodata(a, heights, nodata_values)
-        for fill in _fill_extremes(a):
-            filled = np.count_nonzero(heights == fill)
-            if filled:
-                warnings.warn(f"{filled} heights of {fill} ({a.dtype}'s "
-                              f"{'lowest' if fill < 0 else 'highest'} value, beyond any terrain) "
-                              "are a fill, not terrain: taken as nodata (pass nodata= or a "
-                              "masked array to say so)", stacklevel=3)
-                heights[heights == fill] = np.nan
-        self.ctx = ctx
-        self.shape = heights.shape
-        grid = ffi.new("ss_grid *")
-        ctx.check(lib.ss_grid_alloc(ctx.ptr, grid, heights.shape[1], heights.shape[0], cx, cy))
-        self._grid = ffi.gc(grid, lib.ss_grid_free)
-        rejected = ffi.new("size_t *")
-        lib.ss_grid_set_heights(grid, ffi.from_buffer("double[]", heights), rejected)
-        if rejected[0]:
-            warnings.warn(f"{rejected[0]} heights beyond +-{CONST['SS_Z_PLAUSIBLE_M']:g} m are "
-                          "not terrain: taken as nodata", stacklevel=3)
-        ctx.check(lib.ss_grid_check(ctx.ptr, grid, ffi.NULL))
-        self.cell_size = (cx, cy)
+        return a, masked, nodata_values, cell
 
     @property
     def ptr(self):

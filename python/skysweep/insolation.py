@@ -6,7 +6,8 @@ import math
 import numpy as np
 
 from ._context import ArgumentError
-from ._lib import default, ffi, lib
+from ._lib import CONST, default, ffi, lib
+from ._memory import BandCost, BandedGrid, run_banded
 from .products import (SWEEP_OPTIONS, _begin, _doc_options, _numpydoc, _params, _renamed,
                        _sweep, _value)
 from .sun import iso_duration, unix_seconds
@@ -92,6 +93,30 @@ def _steps(ctx, time, step):
                             f"{step!r}", 2)
     mids = np.atleast_1d(unix_seconds(time)).astype(np.float64).ravel()
     return mids, np.full(mids.shape, d.seconds / 3600.0)
+
+
+def _insolation_banded(ctx, grid, opt, options, plan, n_steps, sun_at, planes, kw):
+    """insolation in bands within memory=: ss_insolation_rows' five outputs
+    (SS_OUT_GLOBAL ... SS_OUT_SUN_HOURS, _PARTS' order), one sun for every
+    row as sun_at gives it. A band holds a horizon's sums and the cells'
+    terms and sums, and the horizons stored where shadows are interpolated
+    (the CLI's band cost); hulls are handed on for up to 64 steps at once."""
+    @ffi.callback("ss_status(ss_ctx *, int, int, int, ss_sun_step *, void *)",
+                  error=lib.SS_ERR_INTERNAL)
+    def sun_rows(c, k, row0, n_rows, step, user):
+        return sun_at(c, k, step, user)
+
+    stored = opt.directions if plan.shadow_mode == lib.SS_SHADOW_INTERPOLATED else 0
+    cost = BandCost(lib.ss_horizon_band_cell_bytes(0) +
+                    lib.ss_insolation_band_cell_bytes(0, stored),
+                    column_bytes=lib.ss_horizon_column_bytes(),
+                    hull_lines=max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"]))
+    targets = dict(enumerate(planes.values()))
+    run_banded(ctx, grid, opt, cost, kw["memory"], targets,
+               lambda c, src, sink: lib.ss_insolation_rows(c, src, opt, options, n_steps,
+                                                           sun_rows, ffi.NULL, 0, ffi.NULL,
+                                                           sink, ffi.NULL),
+               progress=kw.get("progress"))
 
 
 def insolation(dem, cell_size=None, *, time, latitude, longitude,
@@ -201,12 +226,15 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
 
     options.shadow_mode = plan.shadow_mode  # as the CLI sets it once planned
     planes = {k: grid.new_plane() for k in _PARTS}
-    out = ffi.new("ss_insolation_out *")
-    buffers = {k: ffi.from_buffer("float[]", planes[k]) for k in _PARTS}
-    for k, field in _PARTS.items():
-        setattr(out, field, buffers[k])  # "global" is a Python keyword: no out.global
-    ctx.call(lib.ss_insolation, grid.ptr, opt, options, len(mids), sun_at, ffi.NULL, ffi.NULL,
-             ffi.NULL, out, progress=kw.get("progress"))
+    if isinstance(grid, BandedGrid):
+        _insolation_banded(ctx, grid, opt, options, plan, len(mids), sun_at, planes, kw)
+    else:
+        out = ffi.new("ss_insolation_out *")
+        buffers = {k: ffi.from_buffer("float[]", planes[k]) for k in _PARTS}
+        for k, field in _PARTS.items():
+            setattr(out, field, buffers[k])  # "global" is a Python keyword: no out.global
+        ctx.call(lib.ss_insolation, grid.ptr, opt, options, len(mids), sun_at, ffi.NULL,
+                 ffi.NULL, ffi.NULL, out, progress=kw.get("progress"))
     shadow_used = ffi.string(lib.ss_shadow_mode_name(plan.shadow_mode)).decode()
     parts = {k: grid.finish(plane, k, {"long_name": _LONG_NAMES[k],
                                        "units": "h" if k == "sun_hours" else "Wh m-2"})

@@ -17,6 +17,7 @@ import numpy as np
 from ._context import ArgumentError, context
 from ._grid import Grid, out_buffer
 from ._lib import CONST, PRODUCTS, default, ffi, lib, option
+from ._memory import BandCost, BandedGrid, parse_size, resident_bytes, run_banded
 
 
 def _choice(command, name, given):
@@ -155,12 +156,26 @@ def _renamed(function, name, value, default_value, alias, alias_value):
     return alias_value
 
 
-def _begin(dem, cell_size, nodata, kw, allowed):
-    unknown = set(kw) - set(allowed) - {"device", "progress"}
+def _begin(dem, cell_size, nodata, kw, allowed, bands=True):
+    """The call's context and its DEM: held whole, or with memory= (where
+    the call runs in bands) read a band at a time (_memory.BandedGrid)."""
+    unknown = set(kw) - set(allowed) - {"device", "progress"} - ({"memory"} if bands else set())
     if unknown:
         raise TypeError(f"unexpected keyword argument(s): {', '.join(sorted(unknown))}")
+    if kw.get("memory") is None:
+        ctx = context(kw.get("device"))
+        return ctx, Grid(ctx, dem, cell_size, nodata)
+    kw["memory"] = parse_size(kw["memory"])
+    start_resident = resident_bytes()  # before the context and its device
     ctx = context(kw.get("device"))
-    return ctx, Grid(ctx, dem, cell_size, nodata)
+    return ctx, BandedGrid(ctx, dem, cell_size, nodata, start_resident)
+
+
+def _product_cost(name, params, outputs=0, cell_m=math.nan, **more):
+    """What a band of a registry product holds (its cell_bytes and halo_m)."""
+    product = PRODUCTS[name]
+    return BandCost(product.cell_bytes(params, outputs), halo_m=product.halo_m(params, cell_m),
+                    **more)
 
 
 _RAISES = """Raises
@@ -216,11 +231,15 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
     radius = _value("svf", "radius", radius)
     code = _svf_definition(definition)
     opt = _sweep(ctx, grid, "svf", lib.SS_PRODUCT_SVF, kw, code, radius=radius)
-    out = grid.new_plane()
-    if radius > 0:
+    if isinstance(grid, BandedGrid):
+        out = _sky_banded(ctx, grid, opt, "svf", {"definition": definition, "radius": radius},
+                          kw)
+    elif radius > 0:
+        out = grid.new_plane()
         ctx.call(lib.ss_svf_within, grid.ptr, opt, code, radius, out_buffer(out),
                  progress=kw.get("progress"))
     else:
+        out = grid.new_plane()
         ctx.call(lib.ss_svf, grid.ptr, opt, code, out_buffer(out), progress=kw.get("progress"))
     return grid.finish(out, name, {"long_name": "sky-view factor", "units": "1",
                                    "definition": definition,
@@ -254,12 +273,26 @@ def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
     radius = _value("openness", "radius", radius)
     opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_HORIZON, kw,  # as cmd_sky plans openness
                  radius=radius)
-    out = grid.new_plane()
-    ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius, out_buffer(out),
-             progress=kw.get("progress"))
+    if isinstance(grid, BandedGrid):
+        out = _sky_banded(ctx, grid, opt, "openness", {"kind": kind, "radius": radius}, kw)
+    else:
+        out = grid.new_plane()
+        ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius,
+                 out_buffer(out), progress=kw.get("progress"))
     return grid.finish(out, name or f"{kind} openness",
                        {"long_name": f"{kind} openness", "units": "degree",
                         "directions": opt.directions})
+
+
+def _sky_banded(ctx, grid, opt, name, given, kw):
+    """SVF or openness in bands within memory=: the registry's run call."""
+    params = _params(name, name, given)
+    out = grid.new_plane()
+    run = PRODUCTS[name].run
+    run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: out},
+               lambda c, src, sink: run(c, src, opt, params, 0, ffi.NULL, sink, ffi.NULL),
+               progress=kw.get("progress"))
+    return out
 
 
 Horizons = namedtuple("Horizons", "azimuth elevation distance cast_height")
@@ -314,13 +347,26 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
 
     want = (CONST["SS_HORIZON_DISTANCE"] if distance else 0) | (
         CONST["SS_HORIZON_CAST_HEIGHT"] if cast_height else 0)
-    ctx.call(lib.ss_horizon, grid.ptr, opt, want, sink, ffi.NULL, progress=kw.get("progress"))
-    nodata_cells = angle[0] == np.float32(CONST["SS_NODATA"])
-    for cube in (angle, dist, height):
-        if cube is not None:
-            cube[:, nodata_cells] = np.nan
-    if height is not None:
-        height[height == np.float32(CONST["SS_NODATA"])] = np.nan
+    if isinstance(grid, BandedGrid):
+        # Output i of the registry's horizon is ss_horizon_rows' SS_OUT_HORIZON_*:
+        # its optional outputs' bits are want shifted by one.
+        cubes = {i: c for i, c in enumerate((angle, dist, height)) if c is not None}
+        run = PRODUCTS["horizon"].run
+        run_banded(ctx, grid, opt, _product_cost("horizon", ffi.NULL, want << 1,
+                                                 column_bytes=lib.ss_horizon_column_bytes()),
+                   kw["memory"], cubes,
+                   lambda c, src, sink: run(c, src, opt, ffi.NULL, want << 1, ffi.NULL, sink,
+                                            ffi.NULL),
+                   progress=kw.get("progress"))
+    else:
+        ctx.call(lib.ss_horizon, grid.ptr, opt, want, sink, ffi.NULL,
+                 progress=kw.get("progress"))
+        nodata_cells = angle[0] == np.float32(CONST["SS_NODATA"])
+        for cube in (angle, dist, height):
+            if cube is not None:
+                cube[:, nodata_cells] = np.nan
+        if height is not None:
+            height[height == np.float32(CONST["SS_NODATA"])] = np.nan
     lead = {"azimuth": ("azimuth", azimuth, {"long_name": "azimuth clockwise from north",
                                              "units": "degree"})}
     cubes = Horizons(azimuth, grid.wrap(angle, "elevation", {"long_name": "horizon elevation",
@@ -366,11 +412,33 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
     sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
     opt = _sweep(ctx, grid, "shadow", lib.SS_PRODUCT_SHADOW, kw)
     out = grid.new_plane()
-    ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
-             out_buffer(out), ffi.NULL, progress=kw.get("progress"))
+    if isinstance(grid, BandedGrid):
+        _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw)
+    else:
+        ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
+                 out_buffer(out), ffi.NULL, progress=kw.get("progress"))
     return grid.finish(out, name, {"long_name": "sunlit", "units": "1",
                                    "sun_azimuth": sun_azimuth,
                                    "sun_elevation": sun_elevation})
+
+
+def _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):
+    """shadow in bands within memory=: ss_shadow_rows' sunlit rows, for the
+    one sun ss_cast_shadow takes (an array's grid north is true north)."""
+    @ffi.callback("ss_status(ss_ctx *, int, int, int, ss_sun_step *, void *)",
+                  error=lib.SS_ERR_INTERNAL)
+    def sun_rows(c, index, row0, n_rows, step, user):
+        ffi.memmove(step, bytes(ffi.sizeof("ss_sun_step")), ffi.sizeof("ss_sun_step"))
+        step.azimuth_deg = step.grid_azimuth_deg = sun_azimuth
+        step.elevation_deg = step.apparent_elevation_deg = sun_elevation
+        return lib.SS_OK
+
+    cost = _product_cost("shadow", ffi.NULL, column_bytes=lib.ss_horizon_column_bytes(),
+                         hull_lines=1)
+    run_banded(ctx, grid, opt, cost, kw["memory"], {CONST["SS_OUT_SUNLIT"]: out},
+               lambda c, src, sink: lib.ss_shadow_rows(c, src, opt, sun_rows, ffi.NULL, sink,
+                                                       ffi.NULL),
+               progress=kw.get("progress"))
 
 
 def _shade(dem, cell_size, nodata, kw, given, radius=None):
@@ -389,6 +457,16 @@ def _shade(dem, cell_size, nodata, kw, given, radius=None):
     lib.ss_hillshade_params_options(params, cell_m, shading)
     opt = _sweep(ctx, grid, "hillshade", lib.ss_hillshade_params_product(params), kw)
     out = grid.new_plane()
+    if isinstance(grid, BandedGrid):
+        sweeps = params.blend or params.cast_shadows or params.sky_view > 0
+        cost = _product_cost("hillshade", params, cell_m=cell_m,
+                             column_bytes=lib.ss_horizon_column_bytes() if sweeps else 0.0,
+                             hull_lines=None if sweeps else 1)
+        run_banded(ctx, grid, opt, cost, kw["memory"], {CONST["SS_OUT_SHADE"]: out},
+                   lambda c, src, sink: lib.ss_hillshade_rows(c, src, opt, shading, sink,
+                                                              ffi.NULL),
+                   progress=kw.get("progress"))
+        return grid, opt, out, shading.radius_m
     width = grid.shape[1]
 
     failed = []
@@ -486,7 +564,7 @@ def sun_incidence(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=Non
 
     {raises}
     """
-    ctx, grid = _begin(dem, cell_size, nodata, {"device": device}, ())
+    ctx, grid = _begin(dem, cell_size, nodata, {"device": device}, (), bands=False)
     out = grid.new_plane()
     ctx.call(lib.ss_sun_incidence, grid.ptr, _checked("shadow", "sun_azimuth", sun_azimuth),
              _checked("shadow", "sun_elevation", sun_elevation), ffi.NULL, ffi.NULL,
@@ -526,8 +604,13 @@ def vat(dem, cell_size=None, *, radius=None, nodata=None, name="vat", blend_radi
                         "give one")
     grid, opt, out, radius_m = _shade(dem, cell_size, nodata, kw,
                             {"blend": "vat", "blend_radius": blend_radius}, radius)
-    blend = np.where(out == np.float32(CONST["SS_NODATA"]), out, (out - 1.0) / 254.0)
-    return grid.finish(blend.astype(np.float32), name, {"long_name": "VAT relief blend",
+    if isinstance(grid, BandedGrid):  # NaN at nodata already: in place, no copies
+        out -= np.float32(1.0)
+        out /= np.float32(254.0)
+        blend = out
+    else:
+        blend = np.where(out == np.float32(CONST["SS_NODATA"]), out, (out - 1.0) / 254.0)
+    return grid.finish(blend.astype(np.float32, copy=False), name, {"long_name": "VAT relief blend",
                                                         "units": "1", "radius": radius_m,
                                                         "directions": opt.directions})
 
@@ -563,7 +646,7 @@ def plan(dem, cell_size=None, *, product="svf", definition=default("svf", "defin
     import json
     if product not in _PLANNED:
         raise ValueError(f"product must be one of {', '.join(_PLANNED)}, not {product!r}")
-    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+    ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS, bands=False)
     code = _svf_definition(definition) if product == "svf" else lib.SS_SVF_DEF_GEOMETRIC
     _, made = _sweep(ctx, grid, product, PRODUCTS[product].plans_as, kw, code,
                       with_plan=True)
@@ -582,11 +665,21 @@ def _numpydoc(function, **snippets):
         **snippets)
 
 
-def _doc_options(function, command, names):
+_MEMORY_ENTRY = """memory : int, float or str, default None
+    A budget for the call's working memory: bytes, or a size as --memory takes it ("512M",
+    "4G"; k, M, G, T are powers of 1024). The call then runs in bands of rows that the
+    library's memory planner sizes, reading the DEM a band at a time, so that the process's
+    peak resident memory stays within what it held when called, plus the result, plus the
+    budget. The result equals the whole grid's (up to the order of float sums); "auto"
+    lines are interpolated (the DEM is not searched for walls). None: the whole grid at
+    once. OutOfMemory (a MemoryError) where not one band fits, naming the least budget."""
+
+
+def _doc_options(function, command, names, memory=True):
     """The shared options the function takes through **kw, from the table:
     entries at the end of its docstring's Parameters section, and keyword
     parameters with the table's defaults in its signature (inspect.signature,
-    help())."""
+    help()); memory= for a call that runs in bands."""
     entries, parameters = [], []
     for name in names:
         entry = option(command, name.replace("_", "-"))
@@ -600,8 +693,12 @@ def _doc_options(function, command, names):
                    'plan\'s choice), "reference" (the C twin) or a device as --device names it.')
     entries.append("progress : bool or callable, default None\n    None, True (tqdm or text) "
                    "or callable(fraction, message); returning False cancels.")
+    extra = ("device", "progress")
+    if memory:
+        entries.append(_MEMORY_ENTRY)
+        extra += ("memory",)
     parameters += [inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, default=None)
-                   for n in ("device", "progress")]
+                   for n in extra]
     doc = function.__doc__
     at = doc.index("\nReturns\n-------")
     function.__doc__ = doc[:at].rstrip("\n") + "\n" + "\n".join(entries) + "\n" + doc[at:]
@@ -613,5 +710,6 @@ def _doc_options(function, command, names):
 for _f in (svf, openness, horizon, shadow, hillshade, sun_incidence, vat, plan):
     _numpydoc(_f)
 for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shadow, "shadow"),
-               (hillshade, "hillshade"), (vat, "hillshade"), (plan, "svf")):
+               (hillshade, "hillshade"), (vat, "hillshade")):
     _doc_options(_f, _c, SWEEP_OPTIONS)
+_doc_options(plan, "svf", SWEEP_OPTIONS, memory=False)
