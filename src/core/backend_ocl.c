@@ -480,7 +480,7 @@ static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
 
 ss_status ss_backend_ocl_open(ss_backend *b)
 {
-    ss_status st = ocl_acquire(b->ctx);
+    ss_status st = ss_ocl_acquire(b->ctx);
     if (st != SS_OK)
         return st;
     if (b->ctx->use_reference) { /* the default device could not work here */

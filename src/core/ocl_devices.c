@@ -207,49 +207,6 @@ int ss_opencl_devices(ss_device_candidate *out, int max)
     return cs.n;
 }
 
-/* Points the context at spec without touching its "auto" intent. */
-static void select_device(ss_ctx *ctx, const char *spec)
-{
-    ss_ocl_release(ctx->ocl);
-    ctx->ocl = NULL;
-    ctx->device_name[0] = '\0';
-    snprintf(ctx->device_spec, sizeof ctx->device_spec, "%s", spec ? spec : "");
-    ctx->use_reference = spec && strcasecmp(spec, "reference") == 0;
-    if (ctx->use_reference)
-        snprintf(ctx->device_name, sizeof ctx->device_name, "C reference (host, OpenMP)");
-}
-
-ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
-{
-    ss_call_begin(ctx);
-    /* The environment names the default, so whole test suites and scripts
-     * can be pointed at another device (a GPU) without new options. */
-    if (!spec || !spec[0])
-        spec = getenv("SKYSWEEP_DEVICE");
-    ctx->device_auto = spec && strcasecmp(spec, "auto") == 0;
-    /* "auto" runs the C twin, which needs no set-up, until a plan chooses. */
-    select_device(ctx, ctx->device_auto ? "reference" : spec);
-    return SS_OK;
-}
-
-
-ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan)
-{
-    ss_call_begin(ctx);
-    if (!ctx->device_auto || !plan->device[0] || strcmp(ctx->device_spec, plan->device) == 0)
-        return SS_OK;
-    select_device(ctx, plan->device);
-    /* A device the model chose but that does not open leaves the job to the
-     * C twin, which computes the same (the summary names the device used);
-     * a run cancelled while the device's kernels build stops. */
-    ss_status st = ctx->use_reference ? SS_OK : ocl_acquire(ctx);
-    if (st == SS_ERR_CANCELLED)
-        return st;
-    if (st != SS_OK)
-        select_device(ctx, "reference");
-    return SS_OK;
-}
-
 static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
 {
     cl_int err;
@@ -365,7 +322,7 @@ static ss_status ocl_open(ss_ctx *ctx, struct ss_ocl *o, const ocl_device_info *
     return build_program(ctx, o);
 }
 
-ss_status ocl_acquire(ss_ctx *ctx)
+ss_status ss_ocl_acquire(ss_ctx *ctx)
 {
     if (ctx->ocl)
         return SS_OK;
@@ -416,15 +373,6 @@ ss_status ocl_acquire(ss_ctx *ctx)
 int ss_ocl_is_cpu(const ss_ctx *ctx)
 {
     return ctx && !ctx->use_reference && ctx->ocl && ctx->ocl->is_cpu;
-}
-
-const char *ss_ctx_device_name(ss_ctx *ctx)
-{
-    if (!ctx->use_reference && !ctx->ocl && ocl_acquire(ctx) != SS_OK) {
-        ctx->device_name[0] = '\0';
-        return "(no device)";
-    }
-    return ctx->device_name;
 }
 
 void ss_ocl_release(struct ss_ocl *o)

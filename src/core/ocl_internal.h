@@ -25,9 +25,6 @@ struct ss_ocl {
 /* Records err's failure of what: a memory status for the device's
  * allocation failures, else a device one. */
 ss_status ocl_fail(ss_ctx *ctx, cl_int err, const char *what);
-/* Opens the context's chosen device and builds the kernels, once per
- * context; a failure leaves the context as it was. */
-ss_status ocl_acquire(ss_ctx *ctx);
 
 /* A step's sun lattice as queued for the device: its columns then rows
  * (ints), then its three node arrays and the air (ss_real). */
