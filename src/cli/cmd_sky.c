@@ -121,7 +121,7 @@ int cmd_sky(int argc, char **argv)
     product->request(&set.sky, &req);
     job.svf_definition = req.svf_definition;
     job.radius_m = req.radius_m;
-    if ((rc = job_plan(&job, &set.common, req.product, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+    if ((rc = job_plan(&job, &set.common, req.kind, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
     }

@@ -14,7 +14,7 @@
 /* The kernels' term for a sky product. */
 static int kernel_term(ss_sky_term term)
 {
-    return term <= SS_SKY_SVF_TILTED ? (int)term : SS_TERM_ELEVATION;
+    return term <= SS_SKY_SVF_RADIATIVE ? (int)term : SS_TERM_ELEVATION;
 }
 
 float ss_sky_value(ss_sky_term term, float sum, int directions)

@@ -22,7 +22,7 @@ ss_status ss_sky_check(ss_ctx *ctx, ss_sky_term term, double radius_m)
     if (!(radius_m >= 0) || !isfinite(radius_m))
         return ss_fail(ctx, SS_ERR_ARGUMENT, "radius must be >= 0 m (0: unlimited), not %g",
                        radius_m);
-    if (radius_m > 0 && term == SS_SKY_SVF_TILTED)
+    if (radius_m > 0 && term == SS_SKY_SVF_RADIATIVE)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "a radius-limited SVF is geometric or horizontal, not radiative (tilted)");
     return SS_OK;
@@ -73,7 +73,7 @@ ss_status ss_svf_within(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options
 {
     ss_call_begin(ctx);
     if (definition != SS_SVF_DEF_GEOMETRIC && definition != SS_SVF_DEF_HORIZONTAL &&
-        definition != SS_SVF_DEF_TILTED)
+        definition != SS_SVF_DEF_RADIATIVE)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown SVF definition %d", (int)definition);
     return sky_product(ctx, grid, opt, (ss_sky_term)definition, radius_m, out);
 }
