@@ -22,7 +22,7 @@ DEFS = [("svf_geometric", "geometric (1 - mean sin h, Zaksek/RVT)"),
         ("svf_horizontal", "radiative, horizontal surface (mean cos^2 h)"),
         ("svf_tilted", "radiative, tilted cell (Dozier & Frew)")]
 DEF_ENUM = {"svf_geometric": "SS_SVF_DEF_GEOMETRIC", "svf_horizontal": "SS_SVF_DEF_HORIZONTAL",
-            "svf_tilted": "SS_SVF_DEF_TILTED"}
+            "svf_tilted": "SS_SVF_DEF_RADIATIVE"}
 TARGETS = (0.01, 0.005)
 
 

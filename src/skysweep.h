@@ -208,7 +208,8 @@ SS_API double ss_direction_azimuth(const ss_sweep_options *opt, int i);
 typedef enum {
     SS_SVF_DEF_GEOMETRIC = 0,  /* 1 - mean sin h+ (Zaksek et al. 2011, RVT) */
     SS_SVF_DEF_HORIZONTAL = 1, /* mean cos^2 h+: radiative, horizontal surface */
-    SS_SVF_DEF_TILTED = 2      /* Dozier & Frew 1990: radiative, the cell's own slope */
+    SS_SVF_DEF_RADIATIVE = 2   /* Dozier & Frew 1990: radiative, the cell's own slope (the
+                                  --definition choice "radiative"; the kernels' tilted term) */
 } ss_svf_definition;
 
 /* Sky-view factor of every cell into out (width*height, SS_NODATA at nodata). */
@@ -341,7 +342,7 @@ SS_API double ss_band_min_budget(int width, int height, int directions, double b
 typedef enum {
     SS_SKY_SVF_GEOMETRIC = 0, /* the values match ss_svf_definition */
     SS_SKY_SVF_HORIZONTAL = 1,
-    SS_SKY_SVF_TILTED = 2,
+    SS_SKY_SVF_RADIATIVE = 2,
     SS_SKY_OPENNESS_POSITIVE = 3,
     SS_SKY_OPENNESS_NEGATIVE = 4
 } ss_sky_term;
@@ -700,13 +701,17 @@ SS_API ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho)
 
 /* ---- the effects planner (doc/planner.md) -------------------------------- */
 
+/* What the planner weighs a job as: the sweep it runs and the accuracy it
+ * is judged by, which products share (openness plans as horizons,
+ * hillshade as no sweep, its shadows or its sky view; the registry's
+ * plans_as). */
 typedef enum {
-    SS_PRODUCT_HORIZON,
-    SS_PRODUCT_SVF,
-    SS_PRODUCT_SHADOW,
-    SS_PRODUCT_HILLSHADE,
-    SS_PRODUCT_INSOLATION
-} ss_product;
+    SS_PLAN_HORIZONS,   /* horizon angles: horizon, openness */
+    SS_PLAN_SKY_VIEW,   /* the sky-view factor, judged by svf_tolerance */
+    SS_PLAN_SHADOW,     /* one sweep along the sun */
+    SS_PLAN_NO_SWEEP,   /* per-cell arithmetic alone: plain hillshade */
+    SS_PLAN_INSOLATION  /* the sky's sweeps and the steps' shadows */
+} ss_plan_kind;
 
 typedef enum { SS_AUTO = -1, SS_OFF = 0, SS_ON = 1 } ss_switch;
 
@@ -761,7 +766,7 @@ typedef struct {
 } ss_plan_weather;
 
 typedef struct {
-    ss_product product;
+    ss_plan_kind kind;
     double horizon_tolerance_deg; /* horizon angles, shadows, azimuths */
     double svf_tolerance;         /* SVF (0..1 units) */
     double sun_tolerance_deg;     /* the sun's direction per cell */

@@ -121,14 +121,19 @@ typedef struct {
     int blend;                /* "none|vat" */
     double blend_radius_cells;
 } ss_hillshade_params;
+/* The indices of alg's and blend's choices. */
+#define SS_HILLSHADE_ALG_HORN 0
+#define SS_HILLSHADE_ALG_ZEVENBERGEN_THORNE 1
+#define SS_HILLSHADE_BLEND_NONE 0
+#define SS_HILLSHADE_BLEND_VAT 1
 /* The shading's options, the blend's radius from cells to metres. */
 SS_API void ss_hillshade_params_options(const ss_hillshade_params *p, double cell_size_m,
                                         ss_hillshade_options *out);
 /* What the planner is asked to plan: plain shading reads no horizons
- * (SS_PRODUCT_HILLSHADE); cast shadows sweep along the light
- * (SS_PRODUCT_SHADOW); sky view and the VAT blend sweep around the sky
- * (SS_PRODUCT_SVF). */
-SS_API ss_product ss_hillshade_params_product(const ss_hillshade_params *p);
+ * (SS_PLAN_NO_SWEEP); cast shadows sweep along the light
+ * (SS_PLAN_SHADOW); sky view and the VAT blend sweep around the sky
+ * (SS_PLAN_SKY_VIEW). */
+SS_API ss_plan_kind ss_hillshade_params_plan_kind(const ss_hillshade_params *p);
 
 /* ---- insolation ("insolation") ------------------------------------------------- */
 

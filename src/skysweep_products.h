@@ -51,9 +51,9 @@ typedef struct {
     const char *const *tables;
     size_t params_size; /* bytes of the product's own table's struct; 0: it has none */
     const ss_product_output *outputs; /* NULL name ends them; output 0 is OUTPUT */
-    ss_product plans_as;              /* the planner's product at the parameters' defaults */
+    ss_plan_kind plans_as;            /* what the planner weighs it as at the parameters' defaults */
     int shares;                       /* its directions or time steps can be dealt out (MPI) */
-    /* Fills what the parameters add to a plan request: the planner's product, and where
+    /* Fills what the parameters add to a plan request: the planner's kind of job, and where
      * they set them the SVF definition, the radius and the shadow mode. */
     void (*request)(const void *params, ss_plan_request *req);
     /* Bytes the product holds per cell of a band, halo rows included, for the optional

@@ -274,7 +274,7 @@ void ref_svf_from_horizons(const double *horizons_deg, int n_az, double offset_d
     }
     svf[SS_SVF_DEF_GEOMETRIC] = 1 - sum_sin / n_az;
     svf[SS_SVF_DEF_HORIZONTAL] = sum_cos2 / n_az;
-    svf[SS_SVF_DEF_TILTED] = sum_tilt / n_az;
+    svf[SS_SVF_DEF_RADIATIVE] = sum_tilt / n_az;
 }
 
 void ref_svf(const ref_march *rm, int col, int row, int n_az, double offset_deg, double svf[3],

@@ -111,7 +111,7 @@ static void bad_arguments(void)
         e = 0;
         ok &= ss_directions_for_tolerance(SS_SVF_DEF_GEOMETRIC, bad_tol[i], &e) == 0 && isnan(e);
     }
-    ok &= ss_directions_for_tolerance(SS_SVF_DEF_TILTED, 0.01, NULL) > 0;
+    ok &= ss_directions_for_tolerance(SS_SVF_DEF_RADIATIVE, 0.01, NULL) > 0;
     tap_ok(ok, "an unknown definition or a tolerance not > 0 gives 0 and NAN; "
                "expected_error may be NULL");
 }

@@ -192,7 +192,7 @@ static void tilted_planes(void)
             }
             float *svf_z = run_svf(d, &g, D, 0, SS_SVF_DEF_GEOMETRIC, SS_LINES_INTERPOLATED);
             float *svf_h = run_svf(d, &g, D, 0, SS_SVF_DEF_HORIZONTAL, SS_LINES_INTERPOLATED);
-            float *svf_t = run_svf(d, &g, D, 0, SS_SVF_DEF_TILTED, SS_LINES_INTERPOLATED);
+            float *svf_t = run_svf(d, &g, D, 0, SS_SVF_DEF_RADIATIVE, SS_LINES_INTERPOLATED);
             double ez = worst_interior(svf_z, &g, 2, 1 - sum_z / D);
             double eh = worst_interior(svf_h, &g, 2, sum_h / D);
             double want_t = (1 + cos(cases[i].slope * M_PI / 180)) / 2;

@@ -181,7 +181,7 @@ static ss_status run_product(ss_ctx *ctx, product p, int band_rows, results *out
     case P_SVF_GEOMETRIC:
         return ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_GEOMETRIC, 0, NULL, keep_rows, out);
     case P_SVF_RADIATIVE:
-        return ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_TILTED, 0, NULL, keep_rows, out);
+        return ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_RADIATIVE, 0, NULL, keep_rows, out);
     case P_SVF_RADIUS:
         return ss_sky_rows(ctx, &src, &opt, SS_SKY_SVF_HORIZONTAL, 100, NULL, keep_rows, out);
     case P_OPENNESS_NEGATIVE:

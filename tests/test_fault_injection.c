@@ -37,7 +37,7 @@ static ss_status call_svf(ss_ctx *ctx, float *out)
 {
     ss_status st = ss_svf(ctx, &grid, &opt, SS_SVF_DEF_GEOMETRIC, out);
     if (st == SS_OK)
-        st = ss_svf(ctx, &grid, &opt, SS_SVF_DEF_TILTED, out + CELLS);
+        st = ss_svf(ctx, &grid, &opt, SS_SVF_DEF_RADIATIVE, out + CELLS);
     return st == SS_OK ? ss_svf_within(ctx, &grid, &opt, SS_SVF_DEF_HORIZONTAL, 200.0,
                                        out + 2 * CELLS)
                        : st;

@@ -319,7 +319,7 @@ static void expect_refused(const char *label, const ss_grid *g, ss_status want)
         char msg[6][200];
         st[0] = ss_horizon(ctx, g, &opt, 1, keep_horizon, &dummy);
         snprintf(msg[0], 200, "%s", ss_ctx_message(ctx));
-        st[1] = ss_svf(ctx, g, &opt, SS_SVF_DEF_TILTED, buf);
+        st[1] = ss_svf(ctx, g, &opt, SS_SVF_DEF_RADIATIVE, buf);
         snprintf(msg[1], 200, "%s", ss_ctx_message(ctx));
         st[2] = ss_cast_shadow(ctx, g, &opt, 135, 20, NULL, buf, NULL);
         snprintf(msg[2], 200, "%s", ss_ctx_message(ctx));

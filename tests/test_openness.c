@@ -378,7 +378,7 @@ static void svf_radius_wall(void)
                "wall 200 m away, %s: SVF within 150 m %.6f (want 1), within 300 m %.6f == "
                "unlimited %.6f (< 1)",
                device_name(d), ok ? near[cell] : NAN, ok ? far[cell] : NAN, ok ? all[cell] : NAN);
-        ss_status st = ss_svf_within(ctx, &g, &opt, SS_SVF_DEF_TILTED, 100, near);
+        ss_status st = ss_svf_within(ctx, &g, &opt, SS_SVF_DEF_RADIATIVE, 100, near);
         tap_ok(st == SS_ERR_ARGUMENT, "radius-limited radiative (tilted) SVF is refused: %s",
                ss_ctx_message(ctx));
         free(near);

@@ -73,7 +73,7 @@ static void choices(void)
            "choice words by index, '' beyond them");
     ss_svf_params svf = {1, 0};
     ss_openness_params open = {1, 0};
-    tap_ok(ss_svf_params_term(&svf) == SS_SKY_SVF_TILTED &&
+    tap_ok(ss_svf_params_term(&svf) == SS_SKY_SVF_RADIATIVE &&
                ss_openness_params_term(&open) == SS_SKY_OPENNESS_NEGATIVE,
            "svf's radiative is the tilted term, openness' negative its inverted term");
     ss_hillshade_params hs = {.azimuth_deg = 300, .alg = 1, .blend = 1, .blend_radius_cells = 10};
@@ -85,10 +85,10 @@ static void choices(void)
            ho.radius_m);
     ss_hillshade_params plain = {.azimuth_deg = 315}, cast = {.cast_shadows = 1},
                         sky = {.sky_view = 0.3};
-    tap_ok(ss_hillshade_params_product(&plain) == SS_PRODUCT_HILLSHADE &&
-               ss_hillshade_params_product(&cast) == SS_PRODUCT_SHADOW &&
-               ss_hillshade_params_product(&sky) == SS_PRODUCT_SVF &&
-               ss_hillshade_params_product(&hs) == SS_PRODUCT_SVF,
+    tap_ok(ss_hillshade_params_plan_kind(&plain) == SS_PLAN_NO_SWEEP &&
+               ss_hillshade_params_plan_kind(&cast) == SS_PLAN_SHADOW &&
+               ss_hillshade_params_plan_kind(&sky) == SS_PLAN_SKY_VIEW &&
+               ss_hillshade_params_plan_kind(&hs) == SS_PLAN_SKY_VIEW,
            "hillshade asks the planner for no sweep, the light's sweep, or the sky's sweep");
 }
 

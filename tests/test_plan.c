@@ -22,11 +22,11 @@ static const ss_plan_item *item(const ss_plan *p, const char *key)
     return NULL;
 }
 
-static ss_plan_request request(ss_product product)
+static ss_plan_request request(ss_plan_kind kind)
 {
     ss_plan_request r;
     memset(&r, 0, sizeof r);
-    r.product = product;
+    r.kind = kind;
     r.horizon_tolerance_deg = 0.05;
     r.svf_tolerance = 0.01;
     r.sun_tolerance_deg = 0.001;
@@ -62,7 +62,7 @@ static void curvature(void)
     ss_ctx *ctx = ss_ctx_new();
     ss_grid city = test_grid(234, 223, 1, 1);
     test_fill(&city, TERRAIN_PLATEAUS, 3, 40); /* blocks of buildings, sheer walls */
-    ss_plan_request r = request(SS_PRODUCT_HORIZON);
+    ss_plan_request r = request(SS_PLAN_HORIZONS);
     ss_place pl = place_of(&city, 0.0, 57.7);
     ss_plan p;
     ss_status st = ss_plan_make(ctx, &city, &pl, &r, &p);
@@ -111,7 +111,7 @@ static void north(void)
     ss_ctx *ctx = ss_ctx_new();
     ss_grid g = test_grid(100, 100, 30, 30);
     test_fill(&g, TERRAIN_SMOOTH, 4, 100);
-    ss_plan_request r = request(SS_PRODUCT_SVF);
+    ss_plan_request r = request(SS_PLAN_SKY_VIEW);
     ss_plan p;
     ss_place centre = place_of(&g, 0.0012, 45.0), edge = place_of(&g, 2.1166, 45.0);
     ss_plan_make(ctx, &g, &centre, &r, &p);
@@ -132,7 +132,7 @@ static void sun_per_cell(void)
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_grid small = test_grid(234, 223, 1, 1), large = test_grid(300, 300, 1000, 1000);
-    ss_plan_request r = request(SS_PRODUCT_SHADOW);
+    ss_plan_request r = request(SS_PLAN_SHADOW);
     r.sun_tolerance_deg = 0.01;
     ss_plan p;
     ss_place ps = place_of(&small, 0, 57.7), pl = place_of(&large, 0, 46);
@@ -224,7 +224,7 @@ static void plan_counts(void)
     double instants[48];
     for (int k = 0; k < 48; ++k)
         instants[k] = 1782000000.0 + 10 * 3600 + (k + 0.5) * 1800; /* 21 June, Kilauea's day */
-    ss_plan_request r = request(SS_PRODUCT_INSOLATION);
+    ss_plan_request r = request(SS_PLAN_INSOLATION);
     r.n_steps = 48;
     r.step_unix_s = instants;
     ss_place pl = place_of(&g, 0, 19.4);
@@ -249,10 +249,10 @@ static void directions(void)
     ss_grid g = test_grid(64, 64, 30, 30);
     test_fill(&g, TERRAIN_SMOOTH, 4, 300);
     ss_place place = place_of(&g, 0, 45);
-    for (int def = SS_SVF_DEF_GEOMETRIC; def <= SS_SVF_DEF_TILTED; ++def) {
+    for (int def = SS_SVF_DEF_GEOMETRIC; def <= SS_SVF_DEF_RADIATIVE; ++def) {
         int previous = 1 << 30, monotone = 1, agree = 1;
         for (double tol = 0.002; tol <= 0.05; tol *= 2) {
-            ss_plan_request r = request(SS_PRODUCT_SVF);
+            ss_plan_request r = request(SS_PLAN_SKY_VIEW);
             r.svf_definition = (ss_svf_definition)def;
             r.svf_tolerance = tol;
             ss_plan p;
@@ -268,20 +268,20 @@ static void directions(void)
                "0.05, never more for a looser one",
                def);
     }
-    ss_plan_request r = request(SS_PRODUCT_INSOLATION);
+    ss_plan_request r = request(SS_PLAN_INSOLATION);
     r.svf_definition = SS_SVF_DEF_GEOMETRIC; /* insolation's sky is radiative all the same */
     ss_plan p;
-    int want = ss_directions_for_tolerance(SS_SVF_DEF_TILTED, r.svf_tolerance, NULL);
+    int want = ss_directions_for_tolerance(SS_SVF_DEF_RADIATIVE, r.svf_tolerance, NULL);
     ss_status st = ss_plan_make(ctx, &g, &place, &r, &p);
     tap_ok(st == SS_OK && p.directions == want,
            "insolation: %d directions from the radiative SVF's table (want %d)", p.directions,
            want);
-    r = request(SS_PRODUCT_SVF);
+    r = request(SS_PLAN_SKY_VIEW);
     r.lines = SS_LINES_DIGITAL;
     st = ss_plan_make(ctx, &g, &place, &r, &p);
     tap_ok(st == SS_OK && p.directions == 32,
            "digital lines: the untabulated default of 32 directions (%d)", p.directions);
-    r = request(SS_PRODUCT_SVF);
+    r = request(SS_PLAN_SKY_VIEW);
     r.directions = 7;
     st = ss_plan_make(ctx, &g, &place, &r, &p);
     tap_ok(st == SS_OK && p.directions == 7 && strstr(item(&p, "directions")->reason, "as requested"),
@@ -304,7 +304,7 @@ static void device_auto(void)
     for (int i = 0; i < 64 * 64; ++i)
         g.z[i] = (float)(i % 7);
     ss_place pl = place_of(&g, 0, 45);
-    ss_plan_request r = request(SS_PRODUCT_SVF);
+    ss_plan_request r = request(SS_PLAN_SKY_VIEW);
     r.directions = 16;
     ss_plan p;
     ss_status st = ss_plan_make(ctx, &g, &pl, &r, &p);
@@ -349,7 +349,7 @@ static void lines(void)
             hills.z[r * 120 + c] =
                 (float)(400 * sin(2 * M_PI * c * 30 / 2500) * cos(2 * M_PI * r * 30 / 2500));
     ss_ctx *ctx = ss_ctx_new();
-    ss_plan_request r = request(SS_PRODUCT_SHADOW);
+    ss_plan_request r = request(SS_PLAN_SHADOW);
     r.lines = SS_LINES_AUTO;
     ss_plan p_city, p_hills, p_asked;
     ss_place pc = place_of(&city, 0, 57), ph = place_of(&hills, 0, 57);
@@ -404,7 +404,7 @@ static ss_plan_request weather_year(double tolerance_pct, int pv)
 {
     for (int k = 0; k < YEAR_HOURS; ++k)
         year_hours[k] = 1767225600.0 + (k + 0.5) * 3600; /* 2026 */
-    ss_plan_request r = request(SS_PRODUCT_INSOLATION);
+    ss_plan_request r = request(SS_PLAN_INSOLATION);
     r.shadow_mode = SS_SHADOW_AUTO;
     r.lines = SS_LINES_AUTO;
     r.n_steps = YEAR_HOURS;

@@ -98,11 +98,11 @@ static void plans(void)
         const ss_product_info *p = ss_product_at(i);
         double params[32] = {0}; /* room for any parameter struct, aligned */
         ss_plan_request req = {0};
-        req.product = (ss_product)-1;
+        req.kind = (ss_plan_kind)-1;
         p->request(p->params_size ? params : NULL, &req);
-        tap_ok(p->params_size <= sizeof params && req.product == p->plans_as,
+        tap_ok(p->params_size <= sizeof params && req.kind == p->plans_as,
                "%s: its request asks the planner for product %d (declared %d)", p->name,
-               (int)req.product, (int)p->plans_as);
+               (int)req.kind, (int)p->plans_as);
     }
 }
 

@@ -304,7 +304,7 @@ static void refusals(void)
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = 8;
-    tap_ok(ss_canopy_sky(ctx, &g, &cn, &opt, SS_SVF_DEF_TILTED, SS_TRUNK_GAPS_IGNORE, NULL, out) ==
+    tap_ok(ss_canopy_sky(ctx, &g, &cn, &opt, SS_SVF_DEF_RADIATIVE, SS_TRUNK_GAPS_IGNORE, NULL, out) ==
                SS_ERR_ARGUMENT,
            "the radiative definition is refused: %s", ss_ctx_message(ctx));
     ss_ctx_free(ctx);

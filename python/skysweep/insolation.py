@@ -203,7 +203,7 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
     latitude, longitude = float(latitude), float(longitude)
     mids, hours = _steps(ctx, time, ffi.string(params.step).decode())
     steps = ffi.new("double[]", list(mids))
-    opt, plan = _sweep(ctx, grid, "insolation", lib.SS_PRODUCT_INSOLATION, kw,
+    opt, plan = _sweep(ctx, grid, "insolation", lib.SS_PLAN_INSOLATION, kw,
                        n_steps=len(mids), step_unix_s=steps, shadow_mode=shadow,
                        with_plan=True)
     p = ffi.new("ss_spa_params *")

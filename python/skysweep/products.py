@@ -127,7 +127,7 @@ def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMET
     place.earth_radius_m = params.earth_radius_m or CONST["SS_EARTH_RADIUS_MEAN_M"]
     req = ffi.new("ss_plan_request *")
     lib.ss_sweep_params_request(params, ffi.NULL, req)
-    req.product = product
+    req.kind = product
     req.svf_definition = svf_definition
     req.radius_m = radius
     req.shadow_mode = shadow_mode
@@ -230,7 +230,7 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
     definition = _value("svf", "definition", definition)
     radius = _value("svf", "radius", radius)
     code = _svf_definition(definition)
-    opt = _sweep(ctx, grid, "svf", lib.SS_PRODUCT_SVF, kw, code, radius=radius)
+    opt = _sweep(ctx, grid, "svf", lib.SS_PLAN_SKY_VIEW, kw, code, radius=radius)
     if isinstance(grid, BandedGrid):
         out = _sky_banded(ctx, grid, opt, "svf", {"definition": definition, "radius": radius},
                           kw)
@@ -271,7 +271,7 @@ def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     kind = _value("openness", "kind", kind)
     radius = _value("openness", "radius", radius)
-    opt = _sweep(ctx, grid, "openness", lib.SS_PRODUCT_HORIZON, kw,  # as cmd_sky plans openness
+    opt = _sweep(ctx, grid, "openness", lib.SS_PLAN_HORIZONS, kw,  # as cmd_sky plans openness
                  radius=radius)
     if isinstance(grid, BandedGrid):
         out = _sky_banded(ctx, grid, opt, "openness", {"kind": kind, "radius": radius}, kw)
@@ -327,7 +327,7 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
     {raises}
     """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    opt = _sweep(ctx, grid, "horizon", lib.SS_PRODUCT_HORIZON, kw)
+    opt = _sweep(ctx, grid, "horizon", lib.SS_PLAN_HORIZONS, kw)
     d, (h, w) = opt.directions, grid.shape
     azimuth = np.array([lib.ss_direction_azimuth(opt, i) for i in range(d)])
     angle = np.empty((d, h, w), np.float32)
@@ -410,7 +410,7 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     sun_azimuth = _checked("shadow", "sun_azimuth", sun_azimuth)
     sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
-    opt = _sweep(ctx, grid, "shadow", lib.SS_PRODUCT_SHADOW, kw)
+    opt = _sweep(ctx, grid, "shadow", lib.SS_PLAN_SHADOW, kw)
     out = grid.new_plane()
     if isinstance(grid, BandedGrid):
         _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw)
@@ -455,7 +455,7 @@ def _shade(dem, cell_size, nodata, kw, given, radius=None):
     params = _params("hillshade", "hillshade", given)
     shading = ffi.new("ss_hillshade_options *")
     lib.ss_hillshade_params_options(params, cell_m, shading)
-    opt = _sweep(ctx, grid, "hillshade", lib.ss_hillshade_params_product(params), kw)
+    opt = _sweep(ctx, grid, "hillshade", lib.ss_hillshade_params_plan_kind(params), kw)
     out = grid.new_plane()
     if isinstance(grid, BandedGrid):
         sweeps = params.blend or params.cast_shadows or params.sky_view > 0
@@ -618,7 +618,7 @@ def vat(dem, cell_size=None, *, radius=None, nodata=None, name="vat", blend_radi
 #: The products plan() plans: the registry's whose plan needs no time steps
 #: or weather (insolation's does).
 _PLANNED = tuple(name for name, p in PRODUCTS.items()
-                 if p.plans_as != lib.SS_PRODUCT_INSOLATION)
+                 if p.plans_as != lib.SS_PLAN_INSOLATION)
 
 
 def plan(dem, cell_size=None, *, product="svf", definition=default("svf", "definition"),

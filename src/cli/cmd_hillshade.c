@@ -80,7 +80,7 @@ int cmd_hillshade(int argc, char **argv)
     }
     if (ho.vat) /* its horizons are radius-limited, which the plan's choice of lines weighs */
         job.radius_m = ho.radius_m;
-    if ((rc = job_plan(&job, &set.common, ss_hillshade_params_product(&set.hs), 0, NULL,
+    if ((rc = job_plan(&job, &set.common, ss_hillshade_params_plan_kind(&set.hs), 0, NULL,
                        SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;

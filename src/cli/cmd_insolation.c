@@ -933,7 +933,7 @@ int cmd_insolation(int argc, char **argv)
     }
     ss_status st = prepare(r);
     if (st == SS_OK) {
-        rc = job_plan(&r->job, &set->common, SS_PRODUCT_INSOLATION, r->steps.n, r->steps.mid_s,
+        rc = job_plan(&r->job, &set->common, SS_PLAN_INSOLATION, r->steps.n, r->steps.mid_s,
                       ss_insolation_params_shadow(&set->ins));
         if (rc >= 0) { /* --plan, or a plan that failed */
             close_run(r);

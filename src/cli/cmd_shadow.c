@@ -160,7 +160,7 @@ int cmd_shadow(int argc, char **argv)
     if (checked != SS_OK)
         rc = job_finish(&job, checked);
     else
-        rc = job_plan(&job, &set.common, SS_PRODUCT_SHADOW, timed, timed ? &when : NULL,
+        rc = job_plan(&job, &set.common, SS_PLAN_SHADOW, timed, timed ? &when : NULL,
                       SS_SHADOW_EXACT);
     if (rc >= 0) {
         job_close(&job);

@@ -173,7 +173,7 @@ static int sky_trees_refused(const sky_settings *set, const ss_plan_request *req
 {
     if (!set->trees.canopy)
         return -1;
-    if (req->svf_definition == SS_SVF_DEF_TILTED)
+    if (req->svf_definition == SS_SVF_DEF_RADIATIVE)
         return run_usage_error("svf", "--canopy takes --definition geometric or horizontal, not "
                                       "radiative");
     if (req->radius_m > 0)
@@ -216,7 +216,7 @@ int cmd_sky(int argc, char **argv)
         return rc;
     job.svf_definition = req.svf_definition;
     job.radius_m = req.radius_m;
-    if ((rc = job_plan(&job, &set.common, req.product, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+    if ((rc = job_plan(&job, &set.common, req.kind, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
         job_close(&job);
         return rc;
     }

@@ -7,7 +7,7 @@
 
 #include "run.h"
 
-int job_plan(sweep_job *job, const common_settings *common, ss_product product, int n_steps,
+int job_plan(sweep_job *job, const common_settings *common, ss_plan_kind kind, int n_steps,
              const double *step_unix_s, ss_shadow_mode shadow_mode)
 {
     const ss_dem_frame *f = &job->frame;
@@ -24,7 +24,7 @@ int job_plan(sweep_job *job, const common_settings *common, ss_product product, 
     double t = run_now(), built = ss_ctx_counters(job->run.ctx).build_seconds;
     ss_plan_request req = {.weather = job->weather};
     ss_sweep_params_request(&common->sweep, &common->sun, &req);
-    req.product = product;
+    req.kind = kind;
     req.svf_definition = job->svf_definition;
     req.radius_m = job->radius_m;
     req.shadow_mode = shadow_mode;

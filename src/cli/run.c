@@ -25,6 +25,9 @@
 #include "thread_room.h"
 
 #define COMMON(field) offsetof(common_settings, field)
+/* The indices of --z-units' choices (common_settings.z_units). */
+enum { Z_UNITS_AUTO, Z_UNITS_M, Z_UNITS_FT, Z_UNITS_US_FT };
+
 /* The command line's own options; the model's come from the library's
  * "sweep" table. */
 static const opt_spec cli_options[] = {
@@ -390,7 +393,10 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
                             "--memory expects a size such as 512M or 4G, not '%s'",
                             common->memory);
-    static const double metres_per_unit[] = {0.0, 1.0, 0.3048, 1200.0 / 3937.0};
+    static const double metres_per_unit[] = {[Z_UNITS_AUTO] = 0.0,
+                                             [Z_UNITS_M] = 1.0,
+                                             [Z_UNITS_FT] = 0.3048,
+                                             [Z_UNITS_US_FT] = 1200.0 / 3937.0};
     ss_dem_read_options ro = {.heightmap_cell_m = common->cell_size_m,
                               .z_unit_m = metres_per_unit[common->z_units],
                               .overlap = (ss_overlap_rule)common->overlap};

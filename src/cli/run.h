@@ -165,10 +165,10 @@ int job_open_banded(sweep_job *job, const char *command, const common_settings *
  * for one instant; one sun for the DEM or per cell. */
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field);
 /* Plans the run (planner.c: effects, directions, skipped steps) for the
- * product and its time steps (may be none), sets the job's options from
+ * planner's kind of job and its time steps (may be none), sets the job's options from
  * the plan, prints it unless quiet. Returns -1 to go on, else the exit
  * code (0 after --plan). */
-int job_plan(sweep_job *job, const common_settings *common, ss_product product, int n_steps,
+int job_plan(sweep_job *job, const common_settings *common, ss_plan_kind kind, int n_steps,
              const double *step_unix_s, ss_shadow_mode shadow_mode);
 /* Opens the job's output of n_bands bands on rank 0 (the one that writes,
  * alone or under mpirun), before the run so that it fails early; the other

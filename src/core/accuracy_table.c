@@ -24,7 +24,7 @@ const ss_accuracy_row ss_accuracy_rows[] = {
      {0.000796, 0.000657, 0.000778, 0.000771, 0.000826, 0.000867, 0.000881, 0.000926},
      {76.89, 153.2, 333.3, 698.9, 3256, 5738, 1.193e+04, 1.638e+04}},
     {"gentle volcano (kilauea, 256 x 256 cells of 29.99 x 29.99 m)",
-     SS_SVF_DEF_TILTED,
+     SS_SVF_DEF_RADIATIVE,
      1,
      {0.000585, 0.00037, 0.000316, 0.000331, 0.000322, 0.000348, 0.000393, 0.000341},
      {259.8, 767.5, 1064, 3357, 7580, 1.768e+04, 3.514e+04, 5.056e+04}},
@@ -39,7 +39,7 @@ const ss_accuracy_row ss_accuracy_rows[] = {
      {0.018, 0.00872, 0.00882, 0.00973, 0.0102, 0.0105, 0.0106, 0.0105},
      {78.61, 157.6, 319.6, 645.2, 1290, 2629, 5108, 7395}},
     {"steep canyons (bigtujunga, 256 x 256 cells of 30.01 x 30.01 m)",
-     SS_SVF_DEF_TILTED,
+     SS_SVF_DEF_RADIATIVE,
      1,
      {0.03, 0.00875, 0.00326, 0.00203, 0.0023, 0.00245, 0.0025, 0.00263},
      {278.4, 556.9, 1145, 2270, 4631, 9660, 2.116e+04, 2.555e+04}},
@@ -54,7 +54,7 @@ const ss_accuracy_row ss_accuracy_rows[] = {
      {0.0221, 0.0161, 0.0151, 0.0159, 0.0163, 0.0163, 0.0163, 0.017},
      {83.92, 155.5, 313, 625.9, 1242, 2569, 5284, 1.049e+04}},
     {"alpine (oetztal, 256 x 256 cells of 63.57 x 92.64 m)",
-     SS_SVF_DEF_TILTED,
+     SS_SVF_DEF_RADIATIVE,
      1,
      {0.028, 0.0106, 0.00536, 0.0041, 0.00379, 0.00384, 0.00397, 0.00385},
      {278.6, 559.2, 1121, 2295, 4545, 1.202e+04, 2.588e+04, 4.96e+04}},
@@ -69,7 +69,7 @@ const ss_accuracy_row ss_accuracy_rows[] = {
      {0.0994, 0.0682, 0.0744, 0.109, 0.125, 0.131, 0.133, 0.131},
      {80.16, 146, 304.2, 613.2, 1208, 2443, 4913, 6826}},
     {"urban DSM (goteborg, 234 x 223 cells of 1.00 x 1.00 m)",
-     SS_SVF_DEF_TILTED,
+     SS_SVF_DEF_RADIATIVE,
      0,
      {0.123, 0.0648, 0.0316, 0.039, 0.0459, 0.0517, 0.0493, 0.0446},
      {283.5, 533, 1173, 2356, 4642, 9325, 1.87e+04, 2.627e+04}},
@@ -82,7 +82,8 @@ int ss_directions_for_tolerance(ss_svf_definition def, double svf_tolerance, dou
 {
     if (expected_error)
         *expected_error = NAN;
-    if ((def != SS_SVF_DEF_GEOMETRIC && def != SS_SVF_DEF_HORIZONTAL && def != SS_SVF_DEF_TILTED) ||
+    if ((def != SS_SVF_DEF_GEOMETRIC && def != SS_SVF_DEF_HORIZONTAL &&
+         def != SS_SVF_DEF_RADIATIVE) ||
         !(svf_tolerance > 0))
         return 0;
     /* The worst terrain model at each count: a tolerance is met on all. */

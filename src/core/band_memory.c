@@ -18,7 +18,7 @@ double ss_sky_band_cell_bytes(ss_sky_term term)
 {
     /* Heights, stack slots and sums; the radiative SVF's gradients. */
     return (double)(ss_band_bytes(1, 1) / (1 + 2 * HALO)) +
-           (term == SS_SKY_SVF_TILTED ? 2.0 * sizeof(float) : 0.0);
+           (term == SS_SKY_SVF_RADIATIVE ? 2.0 * sizeof(float) : 0.0);
 }
 
 double ss_horizon_band_cell_bytes(int want)

@@ -6,9 +6,60 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
+#include <strings.h>
 
 #include "ctx_internal.h"
+
+/* Points the context at spec without touching its "auto" intent. */
+static void select_device(ss_ctx *ctx, const char *spec)
+{
+    ss_ocl_release(ctx->ocl);
+    ctx->ocl = NULL;
+    ctx->device_name[0] = '\0';
+    snprintf(ctx->device_spec, sizeof ctx->device_spec, "%s", spec ? spec : "");
+    ctx->use_reference = spec && strcasecmp(spec, "reference") == 0;
+    if (ctx->use_reference)
+        snprintf(ctx->device_name, sizeof ctx->device_name, "C reference (host, OpenMP)");
+}
+
+ss_status ss_ctx_use_device(ss_ctx *ctx, const char *spec)
+{
+    ss_call_begin(ctx);
+    /* The environment names the default, so whole test suites and scripts
+     * can be pointed at another device (a GPU) without new options. */
+    if (!spec || !spec[0])
+        spec = getenv("SKYSWEEP_DEVICE");
+    ctx->device_auto = spec && strcasecmp(spec, "auto") == 0;
+    /* "auto" runs the C twin, which needs no set-up, until a plan chooses. */
+    select_device(ctx, ctx->device_auto ? "reference" : spec);
+    return SS_OK;
+}
+
+ss_status ss_ctx_apply_plan(ss_ctx *ctx, const ss_plan *plan)
+{
+    ss_call_begin(ctx);
+    if (!ctx->device_auto || !plan->device[0] || strcmp(ctx->device_spec, plan->device) == 0)
+        return SS_OK;
+    select_device(ctx, plan->device);
+    /* A device the model chose but that does not open leaves the job to the
+     * C twin, which computes the same (the summary names the device used);
+     * a run cancelled while the device's kernels build stops. */
+    ss_status st = ctx->use_reference ? SS_OK : ss_ocl_acquire(ctx);
+    if (st == SS_ERR_CANCELLED)
+        return st;
+    if (st != SS_OK)
+        select_device(ctx, "reference");
+    return SS_OK;
+}
+
+const char *ss_ctx_device_name(ss_ctx *ctx)
+{
+    if (!ctx->use_reference && !ctx->ocl && ss_ocl_acquire(ctx) != SS_OK) {
+        ctx->device_name[0] = '\0';
+        return "(no device)";
+    }
+    return ctx->device_name;
+}
 
 ss_ctx *ss_ctx_new(void)
 {
@@ -63,19 +114,6 @@ ss_counters ss_ctx_counters(const ss_ctx *ctx)
     return ctx->counters;
 }
 
-ss_status ss_fail(ss_ctx *ctx, ss_status status, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(ctx->message, sizeof ctx->message, fmt, ap);
-    va_end(ap);
-    for (char *p = ctx->message; *p; ++p)
-        if (*p == '\n' || *p == '\r')
-            *p = ' ';
-    ctx->failures++;
-    return status;
-}
-
 ss_status ss_ctx_error(ss_ctx *ctx, ss_status status, const char *fmt, ...)
 {
     char line[sizeof ctx->message];
@@ -94,28 +132,4 @@ void ss_ctx_cancel(ss_ctx *ctx)
 void ss_ctx_cancel_clear(ss_ctx *ctx)
 {
     ctx->cancel_requested = 0;
-}
-
-ss_status ss_check_cancel(ss_ctx *ctx, const char *what)
-{
-    return ctx->cancel_requested
-               ? ss_fail(ctx, SS_ERR_CANCELLED, "cancelled during %s", what ? what : "the run")
-               : SS_OK;
-}
-
-ss_status ss_progress(ss_ctx *ctx, double complete, const char *what)
-{
-    ss_status st = ss_check_cancel(ctx, what);
-    if (st != SS_OK)
-        return st;
-    if (ctx->progress && !ctx->progress(complete, what, ctx->progress_user))
-        return ss_fail(ctx, SS_ERR_CANCELLED, "cancelled during %s", what ? what : "the run");
-    return SS_OK;
-}
-
-double ss_seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }

@@ -11,7 +11,11 @@
 extern "C" {
 #endif
 
-struct ss_ocl; /* backend_ocl.c: the opened OpenCL device, context and kernels */
+struct ss_ocl; /* ocl_devices.c: the opened OpenCL device, context and kernels */
+/* Opens the context's chosen device and builds the kernels, once per
+ * context; a failure leaves the context as it was, so the next call tries
+ * again. */
+ss_status ss_ocl_acquire(ss_ctx *ctx);
 void ss_ocl_release(struct ss_ocl *ocl);
 /* Whether ctx runs on an OpenCL CPU device (opened), whose buffers are
  * host memory. */

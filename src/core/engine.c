@@ -25,66 +25,9 @@
 /* The kernels take the directions from a buffer: no padding may differ. */
 _Static_assert(sizeof(ss_band_dir) == 112, "ss_band_dir layout");
 
-int ss_walk_planes(const ss_walk *walk)
-{
-    if (walk->term != SS_TERM_HORIZON)
-        return 1;
-    return walk->want & SS_HORIZON_WANT_CAST ? 4 : walk->want & SS_HORIZON_WANT_DIST ? 3 : 2;
-}
-
-size_t ss_backend_carry_floats(const ss_backend *b)
-{
-    return (size_t)b->carried * (size_t)ss_walk_planes(&b->walk) * (size_t)b->width;
-}
-
 ss_status ss_backend_open(ss_backend *b)
 {
     return b->ctx->use_reference ? ss_backend_ref_open(b) : ss_backend_ocl_open(b);
-}
-
-ss_source ss_source_of_grid(const ss_grid *grid)
-{
-    ss_source src = {.width = grid->width,
-                     .height = grid->height,
-                     .cell_x_m = grid->cell_x_m,
-                     .cell_y_m = grid->cell_y_m,
-                     .z_origin_m = &grid->z_origin_m,
-                     .z = grid->z};
-    return src;
-}
-
-int ss_source_band_rows(const ss_source *src)
-{
-    return src->band_rows > 0 && src->band_rows < src->height ? src->band_rows : src->height;
-}
-
-double ss_source_origin(const ss_source *src)
-{
-    return src->z_origin_m ? *src->z_origin_m : 0.0;
-}
-
-ss_status ss_source_check(ss_ctx *ctx, const ss_source *src)
-{
-    /* Heights in memory are checked as a grid's: sizes, cell sizes and
-     * heights, at least one of them valid. A reader's show themselves as
-     * they are read (ss_engine_run refuses a DEM with no valid height). */
-    if (src && src->z) {
-        ss_grid g = {src->width, src->height, src->cell_x_m, src->cell_y_m,
-                     ss_source_origin(src), (float *)src->z};
-        ss_status st = ss_grid_check(ctx, &g, NULL);
-        if (st != SS_OK)
-            return st;
-    }
-    if (!src || src->width < 1 || src->height < 1 || (src->width < 2 && src->height < 2) ||
-        !(src->cell_x_m > 0) || !(src->cell_y_m > 0) || !isfinite(src->cell_x_m) ||
-        !isfinite(src->cell_y_m) || (!src->z && !src->read) || src->band_rows < 0)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "a DEM needs at least 2 cells, positive cell sizes, heights or a reader of "
-                       "rows, and 0 or more rows per band");
-    if ((double)src->width * (double)src->height > 2147483647.0)
-        return ss_fail(ctx, SS_ERR_ARGUMENT, "a DEM of %d x %d cells is beyond 2^31 cells",
-                       src->width, src->height);
-    return SS_OK;
 }
 
 struct ss_engine_device {

@@ -289,7 +289,7 @@ ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
     /* The cell's own surface: the radiative SVF product's tilted sky view. */
     ss_store_sink sky = {job->cells, 0};
     if (st == SS_OK && own)
-        st = ss_sky_walk(job->ctx, job->src, job->opt, SS_SKY_SVF_TILTED, 0.0, NULL,
+        st = ss_sky_walk(job->ctx, job->src, job->opt, SS_SKY_SVF_RADIATIVE, 0.0, NULL,
                          ss_store_sink_rows, &sky);
     if (st != SS_OK)
         return st;

@@ -268,7 +268,7 @@ void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_params *sun,
 ss_sky_term ss_svf_params_term(const ss_svf_params *p)
 {
     /* In the choices' order. */
-    static const ss_sky_term terms[] = {SS_SKY_SVF_GEOMETRIC, SS_SKY_SVF_TILTED,
+    static const ss_sky_term terms[] = {SS_SKY_SVF_GEOMETRIC, SS_SKY_SVF_RADIATIVE,
                                         SS_SKY_SVF_HORIZONTAL};
     return terms[p->definition >= 0 && p->definition < 3 ? p->definition : 0];
 }
@@ -284,19 +284,20 @@ void ss_hillshade_params_options(const ss_hillshade_params *p, double cell_size_
     *out = (ss_hillshade_options){.azimuth_deg = p->azimuth_deg,
                                   .altitude_deg = p->altitude_deg,
                                   .z_factor = p->z_factor,
-                                  .zevenbergen_thorne = p->alg == 1,
+                                  .zevenbergen_thorne =
+                                      p->alg == SS_HILLSHADE_ALG_ZEVENBERGEN_THORNE,
                                   .multidirectional = p->multidirectional,
                                   .cast_shadows = p->cast_shadows,
                                   .sky_view = p->sky_view,
-                                  .vat = p->blend == 1,
+                                  .vat = p->blend == SS_HILLSHADE_BLEND_VAT,
                                   .radius_m = p->blend_radius_cells * cell_size_m};
 }
 
-ss_product ss_hillshade_params_product(const ss_hillshade_params *p)
+ss_plan_kind ss_hillshade_params_plan_kind(const ss_hillshade_params *p)
 {
-    return p->cast_shadows                  ? SS_PRODUCT_SHADOW
-           : p->sky_view > 0 || p->blend == 1 ? SS_PRODUCT_SVF
-                                             : SS_PRODUCT_HILLSHADE;
+    return p->cast_shadows                                         ? SS_PLAN_SHADOW
+           : p->sky_view > 0 || p->blend == SS_HILLSHADE_BLEND_VAT ? SS_PLAN_SKY_VIEW
+                                                                   : SS_PLAN_NO_SWEEP;
 }
 
 ss_shadow_mode ss_insolation_params_shadow(const ss_insolation_params *p)

@@ -56,26 +56,26 @@ static ss_plan_item *add(ss_plan *p, const char *key, int on, double bound, cons
     return it;
 }
 
-static int uses_horizons(ss_product product)
+static int uses_horizons(ss_plan_kind kind)
 {
-    return product != SS_PRODUCT_HILLSHADE;
+    return kind != SS_PLAN_NO_SWEEP;
 }
 
-static int uses_sun(ss_product product)
+static int uses_sun(ss_plan_kind kind)
 {
-    return product == SS_PRODUCT_SHADOW || product == SS_PRODUCT_INSOLATION;
+    return kind == SS_PLAN_SHADOW || kind == SS_PLAN_INSOLATION;
 }
 
 /* The accuracy a product is judged by, as the horizon angle it allows: SVF
  * moves by at most the horizon's change in radians (d sin h / dh <= 1). */
 static double horizon_tolerance_deg(const ss_plan_request *r)
 {
-    return r->product == SS_PRODUCT_SVF ? r->svf_tolerance * DEG : r->horizon_tolerance_deg;
+    return r->kind == SS_PLAN_SKY_VIEW ? r->svf_tolerance * DEG : r->horizon_tolerance_deg;
 }
 
 static void plan_curvature(ss_plan *p, const ss_plan_request *r, const ss_place *place)
 {
-    if (!uses_horizons(r->product)) {
+    if (!uses_horizons(r->kind)) {
         add(p, "curvature", 0, 0, "deg", "this product reads no horizons");
         return;
     }
@@ -160,7 +160,7 @@ static double wall_share(const ss_grid *g)
 static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid)
 {
     p->box_lines = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
-    if (!uses_horizons(r->product)) {
+    if (!uses_horizons(r->kind)) {
         p->lines = r->lines == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : r->lines;
         return;
     }
@@ -215,16 +215,16 @@ static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid
  * whose measured error meets --svf-tolerance (doc/accuracy.md); else 32. */
 static void plan_directions(ss_plan *p, const ss_plan_request *r)
 {
-    int sky = r->product == SS_PRODUCT_SVF || r->product == SS_PRODUCT_INSOLATION;
+    int sky = r->kind == SS_PLAN_SKY_VIEW || r->kind == SS_PLAN_INSOLATION;
     if (r->directions) {
         p->directions = r->directions;
-        if (sky || r->product == SS_PRODUCT_HORIZON)
+        if (sky || r->kind == SS_PLAN_HORIZONS)
             add(p, "directions", 1, 0, "", "%d directions, as requested", p->directions);
         return;
     }
     p->directions = 32;
     if (!sky || p->lines != SS_LINES_INTERPOLATED) {
-        if (sky || r->product == SS_PRODUCT_HORIZON)
+        if (sky || r->kind == SS_PLAN_HORIZONS)
             add(p, "directions", 1, 0, "",
                 "%d directions: the default (the accuracy table is measured on interpolated "
                 "lines, doc/accuracy.md)",
@@ -232,7 +232,7 @@ static void plan_directions(ss_plan *p, const ss_plan_request *r)
         return;
     }
     ss_svf_definition def =
-        r->product == SS_PRODUCT_INSOLATION ? SS_SVF_DEF_TILTED : r->svf_definition;
+        r->kind == SS_PLAN_INSOLATION ? SS_SVF_DEF_RADIATIVE : r->svf_definition;
     double error;
     int d = ss_directions_for_tolerance(def, r->svf_tolerance, &error);
     if (d <= 0)
@@ -329,7 +329,7 @@ static void choose_shadows(ss_plan *p, const ss_plan_request *r, double *error)
 {
     *error = 0;
     p->shadow_mode = r->shadow_mode;
-    if (r->product != SS_PRODUCT_INSOLATION || r->shadow_mode != SS_SHADOW_AUTO)
+    if (r->kind != SS_PLAN_INSOLATION || r->shadow_mode != SS_SHADOW_AUTO)
         return;
     p->shadow_mode = SS_SHADOW_EXACT;
     if (shadow_table_gap(p, r) || !(r->weather.tolerance_pct > 0)) /* 0: none allowed */
@@ -365,7 +365,7 @@ static void choose_shadows(ss_plan *p, const ss_plan_request *r, double *error)
 /* The plan's word on the shadow mode chosen, and the error it expects. */
 static void plan_shadows(ss_plan *p, const ss_plan_request *r, double error)
 {
-    if (r->product != SS_PRODUCT_INSOLATION)
+    if (r->kind != SS_PLAN_INSOLATION)
         return;
     const ss_plan_weather *w = &r->weather;
     if (r->shadow_mode != SS_SHADOW_AUTO) {
@@ -427,9 +427,9 @@ static void plan_shadows(ss_plan *p, const ss_plan_request *r, double error)
 
 static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place)
 {
-    if (!uses_sun(r->product) || !place->georeferenced) {
+    if (!uses_sun(r->kind) || !place->georeferenced) {
         add(p, "sun_per_cell", 0, 0, "deg",
-            uses_sun(r->product) ? "no CRS: the sun is given for the whole DEM"
+            uses_sun(r->kind) ? "no CRS: the sun is given for the whole DEM"
                                  : "this product has no sun");
         return;
     }
@@ -457,7 +457,7 @@ static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place
 static int stops_shadow_walks(const ss_plan *p, const ss_plan_request *r)
 {
     int walked = r->n_steps - p->steps_night - p->steps_high_sun;
-    return r->product == SS_PRODUCT_INSOLATION && p->shadow_mode == SS_SHADOW_EXACT &&
+    return r->kind == SS_PLAN_INSOLATION && p->shadow_mode == SS_SHADOW_EXACT &&
            ss_lit_levels_used(walked, p->lines);
 }
 
@@ -467,7 +467,7 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
                             const ss_place *place, double bound_deg, int held_whole,
                             double spread_deg)
 {
-    if (!uses_sun(r->product) || r->n_steps == 0 || !place->georeferenced)
+    if (!uses_sun(r->kind) || r->n_steps == 0 || !place->georeferenced)
         return SS_OK;
     ss_spa_params sp;
     ss_spa_params_default(&sp);
@@ -483,7 +483,7 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
             p->steps_high_sun++;
     }
     p->steps_total = r->n_steps;
-    if (r->product == SS_PRODUCT_INSOLATION)
+    if (r->kind == SS_PLAN_INSOLATION)
         add(p, "night_steps", 1, 0, "",
             "%d of %d time steps have the sun below the horizontal at every cell: skipped "
             "exactly%s",
@@ -623,18 +623,18 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     plan_sun(p, r, place);
 
     double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;
-    double bound = uses_sun(r->product) ? ss_horizon_bound_deg(grid, p->lines, p->box_lines) : 90.0;
+    double bound = uses_sun(r->kind) ? ss_horizon_bound_deg(grid, p->lines, p->box_lines) : 90.0;
     plan_shadows(p, r, shadow_error);
     ss_status st = plan_steps(ctx, p, r, place, bound, grid->z != NULL, spread);
     if (st != SS_OK)
         return st;
-    if (r->product == SS_PRODUCT_INSOLATION)
+    if (r->kind == SS_PLAN_INSOLATION)
         add(p, "diffuse_reflected", 1, 0, "",
             "insolation needs the sky each cell sees: one radiative SVF sweep over %d "
             "directions for the diffuse and reflected terms",
             p->directions);
     const ss_plan_weather *w = &r->weather;
-    if (r->product == SS_PRODUCT_INSOLATION && w->what) {
+    if (r->kind == SS_PLAN_INSOLATION && w->what) {
         if (isnan(w->distance_km))
             add(p, "weather", 1, 0, "", "real sky from %s, which names no site", w->what);
         else
@@ -647,7 +647,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     /* Perez's band comes from the sweep that stores the horizons, where
      * shadows take stored horizons. */
     int band_sweep = w->what && w->horizon_band && p->shadow_mode == SS_SHADOW_EXACT;
-    if (r->product == SS_PRODUCT_INSOLATION && w->what && w->horizon_band)
+    if (r->kind == SS_PLAN_INSOLATION && w->what && w->horizon_band)
         add(p, "horizon_band", 1, 0, "",
             band_sweep ? "Perez's sky: one more sweep over %d directions for the share of its "
                          "horizon band each cell sees"
@@ -658,18 +658,18 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     /* Work: sweeps of all cells, then per-cell arithmetic for each step. */
     double sweeps = 0;
     int daylight = p->steps_total - p->steps_night;
-    switch (r->product) {
-    case SS_PRODUCT_HORIZON:
-    case SS_PRODUCT_SVF:
+    switch (r->kind) {
+    case SS_PLAN_HORIZONS:
+    case SS_PLAN_SKY_VIEW:
         sweeps = p->directions;
         break;
-    case SS_PRODUCT_SHADOW:
+    case SS_PLAN_SHADOW:
         sweeps = 1;
         break;
-    case SS_PRODUCT_HILLSHADE:
+    case SS_PLAN_NO_SWEEP:
         sweeps = 0;
         break;
-    case SS_PRODUCT_INSOLATION:
+    case SS_PLAN_INSOLATION:
         sweeps = p->directions + (p->shadow_mode != SS_SHADOW_EXACT
                                       ? p->directions
                                       : daylight - p->steps_high_sun) +

@@ -14,7 +14,7 @@
 static void svf_request(const void *params, ss_plan_request *req)
 {
     const ss_svf_params *p = params;
-    req->product = SS_PRODUCT_SVF;
+    req->kind = SS_PLAN_SKY_VIEW;
     req->svf_definition = (ss_svf_definition)ss_svf_params_term(p);
     req->radius_m = p->radius_m;
 }
@@ -43,7 +43,7 @@ static ss_status svf_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_optio
 /* Openness reads horizons, not an SVF: the planner's horizon product. */
 static void openness_request(const void *params, ss_plan_request *req)
 {
-    req->product = SS_PRODUCT_HORIZON;
+    req->kind = SS_PLAN_HORIZONS;
     req->radius_m = ((const ss_openness_params *)params)->radius_m;
 }
 
@@ -71,7 +71,7 @@ static ss_status openness_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_
 static void horizon_request(const void *params, ss_plan_request *req)
 {
     (void)params;
-    req->product = SS_PRODUCT_HORIZON;
+    req->kind = SS_PLAN_HORIZONS;
 }
 
 /* The optional outputs' bits (1 << SS_OUT_HORIZON_DISTANCE, ...) are
@@ -92,7 +92,7 @@ static ss_status horizon_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
 
 static void hillshade_request(const void *params, ss_plan_request *req)
 {
-    req->product = ss_hillshade_params_product(params);
+    req->kind = ss_hillshade_params_plan_kind(params);
 }
 
 static int hillshade_sweeps(const ss_hillshade_params *p)
@@ -126,7 +126,7 @@ static ss_status hillshade_run(ss_ctx *ctx, const ss_source *src, const ss_sweep
 static void shadow_request(const void *params, ss_plan_request *req)
 {
     (void)params;
-    req->product = SS_PRODUCT_SHADOW;
+    req->kind = SS_PLAN_SHADOW;
 }
 
 /* A horizon's band and the lit and facing rows. */
@@ -138,7 +138,7 @@ static double shadow_cell_bytes(const void *params, unsigned outputs)
 
 static void insolation_request(const void *params, ss_plan_request *req)
 {
-    req->product = SS_PRODUCT_INSOLATION;
+    req->kind = SS_PLAN_INSOLATION;
     req->shadow_mode = ss_insolation_params_shadow(params);
 }
 
@@ -193,24 +193,24 @@ static const ss_product_info products[] = {
      "Horizon elevation angle (degrees above the horizontal; -90 where no terrain lies ahead)\n"
      "of every cell, one band per azimuth, exact at unlimited distance; or the horizon "
      "profiles of sites.",
-     NULL, sweep_only, 0, horizon_outputs, SS_PRODUCT_HORIZON, 0, horizon_request,
+     NULL, sweep_only, 0, horizon_outputs, SS_PLAN_HORIZONS, 0, horizon_request,
      horizon_cell_bytes, no_halo, horizon_run},
     {"svf", "sky-view factor (geometric, radiative or horizontal)", "Sky-view factor", "Terrain",
      "Sky-view factor of every cell (0..1), from exact horizons in evenly spaced azimuths.\n"
      "Several DEM tiles are mosaicked first. With --canopy, bands 2 svfveg (1 less the sky\n"
      "that crowns hide) and 3 svfbuveg (svf - (1 - svfveg)(1 - transmissivity)).",
-     "svf", sweep_only, sizeof(ss_svf_params), svf_outputs, SS_PRODUCT_SVF, 1, svf_request,
+     "svf", sweep_only, sizeof(ss_svf_params), svf_outputs, SS_PLAN_SKY_VIEW, 1, svf_request,
      svf_cell_bytes, svf_halo_m, svf_run},
     {"openness", "positive or negative topographic openness (degrees)", "Openness", "Terrain",
      "Topographic openness in degrees (Yokoyama et al. 2002), from horizons in evenly spaced "
      "azimuths.\nSeveral DEM tiles are mosaicked first.",
-     "openness", sweep_only, sizeof(ss_openness_params), openness_outputs, SS_PRODUCT_HORIZON, 1,
+     "openness", sweep_only, sizeof(ss_openness_params), openness_outputs, SS_PLAN_HORIZONS, 1,
      openness_request, openness_cell_bytes, openness_halo_m, openness_run},
     {"hillshade", "gdaldem-compatible hillshade, with cast shadows and sky view", "Hillshade",
      "Terrain",
      "Shaded relief as gdaldem hillshade computes it (Byte 1..255, 0 = nodata), optionally with"
      "\nexact cast shadows and sky-view shading.",
-     "hillshade", sweep_only, sizeof(ss_hillshade_params), hillshade_outputs, SS_PRODUCT_HILLSHADE,
+     "hillshade", sweep_only, sizeof(ss_hillshade_params), hillshade_outputs, SS_PLAN_NO_SWEEP,
      0, hillshade_request, hillshade_cell_bytes, hillshade_halo_m, hillshade_run},
     {"insolation", "clear-sky beam, diffuse, reflected irradiation, hours of sun",
      "Insolation and PV yield", "Sun",
@@ -219,14 +219,14 @@ static const ss_product_info products[] = {
      "hours of direct\nsun. Real sky from a weather file: the same five (kWh/m2, hours) for "
      "the year, then the\nglobal of each month.",
      "insolation", sweep_and_sun, sizeof(ss_insolation_params), insolation_outputs,
-     SS_PRODUCT_INSOLATION, 1, insolation_request, insolation_cell_bytes, no_halo, NULL},
+     SS_PLAN_INSOLATION, 1, insolation_request, insolation_cell_bytes, no_halo, NULL},
     {"shadow", "cast shadows and self-shadow for one sun (exact sweep)", "Cast shadows", "Sun",
      "Cast shadows for one sun, by an exact sweep along its azimuth. Bands: 1 sunlit (1) or in "
      "a cast\nshadow (0); 2 facing the sun (1) or away (self-shadow, 0); 3 illumination cos(i) "
      "on sunlit cells facing\nthe sun, else 0 (shaded relief with cast shadows). With "
      "--canopy: 4 lit (0), solid\nshadow (1) or vegetation shadow (2); 5 fraction of the beam "
      "that arrives.",
-     NULL, sweep_and_sun, 0, shadow_outputs, SS_PRODUCT_SHADOW, 0, shadow_request,
+     NULL, sweep_and_sun, 0, shadow_outputs, SS_PLAN_SHADOW, 0, shadow_request,
      shadow_cell_bytes, no_halo, NULL},
 };
 

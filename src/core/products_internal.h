@@ -20,7 +20,7 @@ double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
  * definitions (SS_SVF_*) or openness (SS_TERM_ELEVATION: 90 - mean). */
 float ss_product_finish(int term, float sum, int directions);
 
-/* ss_sky_rows on arguments its caller has checked (ss_rows_begin, or a
+/* ss_sky_rows on arguments its caller has checked (sky_walk.c; ss_rows_begin, or a
  * product of its own that needs the sky view). */
 ss_status ss_sky_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                       ss_sky_term term, double radius_m, const ss_share *share,
