@@ -61,15 +61,19 @@ swap_memory() {
     for a in "$@"; do echo "$a"; done |
         awk -v m="$m" 'prev == "--memory" && m != "" { print m; prev = ""; next } { print; prev = $0 }'
 }
-# rows_of BIN OPTION ARGS...: the band rows the run prints ("bands N rows").
+# rows_of BIN OPTION ARGS...: the band rows the run prints ("bands N rows"),
+# nothing when it sweeps the grid whole, "refused" when the budget is too
+# small (the process's measured size varies a little from run to run).
 rows_of() {
     bin=$1 option=$2
     shift 2
     # shellcheck disable=SC2086
-    (cd "$work" && "$bin" "$@" $option 2>/dev/null) | sed -n 's/^bands *\([0-9]*\) rows.*/\1/p'
+    out=$(cd "$work" && "$bin" "$@" $option 2>/dev/null)
+    [ $? -eq 6 ] && { echo refused; return; }
+    echo "$out" | sed -n 's/^bands *\([0-9]*\) rows.*/\1/p'
 }
-# same_rows ARGS... (with --memory): sets new_memory to the least budget, in
-# 1 MiB steps up from the least the new build names, giving the old rows.
+# same_rows ARGS... (with --memory): sets new_memory to a budget, in
+# 1 MiB steps up from the least the new build names, that gives the old rows.
 same_rows() {
     want=$(rows_of "$old" "$old_option" "$@")
     # shellcheck disable=SC2046,SC2086
@@ -79,7 +83,16 @@ same_rows() {
     for m in $(seq "${start:-1}" $((${start:-1} + 400))); do
         # shellcheck disable=SC2046
         got=$(rows_of "$new" "$new_option" $(swap_memory "${m}M" "$@"))
-        [ "$got" = "$want" ] && { new_memory=${m}M; return; }
+        [ "$got" = refused ] && continue
+        if [ "$got" = "$want" ]; then
+            # 3 MiB into the budgets that give these rows, if they still do,
+            # away from the edge where the process's size could tip them.
+            # shellcheck disable=SC2046
+            [ "$(rows_of "$new" "$new_option" $(swap_memory "$((m + 3))M" "$@"))" = "$want" ] &&
+                m=$((m + 3))
+            new_memory=${m}M
+            return
+        fi
         # swept whole, or past the rows: no budget gives them
         { [ -z "$got" ] || [ "$got" -gt "$want" ]; } && return
     done
