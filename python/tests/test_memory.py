@@ -150,6 +150,7 @@ def test_a_budget_the_whole_grid_fits_runs_it_whole(monkeypatch):
     assert planned == [0]
 
 
+@UNDER_ASAN
 def test_masked_and_nodata_cells_read_in_bands_as_whole():
     z = TALL.copy()
     z[100:140, 10:30] = -32768.0
@@ -213,6 +214,7 @@ def test_peak_resident_memory_stays_within_the_budget():
         f"{budget / MIB:.1f} budget")
 
 
+@UNDER_ASAN
 def test_a_dataarray_with_rising_y_runs_in_bands_as_whole():
     xr = pytest.importorskip("xarray")
     rows, cols = TALL.shape
