@@ -16,10 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dem_io.h"
 #include "lines.h"
 #include "tap.h"
 #include "testlib.h"
+#include "tree_scenes.h"
 
 static const double suns[][2] = {{117, 25}, {203, 40}, {251, 15}, {331, 30}};
 
@@ -56,10 +56,6 @@ static int library_classes(const ss_grid *g, const ss_canopy *cn, double az, dou
     return ok;
 }
 
-static double trunk_at(const ss_canopy *cn, size_t i)
-{
-    return cn->trunk_m ? cn->trunk_m[i] : cn->trunk_ratio * cn->height_m[i];
-}
 
 /* The march: from cell (r, c)'s centre at its height toward the sun, the
  * nearest cell every 0.05 cell, its height at its centre (as digital lines
@@ -84,7 +80,7 @@ static int march_class(const ss_grid *g, const ss_canopy *cn, double zmax, int r
             continue;
         if (g->z[j] > ray)
             return 1;
-        double top = g->z[j] + cn->height_m[j], bottom = g->z[j] + trunk_at(cn, j);
+        double top = g->z[j] + cn->height_m[j], bottom = g->z[j] + tree_trunk_at(cn, j);
         crossed |= cn->height_m[j] > 0 && ray > bottom && ray < top;
     }
     return crossed ? 2 : 0;
@@ -132,8 +128,8 @@ static size_t brute_on_lines(const ss_grid *g, const ss_canopy *cn, double az, d
             double ray = g->z[cell[p]] + level[p];
             for (int q = 0; q < p && !hit; ++q) {
                 size_t j = cell[q];
-                hit = cn->height_m[j] > trunk_at(cn, j) &&
-                      ray > g->z[j] + trunk_at(cn, j) + level[q] &&
+                hit = cn->height_m[j] > tree_trunk_at(cn, j) &&
+                      ray > g->z[j] + tree_trunk_at(cn, j) + level[q] &&
                       ray < g->z[j] + cn->height_m[j] + level[q];
             }
             wrong += hit != crossed[cell[p]];
@@ -319,20 +315,6 @@ static void light_under_the_crown(void)
     ss_grid_free(&g);
 }
 
-/* Random crowns of 2..6 m radius, 4..20 m tall, on ground cells. */
-static void plant(const ss_grid *g, float *height, unsigned seed, int n_trees)
-{
-    memset(height, 0, sizeof(float) * (size_t)g->width * g->height);
-    srand(seed);
-    for (int k = 0; k < n_trees; ++k) {
-        int cr = rand() % g->height, cc = rand() % g->width;
-        double R = 2 + rand() % 5, H = 4 + rand() % 17;
-        for (int r = (int)(cr - R); r <= cr + R; ++r)
-            for (int c = (int)(cc - R); c <= cc + R; ++c)
-                if (r >= 0 && c >= 0 && r < g->height && c < g->width && hypot(r - cr, c - cc) <= R)
-                    height[(size_t)r * g->width + c] = (float)H;
-    }
-}
 
 /* Trunk 0: every crown is a column from the ground, so the solid sweep of
  * DSM + canopy shades exactly the cells that the sweep of the DSM or the
@@ -347,7 +329,7 @@ static void columns_equal_crowns(int box)
     size_t cells = (size_t)n * n;
     float *height = malloc(cells * sizeof(float)), *a = malloc(cells * sizeof(float)),
           *b = malloc(cells * sizeof(float));
-    plant(&g, height, 11, 40);
+    tree_plant(&g, height, 11, 40);
     for (size_t i = 0; i < cells; ++i)
         raised.z[i] = g.z[i] + height[i];
     ss_canopy cn = {height, NULL, 0.0, 0.0}, none = {height, NULL, 0.0, 0.0};
@@ -389,7 +371,7 @@ static void synthetic_scene(const char *what, double relief, int box, double flo
             for (int c = 37 * k % 180; c < 37 * k % 180 + 15; ++c)
                 g.z[(size_t)r * n + c] += 8.0f + 2 * k;
     float *height = malloc(sizeof(float) * (size_t)n * n);
-    plant(&g, height, 5, 60);
+    tree_plant(&g, height, 5, 60);
     ss_canopy cn = {height, NULL, 0.25, 0.03};
     box_model = box;
     against_march(what, &g, &cn, floor);
@@ -400,28 +382,14 @@ static void synthetic_scene(const char *what, double relief, int box, double flo
 
 static void gothenburg(void)
 {
-    const char *dsm = test_shared_data("goteborg_kronenhuset_dsm_1m.tif");
-    const char *cdsm_found = test_shared_data("goteborg_kronenhuset_cdsm_1m.tif");
-    char cdsm[1024];
-    if (!dsm || !cdsm_found) {
+    ss_dem d;
+    float *height;
+    int found = tree_gothenburg(&d, &height);
+    if (found == 0) {
         tap_skip("the Gothenburg DSM and CDSM", "../shared/data is not here");
+    }
+    if (found <= 0)
         return;
-    }
-    snprintf(cdsm, sizeof cdsm, "%s", cdsm_found);
-    ss_ctx *ctx = ss_ctx_new();
-    ss_dem d, c;
-    const char *p1[] = {dsm}, *p2[] = {cdsm};
-    if (ss_dem_read(ctx, p1, 1, NULL, &d) != SS_OK || ss_dem_read(ctx, p2, 1, NULL, &c) != SS_OK) {
-        tap_ok(0, "cannot read the Gothenburg rasters: %s", ss_ctx_message(ctx));
-        ss_ctx_free(ctx);
-        return;
-    }
-    size_t cells = (size_t)d.grid.width * d.grid.height;
-    float *height = malloc(cells * sizeof(float));
-    for (size_t i = 0; i < cells; ++i) {
-        double h = c.grid.z[i] + c.grid.z_origin_m;
-        height[i] = isfinite(h) && h > 0 ? (float)h : 0.0f;
-    }
     ss_canopy cn = {height, NULL, 0.25, 0.03};
     against_march("the Gothenburg 1 m DSM and CDSM", &d.grid, &cn, 98.0);
     box_model = 1;
@@ -429,8 +397,6 @@ static void gothenburg(void)
     box_model = 0;
     free(height);
     ss_dem_free(&d);
-    ss_dem_free(&c);
-    ss_ctx_free(ctx);
 }
 
 static void refusals(void)

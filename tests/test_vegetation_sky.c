@@ -15,9 +15,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "dem_io.h"
 #include "tap.h"
 #include "testlib.h"
+#include "tree_scenes.h"
 
 static double now_s(void)
 {
@@ -122,10 +122,6 @@ static int by_lo(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static double trunk_at(const ss_canopy *cn, size_t i)
-{
-    return cn->trunk_m ? cn->trunk_m[i] : cn->trunk_ratio * cn->height_m[i];
-}
 
 /* The march from cell (r, c) along grid azimuth az: the share of the
  * direction's sky the surface hides (*solid), and the share crowns hide
@@ -152,7 +148,7 @@ static void march(const ss_grid *g, const ss_canopy *cn, ss_svf_definition def, 
         if (!(along > 0))
             continue;
         ts = fmax(ts, (g->z[j] - z) / along);
-        double top = cn->height_m[j], bottom = trunk_at(cn, j);
+        double top = cn->height_m[j], bottom = tree_trunk_at(cn, j);
         ttop = fmax(ttop, (g->z[j] + top - z) / along);
         if (top > bottom)
             spans[n++] = (span){(g->z[j] + bottom - z) / along, (g->z[j] + top - z) / along};
@@ -228,20 +224,6 @@ static void against_march(const char *what, const ss_grid *g, const ss_canopy *c
     free(solid), free(ignore), free(open), free(spans);
 }
 
-/* Random crowns of 2..6 m radius, 4..20 m tall. */
-static void plant(const ss_grid *g, float *height, unsigned seed, int n_trees)
-{
-    memset(height, 0, sizeof(float) * (size_t)g->width * g->height);
-    srand(seed);
-    for (int k = 0; k < n_trees; ++k) {
-        int cr = rand() % g->height, cc = rand() % g->width;
-        double R = 2 + rand() % 5, H = 4 + rand() % 17;
-        for (int r = (int)(cr - R); r <= cr + R; ++r)
-            for (int c = (int)(cc - R); c <= cc + R; ++c)
-                if (r >= 0 && c >= 0 && r < g->height && c < g->width && hypot(r - cr, c - cc) <= R)
-                    height[(size_t)r * g->width + c] = (float)H;
-    }
-}
 
 /* 3 m hills, 12 buildings, 60 trees. */
 static void synthetic_scene(void)
@@ -254,7 +236,7 @@ static void synthetic_scene(void)
             for (int c = 37 * k % 140; c < 37 * k % 140 + 15; ++c)
                 g.z[(size_t)r * n + c] += 8.0f + 2 * k;
     float *height = malloc(sizeof(float) * (size_t)n * n);
-    plant(&g, height, 5, 50);
+    tree_plant(&g, height, 5, 50);
     ss_canopy cn = {height, NULL, 0.25, 0.03};
     against_march("a synthetic scene (3 m hills, 12 buildings, 50 trees)", &g, &cn, 5);
     free(height);
@@ -263,35 +245,19 @@ static void synthetic_scene(void)
 
 static void gothenburg(void)
 {
-    const char *dsm = test_shared_data("goteborg_kronenhuset_dsm_1m.tif");
-    const char *cdsm_found = test_shared_data("goteborg_kronenhuset_cdsm_1m.tif");
-    char cdsm[1024];
-    if (!dsm || !cdsm_found) {
+    ss_dem d;
+    float *height;
+    int found = tree_gothenburg(&d, &height);
+    if (found == 0) {
         tap_skip("the Gothenburg DSM and CDSM", "../shared/data is not here");
         tap_skip("the Gothenburg DSM and CDSM, trunk gaps", "../shared/data is not here");
+    }
+    if (found <= 0)
         return;
-    }
-    snprintf(cdsm, sizeof cdsm, "%s", cdsm_found);
-    ss_ctx *ctx = ss_ctx_new();
-    ss_dem d, c;
-    const char *p1[] = {dsm}, *p2[] = {cdsm};
-    if (ss_dem_read(ctx, p1, 1, NULL, &d) != SS_OK || ss_dem_read(ctx, p2, 1, NULL, &c) != SS_OK) {
-        tap_ok(0, "cannot read the Gothenburg rasters: %s", ss_ctx_message(ctx));
-        ss_ctx_free(ctx);
-        return;
-    }
-    size_t cells = (size_t)d.grid.width * d.grid.height;
-    float *height = malloc(cells * sizeof(float));
-    for (size_t i = 0; i < cells; ++i) {
-        double h = c.grid.z[i] + c.grid.z_origin_m;
-        height[i] = isfinite(h) && h > 0 ? (float)h : 0.0f;
-    }
     ss_canopy cn = {height, NULL, 0.25, 0.03};
     against_march("the Gothenburg 1 m DSM and CDSM", &d.grid, &cn, 4);
     free(height);
     ss_dem_free(&d);
-    ss_dem_free(&c);
-    ss_ctx_free(ctx);
 }
 
 static void refusals(void)
