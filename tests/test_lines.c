@@ -1,6 +1,8 @@
 /* The digital lines of every direction cover the grid with every cell
  * exactly once, walk monotonically away from the azimuth, and are
- * 8-connected; and both backends visit each cell exactly once. */
+ * 8-connected; the host's cursor over a digital line visits the same
+ * cells, each once, at distances that rise as it walks away from the
+ * azimuth; and both backends visit each cell exactly once. */
 #include "config.h"
 
 #include <math.h>
@@ -71,6 +73,45 @@ static const char *check_geometry(int w, int h, double cx, double cy, double az_
     return why[0] ? why : NULL;
 }
 
+/* The cursor (lines.h) over every digital line: each cell once, and the
+ * distance walked rising by the cell's projection on the walk direction
+ * (the distance from the line's first cell, as digital lines measure it,
+ * within float rounding of the per-step distances). */
+static const char *check_cursor(int w, int h, double cx, double cy, double az_deg)
+{
+    static char why[200];
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, w, h, cx, cy, az_deg, SS_LINE_MODEL_DIGITAL);
+    int *visits = calloc((size_t)w * h, sizeof *visits);
+    double a = az_deg * M_PI / 180.0, walk_east = -sin(a), walk_south = cos(a);
+    why[0] = '\0';
+    for (int line = 0; line < ss_line_count(&ls) && !why[0]; ++line) {
+        ss_line_cursor c = ss_line_cursor_start(&ls, line);
+        double first = 0.0, first_w = 0.0, prev_w = -INFINITY;
+        for (int k = 0; ss_line_cursor_next(&c) && !why[0]; ++k) {
+            ++visits[c.cell];
+            double col = (double)(c.cell % (size_t)w), row = (double)(c.cell / (size_t)w);
+            double along = col * cx * walk_east + row * cy * walk_south;
+            if (k == 0)
+                first = along, first_w = c.walked_m;
+            if (!(c.walked_m > prev_w))
+                snprintf(why, sizeof why, "line %d: the distance does not rise at its cell %d",
+                         line, k);
+            double want = along - first, got = c.walked_m - first_w;
+            if (fabs(got - want) > 1e-5 * (w + h) * (cx + cy))
+                snprintf(why, sizeof why, "line %d: cell %d walked %.9g m, %.9g m by projection",
+                         line, k, got, want);
+            prev_w = c.walked_m;
+        }
+    }
+    for (size_t i = 0; i < (size_t)w * h && !why[0]; ++i)
+        if (visits[i] != 1)
+            snprintf(why, sizeof why, "cell (%zu,%zu) visited %d times", i % (size_t)w,
+                     i / (size_t)w, visits[i]);
+    free(visits);
+    return why[0] ? why : NULL;
+}
+
 /* Both backends' bare pass over z = 1 must leave exactly 1 in every cell. */
 /* One context per device for all checks: opening a device (a GPU's context
  * and kernel build) costs far more than a pass over these small grids. */
@@ -131,6 +172,20 @@ int main(void)
             if (bad)
                 tap_diag("first failure at azimuth %.12g", bad_az);
         }
+    for (size_t gi = 0; gi < sizeof grids / sizeof grids[0]; ++gi) {
+        const char *bad = NULL;
+        double bad_az = 0;
+        for (int ai = 0; ai < n_angles && !bad; ++ai)
+            if ((bad = check_cursor(grids[gi].w, grids[gi].h, grids[gi].cx, grids[gi].cy,
+                                    angles[ai])))
+                bad_az = angles[ai];
+        tap_ok(!bad, "the cursor over digital lines on %dx%d (cells %gx%g m), %d azimuths: each "
+               "cell once, distances walked rising by projection%s%s",
+               grids[gi].w, grids[gi].h, grids[gi].cx, grids[gi].cy, n_angles, bad ? ": " : "",
+               bad ? bad : "");
+        if (bad)
+            tap_diag("first failure at azimuth %.12g", bad_az);
+    }
     const char *devices[] = {NULL, "reference"};
     for (int model = 0; model < 2; ++model)
         for (int d = 0; d < 2; ++d) {

@@ -134,20 +134,13 @@ static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
 {
     s->solid.n = s->top.n = 0;
     s->n_crowns = 0;
-    ss_i64 b16 = ss_line_intercept16(ls, line);
-    double away_major = (double)ls->along_per_step_m * ls->step,
-           away_minor = (double)ls->along_per_minor_m;
-    for (int k = 0; k < ls->major_len; ++k) {
-        int major = ls->step > 0 ? k : ls->major_len - 1 - k;
-        int minor = ss_line_minor(ls, b16, major);
-        if (minor < 0 || minor >= ls->minor_len)
-            continue;
-        size_t i =
-            (size_t)major * (size_t)ls->stride_major + (size_t)minor * (size_t)ls->stride_minor;
+    ss_line_cursor c = ss_line_cursor_start(ls, line);
+    while (ss_line_cursor_next(&c)) {
+        size_t i = c.cell;
         float z = s->grid->z[i];
         if (!isfinite(z))
             continue;
-        hull_point q = {major * away_major + minor * away_minor, z};
+        hull_point q = {c.walked_m, z};
         double ts = hull_rise(&s->solid, q), ttop = hull_rise(&s->top, q);
         double solid = hidden_share(s->definition, ts), crowns = 0.0;
         if (ttop > ts && s->gaps == SS_TRUNK_GAPS_OPEN)

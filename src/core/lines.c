@@ -84,6 +84,28 @@ void ss_line_set_for_azimuth(ss_line_set *ls, int width, int height, double cell
     ls->n_lines = (ls->minor_len - 1 - f_min + spare) - ls->line_min + 1;
 }
 
+ss_line_cursor ss_line_cursor_start(const ss_line_set *ls, int line)
+{
+    return (ss_line_cursor){ls, ss_line_intercept16(ls, line), 0, 0, 0.0};
+}
+
+int ss_line_cursor_next(ss_line_cursor *c)
+{
+    const ss_line_set *ls = c->ls;
+    while (c->k < ls->major_len) {
+        int k = c->k++;
+        int major = ls->step > 0 ? k : ls->major_len - 1 - k;
+        int minor = ss_line_minor(ls, c->b16, major);
+        if (minor < 0 || minor >= ls->minor_len)
+            continue;
+        c->cell = (size_t)major * (size_t)ls->stride_major + (size_t)minor * (size_t)ls->stride_minor;
+        c->walked_m = major * ((double)ls->along_per_step_m * ls->step) +
+                      minor * (double)ls->along_per_minor_m;
+        return 1;
+    }
+    return 0;
+}
+
 int ss_box_lines_take_cells(double cell_x_m, double cell_y_m)
 {
     return cell_x_m <= 2.0 * cell_y_m && cell_y_m <= 2.0 * cell_x_m;

@@ -55,19 +55,13 @@ static int walk_line(const ss_grid *grid, const ss_canopy *canopy, const ss_line
                      int line, double t, crown_union *u, unsigned char *crossed)
 {
     u->n = 0;
-    ss_i64 b16 = ss_line_intercept16(ls, line);
-    double away_major = (double)ls->along_per_step_m * ls->step,
-           away_minor = (double)ls->along_per_minor_m;
-    for (int k = 0; k < ls->major_len; ++k) {
-        int major = ls->step > 0 ? k : ls->major_len - 1 - k;
-        int minor = ss_line_minor(ls, b16, major);
-        if (minor < 0 || minor >= ls->minor_len)
-            continue;
-        size_t i = (size_t)major * (size_t)ls->stride_major + (size_t)minor * (size_t)ls->stride_minor;
+    ss_line_cursor c = ss_line_cursor_start(ls, line);
+    while (ss_line_cursor_next(&c)) {
+        size_t i = c.cell;
         float z = grid->z[i];
         if (!isfinite(z))
             continue;
-        double rise = (major * away_major + minor * away_minor) * t;
+        double rise = c.walked_m * t;
         crossed[i] = union_holds(u, z + rise);
         double top = canopy->height_m[i], bottom = trunk_of(canopy, i);
         if (top > bottom && union_add(u, z + bottom + rise, z + top + rise) != 0)
