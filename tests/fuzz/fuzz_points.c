@@ -49,20 +49,9 @@ static void check_sites(const site_rec *sites, int n, int as_file_name)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static char path[64];
-    if (!path[0]) {
-        char dir[] = "/tmp/ss-fuzz-points.XXXXXX";
-        if (!mkdtemp(dir))
-            abort();
-        snprintf(path, sizeof path, "%s/sites.csv", dir);
-    }
     if (size > 20000) /* the sites compared pairwise stay few */
         return 0;
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        abort();
-    fwrite(data, 1, size, f);
-    fclose(f);
+    const char *path = fuzz_input_file("sites.csv", data, size);
     for (int as_file_name = 0; as_file_name < 2; ++as_file_name) {
         ss_ctx *ctx = ss_ctx_new();
         if (!ctx)

@@ -26,20 +26,9 @@ typedef struct {
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static char path[64];
-    if (!path[0]) {
-        char dir[] = "/tmp/ss-fuzz-scene.XXXXXX";
-        if (!mkdtemp(dir))
-            abort();
-        snprintf(path, sizeof path, "%s/scene.ini", dir);
-    }
     if (size > 20000)
         return 0;
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        abort();
-    fwrite(data, 1, size, f);
-    fclose(f);
+    char *path = fuzz_input_file("scene.ini", data, size);
 
     const opt_spec *tables[] = {common_options(), sun_options(), NULL};
     char *argv[] = {"svf", "--scene", path, NULL};

@@ -25,20 +25,9 @@ static int irradiance_ok(float v)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static char path[64];
-    if (!path[0]) {
-        char dir[] = "/tmp/ss-fuzz-weather.XXXXXX";
-        if (!mkdtemp(dir))
-            abort();
-        snprintf(path, sizeof path, "%s/weather", dir);
-    }
     if (size > 200000)
         return 0;
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        abort();
-    fwrite(data, 1, size, f);
-    fclose(f);
+    const char *path = fuzz_input_file("weather", data, size);
     ss_ctx *ctx = ss_ctx_new();
     if (!ctx)
         abort();
