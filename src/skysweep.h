@@ -689,6 +689,12 @@ typedef struct {
     int vat;                          /* RVT's VAT blend instead (1 + 254 x 0..1) */
     double radius_m;                  /* the VAT's SVF and openness: horizons within it (0:
                                          unlimited) */
+    /* Trees in the cast shadows (NULL: none): per cell of the whole grid,
+     * whether the light's ray crosses a crown (ss_canopy_crossed along the
+     * light); such a cell, lit past the terrain, takes 1 + T (shade - 1):
+     * the share T of the light that passes the crowns. */
+    const unsigned char *crowns_crossed;
+    double transmissivity;
 } ss_hillshade_options;
 #define SS_OUT_SHADE 0 /* 1..255 */
 SS_API ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,

@@ -115,6 +115,17 @@ static void hillshade_check(void)
     ss_hillshade_options high = plain;
     high.altitude_deg = 91;
     tap_ok(ss_hillshade_check(ctx, &high) == SS_ERR_ARGUMENT, "an altitude of 91 degrees is refused");
+    unsigned char crossed[1] = {1};
+    ss_hillshade_options trees = plain, no_cast = plain, opaque = plain;
+    trees.crowns_crossed = crossed, trees.transmissivity = 0.03;
+    no_cast = trees, no_cast.cast_shadows = 0;
+    opaque = trees, opaque.transmissivity = 1.5;
+    tap_ok(ss_hillshade_check(ctx, &trees) == SS_OK &&
+               ss_hillshade_check(ctx, &no_cast) == SS_ERR_ARGUMENT &&
+               strstr(ss_ctx_message(ctx), "--cast-shadows") &&
+               ss_hillshade_check(ctx, &opaque) == SS_ERR_ARGUMENT,
+           "crowns pass with cast shadows and a transmissivity in 0..1, else are refused: %s",
+           ss_ctx_message(ctx));
     tap_ok(ss_hillshade_check(ctx, &plain) == SS_OK && ss_ctx_message(ctx)[0] == '\0',
            "a check that passes leaves no message behind");
     ss_ctx_free(ctx);

@@ -9,7 +9,11 @@
 # output are refused in one line with the documented exit code. svf
 # --canopy: a canopy of zeros leaves band 1 byte for byte, svfveg 1 and
 # svfbuveg = svf; a tree gives svfbuveg = svf - (1 - svfveg)(1 - T) at T
-# 0, 0.03 and 1; the metadata; the DSM in bands; its refusals.
+# 0, 0.03 and 1; the metadata; the DSM in bands; its refusals. hillshade
+# --canopy --cast-shadows: a canopy of zeros or of transmissivity 1 leaves
+# the shade byte for byte; cells in vegetation shadow (shadow's class 2 for
+# the same light) take 1 + T (shade - 1), every other cell its shade; a
+# canopy without cast shadows is refused.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-$PWD/skysweep}
@@ -197,4 +201,43 @@ refuse_svf 2 "--canopy with --radius" svf --canopy canopy.tif --radius 20 dsm.ti
 refuse_svf 3 "a canopy below 0" svf --canopy negative.tif dsm.tif bad.tif
 refuse_svf 2 "--canopy (openness takes no trees)" openness --canopy canopy.tif dsm.tif bad.tif
 refuse_svf 2 "--trunk-gaps (shadow has no sky view)" shadow "${sun[@]}" --canopy canopy.tif --trunk-gaps open dsm.tif bad.tif
+# hillshade --canopy: the light's crowns darken its cast shadows.
+hs() { "$SKYSWEEP" hillshade -q --device reference --cast-shadows --az 250 --alt 30 --north grid "$@"; }
+# byte_band FILE: band 1 of a byte raster as floats, one a line.
+byte_band() {
+    gdal_translate -q -ot Float32 -of ENVI "$1" "$1.f.raw" && od -An -v -f -w4 "$1.f.raw" | tr -d ' '
+}
+hs dsm.tif hs_plain.tif && hs --canopy zeros.tif dsm.tif hs_zeros.tif &&
+    hs --canopy canopy.tif --transmissivity 1 dsm.tif hs_t1.tif &&
+    cmp -s <(byte_band hs_plain.tif) <(byte_band hs_zeros.tif) &&
+    cmp -s <(byte_band hs_plain.tif) <(byte_band hs_t1.tif)
+tap_ok $? "hillshade, a canopy of zeros or of transmissivity 1: the shade byte for byte as without --canopy"
+"$SKYSWEEP" shadow -q --device reference --north grid --sun-azimuth 250 --sun-elevation 30 \
+    --canopy canopy.tif dsm.tif hs_classes.tif
+for t in 0 0.5; do
+    hs --canopy canopy.tif --transmissivity $t dsm.tif hs_t$t.tif
+    # The shade is written as bytes: 1 + T (shade - 1) of the unrounded
+    # shade, within 0.5 T + 0.5 of the rounded one's.
+    paste <(byte_band hs_plain.tif) <(byte_band hs_t$t.tif) <(band hs_classes.tif 4) |
+        awk -v t=$t '$3 == 2 {veg++; d = $2 - (1 + t * ($1 - 1)); if (d < 0) d = -d
+                              if (d > 0.5 * t + 0.5 + 1e-6 || (t == 0 && $2 != 1)) bad++}
+                     $3 != 2 && $2 != $1 {bad++}
+                     END {exit !(veg > 50 && bad == 0)}'
+    tap_ok $? "hillshade --transmissivity $t: cells in the crowns' shadow take 1 + $t (shade - 1), the others their shade"
+done
+grep -q "TRANSMISSIVITY=0.5" <(gdalinfo hs_t0.5.tif)
+tap_ok $? "hillshade --canopy: the metadata name the transmissivity"
+if [ -r dsm4.tif ]; then
+    g=(--lines interpolated --canopy cdsm4.tif --transmissivity 0.5 dsm4.tif)
+    least=$(least_budget hillshade --device reference --cast-shadows --north grid --lines interpolated --canopy cdsm4.tif)
+    hs "${g[@]}" hw.tif &&
+        "$SKYSWEEP" hillshade --device reference --cast-shadows --az 250 --alt 30 --north grid \
+            --memory "$least" "${g[@]}" hb.tif | grep -q "^bands " &&
+        cmp -s <(byte_band hw.tif) <(byte_band hb.tif)
+    tap_ok $? "hillshade --canopy, Gothenburg swept in bands: the shade as on the DSM held whole"
+else
+    tap_skip "hillshade --canopy, Gothenburg swept in bands" "../shared/data is not here"
+fi
+refuse_svf 2 "--canopy without --cast-shadows" hillshade --canopy canopy.tif dsm.tif bad.tif
+refuse_svf 2 "--transmissivity without --canopy" hillshade --cast-shadows --transmissivity 0.5 dsm.tif bad.tif
 tap_done

@@ -1,7 +1,8 @@
 /* skysweep hillshade: gdaldem's hillshade (same formula, options and byte
  * output), plus what a cartographer wants from the sweep: exact cast
- * shadows of the light, sky-view shading blended in, or RVT's VAT blend
- * (ss_hillshade_rows), on the DEM held whole or read band by band. */
+ * shadows of the light, with trees' partial shade (--canopy), sky-view
+ * shading blended in, or RVT's VAT blend (ss_hillshade_rows), on the DEM
+ * held whole or read band by band. */
 #include "config.h"
 
 #include <math.h>
@@ -11,10 +12,12 @@
 
 #include "commands.h"
 #include "run.h"
+#include "trees.h"
 
 typedef struct {
     common_settings common;  /* first: common_options()' offsets are relative to it */
     ss_hillshade_params hs;  /* the library's "hillshade" table */
+    tree_settings trees;
 } hillshade_settings;
 
 typedef struct {
@@ -29,21 +32,63 @@ static ss_status write_rows(void *user, int output, int index, int row0, int n_r
     return ss_writer_rows(o->w, 1, row0, n_rows, values);
 }
 
+/* The crowns the light crosses, for the whole grid (ss_canopy_crossed
+ * along the light, whose azimuth is in the raster's frame), handed to the
+ * shade in ho. */
+static ss_status trees_crossed(sweep_job *job, const tree_settings *set, trees *t,
+                               ss_hillshade_options *ho, unsigned char **crossed)
+{
+    ss_status st = trees_open(job, set, t);
+    ss_grid ground = trees_ground(job, t);
+    if (st == SS_OK &&
+        !(*crossed = malloc((size_t)ground.width * (size_t)ground.height)))
+        st = ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
+    if (st == SS_OK)
+        st = ss_canopy_crossed(job->run.ctx, &ground, &t->canopy, &job->opt, ho->azimuth_deg,
+                               ho->altitude_deg, *crossed);
+    ho->crowns_crossed = *crossed;
+    ho->transmissivity = set->transmissivity;
+    return st;
+}
+
+/* The share of the DSM's cells (held whole, g->z) whose light crosses a crown. */
+static double crossed_share(const unsigned char *crossed, const ss_grid *g)
+{
+    size_t n = (size_t)g->width * (size_t)g->height, k = 0, valid = 0;
+    for (size_t i = 0; i < n; ++i) {
+        k += crossed[i] != 0;
+        valid += isfinite(g->z[i]);
+    }
+    return valid ? (double)k / (double)valid : 0.0;
+}
+
 int cmd_hillshade(int argc, char **argv)
 {
     hillshade_settings set = {0};
     common_settings_init(&set.common);
     opt_spec hillshade_options[16];
     opt_from_params("hillshade", offsetof(hillshade_settings, hs), hillshade_options, 16);
-    const opt_spec *tables[] = {hillshade_options, common_options(), NULL};
+    opt_spec tree_opts[TREE_OPTIONS_MAX];
+    const opt_spec *tables[] = {
+        hillshade_options,
+        tree_options(offsetof(hillshade_settings, trees), 0,
+                     "partial shade: cells whose light crosses a crown (with --cast-shadows) "
+                     "take 1 + T (shade - 1)",
+                     tree_opts),
+        common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("hillshade", tables, &set, argc, argv, pos, &n_pos,
                        COMMAND_MAX_INPUTS + 1, 2, "skysweep hillshade [options] DEM... OUTPUT",
                        ss_product_named("hillshade")->description,
                        &set.common.device);
+    if (rc < 0)
+        rc = trees_options_alone("hillshade", tables, &set, &set.trees);
     if (rc >= 0)
         return rc;
+    if (set.trees.canopy && !set.hs.cast_shadows)
+        return run_usage_error("hillshade", "trees shade the hillshade through its cast "
+                                            "shadows: give --cast-shadows with --canopy");
     /* gdaldem refuses both too (front ends pass the default 315 always). */
     if (set.hs.multidirectional && !opt_at_default(opt_find(tables, "az"), &set))
         return run_usage_error("hillshade", "--multidirectional lights from 225, 270, 315 and "
@@ -65,7 +110,8 @@ int cmd_hillshade(int argc, char **argv)
                       .column_bytes = sweeps ? ss_horizon_column_bytes() : 0.0,
                       .directions = sweeps ? 0 : 1,
                       .no_sweep = !sweeps,
-                      .halo_cells = set.hs.blend ? set.hs.blend_radius_cells : 0.0};
+                      .halo_cells = set.hs.blend ? set.hs.blend_radius_cells : 0.0,
+                      .grid_cell_bytes = set.trees.canopy ? TREES_HILLSHADE_CELL_BYTES : 0.0};
     sweep_job job;
     if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
         return rc;
@@ -86,8 +132,15 @@ int cmd_hillshade(int argc, char **argv)
         return rc;
     }
     double blend_radius_m = ho.radius_m;
+    trees tr = {0};
+    unsigned char *crossed = NULL;
+    double trees_s = run_now();
+    if (set.trees.canopy)
+        st = trees_crossed(&job, &set.trees, &tr, &ho, &crossed);
+    trees_s = run_now() - trees_s;
     shade_out out = {NULL};
-    st = ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1, set.common.format,
+    if (st == SS_OK)
+        st = ss_writer_open_byte(job.run.ctx, job.output, &job.dem, 1, set.common.format,
                              set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
     ss_source src = job_source(&job, NULL);
@@ -111,6 +164,8 @@ int cmd_hillshade(int argc, char **argv)
                  set.hs.multidirectional ? ", multidirectional" : "",
                  set.hs.cast_shadows ? ", cast shadows" : "", set.hs.sky_view);
         ss_writer_metadata(w, set.hs.blend ? "RELIEF_BLEND" : "HILLSHADE", buf);
+        if (set.trees.canopy)
+            trees_metadata(w, &set.trees, &tr);
         ss_writer_describe(w, 1, set.hs.blend ? "VAT relief blend" : "hillshade", NULL);
     }
     if (st == SS_OK)
@@ -130,9 +185,20 @@ int cmd_hillshade(int argc, char **argv)
         else
             printf("shade   light %g/%g deg -> %s\n", set.hs.azimuth_deg, set.hs.altitude_deg,
                    job.output);
+        if (set.trees.canopy) {
+            char described[400];
+            ss_grid ground = trees_ground(&job, &tr);
+            trees_describe(&set.trees, &tr, described, sizeof described);
+            printf("trees   %s: the light crosses crowns at %.1f %% of cells (crowns swept on "
+                   "the host on %s lines, %.3f s)\n",
+                   described, 100.0 * crossed_share(crossed, &ground),
+                   job.opt.lines == SS_LINES_BOX ? "box" : "digital", trees_s);
+        }
         command_print_memory(&job, job.source ? "bands" : "whole grid");
         run_print_phases(&job.run);
     }
+    free(crossed);
+    trees_free(&tr);
     job_close(&job);
     return rc;
 }

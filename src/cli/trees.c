@@ -35,7 +35,14 @@ static const opt_spec tree_table[] = {
 const opt_spec *tree_options(size_t base, int sky, const char *bands,
                              opt_spec out[TREE_OPTIONS_MAX])
 {
-    static char canopy_help[2][320];
+    /* One help per distinct `bands`: --help-json builds every command's
+     * options in one process. */
+    static char canopy_help[8][400];
+    static const char *help_bands[8];
+    size_t slot = 0;
+    while (slot < 7 && help_bands[slot] && strcmp(help_bands[slot], bands) != 0)
+        ++slot;
+    help_bands[slot] = bands;
     int n = 0;
     for (const opt_spec *o = tree_table; o->name; ++o) {
         if (!sky && strcmp(o->name, "trunk-gaps") == 0)
@@ -44,8 +51,8 @@ const opt_spec *tree_options(size_t base, int sky, const char *bands,
         out[n].offset += base;
         ++n;
     }
-    snprintf(canopy_help[sky != 0], sizeof canopy_help[0], "%s%s", tree_table[0].help, bands);
-    out[0].help = canopy_help[sky != 0];
+    snprintf(canopy_help[slot], sizeof canopy_help[0], "%s%s", tree_table[0].help, bands);
+    out[0].help = canopy_help[slot];
     out[n] = (opt_spec)OPT_END;
     return out;
 }

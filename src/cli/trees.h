@@ -1,6 +1,7 @@
 /* Trees on the command line (doc/vegetation.md): the options that give a
- * canopy, declared once for every command that takes them (shadow, svf),
- * and its reading onto the DEM's grid, its checks and its metadata. */
+ * canopy, declared once for every command that takes them (shadow, svf,
+ * hillshade), and its reading onto the DEM's grid, its checks and its
+ * metadata. */
 #ifndef SS_CLI_TREES_H
 #define SS_CLI_TREES_H
 
@@ -46,6 +47,10 @@ typedef struct {
  * band kept, the classes and fractions, and a byte a cell for the crowns
  * crossed. */
 #define TREES_SHADOW_CELL_BYTES (6.0 * sizeof(float) + 1.0)
+
+/* ... and hillshade's: the crown heights, the trunks, the DSM, and a byte
+ * a cell for the crowns the light crosses. */
+#define TREES_HILLSHADE_CELL_BYTES (3.0 * sizeof(float) + 1.0)
 
 /* Reads --canopy and --trunk onto the DEM's grid and checks them. */
 ss_status trees_open(sweep_job *job, const tree_settings *set, trees *t);

@@ -69,6 +69,13 @@ ss_status ss_hillshade_check(ss_ctx *ctx, const ss_hillshade_options *ho)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "the VAT blend (--blend vat) has its own light and layers: it takes "
                        "no --cast-shadows, --sky-view or --multidirectional");
+    if (ho->crowns_crossed && !ho->cast_shadows)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "trees shade the hillshade through its cast shadows: give --cast-shadows "
+                       "with --canopy");
+    if (ho->crowns_crossed && !(ho->transmissivity >= 0.0 && ho->transmissivity <= 1.0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "transmissivity %g is not within 0..1",
+                       ho->transmissivity);
     return SS_OK;
 }
 
@@ -210,9 +217,16 @@ static ss_status shade_band(shade_run *s, const ss_band_view *band, const float 
     } else {
         ss_hillshade_of_rows(&held, first, first + band->n_rows, ho, s->shade);
     }
-    for (size_t c = 0; horizon && c < n; ++c)
-        if (s->shade[c] != SS_NODATA && !(ho->altitude_deg > horizon[c]))
+    const unsigned char *crossed =
+        ho->crowns_crossed ? ho->crowns_crossed + (size_t)band->row0 * band->width : NULL;
+    for (size_t c = 0; horizon && c < n; ++c) {
+        if (s->shade[c] == SS_NODATA)
+            continue;
+        if (!(ho->altitude_deg > horizon[c]))
             s->shade[c] = 1.0f;
+        else if (crossed && crossed[c])
+            s->shade[c] = (float)(1.0 + ho->transmissivity * (s->shade[c] - 1.0));
+    }
     for (size_t c = 0; ho->sky_view > 0 && c < n; ++c)
         if (s->shade[c] != SS_NODATA)
             s->shade[c] = (float)((1 - ho->sky_view) * s->shade[c] +
