@@ -450,6 +450,23 @@ SS_API ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_ca
  * transmissivity. SS_NODATA where sunlit is. */
 SS_API void ss_canopy_classes(const ss_canopy *canopy, size_t n, const float *sunlit,
                               const unsigned char *crossed, float *klass, float *fraction);
+/* Beer-Lambert crowns (doc/vegetation.md, a knob beside the constant
+ * transmissivity): path_m[c] = the length of the ray from cell c's surface
+ * toward the sun (grid azimuth, elevation in degrees) inside crowns of
+ * cells ahead, on digital lines, the earth flat: each crown cell whose
+ * interval the ray passes strictly inside (as ss_canopy_crossed on digital
+ * lines, so path_m > 0 exactly where that finds a crossing) adds the ray's
+ * run through one cell of the line over cos(elevation). SS_NODATA at
+ * nodata. */
+SS_API ss_status ss_canopy_path(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                double sun_grid_azimuth_deg, double sun_elevation_deg,
+                                float *path_m);
+/* fraction[c] = exp(-G LAD path_m[c]), the beam that crosses path_m metres
+ * of crown of leaf area density LAD (m2/m3) with extinction coefficient G
+ * (0.5: leaves at random angles); SS_NODATA where path_m is. */
+SS_API ss_status ss_canopy_path_fraction(ss_ctx *ctx, double extinction,
+                                         double leaf_area_density, size_t n,
+                                         const float *path_m, float *fraction);
 
 /* How the sky view treats the gaps under crowns (between the ground and the
  * trunk height): IGNORE takes each crown as a column down to the ground

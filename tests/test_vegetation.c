@@ -98,14 +98,20 @@ static double zmax_of(const ss_grid *g, const ss_canopy *cn)
 /* The crowns crossed by brute force on the engine's digital lines (the
  * sweep's geometry, not its union of intervals): every cell against every
  * cell ahead of it on its line, trunk to top. Returns the cells where the
- * sweep differs. */
+ * sweep differs: crossed or not, and Beer-Lambert's path (ss_canopy_path),
+ * which must be the crowns passed times the ray's run through a cell of
+ * the line, the major axis's cell size over the cosine of the azimuth from
+ * it, over cos(elevation). */
 static size_t brute_on_lines(const ss_grid *g, const ss_canopy *cn, double az, double el,
-                             const unsigned char *crossed)
+                             const unsigned char *crossed, const float *path_m)
 {
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, az,
                             SS_LINE_MODEL_DIGITAL);
     double t = tan(rad(el)), away_major = (double)ls.along_per_step_m * ls.step;
+    double run_m = ls.major_is_row ? g->cell_y_m / fabs(cos(rad(az)))
+                                   : g->cell_x_m / fabs(sin(rad(az)));
+    double slant_m = run_m / cos(rad(el));
     size_t *cell = malloc(sizeof(size_t) * ls.major_len), wrong = 0;
     double *level = malloc(sizeof(double) * ls.major_len);
     for (int line = 0; line < ls.n_lines; ++line) {
@@ -124,15 +130,16 @@ static size_t brute_on_lines(const ss_grid *g, const ss_canopy *cn, double az, d
             level[m++] = (major * away_major + minor * (double)ls.along_per_minor_m) * t;
         }
         for (int p = 0; p < m; ++p) {
-            int hit = 0;
+            int hits = 0;
             double ray = g->z[cell[p]] + level[p];
-            for (int q = 0; q < p && !hit; ++q) {
+            for (int q = 0; q < p; ++q) {
                 size_t j = cell[q];
-                hit = cn->height_m[j] > tree_trunk_at(cn, j) &&
-                      ray > g->z[j] + tree_trunk_at(cn, j) + level[q] &&
-                      ray < g->z[j] + cn->height_m[j] + level[q];
+                hits += cn->height_m[j] > tree_trunk_at(cn, j) &&
+                        ray > g->z[j] + tree_trunk_at(cn, j) + level[q] &&
+                        ray < g->z[j] + cn->height_m[j] + level[q];
             }
-            wrong += hit != crossed[cell[p]];
+            wrong += (hits > 0) != crossed[cell[p]] ||
+                     fabs(path_m[cell[p]] - hits * slant_m) > 1e-4 * (1 + hits * slant_m);
         }
     }
     free(cell), free(level);
@@ -155,10 +162,22 @@ static void against_march(const char *what, const ss_grid *g, const ss_canopy *c
             tap_ok(0, "%s, sun %g/%g: the library failed", what, az, el);
             continue;
         }
-        size_t wrong = box_model ? 0 : brute_on_lines(g, cn, az, el, crossed);
-        if (!box_model)
-            tap_ok(wrong == 0, "%s, sun %g/%g: the crown sweep equals brute force on its lines "
-               "(%zu cells differ)", what, az, el, wrong);
+        size_t wrong = 0, on_path = 0;
+        if (!box_model) {
+            ss_ctx *ctx = ss_ctx_new();
+            float *path_m = malloc(n * sizeof(float));
+            if (ss_canopy_path(ctx, g, cn, az, el, path_m) != SS_OK)
+                wrong = n;
+            for (size_t i = 0; wrong == 0 && i < n; ++i)
+                on_path += isfinite(g->z[i]) && path_m[i] > 0;
+            wrong += brute_on_lines(g, cn, az, el, crossed, path_m);
+            tap_ok(wrong == 0 && on_path > 0,
+                   "%s, sun %g/%g: the crown sweep and Beer-Lambert's paths equal brute force "
+                   "on their lines (%zu cells differ; %zu with a path)",
+                   what, az, el, wrong, on_path);
+            free(path_m);
+            ss_ctx_free(ctx);
+        }
         size_t same = 0, valid = 0, veg = 0, veg_same = 0;
         for (int r = 0; r < g->height; ++r)
             for (int c = 0; c < g->width; ++c) {

@@ -13,7 +13,9 @@
 # --canopy --cast-shadows: a canopy of zeros or of transmissivity 1 leaves
 # the shade byte for byte; cells in vegetation shadow (shadow's class 2 for
 # the same light) take 1 + T (shade - 1), every other cell its shade; a
-# canopy without cast shadows is refused.
+# canopy without cast shadows is refused. shadow --crown-light
+# beer-lambert: band 6 holds a path exactly where class 2 is, band 5 is
+# exp(-G LAD path) there; its options alone are refused.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-$PWD/skysweep}
@@ -240,4 +242,18 @@ else
 fi
 refuse_svf 2 "--canopy without --cast-shadows" hillshade --canopy canopy.tif dsm.tif bad.tif
 refuse_svf 2 "--transmissivity without --canopy" hillshade --cast-shadows --transmissivity 0.5 dsm.tif bad.tif
+# shadow --crown-light beer-lambert: the path inside crowns (band 6).
+shadow --canopy canopy.tif --crown-light beer-lambert --leaf-area-density 0.8 dsm.tif bl.tif
+paste <(band bl.tif 4) <(band bl.tif 5) <(band bl.tif 6) |
+    awk '$1 == 2 {veg++; want = exp(-0.5 * 0.8 * $3); d = $2 - want; if (d < 0) d = -d
+                  if (!($3 > 0) || d > 1e-6 * want) bad++}
+         $1 != 2 && $3 != 0 {bad++} $1 == 1 && $2 != 0 {bad++} $1 == 0 && $2 != 1 {bad++}
+         END {exit !(veg > 20 && bad == 0)}'
+tap_ok $? "--crown-light beer-lambert: a path exactly where class 2 is, its fraction exp(-0.5 x 0.8 x path)"
+grep -q "CROWN_LIGHT=Beer-Lambert: exp(-0.5 x 0.8 m2/m3" <(gdalinfo bl.tif) &&
+    grep -q "CROWN_LIGHT=constant: transmissivity 0.03" <(gdalinfo t0.03.tif)
+tap_ok $? "the metadata name the crowns' light: constant or Beer-Lambert with its coefficients"
+refuse 2 "--leaf-area-density without --crown-light beer-lambert" --canopy canopy.tif --leaf-area-density 2 dsm.tif bad.tif
+refuse 2 "--crown-light beer-lambert without --canopy" --crown-light beer-lambert dsm.tif bad.tif
+refuse 2 "--transmissivity with --crown-light beer-lambert" --canopy canopy.tif --crown-light beer-lambert --transmissivity 0.1 dsm.tif bad.tif
 tap_done

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "crown_light.h"
 #include "skysweep_sun.h"
 #include "run.h"
 #include "sun_field.h"
@@ -20,6 +21,7 @@
 typedef struct {
     common_settings common; /* first: common_options()' offsets are relative to it */
     tree_settings trees;
+    crown_light_settings light;
 } shadow_settings;
 
 /* The sun of the run for the library: the centre's, and each cell's for
@@ -82,18 +84,46 @@ static ss_status write_rows(void *user, int output, int index, int row0, int n_r
     return ss_writer_rows(o->w, output + 1, row0, n_rows, values);
 }
 
-/* Bands 4 and 5: the crowns crossed on the way to the sun (the centre's),
- * over the solid verdict kept in out->sunlit; *shaded counts the cells in
+/* Beer-Lambert (--crown-light): each cell's path inside crowns toward
+ * the sun into path_m, and the fraction that arrives in the cells of
  * vegetation shadow. */
-static ss_status trees_write(sweep_job *job, trees *t, shadow_out *out, const ss_sun_field *sun,
-                             size_t *shaded)
+static ss_status beer_lambert(sweep_job *job, const ss_grid *ground, const trees *t,
+                              const crown_light_settings *light, const ss_sun_field *sun,
+                              const float *klass, float *path_m, float *fraction)
+{
+    size_t n = (size_t)ground->width * (size_t)ground->height;
+    float *attenuated = malloc(n * sizeof(float));
+    ss_status st = attenuated ? ss_canopy_path(job->run.ctx, ground, &t->canopy,
+                                               sun->centre_grid_azimuth_deg,
+                                               sun->centre.apparent_elevation_deg, path_m)
+                              : ss_ctx_error(job->run.ctx, SS_ERR_MEMORY,
+                                             "out of memory for the trees");
+    if (st == SS_OK)
+        st = ss_canopy_path_fraction(job->run.ctx, light->extinction, light->leaf_area_density,
+                                     n, path_m, attenuated);
+    for (size_t i = 0; st == SS_OK && i < n; ++i)
+        if (klass[i] == 2.0f)
+            fraction[i] = attenuated[i];
+    free(attenuated);
+    return st;
+}
+
+/* Bands 4 and 5 (and 6, Beer-Lambert's paths): the crowns crossed on the
+ * way to the sun (the centre's), over the solid verdict kept in
+ * out->sunlit; *shaded counts the cells in vegetation shadow. */
+static ss_status trees_write(sweep_job *job, trees *t, const crown_light_settings *light,
+                             shadow_out *out, const ss_sun_field *sun, size_t *shaded)
 {
     ss_grid ground = trees_ground(job, t);
     size_t n = (size_t)ground.width * (size_t)ground.height;
     unsigned char *crossed = malloc(n);
     float *klass = malloc(n * sizeof(float)), *fraction = malloc(n * sizeof(float));
-    ss_status st = crossed && klass && fraction
-                       ? ss_canopy_crossed(job->run.ctx, &ground, &t->canopy, &job->opt,
+    float *path_m = light->beer_lambert ? malloc(n * sizeof(float)) : NULL;
+    /* Beer-Lambert's paths are found on digital lines: its classes too, so
+     * that a path lies exactly where a crown is crossed. */
+    ss_status st = crossed && klass && fraction && (path_m || !light->beer_lambert)
+                       ? ss_canopy_crossed(job->run.ctx, &ground, &t->canopy,
+                                           light->beer_lambert ? NULL : &job->opt,
                                            sun->centre_grid_azimuth_deg,
                                            sun->centre.apparent_elevation_deg, crossed)
                        : ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
@@ -101,21 +131,36 @@ static ss_status trees_write(sweep_job *job, trees *t, shadow_out *out, const ss
         ss_canopy_classes(&t->canopy, n, out->sunlit, crossed, klass, fraction);
         for (size_t i = 0; i < n; ++i)
             *shaded += klass[i] == 2.0f;
-        st = ss_writer_rows(out->w, 4, 0, ground.height, klass);
     }
+    if (st == SS_OK && light->beer_lambert)
+        st = beer_lambert(job, &ground, t, light, sun, klass, path_m, fraction);
+    if (st == SS_OK)
+        st = ss_writer_rows(out->w, 4, 0, ground.height, klass);
     if (st == SS_OK)
         st = ss_writer_rows(out->w, 5, 0, ground.height, fraction);
+    if (st == SS_OK && path_m)
+        st = ss_writer_rows(out->w, 6, 0, ground.height, path_m);
     free(crossed);
     free(klass);
     free(fraction);
+    free(path_m);
     return st;
 }
 
-static void trees_bands(ss_raster_writer *w)
+static void trees_bands(ss_raster_writer *w, int beer_lambert)
 {
     ss_writer_describe(w, 4, "shadow class: 0 lit, 1 solid shadow, 2 vegetation shadow", "1");
-    ss_writer_describe(w, 5, "fraction of the beam that arrives: 1 lit, 0 solid, T through crowns",
+    if (!beer_lambert) {
+        ss_writer_describe(w, 5,
+                           "fraction of the beam that arrives: 1 lit, 0 solid, T through crowns",
+                           "1");
+        return;
+    }
+    ss_writer_describe(w, 5,
+                       "fraction of the beam that arrives: 1 lit, 0 solid, exp(-G LAD path) "
+                       "through crowns",
                        "1");
+    ss_writer_describe(w, 6, "path of the ray toward the sun inside crowns", "m");
 }
 
 int cmd_shadow(int argc, char **argv)
@@ -126,7 +171,8 @@ int cmd_shadow(int argc, char **argv)
     const opt_spec *tables[] = {
         tree_options(offsetof(shadow_settings, trees), 0,
                      "bands 4 (class) and 5 (fraction of the beam that arrives)", tree_opts),
-        sun_options(), common_options(), NULL};
+        crown_light_options(offsetof(shadow_settings, light)), sun_options(), common_options(),
+        NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse("shadow", tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
@@ -136,6 +182,8 @@ int cmd_shadow(int argc, char **argv)
                        &set.common.device);
     if (rc < 0)
         rc = trees_options_alone("shadow", tables, &set, &set.trees);
+    if (rc < 0)
+        rc = crown_light_alone("shadow", tables, &set, &set.light, set.trees.canopy != NULL);
     if (rc >= 0)
         return rc;
     /* One horizon, along the sun's azimuth, and the planes facing the sun
@@ -143,7 +191,8 @@ int cmd_shadow(int argc, char **argv)
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + 2.0 * sizeof(float),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = 1,
-                      .grid_cell_bytes = set.trees.canopy ? TREES_SHADOW_CELL_BYTES : 0.0};
+                      .grid_cell_bytes = (set.trees.canopy ? TREES_SHADOW_CELL_BYTES : 0.0) +
+                                         (set.light.beer_lambert ? CROWN_LIGHT_CELL_BYTES : 0.0)};
     sweep_job job;
     if ((rc = job_open_banded(&job, "shadow", &set.common, pos, n_pos, cost)))
         return rc;
@@ -179,7 +228,8 @@ int cmd_shadow(int argc, char **argv)
     if (st == SS_OK && set.trees.canopy && !(out.sunlit = malloc(cells * sizeof(float))))
         st = ss_ctx_error(job.run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
     if (st == SS_OK)
-        st = ss_writer_open(job.run.ctx, job.output, &job.dem, set.trees.canopy ? 5 : 3,
+        st = ss_writer_open(job.run.ctx, job.output, &job.dem,
+                            set.trees.canopy ? 5 + set.light.beer_lambert : 3,
                             set.common.format, set.common.creation_options.items, &out.w);
     ss_raster_writer *w = out.w;
     double sun_az_true = sun.centre_grid_azimuth_deg + job.opt.grid_north_deg;
@@ -189,7 +239,7 @@ int cmd_shadow(int argc, char **argv)
         st = ss_shadow_rows(job.run.ctx, &src, &job.opt, sun_rows, &ss, write_rows, &out);
     double trees_s = run_now();
     if (st == SS_OK && set.trees.canopy)
-        st = trees_write(&job, &tr, &out, &sun, &shaded);
+        st = trees_write(&job, &tr, &set.light, &out, &sun, &shaded);
     trees_s = run_now() - trees_s;
     size_t lit = out.lit, valid = out.valid;
     if (st == SS_OK) {
@@ -207,7 +257,9 @@ int cmd_shadow(int argc, char **argv)
         ss_writer_describe(w, 3, "illumination cos(incidence), 0 in shadow", "1");
         if (set.trees.canopy) {
             trees_metadata(w, &set.trees, &tr);
-            trees_bands(w);
+            crown_light_describe(&set.light, set.trees.transmissivity, buf, sizeof buf);
+            ss_writer_metadata(w, "CROWN_LIGHT", buf);
+            trees_bands(w, set.light.beer_lambert);
         }
     }
     if (st == SS_OK)
@@ -229,7 +281,13 @@ int cmd_shadow(int argc, char **argv)
             printf("trees   %s: %.1f %% of cells in "
                    "vegetation shadow (crowns swept on the host on %s lines, %.3f s)\n",
                    described, valid ? 100.0 * shaded / valid : 0.0,
-                   job.opt.lines == SS_LINES_BOX ? "box" : "digital", trees_s);
+                   job.opt.lines == SS_LINES_BOX && !set.light.beer_lambert ? "box" : "digital",
+                   trees_s);
+        if (set.trees.canopy && set.light.beer_lambert) {
+            crown_light_describe(&set.light, set.trees.transmissivity, described,
+                                 sizeof described);
+            printf("trees   light through crowns: %s\n", described);
+        }
         if (set.trees.canopy && tr.below_ground)
             printf("trees   %zu absolute crown tops below the DSM taken as no tree\n",
                    tr.below_ground);

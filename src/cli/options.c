@@ -266,7 +266,9 @@ int opt_advanced(const char *name)
         "sun-per-cell", "delta-t", "pressure", "temperature",
         /* insolation's accuracy knobs and constants, the inverter's fine print */
         "elevation-step", "solar-constant", "insolation-tolerance", "inverter-efficiency",
-        "dc-ac-ratio"};
+        "dc-ac-ratio",
+        /* the leaves' optics */
+        "extinction"};
     for (size_t i = 0; i < sizeof advanced / sizeof advanced[0]; ++i)
         if (strcmp(name, advanced[i]) == 0)
             return 1;
