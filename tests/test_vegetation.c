@@ -436,6 +436,14 @@ static void refusals(void)
            "transmissivity 1.5 is refused: %s", ss_ctx_message(ctx));
     cn.transmissivity = 0.5;
     tap_ok(ss_canopy_check(ctx, &g, &cn) == SS_OK, "a good canopy passes");
+    float path[2] = {2.0f, SS_NODATA}, fraction[2];
+    tap_ok(ss_canopy_path_fraction(ctx, 0.5, 1.0, 2, path, fraction) == SS_OK &&
+               fabs(fraction[0] - exp(-1.0)) < 1e-7 && fraction[1] == SS_NODATA &&
+               ss_canopy_path_fraction(ctx, 0.5, 0.0, 2, path, fraction) == SS_ERR_ARGUMENT &&
+               ss_canopy_path_fraction(ctx, 1.5, 1.0, 2, path, fraction) == SS_ERR_ARGUMENT,
+           "Beer-Lambert: exp(-G LAD path), nodata kept; a leaf area density of 0 or an "
+           "extinction of 1.5 refused: %s",
+           ss_ctx_message(ctx));
     ss_ctx_free(ctx);
     ss_grid_free(&g);
 }
