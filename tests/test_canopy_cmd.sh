@@ -170,6 +170,8 @@ refused 2 "--building-buffer 1 on a geographic DSM" \
 "$SKYSWEEP" canopy -q --building-buffer 0 --buildings footprints.geojson --dtm geo_dtm.tif \
     --cdsm r_cdsm.tif geo_dsm.tif r_out.tif 2>r.err
 tap_ok $? "--building-buffer 0 on a geographic DSM runs: $(head -c 200 r.err)"
+refused 4 "--cdsm in a folder that does not exist" \
+    --buildings footprints.geojson --dtm dtm.tif --cdsm no/such/r_cdsm.tif dsm.tif r_out.tif
 refused 2 "no --cdsm" --buildings footprints.geojson --dtm dtm.tif dsm.tif r_out.tif
 sum_before=$(md5sum dsm.tif dtm.tif footprints.geojson)
 refused 2 "OUT_DSM is the DSM" --buildings footprints.geojson --dtm dtm.tif --cdsm r_cdsm.tif dsm.tif dsm.tif
