@@ -170,6 +170,10 @@ refused 2 "--building-buffer 1 on a geographic DSM" \
 "$SKYSWEEP" canopy -q --building-buffer 0 --buildings footprints.geojson --dtm geo_dtm.tif \
     --cdsm r_cdsm.tif geo_dsm.tif r_out.tif 2>r.err
 tap_ok $? "--building-buffer 0 on a geographic DSM runs: $(head -c 200 r.err)"
+printf '{"type": "FeatureCollection", "features": []}' >none.geojson
+"$SKYSWEEP" canopy -q --buildings none.geojson --dtm dtm.tif --cdsm none_cdsm.tif dsm.tif none_dsm.tif 2>r.err &&
+    [ "$(cell none_cdsm.tif 6 6)" = 12 ] && [ "$(cell none_dsm.tif 6 6)" = 10 ]
+tap_ok $? "a layer without features: no buildings, the building's top becomes vegetation ($(cell none_cdsm.tif 6 6) m) $(head -c 200 r.err)"
 refused 4 "--cdsm in a folder that does not exist" \
     --buildings footprints.geojson --dtm dtm.tif --cdsm no/such/r_cdsm.tif dsm.tif r_out.tif
 refused 2 "no --cdsm" --buildings footprints.geojson --dtm dtm.tif dsm.tif r_out.tif

@@ -99,11 +99,15 @@ static ss_status read_inputs(canopy_run *c)
     st = ss_raster_onto_dem(ctx, c->set.dtm, "DTM", &c->dem, c->dtm, &c->dtm_warped);
     if (st == SS_OK)
         st = ss_footprints_read(ctx, c->set.buildings, NULL, &c->dem, &c->fps);
-    if (st == SS_OK && c->fps.n == 0)
+    /* Footprints, none of them on the DSM, are a mistake (another place, an
+     * undeclared CRS) that would make every building a tree; a layer of
+     * none says that the DSM has no buildings. */
+    if (st == SS_OK && c->fps.read > 0 && c->fps.n == 0)
         st = ss_ctx_error(ctx, SS_ERR_INPUT,
                           "no footprint of '%s' covers a cell of the DSM (%zu read: %zu outside "
                           "it, %zu empty, %zu invalid, %zu covering no cell centre): are they of "
-                          "the DSM's place, and is their CRS declared?",
+                          "the DSM's place, and is their CRS declared? (For a DSM without "
+                          "buildings, give a layer without features.)",
                           c->set.buildings, c->fps.read, c->fps.outside, c->fps.empty,
                           c->fps.invalid, c->fps.no_cell);
     if (st == SS_OK)
