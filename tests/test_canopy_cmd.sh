@@ -138,7 +138,7 @@ refused() {
     "$SKYSWEEP" canopy -q "$@" >/dev/null 2>r.err
     local rc=$?
     [ "$rc" -eq "$want" ] && [ "$(wc -l <r.err)" -eq 1 ] && [ ! -e r_out.tif ] && [ ! -e r_cdsm.tif ] &&
-        [ -z "$(ls -A | grep '^\.')" ]
+        [ -z "$(find . -maxdepth 1 -name '.?*')" ]
     tap_ok $? "$what: exit $rc (want $want), one line: $(head -c 250 r.err)"
 }
 asc high_dtm 20
