@@ -18,6 +18,7 @@ int cmd_insolation(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_quicklook(int argc, char **argv);
 int cmd_roofs(int argc, char **argv);
+int cmd_canopy(int argc, char **argv);
 
 /* Prints the OpenCL devices; returns the exit code. */
 int command_list_devices(void);

@@ -27,6 +27,7 @@ static const struct {
     {"insolation", cmd_insolation, NULL},
     {"roofs", cmd_roofs, "solar cadastre: roof planes and PV yield per roof and building (GeoPackage)"},
     {"shadow", cmd_shadow, NULL},
+    {"canopy", cmd_canopy, "a buildings-and-ground DSM and a tree CDSM from a lidar DSM, a DTM and footprints"},
     {"render", cmd_render, "3D picture of the DEM, draped with a product; .vts for ParaView"},
     {"quicklook", cmd_quicklook, "PNG of one band of a product through a colour map"},
     {"sun", cmd_sun, "sun position (NREL SPA) for a place and a time or a time range"},
