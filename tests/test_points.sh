@@ -370,6 +370,12 @@ expect_failure 2 "--far for horizon rasters" -- horizon --far "$work/far.tif" "$
 expect_failure 2 "a site outside the far DEM" -- horizon --point "$(cell_xy 50 10)" --point-crs dem --far "$work/flat.tif" "$dem" "$work/out/o.csv"
 grep -q 'far DEM' "$work/stderr"
 tap_ok $? "the message names the far DEM"
+awk 'BEGIN { print "ncols 5\nnrows 5\nxllcorner 0\nyllcorner 0\ncellsize 1"; for (r = 0; r < 5; r++) print "1 1 1 1 1" }' >"$work/nogeo.asc"
+expect_failure 3 "a far DEM without a CRS" -- horizon --point "$mid_ll" --far "$work/nogeo.asc" "$work/flat.tif" "$work/out/o.csv"
+cp "$work/far.tif" "$work/out/far.tif"
+run horizon --point "$mid_ll" --far "$work/out/far.tif" "$work/flat.tif" "$work/out/far.tif"
+[ $rc -eq 2 ] && cmp -s "$work/far.tif" "$work/out/far.tif" && grep -q "also an input.*--far" "$work/stderr"
+tap_ok $? "the far DEM named as the output: exit $rc, the DEM untouched: $(head -c 200 "$work/stderr")"
 
 # ---- skysweep sun --horizon-from ------------------------------------------------------
 run sun --at "$ll" --time 2026-12-21T15:00Z/P1D/PT15M --horizon-from "$dem"

@@ -33,10 +33,6 @@ ss_status horizon_far_open(ss_ctx *ctx, const char *path, int directions, horizo
     if (st == SS_OK && (st = ss_dem_frame_open(ctx, &far->dem, &far->frame)) != SS_OK)
         ss_dem_free(&far->dem);
     far->have_frame = st == SS_OK;
-    if (st == SS_OK && !far->frame.georeferenced)
-        st = ss_ctx_error(ctx, SS_ERR_INPUT,
-                          "the far DEM '%s' is not georeferenced: sites need a DEM with a CRS",
-                          path);
     if (st == SS_OK)
         st = ss_site_frame_open(ctx, &far->dem, NULL, &far->sf);
     if (st == SS_OK)

@@ -9,7 +9,7 @@
 
 typedef struct horizon_far horizon_far;
 
-/* Reads the far DEM (it must have a CRS) for profiles of `directions`
+/* Reads the far DEM (one without a CRS is refused as it is read) for profiles of `directions`
  * azimuths; failures leave their message in ctx. */
 ss_status horizon_far_open(ss_ctx *ctx, const char *path, int directions, horizon_far **out);
 
