@@ -196,15 +196,17 @@ expect_failure 2 "unknown --point-crs" -- horizon --point "$ll" --point-crs EPSG
 # must equal the CSV profile's (clipped at 0, as the tools take 0..90) within
 # the files' rounding.
 # PVsyst's standard CSV import: lines holding text are comments; one azimuth,
-# height pair a line (comma, semicolon, tab or space); azimuths clockwise with
-# north at 180 (what the file's comment tells the import dialog).
+# height pair a line (comma, semicolon, tab or space); the import dialog asks
+# for the azimuths' rotation and north, which the file's comment gives.
 read_pvsyst() {
-    awk -F'[,; \t]' '/[A-Za-z]/ { next } NF {
-        if (NF != 2 || $1 < -180 || $1 > 180 || $2 < 0 || $2 > 90 || (n && $1 <= last)) bad = 1
-        last = $1; n++; a = ($1 + 180) % 360
-        if (a in seen && seen[a] != $2) bad = 1
-        seen[a] = $2; if (!(a in printed)) { printed[a] = 1; print a, $2 } }
-    END { if (bad) print "bad" }' "$1"
+    awk -F'[,; \t]' '/on import choose/ { cw = /choose Clockwise/; north = $0
+            sub(/.*North azimuth /, "", north); north += 0; told = 1 }
+        /[A-Za-z]/ { next }
+        NF { if (NF != 2 || $1 < -180 || $1 > 180 || $2 < 0 || $2 > 90 || (n && $1 <= last)) bad = 1
+            last = $1; n++; a = cw ? $1 - north : north - $1; a = (a % 360 + 360) % 360
+            if (a in seen && seen[a] != $2) bad = 1
+            seen[a] = $2; if (!(a in printed)) { printed[a] = 1; print a, $2 } }
+        END { if (bad || !told) print "bad" }' "$1"
 }
 # PV*SOL .hor: two columns separated by a space, horizontal angle -180 (north),
 # -90 (east), 0 (south), 90 (west) to 179, elevation 0..90.
@@ -305,6 +307,18 @@ run horizon --point "$mid" --point-crs dem --step 5 --format pvsyst "$work/wall.
 awk -F, '$1 == -90 && $2 > 18 { east = 1 } ($1 == 0 || $1 == 90 || $1 == 180 || $1 == -180) && $2 != 0 { bad = 1 }
     END { exit !(east && !bad) }' "$work/wall.pvsyst"
 tap_ok $? "PVsyst: the wall at azimuth -90 (east), 0 at south, west and north: $(grep '^-90,' "$work/wall.pvsyst")"
+# South of the equator PVsyst reckons from the north, west +90 and east -90:
+# the same wall on a grid in UTM 5S (about 70.6 S).
+gdal_translate -q -ot Float32 -a_srs EPSG:32705 "$work/wall.asc" "$work/wall_s.tif"
+run horizon --point "$mid" --point-crs dem --step 5 --format pvsyst "$work/wall_s.tif" "$work/wall_s.pvsyst"
+awk -F, '$1 == -90 && $2 > 18 { east = 1 } ($1 == 0 || $1 == 90 || $1 == 180 || $1 == -180) && $2 != 0 { bad = 1 }
+    /choose Counterclockwise and North azimuth 0/ { told = 1 } END { exit !(east && told && !bad) }' "$work/wall_s.pvsyst"
+tap_ok $? "PVsyst south of the equator: the wall at -90 (east), azimuths from the north, told to the import"
+run horizon --point "$mid" --point-crs dem --step 5 "$work/wall_s.tif" "$work/wall_s.csv"
+csv_profile "$work/wall_s.csv" >"$work/ref_s.txt"
+read_pvsyst "$work/wall_s.pvsyst" >"$work/back.txt"
+same_profile "$work/ref_s.txt" "$work/back.txt" 0.0051 >"$work/cmp.txt"
+tap_ok $? "PVsyst south of the equator round-trips: $(cat "$work/cmp.txt")"
 run horizon --point "$mid" --point-crs dem --step 5 --format pvsol "$work/wall.tif" "$work/wall.pvsol"
 awk '$1 == -90 && $2 > 18 { east = 1 } ($1 == 0 || $1 == 90 || $1 == -180) && $2 != 0 { bad = 1 }
     END { exit !(east && !bad) }' "$work/wall.pvsol"

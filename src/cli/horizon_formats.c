@@ -36,23 +36,52 @@ static void write_pvgis(FILE *f, const horizon_file_site *site, const ss_point_h
     fputc('\n', f);
 }
 
+/* PVsyst's azimuth (its glossary, "Plane azimuth"): from the equator's side,
+ * west +90 and east -90 in both hemispheres, so clockwise from south in the
+ * north and counterclockwise from north in the south; -180..180. */
+static double pvsyst_azimuth(double azimuth_deg, int south)
+{
+    if (!south)
+        return from_south(azimuth_deg);
+    double a = fmod(-azimuth_deg, 360.0);
+    a = a < 0.0 ? a + 360.0 : a;
+    return (a >= 180.0 ? a - 360.0 : a) + 0.0; /* + 0: north is 0, not -0 */
+}
+
 /* PVsyst's "standard CSV" horizon import: lines with text are comments (one
  * naming "Latitude ..., Longitude ..." becomes the horizon's comment), then
- * one azimuth,height pair a line. Azimuths in PVsyst's own convention, the
- * profile closed at +180 so that it spans -180..180. */
+ * one azimuth,height pair a line, ascending from -180 and closed at +180.
+ * The import asks for the azimuths' rotation and north; a comment says
+ * which. */
 static void write_pvsyst(FILE *f, const horizon_file_site *site,
                          const ss_point_horizon_result *p, int n)
 {
+    int south = site->lat_deg < 0.0;
     fprintf(f, "Horizon of site %s by skysweep %s from %s\n", site->id, ss_version(),
             site->sources);
     fprintf(f, "Latitude %.6f, Longitude %.6f\n", site->lat_deg, site->lon_deg);
-    fprintf(f, "Azimuth in degrees clockwise from south (west +90, east -90, north -180 and "
-               "+180): on import choose Clockwise and North azimuth 180. Height in degrees "
-               "above the horizontal, 0 where the terrain is lower\n");
+    fprintf(f, "Azimuth in degrees from the %s, west +90, east -90 (PVsyst's convention in the "
+               "%s hemisphere): on import choose %s and North azimuth %s. Height in degrees "
+               "above the horizontal, 0 where the terrain is lower\n",
+            south ? "north" : "south", south ? "southern" : "northern",
+            south ? "Counterclockwise" : "Clockwise", south ? "0" : "180");
     fprintf(f, "Azimuth,Height\n");
-    for (int i = 0; i < n; ++i)
-        fprintf(f, "%.10g,%.2f\n", from_south(p[i].azimuth_deg), open_floor(p[i].elevation_deg));
-    fprintf(f, "180,%.2f\n", open_floor(p[0].elevation_deg));
+    /* Ascending from -180: in the north the profile's own order (north,
+     * -180, first); in the south from azimuth 180 down to 0, then from the
+     * last direction down to just past 180. */
+    int half = 0; /* directions at azimuths 0..180 */
+    while (half < n && p[half].azimuth_deg <= 180.0)
+        half++;
+    for (int k = 0; k < n; ++k) {
+        int i = !south ? k : k < half ? half - 1 - k : n - 1 - (k - half);
+        fprintf(f, "%.10g,%.2f\n", pvsyst_azimuth(p[i].azimuth_deg, south),
+                open_floor(p[i].elevation_deg));
+    }
+    /* +180 closes the profile where -180 opened it: north in the north
+     * (always a direction), south in the south where 180 is one. */
+    int first = south ? half - 1 : 0;
+    if (pvsyst_azimuth(p[first].azimuth_deg, south) == -180.0)
+        fprintf(f, "180,%.2f\n", open_floor(p[first].elevation_deg));
 }
 
 /* PV*SOL's .hor: two columns separated by a space, the horizontal angle
