@@ -61,7 +61,8 @@ ss_status horizon_far_place(horizon_far *far, const site_rec *sites, int n, int 
     for (int i = 0; i < n; ++i) {
         ss_point_site *p = &far->sites[i];
         p->grid_north_deg = 0.0;
-        ss_status st = ss_site_locate(far->sf, sites[i].lon_deg, sites[i].lat_deg, &p->col, &p->row);
+        ss_status st =
+            ss_site_locate(far->sf, sites[i].lon_deg, sites[i].lat_deg, &p->col, &p->row);
         if (st == SS_OK)
             st = ss_point_ground_height(far->ctx, far->pg, p->col, p->row, &far->ground_m[i]);
         if (st == SS_OK && true_north)

@@ -53,16 +53,17 @@ static double pvsyst_azimuth(double azimuth_deg, int south)
  * one azimuth,height pair a line, ascending from -180 and closed at +180.
  * The import asks for the azimuths' rotation and north; a comment says
  * which. */
-static void write_pvsyst(FILE *f, const horizon_file_site *site,
-                         const ss_point_horizon_result *p, int n)
+static void write_pvsyst(FILE *f, const horizon_file_site *site, const ss_point_horizon_result *p,
+                         int n)
 {
     int south = site->lat_deg < 0.0;
     fprintf(f, "Horizon of site %s by skysweep %s from %s\n", site->id, ss_version(),
             site->sources);
     fprintf(f, "Latitude %.6f, Longitude %.6f\n", site->lat_deg, site->lon_deg);
-    fprintf(f, "Azimuth in degrees from the %s, west +90, east -90 (PVsyst's convention in the "
-               "%s hemisphere): on import choose %s and North azimuth %s. Height in degrees "
-               "above the horizontal, 0 where the terrain is lower\n",
+    fprintf(f,
+            "Azimuth in degrees from the %s, west +90, east -90 (PVsyst's convention in the "
+            "%s hemisphere): on import choose %s and North azimuth %s. Height in degrees "
+            "above the horizontal, 0 where the terrain is lower\n",
             south ? "north" : "south", south ? "southern" : "northern",
             south ? "Counterclockwise" : "Clockwise", south ? "0" : "180");
     fprintf(f, "Azimuth,Height\n");
@@ -138,8 +139,8 @@ static void write_sam(FILE *f, const horizon_file_site *site, const ss_point_hor
 }
 
 static const horizon_file_format formats[] = {
-    {"pvgis", ".txt", write_pvgis},     {"pvsyst", ".csv", write_pvsyst},
-    {"pvsol", ".hor", write_pvsol},     {"helioscope", ".csv", write_helioscope},
+    {"pvgis", ".txt", write_pvgis}, {"pvsyst", ".csv", write_pvsyst},
+    {"pvsol", ".hor", write_pvsol}, {"helioscope", ".csv", write_helioscope},
     {"sam", ".csv", write_sam},
 };
 
