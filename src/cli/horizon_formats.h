@@ -27,4 +27,11 @@ typedef struct {
  * sam); NULL for csv, json or an unknown name. */
 const horizon_file_format *horizon_file_format_named(const char *name);
 
+/* Writes one site's file at path under a temporary name, renamed when
+ * complete (horizon_points.c); nothing is left after a failure, whose
+ * message is in ctx (SS_ERR_OUTPUT, SS_ERR_CANCELLED). */
+ss_status horizon_file_write(ss_ctx *ctx, const horizon_file_format *format, const char *path,
+                             const horizon_file_site *site, const ss_point_horizon_result *p,
+                             int n);
+
 #endif

@@ -405,21 +405,29 @@ static void write_pv_file(const writer *w, FILE *f, const site_rec *s,
     w->file_format->write(f, &site, p, w->opt->directions);
 }
 
+ss_status horizon_file_write(ss_ctx *ctx, const horizon_file_format *format, const char *path,
+                             const horizon_file_site *site, const ss_point_horizon_result *p,
+                             int n)
+{
+    char *tmp;
+    FILE *f = open_temporary(path, &tmp);
+    if (!f) {
+        free(tmp);
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot create '%s'", path);
+    }
+    format->write(f, site, p, n);
+    ss_status st = commit_file(ctx, f, tmp, path, SS_OK);
+    free(tmp);
+    return st;
+}
+
 /* Folder mode: the site's file, ID plus the format's extension. */
 static ss_status write_site_file(writer *w, const site_rec *s, const ss_point_horizon_result *p)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s%s", w->folder, s->id, w->file_format->extension);
-    char *tmp;
-    FILE *f = open_temporary(path, &tmp);
-    if (!f) {
-        free(tmp);
-        return ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", path);
-    }
-    write_pv_file(w, f, s, p);
-    ss_status st = commit_file(w->ctx, f, tmp, path, SS_OK);
-    free(tmp);
-    return st;
+    horizon_file_site site = {s->id, s->lon_deg, s->lat_deg, w->sources};
+    return horizon_file_write(w->ctx, w->file_format, path, &site, p, w->opt->directions);
 }
 
 static int store_site(int index, const ss_point_horizon_result *p, void *user)
