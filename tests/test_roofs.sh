@@ -187,6 +187,14 @@ tap_ok $? "--horizon-files writes one file per roof plane, BUILDING_PLANE.csv ($
 awk -F, '$1 == 0 { s = $2 } $1 == -180 { n = $2 } END { printf "south %s, north %s", s, n; exit !(s > 59.5 && s < 60.5 && n == 0) }' \
     hz/D_1.csv >hz.says
 tap_ok $? "the flat roof north of the tall neighbour sees it at PVsyst's 0 (south), open to the north: $(cat hz.says)"
+# Building ids that differ only in characters a file name cannot hold.
+sed 's/"building_id": "D"/"building_id": "x y"/; s/"building_id": "E"/"building_id": "x\/y"/' \
+    footprints.geojson >clash.geojson
+mkdir hz2
+roofs clash.geojson clash.gpkg clash.csv --horizon-files hz2 >/dev/null 2>err.txt
+rc=$?
+[ $rc = 3 ] && [ ! -e clash.gpkg ] && [ -z "$(ls -A hz2)" ] && grep -q "x_y_1.txt" err.txt
+tap_ok $? "two planes that would share a horizon file: exit $rc, nothing written, $(head -c 200 err.txt)"
 "$SKYSWEEP" roofs --buildings footprints.geojson --weather "$weather" --horizon-files nothere \
     city.tif out5.gpkg >/dev/null 2>err.txt
 rc=$?
