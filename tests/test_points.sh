@@ -379,6 +379,24 @@ tap_ok $? "the merged profile holds the ridge at the south ($far_south deg, as t
 run horizon --point "$mid_ll" --step 1 --format pvsyst --far "$work/far.tif" "$work/flat.tif" "$work/merged.pvsyst"
 grep -q "^0,$(printf '%.2f' "$far_south")$" "$work/merged.pvsyst" && grep -q 'far terrain' "$work/merged.pvsyst"
 tap_ok $? "the PVsyst file carries the ridge at its south (0) and names both sources"
+# Many sites with --far, into a folder of PV files and into JSON.
+printf 'id,lon,lat\nmid,%s\nnear_mid,%s\n' "$mid_ll" \
+    "$(echo "$mid_ll" | awk -F, '{ printf "%.9f,%.9f", $1 + 0.0001, $2 + 0.0001 }')" >"$work/fsites.csv"
+mkdir "$work/fpv"
+run horizon --points "$work/fsites.csv" --step 1 --format pvsol --far "$work/far.tif" "$work/flat.tif" "$work/fpv"
+[ $rc -eq 0 ] && [ "$(ls "$work/fpv" | tr '\n' ' ')" = "mid.hor near_mid.hor " ] &&
+    grep -q "^0 $(printf '%.2f' "$far_south")$" "$work/fpv/mid.hor"
+tap_ok $? "--points with --far writes each site's merged PV*SOL file (the ridge at 0, south): $(ls "$work/fpv" | tr '\n' ' ')"
+run horizon --points "$work/fsites.csv" --step 10 --format json --far "$work/far.tif" "$work/flat.tif" "$work/f.json"
+[ $rc -eq 0 ] && grep -q '"far_dem": ".*far.tif"' "$work/f.json"
+tap_ok $? "JSON names the far DEM"
+# A far DEM standing 50 m above the eye at the site: the far horizon is seen
+# from its own ground.
+awk 'NR <= 6 { print; next } { for (i = 1; i <= NF; i++) $i += 50; print }' "$work/far.asc" >"$work/far_hi.asc"
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/far_hi.asc" "$work/far_hi.tif"
+run horizon --point "$mid_ll" --step 10 --far "$work/far_hi.tif" "$work/flat.tif" "$work/hi.csv"
+[ $rc -eq 0 ] && grep -q '^# site .* ground_height_m=100\.000 observer_height_m=0\.000 far_ground_height_m=150\.000 far_observer_height_m=0\.000$' "$work/hi.csv"
+tap_ok $? "an eye below the far DEM's ground looks from that ground: $(grep '^# site' "$work/hi.csv")"
 expect_failure 2 "--far with --north grid" -- horizon --point "$mid_ll" --north grid --far "$work/far.tif" "$work/flat.tif" "$work/out/o.csv"
 expect_failure 2 "--far for horizon rasters" -- horizon --far "$work/far.tif" "$work/flat.tif" "$work/out/o.tif"
 expect_failure 2 "a site outside the far DEM" -- horizon --point "$(cell_xy 50 10)" --point-crs dem --far "$work/flat.tif" "$dem" "$work/out/o.csv"
