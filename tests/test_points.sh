@@ -189,6 +189,226 @@ done
 rm -f "$work/huge.csv"
 expect_failure 2 "unknown --point-crs" -- horizon --point "$ll" --point-crs EPSG:999999 "$dem" "$work/out/o.csv"
 
+# ---- horizon files for PV software -------------------------------------------------
+# Each file is read back by a reader written here from its tool's documentation
+# (doc/pv-horizons.md, Formats), independently of the writers: it turns the
+# tool's azimuths back into degrees clockwise from north, and the elevations
+# must equal the CSV profile's (clipped at 0, as the tools take 0..90) within
+# the files' rounding.
+# PVsyst's standard CSV import: lines holding text are comments; one azimuth,
+# height pair a line (comma, semicolon, tab or space); the import dialog asks
+# for the azimuths' rotation and north, which the file's comment gives.
+read_pvsyst() {
+    awk -F'[,; \t]' '/on import choose/ { cw = /choose Clockwise/; north = $0
+            sub(/.*North azimuth /, "", north); north += 0; told = 1 }
+        /[A-Za-z]/ { next }
+        NF { if (NF != 2 || $1 < -180 || $1 > 180 || $2 < 0 || $2 > 90 || (n && $1 <= last)) bad = 1
+            last = $1; n++; a = cw ? $1 - north : north - $1; a = (a % 360 + 360) % 360
+            if (a in seen && seen[a] != $2) bad = 1
+            seen[a] = $2; if (!(a in printed)) { printed[a] = 1; print a, $2 } }
+        END { if (bad || !told) print "bad" }' "$1"
+}
+# PV*SOL .hor: two columns separated by a space, horizontal angle -180 (north),
+# -90 (east), 0 (south), 90 (west) to 179, elevation 0..90.
+read_pvsol() {
+    awk -F' ' '{ if (NF != 2 || $1 < -180 || $1 > 179 || $2 < 0 || $2 > 90) bad = 1
+        print ($1 + 180) % 360, $2 } END { if (bad) print "bad" }' "$1"
+}
+# HelioScope's SunEye CSV upload: the columns labelled "Compass Heading (0-360;
+# North=0; East=90)" and "Average Elevation (0-90) Session"; the -180..180
+# azimuth column (0 south) must agree with the heading.
+read_helioscope() {
+    awk -F, '!h { for (i = 1; i <= NF; i++) {
+            if ($i == "Compass Heading (0-360; North=0; East=90)") hc = i
+            if ($i == "Average Elevation (0-90) Session") ec = i
+            if ($i ~ /^Azimuth \(-180 to 180; South=0/) ac = i }
+        if (hc && ec && ac) h = 1; next }
+    { if ($ec < 0 || $ec > 90 || ($ac + 180) % 360 != $hc + 0) bad = 1; print $hc + 0, $ec }
+    END { if (!h || bad) print "bad" }' "$1"
+}
+# SAM's azimuth by altitude table (SSC shading:azal): first row the solar
+# azimuths (clockwise from north), first column the altitudes, cells the beam
+# loss in percent. A cell holds the part of the degree of altitude above its
+# row that lies below the horizon, so the horizon is a column's losses / 100.
+read_sam() {
+    awk -F, 'NR == 1 { for (i = 2; i <= NF; i++) az[i] = $i; n = NF; next }
+    { if ($1 != NR - 2 || NF != n) bad = 1
+      for (i = 2; i <= NF; i++) { if ($i < 0 || $i > 100) bad = 1; sum[i] += $i / 100 } }
+    END { if (NR != 92 || az[n] != 360) bad = 1
+          for (i = 2; i < n; i++) print az[i], sum[i]; if (bad) print "bad" }' "$1"
+}
+# "azimuth elevation" lines from CSV profile $1 (elevations clipped at 0).
+csv_profile() { awk -F, '!/^#/ && $1 != "id" { print $2 + 0, ($3 > 0 ? $3 : 0) }' "$1"; }
+# Compares "azimuth elevation" lists $1 (reference) and $2 within tolerance $3.
+same_profile() {
+    awk -v tol="$3" 'FNR == NR { ref[$1] = $2; n++; next }
+        $1 == "bad" { bad = 1; next }
+        { m++; if (!($1 in ref)) bad = 1; d = $2 - ref[$1]; if (d < 0) d = -d; if (d > worst) worst = d }
+        END { printf "%d azimuths, worst %.4f deg", m, worst; exit !(!bad && m == n && worst <= tol) }' "$1" "$2"
+}
+pv_formats="pvsyst pvsol helioscope sam"
+pv_extension() { case $1 in pvgis) echo txt ;; pvsol) echo hor ;; *) echo csv ;; esac; }
+pv_tolerance() { case $1 in sam) echo 0.0011 ;; *) echo 0.0051 ;; esac; }
+
+run horizon --point "$site" --point-crs dem --step 1 "$dem" "$work/ref.csv"
+csv_profile "$work/ref.csv" >"$work/ref.txt"
+for f in $pv_formats; do
+    run horizon --point "$site" --point-crs dem --step 1 --format $f "$dem" "$work/site.$f"
+    rm -f "$work/cmp.txt"
+    [ $rc -eq 0 ] && "read_$f" "$work/site.$f" >"$work/back.txt" &&
+        same_profile "$work/ref.txt" "$work/back.txt" "$(pv_tolerance $f)" >"$work/cmp.txt"
+    tap_ok $? "$f round-trips through its tool's convention to the CSV profile: $(cat "$work/cmp.txt")"
+done
+# The same at a 7.5-degree step (PVGIS's 48 directions) and from standard output.
+run horizon --point "$site" --point-crs dem --step 7.5 "$dem" "$work/ref75.csv"
+csv_profile "$work/ref75.csv" >"$work/ref75.txt"
+for f in $pv_formats; do
+    run horizon --point "$site" --point-crs dem --step 7.5 --format $f "$dem"
+    rm -f "$work/cmp.txt"
+    [ $rc -eq 0 ] && "read_$f" "$work/stdout" >"$work/back.txt" &&
+        same_profile "$work/ref75.txt" "$work/back.txt" "$(pv_tolerance $f)" >"$work/cmp.txt"
+    tap_ok $? "$f at step 7.5 on standard output: $(cat "$work/cmp.txt")"
+done
+grep -q '^Latitude 19\.[0-9]*, Longitude -155\.[0-9]*$' "$work/site.pvsyst" &&
+    grep -q 'Clockwise and North azimuth 180' "$work/site.pvsyst"
+tap_ok $? "the PVsyst file names its site and how to import its azimuths"
+
+# A flat open site: 41 x 41 cells at 100 m, the site in the middle; and the
+# same with a wall 50 m high 150 m east of the site (columns 25-27, rows 15-25).
+flat_dem() { # NAME WALL(0/1)
+    awk -v wall=$2 'BEGIN {
+        print "ncols 41"; print "nrows 41"; print "xllcorner 254325"; print "yllcorner 2152155"
+        print "cellsize 30"; print "NODATA_value -9999"
+        for (r = 0; r < 41; r++) { line = ""
+            for (c = 0; c < 41; c++) line = line ((wall && c >= 25 && c <= 27 && r >= 15 && r <= 25) ? "150 " : "100 ")
+            print line } }' >"$work/$1.asc"
+    gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/$1.asc" "$work/$1.tif"
+}
+flat_dem flat 0
+flat_dem wall 1
+mid="$((254325 + 30 * 20 + 15)),$((2152155 + 41 * 30 - 30 * 20 - 15))"
+for f in pvgis $pv_formats; do
+    run horizon --point "$mid" --point-crs dem --step 5 --format $f "$work/flat.tif" "$work/flat.$f"
+    case $f in
+    pvgis) tr ',' '\n' <"$work/flat.$f" | awk '{ print 5 * (NR - 1), $1 }' >"$work/back.txt" ;;
+    *) "read_$f" "$work/flat.$f" >"$work/back.txt" ;;
+    esac
+    [ $rc -eq 0 ] && awk '$1 == "bad" || $2 != 0 { bad++ } END { exit !(NR == 72 && !bad) }' "$work/back.txt"
+    tap_ok $? "$f: a flat open site gives an all-zero horizon ($(wc -l <"$work/back.txt") azimuths)"
+done
+# The wall stands east: 18.4 degrees (atan(50 / 150)) at azimuth 90, nothing
+# north, south or west. In the tools' own conventions east is PVsyst's and
+# PV*SOL's -90, the SunEye azimuth -90 with compass heading 90, SAM's column 90.
+run horizon --point "$mid" --point-crs dem --step 5 "$work/wall.tif" "$work/wall.csv"
+awk -F, '$1 == "site" && ($2 == 90 && ($3 < 18 || $3 > 18.5) || ($2 == 0 || $2 == 180 || $2 == 270) && $3 != 0) { bad++ }
+    END { exit bad > 0 }' "$work/wall.csv"
+tap_ok $? "the wall shows at azimuth 90 in the CSV: $(grep '^site,90,' "$work/wall.csv")"
+run horizon --point "$mid" --point-crs dem --step 5 --format pvsyst "$work/wall.tif" "$work/wall.pvsyst"
+awk -F, '$1 == -90 && $2 > 18 { east = 1 } ($1 == 0 || $1 == 90 || $1 == 180 || $1 == -180) && $2 != 0 { bad = 1 }
+    END { exit !(east && !bad) }' "$work/wall.pvsyst"
+tap_ok $? "PVsyst: the wall at azimuth -90 (east), 0 at south, west and north: $(grep '^-90,' "$work/wall.pvsyst")"
+# South of the equator PVsyst reckons from the north, west +90 and east -90:
+# the same wall on a grid in UTM 5S (about 70.6 S).
+gdal_translate -q -ot Float32 -a_srs EPSG:32705 "$work/wall.asc" "$work/wall_s.tif"
+run horizon --point "$mid" --point-crs dem --step 5 --format pvsyst "$work/wall_s.tif" "$work/wall_s.pvsyst"
+awk -F, '$1 == -90 && $2 > 18 { east = 1 } ($1 == 0 || $1 == 90 || $1 == 180 || $1 == -180) && $2 != 0 { bad = 1 }
+    /choose Counterclockwise and North azimuth 0/ { told = 1 } END { exit !(east && told && !bad) }' "$work/wall_s.pvsyst"
+tap_ok $? "PVsyst south of the equator: the wall at -90 (east), azimuths from the north, told to the import"
+run horizon --point "$mid" --point-crs dem --step 5 "$work/wall_s.tif" "$work/wall_s.csv"
+csv_profile "$work/wall_s.csv" >"$work/ref_s.txt"
+read_pvsyst "$work/wall_s.pvsyst" >"$work/back.txt"
+same_profile "$work/ref_s.txt" "$work/back.txt" 0.0051 >"$work/cmp.txt"
+tap_ok $? "PVsyst south of the equator round-trips: $(cat "$work/cmp.txt")"
+run horizon --point "$mid" --point-crs dem --step 5 --format pvsol "$work/wall.tif" "$work/wall.pvsol"
+awk '$1 == -90 && $2 > 18 { east = 1 } ($1 == 0 || $1 == 90 || $1 == -180) && $2 != 0 { bad = 1 }
+    END { exit !(east && !bad) }' "$work/wall.pvsol"
+tap_ok $? "PV*SOL: the wall at -90 (east): $(grep '^-90 ' "$work/wall.pvsol")"
+run horizon --point "$mid" --point-crs dem --step 5 --format helioscope "$work/wall.tif" "$work/wall.helioscope"
+grep -q '^-90,90,18\.[0-9]*$' "$work/wall.helioscope" && grep -q '^90,270,0\.00$' "$work/wall.helioscope"
+tap_ok $? "HelioScope: the wall at azimuth -90, compass heading 90: $(grep '^-90,' "$work/wall.helioscope")"
+run horizon --point "$mid" --point-crs dem --step 5 --format sam "$work/wall.tif" "$work/wall.sam"
+awk -F, 'NR == 1 { for (i = 2; i <= NF; i++) az[i] = $i; next }
+    { for (i = 2; i <= NF; i++) if ($i > 0) { lost[az[i]]++; top[az[i]] = $1 } }
+    END { exit !(lost[90] == 19 && top[90] == 18 && !(0 in lost) && !(180 in lost) && !(270 in lost) && !(360 in lost)) }' \
+    "$work/wall.sam"
+tap_ok $? "SAM: beam losses in the azimuth 90 column up to altitude 18, none north, south or west"
+
+# --points: one file per site, ID plus the tool's extension.
+for f in $pv_formats; do
+    mkdir "$work/pv_$f"
+    run horizon --points "$work/sites.csv" --step 7.5 --format $f "$dem" "$work/pv_$f"
+    e=$(pv_extension $f)
+    [ $rc -eq 0 ] && [ "$(ls "$work/pv_$f" | tr '\n' ' ')" = "low.$e ridge.$e top.$e " ] &&
+        "read_$f" "$work/pv_$f/top.$e" | awk '$1 == "bad" { bad = 1 } END { exit !(NR == 48 && !bad) }'
+    tap_ok $? "$f with --points writes one file of 48 directions per site: $(ls "$work/pv_$f" | tr '\n' ' ')"
+done
+expect_failure 2 "pvsyst for several sites into a file" -- horizon --points "$work/sites.csv" --format pvsyst "$dem" "$work/out/o.csv"
+
+# ---- near and far merged (--far) --------------------------------------------------------
+# A DEM merged with itself is itself.
+run horizon --point "$site" --point-crs dem --step 2 "$dem" "$work/self0.csv"
+run horizon --point "$site" --point-crs dem --step 2 --far "$dem" "$dem" "$work/self1.csv"
+[ $rc -eq 0 ] && diff <(grep '^site,' "$work/self0.csv") <(grep '^site,' "$work/self1.csv") >/dev/null
+tap_ok $? "a DEM merged with itself gives its own profile, every column ($(head -c 200 "$work/stderr"))"
+grep -q "^# skysweep .* horizon profiles of near .*dem.tif merged with the far terrain .*dem.tif (the larger elevation per azimuth)$" "$work/self1.csv" &&
+    grep -q '^# site id=site .* far_ground_height_m=[0-9.]* far_observer_height_m=0\.000$' "$work/self1.csv"
+tap_ok $? "the CSV states both sources and the site on the far DEM"
+# A flat near DSM and a far terrain DEM in another CRS and grid (WGS84, about
+# 90 m) holding a ridge 600 m high 5 km south of the site: the merged profile
+# has the far DEM's ridge at the south and the near zeros elsewhere.
+awk -v ys=2152770 'BEGIN {
+    print "ncols 200"; print "nrows 200"; print "xllcorner 245940"; print "yllcorner 2143770"
+    print "cellsize 90"; print "NODATA_value -9999"
+    for (r = 0; r < 200; r++) { y = 2143770 + 90 * (200 - r) - 45; line = ""
+        for (c = 0; c < 200; c++) line = line ((y > ys - 5200 && y < ys - 4800) ? "700 " : "100 ")
+        print line } }' >"$work/far.asc"
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/far.asc" "$work/far_utm.tif"
+gdalwarp -q -t_srs EPSG:4326 -r bilinear "$work/far_utm.tif" "$work/far.tif"
+mid_ll=$(echo "$mid" | tr , ' ' | gdaltransform -s_srs EPSG:32605 -t_srs EPSG:4326 -output_xy |
+    awk '{ printf "%.9f,%.9f", $1, $2 }')
+run horizon --point "$mid_ll" --step 1 "$work/far.tif" "$work/faronly.csv"
+tap_ok $rc "the far DEM's own profile at the site ($(head -c 200 "$work/stderr"))"
+run horizon --point "$mid_ll" --step 1 --far "$work/far.tif" "$work/flat.tif" "$work/merged.csv"
+tap_ok $rc "a flat DSM merged with the far DEM ($(head -c 200 "$work/stderr"))"
+far_south=$(awk -F, '$1 == "site" && $2 == 180 { print $3 }' "$work/faronly.csv")
+awk -F, -v want="$far_south" '$1 == "site" { n++
+        if ($2 == 180 && !($3 == want && $3 > 6 && $4 > 4500 && $4 < 5500)) bad++
+        if (($2 < 90 || $2 > 270) && $3 != 0) bad++ }
+    END { exit !(n == 360 && !bad) }' "$work/merged.csv"
+tap_ok $? "the merged profile holds the ridge at the south ($far_south deg, as the far DEM alone) and the flat zeros to the north"
+run horizon --point "$mid_ll" --step 1 --format pvsyst --far "$work/far.tif" "$work/flat.tif" "$work/merged.pvsyst"
+grep -q "^0,$(printf '%.2f' "$far_south")$" "$work/merged.pvsyst" && grep -q 'far terrain' "$work/merged.pvsyst"
+tap_ok $? "the PVsyst file carries the ridge at its south (0) and names both sources"
+# Many sites with --far, into a folder of PV files and into JSON.
+printf 'id,lon,lat\nmid,%s\nnear_mid,%s\n' "$mid_ll" \
+    "$(echo "$mid_ll" | awk -F, '{ printf "%.9f,%.9f", $1 + 0.0001, $2 + 0.0001 }')" >"$work/fsites.csv"
+mkdir "$work/fpv"
+run horizon --points "$work/fsites.csv" --step 1 --format pvsol --far "$work/far.tif" "$work/flat.tif" "$work/fpv"
+[ $rc -eq 0 ] && [ "$(ls "$work/fpv" | tr '\n' ' ')" = "mid.hor near_mid.hor " ] &&
+    grep -q "^0 $(printf '%.2f' "$far_south")$" "$work/fpv/mid.hor"
+tap_ok $? "--points with --far writes each site's merged PV*SOL file (the ridge at 0, south): $(ls "$work/fpv" | tr '\n' ' ')"
+run horizon --points "$work/fsites.csv" --step 10 --format json --far "$work/far.tif" "$work/flat.tif" "$work/f.json"
+[ $rc -eq 0 ] && grep -q '"far_dem": ".*far.tif"' "$work/f.json"
+tap_ok $? "JSON names the far DEM"
+# A far DEM standing 50 m above the eye at the site: the far horizon is seen
+# from its own ground.
+awk 'NR <= 6 { print; next } { for (i = 1; i <= NF; i++) $i += 50; print }' "$work/far.asc" >"$work/far_hi.asc"
+gdal_translate -q -ot Float32 -a_srs EPSG:32605 "$work/far_hi.asc" "$work/far_hi.tif"
+run horizon --point "$mid_ll" --step 10 --far "$work/far_hi.tif" "$work/flat.tif" "$work/hi.csv"
+[ $rc -eq 0 ] && grep -q '^# site .* ground_height_m=100\.000 observer_height_m=0\.000 far_ground_height_m=150\.000 far_observer_height_m=0\.000$' "$work/hi.csv"
+tap_ok $? "an eye below the far DEM's ground looks from that ground: $(grep '^# site' "$work/hi.csv")"
+expect_failure 2 "--far with --north grid" -- horizon --point "$mid_ll" --north grid --far "$work/far.tif" "$work/flat.tif" "$work/out/o.csv"
+expect_failure 2 "--far for horizon rasters" -- horizon --far "$work/far.tif" "$work/flat.tif" "$work/out/o.tif"
+expect_failure 2 "a site outside the far DEM" -- horizon --point "$(cell_xy 50 10)" --point-crs dem --far "$work/flat.tif" "$dem" "$work/out/o.csv"
+grep -q 'far DEM' "$work/stderr"
+tap_ok $? "the message names the far DEM"
+awk 'BEGIN { print "ncols 5\nnrows 5\nxllcorner 0\nyllcorner 0\ncellsize 1"; for (r = 0; r < 5; r++) print "1 1 1 1 1" }' >"$work/nogeo.asc"
+expect_failure 3 "a far DEM without a CRS" -- horizon --point "$mid_ll" --far "$work/nogeo.asc" "$work/flat.tif" "$work/out/o.csv"
+cp "$work/far.tif" "$work/out/far.tif"
+run horizon --point "$mid_ll" --far "$work/out/far.tif" "$work/flat.tif" "$work/out/far.tif"
+[ $rc -eq 2 ] && cmp -s "$work/far.tif" "$work/out/far.tif" && grep -q "also an input.*--far" "$work/stderr"
+tap_ok $? "the far DEM named as the output: exit $rc, the DEM untouched: $(head -c 200 "$work/stderr")"
+
 # ---- skysweep sun --horizon-from ------------------------------------------------------
 run sun --at "$ll" --time 2026-12-21T15:00Z/P1D/PT15M --horizon-from "$dem"
 tap_ok $rc "sun --horizon-from exits 0 ($(head -c 200 "$work/stderr"))"

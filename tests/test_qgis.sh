@@ -41,7 +41,7 @@ not_parameters=" help q of scene plan plan-format heightmap z-scale overlap "
 for a in $algorithms; do
     "$qgis" help "skysweep:$a" >"$work/help.out" 2>&1
     skip=$not_parameters
-    [ "$a" = horizon ] && skip="$skip point points point-crs format step height "
+    [ "$a" = horizon ] && skip="$skip point points point-crs format step height far "
     missing=""
     for option in $("$SKYSWEEP" "$a" --help | sed -n 's/^  -\{1,2\}\([a-z][-a-z]*\).*/\1/p'); do
         case $skip in *" $option "*) continue ;; esac

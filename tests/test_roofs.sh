@@ -175,6 +175,32 @@ rc=$?
 [ $rc = 0 ] && [ ! -e plan.gpkg ] && grep -q "^cost" plan.out && [ -z "$(ls -A | grep '^\.plan\.gpkg')" ]
 tap_ok $? "--plan prints the insolation run's plan and writes nothing (exit $rc)"
 
+# --horizon-files: a PVsyst horizon file per roof plane, seen from its centre
+# (doc/pv-horizons.md). The flat roof D, 15 m north of the tall neighbour E
+# (26 m higher), sees E at its south, PVsyst's 0: atan(26 / 15) = 60.0 deg.
+mkdir hz
+roofs footprints.geojson hz.gpkg hz.csv --horizon-files hz --horizon-format pvsyst >hz.out 2>err.txt
+rc=$?
+planes=$(($(wc -l <hz.csv) - 1))
+[ $rc = 0 ] && [ "$(ls hz | wc -l)" = "$planes" ] && [ -e hz/D_1.csv ] && [ -e hz/A_2.csv ]
+tap_ok $? "--horizon-files writes one file per roof plane, BUILDING_PLANE.csv ($planes planes: $(ls hz | head -4 | tr '\n' ' ')...)"
+awk -F, '$1 == 0 { s = $2 } $1 == -180 { n = $2 } END { printf "south %s, north %s", s, n; exit !(s > 59.5 && s < 60.5 && n == 0) }' \
+    hz/D_1.csv >hz.says
+tap_ok $? "the flat roof north of the tall neighbour sees it at PVsyst's 0 (south), open to the north: $(cat hz.says)"
+# Building ids that differ only in characters a file name cannot hold.
+sed 's/"building_id": "D"/"building_id": "x y"/; s/"building_id": "E"/"building_id": "x\/y"/' \
+    footprints.geojson >clash.geojson
+mkdir hz2
+roofs clash.geojson clash.gpkg clash.csv --horizon-files hz2 >/dev/null 2>err.txt
+rc=$?
+[ $rc = 3 ] && [ ! -e clash.gpkg ] && [ -z "$(ls -A hz2)" ] && grep -q "x_y_1.txt" err.txt
+tap_ok $? "two planes that would share a horizon file: exit $rc, nothing written, $(head -c 200 err.txt)"
+"$SKYSWEEP" roofs --buildings footprints.geojson --weather "$weather" --horizon-files nothere \
+    city.tif out5.gpkg >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ ! -e out5.gpkg ] && [ "$(wc -l <err.txt)" = 1 ] && grep -q "existing folder" err.txt
+tap_ok $? "--horizon-files that is not a folder: exit $rc, $(head -c 200 err.txt)"
+
 # An open plane against pvlib.
 if "$python" -c "import pvlib" 2>/dev/null; then
     "$python" "$top/tests/pvlib/roof_plane.py" "$SKYSWEEP" "$weather" "$window" planes.csv C \

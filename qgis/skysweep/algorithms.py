@@ -22,7 +22,8 @@ from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException,
 #: so does the rule for overlapping tiles (a layer is one DEM).
 NOT_PARAMETERS = {"q", "of", "scene", "plan", "plan-format", "heightmap", "z-scale", "overlap"}
 #: horizon's site profiles print tables, not rasters: the CLI's --point mode.
-NOT_PARAMETERS_OF = {"horizon": {"point", "points", "point-crs", "format", "step", "height"}}
+NOT_PARAMETERS_OF = {"horizon": {"point", "points", "point-crs", "format", "step", "height",
+                                 "far"}}
 
 
 def parameter_name(option):

@@ -41,7 +41,12 @@ static const opt_spec horizon_options[] = {
      "observer (e.g. PV module) height above the ground at the sites"},
     {"format", OPT_CHOICE, PTS(format), NULL, "csv", 0, 0, HORIZON_POINT_FORMATS,
      "site profile format; pvgis: the elevations at equal steps clockwise from north, "
-     "comma-separated (PVGIS user horizon)"},
+     "comma-separated (PVGIS user horizon); pvsyst, pvsol (.hor), helioscope (SunEye CSV), "
+     "sam (azimuth by altitude beam shading table): horizon files in each tool's own "
+     "convention (doc/pv-horizons.md)"},
+    {"far", OPT_INPUT, PTS(far), "DEM", NULL, 0, 0, NULL,
+     "terrain DEM (any CRS and grid) for the far horizon of the sites, merged with the "
+     "DEM's horizon by the larger elevation per azimuth; eyes at the same absolute height"},
     OPT_END};
 
 typedef struct {
@@ -98,6 +103,8 @@ int cmd_horizon(int argc, char **argv)
                                               "output; site profiles carry both");
         return horizon_points_run(&set.common, &set.pts, pos, n_pos);
     }
+    if (set.pts.far)
+        return run_usage_error("horizon", "--far is for site profiles (--point, --points)");
     if (n_pos < 2)
         return run_usage_error("horizon", "needs an input DEM and an output file");
     int want = (set.distance_path ? SS_HORIZON_DISTANCE : 0) |

@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "roof_horizons.h"
 #include "roof_planes.h"
 #include "roofs_io.h"
 #include "run.h"
@@ -34,6 +35,8 @@ typedef struct {
     const char *buildings, *dtm, *csv, *id_field;
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
     double setback_m, min_irradiation, max_tilt_deg, kwp_per_m2;
+    const char *horizon_dir;
+    int horizon_format;
 } roofs_settings;
 
 #define SET(field) offsetof(roofs_settings, field)
@@ -66,6 +69,11 @@ static const opt_spec own_options[] = {
      "usable planes are tilted at most this much"},
     {"kwp-per-m2", OPT_DOUBLE, SET(kwp_per_m2), "KWP_M2", "0.2", 0.01, 1, NULL,
      "peak power of modules per m2 of usable roof (0.2: modules of 20 % efficiency)"},
+    {"horizon-files", OPT_STRING, SET(horizon_dir), "DIR", NULL, 0, 0, NULL,
+     "also write a horizon file for PV software per roof plane, seen from its centre, into "
+     "this existing folder as BUILDING_PLANE.ext (doc/pv-horizons.md)"},
+    {"horizon-format", OPT_CHOICE, SET(horizon_format), NULL, "pvgis", 0, 0,
+     ROOF_HORIZON_FORMATS, "format of --horizon-files (as horizon --format)"},
     OPT_END};
 static const opt_spec passed_on[] = {
     {"weather", OPT_INPUT, SET(weather), "FILE", NULL, 0, 0, NULL,
@@ -267,6 +275,7 @@ typedef struct {
     int number; /* 1.. within the building */
     roof_plane fit;
     double tilt_deg, azimuth_deg; /* true azimuth of the downslope direction */
+    double centre_col, centre_row; /* the plane's cell nearest its mean (--horizon-files) */
     double area_m2, usable_area_m2, inner_area_m2;
     double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
     double kwp, kwh_ac_year, kwh_per_kwp, kwh_ac_month[12];
@@ -639,6 +648,8 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at)
                                                : az;
         row->geometry = geoms[p];
         geoms[p] = NULL;
+        roof_plane_centre(fp->cells, label, fp->n_cells, g->width, p, &row->centre_col,
+                          &row->centre_row);
         plane_yield(job, &r->set, &r->yield, fp, label, plane_at, p, row);
         s->roof_area_m2 += row->area_m2;
         s->usable_area_m2 += row->usable_area_m2;
@@ -717,6 +728,21 @@ static ss_status find_all(roofs_run *r)
     r->seconds_unshaded = run_now() - t0;
     free(label);
     free(plane_at);
+    return st;
+}
+
+/* --horizon-files: one file per plane, at its centre (roof_horizons.c). */
+static ss_status plane_horizon_files(roofs_run *r)
+{
+    roof_horizon_site *s = malloc(sizeof *s * (r->n_planes + 1));
+    if (!s)
+        return command_out_of_memory(&r->job.run);
+    for (size_t i = 0; i < r->n_planes; ++i)
+        s[i] = (roof_horizon_site){r->fps.items[r->planes[i].building].id, r->planes[i].number,
+                                   r->planes[i].centre_col, r->planes[i].centre_row};
+    ss_status st = roof_horizon_files(r->job.run.ctx, &r->job.dem, &r->job.frame,
+                                      r->set.horizon_dir, r->set.horizon_format, s, r->n_planes);
+    free(s);
     return st;
 }
 
@@ -815,7 +841,8 @@ static int refuse_options(const roofs_settings *set, const opt_spec *const *tabl
     if (strcmp(set->ins.surface, opt_find(tables, "surface")->default_text) != 0)
         return run_usage_error("roofs", "roofs take each cell's own surface: --surface is for "
                                         "insolation");
-    return -1;
+    int bad_folder = roof_horizon_check(set->horizon_dir);
+    return bad_folder ? bad_folder : -1;
 }
 
 int cmd_roofs(int argc, char **argv)
@@ -879,6 +906,8 @@ int cmd_roofs(int argc, char **argv)
     r->seconds_insolation = run_now() - t0;
     if (rc == 0 && !job->run.plan_only) {
         st = find_all(r);
+        if (st == SS_OK && set->horizon_dir)
+            st = plane_horizon_files(r);
         if (st == SS_OK)
             st = write_outputs(r);
         rc = job_finish(job, st);

@@ -14,6 +14,8 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "horizon_far.h"
+#include "horizon_formats.h"
 #include "horizon_points.h"
 #include "temporaries.h"
 #include "text_input.h"
@@ -33,13 +35,17 @@ typedef struct {
     ss_site_frame *sf;
     site_rec *sites;
     int n_sites;
-    FILE *out;          /* NULL in pvgis folder mode */
-    const char *folder; /* pvgis folder mode: one file per site */
+    FILE *out;          /* NULL in folder mode */
+    const char *folder; /* folder mode (--points with a PV file format): one file per site */
+    const horizon_file_format *file_format; /* NULL for csv and json */
+    horizon_far *far;   /* --far, or NULL */
+    char sources[1300]; /* the DEM, and the far DEM, as the outputs name them */
     ss_status status;
     ss_ctx *ctx;
     int quiet;
     int true_north;
     double *cast_col, *cast_row, *cast_lon, *cast_lat; /* one profile's worth */
+    ss_point_horizon_result *merged; /* with --far: one profile, near and far merged */
 } writer;
 
 static char *trim(char *s)
@@ -85,10 +91,10 @@ static const char *id_problem(const char *id, int as_file_name)
         if (c < 0x20 || c == 0x7f || c == '"' || c == '#' || c == '\\' || c == ',')
             return "holds a control character, a quote, '#', '\\' or ','";
         if (as_file_name && !(isalnum(c) || c == '-' || c == '_' || c == '.'))
-            return "must keep to letters, digits, '-', '_' and '.' to name a pvgis file";
+            return "must keep to letters, digits, '-', '_' and '.' to name a file";
     }
     if (as_file_name && id[0] == '.')
-        return "must not start with '.' to name a pvgis file";
+        return "must not start with '.' to name a file";
     return NULL;
 }
 
@@ -279,7 +285,7 @@ static void write_head(writer *w)
     char model[200];
     model_text(w->opt, model, sizeof model);
     if (pts->format == POINT_FORMAT_CSV) {
-        fprintf(w->out, "# skysweep %s horizon profiles of %s\n# ", ss_version(), w->dem_name);
+        fprintf(w->out, "# skysweep %s horizon profiles of %s\n# ", ss_version(), w->sources);
         fprintf(w->out, conventions, north_text(w));
         fprintf(w->out, "\n# model: %s; step %.10g deg\n", model, 360.0 / w->opt->directions);
         fprintf(w->out,
@@ -287,6 +293,10 @@ static void write_head(writer *w)
     } else if (pts->format == POINT_FORMAT_JSON) {
         fprintf(w->out, "{\n  \"skysweep\": \"%s\",\n  \"dem\": ", ss_version());
         json_string(w->out, w->dem_name);
+        if (w->far) {
+            fprintf(w->out, ",\n  \"far_dem\": ");
+            json_string(w->out, horizon_far_name(w->far));
+        }
         fprintf(w->out, ",\n  \"conventions\": \"");
         fprintf(w->out, conventions, north_text(w));
         fprintf(w->out, "\",\n  \"model\": \"%s\",\n", model);
@@ -300,8 +310,14 @@ static void write_head(writer *w)
 
 static void write_site_csv(writer *w, const site_rec *s, const ss_point_horizon_result *p)
 {
-    fprintf(w->out, "# site id=%s lon=%.8f lat=%.8f ground_height_m=%.3f observer_height_m=%.3f\n",
+    fprintf(w->out, "# site id=%s lon=%.8f lat=%.8f ground_height_m=%.3f observer_height_m=%.3f",
             s->id, s->lon_deg, s->lat_deg, s->ground_m, s->height_m);
+    if (w->far) {
+        double ground, eye;
+        horizon_far_site(w->far, (int)(s - w->sites), &ground, &eye);
+        fprintf(w->out, " far_ground_height_m=%.3f far_observer_height_m=%.3f", ground, eye);
+    }
+    fputc('\n', w->out);
     for (int i = 0; i < w->opt->directions; ++i) {
         fprintf(w->out, "%s,%.10g,%.6f,%.1f,", s->id, p[i].azimuth_deg, p[i].elevation_deg,
                 p[i].distance_m);
@@ -361,13 +377,6 @@ static void write_site_json(writer *w, int index, const site_rec *s,
     free(col);
 }
 
-static void write_pvgis(FILE *f, const ss_point_horizon_result *p, int n)
-{
-    for (int i = 0; i < n; ++i)
-        fprintf(f, "%s%.2f", i ? "," : "", p[i].elevation_deg);
-    fputc('\n', f);
-}
-
 /* Finishes a temporary file: close, and rename over path when all went well. */
 static ss_status commit_file(ss_ctx *ctx, FILE *f, const char *tmp, const char *path, ss_status st)
 {
@@ -389,20 +398,36 @@ static ss_status commit_file(ss_ctx *ctx, FILE *f, const char *tmp, const char *
     return st;
 }
 
-static ss_status write_pvgis_file(writer *w, const site_rec *s, const ss_point_horizon_result *p)
+static void write_pv_file(const writer *w, FILE *f, const site_rec *s,
+                          const ss_point_horizon_result *p)
 {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s.txt", w->folder, s->id);
+    horizon_file_site site = {s->id, s->lon_deg, s->lat_deg, w->sources};
+    w->file_format->write(f, &site, p, w->opt->directions);
+}
+
+ss_status horizon_file_write(ss_ctx *ctx, const horizon_file_format *format, const char *path,
+                             const horizon_file_site *site, const ss_point_horizon_result *p,
+                             int n)
+{
     char *tmp;
     FILE *f = open_temporary(path, &tmp);
     if (!f) {
         free(tmp);
-        return ss_ctx_error(w->ctx, SS_ERR_OUTPUT, "cannot create '%s'", path);
+        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot create '%s'", path);
     }
-    write_pvgis(f, p, w->opt->directions);
-    ss_status st = commit_file(w->ctx, f, tmp, path, SS_OK);
+    format->write(f, site, p, n);
+    ss_status st = commit_file(ctx, f, tmp, path, SS_OK);
     free(tmp);
     return st;
+}
+
+/* Folder mode: the site's file, ID plus the format's extension. */
+static ss_status write_site_file(writer *w, const site_rec *s, const ss_point_horizon_result *p)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s%s", w->folder, s->id, w->file_format->extension);
+    horizon_file_site site = {s->id, s->lon_deg, s->lat_deg, w->sources};
+    return horizon_file_write(w->ctx, w->file_format, path, &site, p, w->opt->directions);
 }
 
 static int store_site(int index, const ss_point_horizon_result *p, void *user)
@@ -413,24 +438,32 @@ static int store_site(int index, const ss_point_horizon_result *p, void *user)
     for (int i = 0; i < n; ++i) {
         w->cast_col[i] = p[i].cast_col;
         w->cast_row[i] = p[i].cast_row;
-        none += p[i].distance_m == 0.0;
     }
+    w->status = ss_site_lonlat(w->sf, n, w->cast_col, w->cast_row, w->cast_lon, w->cast_lat);
+    if (w->status == SS_OK && w->far) {
+        int far_wins;
+        memcpy(w->merged, p, sizeof *p * (size_t)n);
+        p = w->merged;
+        w->status = horizon_far_merge(w->far, index, w->opt, w->merged, w->cast_lon, w->cast_lat,
+                                      &far_wins);
+    }
+    if (w->status != SS_OK)
+        return 0;
+    for (int i = 0; i < n; ++i)
+        none += p[i].distance_m == 0.0;
     if (none && !w->quiet)
         fprintf(stderr,
                 "skysweep horizon: warning: site '%s': at %d of %d azimuths no terrain lies "
-                "ahead inside the DEM (the site is at its edge); their elevation is -90\n",
-                s->id, none, n);
-    w->status = ss_site_lonlat(w->sf, n, w->cast_col, w->cast_row, w->cast_lon, w->cast_lat);
-    if (w->status != SS_OK)
-        return 0;
+                "ahead inside the DEM%s (the site is at its edge); their elevation is -90\n",
+                s->id, none, n, w->far ? "s" : "");
     if (w->pts->format == POINT_FORMAT_CSV)
         write_site_csv(w, s, p);
     else if (w->pts->format == POINT_FORMAT_JSON)
         write_site_json(w, index, s, p);
     else if (w->folder)
-        w->status = write_pvgis_file(w, s, p);
+        w->status = write_site_file(w, s, p);
     else
-        write_pvgis(w->out, p, n);
+        write_pv_file(w, w->out, s, p);
     return w->status == SS_OK;
 }
 
@@ -475,8 +508,16 @@ static ss_status place_sites(run_state *run, const common_settings *common,
     return SS_OK;
 }
 
+static const char *format_name(const horizon_point_settings *pts)
+{
+    static const char *const names[] = {"csv", "json", "pvgis", "pvsyst", "pvsol", "helioscope",
+                                        "sam"};
+    return names[pts->format];
+}
+
 /* Checks the settings; returns 0 or the usage error's exit code. */
-static int check_settings(const horizon_point_settings *pts, const char *output, int *directions)
+static int check_settings(const horizon_point_settings *pts, int north_grid, const char *output,
+                          int *directions)
 {
     double x, y;
     if ((pts->point != NULL) == (pts->points != NULL))
@@ -489,10 +530,29 @@ static int check_settings(const horizon_point_settings *pts, const char *output,
         return run_usage_error("horizon", "--step must divide 360 degrees into a whole number "
                                           "of steps (at most a million), e.g. 1, 0.5, 0.1");
     *directions = (int)nearbyint(n);
-    if (pts->format == POINT_FORMAT_PVGIS && pts->points && (!output || !is_folder(output)))
-        return run_usage_error("horizon", "--format pvgis with --points writes one file per "
-                                          "site: OUTPUT must be an existing folder");
+    if (pts->format > POINT_FORMAT_JSON && pts->points && (!output || !is_folder(output))) {
+        char why[200];
+        snprintf(why, sizeof why, "--format %s with --points writes one file per site: OUTPUT "
+                 "must be an existing folder", format_name(pts));
+        return run_usage_error("horizon", why);
+    }
+    if (pts->far && north_grid)
+        return run_usage_error("horizon", "--far takes true north: the two DEMs' grid norths "
+                                          "differ (leave out --north grid)");
     return 0;
+}
+
+/* --far: the far DEM, the sites on it and the merged profile's room; the
+ * sources PV files name. */
+static ss_status open_far(writer *w, const char *path, const site_rec *sites, int n_sites,
+                          int directions)
+{
+    ss_status st = horizon_far_open(w->ctx, path, directions, &w->far);
+    if (st == SS_OK)
+        st = horizon_far_place(w->far, sites, n_sites, 1);
+    if (st == SS_OK && !(w->merged = malloc(sizeof *w->merged * (size_t)directions)))
+        st = ss_ctx_error(w->ctx, SS_ERR_MEMORY, "out of memory for merged profiles");
+    return st;
 }
 
 /* Everything one point run holds, released by point_job_close. */
@@ -518,7 +578,8 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
 {
     writer *w = &j->w;
     w->ctx = j->run.ctx;
-    int folder_mode = pts->format == POINT_FORMAT_PVGIS && pts->points;
+    w->file_format = horizon_file_format_named(format_name(pts));
+    int folder_mode = w->file_format && pts->points;
     ss_status st = SS_OK;
     if (pts->points) {
         st = horizon_sites_read(w->ctx, pts->points, pts->height_m, folder_mode, &j->sites, &j->n_sites);
@@ -552,6 +613,8 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
     if (st == SS_OK)
         st = place_sites(&j->run, common, &j->frame, j->sf, j->pg, j->sites, j->n_sites,
                          j->psites);
+    if (st == SS_OK && pts->far)
+        st = open_far(w, pts->far, j->sites, j->n_sites, directions);
     if (st != SS_OK)
         return st;
     w->pts = pts;
@@ -566,6 +629,12 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
     w->cast_row = w->cast_col + directions;
     w->cast_lon = w->cast_row + directions;
     w->cast_lat = w->cast_lon + directions;
+    if (w->far)
+        snprintf(w->sources, sizeof w->sources,
+                 "near %s merged with the far terrain %s (the larger elevation per azimuth)",
+                 j->dem.description, horizon_far_name(w->far));
+    else
+        snprintf(w->sources, sizeof w->sources, "%s", j->dem.description);
     w->folder = folder_mode ? output : NULL;
     w->out = folder_mode ? NULL : stdout;
     if (output && !folder_mode && (st = ss_output_check(w->ctx, output)) == SS_OK) {
@@ -579,6 +648,8 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
 static void point_job_close(point_job *j)
 {
     free(j->w.cast_col);
+    free(j->w.merged);
+    horizon_far_close(j->w.far);
     free(j->psites);
     free(j->tmp);
     ss_point_grid_free(j->pg);
@@ -599,7 +670,7 @@ int horizon_points_run(const common_settings *common, const horizon_point_settin
     int n_inputs = n_pos > 1 ? n_pos - 1 : n_pos;
     const char *output = n_pos > 1 && strcmp(pos[n_pos - 1], "-") != 0 ? pos[n_pos - 1] : NULL;
     int directions = 0;
-    int rc = check_settings(pts, output, &directions);
+    int rc = check_settings(pts, common->sweep.north == SS_NORTH_GRID, output, &directions);
     if (rc)
         return rc;
     point_job j;
@@ -625,9 +696,7 @@ int horizon_points_run(const common_settings *common, const horizon_point_settin
         run_print_dem(&j.run, &j.dem, &j.frame);
         printf("horizon profiles of %d site%s x %d azimuths (step %.10g deg) -> %s (%s)\n",
                j.n_sites, j.n_sites > 1 ? "s" : "", directions, pts->step_deg, output,
-               pts->format == POINT_FORMAT_CSV    ? "csv"
-               : pts->format == POINT_FORMAT_JSON ? "json"
-                                                  : "pvgis");
+               format_name(pts));
     }
     point_job_close(&j);
     return rc;

@@ -8,8 +8,10 @@
 #include "run.h"
 #include "site.h"
 
-#define HORIZON_POINT_FORMATS "csv|json|pvgis"
-enum { POINT_FORMAT_CSV, POINT_FORMAT_JSON, POINT_FORMAT_PVGIS };
+/* csv and json hold every site in one file (or standard output); the others
+ * are PV software's horizon files (horizon_formats.h), one per site. */
+#define HORIZON_POINT_FORMATS "csv|json|pvgis|pvsyst|pvsol|helioscope|sam"
+enum { POINT_FORMAT_CSV, POINT_FORMAT_JSON };
 
 typedef struct {
     const char *point;     /* "X,Y": one site, WGS84 longitude,latitude unless --point-crs */
@@ -18,6 +20,7 @@ typedef struct {
     double step_deg;       /* azimuth step; 360 / step must be a whole number */
     double height_m;       /* observer above the ground, where a site gives none */
     int format;            /* index into HORIZON_POINT_FORMATS */
+    const char *far;       /* terrain DEM for the far horizon, merged by the maximum */
 } horizon_point_settings;
 
 #define ID_MAX 200
@@ -32,7 +35,7 @@ typedef struct {
 /* Reads a sites CSV (--points): a header naming id, lon (or x), lat (or y)
  * and optionally height, in any order; '#' lines and blank lines are
  * skipped. A regular file of at most 256 MiB (text_input.h). ids_as_files:
- * ids must name pvgis files. *out (to be freed) holds *n_out >= 1 sites;
+ * ids must name per-site files. *out (to be freed) holds *n_out >= 1 sites;
  * else the error is in ctx (SS_ERR_INPUT, SS_ERR_MEMORY). */
 ss_status horizon_sites_read(ss_ctx *ctx, const char *path, double default_height_m,
                              int ids_as_files, site_rec **out, int *n_out);
