@@ -485,6 +485,14 @@ SS_API ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy
                                const ss_sweep_options *opt, ss_svf_definition definition,
                                ss_trunk_gaps gaps, float *solid_share, float *crown_share);
 
+/* The crowns' horizon toward one direction (grid azimuth, degrees):
+ * crown_deg[c] = the elevation, in degrees, of the highest crown top
+ * (surface + canopy height) ahead of cell c seen from its surface, -90
+ * where no crown lies ahead, SS_NODATA at nodata. Digital lines, the earth
+ * flat. The canopy horizon is the larger of it and the solid horizon. */
+SS_API ss_status ss_canopy_top_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                       double grid_azimuth_deg, float *crown_deg);
+
 /* Cosine of the angle between the sun and each cell's surface normal (Horn's
  * 3x3 gradient; cell azimuths in the grid's frame): <= 0 where the cell
  * faces away from the sun (self-shadow). Per-cell sun arrays may be NULL

@@ -15,7 +15,10 @@
 # the same light) take 1 + T (shade - 1), every other cell its shade; a
 # canopy without cast shadows is refused. shadow --crown-light
 # beer-lambert: band 6 holds a path exactly where class 2 is, band 5 is
-# exp(-G LAD path) there; its options alone are refused.
+# exp(-G LAD path) there; its options alone are refused. horizon --canopy
+# --canopy-horizon: a canopy of zeros gives the solid horizon byte for
+# byte; trees only raise it; south of the tree, looking north, the crown's
+# top at its closed form; its refusals.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-$PWD/skysweep}
@@ -256,4 +259,32 @@ tap_ok $? "the metadata name the crowns' light: constant or Beer-Lambert with it
 refuse 2 "--leaf-area-density without --crown-light beer-lambert" --canopy canopy.tif --leaf-area-density 2 dsm.tif bad.tif
 refuse 2 "--crown-light beer-lambert without --canopy" --crown-light beer-lambert dsm.tif bad.tif
 refuse 2 "--transmissivity with --crown-light beer-lambert" --canopy canopy.tif --crown-light beer-lambert --transmissivity 0.1 dsm.tif bad.tif
+# horizon --canopy: the canopy horizon beside the solid one.
+hz() { "$SKYSWEEP" horizon -q --device reference --north grid --directions 4 "$@"; }
+hz --canopy zeros.tif --canopy-horizon hz_zeros.tif dsm.tif hz_solid.tif &&
+    hz --canopy canopy.tif --canopy-horizon hz_trees.tif dsm.tif hz_solid2.tif
+same=0 raised=0
+for b in 1 2 3 4; do
+    cmp -s <(band hz_solid.tif $b) <(band hz_zeros.tif $b) || same=1
+    cmp -s <(band hz_solid.tif $b) <(band hz_solid2.tif $b) || same=1
+    paste <(band hz_solid.tif $b) <(band hz_trees.tif $b) |
+        awk '$2 < $1 {bad++} END {exit bad > 0}' || raised=1
+done
+tap_ok $same "horizon, a canopy of zeros: the canopy horizon is the solid one byte for byte, and --canopy leaves the solid output alone"
+# Cell (22, 40) looks north along its column at the crown (radius 4 m,
+# 10 m tall, centre row 20): the nearest crown cell's top, 17 cells away,
+# over level ground along the column (cells of 1.00028 m on the ground).
+north=$(band hz_trees.tif 1 | sed -n "$((40 * 60 + 22 + 1))p")
+awk -v h="$north" -v raised=$raised 'BEGIN {want = atan2(10, 17 * 1.00028) * 45 / atan2(1, 1)
+                          d = h - want; exit !(raised == 0 && d < 1e-3 && d > -1e-3)}'
+tap_ok $? "horizon --canopy: trees only raise the horizon; looking north at the crown 17 m away, $north deg (atan(10 / 17.005 m))"
+rm -f bad.tif
+"$SKYSWEEP" horizon -q --canopy canopy.tif dsm.tif bad.tif 2>err.txt >/dev/null
+rc=$?
+[ $rc -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e bad.tif ]
+tap_ok $? "horizon --canopy without --canopy-horizon: exit $rc ($(head -c 160 err.txt))"
+"$SKYSWEEP" horizon -q --canopy canopy.tif --canopy-horizon c.tif --transmissivity 0.2 dsm.tif bad.tif 2>err.txt >/dev/null
+rc=$?
+[ $rc -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && [ ! -e bad.tif ] && [ ! -e c.tif ]
+tap_ok $? "horizon --canopy with --transmissivity (which cannot change it): exit $rc ($(head -c 160 err.txt))"
 tap_done

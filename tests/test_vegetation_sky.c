@@ -15,6 +15,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "lines.h"
 #include "tap.h"
 #include "testlib.h"
 #include "tree_scenes.h"
@@ -277,11 +278,68 @@ static void refusals(void)
     ss_grid_free(&g);
 }
 
+/* The crowns' top horizon (ss_canopy_top_horizon) against brute force on
+ * the same digital lines: every cell against every crown top ahead of it
+ * on its line, the distance walked between them from the cursor. */
+static void crown_horizon(const char *what, const ss_grid *g, const ss_canopy *cn)
+{
+    size_t n = (size_t)g->width * g->height, wrong = 0, seen = 0;
+    float *deg = malloc(n * sizeof(float));
+    size_t *cell = malloc(sizeof(size_t) * n);
+    double *w = malloc(sizeof(double) * n);
+    ss_ctx *ctx = ss_ctx_new();
+    const double azimuths[] = {0, 37.5, 90, 201, 333.3};
+    for (size_t a = 0; a < sizeof azimuths / sizeof *azimuths; ++a) {
+        if (ss_canopy_top_horizon(ctx, g, cn, azimuths[a], deg) != SS_OK) {
+            wrong = n;
+            break;
+        }
+        ss_line_set ls;
+        ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, azimuths[a],
+                                SS_LINE_MODEL_DIGITAL);
+        for (int line = 0; line < ss_line_count(&ls); ++line) {
+            int m = 0;
+            ss_line_cursor c = ss_line_cursor_start(&ls, line);
+            while (ss_line_cursor_next(&c))
+                if (isfinite(g->z[c.cell]))
+                    cell[m] = c.cell, w[m++] = c.walked_m;
+            for (int p = 0; p < m; ++p) {
+                double best = -90.0;
+                for (int q = 0; q < p; ++q)
+                    if (cn->height_m[cell[q]] > 0)
+                        best = fmax(best, atan2(g->z[cell[q]] + cn->height_m[cell[q]] -
+                                                    g->z[cell[p]],
+                                                w[p] - w[q]) *
+                                              180.0 / M_PI);
+                seen += best > -90.0;
+                wrong += fabs(deg[cell[p]] - best) > 1e-4;
+            }
+        }
+    }
+    tap_ok(wrong == 0 && seen > 0,
+           "%s: the crowns' top horizon equals brute force on its lines in 5 directions (%zu "
+           "cells differ; %zu with a crown ahead)",
+           what, wrong, seen);
+    free(deg), free(cell), free(w);
+    ss_ctx_free(ctx);
+}
+
 int main(void)
 {
     refusals();
     hedge();
     synthetic_scene();
     gothenburg();
+    {
+        const int n = 90;
+        ss_grid g = test_grid(n, n, 1, 1);
+        test_fill(&g, TERRAIN_SMOOTH, 9, 6.0);
+        float *height = malloc(sizeof(float) * (size_t)n * n);
+        tree_plant(&g, height, 3, 20);
+        ss_canopy cn = {height, NULL, 0.25, 0.03};
+        crown_horizon("6 m hills, 20 trees", &g, &cn);
+        free(height);
+        ss_grid_free(&g);
+    }
     return tap_done();
 }

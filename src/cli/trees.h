@@ -1,6 +1,6 @@
 /* Trees on the command line (doc/vegetation.md): the options that give a
  * canopy, declared once for every command that takes them (shadow, svf,
- * hillshade), and its reading onto the DEM's grid, its checks and its
+ * hillshade, horizon), and its reading onto the DEM's grid, its checks and its
  * metadata. */
 #ifndef SS_CLI_TREES_H
 #define SS_CLI_TREES_H
@@ -51,6 +51,11 @@ typedef struct {
 /* ... and hillshade's: the crown heights, the trunks, the DSM, and a byte
  * a cell for the crowns the light crosses. */
 #define TREES_HILLSHADE_CELL_BYTES (3.0 * sizeof(float) + 1.0)
+
+/* ... and horizon's: the crown heights, the trunks, the DSM, the crowns'
+ * horizon of one direction and a band of canopy-horizon rows (at most the
+ * grid). */
+#define TREES_HORIZON_CELL_BYTES (5.0 * sizeof(float))
 
 /* Reads --canopy and --trunk onto the DEM's grid and checks them. */
 ss_status trees_open(sweep_job *job, const tree_settings *set, trees *t);

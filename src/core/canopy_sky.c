@@ -14,7 +14,10 @@
  * rises, (bottom - z) / d to (top - z) / d for each crown cell d before
  * the cell, above the solid horizon; the crowns are taken nearest first,
  * and the walk back stops once the union covers everything from the solid
- * horizon to the canopy-top horizon (at once under a closed canopy). */
+ * horizon to the canopy-top horizon (at once under a closed canopy).
+ *
+ * ss_canopy_top_horizon gives the crowns' part of the canopy-top horizon
+ * alone, per direction: the same walk with a hull of the crown tops. */
 #include "config.h"
 
 #include <math.h>
@@ -211,5 +214,54 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
     free(s.rises.span);
     free(s.solid_sum);
     free(s.crown_sum);
+    return st;
+}
+
+/* The crowns' top horizon on one digital line, walked from the far end of
+ * the direction looked in: the hull of the crown tops walked before each
+ * cell. */
+static void crown_top_line(const ss_grid *grid, const ss_canopy *canopy, const ss_line_set *ls,
+                           int line, upper_hull *tops, float *crown_deg)
+{
+    tops->n = 0;
+    ss_line_cursor c = ss_line_cursor_start(ls, line);
+    while (ss_line_cursor_next(&c)) {
+        size_t i = c.cell;
+        float z = grid->z[i];
+        if (!isfinite(z))
+            continue;
+        hull_point q = {c.walked_m, z};
+        double t = hull_rise(tops, q);
+        crown_deg[i] = t == -HUGE_VAL ? -90.0f : (float)(atan(t) * (180.0 / M_PI));
+        if (canopy->height_m[i] > 0.0f)
+            hull_add(tops, (hull_point){q.w, z + canopy->height_m[i]});
+    }
+}
+
+ss_status ss_canopy_top_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                double grid_azimuth_deg, float *crown_deg)
+{
+    ss_call_begin(ctx);
+    if (!isfinite(grid_azimuth_deg))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "azimuth %g is not a direction", grid_azimuth_deg);
+    size_t n = (size_t)grid->width * (size_t)grid->height;
+    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
+    upper_hull tops = {ss_malloc(longest * sizeof(hull_point)), 0};
+    if (!tops.p)
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' horizon");
+    for (size_t i = 0; i < n; ++i)
+        crown_deg[i] = SS_NODATA;
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
+                            grid_azimuth_deg, SS_LINE_MODEL_DIGITAL);
+    ls.families = 1;
+    ss_status st = SS_OK;
+    for (int line = 0; st == SS_OK && line < ss_line_count(&ls); ++line) {
+        if (line % 256 == 0) /* Ctrl-C and ss_ctx_cancel reach a long sweep */
+            st = ss_check_cancel(ctx, "the crowns' horizon");
+        if (st == SS_OK)
+            crown_top_line(grid, canopy, &ls, line, &tops, crown_deg);
+    }
+    free(tops.p);
     return st;
 }
