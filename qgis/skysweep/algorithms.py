@@ -4,6 +4,7 @@ help. The algorithm runs the command line, so that its outputs are the CLI's
 (georeferencing, band names, metadata); progress goes to the feedback and
 cancelling stops the run, which then leaves no output behind."""
 import os
+import pathlib
 import queue
 import re
 import signal
@@ -54,7 +55,7 @@ def reads_vector(table, entry):
 
 def geopackage_layers(path):
     """The feature tables of a GeoPackage, in its gpkg_contents' order."""
-    uri = "file:" + os.path.abspath(path) + "?mode=ro"
+    uri = pathlib.Path(path).resolve().as_uri() + "?mode=ro"  # a path with spaces, ? or #
     with sqlite3.connect(uri, uri=True) as db:
         return [row[0] for row in db.execute("SELECT table_name FROM gpkg_contents WHERE "
                                              "data_type = 'features' ORDER BY rowid")]
