@@ -29,7 +29,7 @@ export ASAN_OPTIONS=detect_leaks=0:${ASAN_OPTIONS:-}
 "$qgis" plugins enable skysweep >"$work/enable.out" 2>&1
 tap_ok $? "qgis_process enables the plugin: $(grep -c skysweep "$work/enable.out") mentions"
 "$qgis" list >"$work/list.out" 2>&1
-algorithms="svf openness horizon hillshade shadow insolation"
+algorithms="svf openness horizon hillshade shadow insolation roofs"
 missing=""
 for a in $algorithms; do grep -q "skysweep:$a" "$work/list.out" || missing="$missing $a"; done
 tap_ok "$([ -z "$missing" ]; echo $?)" "qgis_process lists skysweep's algorithms${missing:+, missing:$missing}"
@@ -43,7 +43,7 @@ for a in $algorithms; do
     skip=$not_parameters
     [ "$a" = horizon ] && skip="$skip point points point-crs format step height far "
     missing=""
-    for option in $("$SKYSWEEP" "$a" --help | sed -n 's/^  -\{1,2\}\([a-z][-a-z]*\).*/\1/p'); do
+    for option in $("$SKYSWEEP" "$a" --help | sed -n 's/^  -\{1,2\}\([a-z][-a-z0-9]*\).*/\1/p'); do
         case $skip in *" $option "*) continue ;; esac
         name=$(echo "$option" | tr 'a-z-' 'A-Z_')
         grep -q "^$name: " "$work/help.out" || missing="$missing $name"

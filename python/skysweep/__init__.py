@@ -15,6 +15,7 @@ from .files import FILE_CALLS, run
 from .products import (Horizons, hillshade, horizon, openness, plan, shadow, sun_incidence, svf,
                        vat)
 from .insolation import insolation
+from .roofs import Crs, Roofs, roofs
 from .sites import site_horizon
 from .sun import sun_position
 
@@ -27,3 +28,4 @@ __all__ = ["svf", "openness", "horizon", "Horizons", "shadow", "hillshade", "vat
            "site_horizon", "sun_position", "insolation", "run", "Context", "SkysweepError", "ArgumentError",
            "InputError", "OutputError", "DeviceError", "OutOfMemory", "Cancelled",
            "InternalError"] + sorted(FILE_CALLS)
+__all__ += ["roofs", "Roofs", "Crs"]

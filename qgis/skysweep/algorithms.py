@@ -4,18 +4,23 @@ help. The algorithm runs the command line, so that its outputs are the CLI's
 (georeferencing, band names, metadata); progress goes to the feedback and
 cancelling stops the run, which then leaves no output behind."""
 import os
+import pathlib
 import queue
 import re
 import signal
+import sqlite3
 import subprocess
 import threading
 import time
 
-from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException,
-                       QgsProcessingParameterBoolean, QgsProcessingParameterDefinition,
-                       QgsProcessingParameterEnum, QgsProcessingParameterFile,
-                       QgsProcessingParameterNumber, QgsProcessingParameterRasterDestination,
-                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString)
+from qgis.core import (QgsProcessing, QgsProcessingAlgorithm, QgsProcessingContext,
+                       QgsProcessingException, QgsProcessingParameterBoolean,
+                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+                       QgsProcessingParameterFeatureSource, QgsProcessingParameterFile,
+                       QgsProcessingParameterFileDestination, QgsProcessingParameterNumber,
+                       QgsProcessingParameterRasterDestination,
+                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
+                       QgsProcessingParameterVectorDestination)
 
 #: Options that are not parameters: the provider writes GeoTIFF and reports
 #: progress itself; scenes, plans only and heightmaps belong to the CLI, and
@@ -34,6 +39,27 @@ def output_named(table, entry):
     """The output an option names the file of (its entry in the table's
     "outputs", which the library's product registry declares), or None."""
     return next((o for o in table["outputs"] if o.get("option") == entry["name"]), None)
+
+
+def writes_vector(table):
+    """Whether the command's output (its table's output named by no option)
+    is a vector file ("kind": "vector": roofs' GeoPackage), not a raster."""
+    main = next(o for o in table["outputs"] if "option" not in o)
+    return main.get("kind") == "vector"
+
+
+def reads_vector(table, entry):
+    """Whether an option names a vector file the command reads (the table's
+    "vector_inputs": roofs' --buildings)."""
+    return entry["name"] in table.get("vector_inputs", ())
+
+
+def geopackage_layers(path):
+    """The feature tables of a GeoPackage, in its gpkg_contents' order."""
+    uri = pathlib.Path(path).resolve().as_uri() + "?mode=ro"  # a path with spaces, ? or #
+    with sqlite3.connect(uri, uri=True) as db:
+        return [row[0] for row in db.execute("SELECT table_name FROM gpkg_contents WHERE "
+                                             "data_type = 'features' ORDER BY rowid")]
 
 
 def is_advanced(entry):
@@ -136,7 +162,12 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
                 parameter.setFlags(parameter.flags()
                                    | QgsProcessingParameterDefinition.FlagAdvanced)
             self.addParameter(parameter)
-        self.addParameter(QgsProcessingParameterRasterDestination("OUTPUT", self.displayName()))
+        if writes_vector(self.table):
+            self.addParameter(QgsProcessingParameterVectorDestination(
+                "OUTPUT", self.displayName(), QgsProcessing.TypeVectorAnyGeometry))
+        else:
+            self.addParameter(QgsProcessingParameterRasterDestination("OUTPUT",
+                                                                      self.displayName()))
 
     def _parameter(self, entry):
         name, label = parameter_name(entry["name"]), _description(entry)
@@ -155,11 +186,17 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             return QgsProcessingParameterBoolean(name, label, False)
         if output_named(self.table, entry):
             return QgsProcessingParameterRasterDestination(name, label, None, True, False)
+        if entry.get("output", False):  # a table beside the output (roofs' --csv)
+            return QgsProcessingParameterFileDestination(name, label, "All files (*)", None,
+                                                         True, False)
+        if reads_vector(self.table, entry):
+            return QgsProcessingParameterFeatureSource(name, label, [QgsProcessing.TypeVector],
+                                                       None, True)
         if entry.get("input", False):
             return QgsProcessingParameterFile(name, label, optional=True)
         return QgsProcessingParameterString(name, label, default, False, default is None)
 
-    def command(self, parameters, context):
+    def command(self, parameters, context, feedback=None):
         """The command line for these parameter values."""
         args = [self.cli, self.name()]
         for entry in parameters_of(self.table):
@@ -181,6 +218,16 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
                 path = self.parameterAsOutputLayer(parameters, name, context)
                 if path:
                     args += [flag, path]
+            elif entry.get("output", False):
+                path = self.parameterAsFileOutput(parameters, name, context)
+                if path:
+                    args += [flag, path]
+            elif reads_vector(self.table, entry):
+                # The CLI reads a file's first layer: a layer that is not one
+                # (a GeoPackage's second, a memory layer, a selection, a
+                # filter) goes to a temporary GeoPackage first.
+                args += [flag, self.parameterAsCompatibleSourceLayerPath(
+                    parameters, name, context, ["gpkg", "shp", "geojson"], "gpkg", feedback)]
             else:
                 text = self.parameterAsString(parameters, name, context)
                 if kind == "list":
@@ -196,7 +243,7 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
         return args
 
     def processAlgorithm(self, parameters, context, feedback):
-        args = self.command(parameters, context)
+        args = self.command(parameters, context, feedback)
         feedback.pushCommandInfo(" ".join(args))
         environment = dict(os.environ, SKYSWEEP_PROGRESS="lines")
         with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -213,10 +260,28 @@ class SkysweepAlgorithm(QgsProcessingAlgorithm):
             feedback.pushWarning(line)
         outputs = {"OUTPUT": self.parameterAsOutputLayer(parameters, "OUTPUT", context)}
         for entry in parameters_of(self.table):
-            if output_named(self.table, entry) and parameters.get(parameter_name(entry["name"])):
-                outputs[parameter_name(entry["name"])] = self.parameterAsOutputLayer(
-                    parameters, parameter_name(entry["name"]), context)
+            name = parameter_name(entry["name"])
+            if output_named(self.table, entry) and parameters.get(name):
+                outputs[name] = self.parameterAsOutputLayer(parameters, name, context)
+            elif entry.get("output", False) and parameters.get(name):
+                outputs[name] = self.parameterAsFileOutput(parameters, name, context)
+        if writes_vector(self.table):
+            self._load_every_layer(outputs["OUTPUT"], context)
         return outputs
+
+    @staticmethod
+    def _load_every_layer(path, context):
+        """Where the run loads its output (the desktop's dialog), each layer
+        of the GeoPackage under its own name (buildings, roof_planes), in
+        place of the file, which would load as its first layer alone."""
+        if not context.willLoadLayerOnCompletion(path):
+            return
+        layers = context.layersToLoadOnCompletion()
+        details = layers.pop(path)
+        for layer in geopackage_layers(path):
+            layers[f"{path}|layername={layer}"] = QgsProcessingContext.LayerDetails(
+                layer, details.project, details.outputName)
+        context.setLayersToLoadOnCompletion(layers)
 
     @staticmethod
     def _follow(proc, feedback):

@@ -74,3 +74,9 @@ class SkysweepProvider(QgsProcessingProvider):
 
     def supportedOutputRasterLayerExtensions(self):
         return ["tif"]
+
+    def supportedOutputVectorLayerExtensions(self):
+        return ["gpkg"]  # roofs writes a GeoPackage of several layers
+
+    def defaultVectorFileExtension(self, hasGeometry=True):
+        return "gpkg"

@@ -202,9 +202,40 @@ static void print_json_product(const ss_product_info *product)
             json_string(name);
             c += len + (c[len] == '|');
         }
-        printf("], \"optional\": %s, \"output\": true}", o->optional ? "true" : "false");
+        printf("], \"optional\": %s, \"kind\": \"raster\", \"output\": true}",
+               o->optional ? "true" : "false");
     }
     printf("\n]");
+}
+
+/* The commands whose output is a vector file, which the library's registry
+ * (rasters) does not declare: their face for front ends, as a product's, with
+ * the options that name vector files the command reads. */
+static const struct vector_command {
+    const char *command, *title, *group, *output, *format, *vector_input;
+} vector_commands[] = {
+    {"roofs", "Roofs (solar cadastre)", "Sun", "roofs", "GPKG", "buildings"},
+};
+
+static void print_json_vector_command(const char *command)
+{
+    for (size_t i = 0; i < sizeof vector_commands / sizeof *vector_commands; ++i) {
+        const struct vector_command *v = &vector_commands[i];
+        if (strcmp(v->command, command) != 0)
+            continue;
+        printf(", \"title\": ");
+        json_string(v->title);
+        printf(", \"group\": ");
+        json_string(v->group);
+        printf(", \"outputs\": [\n  {\"name\": ");
+        json_string(v->output);
+        printf(", \"format\": ");
+        json_string(v->format);
+        printf(", \"optional\": false, \"kind\": \"vector\", \"output\": true}\n]");
+        printf(", \"vector_inputs\": [");
+        json_string(v->vector_input);
+        printf("]");
+    }
 }
 
 void opt_print_json(const opt_spec *const *tables, const char *command, const char *usage,
@@ -270,6 +301,7 @@ void opt_print_json(const opt_spec *const *tables, const char *command, const ch
         }
     printf("\n]");
     print_json_product(ss_product_named(command));
+    print_json_vector_command(command);
     printf("}\n");
 }
 

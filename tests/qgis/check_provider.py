@@ -14,7 +14,10 @@ import time
 import numpy as np
 from osgeo import gdal
 from qgis.core import (QgsApplication, QgsProcessingContext, QgsProcessingFeedback,
-                       QgsProcessingParameterDefinition, QgsRasterLayer)
+                       QgsProcessingParameterDefinition, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterFileDestination,
+                       QgsProcessingParameterVectorDestination, QgsProject, QgsRasterLayer,
+                       QgsVectorLayer)
 
 plugin_dir, work = sys.argv[1], sys.argv[2]
 cli = os.environ["SKYSWEEP_CLI"]
@@ -136,6 +139,46 @@ try:
 except Exception as e:
     check("DEFINITION" in str(e), f"DEFINITION=3 is refused: {' '.join(str(e).split())}")
 
+# roofs writes a GeoPackage of vector layers and reads footprints as a vector
+# layer: one that is not its file's first layer reaches the CLI through a
+# temporary GeoPackage (the CLI reads a file's first layer).
+roofs = QgsApplication.processingRegistry().algorithmById("skysweep:roofs")
+kinds = {p.name(): type(p) for p in roofs.parameterDefinitions()} if roofs else {}
+check(kinds.get("OUTPUT") is QgsProcessingParameterVectorDestination
+      and kinds.get("BUILDINGS") is QgsProcessingParameterFeatureSource
+      and kinds.get("CSV") is QgsProcessingParameterFileDestination,
+      f"skysweep:roofs has a vector destination, a vector input and a CSV destination "
+      f"({', '.join(f'{k}: {v.__name__}' for k, v in kinds.items() if k in ('OUTPUT', 'BUILDINGS', 'CSV'))})")
+city = os.path.join(work, "city")
+os.mkdir(city)
+subprocess.run(["sh", os.path.join(os.path.dirname(plugin_dir), "tests", "data", "make_city.sh"),
+                city], check=True)
+footprints = os.path.join(city, "footprints.geojson")
+two_layers = os.path.join(city, "two.gpkg")
+subprocess.run(["ogr2ogr", "-f", "GPKG", "-nln", "first", "-where", "building_id = 'C'",
+                two_layers, footprints], check=True)
+subprocess.run(["ogr2ogr", "-update", "-nln", "second", two_layers, footprints], check=True)
+weather = os.path.join(os.path.dirname(cli), "samples", "weather", "pvgis_tmy_45N_8E.csv")
+roof_options = ["--time", "2018-01-10T00:00Z/P1D", "--directions", "8", "--min-irradiation", "0",
+                "--device", "reference"]
+subprocess.run([cli, "roofs", "-q", "--buildings", footprints, "--weather", weather,
+                *roof_options, os.path.join(city, "city.tif"), os.path.join(city, "cli.gpkg")],
+               check=True)
+expected = {layer: QgsVectorLayer(f"{os.path.join(city, 'cli.gpkg')}|layername={layer}", layer,
+                                  "ogr").featureCount() for layer in ("buildings", "roof_planes")}
+mine = os.path.join(city, "qgis.gpkg")
+result = processing.runAndLoadResults("skysweep:roofs", {
+    "INPUT": os.path.join(city, "city.tif"), "BUILDINGS": f"{two_layers}|layername=second",
+    "WEATHER": weather, "TIME": "2018-01-10T00:00Z/P1D", "DIRECTIONS": 8, "MIN_IRRADIATION": 0,
+    "DEVICE": "reference", "CSV": os.path.join(city, "planes.csv"), "OUTPUT": mine})
+loaded = {layer: QgsProject.instance().mapLayersByName(layer) for layer in expected}
+counts = {layer: [found.featureCount() for found in loaded[layer]
+                  if isinstance(found, QgsVectorLayer) and found.isValid()] for layer in expected}
+check(result and result["OUTPUT"] == mine and all(counts[k] == [n] for k, n in expected.items())
+      and os.path.getsize(os.path.join(city, "planes.csv")) > 0,
+      f"skysweep:roofs on a GeoPackage's second layer loads buildings and roof_planes as valid "
+      f"vector layers with the CLI's feature counts ({counts}; the CLI's: {expected})")
+
 # Advanced parameters are the options the CLI groups as advanced, and no others.
 wrong, advanced = [], 0
 for algorithm in provider.algorithms():
@@ -164,7 +207,7 @@ check(not provider.algorithms() and "no-such-skysweep" in provider.warningMessag
       f"a missing CLI leaves no algorithms and says why: {provider.warningMessage()}")
 ProcessingConfig.setSettingValue(CLI_SETTING, cli)
 provider.refreshAlgorithms()
-check(len(provider.algorithms()) == 6 and not provider.warningMessage(),
+check(len(provider.algorithms()) == 7 and not provider.warningMessage(),
       f"the Processing setting names the CLI ({len(provider.algorithms())} algorithms)")
 ProcessingConfig.setSettingValue(CLI_SETTING, "")
 sys.stdout.flush()
