@@ -563,6 +563,7 @@ typedef struct ss_insolation_trees_s {
                                 horizontal definition); NULL: none */
     double transmissivity_leaf_off;
     const unsigned char *leaf_off; /* per step: nonzero where the leaves are off; NULL: none */
+    int digital_lines; /* the crowns' beam on digital lines, not the solid sweep's model */
 } ss_insolation_trees;
 
 /* Per-cell suns given by a lattice (ss_sun_step's lattice, in place of

@@ -152,6 +152,19 @@ tap_ok $? "the metadata record canopy, trunk, both transmissivities and the seas
     grep -q '^trees   shadows exact: with --canopy'
 tap_ok $? "auto shadows become exact with trees, and the summary says so"
 
+# --crown-lines digital: on the flat DSM, whose crowns go on digital lines
+# anyway (interpolated lines), byte for byte as auto; under box lines it
+# moves the shadow's edge cells.
+ins "${step[@]}" --canopy cyl.tif --crown-lines digital flat.tif s_dig.tif
+cmp -s <(raw s_on.tif) <(raw s_dig.tif)
+tap_ok $? "--crown-lines digital on digital lines: byte for byte as auto"
+ins "${step[@]}" --lines box --canopy cyl.tif flat.tif s_box.tif
+ins "${step[@]}" --lines box --canopy cyl.tif --crown-lines digital flat.tif s_boxdig.tif
+cmp -s <(raw s_box.tif) <(raw s_boxdig.tif)
+tap_ok $((!$?)) "--crown-lines digital under box lines changes the crowns' shadow"
+gdalinfo s_boxdig.tif | grep -q 'CROWN_LINES=digital'
+tap_ok $? "the metadata name the crowns' lines"
+
 refused() { # WHAT ARGS...: one line on stderr, exit 2, no output
     local what=$1
     shift
@@ -169,6 +182,7 @@ refused "day 367" --canopy cyl.tif --leaf-on 367
 refused "a word for a date" --canopy cyl.tif --leaf-off autumn
 refused "--leaf-on without --canopy" --leaf-on 100
 refused "--transmissivity-leaf-off without --canopy" --transmissivity-leaf-off 0.2
+refused "--crown-lines without --canopy" --crown-lines digital
 refused "the cumulative sky with trees" --canopy cyl.tif --shadow cumulative \
     --weather "$pvgis" --weather-far-ok
 tap_done

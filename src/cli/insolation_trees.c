@@ -28,6 +28,10 @@ static const opt_spec season_table[] = {
      "equator"},
     {"leaf-off", OPT_STRING, SET(leaf_off), "DAY", NULL, 0, 0, NULL,
      "the day the leaves fall, likewise: UMEP's lastdayleaf 300, half a year later in the south"},
+    {"crown-lines", OPT_CHOICE, SET(crown_lines), NULL, "auto", 0, 0, "auto|digital",
+     "the lines each step's crowns are swept on: auto, the solid sweep's (box lines on city "
+     "DSMs); digital, about 30 times faster there, its beam classes' error in "
+     "doc/vegetation.md"},
     OPT_END};
 #undef SET
 
@@ -72,7 +76,8 @@ int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
                            const insolation_tree_settings *set, ss_shadow_mode shadow)
 {
     int rc = trees_options_alone("insolation", tables, settings, &set->trees);
-    static const char *const needs[] = {"transmissivity-leaf-off", "leaf-on", "leaf-off"};
+    static const char *const needs[] = {"transmissivity-leaf-off", "leaf-on", "leaf-off",
+                                        "crown-lines"};
     for (size_t i = 0; rc < 0 && !set->trees.canopy && i < sizeof needs / sizeof *needs; ++i) {
         const opt_spec *o = opt_find(tables, needs[i]);
         if (o && !opt_at_default(o, settings)) {
@@ -170,7 +175,8 @@ ss_status insolation_trees_open(sweep_job *job, const insolation_tree_settings *
     it->sky_seconds = run_now() - t0;
     seasons_of_steps(job, set, mid_s, n, it);
     it->lib = (ss_insolation_trees){&it->ground, &it->t.canopy, it->sky_hidden,
-                                    set->transmissivity_leaf_off, it->leaf_off};
+                                    set->transmissivity_leaf_off, it->leaf_off,
+                                    set->crown_lines == 1};
     return st;
 }
 
@@ -213,6 +219,7 @@ void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settin
     describe_season(set, it, buf, sizeof buf);
     ss_writer_metadata(w, "SEASON", buf);
     ss_writer_metadata(w, "TRUNK_GAPS", set->trees.trunk_gaps ? "open" : "ignore");
+    ss_writer_metadata(w, "CROWN_LINES", set->crown_lines ? "digital" : "the solid sweep's");
 }
 
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
@@ -222,8 +229,9 @@ void insolation_trees_print(const insolation_tree_settings *set, const insolatio
     trees_describe(&set->trees, &it->t, described, sizeof described);
     describe_season(set, it, season, sizeof season);
     printf("trees   %s (leaf off %.4g); crowns swept on the host: their sky %.3f s, each step's "
-           "sun after its solid shadow\n",
-           described, set->transmissivity_leaf_off, it->sky_seconds);
+           "sun after its solid shadow on %s lines\n",
+           described, set->transmissivity_leaf_off, it->sky_seconds,
+           set->crown_lines ? "digital" : "the solid sweep's");
     printf("season  %s; %d of %d steps leaf off\n", season, it->leaf_off_steps, n_steps);
     if (shadows_forced)
         printf("trees   shadows exact: with --canopy the planner does not choose interpolated or "

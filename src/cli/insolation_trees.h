@@ -10,9 +10,10 @@ typedef struct {
     tree_settings trees;
     double transmissivity_leaf_off;
     const char *leaf_on, *leaf_off; /* DAY of the year or MM-DD; NULL: UMEP's */
+    int crown_lines;                /* index into "auto|digital" */
 } insolation_tree_settings;
 
-#define INSOLATION_TREE_OPTIONS_MAX 4
+#define INSOLATION_TREE_OPTIONS_MAX 5
 /* The tree options (trees.h's, with --trunk-gaps) into trees_out, and the
  * seasons' into seasons_out, at `base` in the command's settings. */
 void insolation_tree_options(size_t base, opt_spec trees_out[TREE_OPTIONS_MAX],

@@ -44,6 +44,9 @@ ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
                                       unsigned char *crossed)
 {
-    return ss_canopy_crossed(ctx, t->ground, t->canopy, opt, sun->grid_azimuth_deg,
+    ss_sweep_options lines = *opt;
+    if (t->digital_lines)
+        lines.lines = SS_LINES_DIGITAL;
+    return ss_canopy_crossed(ctx, t->ground, t->canopy, &lines, sun->grid_azimuth_deg,
                              sun->apparent_elevation_deg, crossed);
 }
