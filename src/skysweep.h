@@ -571,7 +571,25 @@ typedef struct {
     ss_pv_options pv;          /* for weather records */
     double elevation_step_deg; /* cumulative sky: height of a sun bin (0: 1 degree) */
     ss_surface surface;        /* zeros: each cell's own slope */
+    const struct ss_insolation_trees_s *trees; /* NULL: no trees */
 } ss_insolation_options;
+
+/* Trees in insolation (doc/vegetation.md, "insolation"): at each step the
+ * beam and the circumsolar diffuse of a cell whose ray toward the step's
+ * sun (the centre's) crosses a crown (ss_canopy_crossed) keep the step's
+ * transmissivity T; the cell's sky view loses sky_hidden x (1 - T), for
+ * the isotropic diffuse and the reflected light alike (SOLWEIG's
+ * svfbuveg). Exact and interpolated shadows only; the steps run on the
+ * host. */
+typedef struct ss_insolation_trees_s {
+    const ss_grid *ground;   /* the DSM held whole, the run's grid */
+    const ss_canopy *canopy; /* its transmissivity: leaf on */
+    const float *sky_hidden; /* per cell: the share of its sky crowns hide (ss_canopy_sky,
+                                horizontal definition); NULL: none */
+    double transmissivity_leaf_off;
+    const unsigned char *leaf_off; /* per step: nonzero where the leaves are off; NULL: none */
+    int digital_lines; /* the crowns' beam on digital lines, not the solid sweep's model */
+} ss_insolation_trees;
 
 /* Per-cell suns given by a lattice (ss_sun_step's lattice, in place of
  * per-cell arrays; insolation reads it, the shadow product takes arrays):

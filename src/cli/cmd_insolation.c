@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "insolation_trees.h"
 #include "skysweep_sun.h"
 #include "mpi_share.h"
 #include "run.h"
@@ -28,6 +29,7 @@ typedef struct {
     int weather_far_ok;
     const char *weather_zone;
     int years; /* YEARS_TOTAL, YEARS_MEAN, YEARS_EACH */
+    insolation_tree_settings trees;
 } insolation_settings;
 
 /* What a weather run gives over several calendar years (--years). */
@@ -477,6 +479,8 @@ typedef struct {
     ss_insolation_options io;
     insolation_out out;
     ss_band_stats bands;
+    insolation_trees trees; /* --canopy */
+    int shadows_forced;     /* --shadow auto made exact for the trees */
 } insolation_run;
 
 /* The weather's calendar years, and the blocks of bands --years asks for;
@@ -601,6 +605,10 @@ static ss_status run(insolation_run *r)
     ss_status st = SS_OK;
     for (int b = 0; st == SS_OK && b < r->blocks; ++b) {
         steps_part part = {&r->steps, r->blocks > 1 ? r->years.first[b] : 0};
+        if (set->trees.trees.canopy) {
+            r->trees.lib.leaf_off = r->trees.leaf_off + part.k0;
+            r->io.trees = &r->trees.lib;
+        }
         int n = r->blocks > 1 ? r->years.count[b] : r->steps.n;
         r->out.block = b;
         r->out.step0 = part.k0;
@@ -732,6 +740,8 @@ static void describe_run(insolation_run *r, char *meta, size_t size)
         describe_years(r, years, sizeof years);
         ss_writer_metadata(w, "YEARS", years);
     }
+    if (set->trees.trees.canopy)
+        insolation_trees_metadata(w, &set->trees, &r->trees);
     name_bands(r);
 }
 
@@ -848,6 +858,8 @@ static void print_summary(insolation_run *r)
         printf("share   %d MPI processes, time steps dealt round-robin (the counts above are "
                "this one's), sums added at rank 0\n",
                share_size());
+    if (set->trees.trees.canopy)
+        insolation_trees_print(&set->trees, &r->trees, r->steps.n, r->shadows_forced);
     for (int b = 0; b < r->blocks; ++b)
         print_block_sums(r, b);
 }
@@ -864,6 +876,7 @@ static void close_run(insolation_run *r)
     free(r->out.row);
     free(r->out.tally);
     free(r->text);
+    insolation_trees_free(&r->trees);
     job_close(&r->job);
 }
 
@@ -878,8 +891,10 @@ int cmd_insolation(int argc, char **argv)
     common_settings_init(&set->common);
     opt_spec insolation_options[32];
     opt_from_params("insolation", offsetof(insolation_settings, ins), insolation_options, 32);
-    const opt_spec *tables[] = {insolation_options, file_options, sun_options(),
-                                common_options(), NULL};
+    opt_spec tree_opts[TREE_OPTIONS_MAX], season_opts[INSOLATION_TREE_OPTIONS_MAX];
+    insolation_tree_options(offsetof(insolation_settings, trees), tree_opts, season_opts);
+    const opt_spec *tables[] = {insolation_options, file_options, tree_opts, season_opts,
+                                sun_options(), common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse(
@@ -919,12 +934,20 @@ int cmd_insolation(int argc, char **argv)
     int want = (set->weather ? SS_INSOLATION_MONTHLY : 0) | (set->ins.pv ? SS_INSOLATION_PV : 0) |
                (set->steps_path ? SS_INSOLATION_STEPS : 0);
     ss_shadow_mode shadow = ss_insolation_params_shadow(&set->ins);
+    if (rc < 0)
+        rc = insolation_trees_usage(tables, set, &set->trees, shadow);
+    /* Trees: the crowns are swept at every step's sun, so auto takes exact
+     * shadows rather than the cumulative sky, which has no steps. */
+    r->shadows_forced = set->trees.trees.canopy && shadow == SS_SHADOW_AUTO;
+    if (r->shadows_forced)
+        shadow = SS_SHADOW_EXACT;
     int stores = shadow == SS_SHADOW_INTERPOLATED || shadow == SS_SHADOW_CUMULATIVE ||
                  (shadow == SS_SHADOW_AUTO && set->weather && !set->ins.pv && !set->steps_path);
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) +
                                     ss_insolation_band_cell_bytes(want, stores ? directions : 0),
                       .column_bytes = ss_horizon_column_bytes(),
-                      .directions = directions};
+                      .directions = directions,
+                      .grid_cell_bytes = set->trees.trees.canopy ? INSOLATION_TREES_CELL_BYTES : 0.0};
     if (rc < 0)
         rc = job_open_banded(&r->job, "insolation", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) { /* --help, or the job failed and is closed */
@@ -933,8 +956,11 @@ int cmd_insolation(int argc, char **argv)
     }
     ss_status st = prepare(r);
     if (st == SS_OK) {
+        if (r->shadows_forced && set->common.plan_only && !r->job.run.quiet)
+            printf("trees   shadows exact: with --canopy the planner does not choose "
+                   "interpolated or cumulative shadows\n");
         rc = job_plan(&r->job, &set->common, SS_PLAN_INSOLATION, r->steps.n, r->steps.mid_s,
-                      ss_insolation_params_shadow(&set->ins));
+                      shadow);
         if (rc >= 0) { /* --plan, or a plan that failed */
             close_run(r);
             free(r);
@@ -944,6 +970,8 @@ int cmd_insolation(int argc, char **argv)
                                   (2.0 * run_earth_radius(&set->common, &r->job.frame)) * 180 /
                                   M_PI;
     }
+    if (st == SS_OK && set->trees.trees.canopy)
+        st = insolation_trees_open(&r->job, &set->trees, r->steps.mid_s, r->steps.n, &r->trees);
     if (st == SS_OK)
         st = open_outputs(r);
     if (st == SS_OK)

@@ -20,6 +20,7 @@
 
 #include "insolation_internal.h"
 #include "insolation_lanes.h"
+#include "insolation_trees.h"
 #include "lines.h"
 #include "lit_levels.h"
 #include "skysweep_sun.h"
@@ -220,6 +221,11 @@ typedef struct {
     uint64_t valid_cells;           /* the band's cells with a height */
     double *lattice_tx;      /* a step's sun lattice's places of the columns (or NULL) */
     size_t lattice_tx_count;
+    /* Trees: the terms with the crowns' sky at transmissivity terms_T (NAN:
+     * not made for this band), and the crowns each step's sun crosses. */
+    ss_cell_terms *terms_trees;
+    float terms_T;
+    unsigned char *crossed;
 } steps_run;
 
 /* Where an azimuth (options' frame) falls between the stored directions:
@@ -263,18 +269,56 @@ static int record_casts_shadows(const ss_insolation_options *io, const ss_sun_st
 /* Cell c's step, the run's cell j, computed cell by cell, its sun's terms
  * exactly where they fall outside the step's tables or too far from the
  * centre's sun (ss_lane_cells leaves those cells). */
-static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_lane_suns *suns,
-                                    const ss_step_sun *tables, const ss_cell_terms *t, size_t c,
-                                    int j)
+static ss_cell_step cell_step_behind(const ss_lane_step *l, const ss_lane_suns *suns,
+                                     const ss_step_sun *tables, const ss_cell_terms *t,
+                                     float horizon, int j)
 {
     const float rad = (float)(M_PI / 180.0);
     float az = (suns->az_deg ? suns->az_deg[j] : l->az_step_deg) * rad;
     float h0 = (suns->h0_deg ? suns->h0_deg[j] : l->h0_step_deg) * rad;
     float app = suns->app_deg ? suns->app_deg[j] : l->app_step_deg;
-    float horizon = ss_lane_horizon(l, c);
     ss_cell_sun at = ss_step_sun_at(tables, t, h0, az);
     return l->real_sky ? ss_cell_step_weather(t, &at, app, horizon, &l->rec, l->sky, l->dt)
                        : ss_cell_step_of(t, &at, app, horizon, l->g0, l->albedo, l->dt);
+}
+
+static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_lane_suns *suns,
+                                    const ss_step_sun *tables, const ss_cell_terms *t, size_t c,
+                                    int j)
+{
+    return cell_step_behind(l, suns, tables, t, ss_lane_horizon(l, c), j);
+}
+
+/* Trees: a cell of the run whose ray toward the sun crosses a crown gets T
+ * x its step lit plus (1 - T) x its step in shadow, which passes T of the
+ * beam, of the circumsolar diffuse and of the hours of sun (and, under the
+ * clear sky, weighs Muneer's sunlit and shaded diffuse so); a cell the
+ * terrain shades loses nothing more. Both steps are the cell's exact sun's. */
+static void trees_shade_run(const ss_lane_step *l, const ss_lane_suns *suns,
+                            const ss_step_sun *tables, const ss_cell_terms *terms,
+                            const unsigned char *crossed, float T, size_t c0, int m,
+                            ss_lane_adds *a)
+{
+    for (int j = 0; j < m; ++j) {
+        size_t c = c0 + (size_t)j;
+        if (a->what[j] == SS_LANE_SKIP || !crossed[c])
+            continue;
+        ss_cell_step lit = cell_step_exact(l, suns, tables, &terms[c], c, j);
+        ss_cell_step dark = cell_step_behind(l, suns, tables, &terms[c], 90.0f, j);
+        float keep = 1.0f - T;
+        ss_cell_step d = {keep * (dark.beam - lit.beam), keep * (dark.diffuse - lit.diffuse),
+                          keep * (dark.reflected - lit.reflected),
+                          keep * (dark.total - lit.total),
+                          keep * (dark.sun_hours - lit.sun_hours)};
+        l->beam[c] += d.beam;
+        l->diffuse[c] += d.diffuse;
+        l->reflected[c] += d.reflected;
+        l->global[c] += d.total;
+        l->sun_hours[c] += d.sun_hours;
+        if (l->month)
+            l->month[c] += d.total;
+        a->global[j] += d.total;
+    }
 }
 
 /* A step's per-cell array from a run's first cell (NULL: none). */
@@ -397,6 +441,7 @@ static ss_status steps_visit(void *user, const ss_band_view *band)
     if (st != SS_OK)
         return st;
     band_pressure_range(s, band);
+    s->terms_T = NAN;
     s->stored = NULL;
     if (job->horizons) {
         /* Interpolated shadows read the band's stored horizons, in place
@@ -505,6 +550,30 @@ static void step_global_clear(float *step_global, const ss_band_view *band)
         step_global[c] = isfinite(band->own_z[c]) ? 0.0f : SS_NODATA;
 }
 
+/* Trees at step k: its transmissivity T, the band's terms with the
+ * crowns' sky at T (made again where T changes), and the crowns its sun
+ * crosses from the band's cells (NULL where no beam or circumsolar light
+ * could be shaded, or T is 1). */
+static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const ss_sun_step *sun,
+                            const ss_sky_record *rec, float *T, const ss_cell_terms **terms,
+                            const unsigned char **crossed)
+{
+    const ss_insolation_trees *t = s->job->io->trees;
+    *T = ss_insolation_trees_transmissivity(t, k);
+    if (!(s->terms_T == *T)) {
+        ss_insolation_trees_terms(t, band, *T, s->terms, s->terms_trees);
+        s->terms_T = *T;
+    }
+    *terms = s->terms_trees;
+    int shaded = sun->apparent_elevation_deg > 0.0 && *T < 1.0f &&
+                 (!sun->real_sky || record_casts_shadows(s->job->io, sun, rec));
+    if (!shaded)
+        return SS_OK;
+    ss_status st = ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun, s->crossed);
+    *crossed = s->crossed + (size_t)band->row0 * band->width;
+    return st;
+}
+
 /* Step k over a band's own cells: its shadows (rows of the walk at its
  * sun's azimuth, the stored horizons, or none), irradiance added into the
  * planes, its global to the step's output where asked for. */
@@ -538,7 +607,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                               : -1;
         stored_between between =
             kind == STEP_STORED ? stored_between_of(job->opt, sun.azimuth_deg) : (stored_between){0};
-        if (band->device && (sun.lattice || !(sun.elevation_per_cell ||
+        if (band->device && !io->trees && (sun.lattice || !(sun.elevation_per_cell ||
                                               sun.grid_azimuth_per_cell || sun.apparent_per_cell))) {
             st = device_step(s, k, band, kind, rows, between, &sun, &rec, sky, &p, month_plane,
                              &pvs);
@@ -560,6 +629,11 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         float *pv_ac = pv_on ? planes + (size_t)p.pv_ac * n : NULL;
         float dt = (float)sun.duration_h;
         const ss_sun_lattice *lattice = sun.lattice;
+        const ss_cell_terms *terms = s->terms;
+        float T = 1.0f;
+        const unsigned char *crossed = NULL;
+        if (st == SS_OK && io->trees)
+            st = step_trees(s, k, band, &sun, &rec, &T, &terms, &crossed);
         if (st == SS_OK && lattice) {
             float h_lo, h_hi, a_lo, a_hi;
             lattice_range(lattice, !sun.real_sky, &h_lo, &h_hi, &a_lo, &a_hi);
@@ -608,7 +682,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                                       run_of(sun.grid_azimuth_per_cell, c0),
                                       run_of(sun.apparent_per_cell, c0)};
             ss_lane_adds a;
-            ss_lane_cells(&lane, &suns, band->own_z, s->terms, c0, m, &a);
+            ss_lane_cells(&lane, &suns, band->own_z, terms, c0, m, &a);
             /* Counted in int over the run, which GCC vectorises (in the
              * 64-bit sums it did not: 4 % of a weather year's time). */
             int run_cells = 0, run_exact = 0;
@@ -621,7 +695,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             for (int j = 0; run_exact && j < m; ++j)
                 if (a.what[j] == SS_LANE_EXACT) {
                     size_t c = c0 + (size_t)j;
-                    ss_cell_step add = cell_step_exact(&lane, &suns, s->sun, &s->terms[c], c, j);
+                    ss_cell_step add = cell_step_exact(&lane, &suns, s->sun, &terms[c], c, j);
                     beam[c] += add.beam;
                     diffuse[c] += add.diffuse;
                     reflected[c] += add.reflected;
@@ -631,6 +705,8 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                         month[c] += add.total;
                     a.global[j] = add.total;
                 }
+            if (crossed)
+                trees_shade_run(&lane, &suns, s->sun, terms, crossed, T, c0, m, &a);
             for (int j = 0; (pv_on || step_global) && j < m; ++j) {
                 size_t c = c0 + (size_t)j;
                 if (a.what[j] == SS_LANE_SKIP)
@@ -771,7 +847,13 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
         .step_global = job->want & SS_INSOLATION_STEPS ? ss_malloc(n * sizeof(float)) : NULL,
         .sun = ss_malloc(sizeof(ss_step_sun))};
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
-    if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band))
+    int trees = job->io->trees != NULL;
+    if (trees) {
+        s.terms_trees = ss_malloc(n * sizeof(ss_cell_terms));
+        s.crossed = ss_malloc((size_t)src->width * src->height);
+    }
+    if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band) ||
+        (trees && (!s.terms_trees || !s.crossed)))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
     /* Steps go to the device where the backend can take them, with the
      * stored horizons of interpolated shadows. */
@@ -779,7 +861,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
                             .visit = steps_visit,
                             .direction = steps_direction,
                             .finish = steps_finish,
-                            .device_cells = 1,
+                            .device_cells = !trees, /* the crowns run on the host */
                             .device_stored = job->horizons ? job->opt->directions : 0};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
                          .dirs = plan->dirs,
@@ -795,6 +877,8 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     free(s.step_global);
     free(s.sun);
     free(s.lattice_tx);
+    free(s.terms_trees);
+    free(s.crossed);
     free(levels);
     return st;
 }
@@ -817,7 +901,9 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
                              want, sink, user, 0,    NULL, NULL};
     int cumulative = io->shadow_mode == SS_SHADOW_CUMULATIVE;
     steps_plan plan = {NULL, NULL, 0, 0, 0};
-    ss_status st = cumulative ? SS_OK : plan_steps(&job, n_steps, &plan);
+    ss_status st = io->trees ? ss_insolation_trees_check(ctx, io, src) : SS_OK;
+    if (st == SS_OK && !cumulative)
+        st = plan_steps(&job, n_steps, &plan);
     /* The clear sky's diffuse light is Muneer's, which takes no horizon band. */
     job.perez_band = io->sky_model == SS_SKY_MODEL_PEREZ && (cumulative || plan.real_sky);
     if (st == SS_OK)

@@ -176,17 +176,27 @@ ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *c
     box_walk bw = {grid, canopy, &ls, t, (double)ls.slope_fx / 4294967296.0,
                    ls.major_is_row ? per_row : per_col, ls.major_is_row ? per_col : per_row,
                    crossed};
-    crown_union u = {0};
     ss_status st = SS_OK;
-    for (int line = 0; line < ss_line_count(&ls) && st == SS_OK; ++line) {
-        if (line % 256 == 0) /* Ctrl-C and ss_ctx_cancel reach a long sweep */
-            st = ss_check_cancel(ctx, "the crown sweep");
-        int failed = box ? walk_box_line(&bw, line, &u)
-                         : walk_line(grid, canopy, &ls, line, t, &u, crossed);
-        if (st == SS_OK && failed)
-            st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
+    int n_lines = ss_line_count(&ls), failed = 0;
+    /* The lines in blocks, on threads: each cell is answered by one line
+     * (one family's, on box lines), so the lines write apart and the result
+     * is the same on any number of threads. Between blocks, Ctrl-C and
+     * ss_ctx_cancel reach a long sweep. */
+    for (int first = 0; first < n_lines && st == SS_OK && !failed; first += 4096) {
+        st = ss_check_cancel(ctx, "the crown sweep");
+        int last = first + 4096 < n_lines ? first + 4096 : n_lines;
+#pragma omp parallel if (st == SS_OK) reduction(| : failed)
+        {
+            crown_union u = {0};
+#pragma omp for schedule(dynamic, 16)
+            for (int line = first; line < last; ++line)
+                failed |= (box ? walk_box_line(&bw, line, &u)
+                               : walk_line(grid, canopy, &ls, line, t, &u, crossed)) != 0;
+            free(u.span);
+        }
     }
-    free(u.span);
+    if (st == SS_OK && failed)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
     return st;
 }
 

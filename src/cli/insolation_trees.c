@@ -1,0 +1,242 @@
+/* Trees in `skysweep insolation` (insolation_trees.h). */
+#include "config.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "insolation_trees.h"
+#include "skysweep_sun.h"
+
+/* UMEP/SOLWEIG's leaf season: firstdayleaf 97 and lastdayleaf 300, leaves
+ * on strictly between them, that is from day 98 up to day 299; its
+ * leaf-off transmissivity 0.5 (umep-rust's Transmissivity_leafoff). */
+#define LEAF_ON_DAY 98
+#define LEAF_OFF_DAY 300
+/* The southern hemisphere's: half a year (183 days) later. */
+#define HALF_YEAR_DAYS 183
+
+#define SET(field) offsetof(insolation_tree_settings, field)
+static const opt_spec season_table[] = {
+    {"transmissivity-leaf-off", OPT_DOUBLE, SET(transmissivity_leaf_off), "T", "0.5", 0, 1,
+     NULL, "fraction of the light that crosses a crown with the leaves off (UMEP's 0.5)"},
+    {"leaf-on", OPT_STRING, SET(leaf_on), "DAY", NULL, 0, 0, NULL,
+     "the day the leaves come out, a day of the year (1-366) or MM-DD: UMEP's day 98 (leaves on "
+     "after its firstdayleaf 97), half a year later where the DSM's centre lies south of the "
+     "equator"},
+    {"leaf-off", OPT_STRING, SET(leaf_off), "DAY", NULL, 0, 0, NULL,
+     "the day the leaves fall, likewise: UMEP's lastdayleaf 300, half a year later in the south"},
+    {"crown-lines", OPT_CHOICE, SET(crown_lines), NULL, "auto", 0, 0, "auto|digital",
+     "the lines each step's crowns are swept on: auto, the solid sweep's (box lines on city "
+     "DSMs); digital, about 30 times faster there, its beam classes' error in "
+     "doc/vegetation.md"},
+    OPT_END};
+#undef SET
+
+void insolation_tree_options(size_t base, opt_spec trees_out[TREE_OPTIONS_MAX],
+                             opt_spec seasons_out[INSOLATION_TREE_OPTIONS_MAX])
+{
+    tree_options(base + offsetof(insolation_tree_settings, trees), 1,
+                 "tree shade to every band: the beam and circumsolar light through crowns keep "
+                 "the transmissivity of the step's leaf season",
+                 trees_out);
+    int n = 0;
+    for (const opt_spec *o = season_table; o->name; ++o, ++n) {
+        seasons_out[n] = *o;
+        seasons_out[n].offset += base;
+    }
+    seasons_out[n] = (opt_spec)OPT_END;
+}
+
+/* A leaf date: a day of the year (1-366) into *day, or MM-DD into *month
+ * and *day_of_month (*day 0). Returns 0 where it is neither. */
+static int leaf_date(const char *text, int *day, int *month, int *day_of_month)
+{
+    static const int days_in[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    int a, b, used = 0;
+    *day = *month = *day_of_month = 0;
+    if (sscanf(text, "%d-%d%n", &a, &b, &used) == 2 && text[used] == '\0' &&
+        strlen(text) == 5 && a >= 1 && a <= 12 && b >= 1 && b <= days_in[a - 1]) {
+        *month = a;
+        *day_of_month = b;
+        return 1;
+    }
+    used = 0;
+    if (sscanf(text, "%d%n", &a, &used) == 1 && text[used] == '\0' && a >= 1 && a <= 366 &&
+        strspn(text, "0123456789") == strlen(text)) {
+        *day = a;
+        return 1;
+    }
+    return 0;
+}
+
+int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
+                           const insolation_tree_settings *set, ss_shadow_mode shadow)
+{
+    int rc = trees_options_alone("insolation", tables, settings, &set->trees);
+    static const char *const needs[] = {"transmissivity-leaf-off", "leaf-on", "leaf-off",
+                                        "crown-lines"};
+    for (size_t i = 0; rc < 0 && !set->trees.canopy && i < sizeof needs / sizeof *needs; ++i) {
+        const opt_spec *o = opt_find(tables, needs[i]);
+        if (o && !opt_at_default(o, settings)) {
+            char why[80];
+            snprintf(why, sizeof why, "--%s needs --canopy", needs[i]);
+            rc = run_usage_error("insolation", why);
+        }
+    }
+    const char *dates[2] = {set->leaf_on, set->leaf_off}, *names[2] = {"leaf-on", "leaf-off"};
+    for (int i = 0; rc < 0 && i < 2; ++i) {
+        int d, m, dm;
+        if (dates[i] && !leaf_date(dates[i], &d, &m, &dm)) {
+            char why[200];
+            snprintf(why, sizeof why,
+                     "--%s '%.60s' is neither a day of the year (1-366) nor a date MM-DD",
+                     names[i], dates[i]);
+            rc = run_usage_error("insolation", why);
+        }
+    }
+    if (rc < 0 && set->trees.canopy && shadow == SS_SHADOW_CUMULATIVE)
+        rc = run_usage_error("insolation", "--shadow cumulative takes no --canopy: its binned "
+                                           "suns have no crowns; use --shadow exact or "
+                                           "interpolated");
+    return rc;
+}
+
+/* A leaf date's day of the year in `year`. */
+static int day_in_year(const char *text, int fallback, long long year)
+{
+    int day, month, dom;
+    if (!text || !leaf_date(text, &day, &month, &dom))
+        return fallback;
+    if (day)
+        return day;
+    return (int)((ss_unix_from_civil(year, month, dom, 0, 0, 0) -
+                  ss_unix_from_civil(year, 1, 1, 0, 0, 0)) /
+                     86400.0 +
+                 0.5) +
+           1;
+}
+
+/* Leaves are on from the leaf-on day up to the day before the leaf-off
+ * day, over the new year where leaf-on comes later in the year. */
+static int leaves_off(int day, int on, int off)
+{
+    int on_season = on <= off ? day >= on && day < off : day >= on || day < off;
+    return !on_season;
+}
+
+/* Each step's season by its local date: mean solar time at the DEM's
+ * centre (its longitude / 15 h from UTC), which the weather's zone moves
+ * by at most hours, at night. */
+static void seasons_of_steps(const sweep_job *job, const insolation_tree_settings *set,
+                             const double *mid_s, int n, insolation_trees *it)
+{
+    double shift_s = job->frame.centre_lon_deg / 15.0 * 3600.0;
+    int south = job->frame.centre_lat_deg < 0.0 ? HALF_YEAR_DAYS : 0;
+    int on_default = (LEAF_ON_DAY - 1 + south) % 365 + 1;
+    int off_default = (LEAF_OFF_DAY - 1 + south) % 365 + 1;
+    it->south = south != 0;
+    it->on_day = day_in_year(set->leaf_on, on_default, 2001);
+    it->off_day = day_in_year(set->leaf_off, off_default, 2001);
+    for (int k = 0; k < n; ++k) {
+        ss_civil_time t;
+        double local = mid_s[k] + shift_s;
+        ss_civil_from_unix(local, &t);
+        int day = (int)((local - ss_unix_from_civil(t.year, 1, 1, 0, 0, 0)) / 86400.0) + 1;
+        int on = day_in_year(set->leaf_on, on_default, t.year);
+        int off = day_in_year(set->leaf_off, off_default, t.year);
+        it->leaf_off[k] = (unsigned char)leaves_off(day, on, off);
+        it->leaf_off_steps += it->leaf_off[k];
+    }
+}
+
+ss_status insolation_trees_open(sweep_job *job, const insolation_tree_settings *set,
+                                const double *mid_s, int n, insolation_trees *it)
+{
+    ss_status st = trees_open(job, &set->trees, &it->t);
+    size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
+    if (st == SS_OK) {
+        it->sky_hidden = malloc(cells * sizeof(float));
+        it->leaf_off = malloc(n > 0 ? (size_t)n : 1);
+        if (!it->sky_hidden || !it->leaf_off)
+            st = ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
+    }
+    if (st != SS_OK)
+        return st;
+    it->ground = trees_ground(job, &it->t);
+    /* The sky a horizontal surface sees through the crowns, cosine-weighted
+     * as its diffuse light (SOLWEIG's svf - svfbuveg = this x (1 - T)). */
+    double t0 = run_now();
+    st = ss_canopy_sky(job->run.ctx, &it->ground, &it->t.canopy, &job->opt,
+                       SS_SVF_DEF_HORIZONTAL, (ss_trunk_gaps)set->trees.trunk_gaps, NULL,
+                       it->sky_hidden);
+    it->sky_seconds = run_now() - t0;
+    seasons_of_steps(job, set, mid_s, n, it);
+    it->lib = (ss_insolation_trees){&it->ground, &it->t.canopy, it->sky_hidden,
+                                    set->transmissivity_leaf_off, it->leaf_off,
+                                    set->crown_lines == 1};
+    return st;
+}
+
+void insolation_trees_free(insolation_trees *it)
+{
+    trees_free(&it->t);
+    free(it->sky_hidden);
+    free(it->leaf_off);
+}
+
+/* "leaves on from day 98 to day 299 (UMEP's), ..." */
+static void describe_season(const insolation_tree_settings *set, const insolation_trees *it,
+                            char *buf, size_t size)
+{
+    char on[40], off[40];
+    if (set->leaf_on)
+        snprintf(on, sizeof on, "%s (given)", set->leaf_on);
+    else
+        snprintf(on, sizeof on, "day %d", it->on_day);
+    if (set->leaf_off)
+        snprintf(off, sizeof off, "%s (given)", set->leaf_off);
+    else
+        snprintf(off, sizeof off, "day %d", it->off_day);
+    snprintf(buf, size,
+             "leaves on from %s until %s (off from that day), by each step's local date (mean "
+             "solar time at the DEM's centre); defaults UMEP's firstdayleaf 97, lastdayleaf "
+             "300%s; transmissivity %.4g leaf on, %.4g leaf off",
+             on, off,
+             it->south ? ", shifted by 183 days: the DEM's centre lies south of the equator" : "",
+             set->trees.transmissivity, set->transmissivity_leaf_off);
+}
+
+void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settings *set,
+                               const insolation_trees *it)
+{
+    trees_metadata(w, &set->trees, &it->t);
+    char buf[600];
+    snprintf(buf, sizeof buf, "%.6g", set->transmissivity_leaf_off);
+    ss_writer_metadata(w, "TRANSMISSIVITY_LEAF_OFF", buf);
+    describe_season(set, it, buf, sizeof buf);
+    ss_writer_metadata(w, "SEASON", buf);
+    ss_writer_metadata(w, "TRUNK_GAPS", set->trees.trunk_gaps ? "open" : "ignore");
+    ss_writer_metadata(w, "CROWN_LINES", set->crown_lines ? "digital" : "the solid sweep's");
+}
+
+void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
+                            int n_steps, int shadows_forced)
+{
+    char described[400], season[600];
+    trees_describe(&set->trees, &it->t, described, sizeof described);
+    describe_season(set, it, season, sizeof season);
+    printf("trees   %s (leaf off %.4g); crowns swept on the host: their sky %.3f s, each step's "
+           "sun after its solid shadow on %s lines\n",
+           described, set->transmissivity_leaf_off, it->sky_seconds,
+           set->crown_lines ? "digital" : "the solid sweep's");
+    printf("season  %s; %d of %d steps leaf off\n", season, it->leaf_off_steps, n_steps);
+    if (shadows_forced)
+        printf("trees   shadows exact: with --canopy the planner does not choose interpolated or "
+               "cumulative shadows\n");
+    if (it->t.below_ground)
+        printf("trees   %zu absolute crown tops below the DSM taken as no tree\n",
+               it->t.below_ground);
+}

@@ -1,0 +1,25 @@
+/* Trees in insolation's steps (skysweep.h's ss_insolation_trees,
+ * doc/vegetation.md "insolation"): each step's transmissivity, the crowns
+ * its sun's ray crosses, and the sky view the crowns leave. */
+#ifndef SS_INSOLATION_TREES_H
+#define SS_INSOLATION_TREES_H
+
+#include "insolation_internal.h"
+
+/* Refuses trees on another grid, with the cumulative sky, or a
+ * transmissivity outside 0..1. */
+ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io,
+                                    const ss_source *src);
+/* The transmissivity of step k: leaf off or on. */
+float ss_insolation_trees_transmissivity(const ss_insolation_trees *t, int k);
+/* The terms of a band's own cells with the crowns' sky at transmissivity
+ * T: each cell's sky view less sky_hidden x (1 - T), at least 0. */
+void ss_insolation_trees_terms(const ss_insolation_trees *t, const ss_band_view *band, float T,
+                               const ss_cell_terms *in, ss_cell_terms *out);
+/* crossed[c] over the whole grid for the step's sun at the grid's centre:
+ * 1 where the ray toward it crosses a crown (ss_canopy_crossed). */
+ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
+                                      const ss_sweep_options *opt, const ss_sun_step *sun,
+                                      unsigned char *crossed);
+
+#endif

@@ -1,0 +1,188 @@
+#!/bin/bash
+# insolation --canopy (doc/vegetation.md, "insolation"): a canopy of zeros,
+# and crowns of transmissivity 1 in both seasons, leave every band byte for
+# byte as without --canopy (clear sky, and weather with --pv); crowns of
+# transmissivity 0 from the ground shade the beam as the same crowns burnt
+# into the DSM as solid columns; under a cylindrical crown on flat ground the
+# beam of the cells in its shadow (those `shadow --canopy` classes as
+# vegetation shadow at the step's instant) is T x the open beam, exactly, and
+# a leaf-off date gives the leaf-off transmissivity (day of the year, MM-DD);
+# south of the equator UMEP's season is shifted by half a year unless the
+# dates are given; the metadata and summary record canopy, trunk, both
+# transmissivities and the season; bad leaf dates and transmissivities are
+# refused in one line, exit 2, with no output.
+set -u
+. "${TOP_SRCDIR:-.}/tests/tap.sh"
+SKYSWEEP=${SKYSWEEP:-$PWD/skysweep}
+case $SKYSWEEP in /*) ;; *) SKYSWEEP=$PWD/$SKYSWEEP ;; esac
+top=$(cd "${TOP_SRCDIR:-.}" && pwd)
+work=$(mktemp -d "${TMPDIR:-/tmp}/ss-instrees.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+
+# asc NAME EXPR [SRS XLL YLL]: a 60 x 60 AAIGrid of 1 m cells, EXPR of x, y
+# (metres east and south of the north-west corner) in awk, then a GeoTIFF
+# (EPSG:3006 in Sweden unless given).
+asc() {
+    awk -v xll="${4:-400000}" -v yll="${5:-6400000}" "BEGIN {
+        print \"ncols 60\"; print \"nrows 60\"
+        print \"xllcorner \" xll; print \"yllcorner \" yll; print \"cellsize 1\"
+        for (r = 0; r < 60; ++r) { line = \"\"
+            for (c = 0; c < 60; ++c) { x = c + 0.5; y = r + 0.5
+                line = line \" \" ($2) }
+            print line } }" >"$1.asc"
+    gdal_translate -q -ot Float32 -a_srs "${3:-EPSG:3006}" "$1.asc" "$1.tif"
+}
+crown='((x - 30) ^ 2 + (y - 30) ^ 2 <= 25) ? 10 : 0'
+asc flat 0
+asc zeros 0
+asc cyl "$crown"
+asc solid "$crown" # the crowns burnt into the DSM as solid columns
+# Near Sydney (UTM 56 south), for the southern season.
+asc flat_s 0 EPSG:32756 330000 6250000
+asc cyl_s "$crown" EPSG:32756 330000 6250000
+
+ins() { "$SKYSWEEP" insolation -q --device reference "$@"; }
+# raw FILE: every band's bytes.
+raw() { gdal_translate -q -of ENVI "$1" "$1.raw" && cat "$1.raw"; }
+# band FILE N: the band's values, one a line.
+band() {
+    gdal_translate -q -b "$2" -of ENVI "$1" "$1.b$2.raw" && od -An -v -f -w4 "$1.b$2.raw" | tr -d ' '
+}
+day=(--time 2024-06-21T00:00Z/2024-06-22T00:00Z --step PT1H)
+pvgis=$top/samples/weather/pvgis_tmy_45N_8E.csv
+weather=(--weather "$pvgis" --weather-far-ok --directions 16 --pv)
+
+ins "${day[@]}" flat.tif plain.tif
+ins "${day[@]}" --canopy zeros.tif flat.tif z.tif
+cmp -s <(raw plain.tif) <(raw z.tif)
+tap_ok $? "clear sky: a canopy of zeros gives every band byte for byte as without --canopy"
+ins "${day[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif t1.tif
+cmp -s <(raw plain.tif) <(raw t1.tif)
+tap_ok $? "clear sky: crowns of transmissivity 1 (both seasons) as without --canopy"
+ins "${day[@]}" --canopy cyl.tif flat.tif c.tif
+cmp -s <(raw plain.tif) <(raw c.tif)
+tap_ok $((!$?)) "clear sky: a crown of transmissivity 0.03 changes the output"
+
+ins "${weather[@]}" flat.tif wplain.tif
+ins "${weather[@]}" --canopy zeros.tif flat.tif wz.tif
+cmp -s <(raw wplain.tif) <(raw wz.tif)
+tap_ok $? "weather with --pv: a canopy of zeros gives all 19 bands byte for byte"
+ins "${weather[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif wt1.tif
+cmp -s <(raw wplain.tif) <(raw wt1.tif)
+tap_ok $? "weather with --pv: transmissivity 1 in both seasons as without --canopy"
+ins "${weather[@]}" --canopy cyl.tif flat.tif wc.tif
+paste <(band wplain.tif 18) <(band wc.tif 18) |
+    awk '$2 < $1 - 1 { low++ } $2 > $1 + 1e-3 { high++ } END { exit !(low > 20 && !high) }'
+tap_ok $? "weather: the PV yield falls in the crown's shade and nowhere rises"
+
+# Transmissivity 0, crowns from the ground: solid columns. The beam (band 2)
+# and hours of sun (5) on cells two or more cells away from the crown (whose
+# slopes the burnt DSM changes) agree with the burnt DSM's, on the same
+# lines (the planner picks box lines for the burnt DSM, interpolated ones,
+# whose crowns go on digital lines, for the flat one).
+ins "${day[@]}" --lines box --canopy cyl.tif --transmissivity 0 --transmissivity-leaf-off 0 \
+    --trunk-ratio 0 flat.tif t0.tif
+ins "${day[@]}" --lines box solid.tif burnt.tif
+far='((x - 30) ^ 2 + (y - 30) ^ 2 > 49)'
+for b in 2 5; do
+    paste <(band t0.tif $b) <(band burnt.tif $b) | awk -v b=$b '{
+        c = NR - 1; x = c % 60 + 0.5; y = int(c / 60) + 0.5
+        if (!('"$far"')) next
+        n++; d = $1 - $2; if (d < 0) d = -d; if (d > 1e-3 * ($2 > 1 ? $2 : 1)) bad++
+        s1 += $1; s2 += $2 }
+        END { printf "band %d: %d cells, sums %.1f and %.1f, %d differ\n", b, n, s1, s2, bad
+              exit !(bad == 0 && s1 < s2 + 1e-6 * s2 + 1e-3 && s1 > s2 - 1e-6 * s2 - 1e-3) }' >cmp$b.txt
+    tap_ok $? "transmissivity 0 from the ground shades as solid columns: $(cat cmp$b.txt)"
+done
+
+# One 10-minute step at 10:05 UTC on 21 June: the shaded cells are the
+# shadow command's vegetation shadow at that instant, their beam T x the
+# open beam; leaves off on a later --leaf-on day, before a --leaf-off date.
+step=(--time 2024-06-21T10:00Z/2024-06-21T10:10Z --step PT10M)
+"$SKYSWEEP" shadow -q --device reference --time 2024-06-21T10:05Z --canopy cyl.tif flat.tif sh.tif
+ins "${step[@]}" flat.tif s_open.tif
+ratios() { # FILE: "ratio count" of its beam to the open beam, and the shadow's class
+    paste <(band s_open.tif 2) <(band "$1" 2) <(band sh.tif 4) |
+        awk '{ r = sprintf("%.5f", $2 / $1); if ((r != "1.00000") != ($3 == 2)) off++; n[r]++ }
+             END { for (r in n) print r, n[r]; print "off", off + 0 }' | sort
+}
+ins "${step[@]}" --canopy cyl.tif flat.tif s_on.tif
+ratios s_on.tif >on.txt
+grep -q '^0.03000 [1-9]' on.txt && grep -q '^off 0$' on.txt && [ "$(wc -l <on.txt)" = 3 ]
+tap_ok $? "a cylinder's shadow: beam 0.03 x open exactly on the shadow's vegetation class: $(tr '\n' ' ' <on.txt)"
+ins "${step[@]}" --canopy cyl.tif --leaf-on 200 flat.tif s_off.tif
+ratios s_off.tif >off.txt
+grep -q '^0.50000 [1-9]' off.txt && grep -q '^off 0$' off.txt
+tap_ok $? "leaves on from day 200: 21 June gets the leaf-off 0.5: $(tr '\n' ' ' <off.txt)"
+ins "${step[@]}" --canopy cyl.tif --leaf-off 06-01 --transmissivity-leaf-off 0.25 flat.tif s_mmdd.tif
+ratios s_mmdd.tif | grep -q '^0.25000 [1-9]'
+tap_ok $? "leaves off from 06-01 (MM-DD): 21 June gets --transmissivity-leaf-off 0.25"
+
+# South of the equator: 21 June is winter, leaves off by default; on when
+# the user's dates say so; 21 December leaf on.
+south_ratio() { # TIME [ARGS...]: the shaded cells' ratio of beam to the open beam
+    ins --time "$1" --step PT10M flat_s.tif so.tif &&
+        ins --time "$@" --step PT10M --canopy cyl_s.tif flat_s.tif sc.tif &&
+        paste <(band so.tif 2) <(band sc.tif 2) |
+        awk '$2 < $1 - 1e-3 { printf "%.5f\n", $2 / $1 }' | sort -u | tr '\n' ' '
+}
+jun=2024-06-21T01:00Z/2024-06-21T01:10Z
+dec=2024-12-21T01:00Z/2024-12-21T01:10Z
+r=$(south_ratio $jun)
+[ "$r" = "0.50000 " ]
+tap_ok $? "south of the equator 21 June is leaf off by default: $r"
+r=$(south_ratio $dec)
+[ "$r" = "0.03000 " ]
+tap_ok $? "south of the equator 21 December is leaf on: $r"
+r=$(south_ratio $jun --leaf-on 04-01 --leaf-off 10-01)
+[ "$r" = "0.03000 " ]
+tap_ok $? "the user's dates win over the southern shift: $r"
+"$SKYSWEEP" insolation --device reference --time $jun --step PT10M --canopy cyl_s.tif flat_s.tif sm.tif |
+    grep -q '^season .*shifted by 183 days.*1 of 1 steps leaf off'
+tap_ok $? "the summary says the season was shifted for the south"
+
+gdalinfo s_on.tif >info.txt
+grep -q 'CANOPY=cyl.tif (heights above the ground)' info.txt &&
+    grep -q 'TRUNK=crown bottoms at 0.25 x the canopy height' info.txt &&
+    grep -q 'TRANSMISSIVITY=0.03' info.txt && grep -q 'TRANSMISSIVITY_LEAF_OFF=0.5' info.txt &&
+    grep -q 'SEASON=leaves on from day 98 until day 300' info.txt
+tap_ok $? "the metadata record canopy, trunk, both transmissivities and the season"
+"$SKYSWEEP" insolation --device reference "${step[@]}" --canopy cyl.tif flat.tif s2.tif |
+    grep -q '^trees   shadows exact: with --canopy'
+tap_ok $? "auto shadows become exact with trees, and the summary says so"
+
+# --crown-lines digital: on the flat DSM, whose crowns go on digital lines
+# anyway (interpolated lines), byte for byte as auto; under box lines it
+# moves the shadow's edge cells.
+ins "${step[@]}" --canopy cyl.tif --crown-lines digital flat.tif s_dig.tif
+cmp -s <(raw s_on.tif) <(raw s_dig.tif)
+tap_ok $? "--crown-lines digital on digital lines: byte for byte as auto"
+ins "${step[@]}" --lines box --canopy cyl.tif flat.tif s_box.tif
+ins "${step[@]}" --lines box --canopy cyl.tif --crown-lines digital flat.tif s_boxdig.tif
+cmp -s <(raw s_box.tif) <(raw s_boxdig.tif)
+tap_ok $((!$?)) "--crown-lines digital under box lines changes the crowns' shadow"
+gdalinfo s_boxdig.tif | grep -q 'CROWN_LINES=digital'
+tap_ok $? "the metadata name the crowns' lines"
+
+refused() { # WHAT ARGS...: one line on stderr, exit 2, no output
+    local what=$1
+    shift
+    ins --time 2024-06-21T10:00Z/2024-06-21T11:00Z "$@" flat.tif bad.tif 2>err.txt
+    local rc=$?
+    [ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ ! -e bad.tif ]
+    tap_ok $? "$what refused: exit $rc, $(cat err.txt)"
+}
+refused "a leaf-off transmissivity above 1" --canopy cyl.tif --transmissivity-leaf-off 1.5
+refused "a leaf-off transmissivity below 0" --canopy cyl.tif --transmissivity-leaf-off -0.1
+refused "a month 13" --canopy cyl.tif --leaf-on 13-01
+refused "30 February" --canopy cyl.tif --leaf-off 02-30
+refused "day 0" --canopy cyl.tif --leaf-on 0
+refused "day 367" --canopy cyl.tif --leaf-on 367
+refused "a word for a date" --canopy cyl.tif --leaf-off autumn
+refused "--leaf-on without --canopy" --leaf-on 100
+refused "--transmissivity-leaf-off without --canopy" --transmissivity-leaf-off 0.2
+refused "--crown-lines without --canopy" --crown-lines digital
+refused "the cumulative sky with trees" --canopy cyl.tif --shadow cumulative \
+    --weather "$pvgis" --weather-far-ok
+tap_done
