@@ -933,8 +933,8 @@ int cmd_insolation(int argc, char **argv)
     }
     ss_status st = prepare(r);
     if (st == SS_OK) {
-        rc = job_plan(&r->job, &set->common, SS_PLAN_INSOLATION, r->steps.n, r->steps.mid_s,
-                      ss_insolation_params_shadow(&set->ins));
+        rc = job_plan(&r->job, &set->common, ss_product_named("insolation"), &set->ins,
+                      r->steps.n, r->steps.mid_s);
         if (rc >= 0) { /* --plan, or a plan that failed */
             close_run(r);
             free(r);
