@@ -5,7 +5,8 @@
  * reads, and the call that runs it. The command line's product commands
  * and command list, `skysweep COMMAND --help-json` (its "outputs"), the
  * Python package and the QGIS provider derive each product from it
- * (doc/engine.md, "Product registry"). The table is read-only. */
+ * (doc/engine.md, "Product registry"). The built-in table is read-only;
+ * ss_product_register adds to it. */
 #ifndef SKYSWEEP_PRODUCTS_H
 #define SKYSWEEP_PRODUCTS_H
 
@@ -102,6 +103,15 @@ SS_API int ss_product_count(void);
 SS_API const ss_product_info *ss_product_at(int i);
 /* The product named `name`, or NULL. */
 SS_API const ss_product_info *ss_product_named(const char *name);
+/* Adds a product declared outside the library (a plug-in, a test's
+ * product) after the built-in ones: every front end then
+ * finds it as it finds them (the CLI runs one with a run call as a
+ * command of its own). The entry must live as long as the process. Call
+ * it before the registry is read from another thread (a plug-in's
+ * constructor). SS_ERR_ARGUMENT for an entry without a name, outputs,
+ * request, cell cost or halo, or whose name is taken; SS_ERR_MEMORY when
+ * the room for 8 is full. */
+SS_API ss_status ss_product_register(const ss_product_info *product);
 
 #ifdef __cplusplus
 }

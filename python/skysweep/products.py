@@ -17,7 +17,7 @@ import numpy as np
 from ._context import ArgumentError, context
 from ._grid import Grid, out_buffer
 from ._lib import CONST, PRODUCTS, default, ffi, lib, option
-from ._memory import BandCost, BandedGrid, parse_size, resident_bytes, run_banded
+from ._memory import BandCost, BandedGrid, parse_size, resident_bytes, rows_sink, run_banded
 
 
 def _choice(command, name, given):
@@ -154,6 +154,7 @@ def _begin(dem, cell_size, nodata, kw, allowed, bands=True):
 def _product_cost(name, params, outputs=0, cell_m=math.nan, **more):
     """What a band of a registry product holds (its cell_bytes and halo_m)."""
     product = PRODUCTS[name]
+    params = ffi.NULL if params is None else params
     return BandCost(product.cell_bytes(params, outputs), halo_m=product.halo_m(params, cell_m),
                     **more)
 
@@ -693,3 +694,62 @@ for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shad
                (hillshade, "hillshade"), (vat, "hillshade")):
     _doc_options(_f, _c, SWEEP_OPTIONS)
 _doc_options(plan, "svf", SWEEP_OPTIONS, memory=False)
+
+
+def _array_call(name):
+    """The array call of a registry product that has a run call and no call
+    written for it, from its entry alone: its own table's parameters and the
+    sweep's as keywords (the CLI's names and defaults), planned as the CLI
+    plans it (_sweep), run whole or in bands within memory= by its run call.
+    It returns its first output: a 2-D array for one band (a DataArray for
+    a DataArray DEM), else bands x rows x columns."""
+    product = PRODUCTS[name]
+    table = None if product.own_table == ffi.NULL else ffi.string(product.own_table).decode()
+    own = set()
+    if table is not None:
+        entries = lib.ss_param_table_named(table.encode()).params
+        k = 0
+        while entries[k].name != ffi.NULL:
+            own.add(ffi.string(entries[k].name).decode().replace("-", "_"))
+            k += 1
+    out = product.outputs[0]
+
+    def call(dem, cell_size=None, *, nodata=None, **kw):
+        given = {k: kw.pop(k) for k in list(kw) if k in own}
+        ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+        params = None if table is None else _params(table, name, given)
+        opt = _sweep(ctx, grid, name, params, kw)
+        bands = out.bands or opt.directions
+        result = np.empty((bands, *grid.shape) if bands > 1 else grid.shape, np.float32)
+        run = PRODUCTS[name].run
+        args = (opt, ffi.NULL if params is None else params, 0, ffi.NULL)
+        if isinstance(grid, BandedGrid):
+            run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: result},
+                       lambda c, src, sink: run(c, src, *args, sink, ffi.NULL),
+                       progress=kw.get("progress"))
+        else:
+            sink, failed = rows_sink({0: result}, grid.shape[1])
+            try:
+                ctx.call(run, grid.source(), *args, sink, ffi.NULL, progress=kw.get("progress"))
+            finally:
+                if failed:  # the sink's own exception, not the library's status for it
+                    raise failed[0][1].with_traceback(failed[0][2])
+        if bands > 1:
+            return result
+        return grid.wrap(result, name, {"long_name": ffi.string(out.band_names).decode(),
+                                        "units": ffi.string(out.unit).decode(),
+                                        "directions": opt.directions})
+
+    call.__name__ = call.__qualname__ = name
+    call.__doc__ = (f"{ffi.string(product.title).decode()}: "
+                    f"{ffi.string(product.description).decode()}\n\nKeywords: the "
+                    f"parameters of `skysweep {name}` ({', '.join(sorted(own)) or 'none'} and "
+                    "the sweep's), nodata=, memory=, device=, progress=. Generated from the "
+                    "library's registry (skysweep_products.h).")
+    return call
+
+
+#: The array calls generated for the registry's products that have a run
+#: call and none written above (a product added to the registry alone).
+ARRAY_CALLS = {name: _array_call(name) for name, p in PRODUCTS.items()
+               if p.run != ffi.NULL and name not in globals()}

@@ -237,20 +237,43 @@ static const ss_product_info products[] = {
      shadow_cell_bytes, no_halo, NULL},
 };
 
-int ss_product_count(void)
+/* Products registered at run time (ss_product_register), after the table's. */
+enum { REGISTERED_MAX = 8 };
+static const ss_product_info *registered[REGISTERED_MAX];
+static int n_registered;
+
+static int built_in(void)
 {
     return (int)(sizeof products / sizeof products[0]);
 }
 
+int ss_product_count(void)
+{
+    return built_in() + n_registered;
+}
+
 const ss_product_info *ss_product_at(int i)
 {
-    return i >= 0 && i < ss_product_count() ? &products[i] : NULL;
+    return i < 0 || i >= ss_product_count() ? NULL
+           : i < built_in()                 ? &products[i]
+                                            : registered[i - built_in()];
 }
 
 const ss_product_info *ss_product_named(const char *name)
 {
     for (int i = 0; name && i < ss_product_count(); ++i)
-        if (strcmp(products[i].name, name) == 0)
-            return &products[i];
+        if (strcmp(ss_product_at(i)->name, name) == 0)
+            return ss_product_at(i);
     return NULL;
+}
+
+ss_status ss_product_register(const ss_product_info *product)
+{
+    if (!product || !product->name || !product->outputs || !product->request ||
+        !product->cell_bytes || !product->halo_m || ss_product_named(product->name))
+        return SS_ERR_ARGUMENT;
+    if (n_registered == REGISTERED_MAX)
+        return SS_ERR_MEMORY;
+    registered[n_registered++] = product;
+    return SS_OK;
 }
