@@ -4,7 +4,8 @@
  * output optional and named by its option), found by index and by name,
  * asking the planner for its own product at the parameters' defaults, and
  * running where it has a run: every row of its first output delivered;
- * and prepared (ss_product_prepare) into options that obey their plan.
+ * and prepared (ss_product_prepare) into options that obey their plan;
+ * products registered at run time (ss_product_register) found, bad ones refused.
  * `test_registry --list` prints each product's name and outputs, one
  * product a line, for tests/test_registry.sh (the front ends' faces). */
 #include "config.h"
@@ -216,6 +217,36 @@ static void prepared(void)
     ss_ctx_free(ctx);
 }
 
+/* Products added at run time: after the built-in ones, found by name;
+ * a taken name, an incomplete entry and a ninth one refused. */
+static void registered(void)
+{
+    int built_in = ss_product_count();
+    static ss_product_info extra[9];
+    static char names[9][16];
+    ss_product_info taken = *ss_product_named("svf"), bare = taken;
+    bare.name = "bare";
+    bare.outputs = NULL;
+    tap_ok(ss_product_register(&taken) == SS_ERR_ARGUMENT &&
+               ss_product_register(&bare) == SS_ERR_ARGUMENT &&
+               ss_product_register(NULL) == SS_ERR_ARGUMENT &&
+               ss_product_count() == built_in,
+           "a taken name, an entry without outputs and none are refused; the registry unchanged");
+    int ok = 0;
+    for (int i = 0; i < 9; ++i) {
+        extra[i] = taken;
+        snprintf(names[i], sizeof names[i], "extra%d", i);
+        extra[i].name = names[i];
+        ok += ss_product_register(&extra[i]) == (i < 8 ? SS_OK : SS_ERR_MEMORY);
+    }
+    tap_ok(ok == 9 && ss_product_count() == built_in + 8 &&
+               ss_product_at(built_in) == &extra[0] && ss_product_named("extra7") == &extra[7] &&
+               !ss_product_named("extra8"),
+           "8 products registered after the %d built-in ones and found; a ninth refused (%d of 9 "
+           "as expected)",
+           built_in, ok);
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 2 && strcmp(argv[1], "--list") == 0) {
@@ -227,5 +258,6 @@ int main(int argc, char **argv)
     plans();
     runs();
     prepared();
+    registered(); /* last: the other checks walk the built-in products */
     return tap_done();
 }
