@@ -18,7 +18,7 @@ typedef struct {
     const char *summary; /* NULL: a product's, from the registry */
 } command_entry;
 
-/* The commands written for; a product's summary and whether it shares its
+/* The commands that have a file of their own; a product's summary and whether it shares its
  * run between MPI processes (mpi_share.h) are the registry's
  * (skysweep_products.h). */
 static const command_entry commands[] = {
