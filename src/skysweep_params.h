@@ -96,6 +96,15 @@ SS_API ss_line_model ss_sweep_params_lines(const ss_sweep_params *p);
  * radius, steps, weather). */
 SS_API void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_params *sun,
                                     ss_plan_request *req);
+/* The sweep options the parameters ask for before a plan decides (the
+ * front ends' provisional options; ss_product_prepare then obeys the plan):
+ * the directions asked (32 where the planner chooses), offset, lines
+ * (interpolated for auto), box lines, curvature only where turned on
+ * (the parameters' earth radius, else the place's, with their refraction)
+ * and the place's grid north unless north is the grid's. place NULL: a
+ * grid without a place (an array): the earth's mean radius, grid north. */
+SS_API void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,
+                                    ss_sweep_options *opt);
 
 /* ---- sky-view factor ("svf") and openness ("openness") ------------------------ */
 

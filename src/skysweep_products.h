@@ -5,7 +5,8 @@
  * reads, and the call that runs it. The command line's product commands
  * and command list, `skysweep COMMAND --help-json` (its "outputs"), the
  * Python package and the QGIS provider derive each product from it
- * (doc/engine.md, "Product registry"). The table is read-only. */
+ * (doc/engine.md, "Product registry"). The built-in table is read-only;
+ * ss_product_register adds to it. */
 #ifndef SKYSWEEP_PRODUCTS_H
 #define SKYSWEEP_PRODUCTS_H
 
@@ -53,9 +54,10 @@ typedef struct {
     const ss_product_output *outputs; /* NULL name ends them; output 0 is OUTPUT */
     ss_plan_kind plans_as;            /* what the planner weighs it as at the parameters' defaults */
     int shares;                       /* its directions or time steps can be dealt out (MPI) */
-    /* Fills what the parameters add to a plan request: the planner's kind of job, and where
-     * they set them the SVF definition, the radius and the shadow mode. */
-    void (*request)(const void *params, ss_plan_request *req);
+    /* Fills what the parameters add to a plan request, on cells of cell_size_m (NAN before
+     * the DEM is read): the planner's kind of job, and where they set them the SVF
+     * definition, the radius and the shadow mode. */
+    void (*request)(const void *params, double cell_size_m, ss_plan_request *req);
     /* Bytes the product holds per cell of a band, halo rows included, for the optional
      * outputs asked for (bits as `run`'s): the least, at a sweep's own needs; a run that
      * stores horizons between its walks (insolation's interpolated shadows and cumulative
@@ -69,12 +71,47 @@ typedef struct {
     ss_product_run_fn run;
 } ss_product_info;
 
+/* What a run of a product takes besides its own parameters, for
+ * ss_product_prepare. */
+typedef struct {
+    const ss_sweep_params *sweep; /* the "sweep" table's parameters */
+    const ss_sun_params *sun;     /* the "sun" table's (its sun per cell); NULL: one sun */
+    /* Where the grid lies (the CLI's frame); NULL: a grid without a place (an array):
+     * grid azimuths, the grid's diagonal, the earth's mean radius unless sweep gives one. */
+    const ss_place *place;
+    int n_steps;                /* time steps (shadow, insolation) ... */
+    const double *step_unix_s;  /* ... and the instants they are evaluated at */
+    ss_plan_weather weather;    /* insolation from weather records; zeros: the clear sky */
+} ss_product_job;
+
+/* The one translation of a product's parameters into a run: asks the
+ * planner (ss_plan_make) what the parameters, the sweep's and the job's
+ * ask for on this grid, fills *opt with the sweep options that obey the
+ * plan (ss_sweep_params_options, then ss_plan_sweep_options) and checks
+ * them, and opens the device the plan chose on an "auto" context
+ * (ss_ctx_apply_plan). params is the struct of the product's own table
+ * (NULL for a product without one). The CLI's commands and the Python
+ * package both call it. */
+SS_API ss_status ss_product_prepare(ss_ctx *ctx, const ss_product_info *product,
+                                    const void *params, const ss_grid *grid,
+                                    const ss_product_job *job, ss_sweep_options *opt,
+                                    ss_plan *plan);
+
 /* How many products the registry holds. */
 SS_API int ss_product_count(void);
 /* Product i (0 <= i < ss_product_count()), or NULL. */
 SS_API const ss_product_info *ss_product_at(int i);
 /* The product named `name`, or NULL. */
 SS_API const ss_product_info *ss_product_named(const char *name);
+/* Adds a product declared outside the library (a plug-in, a test's
+ * product) after the built-in ones: every front end then
+ * finds it as it finds them (the CLI runs one with a run call as a
+ * command of its own). The entry must live as long as the process. Call
+ * it before the registry is read from another thread (a plug-in's
+ * constructor). SS_ERR_ARGUMENT for an entry without a name, outputs,
+ * request, cell cost or halo, or whose name is taken; SS_ERR_MEMORY when
+ * the room for 8 is full. */
+SS_API ss_status ss_product_register(const ss_product_info *product);
 
 #ifdef __cplusplus
 }

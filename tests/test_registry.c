@@ -3,7 +3,9 @@
  * exist; outputs with a unit and their bands, OUTPUT first, every other
  * output optional and named by its option), found by index and by name,
  * asking the planner for its own product at the parameters' defaults, and
- * running where it has a run: every row of its first output delivered.
+ * running where it has a run: every row of its first output delivered;
+ * and prepared (ss_product_prepare) into options that obey their plan;
+ * products registered at run time (ss_product_register) found, bad ones refused.
  * `test_registry --list` prints each product's name and outputs, one
  * product a line, for tests/test_registry.sh (the front ends' faces). */
 #include "config.h"
@@ -99,7 +101,7 @@ static void plans(void)
         double params[32] = {0}; /* room for any parameter struct, aligned */
         ss_plan_request req = {0};
         req.kind = (ss_plan_kind)-1;
-        p->request(p->params_size ? params : NULL, &req);
+        p->request(p->params_size ? params : NULL, 1.0, &req);
         tap_ok(p->params_size <= sizeof params && req.kind == p->plans_as,
                "%s: its request asks the planner for product %d (declared %d)", p->name,
                (int)req.kind, (int)p->plans_as);
@@ -158,6 +160,93 @@ static void runs(void)
     ss_ctx_free(ctx);
 }
 
+/* The one translation (ss_product_prepare) of each product's parameters
+ * on a grid without a place: options that obey the plan it makes, the
+ * directions and offset asked kept, grid azimuths, curvature as asked
+ * where the product sweeps, and the plan's request from the registry
+ * entry; an option out of range refused. */
+static void prepared(void)
+{
+    enum { W = 24, H = 20 };
+    static float z[W * H];
+    for (int i = 0; i < W * H; ++i)
+        z[i] = (float)(i % W);
+    ss_grid grid = {W, H, 10, 10, 0, z};
+    ss_sweep_params sweep = {.directions = 12, .offset_deg = 5, .curvature = SS_CHOICE_ON,
+                             .refraction_k = 0.13, .north = SS_NORTH_AUTO,
+                             .horizon_tolerance_deg = 0.05, .svf_tolerance = 0.01,
+                             .sun_tolerance_deg = 0.1};
+    double steps[1] = {1.7e9};
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    for (int i = 0; i < ss_product_count(); ++i) {
+        const ss_product_info *p = ss_product_at(i);
+        double params[32] = {0};
+        int timed = p->plans_as == SS_PLAN_SHADOW || p->plans_as == SS_PLAN_INSOLATION;
+        int sweeps = p->plans_as != SS_PLAN_NO_SWEEP; /* else no curvature to plan */
+        ss_product_job job = {.sweep = &sweep, .n_steps = timed, .step_unix_s = steps};
+        ss_sweep_options opt;
+        ss_plan plan;
+        ss_status st = ss_product_prepare(ctx, p, p->params_size ? params : NULL, &grid, &job,
+                                          &opt, &plan);
+        tap_ok(st == SS_OK && opt.directions == 12 && plan.directions == 12 &&
+                   opt.offset_deg == 5 && opt.lines == plan.lines &&
+                   opt.box_lines == plan.box_lines && opt.grid_north_deg == 0 &&
+                   opt.earth_radius_m == (sweeps ? SS_EARTH_RADIUS_MEAN_M : 0) &&
+                   opt.refraction_k == (sweeps ? 0.13 : 0),
+               "%s: prepared, its options obey its plan (%d directions, offset %g, lines %d of "
+               "%d, earth radius %g; status %d: %s)",
+               p->name, opt.directions, opt.offset_deg, (int)opt.lines, (int)plan.lines,
+               opt.earth_radius_m, (int)st, ss_ctx_message(ctx));
+    }
+    sweep.directions = 0;
+    sweep.curvature = SS_CHOICE_OFF;
+    ss_product_job job = {.sweep = &sweep};
+    ss_sweep_options opt;
+    ss_plan plan;
+    ss_svf_params svf = {0};
+    ss_status st = ss_product_prepare(ctx, ss_product_named("svf"), &svf, &grid, &job, &opt, &plan);
+    tap_ok(st == SS_OK && plan.directions > 0 && opt.directions == plan.directions &&
+               opt.earth_radius_m == 0 && opt.refraction_k == 0,
+           "svf: the planner's %d directions, curvature off as asked (status %d)",
+           opt.directions, (int)st);
+    sweep.offset_deg = 400; /* out of range: the options' check refuses it */
+    st = ss_product_prepare(ctx, ss_product_named("svf"), &svf, &grid, &job, &opt, &plan);
+    tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "--offset"),
+           "an offset out of range is refused: %s", ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+}
+
+/* Products added at run time: after the built-in ones, found by name;
+ * a taken name, an incomplete entry and a ninth one refused. */
+static void registered(void)
+{
+    int built_in = ss_product_count();
+    static ss_product_info extra[9];
+    static char names[9][16];
+    ss_product_info taken = *ss_product_named("svf"), bare = taken;
+    bare.name = "bare";
+    bare.outputs = NULL;
+    tap_ok(ss_product_register(&taken) == SS_ERR_ARGUMENT &&
+               ss_product_register(&bare) == SS_ERR_ARGUMENT &&
+               ss_product_register(NULL) == SS_ERR_ARGUMENT &&
+               ss_product_count() == built_in,
+           "a taken name, an entry without outputs and none are refused; the registry unchanged");
+    int ok = 0;
+    for (int i = 0; i < 9; ++i) {
+        extra[i] = taken;
+        snprintf(names[i], sizeof names[i], "extra%d", i);
+        extra[i].name = names[i];
+        ok += ss_product_register(&extra[i]) == (i < 8 ? SS_OK : SS_ERR_MEMORY);
+    }
+    tap_ok(ok == 9 && ss_product_count() == built_in + 8 &&
+               ss_product_at(built_in) == &extra[0] && ss_product_named("extra7") == &extra[7] &&
+               !ss_product_named("extra8"),
+           "8 products registered after the %d built-in ones and found; a ninth refused (%d of 9 "
+           "as expected)",
+           built_in, ok);
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 2 && strcmp(argv[1], "--list") == 0) {
@@ -168,5 +257,7 @@ int main(int argc, char **argv)
     found();
     plans();
     runs();
+    prepared();
+    registered(); /* last: the other checks walk the built-in products */
     return tap_done();
 }

@@ -12,14 +12,15 @@ from ._context import (ArgumentError, Cancelled, Context, DeviceError, InputErro
                        InternalError, OutOfMemory, OutputError, SkysweepError)
 from ._lib import BUILD, lib as _lib, ffi as _ffi
 from .files import FILE_CALLS, run
-from .products import (Horizons, hillshade, horizon, openness, plan, shadow, sun_incidence, svf,
-                       vat)
+from .products import (ARRAY_CALLS, Horizons, hillshade, horizon, openness, plan, shadow,
+                       sun_incidence, svf, vat)
 from .insolation import insolation
 from .roofs import Crs, Roofs, roofs
 from .sites import site_horizon
 from .sun import sun_position
 
 globals().update(FILE_CALLS)
+globals().update(ARRAY_CALLS)  # the registry's products without a call written for them
 
 __version__ = _ffi.string(_lib.ss_version()).decode()
 
@@ -29,3 +30,4 @@ __all__ = ["svf", "openness", "horizon", "Horizons", "shadow", "hillshade", "vat
            "InputError", "OutputError", "DeviceError", "OutOfMemory", "Cancelled",
            "InternalError"] + sorted(FILE_CALLS)
 __all__ += ["roofs", "Roofs", "Crs"]
+__all__ += sorted(ARRAY_CALLS)

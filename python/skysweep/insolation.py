@@ -203,9 +203,8 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
     latitude, longitude = float(latitude), float(longitude)
     mids, hours = _steps(ctx, time, ffi.string(params.step).decode())
     steps = ffi.new("double[]", list(mids))
-    opt, plan = _sweep(ctx, grid, "insolation", lib.SS_PLAN_INSOLATION, kw,
-                       n_steps=len(mids), step_unix_s=steps, shadow_mode=shadow,
-                       with_plan=True)
+    opt, plan = _sweep(ctx, grid, "insolation", params, kw, n_steps=len(mids),
+                       step_unix_s=steps, with_plan=True)
     p = ffi.new("ss_spa_params *")
     lib.ss_spa_params_default(p)
     p.delta_t_s = math.nan if delta_t is None else float(delta_t)

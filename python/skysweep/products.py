@@ -17,7 +17,7 @@ import numpy as np
 from ._context import ArgumentError, context
 from ._grid import Grid, out_buffer
 from ._lib import CONST, PRODUCTS, default, ffi, lib, option
-from ._memory import BandCost, BandedGrid, parse_size, resident_bytes, run_banded
+from ._memory import BandCost, BandedGrid, parse_size, resident_bytes, rows_sink, run_banded
 
 
 def _choice(command, name, given):
@@ -74,13 +74,6 @@ def _sweep_params(command, kw):
     return p
 
 
-def _svf_definition(definition):
-    """The library's SVF definition for a --definition word, as its table maps it."""
-    p = ffi.new("ss_svf_params *")
-    p.definition = _choice("svf", "definition", definition)
-    return lib.ss_svf_params_term(p)
-
-
 #: Each sweeping function's options shared with every sweeping command.
 SWEEP_OPTIONS = ("directions", "offset", "curvature", "refraction", "earth_radius", "lines",
                  "box_lines", "horizon_tolerance", "svf_tolerance")
@@ -115,32 +108,19 @@ def _value(command, name, given):
     return None if value is None else _checked(command, name, value)
 
 
-def _sweep(ctx, grid, command, product, kw, svf_definition=lib.SS_SVF_DEF_GEOMETRIC,
-           n_steps=0, step_unix_s=ffi.NULL, shadow_mode=lib.SS_SHADOW_EXACT, with_plan=False,
-           radius=0.0):
-    """Sweep options (and where asked the plan) for a product, as the CLI's
-    job_plan makes them for a DEM without a place."""
-    params = _sweep_params(command, kw)
-    place = ffi.new("ss_place *")
-    place.diagonal_m = math.hypot(grid.shape[1] * grid.cell_size[0],
-                                  grid.shape[0] * grid.cell_size[1])
-    place.earth_radius_m = params.earth_radius_m or CONST["SS_EARTH_RADIUS_MEAN_M"]
-    req = ffi.new("ss_plan_request *")
-    lib.ss_sweep_params_request(params, ffi.NULL, req)
-    req.kind = product
-    req.svf_definition = svf_definition
-    req.radius_m = radius
-    req.shadow_mode = shadow_mode
-    req.n_steps = n_steps
-    req.step_unix_s = step_unix_s
-    plan = ffi.new("ss_plan *")
-    ctx.check(lib.ss_plan_make(ctx.ptr, grid.ptr, place, req, plan))
+def _sweep(ctx, grid, name, params, kw, n_steps=0, step_unix_s=ffi.NULL, with_plan=False):
+    """Sweep options (and where asked the plan) for the registry's product
+    `name` with its own parameters (`params`, its table's struct; None: it
+    has none): the library's one translation, ss_product_prepare, as the
+    CLI's commands call it, for a grid without a place."""
+    sweep = _sweep_params(name, kw)
+    job = ffi.new("ss_product_job *", {"sweep": sweep, "sun": ffi.NULL, "place": ffi.NULL,
+                                       "n_steps": n_steps, "step_unix_s": step_unix_s})
     opt = ffi.new("ss_sweep_options *")
-    lib.ss_sweep_options_default(opt)
-    opt.offset_deg = params.offset_deg
-    lib.ss_plan_sweep_options(plan, place, params.refraction_k, opt)
-    ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
-    ctx.check(lib.ss_ctx_apply_plan(ctx.ptr, plan))  # --device auto: the plan's device
+    plan = ffi.new("ss_plan *")
+    ctx.check(lib.ss_product_prepare(ctx.ptr, PRODUCTS[name],
+                                     ffi.NULL if params is None else params, grid.ptr, job,
+                                     opt, plan))
     return (opt, plan) if with_plan else opt
 
 
@@ -174,6 +154,7 @@ def _begin(dem, cell_size, nodata, kw, allowed, bands=True):
 def _product_cost(name, params, outputs=0, cell_m=math.nan, **more):
     """What a band of a registry product holds (its cell_bytes and halo_m)."""
     product = PRODUCTS[name]
+    params = ffi.NULL if params is None else params
     return BandCost(product.cell_bytes(params, outputs), halo_m=product.halo_m(params, cell_m),
                     **more)
 
@@ -229,11 +210,11 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     definition = _value("svf", "definition", definition)
     radius = _value("svf", "radius", radius)
-    code = _svf_definition(definition)
-    opt = _sweep(ctx, grid, "svf", lib.SS_PLAN_SKY_VIEW, kw, code, radius=radius)
+    params = _params("svf", "svf", {"definition": definition, "radius": radius})
+    code = lib.ss_svf_params_term(params)
+    opt = _sweep(ctx, grid, "svf", params, kw)
     if isinstance(grid, BandedGrid):
-        out = _sky_banded(ctx, grid, opt, "svf", {"definition": definition, "radius": radius},
-                          kw)
+        out = _sky_banded(ctx, grid, opt, "svf", params, kw)
     elif radius > 0:
         out = grid.new_plane()
         ctx.call(lib.ss_svf_within, grid.ptr, opt, code, radius, out_buffer(out),
@@ -271,10 +252,10 @@ def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     kind = _value("openness", "kind", kind)
     radius = _value("openness", "radius", radius)
-    opt = _sweep(ctx, grid, "openness", lib.SS_PLAN_HORIZONS, kw,  # as cmd_sky plans openness
-                 radius=radius)
+    params = _params("openness", "openness", {"kind": kind, "radius": radius})
+    opt = _sweep(ctx, grid, "openness", params, kw)
     if isinstance(grid, BandedGrid):
-        out = _sky_banded(ctx, grid, opt, "openness", {"kind": kind, "radius": radius}, kw)
+        out = _sky_banded(ctx, grid, opt, "openness", params, kw)
     else:
         out = grid.new_plane()
         ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius,
@@ -284,9 +265,8 @@ def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
                         "directions": opt.directions})
 
 
-def _sky_banded(ctx, grid, opt, name, given, kw):
+def _sky_banded(ctx, grid, opt, name, params, kw):
     """SVF or openness in bands within memory=: the registry's run call."""
-    params = _params(name, name, given)
     out = grid.new_plane()
     run = PRODUCTS[name].run
     run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: out},
@@ -327,7 +307,7 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
     {raises}
     """
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    opt = _sweep(ctx, grid, "horizon", lib.SS_PLAN_HORIZONS, kw)
+    opt = _sweep(ctx, grid, "horizon", None, kw)
     d, (h, w) = opt.directions, grid.shape
     azimuth = np.array([lib.ss_direction_azimuth(opt, i) for i in range(d)])
     angle = np.empty((d, h, w), np.float32)
@@ -410,7 +390,7 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     sun_azimuth = _checked("shadow", "sun_azimuth", sun_azimuth)
     sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
-    opt = _sweep(ctx, grid, "shadow", lib.SS_PLAN_SHADOW, kw)
+    opt = _sweep(ctx, grid, "shadow", None, kw)
     out = grid.new_plane()
     if isinstance(grid, BandedGrid):
         _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw)
@@ -455,7 +435,7 @@ def _shade(dem, cell_size, nodata, kw, given, radius=None):
     params = _params("hillshade", "hillshade", given)
     shading = ffi.new("ss_hillshade_options *")
     lib.ss_hillshade_params_options(params, cell_m, shading)
-    opt = _sweep(ctx, grid, "hillshade", lib.ss_hillshade_params_plan_kind(params), kw)
+    opt = _sweep(ctx, grid, "hillshade", params, kw)
     out = grid.new_plane()
     if isinstance(grid, BandedGrid):
         sweeps = params.blend or params.cast_shadows or params.sky_view > 0
@@ -647,9 +627,10 @@ def plan(dem, cell_size=None, *, product="svf", definition=default("svf", "defin
     if product not in _PLANNED:
         raise ValueError(f"product must be one of {', '.join(_PLANNED)}, not {product!r}")
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS, bands=False)
-    code = _svf_definition(definition) if product == "svf" else lib.SS_SVF_DEF_GEOMETRIC
-    _, made = _sweep(ctx, grid, product, PRODUCTS[product].plans_as, kw, code,
-                      with_plan=True)
+    table = PRODUCTS[product].own_table
+    params = None if table == ffi.NULL else _params(
+        ffi.string(table).decode(), product, {"definition": definition} if product == "svf" else {})
+    _, made = _sweep(ctx, grid, product, params, kw, with_plan=True)
     size = lib.ss_plan_format(made, 1, ffi.NULL, 0) + 1
     text = ffi.new("char[]", size)
     lib.ss_plan_format(made, 1, text, size)
@@ -713,3 +694,62 @@ for _f, _c in ((svf, "svf"), (openness, "openness"), (horizon, "horizon"), (shad
                (hillshade, "hillshade"), (vat, "hillshade")):
     _doc_options(_f, _c, SWEEP_OPTIONS)
 _doc_options(plan, "svf", SWEEP_OPTIONS, memory=False)
+
+
+def _array_call(name):
+    """The array call of a registry product that has a run call and no call
+    written for it, from its entry alone: its own table's parameters and the
+    sweep's as keywords (the CLI's names and defaults), planned as the CLI
+    plans it (_sweep), run whole or in bands within memory= by its run call.
+    It returns its first output: a 2-D array for one band (a DataArray for
+    a DataArray DEM), else bands x rows x columns."""
+    product = PRODUCTS[name]
+    table = None if product.own_table == ffi.NULL else ffi.string(product.own_table).decode()
+    own = set()
+    if table is not None:
+        entries = lib.ss_param_table_named(table.encode()).params
+        k = 0
+        while entries[k].name != ffi.NULL:
+            own.add(ffi.string(entries[k].name).decode().replace("-", "_"))
+            k += 1
+    out = product.outputs[0]
+
+    def call(dem, cell_size=None, *, nodata=None, **kw):
+        given = {k: kw.pop(k) for k in list(kw) if k in own}
+        ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
+        params = None if table is None else _params(table, name, given)
+        opt = _sweep(ctx, grid, name, params, kw)
+        bands = out.bands or opt.directions
+        result = np.empty((bands, *grid.shape) if bands > 1 else grid.shape, np.float32)
+        run = PRODUCTS[name].run
+        args = (opt, ffi.NULL if params is None else params, 0, ffi.NULL)
+        if isinstance(grid, BandedGrid):
+            run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: result},
+                       lambda c, src, sink: run(c, src, *args, sink, ffi.NULL),
+                       progress=kw.get("progress"))
+        else:
+            sink, failed = rows_sink({0: result}, grid.shape[1])
+            try:
+                ctx.call(run, grid.source(), *args, sink, ffi.NULL, progress=kw.get("progress"))
+            finally:
+                if failed:  # the sink's own exception, not the library's status for it
+                    raise failed[0][1].with_traceback(failed[0][2])
+        if bands > 1:
+            return result
+        return grid.wrap(result, name, {"long_name": ffi.string(out.band_names).decode(),
+                                        "units": ffi.string(out.unit).decode(),
+                                        "directions": opt.directions})
+
+    call.__name__ = call.__qualname__ = name
+    call.__doc__ = (f"{ffi.string(product.title).decode()}: "
+                    f"{ffi.string(product.description).decode()}\n\nKeywords: the "
+                    f"parameters of `skysweep {name}` ({', '.join(sorted(own)) or 'none'} and "
+                    "the sweep's), nodata=, memory=, device=, progress=. Generated from the "
+                    "library's registry (skysweep_products.h).")
+    return call
+
+
+#: The array calls generated for the registry's products that have a run
+#: call and none written above (a product added to the registry alone).
+ARRAY_CALLS = {name: _array_call(name) for name, p in PRODUCTS.items()
+               if p.run != ffi.NULL and name not in globals()}

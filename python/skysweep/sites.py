@@ -5,7 +5,7 @@ import numpy as np
 
 from ._context import context
 from ._grid import Grid
-from ._lib import CONST, default, ffi, lib
+from ._lib import default, ffi, lib
 from .products import _numpydoc, _sweep_params, _value
 
 _FIELDS = ("azimuth", "elevation", "distance", "cast_col", "cast_row", "cast_height")
@@ -61,19 +61,14 @@ def site_horizon(dem, cell_size=None, *, col, row, height=default("horizon", "he
     if abs(n - round(n)) > 1e-9 * n:
         raise ValueError(f"step must divide 360 degrees into a whole number of directions, "
                          f"not {step!r}")
+    # The library's options for the sweep's parameters, as the CLI's --point
+    # takes them (ss_sweep_params_options), with the step's directions from north.
+    sweep = _sweep_params("horizon", {"lines": lines, "curvature": curvature,
+                                      "refraction": refraction, "earth_radius": earth_radius})
     opt = ffi.new("ss_sweep_options *")
-    lib.ss_sweep_options_default(opt)
+    lib.ss_sweep_params_options(sweep, ffi.NULL, opt)
     opt.directions = int(round(n))
     opt.offset_deg = 0.0
-    asked = lib.ss_sweep_params_lines(_sweep_params("horizon", {"lines": lines}))
-    opt.lines = lib.SS_LINES_INTERPOLATED if asked == lib.SS_LINES_AUTO else asked
-    if _value("horizon", "curvature", curvature) == "on":
-        opt.earth_radius_m = _value("horizon", "earth_radius", earth_radius) or \
-            CONST["SS_EARTH_RADIUS_MEAN_M"]
-        opt.refraction_k = _value("horizon", "refraction", refraction)
-    else:
-        opt.earth_radius_m = 0.0
-        opt.refraction_k = 0.0
     ctx.check(lib.ss_sweep_options_check(ctx.ptr, opt))
     cols, rows = np.broadcast_arrays(np.asarray(col, np.float64), np.asarray(row, np.float64))
     single = cols.ndim == 0

@@ -124,10 +124,8 @@ int cmd_hillshade(int argc, char **argv)
         job_close(&job);
         return rc;
     }
-    if (ho.vat) /* its horizons are radius-limited, which the plan's choice of lines weighs */
-        job.radius_m = ho.radius_m;
-    if ((rc = job_plan(&job, &set.common, ss_hillshade_params_plan_kind(&set.hs), 0, NULL,
-                       SS_SHADOW_EXACT)) >= 0) {
+    if ((rc = job_plan(&job, &set.common, ss_product_named("hillshade"), &set.hs, 0, NULL)) >=
+        0) {
         job_close(&job);
         return rc;
     }

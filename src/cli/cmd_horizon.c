@@ -186,7 +186,7 @@ int cmd_horizon(int argc, char **argv)
     sweep_job job;
     if ((rc = job_open_banded(&job, "horizon", &set.common, pos, n_pos, cost)))
         return rc;
-    if ((rc = job_plan(&job, &set.common, SS_PLAN_HORIZONS, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+    if ((rc = job_plan(&job, &set.common, ss_product_named("horizon"), NULL, 0, NULL)) >= 0) {
         job_close(&job);
         return rc;
     }

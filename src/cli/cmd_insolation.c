@@ -959,8 +959,11 @@ int cmd_insolation(int argc, char **argv)
         if (r->shadows_forced && set->common.plan_only && !r->job.run.quiet)
             printf("trees   shadows exact: with --canopy the planner does not choose "
                    "interpolated or cumulative shadows\n");
-        rc = job_plan(&r->job, &set->common, SS_PLAN_INSOLATION, r->steps.n, r->steps.mid_s,
-                      shadow);
+        ss_insolation_params planned = set->ins;
+        if (r->shadows_forced)
+            planned.shadow = 1; /* "exact" of auto|exact|interpolated|cumulative */
+        rc = job_plan(&r->job, &set->common, ss_product_named("insolation"), &planned,
+                      r->steps.n, r->steps.mid_s);
         if (rc >= 0) { /* --plan, or a plan that failed */
             close_run(r);
             free(r);

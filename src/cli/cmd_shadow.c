@@ -209,8 +209,8 @@ int cmd_shadow(int argc, char **argv)
     if (checked != SS_OK)
         rc = job_finish(&job, checked);
     else
-        rc = job_plan(&job, &set.common, SS_PLAN_SHADOW, timed, timed ? &when : NULL,
-                      SS_SHADOW_EXACT);
+        rc = job_plan(&job, &set.common, ss_product_named("shadow"), NULL, timed,
+                      timed ? &when : NULL);
     if (rc >= 0) {
         job_close(&job);
         return rc;

@@ -201,7 +201,7 @@ int cmd_sky(int argc, char **argv)
     int rc = run_parse(product->name, tables, &set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1,
                        2, usage, product->description, &set.common.device);
     ss_plan_request req = {0};
-    product->request(&set.sky, &req);
+    product->request(&set.sky, NAN, &req);
     if (rc < 0 && takes_trees)
         rc = trees_options_alone(product->name, tables, &set, &set.trees);
     if (rc < 0)
@@ -214,9 +214,7 @@ int cmd_sky(int argc, char **argv)
                       .grid_cell_bytes = set.trees.canopy ? TREES_SKY_CELL_BYTES : 0.0};
     if ((rc = job_open_banded(&job, product->name, &set.common, pos, n_pos, cost)))
         return rc;
-    job.svf_definition = req.svf_definition;
-    job.radius_m = req.radius_m;
-    if ((rc = job_plan(&job, &set.common, req.kind, 0, NULL, SS_SHADOW_EXACT)) >= 0) {
+    if ((rc = job_plan(&job, &set.common, product, &set.sky, 0, NULL)) >= 0) {
         job_close(&job);
         return rc;
     }

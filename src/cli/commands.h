@@ -8,6 +8,9 @@
 
 /* svf and openness: the registry's sky products (argv[0] names which). */
 int cmd_sky(int argc, char **argv);
+/* A registry product with a run call and no command of its own (argv[0]
+ * names which): cmd_product.c. */
+int cmd_product(int argc, char **argv);
 int cmd_horizon(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_sun(int argc, char **argv);

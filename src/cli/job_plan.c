@@ -7,14 +7,11 @@
 
 #include "run.h"
 
-int job_plan(sweep_job *job, const common_settings *common, ss_plan_kind kind, int n_steps,
-             const double *step_unix_s, ss_shadow_mode shadow_mode)
+int job_plan(sweep_job *job, const common_settings *common, const ss_product_info *product,
+             const void *params, int n_steps, const double *step_unix_s)
 {
-    const ss_dem_frame *f = &job->frame;
-    ss_place place = {f->georeferenced, f->geographic, f->centre_lon_deg, f->centre_lat_deg,
-                      f->grid_north_deg, f->grid_north_min_deg, f->grid_north_max_deg,
-                      f->cell_variation, f->diagonal_m, run_earth_radius(common, f)};
-    if (!f->georeferenced) {
+    ss_place place = run_place(common, &job->frame);
+    if (!job->frame.georeferenced) {
         double w = job->dem.grid.width * job->dem.grid.cell_x_m;
         double h = job->dem.grid.height * job->dem.grid.cell_y_m;
         place.diagonal_m = sqrt(w * w + h * h);
@@ -22,22 +19,13 @@ int job_plan(sweep_job *job, const common_settings *common, ss_plan_kind kind, i
     /* The device the plan picks is set up here, its kernels built too:
      * the build is counted apart (run_print_phases). */
     double t = run_now(), built = ss_ctx_counters(job->run.ctx).build_seconds;
-    ss_plan_request req = {.weather = job->weather};
-    ss_sweep_params_request(&common->sweep, &common->sun, &req);
-    req.kind = kind;
-    req.svf_definition = job->svf_definition;
-    req.radius_m = job->radius_m;
-    req.shadow_mode = shadow_mode;
-    req.n_steps = n_steps;
-    req.step_unix_s = step_unix_s;
-    ss_status st = ss_plan_make(job->run.ctx, &job->dem.grid, &place, &req, &job->plan);
-    if (st == SS_OK)
-        st = ss_ctx_apply_plan(job->run.ctx, &job->plan);
+    ss_product_job with = {&common->sweep, &common->sun, &place, n_steps, step_unix_s,
+                           job->weather};
+    ss_status st = ss_product_prepare(job->run.ctx, product, params, &job->dem.grid, &with,
+                                      &job->opt, &job->plan);
     if (st != SS_OK)
         return job_finish(job, st);
-    /* Obey the plan: what it leaves off is not computed. */
     const ss_plan *p = &job->plan;
-    ss_plan_sweep_options(p, &place, common->sweep.refraction_k, &job->opt);
     size_t len = ss_plan_format(p, common->plan_json, NULL, 0) + 1;
     char *text = malloc(len);
     if (!text)

@@ -12,14 +12,16 @@
 #include "skysweep.h"
 #include "skysweep_products.h"
 
-/* The commands; a product's summary and whether it shares its run
- * between MPI processes (mpi_share.h) are the registry's
- * (skysweep_products.h). */
-static const struct {
+typedef struct {
     const char *name;
     int (*run)(int argc, char **argv);
     const char *summary; /* NULL: a product's, from the registry */
-} commands[] = {
+} command_entry;
+
+/* The commands that have a file of their own; a product's summary and whether it shares its
+ * run between MPI processes (mpi_share.h) are the registry's
+ * (skysweep_products.h). */
+static const command_entry commands[] = {
     {"horizon", cmd_horizon, NULL},
     {"svf", cmd_sky, NULL},
     {"openness", cmd_sky, NULL},
@@ -37,10 +39,34 @@ static const struct {
     {"info", cmd_info, "version, dependencies, devices, kernel build status"},
 };
 
+#define WRITTEN (sizeof commands / sizeof commands[0])
+/* Those, then each registry product with a run call and no command written
+ * for it, which cmd_product runs from its entry alone (listed_gather). */
+static command_entry listed[WRITTEN + 16];
+static size_t n_listed;
+
+static int written_for(const char *name)
+{
+    for (size_t i = 0; i < WRITTEN; ++i)
+        if (strcmp(commands[i].name, name) == 0)
+            return 1;
+    return 0;
+}
+
+static void listed_gather(void)
+{
+    for (n_listed = 0; n_listed < WRITTEN; ++n_listed)
+        listed[n_listed] = commands[n_listed];
+    for (int k = 0; k < ss_product_count() && n_listed < sizeof listed / sizeof listed[0]; ++k) {
+        const ss_product_info *p = ss_product_at(k);
+        if (p->run && !written_for(p->name))
+            listed[n_listed++] = (command_entry){p->name, cmd_product, NULL};
+    }
+}
+
 static const char *command_summary(size_t i)
 {
-    return commands[i].summary ? commands[i].summary
-                               : ss_product_named(commands[i].name)->summary;
+    return listed[i].summary ? listed[i].summary : ss_product_named(listed[i].name)->summary;
 }
 
 /* "svf, openness, insolation": the products that share their runs. */
@@ -57,7 +83,7 @@ static void sharing_products(char *buf, size_t size)
 /* Runs command i, unless several MPI processes would each do all of it. */
 static int run_command(size_t i, int argc, char **argv)
 {
-    const ss_product_info *product = ss_product_named(commands[i].name);
+    const ss_product_info *product = ss_product_named(listed[i].name);
     if (share_size() > 1 && !(product && product->shares)) {
         char sharing[128];
         sharing_products(sharing, sizeof sharing);
@@ -65,10 +91,10 @@ static int run_command(size_t i, int argc, char **argv)
             fprintf(stderr,
                     "skysweep %s: runs in one process; under mpirun only %s share their work "
                     "(%d processes were started)\n",
-                    commands[i].name, sharing, share_size());
+                    listed[i].name, sharing, share_size());
         return SS_ERR_ARGUMENT;
     }
-    return commands[i].run(argc, argv);
+    return listed[i].run(argc, argv);
 }
 
 /* skysweep plan|run SCENE [options]: the scene's product command with
@@ -111,8 +137,8 @@ static int scene_command(const char *verb, int argc, char **argv)
     for (int i = 2; i < argc && n < COMMAND_MAX_INPUTS + 7; ++i)
         args[n++] = argv[i];
     args[n] = NULL;
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-        if (commands[i].run && strcmp(product, commands[i].name) == 0 &&
+    for (size_t i = 0; i < n_listed; ++i)
+        if (listed[i].run && strcmp(product, listed[i].name) == 0 &&
             strcmp(product, "sun") && strcmp(product, "info"))
             return run_command(i, n, args);
     fprintf(stderr, "skysweep %s: %s: unknown product '%s'\n", verb, argv[1], product);
@@ -122,8 +148,8 @@ static int scene_command(const char *verb, int argc, char **argv)
 static void usage(FILE *to)
 {
     fprintf(to, "Usage: skysweep COMMAND [options] INPUT... OUTPUT\n\nCommands:\n");
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-        fprintf(to, "  %-9s %s\n", commands[i].name, command_summary(i));
+    for (size_t i = 0; i < n_listed; ++i)
+        fprintf(to, "  %-9s %s\n", listed[i].name, command_summary(i));
     fprintf(to, "\nskysweep COMMAND --help lists a command's options. Azimuths are degrees "
                 "clockwise from north.\n");
 }
@@ -139,20 +165,21 @@ static void man_page(void)
     printf(".SH DESCRIPTION\nskysweep computes exact terrain horizons with a convex-hull "
            "sweep along parallel lines, and the products that follow from them. Azimuths are "
            "degrees clockwise from north.\n.SH COMMANDS\n");
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i) {
-        printf(".TP\n.B %s\n", commands[i].name);
+    for (size_t i = 0; i < n_listed; ++i) {
+        printf(".TP\n.B %s\n", listed[i].name);
         for (const char *c = command_summary(i); *c; ++c)
             fputs(*c == '-' ? "\\-" : (char[2]){*c, 0}, stdout);
         printf("\n");
     }
     printf(".SH SEE ALSO\n");
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-        printf("%s.BR skysweep\\-%s (1)", i ? ",\n" : "", commands[i].name);
+    for (size_t i = 0; i < n_listed; ++i)
+        printf("%s.BR skysweep\\-%s (1)", i ? ",\n" : "", listed[i].name);
     printf("\n");
 }
 
 static int dispatch(int argc, char **argv)
 {
+    listed_gather();
     if (argc < 2) {
         usage(stderr);
         return SS_ERR_ARGUMENT;
@@ -167,8 +194,8 @@ static int dispatch(int argc, char **argv)
         return 0;
     }
     if (strcmp(name, "--help-commands") == 0) { /* for doc/completion.sh */
-        for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-            printf("%s%s", i ? " " : "", commands[i].name);
+        for (size_t i = 0; i < n_listed; ++i)
+            printf("%s%s", i ? " " : "", listed[i].name);
         printf("\n");
         return 0;
     }
@@ -178,8 +205,8 @@ static int dispatch(int argc, char **argv)
     }
     if (strcmp(name, "plan") == 0 || strcmp(name, "run") == 0)
         return scene_command(name, argc - 1, argv + 1);
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-        if (strcmp(name, commands[i].name) == 0)
+    for (size_t i = 0; i < n_listed; ++i)
+        if (strcmp(name, listed[i].name) == 0)
             return run_command(i, argc - 1, argv + 1);
     fprintf(stderr, "skysweep: unknown command '%s' (see skysweep --help)\n", name);
     return SS_ERR_ARGUMENT;

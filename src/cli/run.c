@@ -527,19 +527,20 @@ ss_line_model run_lines_asked(const common_settings *common)
     return ss_sweep_params_lines(&common->sweep);
 }
 
+ss_place run_place(const common_settings *common, const ss_dem_frame *f)
+{
+    return (ss_place){f->georeferenced,      f->geographic,         f->centre_lon_deg,
+                      f->centre_lat_deg,     f->grid_north_deg,     f->grid_north_min_deg,
+                      f->grid_north_max_deg, f->cell_variation,     f->diagonal_m,
+                      run_earth_radius(common, f)};
+}
+
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt)
 {
-    ss_sweep_options_default(opt);
     /* Provisional: job_plan sets directions, curvature and north from the plan. */
-    opt->directions = common->sweep.directions ? common->sweep.directions : 32;
-    opt->offset_deg = common->sweep.offset_deg;
-    opt->earth_radius_m = common->sweep.curvature == SS_CHOICE_ON ? run_earth_radius(common, frame) : 0.0;
-    opt->refraction_k = common->sweep.curvature == SS_CHOICE_ON ? common->sweep.refraction_k : 0.0;
-    ss_line_model asked = run_lines_asked(common);
-    opt->lines = asked == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : asked;
-    opt->box_lines = common->sweep.box_lines;
-    opt->grid_north_deg = common->sweep.north != SS_NORTH_GRID ? frame->grid_north_deg : 0.0;
+    ss_place place = run_place(common, frame);
+    ss_sweep_params_options(&common->sweep, &place, opt);
 }
 
 ss_status run_check_output(run_state *run, const char *output)

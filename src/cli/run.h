@@ -95,6 +95,10 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
                        const common_settings *common, ss_dem *dem, ss_dem_frame *frame);
 /* The line model asked for: SS_LINES_AUTO leaves it to the planner. */
 ss_line_model run_lines_asked(const common_settings *common);
+/* The frame's place, for the planner (ss_place). */
+ss_place run_place(const common_settings *common, const ss_dem_frame *frame);
+/* The sweep options the parameters ask for before a plan decides
+ * (ss_sweep_params_options at the frame's place). */
 void run_sweep_options(const common_settings *common, const ss_dem_frame *frame,
                        ss_sweep_options *opt);
 double run_earth_radius(const common_settings *common, const ss_dem_frame *frame);
@@ -148,8 +152,6 @@ typedef struct {
     int band_rows;
     band_cost band; /* what a band holds, for its size and the summary */
     unsigned char *rows_counted; /* rows whose nodata cells are counted (bands reread rows) */
-    ss_svf_definition svf_definition; /* what the planner chooses directions for (svf) */
-    double radius_m;                  /* svf and openness: horizons within it (0: unlimited) */
     ss_plan_weather weather;          /* insolation from weather records (the plan says so) */
 } sweep_job;
 
@@ -164,12 +166,14 @@ int job_open_banded(sweep_job *job, const char *command, const common_settings *
 /* The sun for the job (job_sun.c): given, or from --time by SPA at the DEM,
  * for one instant; one sun for the DEM or per cell. */
 ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *field);
-/* Plans the run (planner.c: effects, directions, skipped steps) for the
- * planner's kind of job and its time steps (may be none), sets the job's options from
- * the plan, prints it unless quiet. Returns -1 to go on, else the exit
- * code (0 after --plan). */
-int job_plan(sweep_job *job, const common_settings *common, ss_plan_kind kind, int n_steps,
-             const double *step_unix_s, ss_shadow_mode shadow_mode);
+/* Plans the run of a registry product with its own parameters (params:
+ * the struct of its table, NULL where it has none) and its time steps
+ * (may be none) through the library's one translation
+ * (ss_product_prepare), which sets the job's options from the plan;
+ * prints the plan unless quiet. Returns -1 to go on, else the exit code
+ * (0 after --plan). */
+int job_plan(sweep_job *job, const common_settings *common, const ss_product_info *product,
+             const void *params, int n_steps, const double *step_unix_s);
 /* Opens the job's output of n_bands bands on rank 0 (the one that writes,
  * alone or under mpirun), before the run so that it fails early; the other
  * ranks leave *w NULL. Every rank learns whether rank 0 failed. */

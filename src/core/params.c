@@ -265,6 +265,24 @@ void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_params *sun,
     req->box_lines = p->box_lines;
 }
 
+void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,
+                             ss_sweep_options *opt)
+{
+    ss_sweep_options_default(opt);
+    opt->directions = p->directions ? p->directions : 32;
+    opt->offset_deg = p->offset_deg;
+    if (p->curvature == SS_CHOICE_ON) {
+        opt->earth_radius_m = p->earth_radius_m > 0   ? p->earth_radius_m
+                              : place                ? place->earth_radius_m
+                                                     : SS_EARTH_RADIUS_MEAN_M;
+        opt->refraction_k = p->refraction_k;
+    }
+    ss_line_model asked = ss_sweep_params_lines(p);
+    opt->lines = asked == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : asked;
+    opt->box_lines = p->box_lines;
+    opt->grid_north_deg = place && p->north != SS_NORTH_GRID ? place->grid_north_deg : 0.0;
+}
+
 ss_sky_term ss_svf_params_term(const ss_svf_params *p)
 {
     /* In the choices' order. */

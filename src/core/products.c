@@ -11,8 +11,9 @@
 
 /* ---- what each product's parameters become ---------------------------------- */
 
-static void svf_request(const void *params, ss_plan_request *req)
+static void svf_request(const void *params, double cell_size_m, ss_plan_request *req)
 {
+    (void)cell_size_m;
     const ss_svf_params *p = params;
     req->kind = SS_PLAN_SKY_VIEW;
     req->svf_definition = (ss_svf_definition)ss_svf_params_term(p);
@@ -41,8 +42,9 @@ static ss_status svf_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_optio
 }
 
 /* Openness reads horizons, not an SVF: the planner's horizon product. */
-static void openness_request(const void *params, ss_plan_request *req)
+static void openness_request(const void *params, double cell_size_m, ss_plan_request *req)
 {
+    (void)cell_size_m;
     req->kind = SS_PLAN_HORIZONS;
     req->radius_m = ((const ss_openness_params *)params)->radius_m;
 }
@@ -68,9 +70,9 @@ static ss_status openness_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_
     return ss_sky_rows(ctx, src, opt, ss_openness_params_term(p), p->radius_m, share, sink, user);
 }
 
-static void horizon_request(const void *params, ss_plan_request *req)
+static void horizon_request(const void *params, double cell_size_m, ss_plan_request *req)
 {
-    (void)params;
+    (void)params, (void)cell_size_m;
     req->kind = SS_PLAN_HORIZONS;
 }
 
@@ -90,9 +92,13 @@ static ss_status horizon_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
     return ss_horizon_rows(ctx, src, opt, (int)(outputs >> 1), sink, user);
 }
 
-static void hillshade_request(const void *params, ss_plan_request *req)
+/* A blend's horizons are radius-limited, which the plan's choice of lines weighs. */
+static void hillshade_request(const void *params, double cell_size_m, ss_plan_request *req)
 {
-    req->kind = ss_hillshade_params_plan_kind(params);
+    const ss_hillshade_params *p = params;
+    req->kind = ss_hillshade_params_plan_kind(p);
+    if (p->blend != SS_HILLSHADE_BLEND_NONE)
+        req->radius_m = p->blend_radius_cells * cell_size_m;
 }
 
 static int hillshade_sweeps(const ss_hillshade_params *p)
@@ -123,9 +129,9 @@ static ss_status hillshade_run(ss_ctx *ctx, const ss_source *src, const ss_sweep
     return ss_hillshade_rows(ctx, src, opt, &ho, sink, user);
 }
 
-static void shadow_request(const void *params, ss_plan_request *req)
+static void shadow_request(const void *params, double cell_size_m, ss_plan_request *req)
 {
-    (void)params;
+    (void)params, (void)cell_size_m;
     req->kind = SS_PLAN_SHADOW;
 }
 
@@ -136,8 +142,9 @@ static double shadow_cell_bytes(const void *params, unsigned outputs)
     return ss_horizon_band_cell_bytes(0) + 2.0 * sizeof(float);
 }
 
-static void insolation_request(const void *params, ss_plan_request *req)
+static void insolation_request(const void *params, double cell_size_m, ss_plan_request *req)
 {
+    (void)cell_size_m;
     req->kind = SS_PLAN_INSOLATION;
     req->shadow_mode = ss_insolation_params_shadow(params);
 }
@@ -230,20 +237,43 @@ static const ss_product_info products[] = {
      shadow_cell_bytes, no_halo, NULL},
 };
 
-int ss_product_count(void)
+/* Products registered at run time (ss_product_register), after the table's. */
+enum { REGISTERED_MAX = 8 };
+static const ss_product_info *registered[REGISTERED_MAX];
+static int n_registered;
+
+static int built_in(void)
 {
     return (int)(sizeof products / sizeof products[0]);
 }
 
+int ss_product_count(void)
+{
+    return built_in() + n_registered;
+}
+
 const ss_product_info *ss_product_at(int i)
 {
-    return i >= 0 && i < ss_product_count() ? &products[i] : NULL;
+    return i < 0 || i >= ss_product_count() ? NULL
+           : i < built_in()                 ? &products[i]
+                                            : registered[i - built_in()];
 }
 
 const ss_product_info *ss_product_named(const char *name)
 {
     for (int i = 0; name && i < ss_product_count(); ++i)
-        if (strcmp(products[i].name, name) == 0)
-            return &products[i];
+        if (strcmp(ss_product_at(i)->name, name) == 0)
+            return ss_product_at(i);
     return NULL;
+}
+
+ss_status ss_product_register(const ss_product_info *product)
+{
+    if (!product || !product->name || !product->outputs || !product->request ||
+        !product->cell_bytes || !product->halo_m || ss_product_named(product->name))
+        return SS_ERR_ARGUMENT;
+    if (n_registered == REGISTERED_MAX)
+        return SS_ERR_MEMORY;
+    registered[n_registered++] = product;
+    return SS_OK;
 }
