@@ -539,3 +539,19 @@ void ss_vector_abort(ss_vector_writer *w)
     free(w->tmp_path);
     free(w);
 }
+
+void *ss_polygon_of_grid_points(const ss_dem *dem, const double (*col_row)[2], int n)
+{
+    const double *gt = dem->geotransform;
+    OGRGeometryH ring = OGR_G_CreateGeometry(wkbLinearRing);
+    for (int k = 0; k <= n; ++k) {
+        const double *p = col_row[k % n];
+        OGR_G_AddPoint_2D(ring, gt[0] + p[0] * gt[1] + p[1] * gt[2],
+                          gt[3] + p[0] * gt[4] + p[1] * gt[5]);
+    }
+    OGRGeometryH poly = OGR_G_CreateGeometry(wkbPolygon);
+    OGRGeometryH multi = OGR_G_CreateGeometry(wkbMultiPolygon);
+    OGR_G_AddGeometryDirectly(poly, ring);
+    OGR_G_AddGeometryDirectly(multi, poly);
+    return multi;
+}

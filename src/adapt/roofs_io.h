@@ -45,6 +45,9 @@ ss_status ss_raster_read_bands(ss_ctx *ctx, const char *path, int first, int n, 
  * where a label has no cell), into geoms[0..n_ids). */
 ss_status ss_polygons_of_labels(ss_ctx *ctx, const ss_dem *dem, const int *ids, int col0,
                                 int row0, int cols, int rows, int n_ids, void **geoms);
+/* A MultiPolygon of one ring through n points given in grid columns and
+ * rows (fractional, from the grid's north-west corner). */
+void *ss_polygon_of_grid_points(const ss_dem *dem, const double (*col_row)[2], int n);
 void ss_geometry_free(void *geometry);
 
 /* A field of a layer: its name, type, unit and meaning (the layer's

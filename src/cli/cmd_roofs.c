@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "roof_panels.h"
 #include "roof_planes.h"
 #include "roofs_io.h"
 #include "run.h"
@@ -33,7 +34,12 @@ typedef struct {
     int weather_far_ok;
     const char *buildings, *dtm, *csv, *id_field;
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
-    double setback_m, min_irradiation, max_tilt_deg, kwp_per_m2;
+    double setback_m, min_irradiation, max_tilt_deg;
+    const char *module_size;
+    int orientation, panels_layer;
+    double module_power_w, module_spacing_m, row_spacing_m, min_panel_area_m2;
+    double flat_tilt_deg, rack_tilt_deg, rack_sun_elevation_deg;
+    panel_options panel; /* from the above (settle_panel_options) */
 } roofs_settings;
 
 #define SET(field) offsetof(roofs_settings, field)
@@ -64,8 +70,29 @@ static const opt_spec own_options[] = {
      "usable cells receive at least this much in the weather file's year (kWh/m2)"},
     {"max-tilt", OPT_DOUBLE, SET(max_tilt_deg), "DEG", "60", 0, 90, NULL,
      "usable planes are tilted at most this much"},
-    {"kwp-per-m2", OPT_DOUBLE, SET(kwp_per_m2), "KWP_M2", "0.2", 0.01, 1, NULL,
-     "peak power of modules per m2 of usable roof (0.2: modules of 20 % efficiency)"},
+    {"module-size", OPT_STRING, SET(module_size), "LxW", "1.7x1.0", 0, 0, NULL,
+     "the modules' long and short sides (m) of the panel layout"},
+    {"module-power", OPT_DOUBLE, SET(module_power_w), "W", "400", 1, 5000, NULL,
+     "a module's nameplate power (W, STC): kwp = panels x this"},
+    {"orientation", OPT_CHOICE, SET(orientation), NULL, "best", 0, 0, "portrait|landscape|best",
+     "modules' long side up the slope (portrait), along the rows (landscape), or whichever "
+     "fits more modules on each plane (best)"},
+    {"module-spacing", OPT_DOUBLE, SET(module_spacing_m), "M", "0.02", 0, 10, NULL,
+     "gap between modules of a row (m)"},
+    {"row-spacing", OPT_DOUBLE, SET(row_spacing_m), "M", "0.02", 0, 50, NULL,
+     "gap between rows on the plane (m; on racked flat roofs the least gap)"},
+    {"min-panel-area", OPT_DOUBLE, SET(min_panel_area_m2), "M2", "10", 0, 1e6, NULL,
+     "a plane whose modules would cover less than this (m2 of modules) gets none"},
+    {"flat-tilt", OPT_DOUBLE, SET(flat_tilt_deg), "DEG", "10", 0, 45, NULL,
+     "planes tilted less are flat roofs: modules racked at --rack-tilt facing the equator"},
+    {"rack-tilt", OPT_DOUBLE, SET(rack_tilt_deg), "DEG", "10", 0, 60, NULL,
+     "tilt of the racks on flat roofs"},
+    {"rack-sun-elevation", OPT_DOUBLE, SET(rack_sun_elevation_deg), "DEG", NULL, 1, 90, NULL,
+     "racked rows are spaced so that none shades the next with the sun this high toward the "
+     "equator (default: the noon sun at the winter solstice at the DSM's centre, 90 - |lat| - "
+     "23.44, at least 5)"},
+    {"panels", OPT_FLAG, SET(panels_layer), NULL, NULL, 0, 0, NULL,
+     "also write the layer panels: each module's footprint on the ground"},
     OPT_END};
 static const opt_spec passed_on[] = {
     {"weather", OPT_INPUT, SET(weather), "FILE", NULL, 0, 0, NULL,
@@ -270,16 +297,35 @@ typedef struct {
     double area_m2, usable_area_m2, inner_area_m2;
     double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
     double kwp, kwh_ac_year, kwh_per_kwp, kwh_ac_month[12];
+    int n_panels, racked, landscape;
+    double panel_tilt_deg, panel_azimuth_deg; /* the modules' (racks': toward the equator) */
     void *geometry;
 } plane_row;
+
+/* A module of the layer panels. */
+typedef struct {
+    size_t plane; /* index of its plane_row */
+    int number;   /* 1.. within the plane */
+    double kwh_ac_year;
+    void *geometry;
+} panel_row;
 
 typedef struct {
     double roof_area_m2, usable_area_m2, obstacle_area_m2, footprint_area_m2;
     double kwp, kwh_ac_year, kwh_ac_month[12];
+    int n_panels;
     double inner_area_m2, inner_kwh, inner_unshaded_kwh; /* for the mean and the loss */
     double height_m;
     int n_planes;
 } building_sums;
+
+/* What a plane's panel layout reads. */
+typedef struct {
+    const sweep_job *job;
+    const roofs_settings *set;
+    const ss_footprint *fp;
+    const cell_yield *yield;
+} roofs_run_view;
 
 /* Whether window cell (c, r) of plane p lies at least setback from every
  * cell that is not p's (outside the building's window included). */
@@ -299,17 +345,17 @@ static int clear_of_edges(const int *plane_at, int cols, int rows, int c, int r,
     return 1;
 }
 
-/* Plane p's sums over its cells (label p, p + 1 in plane_at): the inner ones (clear of the edges) give
- * its irradiation; the usable ones (inner, bright enough, not too steep)
- * its area, kWp and yield. */
-static void plane_yield(const sweep_job *job, const roofs_settings *set, const cell_yield *y,
-                        const ss_footprint *fp, const int *label, const int *plane_at, int p,
-                        plane_row *row)
+/* Plane p's sums over its cells (label p, p + 1 in plane_at): the inner
+ * ones (clear of the edges) give its irradiation; the usable ones (inner,
+ * bright enough, not too steep) its usable area, and are marked 1 in
+ * usable (the building's window, zeroed by the caller). */
+static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
+                              const cell_yield *y, const ss_footprint *fp, const int *label,
+                              const int *plane_at, int p, plane_row *row, unsigned char *usable)
 {
     double cx = job->dem.grid.cell_x_m, cy = job->dem.grid.cell_y_m;
     double cell_m2 = cx * cy / cos(row->tilt_deg * M_PI / 180.0);
-    size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
-    double inner_kwh = 0, usable_poa = 0, usable_month[12] = {0}, ac = 0;
+    double inner_kwh = 0;
     size_t n_inner = 0, n_usable = 0, n_all = 0;
     double all_kwh = 0;
     for (size_t i = 0; i < fp->n_cells; ++i) {
@@ -328,10 +374,7 @@ static void plane_yield(const sweep_job *job, const roofs_settings *set, const c
             !isfinite(y->pv_ac[cell]) || y->pv_ac[cell] < 0)
             continue;
         n_usable++;
-        usable_poa += g;
-        for (int m = 0; m < 12; ++m)
-            usable_month[m] += y->monthly[(size_t)m * cells + cell];
-        ac += y->pv_ac[cell];
+        usable[r * fp->cols + c] = 1;
     }
     row->area_m2 = (double)row->fit.n_cells * cell_m2;
     row->inner_area_m2 = (double)n_inner * cell_m2;
@@ -341,20 +384,83 @@ static void plane_yield(const sweep_job *job, const roofs_settings *set, const c
     row->kwh_m2_year = n_inner ? inner_kwh / (double)n_inner
                        : n_all ? all_kwh / (double)n_all
                                : NAN;
-    row->kwp = row->usable_area_m2 * set->kwp_per_m2;
-    row->kwh_ac_year = ac * cell_m2 * set->kwp_per_m2;
+}
+
+/* The layout of orientation `landscape` on a plane's usable cells. */
+static int lay_panels(const roofs_run_view *v, const plane_row *row, int landscape,
+                      const unsigned char *usable, panel_layout *l, panel_geometry *g)
+{
+    const ss_dem_frame *fr = &v->job->frame;
+    double equator = (fr->centre_lat_deg >= 0 ? 180.0 : 0.0) - fr->grid_north_deg;
+    *g = panel_geometry_on(&v->set->panel, landscape, row->tilt_deg, row->fit.aspect_grid_deg,
+                           equator);
+    return panels_lay(g, usable, v->fp->cols, v->fp->rows, v->job->dem.grid.cell_x_m,
+                      v->job->dem.grid.cell_y_m, l);
+}
+
+/* Plane row's modules on its usable cells (the orientation asked, or the
+ * one that fits more, portrait on a tie); none below the minimum panel
+ * area. kwp is their nameplate; each module yields its kWp x the mean AC
+ * kWh/kWp of the cells it overlaps; the months share the year as the
+ * modules' cells share their irradiation. Returns 0, or -1 out of memory. */
+static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned char *usable,
+                        panel_layout *l)
+{
+    const panel_options *o = &v->set->panel;
+    panel_geometry g;
+    int landscape = o->orientation == PANELS_LANDSCAPE;
+    if (lay_panels(v, row, landscape, usable, l, &g) < 0)
+        return -1;
+    if (o->orientation == PANELS_BEST) {
+        size_t portrait = l->n;
+        if (lay_panels(v, row, 1, usable, l, &g) < 0)
+            return -1;
+        if (l->n <= portrait && lay_panels(v, row, 0, usable, l, &g) < 0)
+            return -1;
+    }
+    if ((double)l->n * o->length_m * o->width_m < o->min_panel_area_m2)
+        l->n = 0;
+    const ss_footprint *fp = v->fp;
+    int width = v->job->dem.grid.width;
+    size_t cells = (size_t)width * (size_t)v->job->dem.grid.height;
+    double kw = o->power_w / 1000.0, poa = 0, month[12] = {0};
+    row->n_panels = (int)l->n;
+    row->racked = g.racked, row->landscape = g.landscape;
+    row->panel_tilt_deg = g.tilt_deg;
+    row->panel_azimuth_deg = fmod(fmod(g.facing_grid_deg + v->job->frame.grid_north_deg, 360.0) +
+                                      360.0,
+                                  360.0);
+    row->kwp = (double)l->n * kw;
+    row->kwh_ac_year = 0;
+    for (size_t k = 0; k < l->n; ++k) {
+        panel_place *p = &l->items[k];
+        double ac = 0, g_sum = 0;
+        for (int i = 0; i < p->n_cells; ++i) {
+            int w = l->cells[p->first + (size_t)i];
+            size_t cell = (size_t)(fp->row0 + w / fp->cols) * (size_t)width +
+                          (size_t)(fp->col0 + w % fp->cols);
+            ac += v->yield->pv_ac[cell];
+            g_sum += v->yield->global[cell];
+            for (int m = 0; m < 12; ++m)
+                month[m] += v->yield->monthly[(size_t)m * cells + cell] / p->n_cells;
+        }
+        p->kwh_ac_year = kw * ac / p->n_cells;
+        row->kwh_ac_year += p->kwh_ac_year;
+        poa += g_sum / p->n_cells;
+    }
     row->kwh_per_kwp = row->kwp > 0 ? row->kwh_ac_year / row->kwp : NAN;
-    /* The months share the year's AC yield as they share the usable
-     * cells' irradiation (doc/roofs.md). */
     for (int m = 0; m < 12; ++m)
-        row->kwh_ac_month[m] = usable_poa > 0 ? row->kwh_ac_year * usable_month[m] / usable_poa : 0;
+        row->kwh_ac_month[m] = poa > 0 ? row->kwh_ac_year * month[m] / poa : 0;
+    return 0;
 }
 
 /* ---- outputs --------------------------------------------------------------- */
 
-#define PLANE_FIELDS 27
-#define BUILDING_FIELDS 29
-static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS];
+#define PLANE_FIELDS 32
+#define BUILDING_FIELDS 30
+#define PANEL_FIELDS 7
+static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS],
+    panel_fields[PANEL_FIELDS];
 static char month_names[2][12][24];
 
 static int common_fields(ss_field *f, int n, int slot)
@@ -362,14 +468,16 @@ static int common_fields(ss_field *f, int n, int slot)
     f[n++] = (ss_field){"usable_area_m2", SS_FIELD_REAL, "m2",
                         "true (3D) area of the usable cells: clear of edges and obstacles by the "
                         "setback, at least the minimum irradiation, tilt at most the maximum"};
-    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "usable area x kWp per m2"};
+    f[n++] = (ss_field){"n_panels", SS_FIELD_INT, "", "modules laid on the usable cells"};
+    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "n_panels x the module's power"};
     f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
-                        "AC energy of modules on the usable area (PVWatts, as insolation --pv)"};
+                        "AC energy of the modules: each its kWp x the mean AC kWh/kWp of the "
+                        "cells it covers (PVWatts, as insolation --pv)"};
     f[n++] = (ss_field){"kwh_per_kwp", SS_FIELD_REAL, "kWh/kWp/year", "kwh_ac_year / kwp"};
     for (int m = 0; m < 12; ++m) {
         snprintf(month_names[slot][m], sizeof month_names[slot][m], "kwh_ac_%s", month_abbr[m]);
         f[n++] = (ss_field){month_names[slot][m], SS_FIELD_REAL, "kWh/month",
-                            "the month's share of kwh_ac_year (as its share of the usable "
+                            "the month's share of kwh_ac_year (as its share of the modules' "
                             "cells' irradiation)"};
     }
     f[n++] = (ss_field){"kwh_m2_year", SS_FIELD_REAL, "kWh/m2/year",
@@ -400,6 +508,26 @@ static void define_fields(void)
     f[n++] = (ss_field){"fit_rms_m", SS_FIELD_REAL, "m", "rms distance of its cells from the "
                                                           "plane"};
     n = common_fields(f, n, 0);
+    f[n++] = (ss_field){"panel_tilt_deg", SS_FIELD_REAL, "deg",
+                        "the modules' tilt: the plane's, or the racks' on a flat roof"};
+    f[n++] = (ss_field){"panel_azimuth_deg", SS_FIELD_REAL, "deg",
+                        "the way the modules face, clockwise from true north: the plane's, or "
+                        "the equator on a flat roof"};
+    f[n++] = (ss_field){"racked", SS_FIELD_INT, "", "1: a flat roof, modules on racks"};
+    f[n++] = (ss_field){"landscape", SS_FIELD_INT, "",
+                        "1: modules' long side along the rows, 0: up the slope (portrait)"};
+    n = 0;
+    f = panel_fields;
+    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
+                                                          "feature id"};
+    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "its roof plane"};
+    f[n++] = (ss_field){"panel_id", SS_FIELD_INT, "", "1.. within the plane"};
+    f[n++] = (ss_field){"tilt_deg", SS_FIELD_REAL, "deg", "the module's tilt"};
+    f[n++] = (ss_field){"azimuth_deg", SS_FIELD_REAL, "deg",
+                        "the way the module faces, clockwise from true north"};
+    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "the module's power"};
+    f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
+                        "its kWp x the mean AC kWh/kWp of the cells it covers"};
     n = 0;
     f = building_fields;
     f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
@@ -427,6 +555,7 @@ static void plane_values(const plane_row *p, const char *building_id, ss_value *
     v[n++].num = p->area_m2;
     v[n++].num = p->fit.rms_m;
     v[n++].num = p->usable_area_m2;
+    v[n++].num = p->n_panels;
     v[n++].num = p->kwp;
     v[n++].num = p->kwh_ac_year;
     v[n++].num = p->kwh_per_kwp;
@@ -438,6 +567,10 @@ static void plane_values(const plane_row *p, const char *building_id, ss_value *
     int cls = suitability_class(p->kwh_m2_year);
     v[n++].text = class_names[cls];
     v[n++].num = cls ? cls : NAN;
+    v[n++].num = p->panel_tilt_deg;
+    v[n++].num = p->panel_azimuth_deg;
+    v[n++].num = p->racked;
+    v[n++].num = p->landscape;
 }
 
 static void building_values(const ss_footprint *fp, const building_sums *b, ss_value *v)
@@ -452,6 +585,7 @@ static void building_values(const ss_footprint *fp, const building_sums *b, ss_v
     v[n++].num = b->obstacle_area_m2;
     v[n++].num = b->height_m;
     v[n++].num = b->usable_area_m2;
+    v[n++].num = b->n_panels;
     v[n++].num = b->kwp;
     v[n++].num = b->kwh_ac_year;
     v[n++].num = b->kwp > 0 ? b->kwh_ac_year / b->kwp : NAN;
@@ -531,8 +665,10 @@ typedef struct {
     plane_row *planes;
     size_t n_planes;
     building_sums *sums;
+    panel_row *panels; /* with --panels */
+    size_t n_panels, cap_panels;
     float *dtm;
-    double seconds_planes, seconds_insolation, seconds_unshaded, seconds_write;
+    double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_write;
 } roofs_run;
 
 /* The files' overlaps were refused when the options were parsed (every
@@ -597,7 +733,35 @@ static double building_height(const roofs_run *r, const ss_footprint *fp, const 
 }
 
 /* One building: its planes, their yield and polygons, and its sums. */
-static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at)
+/* Keeps plane row's modules (layout l) for the layer panels. */
+static ss_status keep_panels(roofs_run *r, size_t row, const ss_footprint *fp,
+                             const panel_layout *l)
+{
+    if (r->n_panels + l->n > r->cap_panels) {
+        size_t cap = 2 * (r->n_panels + l->n) + 64;
+        panel_row *q = realloc(r->panels, cap * sizeof *q);
+        if (!q)
+            return command_out_of_memory(&r->job.run);
+        r->panels = q, r->cap_panels = cap;
+    }
+    double cx = r->job.dem.grid.cell_x_m, cy = r->job.dem.grid.cell_y_m;
+    for (size_t k = 0; k < l->n; ++k) {
+        double col_row[4][2];
+        for (int i = 0; i < 4; ++i) {
+            col_row[i][0] = fp->col0 + l->items[k].corner[i][0] / cx;
+            col_row[i][1] = fp->row0 - l->items[k].corner[i][1] / cy;
+        }
+        void *geometry = ss_polygon_of_grid_points(&r->job.dem, col_row, 4);
+        if (!geometry)
+            return command_out_of_memory(&r->job.run);
+        r->panels[r->n_panels++] = (panel_row){row, (int)k + 1, l->items[k].kwh_ac_year,
+                                               geometry};
+    }
+    return SS_OK;
+}
+
+static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
+                             unsigned char *usable, panel_layout *layout)
 {
     const ss_footprint *fp = &r->fps.items[b];
     sweep_job *job = &r->job;
@@ -639,7 +803,16 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at)
                                                : az;
         row->geometry = geoms[p];
         geoms[p] = NULL;
-        plane_yield(job, &r->set, &r->yield, fp, label, plane_at, p, row);
+        memset(usable, 0, (size_t)fp->cols * (size_t)fp->rows);
+        plane_irradiation(job, &r->set, &r->yield, fp, label, plane_at, p, row, usable);
+        roofs_run_view view = {job, &r->set, fp, &r->yield};
+        double t1 = run_now();
+        if (plane_panels(&view, row, usable, layout) < 0)
+            st = command_out_of_memory(&job->run);
+        if (st == SS_OK && r->set.panels_layer)
+            st = keep_panels(r, r->n_planes - 1, fp, layout);
+        r->seconds_panels += run_now() - t1;
+        s->n_panels += row->n_panels;
         s->roof_area_m2 += row->area_m2;
         s->usable_area_m2 += row->usable_area_m2;
         s->kwp += row->kwp;
@@ -704,19 +877,24 @@ static ss_status find_all(roofs_run *r)
         total += fp->n_cells;
     }
     int *label = malloc(sizeof(int) * most_cells), *plane_at = malloc(sizeof(int) * most_window);
+    unsigned char *usable = malloc(most_window);
+    panel_layout layout = {0};
     /* at most one plane per cell */
     r->planes = calloc(total + 1, sizeof *r->planes);
     r->sums = calloc(r->fps.n + 1, sizeof *r->sums);
-    ss_status st = label && plane_at && r->planes && r->sums ? SS_OK
-                                                             : command_out_of_memory(&r->job.run);
+    ss_status st = label && plane_at && usable && r->planes && r->sums
+                       ? SS_OK
+                       : command_out_of_memory(&r->job.run);
     for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b)
-        st = do_building(r, b, label, plane_at);
+        st = do_building(r, b, label, plane_at, usable, &layout);
     double t0 = run_now();
     if (st == SS_OK)
         st = unshaded_planes(r);
     r->seconds_unshaded = run_now() - t0;
     free(label);
     free(plane_at);
+    free(usable);
+    panel_layout_free(&layout);
     return st;
 }
 
@@ -748,6 +926,24 @@ static ss_status write_outputs(roofs_run *r)
         plane_values(&r->planes[i], r->fps.items[r->planes[i].building].id, v);
         st = ss_vector_add(w, lp, r->planes[i].geometry, v);
     }
+    int lpanels;
+    if (st == SS_OK && r->set.panels_layer)
+        st = ss_vector_layer(w, "panels",
+                             "skysweep roofs: each module of the panel layout, its footprint on "
+                             "the ground (doc/roofs.md)",
+                             panel_fields, PANEL_FIELDS, &lpanels);
+    for (size_t i = 0; st == SS_OK && r->set.panels_layer && i < r->n_panels; ++i) {
+        const panel_row *k = &r->panels[i];
+        const plane_row *p = &r->planes[k->plane];
+        ss_value pv[PANEL_FIELDS] = {{.text = r->fps.items[p->building].id},
+                                     {.num = p->number},
+                                     {.num = k->number},
+                                     {.num = p->panel_tilt_deg},
+                                     {.num = p->panel_azimuth_deg},
+                                     {.num = r->set.panel.power_w / 1000.0},
+                                     {.num = k->kwh_ac_year}};
+        st = ss_vector_add(w, lpanels, k->geometry, pv);
+    }
     if (st == SS_OK && r->set.csv)
         st = write_csv(ctx, r->set.csv, r->planes, r->n_planes, &r->fps);
     if (st == SS_OK)
@@ -774,12 +970,15 @@ static void print_summary(roofs_run *r)
             area += r->sums[b].roof_area_m2;
     printf("planes    %zu roof planes, %.0f m2 (true area), %.0f m2 usable\n", r->n_planes, area,
            usable);
-    printf("yield     %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", kwp, kwh,
-           kwp > 0 ? kwh / kwp : 0.0);
-    printf("time      insolation %.2f s, planes %.2f s, unshaded planes %.2f s, output %.2f s "
-           "-> %s\n",
-           r->seconds_insolation, r->seconds_planes, r->seconds_unshaded, r->seconds_write,
-           r->job.output);
+    int panels = 0;
+    for (size_t b = 0; b < f->n; ++b)
+        panels += r->sums[b].n_panels;
+    printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", panels, kwp,
+           kwh, kwp > 0 ? kwh / kwp : 0.0);
+    printf("time      insolation %.2f s, planes %.2f s, panels %.2f s, unshaded planes %.2f s, "
+           "output %.2f s -> %s\n",
+           r->seconds_insolation, r->seconds_planes, r->seconds_panels, r->seconds_unshaded,
+           r->seconds_write, r->job.output);
 }
 
 static void close_run(roofs_run *r)
@@ -787,6 +986,9 @@ static void close_run(roofs_run *r)
     for (size_t i = 0; r->planes && i < r->n_planes; ++i)
         ss_geometry_free(r->planes[i].geometry);
     free(r->planes);
+    for (size_t i = 0; i < r->n_panels; ++i)
+        ss_geometry_free(r->panels[i].geometry);
+    free(r->panels);
     free(r->sums);
     free(r->yield.global);
     free(r->yield.monthly);
@@ -796,6 +998,32 @@ static void close_run(roofs_run *r)
     ss_weather_free(&r->weather);
     ss_footprints_free(&r->fps);
     job_close(&r->job);
+}
+
+/* The panel options from their words: --module-size L x W, both positive
+ * (the longer is the length). Returns -1, or exit 2 with one line. */
+static int settle_panel_options(roofs_settings *set)
+{
+    double a = 0, b = 0;
+    char tail;
+    if (sscanf(set->module_size, "%lf%*[xX]%lf%c", &a, &b, &tail) != 2 || !isfinite(a) ||
+        !isfinite(b) || a <= 0 || b <= 0 || a > 10 || b > 10)
+        return run_usage_error("roofs", "--module-size must be LENGTHxWIDTH in metres, both "
+                                        "above 0 and at most 10 (e.g. 1.7x1.0)");
+    set->panel = (panel_options){fmax(a, b), fmin(a, b), set->module_power_w,
+                                 (panel_orientation)set->orientation, set->module_spacing_m,
+                                 set->row_spacing_m, set->flat_tilt_deg, set->rack_tilt_deg,
+                                 set->rack_sun_elevation_deg, set->min_panel_area_m2};
+    return -1;
+}
+
+/* The racks' design sun where none was given: the noon sun at the winter
+ * solstice at the DSM's centre (the rule of thumb of row spacing: no row
+ * shades the next on the year's shortest day at noon), at least 5 deg. */
+static void settle_rack_sun(roofs_settings *set, double lat_deg)
+{
+    if (set->panel.rack_sun_elevation_deg <= 0)
+        set->panel.rack_sun_elevation_deg = fmax(5.0, 90.0 - fabs(lat_deg) - 23.44);
 }
 
 /* Options that make no sense for roofs, refused in one line. */
@@ -838,13 +1066,16 @@ int cmd_roofs(int argc, char **argv)
         "skysweep roofs --buildings FOOTPRINTS --weather FILE [--dtm DTM] [--csv FILE] "
         "[options] DSM... OUT.gpkg",
         "A solar cadastre: roof planes fitted in the DSM inside each footprint, their tilt, "
-        "azimuth,\ntrue area and usable area, and per plane and per building kWp, AC kWh per "
-        "year and month\n(PVWatts), kWh/kWp, shading loss and a suitability class, from the "
-        "insolation run with\n--weather and --pv on the DSM (its options apply). A GeoPackage "
-        "with layers buildings and\nroof_planes (doc/roofs.md).",
+        "azimuth,\ntrue area and usable area, a panel layout on the usable area, and per plane "
+        "and per\nbuilding the modules' kWp, AC kWh per year and month (PVWatts), kWh/kWp, "
+        "shading loss and a\nsuitability class, from the insolation run with --weather and --pv "
+        "on the DSM (its options\napply). A GeoPackage with layers buildings, roof_planes and, "
+        "with --panels, panels\n(doc/roofs.md).",
         &set->common.device);
     if (rc < 0)
         rc = refuse_options(set, tables);
+    if (rc < 0)
+        rc = settle_panel_options(set);
     if (rc < 0)
         rc = job_open(&r->job, "roofs", &set->common, pos, n_pos);
     if (rc != 0 || !r->job.run.ctx) {
@@ -853,6 +1084,7 @@ int cmd_roofs(int argc, char **argv)
     }
     define_fields();
     sweep_job *job = &r->job;
+    settle_rack_sun(set, job->frame.centre_lat_deg);
     set->ins.pv = 1;
     ss_status st = check_files(r);
     double zone_h = NAN;
