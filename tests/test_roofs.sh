@@ -166,6 +166,44 @@ for bad in 0x1 1.7x-1 1.7 abc 1.7x1.0x2; do
 done
 tap_ok $? "--module-size $bad refused: exit $rc, $(head -c 200 err.txt)"
 
+# Shade over time (doc/roofs.md): the table plane_shade, a row per plane and
+# hour of the window's records. The open shed C (25 deg facing south) is in
+# direct sun whenever the sun (skysweep sun, at the records' instants) is up
+# and in front of it, and in none at night; hours with the sun within 1 deg
+# of the horizon are left out (a hair decides them). The flat roof D north
+# of the tall neighbour E has less sun than E's roof at the winter noon.
+ogr2ogr -f CSV shade.csv city.gpkg plane_shade 2>/dev/null
+rows=$(awk 'END { print NR - 1 }' shade.csv)
+"$SKYSWEEP" weather "$weather" | awk -F, '!/^#/ && $1 ~ /^2018-01-10T/ { print $2 }' >instants.txt
+first=$(head -n 1 instants.txt | sed 's/\.[0-9]*Z$/Z/')
+"$SKYSWEEP" sun --at 8.0001,45.0003 --time "$first/P1D/PT1H" >sun.csv
+in_sun() { # BUILDING PLANE TILT AZIMUTH: the plane's hours against the sun's
+    awk -F, -v B="$1" -v P="$2" -v T="$3" -v A="$4" '
+    NR == FNR { if (FNR > 1) { split($1, t, "T"); h = substr(t[2], 1, 2) + 0; az[h] = $2; el[h] = $4 }; next }
+    FNR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next }
+    { b = $c["building_id"]; p = $c["plane_id"]; gsub(/"/, "", b); gsub(/"/, "", p)
+      if (b != B || p != P) next
+      h = $c["hour"]; gsub(/"/, "", h); h += 0; f = $c["sun_fraction"]
+      e = el[h]; if (e < 1 && e > -1) { skipped++; next }
+      d = atan2(0, -1) / 180; z = (90 - e) * d
+      front = cos(z) * cos(T * d) + sin(z) * sin(T * d) * cos((az[h] - A) * d) > 0
+      want = e > 0 && front ? 1 : 0
+      if (f != want) bad = bad " " h ":" f "/" want; else if (want) day++; else if (e > 0) behind++; else night++ }
+    END { printf "%d hours in sun, %d behind it, %d dark, %d at the horizon left out;%s", day, behind,
+          night, skipped, bad ? " wrong (hour:got/expected)" bad : ""; exit bad != "" }' sun.csv shade.csv
+}
+north=$(awk -F, '$1 == "\"A\"" && ($4 < 90 || $4 > 270) { print $2 }' planes.csv)
+says_c=$(in_sun C 1 25 180) && says_a=$(in_sun A "$north" 30 0) &&
+    [[ $says_c != "0 hours in sun"* ]] && [[ $says_a == "0 hours in sun, "[1-9]* ]] &&
+    [ "$rows" = $((15 * 24)) ]
+tap_ok $? "plane_shade: open planes in direct sun exactly when the sun is up and in front: the shed facing south $says_c; the gable's north face (30 deg) $says_a ($rows rows: 15 planes x 24 hours)"
+noon() { awk -F, -v b="$1" 'NR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next }
+    { id = $c["building_id"]; gsub(/"/, "", id); h = $c["hour"]; gsub(/"/, "", h) }
+    id == b && h == 11 { print $c["sun_fraction"] }' shade.csv; }
+d_noon=$(noon D) e_noon=$(noon E)
+awk -v d="$d_noon" -v e="$e_noon" 'BEGIN { exit !(d < 0.5 && e == 1) }'
+tap_ok $? "at the January noon (11 UTC) the flat roof north of the tall neighbour has $d_noon of its cells in sun, the neighbour's roof $e_noon"
+
 loss_d=$(field planes.csv D shading_loss_pct)
 loss_e=$(field planes.csv E shading_loss_pct)
 awk -v d="$loss_d" -v e="$loss_e" 'BEGIN { exit !(d > 10 && e < 0.5 && e > -0.5) }'

@@ -375,7 +375,7 @@ void ss_geometry_free(void *geometry)
 
 /* ---- the GeoPackage ------------------------------------------------------ */
 
-#define MAX_LAYERS 4
+#define MAX_LAYERS 8
 struct ss_vector_writer {
     ss_ctx *ctx;
     char *path, *tmp_path;
@@ -438,14 +438,17 @@ static OGRFieldType field_type(ss_field_type t)
     return t == SS_FIELD_INT ? OFTInteger64 : t == SS_FIELD_REAL ? OFTReal : OFTString;
 }
 
-ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *description,
-                          const ss_field *fields, int n_fields, int *layer)
+/* A layer of geometry type `type` (wkbNone: a table of attributes). */
+static ss_status create_layer(ss_vector_writer *w, const char *name, const char *description,
+                              OGRwkbGeometryType type, const ss_field *fields, int n_fields,
+                              int *layer)
 {
     char desc[300];
     snprintf(desc, sizeof desc, "DESCRIPTION=%s", description);
     char *opts[] = {desc, NULL};
     OGRLayerH l = w->n_layers < MAX_LAYERS
-                      ? GDALDatasetCreateLayer(w->ds, name, w->srs, wkbMultiPolygon, opts)
+                      ? GDALDatasetCreateLayer(w->ds, name, type == wkbNone ? NULL : w->srs,
+                                               type, opts)
                       : NULL;
     if (!l)
         return vector_failed(w, "create a layer in");
@@ -467,6 +470,18 @@ ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *des
     w->n_fields[w->n_layers] = n_fields;
     *layer = w->n_layers++;
     return SS_OK;
+}
+
+ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *description,
+                          const ss_field *fields, int n_fields, int *layer)
+{
+    return create_layer(w, name, description, wkbMultiPolygon, fields, n_fields, layer);
+}
+
+ss_status ss_vector_table(ss_vector_writer *w, const char *name, const char *description,
+                          const ss_field *fields, int n_fields, int *layer)
+{
+    return create_layer(w, name, description, wkbNone, fields, n_fields, layer);
 }
 
 ss_status ss_vector_add(ss_vector_writer *w, int layer, const void *geometry,

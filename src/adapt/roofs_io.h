@@ -72,6 +72,9 @@ ss_status ss_vector_open(ss_ctx *ctx, const char *path, const ss_dem *dem,
 /* Adds a MultiPolygon layer; returns its index in *layer. */
 ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *description,
                           const ss_field *fields, int n_fields, int *layer);
+/* Adds a table of attributes, no geometry (GeoPackage's "attributes"). */
+ss_status ss_vector_table(ss_vector_writer *w, const char *name, const char *description,
+                          const ss_field *fields, int n_fields, int *layer);
 /* Adds a feature (the geometry is copied; NULL: none). */
 ss_status ss_vector_add(ss_vector_writer *w, int layer, const void *geometry,
                         const ss_value *values);

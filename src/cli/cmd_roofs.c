@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "roof_panels.h"
 #include "roof_planes.h"
+#include "roof_shade.h"
 #include "roofs_io.h"
 #include "run.h"
 #include "skysweep_sun.h"
@@ -298,6 +299,7 @@ typedef struct {
     double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
     double kwp, kwh_ac_year, kwh_per_kwp, kwh_ac_month[12];
     int n_panels, racked, landscape;
+    int shade_on_usable; /* the shade table counts its usable cells (else all its cells) */
     double panel_tilt_deg, panel_azimuth_deg; /* the modules' (racks': toward the equator) */
     void *geometry;
 } plane_row;
@@ -459,8 +461,9 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
 #define PLANE_FIELDS 32
 #define BUILDING_FIELDS 30
 #define PANEL_FIELDS 7
+#define SHADE_FIELDS 7
 static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS],
-    panel_fields[PANEL_FIELDS];
+    panel_fields[PANEL_FIELDS], shade_fields[SHADE_FIELDS];
 static char month_names[2][12][24];
 
 static int common_fields(ss_field *f, int n, int slot)
@@ -528,6 +531,22 @@ static void define_fields(void)
     f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "the module's power"};
     f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
                         "its kWp x the mean AC kWh/kWp of the cells it covers"};
+    n = 0;
+    f = shade_fields;
+    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
+                                                          "feature id"};
+    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "its roof plane"};
+    f[n++] = (ss_field){"month", SS_FIELD_INT, "", "1..12, of the weather file's local time"};
+    f[n++] = (ss_field){"hour", SS_FIELD_INT, "",
+                        "0..23, the hour of the weather file's local (standard) time the "
+                        "records' suns fall in"};
+    f[n++] = (ss_field){"sun_fraction", SS_FIELD_REAL, "",
+                        "share of the plane's cells in direct sun (sunlit, facing the sun), "
+                        "averaged over the month's records of that hour; 0 at night"};
+    f[n++] = (ss_field){"n_records", SS_FIELD_INT, "", "weather records averaged"};
+    f[n++] = (ss_field){"usable_cells", SS_FIELD_INT, "",
+                        "1: the plane's usable cells are counted, 0: all its cells (none "
+                        "usable)"};
     n = 0;
     f = building_fields;
     f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
@@ -667,8 +686,10 @@ typedef struct {
     building_sums *sums;
     panel_row *panels; /* with --panels */
     size_t n_panels, cap_panels;
+    roof_shade shade; /* planes in the order of planes */
     float *dtm;
-    double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_write;
+    double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_shade;
+    double seconds_write;
 } roofs_run;
 
 /* The files' overlaps were refused when the options were parsed (every
@@ -760,8 +781,29 @@ static ss_status keep_panels(roofs_run *r, size_t row, const ss_footprint *fp,
     return SS_OK;
 }
 
+/* Plane p's cells for the shade table (its usable ones, or all its cells
+ * where none is usable), as grid cells into cells (fp->n_cells at most). */
+static ss_status add_shade_plane(roofs_run *r, const ss_footprint *fp, const int *label, int p,
+                                 const unsigned char *usable, plane_row *row, int *cells)
+{
+    int width = r->job.dem.grid.width, n = 0, n_all = 0;
+    for (size_t i = 0; i < fp->n_cells; ++i) {
+        int c = fp->cells[i] % width - fp->col0, rr = fp->cells[i] / width - fp->row0;
+        if (label[i] == p && usable[rr * fp->cols + c])
+            cells[n++] = fp->cells[i];
+    }
+    row->shade_on_usable = n > 0;
+    for (size_t i = 0; n == 0 && i < fp->n_cells; ++i)
+        if (label[i] == p)
+            cells[n_all++] = fp->cells[i];
+    return roof_shade_add_plane(&r->shade, row->tilt_deg, row->fit.aspect_grid_deg, cells,
+                                n ? n : n_all) == 0
+               ? SS_OK
+               : command_out_of_memory(&r->job.run);
+}
+
 static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
-                             unsigned char *usable, panel_layout *layout)
+                             unsigned char *usable, panel_layout *layout, int *cells)
 {
     const ss_footprint *fp = &r->fps.items[b];
     sweep_job *job = &r->job;
@@ -811,6 +853,8 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
             st = command_out_of_memory(&job->run);
         if (st == SS_OK && r->set.panels_layer)
             st = keep_panels(r, r->n_planes - 1, fp, layout);
+        if (st == SS_OK)
+            st = add_shade_plane(r, fp, label, p, usable, row, cells);
         r->seconds_panels += run_now() - t1;
         s->n_panels += row->n_panels;
         s->roof_area_m2 += row->area_m2;
@@ -878,15 +922,16 @@ static ss_status find_all(roofs_run *r)
     }
     int *label = malloc(sizeof(int) * most_cells), *plane_at = malloc(sizeof(int) * most_window);
     unsigned char *usable = malloc(most_window);
+    int *cells = malloc(sizeof(int) * most_cells);
     panel_layout layout = {0};
     /* at most one plane per cell */
     r->planes = calloc(total + 1, sizeof *r->planes);
     r->sums = calloc(r->fps.n + 1, sizeof *r->sums);
-    ss_status st = label && plane_at && usable && r->planes && r->sums
+    ss_status st = label && plane_at && usable && cells && r->planes && r->sums
                        ? SS_OK
                        : command_out_of_memory(&r->job.run);
     for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b)
-        st = do_building(r, b, label, plane_at, usable, &layout);
+        st = do_building(r, b, label, plane_at, usable, &layout, cells);
     double t0 = run_now();
     if (st == SS_OK)
         st = unshaded_planes(r);
@@ -894,7 +939,41 @@ static ss_status find_all(roofs_run *r)
     free(label);
     free(plane_at);
     free(usable);
+    free(cells);
     panel_layout_free(&layout);
+    t0 = run_now();
+    if (st == SS_OK)
+        st = roof_shade_sweep(r->job.run.ctx, &r->job.dem.grid, &r->job.opt,
+                              r->job.frame.grid_north_deg, r->sky.steps, r->sky.n,
+                              r->weather.utc_offset_h, &r->shade);
+    r->seconds_shade = run_now() - t0;
+    return st;
+}
+
+/* The table plane_shade: a row per plane, month and hour with records. */
+static ss_status write_shade_table(ss_vector_writer *w, const roofs_run *r)
+{
+    int layer;
+    ss_status st = ss_vector_table(w, "plane_shade",
+                                   "skysweep roofs: each roof plane's share in direct sun by "
+                                   "month and hour (doc/roofs.md)",
+                                   shade_fields, SHADE_FIELDS, &layer);
+    for (size_t i = 0; st == SS_OK && i < r->n_planes; ++i)
+        for (int m = 0; st == SS_OK && m < 12; ++m)
+            for (int h = 0; st == SS_OK && h < 24; ++h) {
+                int n = r->shade.records[m * 24 + h];
+                if (!n)
+                    continue;
+                const plane_row *p = &r->planes[i];
+                ss_value v[SHADE_FIELDS] = {{.text = r->fps.items[p->building].id},
+                                            {.num = p->number},
+                                            {.num = m + 1},
+                                            {.num = h},
+                                            {.num = roof_shade_fraction(&r->shade, i, m, h)},
+                                            {.num = n},
+                                            {.num = p->shade_on_usable}};
+                st = ss_vector_add(w, layer, NULL, v);
+            }
     return st;
 }
 
@@ -944,6 +1023,8 @@ static ss_status write_outputs(roofs_run *r)
                                      {.num = k->kwh_ac_year}};
         st = ss_vector_add(w, lpanels, k->geometry, pv);
     }
+    if (st == SS_OK)
+        st = write_shade_table(w, r);
     if (st == SS_OK && r->set.csv)
         st = write_csv(ctx, r->set.csv, r->planes, r->n_planes, &r->fps);
     if (st == SS_OK)
@@ -976,9 +1057,9 @@ static void print_summary(roofs_run *r)
     printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", panels, kwp,
            kwh, kwp > 0 ? kwh / kwp : 0.0);
     printf("time      insolation %.2f s, planes %.2f s, panels %.2f s, unshaded planes %.2f s, "
-           "output %.2f s -> %s\n",
+           "shade table %.2f s (%zu sweeps), output %.2f s -> %s\n",
            r->seconds_insolation, r->seconds_planes, r->seconds_panels, r->seconds_unshaded,
-           r->seconds_write, r->job.output);
+           r->seconds_shade, r->shade.sweeps, r->seconds_write, r->job.output);
 }
 
 static void close_run(roofs_run *r)
@@ -989,6 +1070,7 @@ static void close_run(roofs_run *r)
     for (size_t i = 0; i < r->n_panels; ++i)
         ss_geometry_free(r->panels[i].geometry);
     free(r->panels);
+    roof_shade_free(&r->shade);
     free(r->sums);
     free(r->yield.global);
     free(r->yield.monthly);
@@ -1069,8 +1151,9 @@ int cmd_roofs(int argc, char **argv)
         "azimuth,\ntrue area and usable area, a panel layout on the usable area, and per plane "
         "and per\nbuilding the modules' kWp, AC kWh per year and month (PVWatts), kWh/kWp, "
         "shading loss and a\nsuitability class, from the insolation run with --weather and --pv "
-        "on the DSM (its options\napply). A GeoPackage with layers buildings, roof_planes and, "
-        "with --panels, panels\n(doc/roofs.md).",
+        "on the DSM (its options\napply), and each plane's share in direct sun by month and hour. "
+        "A GeoPackage with layers\nbuildings, roof_planes, the table plane_shade and, with "
+        "--panels, panels (doc/roofs.md).",
         &set->common.device);
     if (rc < 0)
         rc = refuse_options(set, tables);
