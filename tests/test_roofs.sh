@@ -28,7 +28,8 @@ roofs() { # FOOTPRINTS OUT.gpkg CSV [options]
     "$SKYSWEEP" roofs --buildings "$fp" --weather "$weather" --time "$window" \
         --device reference --directions 8 --min-irradiation 0 --csv "$csv" "$@" city.tif "$out"
 }
-roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif --panels >run.out 2>run.err
+roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif --panels --shade-masks masks.tif \
+    >run.out 2>run.err
 tap_ok $? "roofs runs on the synthetic city: $(head -c 300 run.err)"
 ogr2ogr -f CSV buildings.csv city.gpkg buildings 2>/dev/null
 
@@ -176,7 +177,7 @@ ogr2ogr -f CSV shade.csv city.gpkg plane_shade 2>/dev/null
 rows=$(awk 'END { print NR - 1 }' shade.csv)
 "$SKYSWEEP" weather "$weather" | awk -F, '!/^#/ && $1 ~ /^2018-01-10T/ { print $2 }' >instants.txt
 first=$(head -n 1 instants.txt | sed 's/\.[0-9]*Z$/Z/')
-"$SKYSWEEP" sun --at 8.0001,45.0003 --time "$first/P1D/PT1H" >sun.csv
+"$SKYSWEEP" sun --at 9.00013,45.00076 --time "$first/P1D/PT1H" >sun.csv # the DSM's centre
 in_sun() { # BUILDING PLANE TILT AZIMUTH: the plane's hours against the sun's
     awk -F, -v B="$1" -v P="$2" -v T="$3" -v A="$4" '
     NR == FNR { if (FNR > 1) { split($1, t, "T"); h = substr(t[2], 1, 2) + 0; az[h] = $2; el[h] = $4 }; next }
@@ -203,6 +204,25 @@ noon() { awk -F, -v b="$1" 'NR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next 
 d_noon=$(noon D) e_noon=$(noon E)
 awk -v d="$d_noon" -v e="$e_noon" 'BEGIN { exit !(d < 0.5 && e == 1) }'
 tap_ok $? "at the January noon (11 UTC) the flat roof north of the tall neighbour has $d_noon of its cells in sun, the neighbour's roof $e_noon"
+# Hourly shade masks: band (month - 1) x 24 + hour + 1, bit day - 1: at three
+# of the day's records every cell's bit is the shadow product's sunlit band
+# at the record's instant, and no other day's bit is set.
+worst=
+for h in 08 11 14; do
+    "$SKYSWEEP" shadow -q --time "$(sed -n "$((10#$h + 1))p" instants.txt)" --device reference \
+        city.tif "shadow$h.tif" >/dev/null 2>&1
+    gdal_translate -q -b $((10#$h + 1)) -of XYZ masks.tif mask.xyz
+    gdal_translate -q -b 1 -of XYZ "shadow$h.tif" shadow.xyz
+    says=$(paste -d' ' mask.xyz shadow.xyz | awk '{ bit = int($3 / 512) % 2; n++
+        if ($1 != $4 || $2 != $5 || bit != $6 + 0) d++; if ($3 != 0 && $3 != 512) other++; lit += bit }
+        END { printf "%d:%d/%d differ (%d lit, %d other bits)", h, d, n, lit, other; exit d || other || !lit }' h=$h)
+    rc=$?
+    worst="$worst $says"
+    [ $rc = 0 ] || break
+done
+bands=$(gdalinfo masks.tif 2>/dev/null | grep -c "^Band ")
+[ $rc = 0 ] && [ "$bands" = 288 ] && gdalinfo masks.tif | grep -q "Type=UInt32"
+tap_ok $? "--shade-masks: $bands UInt32 bands, each cell's bit for day 10 is the shadow product's at the record's instant:$worst"
 
 loss_d=$(field planes.csv D shading_loss_pct)
 loss_e=$(field planes.csv E shading_loss_pct)

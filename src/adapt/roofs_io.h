@@ -7,6 +7,7 @@
 #define SS_ROOFS_IO_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "dem_io.h"
 
@@ -82,5 +83,15 @@ ss_status ss_vector_add(ss_vector_writer *w, int layer, const void *geometry,
 ss_status ss_vector_commit(ss_vector_writer *w);
 /* Removes the temporary; the output is left as it was. */
 void ss_vector_abort(ss_vector_writer *w);
+
+/* Bands of 32-bit masks on the DEM's grid (masks: band after band, width *
+ * height each) as a GeoTIFF of UInt32 written to a temporary beside path,
+ * whose name goes to *tmp_path; ss_masks_commit renames it into place,
+ * ss_masks_abort removes it (both free the name). */
+ss_status ss_masks_write(ss_ctx *ctx, const char *path, const ss_dem *dem, int bands,
+                         const uint32_t *masks, const char *const *descriptions,
+                         char **tmp_path);
+ss_status ss_masks_commit(ss_ctx *ctx, const char *path, char *tmp_path);
+void ss_masks_abort(const char *path, char *tmp_path);
 
 #endif

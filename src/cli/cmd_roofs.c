@@ -33,7 +33,7 @@ typedef struct {
     ss_insolation_params ins;
     const char *weather, *weather_zone;
     int weather_far_ok;
-    const char *buildings, *dtm, *csv, *id_field;
+    const char *buildings, *dtm, *csv, *id_field, *shade_masks;
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
     double setback_m, min_irradiation, max_tilt_deg;
     const char *module_size;
@@ -94,6 +94,9 @@ static const opt_spec own_options[] = {
      "23.44, at least 5)"},
     {"panels", OPT_FLAG, SET(panels_layer), NULL, NULL, 0, 0, NULL,
      "also write the layer panels: each module's footprint on the ground"},
+    {"shade-masks", OPT_OUTPUT, SET(shade_masks), "FILE", NULL, 0, 0, NULL,
+     "also write every cell's hourly shade masks (Google's hourlyShade): a GeoTIFF of 288 "
+     "UInt32 bands, month x hour, bit d - 1 set where the cell is sunlit at that hour of day d"},
     OPT_END};
 static const opt_spec passed_on[] = {
     {"weather", OPT_INPUT, SET(weather), "FILE", NULL, 0, 0, NULL,
@@ -694,10 +697,13 @@ typedef struct {
 
 /* The files' overlaps were refused when the options were parsed (every
  * file option is declared an input or an output, run_parse); what is left
- * is the CSV's own check as an existing output. */
+ * is the CSV's and the masks' own check as existing outputs. */
 static ss_status check_files(roofs_run *r)
 {
-    return r->set.csv ? ss_output_check(r->job.run.ctx, r->set.csv) : SS_OK;
+    ss_status st = r->set.csv ? ss_output_check(r->job.run.ctx, r->set.csv) : SS_OK;
+    if (st == SS_OK && r->set.shade_masks)
+        st = ss_output_check(r->job.run.ctx, r->set.shade_masks);
+    return st;
 }
 
 /* The --dtm's heights (absolute, NAN: none), on the DSM's grid. */
@@ -942,10 +948,16 @@ static ss_status find_all(roofs_run *r)
     free(cells);
     panel_layout_free(&layout);
     t0 = run_now();
+    size_t grid_cells = (size_t)r->job.dem.grid.width * (size_t)r->job.dem.grid.height;
+    if (st == SS_OK && r->set.shade_masks &&
+        !(r->shade.masks = calloc(SHADE_SLOTS * grid_cells, sizeof *r->shade.masks)))
+        st = ss_ctx_error(r->job.run.ctx, SS_ERR_MEMORY,
+                          "out of memory for --shade-masks (%zu MB: 1.2 kB a cell)",
+                          SHADE_SLOTS * grid_cells * sizeof *r->shade.masks >> 20);
+    ss_source src = job_source(&r->job, NULL);
     if (st == SS_OK)
-        st = roof_shade_sweep(r->job.run.ctx, &r->job.dem.grid, &r->job.opt,
-                              r->job.frame.grid_north_deg, r->sky.steps, r->sky.n,
-                              r->weather.utc_offset_h, &r->shade);
+        st = roof_shade_sweep(r->job.run.ctx, &src, &r->job.opt, r->job.frame.grid_north_deg,
+                              r->sky.steps, r->sky.n, r->weather.utc_offset_h, &r->shade);
     r->seconds_shade = run_now() - t0;
     return st;
 }
@@ -977,14 +989,33 @@ static ss_status write_shade_table(ss_vector_writer *w, const roofs_run *r)
     return st;
 }
 
+/* --shade-masks into a temporary (renamed with the GeoPackage). */
+static ss_status write_masks(roofs_run *r, char **tmp)
+{
+    static char names[SHADE_SLOTS][40];
+    const char *descriptions[SHADE_SLOTS];
+    for (int m = 0; m < 12; ++m)
+        for (int h = 0; h < 24; ++h) {
+            snprintf(names[m * 24 + h], sizeof names[0], "month %02d hour %02d", m + 1, h);
+            descriptions[m * 24 + h] = names[m * 24 + h];
+        }
+    return ss_masks_write(r->job.run.ctx, r->set.shade_masks, &r->job.dem, SHADE_SLOTS,
+                          r->shade.masks, descriptions, tmp);
+}
+
 static ss_status write_outputs(roofs_run *r)
 {
     double t0 = run_now();
     ss_ctx *ctx = r->job.run.ctx;
     ss_vector_writer *w;
-    ss_status st = ss_vector_open(ctx, r->job.output, &r->job.dem, &w);
-    if (st != SS_OK)
+    char *masks_tmp = NULL;
+    ss_status st = r->set.shade_masks ? write_masks(r, &masks_tmp) : SS_OK;
+    if (st == SS_OK)
+        st = ss_vector_open(ctx, r->job.output, &r->job.dem, &w);
+    if (st != SS_OK) {
+        ss_masks_abort(r->set.shade_masks, masks_tmp);
         return st;
+    }
     int lb, lp;
     st = ss_vector_layer(w, "buildings",
                          "skysweep roofs: per building, sums over its roof planes (doc/roofs.md)",
@@ -1031,6 +1062,10 @@ static ss_status write_outputs(roofs_run *r)
         st = ss_vector_commit(w);
     else
         ss_vector_abort(w);
+    if (st == SS_OK && masks_tmp)
+        st = ss_masks_commit(ctx, r->set.shade_masks, masks_tmp);
+    else
+        ss_masks_abort(r->set.shade_masks, masks_tmp);
     r->seconds_write = run_now() - t0;
     return st;
 }
@@ -1080,6 +1115,20 @@ static void close_run(roofs_run *r)
     ss_weather_free(&r->weather);
     ss_footprints_free(&r->fps);
     job_close(&r->job);
+}
+
+/* The sweep options of the shade table's sweeps: those the planner gives
+ * `skysweep shadow` on this DSM (the line model: box lines where walls
+ * stand), so that a cell's verdict is the shadow product's. Its plan is
+ * not printed (the insolation run's was). Returns -1 to go on, else the
+ * exit code. */
+static int plan_shade_sweeps(roofs_run *r)
+{
+    int quiet = r->job.run.quiet;
+    r->job.run.quiet = 1;
+    int rc = job_plan(&r->job, &r->set.common, SS_PLAN_SHADOW, 0, NULL, SS_SHADOW_EXACT);
+    r->job.run.quiet = quiet;
+    return rc;
 }
 
 /* The panel options from their words: --module-size L x W, both positive
@@ -1192,7 +1241,9 @@ int cmd_roofs(int argc, char **argv)
     double t0 = run_now();
     rc = run_insolation(job, tables, argc, argv, &r->yield);
     r->seconds_insolation = run_now() - t0;
-    if (rc == 0 && !job->run.plan_only) {
+    if (rc == 0 && !job->run.plan_only)
+        rc = plan_shade_sweeps(r);
+    if (rc < 0) {
         st = find_all(r);
         if (st == SS_OK)
             st = write_outputs(r);

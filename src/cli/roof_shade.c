@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "roof_shade.h"
 #include "skysweep_sun.h"
@@ -31,14 +32,24 @@ int roof_shade_add_plane(roof_shade *s, double tilt_deg, double aspect_grid_deg,
     return 0;
 }
 
-/* The month (0..11) x hour slot of an instant in local standard time. */
-static int slot_of(double unix_s, double utc_offset_h)
+/* The month (0..11) x hour slot of an instant in local standard time, and
+ * its day of the month. */
+static int slot_of(double unix_s, double utc_offset_h, int *day)
 {
     ss_civil_time local;
     /* the step's instant comes from the sun's Julian day (UT1, within a
      * second of UTC): rounded back to the record's second */
     ss_civil_from_unix(floor(unix_s + 0.5) + utc_offset_h * 3600.0, &local);
+    *day = local.day;
     return (local.month - 1) * 24 + local.hour;
+}
+
+static void add_mask_bits(uint32_t *plane, const float *sunlit, size_t cells, int day)
+{
+    uint32_t bit = (uint32_t)1 << (day - 1);
+    for (size_t c = 0; c < cells; ++c)
+        if (sunlit[c] == 1.0f)
+            plane[c] |= bit;
 }
 
 /* Adds one record's sunlit shares of every plane to its slot. */
@@ -58,11 +69,38 @@ static void add_shares(roof_shade *s, const ss_sun_step *step, double sun_grid_a
     }
 }
 
-ss_status roof_shade_sweep(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+/* One record's sun for ss_shadow_rows (one sun for the grid), and where
+ * its sunlit rows go. */
+typedef struct {
+    ss_sun_step sun;
+    float *sunlit;
+    int width;
+} shade_step;
+
+static ss_status step_sun(ss_ctx *ctx, int index, int row0, int n_rows, ss_sun_step *step,
+                          void *user)
+{
+    (void)ctx, (void)index, (void)row0, (void)n_rows;
+    *step = ((const shade_step *)user)->sun;
+    return SS_OK;
+}
+
+static ss_status keep_sunlit(void *user, int output, int index, int row0, int n_rows,
+                             const float *values)
+{
+    (void)index;
+    shade_step *t = user;
+    if (output == SS_OUT_SUNLIT)
+        memcpy(t->sunlit + (size_t)row0 * (size_t)t->width, values,
+               sizeof(float) * (size_t)n_rows * (size_t)t->width);
+    return SS_OK;
+}
+
+ss_status roof_shade_sweep(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                            double grid_north_deg, const ss_sun_step *steps, int n_steps,
                            double utc_offset_h, roof_shade *s)
 {
-    size_t cells = (size_t)grid->width * (size_t)grid->height;
+    size_t cells = (size_t)src->width * (size_t)src->height;
     s->lit = calloc(s->n_planes * SHADE_SLOTS + 1, sizeof *s->lit);
     float *sunlit = malloc(sizeof(float) * (cells + 1));
     ss_status st = s->lit && sunlit ? SS_OK
@@ -70,15 +108,24 @@ ss_status roof_shade_sweep(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_opti
                                                    "out of memory for the planes' shade table");
     for (int i = 0; st == SS_OK && i < n_steps; ++i) {
         const ss_sun_step *step = &steps[i];
-        int slot = slot_of(step->unix_s, utc_offset_h);
+        int day, slot = slot_of(step->unix_s, utc_offset_h, &day);
         s->records[slot]++;
         if (!(step->apparent_elevation_deg > 0))
             continue; /* night: nothing in direct sun */
         double sun_grid_az = step->azimuth_deg - grid_north_deg; /* steps' azimuths are true */
-        st = ss_cast_shadow(ctx, grid, opt, sun_grid_az + opt->grid_north_deg,
-                            step->apparent_elevation_deg, NULL, sunlit, NULL);
+        /* the shadow product's own sweep (ss_shadow_rows), so that a cell's
+         * verdict is what `skysweep shadow` gives for that instant */
+        shade_step t = {.sun = {.azimuth_deg = sun_grid_az + opt->grid_north_deg,
+                                .grid_azimuth_deg = sun_grid_az,
+                                .elevation_deg = step->elevation_deg,
+                                .apparent_elevation_deg = step->apparent_elevation_deg},
+                        .sunlit = sunlit,
+                        .width = src->width};
+        st = ss_shadow_rows(ctx, src, opt, step_sun, &t, keep_sunlit, &t);
         if (st == SS_OK)
             add_shares(s, step, sun_grid_az, sunlit, slot);
+        if (st == SS_OK && s->masks)
+            add_mask_bits(s->masks + (size_t)slot * cells, sunlit, cells, day);
         s->sweeps++;
     }
     free(sunlit);
@@ -96,5 +143,6 @@ void roof_shade_free(roof_shade *s)
     free(s->planes);
     free(s->cells);
     free(s->lit);
+    free(s->masks);
     *s = (roof_shade){0};
 }

@@ -6,6 +6,7 @@
 #define SS_ROOF_SHADE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "skysweep.h"
 
@@ -25,6 +26,10 @@ typedef struct {
     double *lit;               /* n_planes x SHADE_SLOTS: sums of the sunlit share */
     int records[SHADE_SLOTS];  /* records in each month and hour */
     size_t sweeps;             /* cast-shadow sweeps made (records with the sun up) */
+    /* NULL, or hourly shade masks of every grid cell (Google's hourlyShade):
+     * SHADE_SLOTS planes of width x height, bit d - 1 set where the cell
+     * was sunlit at the record of day d of that month and hour */
+    uint32_t *masks;
 } roof_shade;
 
 /* Adds a plane of tilt and grid aspect (the way it descends) whose cells
@@ -34,11 +39,12 @@ int roof_shade_add_plane(roof_shade *s, double tilt_deg, double aspect_grid_deg,
 
 /* For each step (the weather's records, azimuths true, as roofs makes
  * them), counted in its month and hour of local time (utc_offset_h):
- * with the sun's apparent elevation above 0, the cast shadows of the grid
- * for the sun at the grid's centre (grid_north_deg: the frame's grid north
+ * with the sun's apparent elevation above 0, the cast shadows of src by
+ * the shadow product's sweep for the sun at the grid's centre (grid_north_deg: the frame's grid north
  * from true north), and each plane's share of cells that are sunlit and
- * face the sun. */
-ss_status roof_shade_sweep(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_options *opt,
+ * face the sun; and with masks (allocated by the caller), the cells'
+ * sunlit bits. */
+ss_status roof_shade_sweep(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                            double grid_north_deg, const ss_sun_step *steps, int n_steps,
                            double utc_offset_h, roof_shade *s);
 
