@@ -286,6 +286,12 @@ tap_ok $? "--weather that is the output refused (exit $rc: $(head -c 200 err.txt
 rc=$?
 [ $rc = 2 ] && [ ! -e out2.gpkg ]
 tap_ok $? "--csv that is the DSM refused (exit $rc: $(head -c 200 err.txt))"
+cp footprints.geojson kept.gpkg
+"$SKYSWEEP" roofs --buildings footprints.geojson --weather "$weather" --time "$window" \
+    --shade-masks kept.gpkg city.tif kept.gpkg >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && cmp -s kept.gpkg footprints.geojson
+tap_ok $? "--shade-masks that is OUT.gpkg refused, the file left as it was (exit $rc: $(head -c 200 err.txt))"
 "$SKYSWEEP" roofs --weather "$weather" city.tif out3.gpkg >/dev/null 2>err.txt
 rc=$?
 [ $rc = 2 ] && [ ! -e out3.gpkg ] && grep -q -- "--buildings" err.txt
