@@ -28,7 +28,7 @@ roofs() { # FOOTPRINTS OUT.gpkg CSV [options]
     "$SKYSWEEP" roofs --buildings "$fp" --weather "$weather" --time "$window" \
         --device reference --directions 8 --min-irradiation 0 --csv "$csv" "$@" city.tif "$out"
 }
-roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif --panels --shade-masks masks.tif \
+roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif --panels --shade-table --shade-masks masks.tif \
     >run.out 2>run.err
 tap_ok $? "roofs runs on the synthetic city: $(head -c 300 run.err)"
 ogr2ogr -f CSV buildings.csv city.gpkg buildings 2>/dev/null

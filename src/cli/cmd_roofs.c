@@ -37,7 +37,7 @@ typedef struct {
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
     double setback_m, min_irradiation, max_tilt_deg;
     const char *module_size;
-    int orientation, panels_layer;
+    int orientation, panels_layer, shade_table;
     double module_power_w, module_spacing_m, row_spacing_m, min_panel_area_m2;
     double flat_tilt_deg, rack_tilt_deg, rack_sun_elevation_deg;
     panel_options panel; /* from the above (settle_panel_options) */
@@ -94,6 +94,9 @@ static const opt_spec own_options[] = {
      "23.44, at least 5)"},
     {"panels", OPT_FLAG, SET(panels_layer), NULL, NULL, 0, 0, NULL,
      "also write the layer panels: each module's footprint on the ground"},
+    {"shade-table", OPT_FLAG, SET(shade_table), NULL, NULL, 0, 0, NULL,
+     "also write the table plane_shade: each plane's share in direct sun by month and hour "
+     "(a shadow sweep per record with the sun up)"},
     {"shade-masks", OPT_OUTPUT, SET(shade_masks), "FILE", NULL, 0, 0, NULL,
      "also write every cell's hourly shade masks (Google's hourlyShade): a GeoTIFF of 288 "
      "UInt32 bands, month x hour, bit d - 1 set where the cell is sunlit at that hour of day d"},
@@ -955,7 +958,7 @@ static ss_status find_all(roofs_run *r)
                           "out of memory for --shade-masks (%zu MB: 1.2 kB a cell)",
                           SHADE_SLOTS * grid_cells * sizeof *r->shade.masks >> 20);
     ss_source src = job_source(&r->job, NULL);
-    if (st == SS_OK)
+    if (st == SS_OK && (r->set.shade_table || r->set.shade_masks))
         st = roof_shade_sweep(r->job.run.ctx, &src, &r->job.opt, r->job.frame.grid_north_deg,
                               r->sky.steps, r->sky.n, r->weather.utc_offset_h, &r->shade);
     r->seconds_shade = run_now() - t0;
@@ -1054,7 +1057,7 @@ static ss_status write_outputs(roofs_run *r)
                                      {.num = k->kwh_ac_year}};
         st = ss_vector_add(w, lpanels, k->geometry, pv);
     }
-    if (st == SS_OK)
+    if (st == SS_OK && r->set.shade_table)
         st = write_shade_table(w, r);
     if (st == SS_OK && r->set.csv)
         st = write_csv(ctx, r->set.csv, r->planes, r->n_planes, &r->fps);
@@ -1200,9 +1203,9 @@ int cmd_roofs(int argc, char **argv)
         "azimuth,\ntrue area and usable area, a panel layout on the usable area, and per plane "
         "and per\nbuilding the modules' kWp, AC kWh per year and month (PVWatts), kWh/kWp, "
         "shading loss and a\nsuitability class, from the insolation run with --weather and --pv "
-        "on the DSM (its options\napply), and each plane's share in direct sun by month and hour. "
-        "A GeoPackage with layers\nbuildings, roof_planes, the table plane_shade and, with "
-        "--panels, panels (doc/roofs.md).",
+        "on the DSM (its options\napply); on request each plane's share in direct sun by month and "
+        "hour. A GeoPackage with\nlayers buildings and roof_planes, and panels (--panels) and "
+        "plane_shade (--shade-table)\non request (doc/roofs.md).",
         &set->common.device);
     if (rc < 0)
         rc = refuse_options(set, tables);
@@ -1242,7 +1245,7 @@ int cmd_roofs(int argc, char **argv)
     rc = run_insolation(job, tables, argc, argv, &r->yield);
     r->seconds_insolation = run_now() - t0;
     if (rc == 0 && !job->run.plan_only)
-        rc = plan_shade_sweeps(r);
+        rc = set->shade_table || set->shade_masks ? plan_shade_sweeps(r) : -1;
     if (rc < 0) {
         st = find_all(r);
         if (st == SS_OK)
