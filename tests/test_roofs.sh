@@ -8,7 +8,11 @@
 # are repaired, counted and flagged; the GeoPackage has the fixed layers and
 # fields; --dtm gives building heights; a file read that is also the output is refused and left as it
 # was; an open plane's unshaded irradiation equals pvlib's
-# get_total_irradiance within 1 % (skips without pvlib).
+# get_total_irradiance within 1 % (skips without pvlib); panel counts equal
+# the closed form, portrait and landscape differ, modules lie on usable
+# cells and sum to their planes; the shade table has open planes in sun
+# exactly when the sun is up and in front, the shaded flat roof less at
+# noon; the shade masks' bits are the shadow product's.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 top=${TOP_SRCDIR:-$PWD}
