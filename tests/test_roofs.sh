@@ -8,7 +8,11 @@
 # are repaired, counted and flagged; the GeoPackage has the fixed layers and
 # fields; --dtm gives building heights; a file read that is also the output is refused and left as it
 # was; an open plane's unshaded irradiation equals pvlib's
-# get_total_irradiance within 1 % (skips without pvlib).
+# get_total_irradiance within 1 % (skips without pvlib); panel counts equal
+# the closed form, portrait and landscape differ, modules lie on usable
+# cells and sum to their planes; the shade table has open planes in sun
+# exactly when the sun is up and in front, the shaded flat roof less at
+# noon; the shade masks' bits are the shadow product's.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 top=${TOP_SRCDIR:-$PWD}
@@ -28,7 +32,8 @@ roofs() { # FOOTPRINTS OUT.gpkg CSV [options]
     "$SKYSWEEP" roofs --buildings "$fp" --weather "$weather" --time "$window" \
         --device reference --directions 8 --min-irradiation 0 --csv "$csv" "$@" city.tif "$out"
 }
-roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif >run.out 2>run.err
+roofs footprints.geojson city.gpkg planes.csv --dtm ground.tif --panels --shade-table --shade-masks masks.tif \
+    >run.out 2>run.err
 tap_ok $? "roofs runs on the synthetic city: $(head -c 300 run.err)"
 ogr2ogr -f CSV buildings.csv city.gpkg buildings 2>/dev/null
 
@@ -82,20 +87,146 @@ tap_ok $? "--dtm: the tall neighbour stands $height m above the ground (30)"
 # Sums: each building's against its planes', each plane's months against its year.
 worst=$(awk -F, 'NR == FNR { if (FNR == 1) { for (k = 1; k <= NF; k++) pc[$k] = k; next }
                              b = $pc["building_id"]; kwh[b] += $pc["kwh_ac_year"]; kwp[b] += $pc["kwp"]
-                             use[b] += $pc["usable_area_m2"]
+                             use[b] += $pc["usable_area_m2"]; np[b] += $pc["n_panels"]
                              m = 0; for (k = pc["kwh_ac_jan"]; k <= pc["kwh_ac_dec"]; k++) m += $k
                              d = m - $pc["kwh_ac_year"]; d = d < 0 ? -d : d; if (d > w) w = d; next }
                  FNR == 1 { for (k = 1; k <= NF; k++) bc[$k] = k; next }
                  { b = "\"" $bc["building_id"] "\""; gsub(/""/, "\"", b)
-                   split("kwh_ac_year kwp usable_area_m2", f, " ")
-                   v[1] = kwh[b]; v[2] = kwp[b]; v[3] = use[b]
-                   for (i = 1; i <= 3; i++) { d = $bc[f[i]] - v[i]; d = d < 0 ? -d : d; if (d > w) w = d } }
+                   split("kwh_ac_year kwp usable_area_m2 n_panels", f, " ")
+                   v[1] = kwh[b]; v[2] = kwp[b]; v[3] = use[b]; v[4] = np[b]
+                   for (i = 1; i <= 4; i++) { x = $bc[f[i]]; gsub(/"/, "", x); d = x - v[i]; d = d < 0 ? -d : d; if (d > w) w = d } }
                  END { printf "%.3g", w }' planes.csv buildings.csv)
 awk -v w="$worst" 'BEGIN { exit !(w < 1e-6) }'
 tap_ok $? "sums per building equal the sums over its planes; months sum to the year (largest difference $worst)"
 kwh_c=$(field planes.csv C kwh_ac_year)
 awk -v k="$kwh_c" 'BEGIN { exit !(k > 0) }'
 tap_ok $? "the open south-facing shed yields ($kwh_c kWh AC in the window)"
+
+# Panel layouts (doc/roofs.md, "Panels"): the counts by hand. The shed C
+# (20 x 10 m, 25 deg) is one plane of 40 x 20 cells; the setback (0.5 m)
+# leaves 38 x 18 usable: 19 m along the eave, 9 m / cos 25 up the slope.
+# The flat D (15 x 15 m) keeps 28 x 28 cells, 14 x 14 m, racked at 10 deg
+# facing south, rows clear of each other's shadow with the sun at the
+# winter solstice's noon (90 - 45 - 23.44 deg). Modules 1.7 x 1.0 m, gaps
+# 0.02 m; a row of n modules takes n pitches less one gap.
+count() { # PLANE-ALONG PLANE-UP MODULE-ALONG MODULE-UP TILT RACKED
+    awk -v U="$1" -v V="$2" -v a="$3" -v b="$4" -v t="$5" -v racked="$6" 'BEGIN {
+        d = atan2(0, -1) / 180; s = 0.02
+        n_along = int((U + s) / (a + s))
+        if (!racked) n_up = int((V + s) / (b + s))
+        else { e = (90 - 45 - 23.44) * d; depth = b * cos(t * d); gap = b * sin(t * d) * cos(e) / sin(e)
+               n_up = 1 + int((V - depth) / (depth + (gap > s ? gap : s))) }
+        print n_along * n_up }'
+}
+c_up=$(awk -v c="$c25" 'BEGIN { print 9 / c }')
+c_land=$(count 19 "$c_up" 1.7 1.0 25 0) c_port=$(count 19 "$c_up" 1.0 1.7 25 0)
+d_land=$(count 14 14 1.7 1.0 10 1) d_port=$(count 14 14 1.0 1.7 10 1)
+roofs footprints.geojson portrait.gpkg portrait.csv --orientation portrait >run_p.out 2>&1
+roofs footprints.geojson landscape.gpkg landscape.csv --orientation landscape >run_l.out 2>&1
+got="C $(field portrait.csv C n_panels)/$(field landscape.csv C n_panels)/$(field planes.csv C n_panels)"
+got="$got D $(field portrait.csv D n_panels)/$(field landscape.csv D n_panels)/$(field planes.csv D n_panels)"
+best_c=$((c_land > c_port ? c_land : c_port)) best_d=$((d_land > d_port ? d_land : d_port))
+c_use=$(field planes.csv C usable_area_m2)
+[ "$got" = "C $c_port/$c_land/$best_c D $d_port/$d_land/$best_d" ] &&
+    awk -v u="$c_use" -v c="$c25" 'BEGIN { e = u / (684 * 0.25 / c) - 1; exit !(e < 0.002 && e > -0.002) }'
+tap_ok $? "panel counts (portrait/landscape/best) as by hand: got $got, expected C $c_port/$c_land/$best_c D $d_port/$d_land/$best_d (C usable $c_use m2)"
+[ "$c_port" != "$c_land" ] && [ "$d_port" != "$d_land" ]
+tap_ok $? "portrait and landscape differ on the shed ($c_port, $c_land) and the flat roof ($d_port, $d_land)"
+worst=$(awk -F, 'NR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next }
+    { d = $c["kwp"] - 0.4 * $c["n_panels"]; d = d < 0 ? -d : d; if (d > w) w = d }
+    END { printf "%.3g", w }' planes.csv)
+awk -v w="$worst" 'BEGIN { exit !(w < 1e-9) }'
+tap_ok $? "kwp is the modules' nameplate, n_panels x 0.4 kWp (largest difference $worst)"
+# The layer panels: each module within its plane shrunk by the setback (the
+# usable cells: a module on any other cell crosses it), and its yields sum
+# to the plane's.
+sql() { ogrinfo -q -dialect sqlite -sql "$1" city.gpkg 2>&1 | awk -F' = ' '/=/ { print $2 }'; }
+out=$(sql "SELECT count(*) FROM panels p JOIN roof_planes r ON p.building_id = r.building_id
+           AND p.plane_id = r.plane_id WHERE NOT ST_Within(p.geom, ST_Buffer(r.geom, -0.499))")
+near=$(sql "SELECT count(*) FROM panels p JOIN roof_planes r ON p.building_id = r.building_id
+           AND p.plane_id = r.plane_id WHERE NOT ST_Within(p.geom, ST_Buffer(r.geom, -0.6))")
+n_layer=$(sql "SELECT count(*) FROM panels")
+n_planes=$(awk -F, 'NR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next } { n += $c["n_panels"] } END { print n }' planes.csv)
+if [ -z "$out" ] || ! [ "$out" -eq "$out" ] 2>/dev/null; then
+    tap_skip "modules lie on usable cells" "GDAL's SQLite dialect has no ST_Buffer (no SpatiaLite): $out"
+else
+    [ "$out" = 0 ] && [ "$near" -gt 0 ] && [ "$n_layer" = "$n_planes" ]
+    tap_ok $? "every module lies on usable cells ($out of $n_layer outside its plane shrunk by the setback; $near within 0.1 m of that edge; $n_planes in the planes' n_panels)"
+fi
+worst=$(ogr2ogr -f CSV /vsistdout/ city.gpkg panels 2>/dev/null | awk -F, '
+    NR == FNR { if (FNR == 1) { for (k = 1; k <= NF; k++) c[$k] = k; next }
+                key = $c["building_id"] "/" $c["plane_id"]; gsub(/"/, "", key)
+                s[key] += $c["kwh_ac_year"]; next }
+    FNR == 1 { for (k = 1; k <= NF; k++) pc[$k] = k; next }
+    { key = $pc["building_id"] "/" $pc["plane_id"]; gsub(/"/, "", key)
+      d = s[key] - $pc["kwh_ac_year"]; d = d < 0 ? -d : d; if (d > w) w = d }
+    END { printf "%.3g", w }' - planes.csv)
+awk -v w="$worst" 'BEGIN { exit !(w < 1e-6) }'
+tap_ok $? "the layer panels' kWh sum to each plane's kwh_ac_year (largest difference $worst)"
+for bad in 0x1 1.7x-1 1.7 abc 1.7x1.0x2; do
+    "$SKYSWEEP" roofs --buildings footprints.geojson --weather "$weather" --module-size "$bad" \
+        city.tif bad.gpkg >/dev/null 2>err.txt
+    rc=$?
+    [ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ ! -e bad.gpkg ] || break
+done
+tap_ok $? "--module-size $bad refused: exit $rc, $(head -c 200 err.txt)"
+
+# Shade over time (doc/roofs.md): the table plane_shade, a row per plane and
+# hour of the window's records. The open shed C (25 deg facing south) is in
+# direct sun whenever the sun (skysweep sun, at the records' instants) is up
+# and in front of it, and in none at night; hours with the sun within 1 deg
+# of the horizon are left out (a hair decides them). The flat roof D north
+# of the tall neighbour E has less sun than E's roof at the winter noon.
+ogr2ogr -f CSV shade.csv city.gpkg plane_shade 2>/dev/null
+rows=$(awk 'END { print NR - 1 }' shade.csv)
+"$SKYSWEEP" weather "$weather" | awk -F, '!/^#/ && $1 ~ /^2018-01-10T/ { print $2 }' >instants.txt
+first=$(head -n 1 instants.txt | sed 's/\.[0-9]*Z$/Z/')
+"$SKYSWEEP" sun --at 9.00013,45.00076 --time "$first/P1D/PT1H" >sun.csv # the DSM's centre
+in_sun() { # BUILDING PLANE TILT AZIMUTH: the plane's hours against the sun's
+    awk -F, -v B="$1" -v P="$2" -v T="$3" -v A="$4" '
+    NR == FNR { if (FNR > 1) { split($1, t, "T"); h = substr(t[2], 1, 2) + 0; az[h] = $2; el[h] = $4 }; next }
+    FNR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next }
+    { b = $c["building_id"]; p = $c["plane_id"]; gsub(/"/, "", b); gsub(/"/, "", p)
+      if (b != B || p != P) next
+      h = $c["hour"]; gsub(/"/, "", h); h += 0; f = $c["sun_fraction"]
+      e = el[h]; if (e < 1 && e > -1) { skipped++; next }
+      d = atan2(0, -1) / 180; z = (90 - e) * d
+      front = cos(z) * cos(T * d) + sin(z) * sin(T * d) * cos((az[h] - A) * d) > 0
+      want = e > 0 && front ? 1 : 0
+      if (f != want) bad = bad " " h ":" f "/" want; else if (want) day++; else if (e > 0) behind++; else night++ }
+    END { printf "%d hours in sun, %d behind it, %d dark, %d at the horizon left out;%s", day, behind,
+          night, skipped, bad ? " wrong (hour:got/expected)" bad : ""; exit bad != "" }' sun.csv shade.csv
+}
+north=$(awk -F, '$1 == "\"A\"" && ($4 < 90 || $4 > 270) { print $2 }' planes.csv)
+says_c=$(in_sun C 1 25 180) && says_a=$(in_sun A "$north" 30 0) &&
+    [[ $says_c != "0 hours in sun"* ]] && [[ $says_a == "0 hours in sun, "[1-9]* ]] &&
+    [ "$rows" = $((15 * 24)) ]
+tap_ok $? "plane_shade: open planes in direct sun exactly when the sun is up and in front: the shed facing south $says_c; the gable's north face (30 deg) $says_a ($rows rows: 15 planes x 24 hours)"
+noon() { awk -F, -v b="$1" 'NR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next }
+    { id = $c["building_id"]; gsub(/"/, "", id); h = $c["hour"]; gsub(/"/, "", h) }
+    id == b && h == 11 { print $c["sun_fraction"] }' shade.csv; }
+d_noon=$(noon D) e_noon=$(noon E)
+awk -v d="$d_noon" -v e="$e_noon" 'BEGIN { exit !(d < 0.5 && e == 1) }'
+tap_ok $? "at the January noon (11 UTC) the flat roof north of the tall neighbour has $d_noon of its cells in sun, the neighbour's roof $e_noon"
+# Hourly shade masks: band (month - 1) x 24 + hour + 1, bit day - 1: at three
+# of the day's records every cell's bit is the shadow product's sunlit band
+# at the record's instant, and no other day's bit is set.
+worst=
+for h in 08 11 14; do
+    "$SKYSWEEP" shadow -q --time "$(sed -n "$((10#$h + 1))p" instants.txt)" --device reference \
+        city.tif "shadow$h.tif" >/dev/null 2>&1
+    gdal_translate -q -b $((10#$h + 1)) -of XYZ masks.tif mask.xyz
+    gdal_translate -q -b 1 -of XYZ "shadow$h.tif" shadow.xyz
+    says=$(paste -d' ' mask.xyz shadow.xyz | awk '{ bit = int($3 / 512) % 2; n++
+        if ($1 != $4 || $2 != $5 || bit != $6 + 0) d++; if ($3 != 0 && $3 != 512) other++; lit += bit }
+        END { printf "%d:%d/%d differ (%d lit, %d other bits)", h, d, n, lit, other; exit d || other || !lit }' h=$h)
+    rc=$?
+    worst="$worst $says"
+    [ $rc = 0 ] || break
+done
+bands=$(gdalinfo masks.tif 2>/dev/null | grep -c "^Band ")
+[ $rc = 0 ] && [ "$bands" = 288 ] && gdalinfo masks.tif | grep -q "Type=UInt32"
+tap_ok $? "--shade-masks: $bands UInt32 bands, each cell's bit for day 10 is the shadow product's at the record's instant:$worst"
 
 loss_d=$(field planes.csv D shading_loss_pct)
 loss_e=$(field planes.csv E shading_loss_pct)
@@ -159,6 +290,12 @@ tap_ok $? "--weather that is the output refused (exit $rc: $(head -c 200 err.txt
 rc=$?
 [ $rc = 2 ] && [ ! -e out2.gpkg ]
 tap_ok $? "--csv that is the DSM refused (exit $rc: $(head -c 200 err.txt))"
+cp footprints.geojson kept.gpkg
+"$SKYSWEEP" roofs --buildings footprints.geojson --weather "$weather" --time "$window" \
+    --shade-masks kept.gpkg city.tif kept.gpkg >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && cmp -s kept.gpkg footprints.geojson
+tap_ok $? "--shade-masks that is OUT.gpkg refused, the file left as it was (exit $rc: $(head -c 200 err.txt))"
 "$SKYSWEEP" roofs --weather "$weather" city.tif out3.gpkg >/dev/null 2>err.txt
 rc=$?
 [ $rc = 2 ] && [ ! -e out3.gpkg ] && grep -q -- "--buildings" err.txt

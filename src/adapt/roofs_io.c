@@ -375,7 +375,7 @@ void ss_geometry_free(void *geometry)
 
 /* ---- the GeoPackage ------------------------------------------------------ */
 
-#define MAX_LAYERS 4
+#define MAX_LAYERS 8
 struct ss_vector_writer {
     ss_ctx *ctx;
     char *path, *tmp_path;
@@ -438,14 +438,17 @@ static OGRFieldType field_type(ss_field_type t)
     return t == SS_FIELD_INT ? OFTInteger64 : t == SS_FIELD_REAL ? OFTReal : OFTString;
 }
 
-ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *description,
-                          const ss_field *fields, int n_fields, int *layer)
+/* A layer of geometry type `type` (wkbNone: a table of attributes). */
+static ss_status create_layer(ss_vector_writer *w, const char *name, const char *description,
+                              OGRwkbGeometryType type, const ss_field *fields, int n_fields,
+                              int *layer)
 {
     char desc[300];
     snprintf(desc, sizeof desc, "DESCRIPTION=%s", description);
     char *opts[] = {desc, NULL};
     OGRLayerH l = w->n_layers < MAX_LAYERS
-                      ? GDALDatasetCreateLayer(w->ds, name, w->srs, wkbMultiPolygon, opts)
+                      ? GDALDatasetCreateLayer(w->ds, name, type == wkbNone ? NULL : w->srs,
+                                               type, opts)
                       : NULL;
     if (!l)
         return vector_failed(w, "create a layer in");
@@ -467,6 +470,18 @@ ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *des
     w->n_fields[w->n_layers] = n_fields;
     *layer = w->n_layers++;
     return SS_OK;
+}
+
+ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *description,
+                          const ss_field *fields, int n_fields, int *layer)
+{
+    return create_layer(w, name, description, wkbMultiPolygon, fields, n_fields, layer);
+}
+
+ss_status ss_vector_table(ss_vector_writer *w, const char *name, const char *description,
+                          const ss_field *fields, int n_fields, int *layer)
+{
+    return create_layer(w, name, description, wkbNone, fields, n_fields, layer);
 }
 
 ss_status ss_vector_add(ss_vector_writer *w, int layer, const void *geometry,
@@ -538,4 +553,96 @@ void ss_vector_abort(ss_vector_writer *w)
     free(w->path);
     free(w->tmp_path);
     free(w);
+}
+
+void *ss_polygon_of_grid_points(const ss_dem *dem, const double (*col_row)[2], int n)
+{
+    const double *gt = dem->geotransform;
+    OGRGeometryH ring = OGR_G_CreateGeometry(wkbLinearRing);
+    for (int k = 0; k <= n; ++k) {
+        const double *p = col_row[k % n];
+        OGR_G_AddPoint_2D(ring, gt[0] + p[0] * gt[1] + p[1] * gt[2],
+                          gt[3] + p[0] * gt[4] + p[1] * gt[5]);
+    }
+    OGRGeometryH poly = OGR_G_CreateGeometry(wkbPolygon);
+    OGRGeometryH multi = OGR_G_CreateGeometry(wkbMultiPolygon);
+    OGR_G_AddGeometryDirectly(poly, ring);
+    OGR_G_AddGeometryDirectly(multi, poly);
+    return multi;
+}
+
+/* ---- rasters of bit masks ------------------------------------------------- */
+
+ss_status ss_masks_write(ss_ctx *ctx, const char *path, const ss_dem *dem, int bands,
+                         const uint32_t *masks, const char *const *descriptions,
+                         char **tmp_path)
+{
+    *tmp_path = NULL;
+    ss_gdal_init();
+    ss_status st = ss_output_check(ctx, path);
+    if (st != SS_OK)
+        return st;
+    char *tmp = ss_temporary_name(path, "tmp");
+    if (!tmp)
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory");
+    ss_temporaries_track(path);
+    const ss_grid *g = &dem->grid;
+    char *opts[] = {"TILED=YES", "COMPRESS=DEFLATE", "INTERLEAVE=BAND", "BIGTIFF=IF_SAFER",
+                    NULL};
+    ss_gdal_errors_reset();
+    GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), tmp, g->width, g->height, bands,
+                                 GDT_UInt32, opts);
+    CPLErr err = ds ? CE_None : CE_Failure;
+    if (ds) {
+        GDALSetGeoTransform(ds, (double *)dem->geotransform);
+        if (dem->crs_wkt)
+            GDALSetProjection(ds, dem->crs_wkt);
+    }
+    size_t cells = (size_t)g->width * (size_t)g->height;
+    for (int b = 0; err == CE_None && b < bands; ++b) {
+        GDALRasterBandH band = GDALGetRasterBand(ds, b + 1);
+        GDALSetDescription(band, descriptions[b]);
+        err = GDALRasterIO(band, GF_Write, 0, 0, g->width, g->height,
+                           (void *)(masks + (size_t)b * cells), g->width, g->height, GDT_UInt32,
+                           0, 0);
+    }
+    if (ds)
+        GDALClose(ds);
+    if (err != CE_None || ss_gdal_failed()) {
+        char why[1200];
+        st = ss_ctx_error(ctx, ss_gdal_out_of_memory() ? SS_ERR_MEMORY : SS_ERR_OUTPUT,
+                          "cannot write '%s': %s", path, ss_gdal_failure(why, sizeof why));
+        remove(tmp);
+        ss_temporaries_forget(path);
+        free(tmp);
+        return st;
+    }
+    *tmp_path = tmp;
+    return SS_OK;
+}
+
+ss_status ss_masks_commit(ss_ctx *ctx, const char *path, char *tmp_path)
+{
+    ss_status st = SS_OK;
+    if (!ss_temporaries_hold())
+        st = ss_ctx_error(ctx, SS_ERR_CANCELLED, "stopped before '%s' was renamed", path);
+    else {
+        if (rename(tmp_path, path) != 0)
+            st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename '%s' to '%s'", tmp_path, path);
+        ss_temporaries_release();
+    }
+    if (st != SS_OK)
+        remove(tmp_path);
+    ss_temporaries_forget(path);
+    free(tmp_path);
+    return st;
+}
+
+void ss_masks_abort(const char *path, char *tmp_path)
+{
+    if (!tmp_path)
+        return;
+    remove(tmp_path);
+    ss_temporaries_forget(path);
+    free(tmp_path);
 }

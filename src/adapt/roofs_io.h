@@ -7,6 +7,7 @@
 #define SS_ROOFS_IO_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "dem_io.h"
 
@@ -45,6 +46,9 @@ ss_status ss_raster_read_bands(ss_ctx *ctx, const char *path, int first, int n, 
  * where a label has no cell), into geoms[0..n_ids). */
 ss_status ss_polygons_of_labels(ss_ctx *ctx, const ss_dem *dem, const int *ids, int col0,
                                 int row0, int cols, int rows, int n_ids, void **geoms);
+/* A MultiPolygon of one ring through n points given in grid columns and
+ * rows (fractional, from the grid's north-west corner). */
+void *ss_polygon_of_grid_points(const ss_dem *dem, const double (*col_row)[2], int n);
 void ss_geometry_free(void *geometry);
 
 /* A field of a layer: its name, type, unit and meaning (the layer's
@@ -69,6 +73,9 @@ ss_status ss_vector_open(ss_ctx *ctx, const char *path, const ss_dem *dem,
 /* Adds a MultiPolygon layer; returns its index in *layer. */
 ss_status ss_vector_layer(ss_vector_writer *w, const char *name, const char *description,
                           const ss_field *fields, int n_fields, int *layer);
+/* Adds a table of attributes, no geometry (GeoPackage's "attributes"). */
+ss_status ss_vector_table(ss_vector_writer *w, const char *name, const char *description,
+                          const ss_field *fields, int n_fields, int *layer);
 /* Adds a feature (the geometry is copied; NULL: none). */
 ss_status ss_vector_add(ss_vector_writer *w, int layer, const void *geometry,
                         const ss_value *values);
@@ -76,5 +83,15 @@ ss_status ss_vector_add(ss_vector_writer *w, int layer, const void *geometry,
 ss_status ss_vector_commit(ss_vector_writer *w);
 /* Removes the temporary; the output is left as it was. */
 void ss_vector_abort(ss_vector_writer *w);
+
+/* Bands of 32-bit masks on the DEM's grid (masks: band after band, width *
+ * height each) as a GeoTIFF of UInt32 written to a temporary beside path,
+ * whose name goes to *tmp_path; ss_masks_commit renames it into place,
+ * ss_masks_abort removes it (both free the name). */
+ss_status ss_masks_write(ss_ctx *ctx, const char *path, const ss_dem *dem, int bands,
+                         const uint32_t *masks, const char *const *descriptions,
+                         char **tmp_path);
+ss_status ss_masks_commit(ss_ctx *ctx, const char *path, char *tmp_path);
+void ss_masks_abort(const char *path, char *tmp_path);
 
 #endif

@@ -19,7 +19,9 @@
 
 #include "commands.h"
 #include "roof_horizons.h"
+#include "roof_panels.h"
 #include "roof_planes.h"
+#include "roof_shade.h"
 #include "roofs_io.h"
 #include "run.h"
 #include "skysweep_sun.h"
@@ -32,11 +34,16 @@ typedef struct {
     ss_insolation_params ins;
     const char *weather, *weather_zone;
     int weather_far_ok;
-    const char *buildings, *dtm, *csv, *id_field;
+    const char *buildings, *dtm, *csv, *id_field, *shade_masks;
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
-    double setback_m, min_irradiation, max_tilt_deg, kwp_per_m2;
+    double setback_m, min_irradiation, max_tilt_deg;
+    const char *module_size;
     const char *horizon_dir;
     int horizon_format;
+    int orientation, panels_layer, shade_table;
+    double module_power_w, module_spacing_m, row_spacing_m, min_panel_area_m2;
+    double flat_tilt_deg, rack_tilt_deg, rack_sun_elevation_deg;
+    panel_options panel; /* from the above (settle_panel_options) */
 } roofs_settings;
 
 #define SET(field) offsetof(roofs_settings, field)
@@ -67,8 +74,35 @@ static const opt_spec own_options[] = {
      "usable cells receive at least this much in the weather file's year (kWh/m2)"},
     {"max-tilt", OPT_DOUBLE, SET(max_tilt_deg), "DEG", "60", 0, 90, NULL,
      "usable planes are tilted at most this much"},
-    {"kwp-per-m2", OPT_DOUBLE, SET(kwp_per_m2), "KWP_M2", "0.2", 0.01, 1, NULL,
-     "peak power of modules per m2 of usable roof (0.2: modules of 20 % efficiency)"},
+    {"module-size", OPT_STRING, SET(module_size), "LxW", "1.7x1.0", 0, 0, NULL,
+     "the modules' long and short sides (m) of the panel layout"},
+    {"module-power", OPT_DOUBLE, SET(module_power_w), "W", "400", 1, 5000, NULL,
+     "a module's nameplate power (W, STC): kwp = panels x this"},
+    {"orientation", OPT_CHOICE, SET(orientation), NULL, "best", 0, 0, "portrait|landscape|best",
+     "modules' long side up the slope (portrait), along the rows (landscape), or whichever "
+     "fits more modules on each plane (best)"},
+    {"module-spacing", OPT_DOUBLE, SET(module_spacing_m), "M", "0.02", 0, 10, NULL,
+     "gap between modules of a row (m)"},
+    {"row-spacing", OPT_DOUBLE, SET(row_spacing_m), "M", "0.02", 0, 50, NULL,
+     "gap between rows on the plane (m; on racked flat roofs the least gap)"},
+    {"min-panel-area", OPT_DOUBLE, SET(min_panel_area_m2), "M2", "10", 0, 1e6, NULL,
+     "a plane whose modules would cover less than this (m2 of modules) gets none"},
+    {"flat-tilt", OPT_DOUBLE, SET(flat_tilt_deg), "DEG", "10", 0, 45, NULL,
+     "planes tilted less are flat roofs: modules racked at --rack-tilt facing the equator"},
+    {"rack-tilt", OPT_DOUBLE, SET(rack_tilt_deg), "DEG", "10", 0, 60, NULL,
+     "tilt of the racks on flat roofs"},
+    {"rack-sun-elevation", OPT_DOUBLE, SET(rack_sun_elevation_deg), "DEG", NULL, 1, 90, NULL,
+     "racked rows are spaced so that none shades the next with the sun this high toward the "
+     "equator (default: the noon sun at the winter solstice at the DSM's centre, 90 - |lat| - "
+     "23.44, at least 5)"},
+    {"panels", OPT_FLAG, SET(panels_layer), NULL, NULL, 0, 0, NULL,
+     "also write the layer panels: each module's footprint on the ground"},
+    {"shade-table", OPT_FLAG, SET(shade_table), NULL, NULL, 0, 0, NULL,
+     "also write the table plane_shade: each plane's share in direct sun by month and hour "
+     "(a shadow sweep per record with the sun up)"},
+    {"shade-masks", OPT_OUTPUT, SET(shade_masks), "FILE", NULL, 0, 0, NULL,
+     "also write every cell's hourly shade masks (Google's hourlyShade): a GeoTIFF of 288 "
+     "UInt32 bands, month x hour, bit d - 1 set where the cell is sunlit at that hour of day d"},
     {"horizon-files", OPT_STRING, SET(horizon_dir), "DIR", NULL, 0, 0, NULL,
      "also write a horizon file for PV software per roof plane, seen from its centre, into "
      "this existing folder as BUILDING_PLANE.ext (doc/pv-horizons.md)"},
@@ -279,16 +313,36 @@ typedef struct {
     double area_m2, usable_area_m2, inner_area_m2;
     double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
     double kwp, kwh_ac_year, kwh_per_kwp, kwh_ac_month[12];
+    int n_panels, racked, landscape;
+    int shade_on_usable; /* the shade table counts its usable cells (else all its cells) */
+    double panel_tilt_deg, panel_azimuth_deg; /* the modules' (racks': toward the equator) */
     void *geometry;
 } plane_row;
+
+/* A module of the layer panels. */
+typedef struct {
+    size_t plane; /* index of its plane_row */
+    int number;   /* 1.. within the plane */
+    double kwh_ac_year;
+    void *geometry;
+} panel_row;
 
 typedef struct {
     double roof_area_m2, usable_area_m2, obstacle_area_m2, footprint_area_m2;
     double kwp, kwh_ac_year, kwh_ac_month[12];
+    int n_panels;
     double inner_area_m2, inner_kwh, inner_unshaded_kwh; /* for the mean and the loss */
     double height_m;
     int n_planes;
 } building_sums;
+
+/* What a plane's panel layout reads. */
+typedef struct {
+    const sweep_job *job;
+    const roofs_settings *set;
+    const ss_footprint *fp;
+    const cell_yield *yield;
+} roofs_run_view;
 
 /* Whether window cell (c, r) of plane p lies at least setback from every
  * cell that is not p's (outside the building's window included). */
@@ -308,17 +362,17 @@ static int clear_of_edges(const int *plane_at, int cols, int rows, int c, int r,
     return 1;
 }
 
-/* Plane p's sums over its cells (label p, p + 1 in plane_at): the inner ones (clear of the edges) give
- * its irradiation; the usable ones (inner, bright enough, not too steep)
- * its area, kWp and yield. */
-static void plane_yield(const sweep_job *job, const roofs_settings *set, const cell_yield *y,
-                        const ss_footprint *fp, const int *label, const int *plane_at, int p,
-                        plane_row *row)
+/* Plane p's sums over its cells (label p, p + 1 in plane_at): the inner
+ * ones (clear of the edges) give its irradiation; the usable ones (inner,
+ * bright enough, not too steep) its usable area, and are marked 1 in
+ * usable (the building's window, zeroed by the caller). */
+static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
+                              const cell_yield *y, const ss_footprint *fp, const int *label,
+                              const int *plane_at, int p, plane_row *row, unsigned char *usable)
 {
     double cx = job->dem.grid.cell_x_m, cy = job->dem.grid.cell_y_m;
     double cell_m2 = cx * cy / cos(row->tilt_deg * M_PI / 180.0);
-    size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
-    double inner_kwh = 0, usable_poa = 0, usable_month[12] = {0}, ac = 0;
+    double inner_kwh = 0;
     size_t n_inner = 0, n_usable = 0, n_all = 0;
     double all_kwh = 0;
     for (size_t i = 0; i < fp->n_cells; ++i) {
@@ -337,10 +391,7 @@ static void plane_yield(const sweep_job *job, const roofs_settings *set, const c
             !isfinite(y->pv_ac[cell]) || y->pv_ac[cell] < 0)
             continue;
         n_usable++;
-        usable_poa += g;
-        for (int m = 0; m < 12; ++m)
-            usable_month[m] += y->monthly[(size_t)m * cells + cell];
-        ac += y->pv_ac[cell];
+        usable[r * fp->cols + c] = 1;
     }
     row->area_m2 = (double)row->fit.n_cells * cell_m2;
     row->inner_area_m2 = (double)n_inner * cell_m2;
@@ -350,20 +401,84 @@ static void plane_yield(const sweep_job *job, const roofs_settings *set, const c
     row->kwh_m2_year = n_inner ? inner_kwh / (double)n_inner
                        : n_all ? all_kwh / (double)n_all
                                : NAN;
-    row->kwp = row->usable_area_m2 * set->kwp_per_m2;
-    row->kwh_ac_year = ac * cell_m2 * set->kwp_per_m2;
+}
+
+/* The layout of orientation `landscape` on a plane's usable cells. */
+static int lay_panels(const roofs_run_view *v, const plane_row *row, int landscape,
+                      const unsigned char *usable, panel_layout *l, panel_geometry *g)
+{
+    const ss_dem_frame *fr = &v->job->frame;
+    double equator = (fr->centre_lat_deg >= 0 ? 180.0 : 0.0) - fr->grid_north_deg;
+    *g = panel_geometry_on(&v->set->panel, landscape, row->tilt_deg, row->fit.aspect_grid_deg,
+                           equator);
+    return panels_lay(g, usable, v->fp->cols, v->fp->rows, v->job->dem.grid.cell_x_m,
+                      v->job->dem.grid.cell_y_m, l);
+}
+
+/* Plane row's modules on its usable cells (the orientation asked, or the
+ * one that fits more, portrait on a tie); none below the minimum panel
+ * area. kwp is their nameplate; each module yields its kWp x the mean AC
+ * kWh/kWp of the cells it overlaps; the months share the year as the
+ * modules' cells share their irradiation. Returns 0, or -1 out of memory. */
+static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned char *usable,
+                        panel_layout *l)
+{
+    const panel_options *o = &v->set->panel;
+    panel_geometry g;
+    int landscape = o->orientation == PANELS_LANDSCAPE;
+    if (lay_panels(v, row, landscape, usable, l, &g) < 0)
+        return -1;
+    if (o->orientation == PANELS_BEST) {
+        size_t portrait = l->n;
+        if (lay_panels(v, row, 1, usable, l, &g) < 0)
+            return -1;
+        if (l->n <= portrait && lay_panels(v, row, 0, usable, l, &g) < 0)
+            return -1;
+    }
+    if ((double)l->n * o->length_m * o->width_m < o->min_panel_area_m2)
+        l->n = 0;
+    const ss_footprint *fp = v->fp;
+    int width = v->job->dem.grid.width;
+    size_t cells = (size_t)width * (size_t)v->job->dem.grid.height;
+    double kw = o->power_w / 1000.0, poa = 0, month[12] = {0};
+    row->n_panels = (int)l->n;
+    row->racked = g.racked, row->landscape = g.landscape;
+    row->panel_tilt_deg = g.tilt_deg;
+    row->panel_azimuth_deg = fmod(fmod(g.facing_grid_deg + v->job->frame.grid_north_deg, 360.0) +
+                                      360.0,
+                                  360.0);
+    row->kwp = (double)l->n * kw;
+    row->kwh_ac_year = 0;
+    for (size_t k = 0; k < l->n; ++k) {
+        panel_place *p = &l->items[k];
+        double ac = 0, g_sum = 0;
+        for (int i = 0; i < p->n_cells; ++i) {
+            int w = l->cells[p->first + (size_t)i];
+            size_t cell = (size_t)(fp->row0 + w / fp->cols) * (size_t)width +
+                          (size_t)(fp->col0 + w % fp->cols);
+            ac += v->yield->pv_ac[cell];
+            g_sum += v->yield->global[cell];
+            for (int m = 0; m < 12; ++m)
+                month[m] += v->yield->monthly[(size_t)m * cells + cell] / p->n_cells;
+        }
+        p->kwh_ac_year = kw * ac / p->n_cells;
+        row->kwh_ac_year += p->kwh_ac_year;
+        poa += g_sum / p->n_cells;
+    }
     row->kwh_per_kwp = row->kwp > 0 ? row->kwh_ac_year / row->kwp : NAN;
-    /* The months share the year's AC yield as they share the usable
-     * cells' irradiation (doc/roofs.md). */
     for (int m = 0; m < 12; ++m)
-        row->kwh_ac_month[m] = usable_poa > 0 ? row->kwh_ac_year * usable_month[m] / usable_poa : 0;
+        row->kwh_ac_month[m] = poa > 0 ? row->kwh_ac_year * month[m] / poa : 0;
+    return 0;
 }
 
 /* ---- outputs --------------------------------------------------------------- */
 
-#define PLANE_FIELDS 27
-#define BUILDING_FIELDS 29
-static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS];
+#define PLANE_FIELDS 32
+#define BUILDING_FIELDS 30
+#define PANEL_FIELDS 7
+#define SHADE_FIELDS 7
+static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS],
+    panel_fields[PANEL_FIELDS], shade_fields[SHADE_FIELDS];
 static char month_names[2][12][24];
 
 static int common_fields(ss_field *f, int n, int slot)
@@ -371,14 +486,16 @@ static int common_fields(ss_field *f, int n, int slot)
     f[n++] = (ss_field){"usable_area_m2", SS_FIELD_REAL, "m2",
                         "true (3D) area of the usable cells: clear of edges and obstacles by the "
                         "setback, at least the minimum irradiation, tilt at most the maximum"};
-    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "usable area x kWp per m2"};
+    f[n++] = (ss_field){"n_panels", SS_FIELD_INT, "", "modules laid on the usable cells"};
+    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "n_panels x the module's power"};
     f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
-                        "AC energy of modules on the usable area (PVWatts, as insolation --pv)"};
+                        "AC energy of the modules: each its kWp x the mean AC kWh/kWp of the "
+                        "cells it covers (PVWatts, as insolation --pv)"};
     f[n++] = (ss_field){"kwh_per_kwp", SS_FIELD_REAL, "kWh/kWp/year", "kwh_ac_year / kwp"};
     for (int m = 0; m < 12; ++m) {
         snprintf(month_names[slot][m], sizeof month_names[slot][m], "kwh_ac_%s", month_abbr[m]);
         f[n++] = (ss_field){month_names[slot][m], SS_FIELD_REAL, "kWh/month",
-                            "the month's share of kwh_ac_year (as its share of the usable "
+                            "the month's share of kwh_ac_year (as its share of the modules' "
                             "cells' irradiation)"};
     }
     f[n++] = (ss_field){"kwh_m2_year", SS_FIELD_REAL, "kWh/m2/year",
@@ -409,6 +526,42 @@ static void define_fields(void)
     f[n++] = (ss_field){"fit_rms_m", SS_FIELD_REAL, "m", "rms distance of its cells from the "
                                                           "plane"};
     n = common_fields(f, n, 0);
+    f[n++] = (ss_field){"panel_tilt_deg", SS_FIELD_REAL, "deg",
+                        "the modules' tilt: the plane's, or the racks' on a flat roof"};
+    f[n++] = (ss_field){"panel_azimuth_deg", SS_FIELD_REAL, "deg",
+                        "the way the modules face, clockwise from true north: the plane's, or "
+                        "the equator on a flat roof"};
+    f[n++] = (ss_field){"racked", SS_FIELD_INT, "", "1: a flat roof, modules on racks"};
+    f[n++] = (ss_field){"landscape", SS_FIELD_INT, "",
+                        "1: modules' long side along the rows, 0: up the slope (portrait)"};
+    n = 0;
+    f = panel_fields;
+    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
+                                                          "feature id"};
+    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "its roof plane"};
+    f[n++] = (ss_field){"panel_id", SS_FIELD_INT, "", "1.. within the plane"};
+    f[n++] = (ss_field){"tilt_deg", SS_FIELD_REAL, "deg", "the module's tilt"};
+    f[n++] = (ss_field){"azimuth_deg", SS_FIELD_REAL, "deg",
+                        "the way the module faces, clockwise from true north"};
+    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "the module's power"};
+    f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
+                        "its kWp x the mean AC kWh/kWp of the cells it covers"};
+    n = 0;
+    f = shade_fields;
+    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
+                                                          "feature id"};
+    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "its roof plane"};
+    f[n++] = (ss_field){"month", SS_FIELD_INT, "", "1..12, of the weather file's local time"};
+    f[n++] = (ss_field){"hour", SS_FIELD_INT, "",
+                        "0..23, the hour of the weather file's local (standard) time the "
+                        "records' suns fall in"};
+    f[n++] = (ss_field){"sun_fraction", SS_FIELD_REAL, "",
+                        "share of the plane's cells in direct sun (sunlit, facing the sun), "
+                        "averaged over the month's records of that hour; 0 at night"};
+    f[n++] = (ss_field){"n_records", SS_FIELD_INT, "", "weather records averaged"};
+    f[n++] = (ss_field){"usable_cells", SS_FIELD_INT, "",
+                        "1: the plane's usable cells are counted, 0: all its cells (none "
+                        "usable)"};
     n = 0;
     f = building_fields;
     f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
@@ -436,6 +589,7 @@ static void plane_values(const plane_row *p, const char *building_id, ss_value *
     v[n++].num = p->area_m2;
     v[n++].num = p->fit.rms_m;
     v[n++].num = p->usable_area_m2;
+    v[n++].num = p->n_panels;
     v[n++].num = p->kwp;
     v[n++].num = p->kwh_ac_year;
     v[n++].num = p->kwh_per_kwp;
@@ -447,6 +601,10 @@ static void plane_values(const plane_row *p, const char *building_id, ss_value *
     int cls = suitability_class(p->kwh_m2_year);
     v[n++].text = class_names[cls];
     v[n++].num = cls ? cls : NAN;
+    v[n++].num = p->panel_tilt_deg;
+    v[n++].num = p->panel_azimuth_deg;
+    v[n++].num = p->racked;
+    v[n++].num = p->landscape;
 }
 
 static void building_values(const ss_footprint *fp, const building_sums *b, ss_value *v)
@@ -461,6 +619,7 @@ static void building_values(const ss_footprint *fp, const building_sums *b, ss_v
     v[n++].num = b->obstacle_area_m2;
     v[n++].num = b->height_m;
     v[n++].num = b->usable_area_m2;
+    v[n++].num = b->n_panels;
     v[n++].num = b->kwp;
     v[n++].num = b->kwh_ac_year;
     v[n++].num = b->kwp > 0 ? b->kwh_ac_year / b->kwp : NAN;
@@ -540,16 +699,23 @@ typedef struct {
     plane_row *planes;
     size_t n_planes;
     building_sums *sums;
+    panel_row *panels; /* with --panels */
+    size_t n_panels, cap_panels;
+    roof_shade shade; /* planes in the order of planes */
     float *dtm;
-    double seconds_planes, seconds_insolation, seconds_unshaded, seconds_write;
+    double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_shade;
+    double seconds_write;
 } roofs_run;
 
 /* The files' overlaps were refused when the options were parsed (every
  * file option is declared an input or an output, run_parse); what is left
- * is the CSV's own check as an existing output. */
+ * is the CSV's and the masks' own check as existing outputs. */
 static ss_status check_files(roofs_run *r)
 {
-    return r->set.csv ? ss_output_check(r->job.run.ctx, r->set.csv) : SS_OK;
+    ss_status st = r->set.csv ? ss_output_check(r->job.run.ctx, r->set.csv) : SS_OK;
+    if (st == SS_OK && r->set.shade_masks)
+        st = ss_output_check(r->job.run.ctx, r->set.shade_masks);
+    return st;
 }
 
 /* The --dtm's heights (absolute, NAN: none), on the DSM's grid. */
@@ -606,7 +772,56 @@ static double building_height(const roofs_run *r, const ss_footprint *fp, const 
 }
 
 /* One building: its planes, their yield and polygons, and its sums. */
-static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at)
+/* Keeps plane row's modules (layout l) for the layer panels. */
+static ss_status keep_panels(roofs_run *r, size_t row, const ss_footprint *fp,
+                             const panel_layout *l)
+{
+    if (r->n_panels + l->n > r->cap_panels) {
+        size_t cap = 2 * (r->n_panels + l->n) + 64;
+        panel_row *q = realloc(r->panels, cap * sizeof *q);
+        if (!q)
+            return command_out_of_memory(&r->job.run);
+        r->panels = q, r->cap_panels = cap;
+    }
+    double cx = r->job.dem.grid.cell_x_m, cy = r->job.dem.grid.cell_y_m;
+    for (size_t k = 0; k < l->n; ++k) {
+        double col_row[4][2];
+        for (int i = 0; i < 4; ++i) {
+            col_row[i][0] = fp->col0 + l->items[k].corner[i][0] / cx;
+            col_row[i][1] = fp->row0 - l->items[k].corner[i][1] / cy;
+        }
+        void *geometry = ss_polygon_of_grid_points(&r->job.dem, col_row, 4);
+        if (!geometry)
+            return command_out_of_memory(&r->job.run);
+        r->panels[r->n_panels++] = (panel_row){row, (int)k + 1, l->items[k].kwh_ac_year,
+                                               geometry};
+    }
+    return SS_OK;
+}
+
+/* Plane p's cells for the shade table (its usable ones, or all its cells
+ * where none is usable), as grid cells into cells (fp->n_cells at most). */
+static ss_status add_shade_plane(roofs_run *r, const ss_footprint *fp, const int *label, int p,
+                                 const unsigned char *usable, plane_row *row, int *cells)
+{
+    int width = r->job.dem.grid.width, n = 0, n_all = 0;
+    for (size_t i = 0; i < fp->n_cells; ++i) {
+        int c = fp->cells[i] % width - fp->col0, rr = fp->cells[i] / width - fp->row0;
+        if (label[i] == p && usable[rr * fp->cols + c])
+            cells[n++] = fp->cells[i];
+    }
+    row->shade_on_usable = n > 0;
+    for (size_t i = 0; n == 0 && i < fp->n_cells; ++i)
+        if (label[i] == p)
+            cells[n_all++] = fp->cells[i];
+    return roof_shade_add_plane(&r->shade, row->tilt_deg, row->fit.aspect_grid_deg, cells,
+                                n ? n : n_all) == 0
+               ? SS_OK
+               : command_out_of_memory(&r->job.run);
+}
+
+static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
+                             unsigned char *usable, panel_layout *layout, int *cells)
 {
     const ss_footprint *fp = &r->fps.items[b];
     sweep_job *job = &r->job;
@@ -650,7 +865,18 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at)
         geoms[p] = NULL;
         roof_plane_centre(fp->cells, label, fp->n_cells, g->width, p, &row->centre_col,
                           &row->centre_row);
-        plane_yield(job, &r->set, &r->yield, fp, label, plane_at, p, row);
+        memset(usable, 0, (size_t)fp->cols * (size_t)fp->rows);
+        plane_irradiation(job, &r->set, &r->yield, fp, label, plane_at, p, row, usable);
+        roofs_run_view view = {job, &r->set, fp, &r->yield};
+        double t1 = run_now();
+        if (plane_panels(&view, row, usable, layout) < 0)
+            st = command_out_of_memory(&job->run);
+        if (st == SS_OK && r->set.panels_layer)
+            st = keep_panels(r, r->n_planes - 1, fp, layout);
+        if (st == SS_OK)
+            st = add_shade_plane(r, fp, label, p, usable, row, cells);
+        r->seconds_panels += run_now() - t1;
+        s->n_panels += row->n_panels;
         s->roof_area_m2 += row->area_m2;
         s->usable_area_m2 += row->usable_area_m2;
         s->kwp += row->kwp;
@@ -715,19 +941,38 @@ static ss_status find_all(roofs_run *r)
         total += fp->n_cells;
     }
     int *label = malloc(sizeof(int) * most_cells), *plane_at = malloc(sizeof(int) * most_window);
+    unsigned char *usable = malloc(most_window);
+    int *cells = malloc(sizeof(int) * most_cells);
+    panel_layout layout = {0};
     /* at most one plane per cell */
     r->planes = calloc(total + 1, sizeof *r->planes);
     r->sums = calloc(r->fps.n + 1, sizeof *r->sums);
-    ss_status st = label && plane_at && r->planes && r->sums ? SS_OK
-                                                             : command_out_of_memory(&r->job.run);
+    ss_status st = label && plane_at && usable && cells && r->planes && r->sums
+                       ? SS_OK
+                       : command_out_of_memory(&r->job.run);
     for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b)
-        st = do_building(r, b, label, plane_at);
+        st = do_building(r, b, label, plane_at, usable, &layout, cells);
     double t0 = run_now();
     if (st == SS_OK)
         st = unshaded_planes(r);
     r->seconds_unshaded = run_now() - t0;
     free(label);
     free(plane_at);
+    free(usable);
+    free(cells);
+    panel_layout_free(&layout);
+    t0 = run_now();
+    size_t grid_cells = (size_t)r->job.dem.grid.width * (size_t)r->job.dem.grid.height;
+    if (st == SS_OK && r->set.shade_masks &&
+        !(r->shade.masks = calloc(SHADE_SLOTS * grid_cells, sizeof *r->shade.masks)))
+        st = ss_ctx_error(r->job.run.ctx, SS_ERR_MEMORY,
+                          "out of memory for --shade-masks (%zu MB: 1.2 kB a cell)",
+                          SHADE_SLOTS * grid_cells * sizeof *r->shade.masks >> 20);
+    ss_source src = job_source(&r->job, NULL);
+    if (st == SS_OK && (r->set.shade_table || r->set.shade_masks))
+        st = roof_shade_sweep(r->job.run.ctx, &src, &r->job.opt, r->job.frame.grid_north_deg,
+                              r->sky.steps, r->sky.n, r->weather.utc_offset_h, &r->shade);
+    r->seconds_shade = run_now() - t0;
     return st;
 }
 
@@ -746,14 +991,60 @@ static ss_status plane_horizon_files(roofs_run *r)
     return st;
 }
 
+/* The table plane_shade: a row per plane, month and hour with records. */
+static ss_status write_shade_table(ss_vector_writer *w, const roofs_run *r)
+{
+    int layer;
+    ss_status st = ss_vector_table(w, "plane_shade",
+                                   "skysweep roofs: each roof plane's share in direct sun by "
+                                   "month and hour (doc/roofs.md)",
+                                   shade_fields, SHADE_FIELDS, &layer);
+    for (size_t i = 0; st == SS_OK && i < r->n_planes; ++i)
+        for (int m = 0; st == SS_OK && m < 12; ++m)
+            for (int h = 0; st == SS_OK && h < 24; ++h) {
+                int n = r->shade.records[m * 24 + h];
+                if (!n)
+                    continue;
+                const plane_row *p = &r->planes[i];
+                ss_value v[SHADE_FIELDS] = {{.text = r->fps.items[p->building].id},
+                                            {.num = p->number},
+                                            {.num = m + 1},
+                                            {.num = h},
+                                            {.num = roof_shade_fraction(&r->shade, i, m, h)},
+                                            {.num = n},
+                                            {.num = p->shade_on_usable}};
+                st = ss_vector_add(w, layer, NULL, v);
+            }
+    return st;
+}
+
+/* --shade-masks into a temporary (renamed with the GeoPackage). */
+static ss_status write_masks(roofs_run *r, char **tmp)
+{
+    static char names[SHADE_SLOTS][40];
+    const char *descriptions[SHADE_SLOTS];
+    for (int m = 0; m < 12; ++m)
+        for (int h = 0; h < 24; ++h) {
+            snprintf(names[m * 24 + h], sizeof names[0], "month %02d hour %02d", m + 1, h);
+            descriptions[m * 24 + h] = names[m * 24 + h];
+        }
+    return ss_masks_write(r->job.run.ctx, r->set.shade_masks, &r->job.dem, SHADE_SLOTS,
+                          r->shade.masks, descriptions, tmp);
+}
+
 static ss_status write_outputs(roofs_run *r)
 {
     double t0 = run_now();
     ss_ctx *ctx = r->job.run.ctx;
     ss_vector_writer *w;
-    ss_status st = ss_vector_open(ctx, r->job.output, &r->job.dem, &w);
-    if (st != SS_OK)
+    char *masks_tmp = NULL;
+    ss_status st = r->set.shade_masks ? write_masks(r, &masks_tmp) : SS_OK;
+    if (st == SS_OK)
+        st = ss_vector_open(ctx, r->job.output, &r->job.dem, &w);
+    if (st != SS_OK) {
+        ss_masks_abort(r->set.shade_masks, masks_tmp);
         return st;
+    }
     int lb, lp;
     st = ss_vector_layer(w, "buildings",
                          "skysweep roofs: per building, sums over its roof planes (doc/roofs.md)",
@@ -774,12 +1065,36 @@ static ss_status write_outputs(roofs_run *r)
         plane_values(&r->planes[i], r->fps.items[r->planes[i].building].id, v);
         st = ss_vector_add(w, lp, r->planes[i].geometry, v);
     }
+    int lpanels;
+    if (st == SS_OK && r->set.panels_layer)
+        st = ss_vector_layer(w, "panels",
+                             "skysweep roofs: each module of the panel layout, its footprint on "
+                             "the ground (doc/roofs.md)",
+                             panel_fields, PANEL_FIELDS, &lpanels);
+    for (size_t i = 0; st == SS_OK && r->set.panels_layer && i < r->n_panels; ++i) {
+        const panel_row *k = &r->panels[i];
+        const plane_row *p = &r->planes[k->plane];
+        ss_value pv[PANEL_FIELDS] = {{.text = r->fps.items[p->building].id},
+                                     {.num = p->number},
+                                     {.num = k->number},
+                                     {.num = p->panel_tilt_deg},
+                                     {.num = p->panel_azimuth_deg},
+                                     {.num = r->set.panel.power_w / 1000.0},
+                                     {.num = k->kwh_ac_year}};
+        st = ss_vector_add(w, lpanels, k->geometry, pv);
+    }
+    if (st == SS_OK && r->set.shade_table)
+        st = write_shade_table(w, r);
     if (st == SS_OK && r->set.csv)
         st = write_csv(ctx, r->set.csv, r->planes, r->n_planes, &r->fps);
     if (st == SS_OK)
         st = ss_vector_commit(w);
     else
         ss_vector_abort(w);
+    if (st == SS_OK && masks_tmp)
+        st = ss_masks_commit(ctx, r->set.shade_masks, masks_tmp);
+    else
+        ss_masks_abort(r->set.shade_masks, masks_tmp);
     r->seconds_write = run_now() - t0;
     return st;
 }
@@ -800,12 +1115,15 @@ static void print_summary(roofs_run *r)
             area += r->sums[b].roof_area_m2;
     printf("planes    %zu roof planes, %.0f m2 (true area), %.0f m2 usable\n", r->n_planes, area,
            usable);
-    printf("yield     %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", kwp, kwh,
-           kwp > 0 ? kwh / kwp : 0.0);
-    printf("time      insolation %.2f s, planes %.2f s, unshaded planes %.2f s, output %.2f s "
-           "-> %s\n",
-           r->seconds_insolation, r->seconds_planes, r->seconds_unshaded, r->seconds_write,
-           r->job.output);
+    int panels = 0;
+    for (size_t b = 0; b < f->n; ++b)
+        panels += r->sums[b].n_panels;
+    printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", panels, kwp,
+           kwh, kwp > 0 ? kwh / kwp : 0.0);
+    printf("time      insolation %.2f s, planes %.2f s, panels %.2f s, unshaded planes %.2f s, "
+           "shade table %.2f s (%zu sweeps), output %.2f s -> %s\n",
+           r->seconds_insolation, r->seconds_planes, r->seconds_panels, r->seconds_unshaded,
+           r->seconds_shade, r->shade.sweeps, r->seconds_write, r->job.output);
 }
 
 static void close_run(roofs_run *r)
@@ -813,6 +1131,10 @@ static void close_run(roofs_run *r)
     for (size_t i = 0; r->planes && i < r->n_planes; ++i)
         ss_geometry_free(r->planes[i].geometry);
     free(r->planes);
+    for (size_t i = 0; i < r->n_panels; ++i)
+        ss_geometry_free(r->panels[i].geometry);
+    free(r->panels);
+    roof_shade_free(&r->shade);
     free(r->sums);
     free(r->yield.global);
     free(r->yield.monthly);
@@ -822,6 +1144,46 @@ static void close_run(roofs_run *r)
     ss_weather_free(&r->weather);
     ss_footprints_free(&r->fps);
     job_close(&r->job);
+}
+
+/* The sweep options of the shade table's sweeps: those the planner gives
+ * `skysweep shadow` on this DSM (the line model: box lines where walls
+ * stand), so that a cell's verdict is the shadow product's. Its plan is
+ * not printed (the insolation run's was). Returns -1 to go on, else the
+ * exit code. */
+static int plan_shade_sweeps(roofs_run *r)
+{
+    int quiet = r->job.run.quiet;
+    r->job.run.quiet = 1;
+    int rc = job_plan(&r->job, &r->set.common, ss_product_named("shadow"), NULL, 0, NULL);
+    r->job.run.quiet = quiet;
+    return rc;
+}
+
+/* The panel options from their words: --module-size L x W, both positive
+ * (the longer is the length). Returns -1, or exit 2 with one line. */
+static int settle_panel_options(roofs_settings *set)
+{
+    double a = 0, b = 0;
+    char tail;
+    if (sscanf(set->module_size, "%lf%*[xX]%lf%c", &a, &b, &tail) != 2 || !isfinite(a) ||
+        !isfinite(b) || a <= 0 || b <= 0 || a > 10 || b > 10)
+        return run_usage_error("roofs", "--module-size must be LENGTHxWIDTH in metres, both "
+                                        "above 0 and at most 10 (e.g. 1.7x1.0)");
+    set->panel = (panel_options){fmax(a, b), fmin(a, b), set->module_power_w,
+                                 (panel_orientation)set->orientation, set->module_spacing_m,
+                                 set->row_spacing_m, set->flat_tilt_deg, set->rack_tilt_deg,
+                                 set->rack_sun_elevation_deg, set->min_panel_area_m2};
+    return -1;
+}
+
+/* The racks' design sun where none was given: the noon sun at the winter
+ * solstice at the DSM's centre (the rule of thumb of row spacing: no row
+ * shades the next on the year's shortest day at noon), at least 5 deg. */
+static void settle_rack_sun(roofs_settings *set, double lat_deg)
+{
+    if (set->panel.rack_sun_elevation_deg <= 0)
+        set->panel.rack_sun_elevation_deg = fmax(5.0, 90.0 - fabs(lat_deg) - 23.44);
 }
 
 /* Options that make no sense for roofs, refused in one line. */
@@ -865,13 +1227,17 @@ int cmd_roofs(int argc, char **argv)
         "skysweep roofs --buildings FOOTPRINTS --weather FILE [--dtm DTM] [--csv FILE] "
         "[options] DSM... OUT.gpkg",
         "A solar cadastre: roof planes fitted in the DSM inside each footprint, their tilt, "
-        "azimuth,\ntrue area and usable area, and per plane and per building kWp, AC kWh per "
-        "year and month\n(PVWatts), kWh/kWp, shading loss and a suitability class, from the "
-        "insolation run with\n--weather and --pv on the DSM (its options apply). A GeoPackage "
-        "with layers buildings and\nroof_planes (doc/roofs.md).",
+        "azimuth,\ntrue area and usable area, a panel layout on the usable area, and per plane "
+        "and per\nbuilding the modules' kWp, AC kWh per year and month (PVWatts), kWh/kWp, "
+        "shading loss and a\nsuitability class, from the insolation run with --weather and --pv "
+        "on the DSM (its options\napply); on request each plane's share in direct sun by month and "
+        "hour. A GeoPackage with\nlayers buildings and roof_planes, and panels (--panels) and "
+        "plane_shade (--shade-table)\non request (doc/roofs.md).",
         &set->common.device);
     if (rc < 0)
         rc = refuse_options(set, tables);
+    if (rc < 0)
+        rc = settle_panel_options(set);
     if (rc < 0)
         rc = job_open(&r->job, "roofs", &set->common, pos, n_pos);
     if (rc != 0 || !r->job.run.ctx) {
@@ -880,6 +1246,7 @@ int cmd_roofs(int argc, char **argv)
     }
     define_fields();
     sweep_job *job = &r->job;
+    settle_rack_sun(set, job->frame.centre_lat_deg);
     set->ins.pv = 1;
     ss_status st = check_files(r);
     double zone_h = NAN;
@@ -904,7 +1271,9 @@ int cmd_roofs(int argc, char **argv)
     double t0 = run_now();
     rc = run_insolation(job, tables, argc, argv, &r->yield);
     r->seconds_insolation = run_now() - t0;
-    if (rc == 0 && !job->run.plan_only) {
+    if (rc == 0 && !job->run.plan_only)
+        rc = set->shade_table || set->shade_masks ? plan_shade_sweeps(r) : -1;
+    if (rc < 0) {
         st = find_all(r);
         if (st == SS_OK && set->horizon_dir)
             st = plane_horizon_files(r);
