@@ -338,6 +338,39 @@ rc=$?
 [ $rc = 2 ] && [ ! -e out5.gpkg ] && [ "$(wc -l <err.txt)" = 1 ] && grep -q "existing folder" err.txt
 tap_ok $? "--horizon-files that is not a folder: exit $rc, $(head -c 200 err.txt)"
 
+# Trees (--canopy, passed on to insolation): a crown 15 m tall south of the
+# south shed C (e 105, n 2.5, radius 2.5 m) takes from its irradiation in
+# January (leaf off: transmissivity 0.5), more with dense winter crowns
+# (0.03), and not from its open-plane reference; a canopy of zeros leaves
+# every row as without --canopy.
+canopy_asc() { # HEIGHT: the crown's height (0: a canopy of zeros)
+    awk -v h="$1" 'BEGIN {
+      print "ncols 240"; print "nrows 140"; print "xllcorner 499950"; print "yllcorner 4983000"
+      print "cellsize 0.5"
+      for (r = 0; r < 140; r++) { line = ""
+        for (c = 0; c < 240; c++) { e = (c + 0.5) * 0.5; n = 70 - (r + 0.5) * 0.5
+          line = line (((e - 105) ^ 2 + (n - 2.5) ^ 2 <= 6.25) ? h : 0) " " }
+        print line } }'
+}
+canopy_asc 15 >tree.asc
+canopy_asc 0 >notree.asc
+gdal_translate -q -ot Float32 -a_srs EPSG:32632 tree.asc tree.tif &&
+    gdal_translate -q -ot Float32 -a_srs EPSG:32632 notree.asc notree.tif
+roofs footprints.geojson zero.gpkg zero.csv --canopy notree.tif >/dev/null 2>&1 &&
+    roofs footprints.geojson plain.gpkg plain.csv >/dev/null 2>&1 && cmp -s plain.csv zero.csv
+tap_ok $? "roofs --canopy of zeros: every plane's row as without --canopy"
+roofs footprints.geojson tree.gpkg tree.csv --canopy tree.tif >/dev/null 2>&1 &&
+    roofs footprints.geojson dense.gpkg dense.csv --canopy tree.tif --transmissivity-leaf-off 0.03 \
+        >/dev/null 2>&1
+c_plain=$(field plain.csv C kwh_m2_year) c_tree=$(field tree.csv C kwh_m2_year)
+c_dense=$(field dense.csv C kwh_m2_year)
+u_plain=$(field plain.csv C unshaded_kwh_m2_year) u_tree=$(field tree.csv C unshaded_kwh_m2_year)
+awk -v p="$c_plain" -v t="$c_tree" -v d="$c_dense" -v up="$u_plain" -v ut="$u_tree" \
+    'BEGIN { exit !(t < p && d < t && up == ut) }'
+tap_ok $? "roofs --canopy: a winter crown south of shed C lowers its kWh/m2 $c_plain -> $c_tree (leaf off, 0.5) -> $c_dense (0.03); its open-plane reference stays $u_plain"
+ogrinfo -so tree.gpkg roof_planes 2>/dev/null | grep -q "with trees from tree.tif, transmissivity 0.03 leaf on, 0.5 leaf off"
+tap_ok $? "roofs --canopy: the layers' description names the trees and their transmissivities"
+
 # An open plane against pvlib.
 if "$python" -c "import pvlib" 2>/dev/null; then
     "$python" "$top/tests/pvlib/roof_plane.py" "$SKYSWEEP" "$weather" "$window" planes.csv C \

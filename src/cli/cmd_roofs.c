@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "insolation_trees.h"
 #include "roof_horizons.h"
 #include "roof_panels.h"
 #include "roof_planes.h"
@@ -44,6 +45,7 @@ typedef struct {
     double module_power_w, module_spacing_m, row_spacing_m, min_panel_area_m2;
     double flat_tilt_deg, rack_tilt_deg, rack_sun_elevation_deg;
     panel_options panel; /* from the above (settle_panel_options) */
+    insolation_tree_settings trees; /* passed on to insolation */
 } roofs_settings;
 
 #define SET(field) offsetof(roofs_settings, field)
@@ -1046,14 +1048,23 @@ static ss_status write_outputs(roofs_run *r)
         return st;
     }
     int lb, lp;
-    st = ss_vector_layer(w, "buildings",
-                         "skysweep roofs: per building, sums over its roof planes (doc/roofs.md)",
-                         building_fields, BUILDING_FIELDS, &lb);
+    char trees_note[400] = "", described[600];
+    const insolation_tree_settings *t = &r->set.trees;
+    if (t->trees.canopy)
+        snprintf(trees_note, sizeof trees_note,
+                 "; with trees from %s, transmissivity %.4g leaf on, %.4g leaf off "
+                 "(doc/vegetation.md)",
+                 t->trees.canopy, t->trees.transmissivity, t->transmissivity_leaf_off);
+    snprintf(described, sizeof described,
+             "skysweep roofs: per building, sums over its roof planes (doc/roofs.md)%s",
+             trees_note);
+    st = ss_vector_layer(w, "buildings", described, building_fields, BUILDING_FIELDS, &lb);
+    snprintf(described, sizeof described,
+             "skysweep roofs: roof planes fitted in the DSM inside each footprint "
+             "(doc/roofs.md)%s",
+             trees_note);
     if (st == SS_OK)
-        st = ss_vector_layer(w, "roof_planes",
-                             "skysweep roofs: roof planes fitted in the DSM inside each footprint "
-                             "(doc/roofs.md)",
-                             plane_fields, PLANE_FIELDS, &lp);
+        st = ss_vector_layer(w, "roof_planes", described, plane_fields, PLANE_FIELDS, &lp);
     ss_value v[BUILDING_FIELDS];
     for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b) {
         memset(v, 0, sizeof v);
@@ -1218,8 +1229,11 @@ int cmd_roofs(int argc, char **argv)
     common_settings_init(&set->common);
     opt_spec insolation_options[32];
     opt_from_params("insolation", offsetof(roofs_settings, ins), insolation_options, 32);
-    const opt_spec *tables[] = {own_options, passed_on, insolation_options, sun_options(),
-                                common_options(), NULL};
+    /* Trees and their seasons, as insolation's (doc/vegetation.md). */
+    opt_spec tree_opts[TREE_OPTIONS_MAX], season_opts[INSOLATION_TREE_OPTIONS_MAX];
+    insolation_tree_options(offsetof(roofs_settings, trees), tree_opts, season_opts);
+    const opt_spec *tables[] = {own_options, passed_on, insolation_options, tree_opts,
+                                season_opts, sun_options(), common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse(
