@@ -338,6 +338,48 @@ rc=$?
 [ $rc = 2 ] && [ ! -e out5.gpkg ] && [ "$(wc -l <err.txt)" = 1 ] && grep -q "existing folder" err.txt
 tap_ok $? "--horizon-files that is not a folder: exit $rc, $(head -c 200 err.txt)"
 
+# OpenStreetMap footprints (GDAL's OSM driver): the file's areas tagged
+# building, not its first layer (points) nor its other areas (a landuse
+# over building A); the shed C found as from the GeoJSON.
+i=0
+gdaltransform -s_srs EPSG:32632 -t_srs EPSG:4326 -output_xy >osm.lonlat <<'EOF_XY'
+500045 4983005
+500065 4983005
+500065 4983015
+500045 4983015
+499955 4983005
+499975 4983005
+499975 4983015
+499955 4983015
+EOF_XY
+{
+    echo "<?xml version='1.0' encoding='UTF-8'?>"
+    echo "<osm version='0.6' generator='test_roofs.sh'>"
+    while read -r lon lat; do
+        i=$((i + 1))
+        echo "<node id='$i' version='1' lat='$lat' lon='$lon'/>"
+    done <osm.lonlat
+    echo "<node id='100' version='1' lat='45.0001' lon='9.0001'><tag k='amenity' v='bench'/></node>"
+    echo "<way id='1000' version='1'><nd ref='1'/><nd ref='2'/><nd ref='3'/><nd ref='4'/><nd ref='1'/><tag k='building' v='yes'/></way>"
+    echo "<way id='1001' version='1'><nd ref='5'/><nd ref='6'/><nd ref='7'/><nd ref='8'/><nd ref='5'/><tag k='landuse' v='grass'/></way>"
+    echo "</osm>"
+} >city.osm
+roofs city.osm osm.gpkg osm.csv >/dev/null 2>err.txt
+rc=$?
+n_osm=$(ogrinfo -so osm.gpkg buildings 2>/dev/null | sed -n 's/^Feature Count: //p')
+[ $rc = 0 ] && [ "$n_osm" = 1 ]
+tap_ok $? "footprints from an OpenStreetMap file: its one area tagged building ($n_osm building; $(head -c 160 err.txt))"
+says=$(awk -F, -v c="$c25" 'NR == 1 { for (k = 1; k <= NF; k++) col[$k] = k; next }
+    { n++; t = $col["tilt_deg"]; a = $col["azimuth_deg"]; ar = $col["area_m2"] }
+    END { printf "%d plane(s), tilt %.2f azimuth %.2f area %.1f", n, t, a, ar
+          d = ar / (200 / c) - 1
+          exit !(n == 1 && t > 24 && t < 26 && a > 179 && a < 181 && d < 0.02 && d > -0.02) }' osm.csv)
+tap_ok $? "the OpenStreetMap footprint of the south shed gives its plane: $says"
+roofs city.osm osm2.gpkg osm2.csv --buildings-layer nothere >/dev/null 2>err.txt
+rc=$?
+[ $rc = 2 ] && [ ! -e osm2.gpkg ] && [ "$(wc -l <err.txt)" = 1 ]
+tap_ok $? "--buildings-layer naming no layer: exit $rc, $(head -c 160 err.txt)"
+
 # Trees (--canopy, passed on to insolation): a crown 15 m tall south of the
 # south shed C (e 105, n 2.5, radius 2.5 m) takes from its irradiation in
 # January (leaf off: transmissivity 0.5), more with dense winter crowns

@@ -229,8 +229,48 @@ static ss_status place_footprint(ss_ctx *ctx, const ss_dem *dem, OGRGeometryH ex
     return SS_OK;
 }
 
-ss_status ss_footprints_read(ss_ctx *ctx, const char *path, const char *id_field,
-                             const ss_dem *dem, ss_footprints *out)
+static int is_polygon_layer(OGRLayerH layer)
+{
+    OGRwkbGeometryType t = wkbFlatten(OGR_L_GetGeomType(layer));
+    return t == wkbPolygon || t == wkbMultiPolygon || t == wkbCurvePolygon ||
+           t == wkbMultiSurface;
+}
+
+/* The layer of footprints: the one named; else an OpenStreetMap file's
+ * areas tagged building (GDAL's OSM driver puts closed ways and
+ * multipolygon relations in its layer "multipolygons", with the building
+ * tag as a field); else the first layer of polygons; else the first
+ * layer. */
+static ss_status footprint_layer(ss_ctx *ctx, GDALDatasetH ds, const char *path,
+                                 const char *name, OGRLayerH *layer)
+{
+    if (name) {
+        *layer = GDALDatasetGetLayerByName(ds, name);
+        return *layer ? SS_OK
+                      : ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                                     "--buildings-layer: '%s' has no layer '%s'", path, name);
+    }
+    if (strcmp(GDALGetDriverShortName(GDALGetDatasetDriver(ds)), "OSM") == 0) {
+        *layer = GDALDatasetGetLayerByName(ds, "multipolygons");
+        if (!*layer || OGR_L_SetAttributeFilter(*layer, "building IS NOT NULL") != OGRERR_NONE)
+            return ss_ctx_error(ctx, SS_ERR_INPUT,
+                                "'%s' is an OpenStreetMap file whose areas carry no building "
+                                "tag (GDAL's osmconf.ini must list 'building' for "
+                                "multipolygons)",
+                                path);
+        return SS_OK;
+    }
+    int n = GDALDatasetGetLayerCount(ds);
+    *layer = n > 0 ? GDALDatasetGetLayer(ds, 0) : NULL;
+    for (int i = n - 1; i >= 0; --i) /* the first of polygons wins */
+        if (is_polygon_layer(GDALDatasetGetLayer(ds, i)))
+            *layer = GDALDatasetGetLayer(ds, i);
+    return *layer ? SS_OK
+                  : ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' holds no layer of footprints", path);
+}
+
+ss_status ss_footprints_read(ss_ctx *ctx, const char *path, const char *layer_name,
+                             const char *id_field, const ss_dem *dem, ss_footprints *out)
 {
     memset(out, 0, sizeof *out);
     ss_gdal_errors_reset();
@@ -238,10 +278,11 @@ ss_status ss_footprints_read(ss_ctx *ctx, const char *path, const char *id_field
     if (!ds)
         return ss_ctx_error(ctx, SS_ERR_INPUT, "cannot open '%s' as a vector source: %s", path,
                             ss_gdal_message());
-    OGRLayerH layer = GDALDatasetGetLayerCount(ds) > 0 ? GDALDatasetGetLayer(ds, 0) : NULL;
-    if (!layer) {
+    OGRLayerH layer = NULL;
+    ss_status found = footprint_layer(ctx, ds, path, layer_name, &layer);
+    if (found != SS_OK) {
         GDALClose(ds);
-        return ss_ctx_error(ctx, SS_ERR_INPUT, "'%s' holds no layer of footprints", path);
+        return found;
     }
     OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
     int id_index = id_field_index(defn, id_field);

@@ -30,10 +30,12 @@ typedef struct {
     size_t n_notes;
 } ss_footprints;
 
-/* Reads every feature of the first layer of path (id_field NULL: a field
- * named building_id or id where the layer has one). */
-ss_status ss_footprints_read(ss_ctx *ctx, const char *path, const char *id_field,
-                             const ss_dem *dem, ss_footprints *out);
+/* Reads every feature of path's layer of footprints: layer_name, else an
+ * OpenStreetMap file's areas tagged building, else its first layer of
+ * polygons, else its first layer (id_field NULL: a field named building_id
+ * or id where the layer has one). */
+ss_status ss_footprints_read(ss_ctx *ctx, const char *path, const char *layer_name,
+                             const char *id_field, const ss_dem *dem, ss_footprints *out);
 void ss_footprints_free(ss_footprints *f);
 
 /* Reads bands [first, first + n) (1-based) of a raster of the DEM's size

@@ -98,7 +98,7 @@ static ss_status read_inputs(canopy_run *c)
         return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for %zu cells", n);
     st = ss_raster_onto_dem(ctx, c->set.dtm, "DTM", &c->dem, c->dtm, &c->dtm_warped);
     if (st == SS_OK)
-        st = ss_footprints_read(ctx, c->set.buildings, NULL, &c->dem, &c->fps);
+        st = ss_footprints_read(ctx, c->set.buildings, NULL, NULL, &c->dem, &c->fps);
     /* Footprints, none of them on the DSM, are a mistake (another place, an
      * undeclared CRS) that would make every building a tree; a layer of
      * none says that the DSM has no buildings. */

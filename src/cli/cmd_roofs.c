@@ -35,7 +35,7 @@ typedef struct {
     ss_insolation_params ins;
     const char *weather, *weather_zone;
     int weather_far_ok;
-    const char *buildings, *dtm, *csv, *id_field, *shade_masks;
+    const char *buildings, *buildings_layer, *dtm, *csv, *id_field, *shade_masks;
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
     double setback_m, min_irradiation, max_tilt_deg;
     const char *module_size;
@@ -52,8 +52,11 @@ typedef struct {
 /* roofs' own options; the others go on to the insolation run. */
 static const opt_spec own_options[] = {
     {"buildings", OPT_INPUT, SET(buildings), "FILE", NULL, 0, 0, NULL,
-     "building footprints: any vector source OGR reads (Shapefile, GeoPackage, GeoJSON, ...), "
-     "its first layer; reprojected to the DSM's CRS (required)"},
+     "building footprints: any vector source OGR reads (Shapefile, GeoPackage, GeoJSON, "
+     "OpenStreetMap .osm/.pbf, ...); reprojected to the DSM's CRS (required)"},
+    {"buildings-layer", OPT_STRING, SET(buildings_layer), "NAME", NULL, 0, 0, NULL,
+     "the layer of --buildings that holds the footprints (default: an OpenStreetMap file's "
+     "areas tagged building, else the first layer of polygons)"},
     {"id-field", OPT_STRING, SET(id_field), "NAME", NULL, 0, 0, NULL,
      "the footprints' field that names each building (default: building_id or id where the "
      "layer has one, else the feature id)"},
@@ -1275,7 +1278,8 @@ int cmd_roofs(int argc, char **argv)
     if (st == SS_OK && set->dtm)
         st = read_dtm(r);
     if (st == SS_OK)
-        st = ss_footprints_read(job->run.ctx, set->buildings, set->id_field, &job->dem, &r->fps);
+        st = ss_footprints_read(job->run.ctx, set->buildings, set->buildings_layer, set->id_field,
+                                    &job->dem, &r->fps);
     if (st != SS_OK) {
         rc = job_finish(job, st);
         close_run(r);
