@@ -137,8 +137,9 @@ int cmd_horizon(int argc, char **argv)
     const opt_spec *tables[] = {
         horizon_options,
         tree_options(offsetof(horizon_settings, trees), 0,
-                     "the canopy horizon (--canopy-horizon); trunks and transmissivity do not "
-                     "change it",
+                     "the canopy horizon (--canopy-horizon), or for sites the columns "
+                     "canopy_elevation_deg and crown_elevation_deg; trunks and transmissivity do "
+                     "not change them",
                      tree_opts),
         common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
