@@ -445,6 +445,20 @@ awk -F, '$1 == "site" && $2 == 0 { n0 = ($9 - 25.8664 < 1e-3 && 25.8664 - $9 < 1
 $1 == "site" && $2 == 180 { n180 = ($9 == -90 && $8 == $3) }
 END { exit !(n0 && n180) }' "$work/crown.csv"
 tap_ok $? "a crown 20 m north: crown_elevation_deg $(awk -F, '$1 == "site" && $2 == 0 { print $9 }' "$work/crown.csv") at azimuth 0 (atan(8 / 16.5) = 25.8664; the cylinder's atan(8 / 17) = 25.20), -90 at 180"
+# Off the axes: a march along the ray in 0.1 mm steps, nearest cells, finds
+# the first crown cell; the exact cell-by-cell ray agrees within its step.
+run horizon --point "$tsite" --point-crs dem --step 1 --north grid --canopy "$work/tcrown.tif" "$work/tflat.tif"
+awk -F, '$1 == "site" && ($2 == 3 || $2 == 7 || $2 == 352 || $2 == 45 || $2 == 90) {
+    a = $2 * atan2(1, 1) / 45; want = -90
+    for (t = 0.00005; t < 60; t += 0.0001) {
+        c = int(50 + t * sin(a) + 0.5); r = int(70 - t * cos(a) + 0.5)
+        if ((c - 50) ^ 2 + (r - 50) ^ 2 <= 9) { want = atan2(8, t) * 45 / atan2(1, 1); break }
+    }
+    d = $9 - want; if (d < 0) d = -d
+    if (d > 0.001) bad++; n++
+}
+END { exit !(n == 5 && !bad) }' "$work/stdout"
+tap_ok $? "off the axes (3, 7, 352, 45, 90 deg) the crown elevation equals a 0.1 mm march along the ray within 0.001 deg"
 run horizon --point "$tsite" --point-crs dem --step 90 --north grid --height 2 --canopy "$work/tcrown.tif" "$work/tflat.tif"
 awk -F, '$1 == "site" && $2 == 0 { ok = ($9 - 19.9831 < 1e-3 && 19.9831 - $9 < 1e-3) } END { exit !ok }' "$work/stdout"
 tap_ok $? "an eye 2 m up sees the crown top lower: atan(6 / 16.5) = 19.9831 deg"

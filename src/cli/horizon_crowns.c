@@ -70,10 +70,14 @@ static double crowns_ray(const ss_grid *g, const ss_canopy *canopy, const ss_poi
         if (max_top_m > eye_m && (max_top_m - eye_m) / t_in < best)
             break;
         size_t i = (size_t)r * (size_t)g->width + (size_t)c;
-        if (!(canopy->height_m[i] > 0.0f) || !isfinite(g->z[i]))
+        double t_out = fmin(next_c, next_r);
+        /* A cell the ray only grazes at a corner (a diagonal through cell
+         * corners, bent by the last digits of the cell sizes) holds under a
+         * micrometre of it: left out, as a march along the ray leaves it. */
+        if (!(canopy->height_m[i] > 0.0f) || !isfinite(g->z[i]) || t_out - t_in < 1e-6)
             continue;
         double dz = (double)g->z[i] + g->z_origin_m + canopy->height_m[i] - eye_m;
-        best = fmax(best, cell_slope(dz, k, t_in, fmin(next_c, next_r)));
+        best = fmax(best, cell_slope(dz, k, t_in, t_out));
     }
     return best;
 }
