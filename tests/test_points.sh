@@ -5,7 +5,8 @@
 # equals the horizon raster at its cell; an observer above the ground sees
 # every horizon lower; sites outside the DEM or on nodata and bad options
 # fail with one line on stderr and leave no output; skysweep sun
-# --horizon-from marks the sun behind the terrain consistently.
+# --horizon-from marks the sun behind the terrain consistently; with
+# --canopy a crown of known size gives its closed-form crown elevation.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
@@ -408,6 +409,80 @@ cp "$work/far.tif" "$work/out/far.tif"
 run horizon --point "$mid_ll" --far "$work/out/far.tif" "$work/flat.tif" "$work/out/far.tif"
 [ $rc -eq 2 ] && cmp -s "$work/far.tif" "$work/out/far.tif" && grep -q "also an input.*--far" "$work/stderr"
 tap_ok $? "the far DEM named as the output: exit $rc, the DEM untouched: $(head -c 200 "$work/stderr")"
+
+# ---- trees: --canopy ------------------------------------------------------------------
+# Flat ground (10 m) of 101 x 101 cells of 1 m, in a transverse Mercator with
+# scale 1 on its central meridian (UTM's 0.9996 would scale every distance),
+# and a crown of radius R = 3, height H = 8 (the cells whose centres lie
+# within R of cell (50, 50)) north of the site at cell (50, 70), d = 20 m
+# away; a one-cell tree of 6 m at cell (20, 80) stands over a second site.
+tm="+proj=tmerc +lat_0=0 +lon_0=-153 +k=1 +x_0=500000 +y_0=0 +datum=WGS84 +units=m"
+tree_raster() { # NAME AWK-EXPRESSION-OF-c-AND-r
+    awk -v name="$1" 'BEGIN { print "ncols 101\nnrows 101\nxllcorner 500000\nyllcorner 2100000\ncellsize 1" }
+    END { for (r = 0; r < 101; r++) { l = ""; for (c = 0; c < 101; c++) l = l ('"$2"') " "; print l } }' </dev/null >"$work/$1.asc"
+    gdal_translate -q -ot Float32 -a_srs "$tm" "$work/$1.asc" "$work/$1.tif"
+}
+tree_raster tflat 10
+tree_raster tzeros 0
+tree_raster tcrown '((c - 50) ^ 2 + (r - 50) ^ 2 <= 9) ? 8 : (c == 20 && r == 80) ? 6 : 0'
+tsite=500050.5,2100030.5
+run horizon --point "$tsite" --point-crs dem --step 5 --north grid "$work/tflat.tif"
+cp "$work/stdout" "$work/solid.csv"
+run horizon --point "$tsite" --point-crs dem --step 5 --north grid --canopy "$work/tzeros.tif" "$work/tflat.tif"
+cp "$work/stdout" "$work/zeros.csv"
+# Without the canopy's comment line and its two columns the output is today's.
+grep -v '^# canopy_elevation_deg' "$work/zeros.csv" | sed 's/,canopy_elevation_deg,crown_elevation_deg$//; /^site,/s/,[^,]*,[^,]*$//' |
+    cmp -s - "$work/solid.csv" &&
+    awk -F, '/^site,/ { n++; if (NF != 9 || $8 != $3 || $9 != -90) bad++ } END { exit !(n == 72 && !bad) }' "$work/zeros.csv"
+tap_ok $? "--canopy of zeros: the solid columns byte for byte, canopy_elevation_deg = elevation_deg, crown_elevation_deg -90"
+run horizon --point "$tsite" --point-crs dem --step 90 --north grid --canopy "$work/tcrown.tif" "$work/tflat.tif"
+cp "$work/stdout" "$work/crown.csv"
+# The ray north enters the crown's nearest cell (row 53) at d - R - 1/2 =
+# 16.5 m: atan(8 / 16.5) = 25.8664 deg. The true cylinder's edge is at
+# d - R = 17 m, atan(8 / 17) = 25.2011 deg; a raster crown's edge lies
+# within half a diagonal (0.71 m) of it, atan(8 / 16.29) = 26.15 deg at most.
+awk -F, '$1 == "site" && $2 == 0 { n0 = ($9 - 25.8664 < 1e-3 && 25.8664 - $9 < 1e-3 && $8 == $9 && $9 > 25.2011 && $9 < 26.15) }
+$1 == "site" && $2 == 180 { n180 = ($9 == -90 && $8 == $3) }
+END { exit !(n0 && n180) }' "$work/crown.csv"
+tap_ok $? "a crown 20 m north: crown_elevation_deg $(awk -F, '$1 == "site" && $2 == 0 { print $9 }' "$work/crown.csv") at azimuth 0 (atan(8 / 16.5) = 25.8664; the cylinder's atan(8 / 17) = 25.20), -90 at 180"
+# Off the axes: a march along the ray in 0.1 mm steps, nearest cells, finds
+# the first crown cell; the exact cell-by-cell ray agrees within its step.
+run horizon --point "$tsite" --point-crs dem --step 1 --north grid --canopy "$work/tcrown.tif" "$work/tflat.tif"
+awk -F, '$1 == "site" && ($2 == 3 || $2 == 7 || $2 == 352 || $2 == 45 || $2 == 90) {
+    a = $2 * atan2(1, 1) / 45; want = -90
+    for (t = 0.00005; t < 60; t += 0.0001) {
+        c = int(50 + t * sin(a) + 0.5); r = int(70 - t * cos(a) + 0.5)
+        if ((c - 50) ^ 2 + (r - 50) ^ 2 <= 9) { want = atan2(8, t) * 45 / atan2(1, 1); break }
+    }
+    d = $9 - want; if (d < 0) d = -d
+    if (d > 0.001) bad++; n++
+}
+END { exit !(n == 5 && !bad) }' "$work/stdout"
+tap_ok $? "off the axes (3, 7, 352, 45, 90 deg) the crown elevation equals a 0.1 mm march along the ray within 0.001 deg"
+run horizon --point "$tsite" --point-crs dem --step 90 --north grid --height 2 --canopy "$work/tcrown.tif" "$work/tflat.tif"
+awk -F, '$1 == "site" && $2 == 0 { ok = ($9 - 19.9831 < 1e-3 && 19.9831 - $9 < 1e-3) } END { exit !ok }' "$work/stdout"
+tap_ok $? "an eye 2 m up sees the crown top lower: atan(6 / 16.5) = 19.9831 deg"
+run horizon --point 500020.5,2100020.5 --point-crs dem --step 10 --canopy "$work/tcrown.tif" "$work/tflat.tif"
+awk -F, '$1 == "site" { n++; bad += ($9 != -90) } END { exit !(n == 36 && !bad) }' "$work/stdout"
+tap_ok $? "a site under its own one-cell crown does not see it: -90 at every azimuth"
+run horizon --point "$tsite" --point-crs dem --step 10 --north grid --canopy "$work/tcrown.tif" --format json "$work/tflat.tif"
+grep -q '"canopy_elevation_deg": \[25\.866' "$work/stdout" && grep -q '"crown_elevation_deg": \[25\.866' "$work/stdout" &&
+    { ! command -v python3 >/dev/null || python3 -c 'import json, sys; json.load(sys.stdin)' <"$work/stdout"; }
+tap_ok $? "JSON carries canopy_elevation_deg and crown_elevation_deg"
+run horizon --point "$tsite" --point-crs dem --step 10 --north grid --format pvgis "$work/tflat.tif"
+cp "$work/stdout" "$work/solid.pvgis"
+run horizon --point "$tsite" --point-crs dem --step 10 --north grid --format pvgis --canopy "$work/tcrown.tif" "$work/tflat.tif"
+cmp -s "$work/stdout" "$work/solid.pvgis"
+tap_ok $? "--format pvgis with --canopy holds the solid horizon by default, byte for byte"
+run horizon --point "$tsite" --point-crs dem --step 10 --north grid --format pvgis --canopy "$work/tcrown.tif" --horizon-of canopy "$work/tflat.tif"
+[ "$(head -c 6 "$work/stdout")" = "25.87," ] && ! cmp -s "$work/stdout" "$work/solid.pvgis"
+tap_ok $? "--horizon-of canopy --format pvgis shows the crown: $(head -c 30 "$work/stdout")"
+expect_failure 2 "--transmissivity with a site's --canopy" -- horizon --point "$tsite" --point-crs dem --canopy "$work/tcrown.tif" --transmissivity 0.2 "$work/tflat.tif" "$work/out/o.csv"
+expect_failure 2 "--trunk-ratio with a site's --canopy" -- horizon --point "$tsite" --point-crs dem --canopy "$work/tcrown.tif" --trunk-ratio 0.5 "$work/tflat.tif" "$work/out/o.csv"
+expect_failure 2 "--canopy-horizon for sites" -- horizon --point "$tsite" --point-crs dem --canopy "$work/tcrown.tif" --canopy-horizon "$work/out/c.tif" "$work/tflat.tif" "$work/out/o.csv"
+expect_failure 2 "--horizon-of canopy without --canopy" -- horizon --point "$tsite" --point-crs dem --format pvgis --horizon-of canopy "$work/tflat.tif" "$work/out/o.txt"
+expect_failure 2 "--horizon-of with csv" -- horizon --point "$tsite" --point-crs dem --canopy "$work/tcrown.tif" --horizon-of canopy "$work/tflat.tif" "$work/out/o.csv"
+expect_failure 2 "--horizon-of for rasters" -- horizon --horizon-of canopy "$work/tflat.tif" "$work/out/o.tif"
 
 # ---- skysweep sun --horizon-from ------------------------------------------------------
 run sun --at "$ll" --time 2026-12-21T15:00Z/P1D/PT15M --horizon-from "$dem"

@@ -52,6 +52,10 @@ static const opt_spec horizon_options[] = {
      "comma-separated (PVGIS user horizon); pvsyst, pvsol (.hor), helioscope (SunEye CSV), "
      "sam (azimuth by altitude beam shading table): horizon files in each tool's own "
      "convention (doc/pv-horizons.md)"},
+    {"horizon-of", OPT_CHOICE, PTS(horizon_of), NULL, "solid", 0, 0, HORIZON_OF_CHOICES,
+     "the profile a PV format's file holds: solid (DSM and --far terrain), or with --canopy "
+     "canopy, the higher of it and the crowns' tops (a PV tool takes one opaque horizon: "
+     "canopy is the conservative one for leaf-on)"},
     {"far", OPT_INPUT, PTS(far), "DEM", NULL, 0, 0, NULL,
      "terrain DEM (any CRS and grid) for the far horizon of the sites, merged with the "
      "DEM's horizon by the larger elevation per azimuth; eyes at the same absolute height"},
@@ -133,8 +137,9 @@ int cmd_horizon(int argc, char **argv)
     const opt_spec *tables[] = {
         horizon_options,
         tree_options(offsetof(horizon_settings, trees), 0,
-                     "the canopy horizon (--canopy-horizon); trunks and transmissivity do not "
-                     "change it",
+                     "the canopy horizon (--canopy-horizon), or for sites the columns "
+                     "canopy_elevation_deg and crown_elevation_deg; trunks and transmissivity do "
+                     "not change them",
                      tree_opts),
         common_options(), NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
@@ -149,7 +154,7 @@ int cmd_horizon(int argc, char **argv)
         rc = trees_options_alone("horizon", tables, &set, &set.trees);
     if (rc >= 0)
         return rc;
-    if (!set.trees.canopy != !set.canopy_horizon_path)
+    if (!set.trees.canopy != !set.canopy_horizon_path && !set.pts.point && !set.pts.points)
         return run_usage_error("horizon", "--canopy and --canopy-horizon go together: the "
                                           "canopy horizon is written to --canopy-horizon");
     static const char *const top_only[] = {"trunk", "trunk-ratio", "transmissivity"};
@@ -161,14 +166,18 @@ int cmd_horizon(int argc, char **argv)
             return run_usage_error("horizon", why);
         }
     if (set.pts.point || set.pts.points) {
-        if (set.distance_path || set.cast_height_path || set.trees.canopy)
-            return run_usage_error("horizon", "--distance, --cast-height and --canopy are for "
-                                              "raster output; site profiles carry the first "
-                                              "two");
+        if (set.distance_path || set.cast_height_path || set.canopy_horizon_path)
+            return run_usage_error("horizon", "--distance, --cast-height and --canopy-horizon "
+                                              "are for raster output; site profiles carry "
+                                              "them as columns");
+        set.pts.trees = set.trees.canopy ? &set.trees : NULL;
         return horizon_points_run(&set.common, &set.pts, pos, n_pos);
     }
     if (set.pts.far)
         return run_usage_error("horizon", "--far is for site profiles (--point, --points)");
+    if (!opt_at_default(opt_find(tables, "horizon-of"), &set))
+        return run_usage_error("horizon", "--horizon-of is for site profiles (--point, "
+                                          "--points)");
     if (n_pos < 2)
         return run_usage_error("horizon", "needs an input DEM and an output file");
     int want = (set.distance_path ? SS_HORIZON_DISTANCE : 0) |

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "horizon_crowns.h"
 #include "horizon_far.h"
 #include "horizon_formats.h"
 #include "horizon_points.h"
@@ -46,6 +47,15 @@ typedef struct {
     int true_north;
     double *cast_col, *cast_row, *cast_lon, *cast_lat; /* one profile's worth */
     ss_point_horizon_result *merged; /* with --far: one profile, near and far merged */
+    /* --canopy: the trees, the placed sites, the highest crown top, one
+     * profile's crown elevations and (--horizon-of canopy) its canopy
+     * profile for the PV file. */
+    const trees *trees;
+    ss_grid ground; /* the DSM the crowns stand on */
+    const ss_point_site *psites;
+    double max_top_m;
+    double *crown_deg;
+    ss_point_horizon_result *canopy;
 } writer;
 
 static char *trim(char *s)
@@ -273,6 +283,13 @@ static const char *const conventions =
     "from the site to the horizon-casting point; cast_lon, cast_lat WGS84 degrees; heights in "
     "the DEM's vertical datum";
 
+/* With --canopy: the two more columns. */
+static const char *const canopy_conventions =
+    "canopy_elevation_deg: the higher of elevation_deg and crown_elevation_deg; "
+    "crown_elevation_deg: the highest crown top ahead (ground + canopy height), each cell the "
+    "ray crosses taken where the ray enters it, the site's own cell left out; -90 where no crown "
+    "lies ahead";
+
 static const char *north_text(const writer *w)
 {
     return w->true_north ? "true north (the meridian convergence at each site taken out)"
@@ -288,8 +305,10 @@ static void write_head(writer *w)
         fprintf(w->out, "# skysweep %s horizon profiles of %s\n# ", ss_version(), w->sources);
         fprintf(w->out, conventions, north_text(w));
         fprintf(w->out, "\n# model: %s; step %.10g deg\n", model, 360.0 / w->opt->directions);
-        fprintf(w->out,
-                "id,azimuth_deg,elevation_deg,distance_m,cast_lon,cast_lat,cast_height_m\n");
+        if (w->trees)
+            fprintf(w->out, "# %s\n", canopy_conventions);
+        fprintf(w->out, "id,azimuth_deg,elevation_deg,distance_m,cast_lon,cast_lat,cast_height_m%s\n",
+                w->trees ? ",canopy_elevation_deg,crown_elevation_deg" : "");
     } else if (pts->format == POINT_FORMAT_JSON) {
         fprintf(w->out, "{\n  \"skysweep\": \"%s\",\n  \"dem\": ", ss_version());
         json_string(w->out, w->dem_name);
@@ -297,8 +316,14 @@ static void write_head(writer *w)
             fprintf(w->out, ",\n  \"far_dem\": ");
             json_string(w->out, horizon_far_name(w->far));
         }
+        if (w->trees) {
+            fprintf(w->out, ",\n  \"canopy\": ");
+            json_string(w->out, w->pts->trees->canopy);
+        }
         fprintf(w->out, ",\n  \"conventions\": \"");
         fprintf(w->out, conventions, north_text(w));
+        if (w->trees)
+            fprintf(w->out, "; %s", canopy_conventions);
         fprintf(w->out, "\",\n  \"model\": \"%s\",\n", model);
         fprintf(w->out,
                 "  \"line_model\": \"%s\", \"earth_radius_m\": %.0f, \"refraction_k\": %.3f, "
@@ -322,9 +347,13 @@ static void write_site_csv(writer *w, const site_rec *s, const ss_point_horizon_
         fprintf(w->out, "%s,%.10g,%.6f,%.1f,", s->id, p[i].azimuth_deg, p[i].elevation_deg,
                 p[i].distance_m);
         if (isfinite(w->cast_lon[i]))
-            fprintf(w->out, "%.8f,%.8f,%.2f\n", w->cast_lon[i], w->cast_lat[i], p[i].cast_height_m);
+            fprintf(w->out, "%.8f,%.8f,%.2f", w->cast_lon[i], w->cast_lat[i], p[i].cast_height_m);
         else
-            fprintf(w->out, ",,\n");
+            fprintf(w->out, ",,");
+        if (w->trees)
+            fprintf(w->out, ",%.6f,%.6f", fmax(p[i].elevation_deg, w->crown_deg[i]),
+                    w->crown_deg[i]);
+        fputc('\n', w->out);
     }
 }
 
@@ -372,7 +401,13 @@ static void write_site_json(writer *w, int index, const site_rec *s,
         json_array(w->out, names[k], col, n, decimals[k], 0);
     }
     json_array(w->out, "cast_lon", w->cast_lon, n, 8, 0);
-    json_array(w->out, "cast_lat", w->cast_lat, n, 8, 1);
+    json_array(w->out, "cast_lat", w->cast_lat, n, 8, !w->trees);
+    if (w->trees) {
+        for (int i = 0; i < n; ++i)
+            col[i] = fmax(p[i].elevation_deg, w->crown_deg[i]);
+        json_array(w->out, "canopy_elevation_deg", col, n, 6, 0);
+        json_array(w->out, "crown_elevation_deg", w->crown_deg, n, 6, 1);
+    }
     fprintf(w->out, "    }");
     free(col);
 }
@@ -430,6 +465,24 @@ static ss_status write_site_file(writer *w, const site_rec *s, const ss_point_ho
     return horizon_file_write(w->ctx, w->file_format, path, &site, p, w->opt->directions);
 }
 
+/* The site's crown elevations into w->crown_deg; returns the profile the
+ * site's PV file holds: the solid one, or with --horizon-of canopy the
+ * higher of it (far terrain merged) and the crowns per azimuth. */
+static const ss_point_horizon_result *crowns_of_site(writer *w, int index,
+                                                     const ss_point_horizon_result *p)
+{
+    const site_rec *s = &w->sites[index];
+    crowns_profile(&w->ground, &w->trees->canopy, &w->psites[index], s->ground_m + s->height_m,
+                   w->max_top_m, w->opt, w->crown_deg);
+    if (!w->canopy)
+        return p;
+    for (int i = 0; i < w->opt->directions; ++i) {
+        w->canopy[i] = p[i];
+        w->canopy[i].elevation_deg = fmax(p[i].elevation_deg, w->crown_deg[i]);
+    }
+    return w->canopy;
+}
+
 static int store_site(int index, const ss_point_horizon_result *p, void *user)
 {
     writer *w = user;
@@ -449,6 +502,8 @@ static int store_site(int index, const ss_point_horizon_result *p, void *user)
     }
     if (w->status != SS_OK)
         return 0;
+    if (w->trees)
+        p = crowns_of_site(w, index, p);
     for (int i = 0; i < n; ++i)
         none += p[i].distance_m == 0.0;
     if (none && !w->quiet)
@@ -536,6 +591,11 @@ static int check_settings(const horizon_point_settings *pts, int north_grid, con
                  "must be an existing folder", format_name(pts));
         return run_usage_error("horizon", why);
     }
+    if (pts->horizon_of == HORIZON_OF_CANOPY && !pts->trees)
+        return run_usage_error("horizon", "--horizon-of canopy needs --canopy");
+    if (pts->horizon_of == HORIZON_OF_CANOPY && pts->format <= POINT_FORMAT_JSON)
+        return run_usage_error("horizon", "--horizon-of is for the PV formats: csv and json "
+                                          "carry both profiles (canopy_elevation_deg)");
     if (pts->far && north_grid)
         return run_usage_error("horizon", "--far takes true north: the two DEMs' grid norths "
                                           "differ (leave out --north grid)");
@@ -567,9 +627,30 @@ typedef struct {
     ss_point_grid *pg;
     ss_point_site *psites;
     ss_sweep_options opt;
+    trees tr; /* --canopy */
     writer w;
     char *tmp; /* the output's temporary name */
 } point_job;
+
+/* --canopy: the trees on the DEM's grid (held whole for the sites), the
+ * highest crown top and one profile's room. */
+static ss_status open_crowns(point_job *j, const horizon_point_settings *pts, int directions)
+{
+    writer *w = &j->w;
+    ss_status st = trees_read(j->run.ctx, &j->dem, j->dem.grid.z, pts->trees, &j->tr);
+    if (st != SS_OK)
+        return st;
+    w->trees = &j->tr;
+    w->ground = j->dem.grid;
+    w->psites = j->psites;
+    w->max_top_m = crowns_max_top(&w->ground, &j->tr.canopy);
+    w->crown_deg = malloc(sizeof *w->crown_deg * (size_t)directions);
+    if (pts->horizon_of == HORIZON_OF_CANOPY)
+        w->canopy = malloc(sizeof *w->canopy * (size_t)directions);
+    if (!w->crown_deg || (pts->horizon_of == HORIZON_OF_CANOPY && !w->canopy))
+        return ss_ctx_error(j->run.ctx, SS_ERR_MEMORY, "out of memory for the crowns' profiles");
+    return SS_OK;
+}
 
 /* Reads sites and DEM, places the sites and opens the output. */
 static ss_status point_job_setup(point_job *j, const common_settings *common,
@@ -615,6 +696,8 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
                          j->psites);
     if (st == SS_OK && pts->far)
         st = open_far(w, pts->far, j->sites, j->n_sites, directions);
+    if (st == SS_OK && pts->trees)
+        st = open_crowns(j, pts, directions);
     if (st != SS_OK)
         return st;
     w->pts = pts;
@@ -635,6 +718,11 @@ static ss_status point_job_setup(point_job *j, const common_settings *common,
                  j->dem.description, horizon_far_name(w->far));
     else
         snprintf(w->sources, sizeof w->sources, "%s", j->dem.description);
+    if (w->canopy) {
+        size_t used = strlen(w->sources);
+        snprintf(w->sources + used, sizeof w->sources - used,
+                 ", with the crowns of %.400s (canopy horizon)", pts->trees->canopy);
+    }
     w->folder = folder_mode ? output : NULL;
     w->out = folder_mode ? NULL : stdout;
     if (output && !folder_mode && (st = ss_output_check(w->ctx, output)) == SS_OK) {
@@ -649,6 +737,9 @@ static void point_job_close(point_job *j)
 {
     free(j->w.cast_col);
     free(j->w.merged);
+    free(j->w.crown_deg);
+    free(j->w.canopy);
+    trees_free(&j->tr);
     horizon_far_close(j->w.far);
     free(j->psites);
     free(j->tmp);

@@ -7,11 +7,14 @@
 #include "skysweep_sites.h"
 #include "run.h"
 #include "site.h"
+#include "trees.h"
 
 /* csv and json hold every site in one file (or standard output); the others
  * are PV software's horizon files (horizon_formats.h), one per site. */
 #define HORIZON_POINT_FORMATS "csv|json|pvgis|pvsyst|pvsol|helioscope|sam"
 enum { POINT_FORMAT_CSV, POINT_FORMAT_JSON };
+#define HORIZON_OF_CHOICES "solid|canopy"
+enum { HORIZON_OF_SOLID, HORIZON_OF_CANOPY };
 
 typedef struct {
     const char *point;     /* "X,Y": one site, WGS84 longitude,latitude unless --point-crs */
@@ -21,6 +24,8 @@ typedef struct {
     double height_m;       /* observer above the ground, where a site gives none */
     int format;            /* index into HORIZON_POINT_FORMATS */
     const char *far;       /* terrain DEM for the far horizon, merged by the maximum */
+    const tree_settings *trees; /* --canopy given: the crowns' profiles too; else NULL */
+    int horizon_of;        /* index into "solid|canopy": the profile PV files hold */
 } horizon_point_settings;
 
 #define ID_MAX 200

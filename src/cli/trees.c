@@ -92,14 +92,14 @@ ss_grid trees_ground(const sweep_job *job, const trees *t)
 
 /* Nodata in a tree raster is no tree (0); absolute tops become heights
  * above the DSM, those below it no tree. */
-static void trees_heights(sweep_job *job, const tree_settings *set, trees *t, size_t n)
+static void trees_heights(const ss_dem *dem, const tree_settings *set, trees *t, size_t n)
 {
     for (size_t i = 0; i < n; ++i) {
         float *h = &t->height[i];
         if (*h == SS_NODATA || isnan(*h))
             *h = 0.0f;
         if (set->canopy_heights == 1 && *h > 0.0f) {
-            double above = isfinite(t->z[i]) ? *h - (t->z[i] + job->dem.grid.z_origin_m) : 0.0;
+            double above = isfinite(t->z[i]) ? *h - (t->z[i] + dem->grid.z_origin_m) : 0.0;
             t->below_ground += above < 0.0;
             *h = above > 0.0 ? (float)above : 0.0f;
         }
@@ -112,34 +112,43 @@ static void trees_heights(sweep_job *job, const tree_settings *set, trees *t, si
  * outputs when the options are parsed. */
 ss_status trees_open(sweep_job *job, const tree_settings *set, trees *t)
 {
-    ss_status st = SS_OK;
     const ss_grid *g = &job->dem.grid;
     size_t n = (size_t)g->width * (size_t)g->height;
-    t->height = malloc(n * sizeof(float));
-    t->trunk = set->trunk ? malloc(n * sizeof(float)) : NULL;
     t->z = g->z;
     if (!t->z) {
         t->z = malloc(n * sizeof(float));
         t->z_owned = 1;
+        if (!t->z)
+            return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
+        ss_status st = job_read_rows(job, 0, g->height, t->z);
+        if (st != SS_OK)
+            return st;
     }
-    if (!t->height || !t->z || (set->trunk && !t->trunk))
-        return ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
-    if (t->z_owned)
-        st = job_read_rows(job, 0, g->height, t->z);
+    return trees_read(job->run.ctx, &job->dem, t->z, set, t);
+}
+
+ss_status trees_read(ss_ctx *ctx, const ss_dem *dem, float *z, const tree_settings *set,
+                     trees *t)
+{
+    const ss_grid *g = &dem->grid;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    t->z = z;
+    t->height = malloc(n * sizeof(float));
+    t->trunk = set->trunk ? malloc(n * sizeof(float)) : NULL;
+    if (!t->height || (set->trunk && !t->trunk))
+        return ss_ctx_error(ctx, SS_ERR_MEMORY, "out of memory for the trees");
     int warped = 0;
-    if (st == SS_OK)
-        st = ss_raster_onto_dem(job->run.ctx, set->canopy, "canopy", &job->dem, t->height,
-                                &t->warped);
+    ss_status st = ss_raster_onto_dem(ctx, set->canopy, "canopy", dem, t->height, &t->warped);
     if (st == SS_OK && set->trunk)
-        st = ss_raster_onto_dem(job->run.ctx, set->trunk, "trunk raster", &job->dem, t->trunk,
-                                &warped);
+        st = ss_raster_onto_dem(ctx, set->trunk, "trunk raster", dem, t->trunk, &warped);
     if (st != SS_OK)
         return st;
     t->warped |= warped;
-    trees_heights(job, set, t, n);
+    trees_heights(dem, set, t, n);
     t->canopy = (ss_canopy){t->height, t->trunk, set->trunk_ratio, set->transmissivity};
-    ss_grid ground = trees_ground(job, t);
-    return ss_canopy_check(job->run.ctx, &ground, &t->canopy);
+    ss_grid ground = *g;
+    ground.z = t->z;
+    return ss_canopy_check(ctx, &ground, &t->canopy);
 }
 
 void trees_metadata(ss_raster_writer *w, const tree_settings *set, const trees *t)

@@ -59,6 +59,10 @@ typedef struct {
 
 /* Reads --canopy and --trunk onto the DEM's grid and checks them. */
 ss_status trees_open(sweep_job *job, const tree_settings *set, trees *t);
+/* The same on a DEM held whole (z: its heights, which the trees keep
+ * without owning), for runs without a sweep_job (site horizons). */
+ss_status trees_read(ss_ctx *ctx, const ss_dem *dem, float *z, const tree_settings *set,
+                     trees *t);
 void trees_free(trees *t);
 /* The DSM the crowns stand on: the DEM's grid with the heights held whole. */
 ss_grid trees_ground(const sweep_job *job, const trees *t);
