@@ -188,10 +188,6 @@ SvfTrees.__doc__ = """The sky view with trees (doc/vegetation.md, "svf"): svf, t
 surface's, as without trees; svfveg, 1 - the share of the sky crowns hide above
 the solid horizon; svfbuveg, svf - (1 - svfveg)(1 - transmissivity)."""
 
-#: The tree options of svf (and their order), as its command's table has them.
-TREE_OPTIONS = ("trunk", "trunk_ratio", "transmissivity", "trunk_gaps")
-
-
 def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
         radius=default("svf", "radius"), nodata=None, name="svf", canopy=None, trunk=None,
         trunk_ratio=default("svf", "trunk-ratio"),
@@ -275,28 +271,50 @@ def _svf_trees(canopy, trunk, trunk_ratio, transmissivity, trunk_gaps, definitio
                defaults, kw):
     """svf's tree options, checked as the CLI checks them (its wording);
     None without a canopy."""
-    given = {"trunk": trunk, "trunk_ratio": trunk_ratio, "transmissivity": transmissivity,
-             "trunk_gaps": trunk_gaps}
-    # Given: not the signature's own default object (a caller's 0.25 is another).
-    stated = [k for k in TREE_OPTIONS if given[k] is not defaults[k]]
-    if canopy is None:
-        if stated:
-            raise ArgumentError(f"--{stated[0].replace('_', '-')} needs --canopy", 2)
+    trees = _trees("svf", canopy, {"trunk": trunk, "trunk_ratio": trunk_ratio,
+                                   "transmissivity": transmissivity, "trunk_gaps": trunk_gaps},
+                   defaults, kw)
+    if trees is None:
         return None
-    if trunk is not None and "trunk_ratio" in stated:
-        raise ArgumentError("--trunk and --trunk-ratio are alternatives: give one", 2)
     if _value("svf", "definition", definition) == "radiative":
         raise ArgumentError("--canopy takes --definition geometric or horizontal, not radiative",
                             2)
     if _value("svf", "radius", radius) > 0:
         raise ArgumentError("--canopy takes no --radius", 2)
+    return trees
+
+
+def _trees(command, canopy, given, defaults, kw):
+    """A command's tree options (given: trunk, trunk_ratio, ... as keywords),
+    checked against its table as the CLI checks them (its wording); None
+    without a canopy."""
+    # Given: not the signature's own default object (a caller's 0.25 is another).
+    stated = [k for k, v in given.items() if v is not defaults[k]]
+    if canopy is None:
+        if stated:
+            raise ArgumentError(f"--{stated[0].replace('_', '-')} needs --canopy", 2)
+        return None
+    if given["trunk"] is not None and "trunk_ratio" in stated:
+        raise ArgumentError("--trunk and --trunk-ratio are alternatives: give one", 2)
     if kw.get("memory") is not None:
-        raise ValueError("svf(canopy=...) holds the DEM whole for the crowns: leave out memory= "
-                         "(or use svf_file, which reads them in bands beside the sweep)")
-    return {"canopy": canopy, "trunk": trunk,
-            "trunk_ratio": _value("svf", "trunk_ratio", trunk_ratio),
-            "transmissivity": _value("svf", "transmissivity", transmissivity),
-            "trunk_gaps": _value("svf", "trunk_gaps", trunk_gaps)}
+        raise ValueError(f"{command}(canopy=...) holds the DEM whole for the crowns: leave out "
+                         f"memory= (or use {command}_file, which reads the DEM in bands)")
+    trees = {k: v if k == "trunk" else _value(command, k, v) for k, v in given.items()}
+    trees["canopy"] = canopy
+    return trees
+
+
+def _canopy(ctx, grid, trees):
+    """The library's ss_canopy for the trees on the grid, checked; it holds
+    its layers as long as it lives."""
+    height = _tree_layer(grid, trees["canopy"], "canopy")
+    trunk = None if trees["trunk"] is None else _tree_layer(grid, trees["trunk"], "trunk")
+    canopy = ffi.new("ss_canopy *", {
+        "height_m": ffi.from_buffer("float[]", height),
+        "trunk_m": ffi.NULL if trunk is None else ffi.from_buffer("float[]", trunk),
+        "trunk_ratio": trees["trunk_ratio"], "transmissivity": trees["transmissivity"]})
+    ctx.check(lib.ss_canopy_check(ctx.ptr, grid.ptr, canopy))
+    return ffi.gc(canopy, lambda _canopy, _layers=(height, trunk): None)
 
 
 def _tree_layer(grid, values, what):
@@ -345,13 +363,7 @@ def _svf_tree_bands(ctx, grid, opt, code, svf_plane, trees, kw):
     """svfveg and svfbuveg from the svf plane (SS_NODATA still at nodata),
     as `skysweep svf --canopy` makes bands 2 and 3: ss_canopy_sky's crown
     share, then ss_canopy_svf_bands."""
-    height = _tree_layer(grid, trees["canopy"], "canopy")
-    trunk = None if trees["trunk"] is None else _tree_layer(grid, trees["trunk"], "trunk")
-    canopy = ffi.new("ss_canopy *", {
-        "height_m": ffi.from_buffer("float[]", height),
-        "trunk_m": ffi.NULL if trunk is None else ffi.from_buffer("float[]", trunk),
-        "trunk_ratio": trees["trunk_ratio"], "transmissivity": trees["transmissivity"]})
-    ctx.check(lib.ss_canopy_check(ctx.ptr, grid.ptr, canopy))
+    canopy = _canopy(ctx, grid, trees)
     veg, total = grid.new_plane(), grid.new_plane()
     gaps = option("svf", "trunk-gaps")["choices"].index(trees["trunk_gaps"])
     ctx.call(lib.ss_canopy_sky, grid.ptr, canopy, opt, code, gaps, ffi.NULL, out_buffer(veg),
@@ -496,8 +508,16 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
                         {"directions": d})
 
 
+ShadowTrees = namedtuple("ShadowTrees", "sunlit shadow_class fraction")
+ShadowTrees.__doc__ = """Shadows with trees (doc/vegetation.md): sunlit, the solid terrain's
+verdict as without trees; shadow_class, 0 lit, 1 solid shadow, 2 vegetation
+shadow; fraction, the share of the beam that arrives (1, 0, or the
+transmissivity): `skysweep shadow --canopy`'s bands 1, 4 and 5."""
+
+
 def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name="sunlit",
-           **kw):
+           canopy=None, trunk=None, trunk_ratio=default("shadow", "trunk-ratio"),
+           transmissivity=default("shadow", "transmissivity"), **kw):
     """Cast shadows for one sun: 1 where a cell is sunlit, 0 in shadow.
 
     A cell is sunlit where the sun's apparent elevation lies above its terrain
@@ -513,14 +533,23 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
         Apparent (refracted) degrees above the horizontal.
     {nodata}
     {name}
+    canopy, trunk, trunk_ratio, transmissivity : array_like, array_like, float, float
+        Trees, as svf takes them (the CLI's --canopy, --trunk, --trunk-ratio,
+        --transmissivity; not with memory=).
 
     Returns
     -------
     numpy.ndarray or xarray.DataArray
         float32 1 (sunlit) or 0, shaped like the DEM, NaN where it has no height.
+    ShadowTrees or xarray.Dataset
+        With canopy: ShadowTrees(sunlit, shadow_class, fraction) for an array; a Dataset
+        with those three variables for a DataArray.
 
     {raises}
     """
+    trees = _trees("shadow", canopy, {"trunk": trunk, "trunk_ratio": trunk_ratio,
+                                      "transmissivity": transmissivity},
+                   shadow.__kwdefaults__, kw)
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     sun_azimuth = _checked("shadow", "sun_azimuth", sun_azimuth)
     sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
@@ -531,9 +560,37 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
     else:
         ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
                  out_buffer(out), ffi.NULL, progress=kw.get("progress"))
-    return grid.finish(out, name, {"long_name": "sunlit", "units": "1",
-                                   "sun_azimuth": sun_azimuth,
-                                   "sun_elevation": sun_elevation})
+    attrs = {"long_name": "sunlit", "units": "1", "sun_azimuth": sun_azimuth,
+             "sun_elevation": sun_elevation}
+    if trees is None:
+        return grid.finish(out, name, attrs)
+    klass, fraction = _shadow_tree_bands(ctx, grid, opt, sun_azimuth, sun_elevation, out, trees)
+    bands = ShadowTrees(grid.finish(out, name, attrs),
+                        grid.finish(klass, "shadow_class", dict(attrs, long_name=(
+                            "shadow class: 0 lit, 1 solid shadow, 2 vegetation shadow"))),
+                        grid.finish(fraction, "fraction", dict(attrs, long_name=(
+                            "fraction of the beam that arrives: 1 lit, 0 solid, T through "
+                            "crowns"), transmissivity=trees["transmissivity"])))
+    if grid.template is None:
+        return bands
+    return grid.dataset({"sunlit": bands.sunlit, "shadow_class": bands.shadow_class,
+                         "fraction": bands.fraction},
+                        {"transmissivity": trees["transmissivity"]})
+
+
+def _shadow_tree_bands(ctx, grid, opt, sun_azimuth, sun_elevation, sunlit, trees):
+    """The shadow class and the beam's fraction over the solid verdict
+    (SS_NODATA still at nodata), as `skysweep shadow --canopy` makes bands
+    4 and 5: ss_canopy_crossed on the sweep's lines, then ss_canopy_classes."""
+    canopy = _canopy(ctx, grid, trees)
+    crossed = np.empty(grid.shape, np.uint8)
+    ctx.check(lib.ss_canopy_crossed(ctx.ptr, grid.ptr, canopy, opt, sun_azimuth, sun_elevation,
+                                    ffi.from_buffer("unsigned char[]", crossed)))
+    klass, fraction = grid.new_plane(), grid.new_plane()
+    lib.ss_canopy_classes(canopy, klass.size, ffi.from_buffer("float[]", sunlit),
+                          ffi.from_buffer("unsigned char[]", crossed), out_buffer(klass),
+                          out_buffer(fraction))
+    return klass, fraction
 
 
 def _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):

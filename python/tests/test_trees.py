@@ -116,3 +116,39 @@ def test_bad_trees_are_refused():
         skysweep.svf(z, 10, directions=8, canopy=canopy, trunk=canopy / 4, trunk_ratio=0.3)
     with pytest.raises(ValueError, match="memory="):
         skysweep.svf(z, 10, directions=8, canopy=canopy, memory="64M")
+
+
+@pytest.mark.parametrize("transmissivity", [0.0, 0.03, 1.0])
+@pytest.mark.parametrize("lines", ["interpolated", "box"])
+def test_shadow_canopy_equals_the_cli(cli_run, tmp_path, transmissivity, lines):
+    z, canopy = town()
+    path = write_asc(tmp_path / "canopy.asc", canopy)
+    mine = skysweep.shadow(z, 10, sun_azimuth=200, sun_elevation=25, lines=lines,
+                           canopy=canopy, transmissivity=transmissivity)
+    theirs = cli_run("shadow", z, "--sun-azimuth", 200, "--sun-elevation", 25, "--lines", lines,
+                     "--canopy", path, "--transmissivity", transmissivity)
+    assert isinstance(mine, skysweep.ShadowTrees) and len(theirs) == 5
+    for mine_band, band in zip(mine, (theirs[0], theirs[3], theirs[4])):
+        assert same(mine_band, band)
+    assert np.count_nonzero(mine.shadow_class == 2) > 0  # the crowns cast shade
+    assert np.all(mine.fraction[mine.shadow_class == 2] == np.float32(transmissivity))
+
+
+def test_shadow_with_a_canopy_of_zeros_has_no_vegetation_shadow():
+    z = rough_dem()
+    alone = skysweep.shadow(z, 10, sun_azimuth=250, sun_elevation=12)
+    trees = skysweep.shadow(z, 10, sun_azimuth=250, sun_elevation=12, canopy=np.zeros_like(z))
+    assert same(trees.sunlit, alone)
+    assert same(trees.fraction, alone)
+    assert same(trees.shadow_class, 1 - alone)
+
+
+def test_shadow_trees_refused_as_the_cli_refuses_them():
+    z, canopy = town()
+    with pytest.raises(ValueError, match="--trunk-ratio needs --canopy"):
+        skysweep.shadow(z, 10, sun_azimuth=200, sun_elevation=25, trunk_ratio=0.5)
+    with pytest.raises(ValueError, match="transmissivity"):
+        skysweep.shadow(z, 10, sun_azimuth=200, sun_elevation=25, canopy=canopy,
+                        transmissivity=2)
+    with pytest.raises(ValueError, match="memory="):
+        skysweep.shadow(z, 10, sun_azimuth=200, sun_elevation=25, canopy=canopy, memory="64M")
