@@ -484,6 +484,13 @@ typedef enum { SS_TRUNK_GAPS_IGNORE = 0, SS_TRUNK_GAPS_OPEN = 1 } ss_trunk_gaps;
 SS_API ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                                const ss_sweep_options *opt, ss_svf_definition definition,
                                ss_trunk_gaps gaps, float *solid_share, float *crown_share);
+/* The SVF with trees from n cells' SVF and ss_canopy_sky's crown_share
+ * (UMEP's bands): svfveg = 1 - hidden, svfbuveg = svf - hidden x (1 -
+ * transmissivity), with hidden = min(crown_share, svf) (the crowns never
+ * hide more than the SVF sees). SS_NODATA where svf is. svfveg may be
+ * crown_share (in place). */
+SS_API void ss_canopy_svf_bands(size_t n, const float *svf, const float *crown_share,
+                                double transmissivity, float *svfveg, float *svfbuveg);
 
 /* The crowns' horizon toward one direction (grid azimuth, degrees):
  * crown_deg[c] = the elevation, in degrees, of the highest crown top

@@ -6,7 +6,8 @@
  * Gothenburg 1 m DSM and CDSM where ../shared/data has them (skipped
  * otherwise). The march runs twice: with crowns taken down to the ground
  * (the sweep's --trunk-gaps ignore, so what differs is the lines'
- * sampling) and with the gaps under crowns open (the knob's error). */
+ * sampling) and with the gaps under crowns open (the knob's error). The
+ * bands svf makes of the share (ss_canopy_svf_bands) on four cells. */
 #include "config.h"
 
 #include <math.h>
@@ -324,8 +325,26 @@ static void crown_horizon(const char *what, const ss_grid *g, const ss_canopy *c
     ss_ctx_free(ctx);
 }
 
+/* svfveg and svfbuveg from svf and the crown share (ss_canopy_svf_bands):
+ * the share clamped to the svf, nodata kept, in place over the share. */
+static void svf_bands(void)
+{
+    const float svf[4] = {0.8f, 0.5f, SS_NODATA, 1.0f};
+    float share[4] = {0.25f, 0.75f, SS_NODATA, 0.0f}, total[4];
+    ss_canopy_svf_bands(4, svf, share, 0.2, share, total);
+    const float veg_want[4] = {0.75f, 0.5f, SS_NODATA, 1.0f};
+    const float total_want[4] = {(float)(0.8f - 0.25 * 0.8), (float)(0.5f - 0.5 * 0.8), SS_NODATA,
+                                 1.0f};
+    tap_ok(memcmp(share, veg_want, sizeof share) == 0 &&
+               memcmp(total, total_want, sizeof total) == 0,
+           "ss_canopy_svf_bands: svfveg 1 - min(share, svf), svfbuveg svf - min(share, svf)(1 - "
+           "T), nodata kept, in place (svfveg %g %g %g %g, svfbuveg %g %g %g %g)",
+           share[0], share[1], share[2], share[3], total[0], total[1], total[2], total[3]);
+}
+
 int main(void)
 {
+    svf_bands();
     refusals();
     hedge();
     synthetic_scene();

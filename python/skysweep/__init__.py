@@ -12,8 +12,8 @@ from ._context import (ArgumentError, Cancelled, Context, DeviceError, InputErro
                        InternalError, OutOfMemory, OutputError, SkysweepError)
 from ._lib import BUILD, lib as _lib, ffi as _ffi
 from .files import FILE_CALLS, run
-from .products import (ARRAY_CALLS, Horizons, hillshade, horizon, openness, plan, shadow,
-                       sun_incidence, svf, vat)
+from .products import (ARRAY_CALLS, Horizons, ShadowTrees, SvfTrees, hillshade, horizon,
+                       openness, plan, shadow, sun_incidence, svf, vat)
 from .insolation import insolation
 from .roofs import Crs, Roofs, roofs
 from .sites import site_horizon
@@ -24,7 +24,8 @@ globals().update(ARRAY_CALLS)  # the registry's products without a call written 
 
 __version__ = _ffi.string(_lib.ss_version()).decode()
 
-__all__ = ["svf", "openness", "horizon", "Horizons", "shadow", "hillshade", "vat", "plan",
+__all__ = ["svf", "SvfTrees", "openness", "horizon", "Horizons", "shadow", "ShadowTrees",
+           "hillshade", "vat", "plan",
            "sun_incidence",
            "site_horizon", "sun_position", "insolation", "run", "Context", "SkysweepError", "ArgumentError",
            "InputError", "OutputError", "DeviceError", "OutOfMemory", "Cancelled",

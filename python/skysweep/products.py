@@ -15,7 +15,7 @@ from collections import namedtuple
 import numpy as np
 
 from ._context import ArgumentError, context
-from ._grid import Grid, out_buffer
+from ._grid import Grid, _declared_nodata, _is_dataarray, out_buffer
 from ._lib import CONST, PRODUCTS, default, ffi, lib, option
 from ._memory import BandCost, BandedGrid, parse_size, resident_bytes, rows_sink, run_banded
 
@@ -183,8 +183,16 @@ def _name_parameter(default_name):
     The returned DataArray's name (for a DataArray DEM; as xarray-spatial's name=)."""
 
 
+SvfTrees = namedtuple("SvfTrees", "svf svfveg svfbuveg")
+SvfTrees.__doc__ = """The sky view with trees (doc/vegetation.md, "svf"): svf, the solid
+surface's, as without trees; svfveg, 1 - the share of the sky crowns hide above
+the solid horizon; svfbuveg, svf - (1 - svfveg)(1 - transmissivity)."""
+
 def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
-        radius=default("svf", "radius"), nodata=None, name="svf", **kw):
+        radius=default("svf", "radius"), nodata=None, name="svf", canopy=None, trunk=None,
+        trunk_ratio=default("svf", "trunk-ratio"),
+        transmissivity=default("svf", "transmissivity"),
+        trunk_gaps=default("svf", "trunk-gaps"), **kw):
     """Sky-view factor (0..1) of every cell.
 
     Parameters
@@ -198,15 +206,34 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
         Metres; horizons only that far (geometric or horizontal). 0: unlimited, exact.
     {nodata}
     {name}
+    canopy : array_like, numpy.ma.MaskedArray or xarray.DataArray, default None
+        Trees (the CLI's --canopy, doc/vegetation.md): crown tops in metres above the
+        DEM's surface, shaped like the DEM (a DataArray in its order); NaN, masked or
+        declared nodata cells are no tree (0). Not with radius, "radiative" or memory=.
+    trunk : array_like, default None
+        Crown bottoms in metres above the surface, like canopy (--trunk); None:
+        trunk_ratio x the canopy height.
+    trunk_ratio : float, default 0.25
+        Crown bottoms as a share of the canopy height, where trunk is None.
+    transmissivity : float, default 0.03
+        The share of light that crosses a crown (0..1), in svfbuveg.
+    trunk_gaps : {{"open", "ignore"}}, default "open"
+        "open" sees the sky under the crowns (between the ground and the trunk height);
+        "ignore" takes each crown down to the ground.
 
     Returns
     -------
     numpy.ndarray or xarray.DataArray
         float32, shaped like the DEM, NaN where it has no height; a DataArray (units
         "1") for a DataArray DEM.
+    SvfTrees or xarray.Dataset
+        With canopy: SvfTrees(svf, svfveg, svfbuveg), the CLI's bands 1 to 3, for an
+        array; a Dataset with those three variables for a DataArray.
 
     {raises}
     """
+    trees = _svf_trees(canopy, trunk, trunk_ratio, transmissivity, trunk_gaps, definition,
+                       radius, svf.__kwdefaults__, kw)
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     definition = _value("svf", "definition", definition)
     radius = _value("svf", "radius", radius)
@@ -222,9 +249,128 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
     else:
         out = grid.new_plane()
         ctx.call(lib.ss_svf, grid.ptr, opt, code, out_buffer(out), progress=kw.get("progress"))
-    return grid.finish(out, name, {"long_name": "sky-view factor", "units": "1",
-                                   "definition": definition,
-                                   "directions": opt.directions})
+    attrs = {"long_name": "sky-view factor", "units": "1", "definition": definition,
+             "directions": opt.directions}
+    if trees is None:
+        return grid.finish(out, name, attrs)
+    veg, total = _svf_tree_bands(ctx, grid, opt, code, out, trees, kw)
+    bands = SvfTrees(grid.finish(out, name, attrs),
+                     grid.finish(veg, "svfveg", dict(attrs, long_name=(
+                         "svfveg: 1 - the share of the sky crowns hide above the solid horizon"))),
+                     grid.finish(total, "svfbuveg", dict(attrs, long_name=(
+                         "svfbuveg: svf - (1 - svfveg) x (1 - transmissivity)"),
+                         transmissivity=trees["transmissivity"])))
+    if grid.template is None:
+        return bands
+    return grid.dataset({"svf": bands.svf, "svfveg": bands.svfveg, "svfbuveg": bands.svfbuveg},
+                        {"directions": opt.directions, "transmissivity": trees["transmissivity"],
+                         "trunk_gaps": trees["trunk_gaps"]})
+
+
+def _svf_trees(canopy, trunk, trunk_ratio, transmissivity, trunk_gaps, definition, radius,
+               defaults, kw):
+    """svf's tree options, checked as the CLI checks them (its wording);
+    None without a canopy."""
+    trees = _trees("svf", canopy, {"trunk": trunk, "trunk_ratio": trunk_ratio,
+                                   "transmissivity": transmissivity, "trunk_gaps": trunk_gaps},
+                   defaults, kw)
+    if trees is None:
+        return None
+    if _value("svf", "definition", definition) == "radiative":
+        raise ArgumentError("--canopy takes --definition geometric or horizontal, not radiative",
+                            2)
+    if _value("svf", "radius", radius) > 0:
+        raise ArgumentError("--canopy takes no --radius", 2)
+    return trees
+
+
+def _trees(command, canopy, given, defaults, kw):
+    """A command's tree options (given: trunk, trunk_ratio, ... as keywords),
+    checked against its table as the CLI checks them (its wording); None
+    without a canopy."""
+    # Given: not the signature's own default object (a caller's 0.25 is another).
+    stated = [k for k, v in given.items() if v is not defaults[k]]
+    if canopy is None:
+        if stated:
+            raise ArgumentError(f"--{stated[0].replace('_', '-')} needs --canopy", 2)
+        return None
+    if given["trunk"] is not None and "trunk_ratio" in stated:
+        raise ArgumentError("--trunk and --trunk-ratio are alternatives: give one", 2)
+    if kw.get("memory") is not None:
+        raise ValueError(f"{command}(canopy=...) holds the DEM whole for the crowns: leave out "
+                         f"memory= (or use {command}_file, which reads the DEM in bands)")
+    trees = {k: v if k == "trunk" else _value(command, k, v) for k, v in given.items()}
+    trees["canopy"] = canopy
+    return trees
+
+
+def _canopy(ctx, grid, trees):
+    """The library's ss_canopy for the trees on the grid, checked; it holds
+    its layers as long as it lives."""
+    height = _tree_layer(grid, trees["canopy"], "canopy")
+    trunk = None if trees["trunk"] is None else _tree_layer(grid, trees["trunk"], "trunk")
+    canopy = ffi.new("ss_canopy *", {
+        "height_m": ffi.from_buffer("float[]", height),
+        "trunk_m": ffi.NULL if trunk is None else ffi.from_buffer("float[]", trunk),
+        "trunk_ratio": trees["trunk_ratio"], "transmissivity": trees["transmissivity"]})
+    ctx.check(lib.ss_canopy_check(ctx.ptr, grid.ptr, canopy))
+    return ffi.gc(canopy, lambda _canopy, _layers=(height, trunk): None)
+
+
+def _tree_layer(grid, values, what):
+    """A canopy or trunk layer onto the grid's cells (float32, rows north to
+    south): a DataArray flipped as its DEM was, NaN, masked and declared
+    nodata cells no tree (0), as the CLI reads a tree raster."""
+    nodata_values = []
+    if _is_dataarray(values):
+        _same_coords(grid, values, what)
+        nodata_values = _declared_nodata(values)
+        values = values.values
+    masked = np.ma.getmaskarray(values) if np.ma.isMaskedArray(values) else None
+    a = np.asarray(np.ma.getdata(values) if masked is not None else values)
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"{what} must hold real numbers (metres), not dtype {a.dtype}")
+    if a.shape != grid.shape:
+        raise ValueError(f"{what} must be shaped like the DEM {grid.shape}, not {a.shape}")
+    layer = a.astype(np.float32)
+    for axis in grid.flips:
+        layer = np.flip(layer, axis)
+    if masked is not None:
+        for axis in grid.flips:
+            masked = np.flip(masked, axis)
+        layer[masked] = 0.0
+    layer[np.isnan(layer)] = 0.0
+    for nodata in nodata_values:
+        layer[layer == np.float32(nodata)] = 0.0
+    return np.ascontiguousarray(layer)
+
+
+def _same_coords(grid, layer, what):
+    """A tree DataArray lies on its DEM's cells, in its order: the
+    coordinates it has of the DEM's dimensions must be the DEM's."""
+    template = grid.template
+    for dim in layer.dims:
+        if template is None or dim not in layer.coords or dim not in template.coords:
+            continue
+        mine, theirs = np.asarray(layer.coords[dim]), np.asarray(template.coords[dim])
+        if mine.shape != theirs.shape or not np.allclose(mine, theirs):
+            raise ValueError(f"{what}'s {dim} coordinates are not the DEM's: put it on the "
+                             "DEM's grid first (layer.interp_like(dem), or rioxarray's "
+                             "reproject_match)")
+
+
+def _svf_tree_bands(ctx, grid, opt, code, svf_plane, trees, kw):
+    """svfveg and svfbuveg from the svf plane (SS_NODATA still at nodata),
+    as `skysweep svf --canopy` makes bands 2 and 3: ss_canopy_sky's crown
+    share, then ss_canopy_svf_bands."""
+    canopy = _canopy(ctx, grid, trees)
+    veg, total = grid.new_plane(), grid.new_plane()
+    gaps = option("svf", "trunk-gaps")["choices"].index(trees["trunk_gaps"])
+    ctx.call(lib.ss_canopy_sky, grid.ptr, canopy, opt, code, gaps, ffi.NULL, out_buffer(veg),
+             progress=kw.get("progress"))
+    lib.ss_canopy_svf_bands(veg.size, ffi.from_buffer("float[]", svf_plane), out_buffer(veg),
+                            trees["transmissivity"], out_buffer(veg), out_buffer(total))
+    return veg, total
 
 
 def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
@@ -362,8 +508,16 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
                         {"directions": d})
 
 
+ShadowTrees = namedtuple("ShadowTrees", "sunlit shadow_class fraction")
+ShadowTrees.__doc__ = """Shadows with trees (doc/vegetation.md): sunlit, the solid terrain's
+verdict as without trees; shadow_class, 0 lit, 1 solid shadow, 2 vegetation
+shadow; fraction, the share of the beam that arrives (1, 0, or the
+transmissivity): `skysweep shadow --canopy`'s bands 1, 4 and 5."""
+
+
 def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name="sunlit",
-           **kw):
+           canopy=None, trunk=None, trunk_ratio=default("shadow", "trunk-ratio"),
+           transmissivity=default("shadow", "transmissivity"), **kw):
     """Cast shadows for one sun: 1 where a cell is sunlit, 0 in shadow.
 
     A cell is sunlit where the sun's apparent elevation lies above its terrain
@@ -379,14 +533,23 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
         Apparent (refracted) degrees above the horizontal.
     {nodata}
     {name}
+    canopy, trunk, trunk_ratio, transmissivity : array_like, array_like, float, float
+        Trees, as svf takes them (the CLI's --canopy, --trunk, --trunk-ratio,
+        --transmissivity; not with memory=).
 
     Returns
     -------
     numpy.ndarray or xarray.DataArray
         float32 1 (sunlit) or 0, shaped like the DEM, NaN where it has no height.
+    ShadowTrees or xarray.Dataset
+        With canopy: ShadowTrees(sunlit, shadow_class, fraction) for an array; a Dataset
+        with those three variables for a DataArray.
 
     {raises}
     """
+    trees = _trees("shadow", canopy, {"trunk": trunk, "trunk_ratio": trunk_ratio,
+                                      "transmissivity": transmissivity},
+                   shadow.__kwdefaults__, kw)
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
     sun_azimuth = _checked("shadow", "sun_azimuth", sun_azimuth)
     sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
@@ -397,9 +560,37 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
     else:
         ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
                  out_buffer(out), ffi.NULL, progress=kw.get("progress"))
-    return grid.finish(out, name, {"long_name": "sunlit", "units": "1",
-                                   "sun_azimuth": sun_azimuth,
-                                   "sun_elevation": sun_elevation})
+    attrs = {"long_name": "sunlit", "units": "1", "sun_azimuth": sun_azimuth,
+             "sun_elevation": sun_elevation}
+    if trees is None:
+        return grid.finish(out, name, attrs)
+    klass, fraction = _shadow_tree_bands(ctx, grid, opt, sun_azimuth, sun_elevation, out, trees)
+    bands = ShadowTrees(grid.finish(out, name, attrs),
+                        grid.finish(klass, "shadow_class", dict(attrs, long_name=(
+                            "shadow class: 0 lit, 1 solid shadow, 2 vegetation shadow"))),
+                        grid.finish(fraction, "fraction", dict(attrs, long_name=(
+                            "fraction of the beam that arrives: 1 lit, 0 solid, T through "
+                            "crowns"), transmissivity=trees["transmissivity"])))
+    if grid.template is None:
+        return bands
+    return grid.dataset({"sunlit": bands.sunlit, "shadow_class": bands.shadow_class,
+                         "fraction": bands.fraction},
+                        {"transmissivity": trees["transmissivity"]})
+
+
+def _shadow_tree_bands(ctx, grid, opt, sun_azimuth, sun_elevation, sunlit, trees):
+    """The shadow class and the beam's fraction over the solid verdict
+    (SS_NODATA still at nodata), as `skysweep shadow --canopy` makes bands
+    4 and 5: ss_canopy_crossed on the sweep's lines, then ss_canopy_classes."""
+    canopy = _canopy(ctx, grid, trees)
+    crossed = np.empty(grid.shape, np.uint8)
+    ctx.check(lib.ss_canopy_crossed(ctx.ptr, grid.ptr, canopy, opt, sun_azimuth, sun_elevation,
+                                    ffi.from_buffer("unsigned char[]", crossed)))
+    klass, fraction = grid.new_plane(), grid.new_plane()
+    lib.ss_canopy_classes(canopy, klass.size, ffi.from_buffer("float[]", sunlit),
+                          ffi.from_buffer("unsigned char[]", crossed), out_buffer(klass),
+                          out_buffer(fraction))
+    return klass, fraction
 
 
 def _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):

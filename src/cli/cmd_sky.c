@@ -126,18 +126,8 @@ static ss_status sky_trees_write(sweep_job *job, const tree_settings *set,
                        ? ss_canopy_sky(job->run.ctx, &ground, &s->t.canopy, &job->opt, definition,
                                        (ss_trunk_gaps)set->trunk_gaps, NULL, veg)
                        : ss_ctx_error(job->run.ctx, SS_ERR_MEMORY, "out of memory for the trees");
-    double lost = 1.0 - set->transmissivity;
-    for (size_t i = 0; st == SS_OK && i < n; ++i) {
-        if (s->svf[i] == SS_NODATA) {
-            veg[i] = total[i] = SS_NODATA;
-            continue;
-        }
-        /* The solid horizon here is the digital lines' (ss_canopy_sky):
-         * never hide more than band 1 sees. */
-        double hidden = fmin(veg[i], s->svf[i]);
-        veg[i] = (float)(1.0 - hidden);
-        total[i] = (float)(s->svf[i] - hidden * lost);
-    }
+    if (st == SS_OK)
+        ss_canopy_svf_bands(n, s->svf, veg, set->transmissivity, veg, total);
     run_tally tv = {0}, tt = {0};
     double lo, hi;
     if (st == SS_OK) {

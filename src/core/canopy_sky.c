@@ -217,6 +217,23 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
     return st;
 }
 
+void ss_canopy_svf_bands(size_t n, const float *svf, const float *crown_share,
+                         double transmissivity, float *svfveg, float *svfbuveg)
+{
+    double lost = 1.0 - transmissivity;
+    for (size_t i = 0; i < n; ++i) {
+        if (svf[i] == SS_NODATA) {
+            svfveg[i] = svfbuveg[i] = SS_NODATA;
+            continue;
+        }
+        /* The solid horizon of crown_share is the digital lines'
+         * (ss_canopy_sky): never hide more than svf sees. */
+        double hidden = fmin(crown_share[i], svf[i]);
+        svfveg[i] = (float)(1.0 - hidden);
+        svfbuveg[i] = (float)(svf[i] - hidden * lost);
+    }
+}
+
 /* The crowns' top horizon on one digital line, walked from the far end of
  * the direction looked in: the hull of the crown tops walked before each
  * cell. */
