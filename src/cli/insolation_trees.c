@@ -73,7 +73,7 @@ static int leaf_date(const char *text, int *day, int *month, int *day_of_month)
 }
 
 int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
-                           const insolation_tree_settings *set, ss_shadow_mode shadow)
+                           const insolation_tree_settings *set)
 {
     int rc = trees_options_alone("insolation", tables, settings, &set->trees);
     static const char *const needs[] = {"transmissivity-leaf-off", "leaf-on", "leaf-off",
@@ -97,10 +97,6 @@ int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
             rc = run_usage_error("insolation", why);
         }
     }
-    if (rc < 0 && set->trees.canopy && shadow == SS_SHADOW_CUMULATIVE)
-        rc = run_usage_error("insolation", "--shadow cumulative takes no --canopy: its binned "
-                                           "suns have no crowns; use --shadow exact or "
-                                           "interpolated");
     return rc;
 }
 

@@ -19,10 +19,10 @@ typedef struct {
 void insolation_tree_options(size_t base, opt_spec trees_out[TREE_OPTIONS_MAX],
                              opt_spec seasons_out[INSOLATION_TREE_OPTIONS_MAX]);
 
-/* Refuses tree or season options without --canopy, malformed leaf dates
- * and --shadow cumulative with trees: an exit code, or -1 when fine. */
+/* Refuses tree or season options without --canopy and malformed leaf
+ * dates: an exit code, or -1 when fine. */
 int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
-                           const insolation_tree_settings *set, ss_shadow_mode shadow);
+                           const insolation_tree_settings *set);
 
 /* Bytes a cell of the whole grid the trees hold (the memory planner's). */
 #define INSOLATION_TREES_CELL_BYTES (TREES_SKY_CELL_BYTES + sizeof(float) + 1.0)
