@@ -859,7 +859,8 @@ static void print_summary(insolation_run *r)
                "this one's), sums added at rank 0\n",
                share_size());
     if (set->trees.trees.canopy)
-        insolation_trees_print(&set->trees, &r->trees, r->steps.n, r->shadows_forced);
+        insolation_trees_print(&set->trees, &r->trees, r->steps.n, r->shadows_forced,
+                               c.sun_bins != 0);
     for (int b = 0; b < r->blocks; ++b)
         print_block_sums(r, b);
 }

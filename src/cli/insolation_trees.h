@@ -49,8 +49,9 @@ void insolation_trees_free(insolation_trees *it);
 /* CANOPY, TRUNK, TRANSMISSIVITY (both seasons) and SEASON. */
 void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settings *set,
                                const insolation_trees *it);
-/* The summary's trees lines. */
+/* The summary's trees lines (cumulative: the crowns were swept per sun
+ * bin, not per step). */
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
-                            int n_steps, int shadows_forced);
+                            int n_steps, int shadows_forced, int cumulative);
 
 #endif

@@ -12,7 +12,9 @@
  * direction's horizon and their mean elevation; cos(incidence) is clipped
  * at zero per bin, not per record; Perez's clip of a negative sky at zero
  * is per month; one sun (the DEM's centre's) serves every cell. Its error
- * against the exact run is measured in doc/accuracy.md. */
+ * against the exact run is measured in doc/accuracy.md. Trees
+ * (doc/cumulative_sky.md, "Trees"): a bin sums its leaf-off records apart,
+ * and the crowns are swept once per (direction, elevation) of the bins. */
 #include "config.h"
 
 #include <math.h>
