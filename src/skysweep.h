@@ -586,8 +586,10 @@ typedef struct {
  * sun (the centre's) crosses a crown (ss_canopy_crossed) keep the step's
  * transmissivity T; the cell's sky view loses sky_hidden x (1 - T), for
  * the isotropic diffuse and the reflected light alike (SOLWEIG's
- * svfbuveg). Exact and interpolated shadows only; the steps run on the
- * host. */
+ * svfbuveg). The steps run on the host. The cumulative sky bins leaf-on
+ * and leaf-off records apart within each bin and sweeps the crowns once per
+ * (direction, elevation) of its bins, at their mean sun
+ * (doc/cumulative_sky.md, "Trees"). */
 typedef struct ss_insolation_trees_s {
     const ss_grid *ground;   /* the DSM held whole, the run's grid */
     const ss_canopy *canopy; /* its transmissivity: leaf on */

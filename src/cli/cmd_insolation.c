@@ -859,7 +859,8 @@ static void print_summary(insolation_run *r)
                "this one's), sums added at rank 0\n",
                share_size());
     if (set->trees.trees.canopy)
-        insolation_trees_print(&set->trees, &r->trees, r->steps.n, r->shadows_forced);
+        insolation_trees_print(&set->trees, &r->trees, r->steps.n, r->shadows_forced,
+                               c.sun_bins != 0);
     for (int b = 0; b < r->blocks; ++b)
         print_block_sums(r, b);
 }
@@ -935,9 +936,11 @@ int cmd_insolation(int argc, char **argv)
                (set->steps_path ? SS_INSOLATION_STEPS : 0);
     ss_shadow_mode shadow = ss_insolation_params_shadow(&set->ins);
     if (rc < 0)
-        rc = insolation_trees_usage(tables, set, &set->trees, shadow);
-    /* Trees: the crowns are swept at every step's sun, so auto takes exact
-     * shadows rather than the cumulative sky, which has no steps. */
+        rc = insolation_trees_usage(tables, set, &set->trees);
+    /* Trees: auto takes exact shadows. The planner's error tables have no
+     * trees, and the cumulative sky's error with crowns is measured on one
+     * small scene only (doc/cumulative_sky.md, "Trees"), so it is given on
+     * request (--shadow cumulative), not chosen. */
     r->shadows_forced = set->trees.trees.canopy && shadow == SS_SHADOW_AUTO;
     if (r->shadows_forced)
         shadow = SS_SHADOW_EXACT;

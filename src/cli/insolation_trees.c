@@ -73,7 +73,7 @@ static int leaf_date(const char *text, int *day, int *month, int *day_of_month)
 }
 
 int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
-                           const insolation_tree_settings *set, ss_shadow_mode shadow)
+                           const insolation_tree_settings *set)
 {
     int rc = trees_options_alone("insolation", tables, settings, &set->trees);
     static const char *const needs[] = {"transmissivity-leaf-off", "leaf-on", "leaf-off",
@@ -97,10 +97,6 @@ int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
             rc = run_usage_error("insolation", why);
         }
     }
-    if (rc < 0 && set->trees.canopy && shadow == SS_SHADOW_CUMULATIVE)
-        rc = run_usage_error("insolation", "--shadow cumulative takes no --canopy: its binned "
-                                           "suns have no crowns; use --shadow exact or "
-                                           "interpolated");
     return rc;
 }
 
@@ -223,14 +219,16 @@ void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settin
 }
 
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
-                            int n_steps, int shadows_forced)
+                            int n_steps, int shadows_forced, int cumulative)
 {
     char described[400], season[600];
     trees_describe(&set->trees, &it->t, described, sizeof described);
     describe_season(set, it, season, sizeof season);
-    printf("trees   %s (leaf off %.4g); crowns swept on the host: their sky %.3f s, each step's "
-           "sun after its solid shadow on %s lines\n",
+    printf("trees   %s (leaf off %.4g); crowns swept on the host: their sky %.3f s, %s on %s "
+           "lines\n",
            described, set->transmissivity_leaf_off, it->sky_seconds,
+           cumulative ? "each sun bin's direction and elevation at its mean sun"
+                      : "each step's sun after its solid shadow",
            set->crown_lines ? "digital" : "the solid sweep's");
     printf("season  %s; %d of %d steps leaf off\n", season, it->leaf_off_steps, n_steps);
     if (shadows_forced)

@@ -19,10 +19,10 @@ typedef struct {
 void insolation_tree_options(size_t base, opt_spec trees_out[TREE_OPTIONS_MAX],
                              opt_spec seasons_out[INSOLATION_TREE_OPTIONS_MAX]);
 
-/* Refuses tree or season options without --canopy, malformed leaf dates
- * and --shadow cumulative with trees: an exit code, or -1 when fine. */
+/* Refuses tree or season options without --canopy and malformed leaf
+ * dates: an exit code, or -1 when fine. */
 int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
-                           const insolation_tree_settings *set, ss_shadow_mode shadow);
+                           const insolation_tree_settings *set);
 
 /* Bytes a cell of the whole grid the trees hold (the memory planner's). */
 #define INSOLATION_TREES_CELL_BYTES (TREES_SKY_CELL_BYTES + sizeof(float) + 1.0)
@@ -49,8 +49,9 @@ void insolation_trees_free(insolation_trees *it);
 /* CANOPY, TRUNK, TRANSMISSIVITY (both seasons) and SEASON. */
 void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settings *set,
                                const insolation_trees *it);
-/* The summary's trees lines. */
+/* The summary's trees lines (cumulative: the crowns were swept per sun
+ * bin, not per step). */
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
-                            int n_steps, int shadows_forced);
+                            int n_steps, int shadows_forced, int cumulative);
 
 #endif

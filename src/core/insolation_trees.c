@@ -13,9 +13,6 @@ ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io
         t->ground->height != src->height)
         return ss_fail(ctx, SS_ERR_ARGUMENT,
                        "insolation's trees need the DSM and a canopy on the run's grid");
-    if (io->shadow_mode == SS_SHADOW_CUMULATIVE)
-        return ss_fail(ctx, SS_ERR_ARGUMENT,
-                       "the cumulative sky takes no trees: use exact or interpolated shadows");
     if (!(t->transmissivity_leaf_off >= 0 && t->transmissivity_leaf_off <= 1))
         return ss_fail(ctx, SS_ERR_ARGUMENT, "the leaf-off transmissivity %g is outside 0..1",
                        t->transmissivity_leaf_off);
@@ -44,9 +41,17 @@ ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
                                       unsigned char *crossed)
 {
+    return ss_insolation_trees_crossed_at(ctx, t, opt, sun->grid_azimuth_deg,
+                                          sun->apparent_elevation_deg, crossed);
+}
+
+ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees *t,
+                                         const ss_sweep_options *opt, double grid_azimuth_deg,
+                                         double apparent_elevation_deg, unsigned char *crossed)
+{
     ss_sweep_options lines = *opt;
     if (t->digital_lines)
         lines.lines = SS_LINES_DIGITAL;
-    return ss_canopy_crossed(ctx, t->ground, t->canopy, &lines, sun->grid_azimuth_deg,
-                             sun->apparent_elevation_deg, crossed);
+    return ss_canopy_crossed(ctx, t->ground, t->canopy, &lines, grid_azimuth_deg,
+                             apparent_elevation_deg, crossed);
 }

@@ -6,8 +6,7 @@
 
 #include "insolation_internal.h"
 
-/* Refuses trees on another grid, with the cumulative sky, or a
- * transmissivity outside 0..1. */
+/* Refuses trees on another grid or a transmissivity outside 0..1. */
 ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io,
                                     const ss_source *src);
 /* The transmissivity of step k: leaf off or on. */
@@ -21,5 +20,10 @@ void ss_insolation_trees_terms(const ss_insolation_trees *t, const ss_band_view 
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
                                       unsigned char *crossed);
+/* The same for a sun at a grid azimuth and apparent elevation (degrees):
+ * the cumulative sky's bins. */
+ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees *t,
+                                         const ss_sweep_options *opt, double grid_azimuth_deg,
+                                         double apparent_elevation_deg, unsigned char *crossed);
 
 #endif
