@@ -59,6 +59,8 @@ static own_device own_device_of(const ss_ctx *ctx, const ss_memory_need *n)
         d.memory = global;
         d.max_alloc = alloc;
     }
+    if (!(d.max_alloc > 0)) /* a device that did not say */
+        d.max_alloc = d.memory;
     d.usable = d.memory * (1.0 - DEVICE_RESERVE);
     return d;
 }
