@@ -298,6 +298,10 @@ typedef struct {
     double cache_bytes;      /* GDAL's block cache, as capped */
     double grid_cell_bytes;  /* held per cell of the whole grid beside the sweep's own
                                 (svf's trees); 0: none */
+    double device_memory_bytes; /* a device's own memory to plan against, less than a GPU's
+                                   (CL_DEVICE_GLOBAL_MEM_SIZE, which the plan takes by itself),
+                                   or simulated where the device is the host's or the C twin
+                                   (tests); 0: the context's GPU's, none for other devices */
 } ss_memory_need;
 
 /* The plan: band rows, and what the device's buffers may take. */
@@ -306,8 +310,14 @@ typedef struct {
     double least_budget;  /* the least budget_bytes that would do */
     double planned_bytes; /* the peak the plan expects */
     double hull_bytes;    /* the allowance for the hulls handed on between bands */
-    double device_bytes;  /* a CPU device's buffers (host memory), its batch's and its cells';
-                             0: a quarter of the device's memory */
+    double device_bytes;  /* what the device's batch of directions' buffers may take (a CPU
+                             device's: host memory); 0: a quarter of the device's memory */
+    double device_cells_bytes; /* what its cells' buffers may take; 0: as device_bytes */
+    double device_memory;  /* the device's own memory planned against; 0: none (the C twin, a
+                              CPU device: host memory, within budget_bytes) */
+    double device_planned; /* the bytes of the device's own memory the plan expects */
+    double device_least;   /* the least device memory one band would do with; band_rows is
+                              -1 where device_memory is less */
 } ss_memory_plan;
 
 /* Plans a run within need->budget_bytes on ctx's device (opened, so that

@@ -5,7 +5,8 @@
 # peak the kernel reports for the process (GNU time's %M, getrusage's
 # ru_maxrss) stays at or below --memory, or the run is refused before any
 # work (exit 6) in one line that names the least budget that would do; a
-# run at that least budget then keeps within it.
+# run at that least budget then keeps within it. A GPU's own memory bounds
+# its buffers beside it (simulated on PoCL).
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
@@ -107,6 +108,33 @@ for device in $devices; do
     fi
     rm -f "$work/out.tif"
 done
+# A GPU's own memory is a second bound beside --memory (memory_plan.c),
+# simulated on PoCL by SKYSWEEP_TEST_DEVICE_MEMORY: at --memory 512M the
+# SVF is swept whole, with a device of 64 MiB in bands whose plan the
+# summary states within the device's 90 %; a device of 2 MiB is refused
+# (exit 6) in one line naming the least, at which it runs.
+if [[ $devices == *Portable* ]]; then
+    svf="svf --directions 4"
+    bounded "$svf" Portable 512 >/dev/null
+    grep -q '^memory.*(whole grid)' "$work/out" && ! grep -q '^memory.*device' "$work/out"
+    tap_ok $? "svf on Portable, --memory 512M: swept whole, no device plan: $(grep '^memory' "$work/out")"
+    rm -f "$work/out.tif"
+    read -r peak rc least < <(SKYSWEEP_TEST_DEVICE_MEMORY=64M bounded "$svf" Portable 512)
+    planned=$(sed -n 's/^memory.*(bands).*, device \([0-9]*\) MiB of 64 MiB planned$/\1/p' "$work/out")
+    [ "$rc" -eq 0 ] && [ "$peak" -le 512 ] && [ -n "$planned" ] && [ "$planned" -le 58 ] &&
+        [ -s "$work/out.tif" ]
+    tap_ok $? "svf on Portable, --memory 512M, a device of 64 MiB: in bands (exit $rc), $(grep '^memory' "$work/out")"
+    rm -f "$work/out.tif"
+    read -r peak rc least < <(SKYSWEEP_TEST_DEVICE_MEMORY=2M bounded "$svf" Portable 512)
+    device_least=$(sed -n 's/.*a device of at least \([0-9]*\) MiB.*/\1/p' "$work/err")
+    [ "$rc" -eq 6 ] && [ "$(grep -c . "$work/err")" -eq 1 ] && [ "${device_least:-0}" -gt 2 ] &&
+        [ ! -e "$work/out.tif" ]
+    tap_ok $? "svf on Portable, a device of 2 MiB: refused (exit $rc): $(grep . "$work/err" | head -c 200)"
+    read -r peak rc least < <(SKYSWEEP_TEST_DEVICE_MEMORY=${device_least:-0}M bounded "$svf" Portable 512)
+    [ "$rc" -eq 0 ] && grep -q "^memory.*(bands).*of ${device_least:-0} MiB planned" "$work/out"
+    tap_ok $? "svf on Portable, a device of the least named, ${device_least:-0} MiB: in bands (exit $rc)"
+    rm -f "$work/out.tif"
+fi
 # Insolation's least budget here is above 256M (64 suns' hulls at a time):
 # 32 MiB above it, it keeps within its bound too.
 ins="${products[-1]}"

@@ -49,15 +49,33 @@ static double peak_resident_mib(void)
     return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : NAN;
 }
 
+/* bytes as MiB, or GiB to three figures from 1 GiB up. */
+static void print_bytes(double bytes)
+{
+    double mib = bytes / 1048576.0;
+    if (mib >= 1024.0)
+        printf("%.3g GiB", mib / 1024.0);
+    else
+        printf("%.0f MiB", mib);
+}
+
 void command_print_memory(const sweep_job *job, const char *how)
 {
     const run_state *run = &job->run;
+    const ss_memory_plan *m = &run->memory;
+    printf("memory  peak resident %.0f MiB (%s)", peak_resident_mib(), how);
     if (run->memory_bound > 0)
-        printf("memory  peak resident %.0f MiB (%s), bound --memory %.0f MiB, planned %.0f MiB\n",
-               peak_resident_mib(), how, run->memory_bound / 1048576.0,
-               run->memory.planned_bytes / 1048576.0);
-    else
-        printf("memory  peak resident %.0f MiB (%s)\n", peak_resident_mib(), how);
+        printf(", bound --memory %.0f MiB, planned %.0f MiB", run->memory_bound / 1048576.0,
+               m->planned_bytes / 1048576.0);
+    /* A device's own memory is planned apart from the process's. */
+    if (m->device_memory > 0) {
+        printf(", device ");
+        print_bytes(m->device_planned);
+        printf(" of ");
+        print_bytes(m->device_memory);
+        printf(" planned");
+    }
+    printf("\n");
 }
 
 void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands)

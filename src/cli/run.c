@@ -346,7 +346,7 @@ static double peak_bytes(void)
  * then holds, libraries, GDAL, the DEM's dataset and the device with its
  * kernels, is measured and counted, and a CPU device's buffers are too. */
 static int plan_memory(run_state *run, const ss_dem *dem, const band_cost *cost, double budget,
-                       double cell_bytes, int hull_directions, int halo)
+                       double device_memory, double cell_bytes, int hull_directions, int halo)
 {
     if (!cost->no_sweep)
         ss_ctx_device_name(run->ctx);
@@ -361,7 +361,8 @@ static int plan_memory(run_state *run, const ss_dem *dem, const band_cost *cost,
                            .hull_lines = hull_directions,
                            .halo_rows = halo,
                            .cache_bytes = GDAL_CACHE_BYTES,
-                           .grid_cell_bytes = cost->grid_cell_bytes};
+                           .grid_cell_bytes = cost->grid_cell_bytes,
+                           .device_memory_bytes = device_memory};
     ss_memory_plan_make(run->ctx, &need, &run->memory);
     return run->memory.band_rows;
 }
@@ -393,6 +394,16 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
                             "--memory expects a size such as 512M or 4G, not '%s'",
                             common->memory);
+    /* A test hook (doc/scale.md): plans the device's buffers as if it had
+     * this much memory of its own, a GPU's smaller, PoCL's or the C twin's
+     * as a GPU's would be. */
+    const char *device_memory_env = getenv("SKYSWEEP_TEST_DEVICE_MEMORY");
+    double device_memory = 0;
+    if (device_memory_env && *device_memory_env &&
+        parse_size(device_memory_env, &device_memory) != 0)
+        return ss_ctx_error(run->ctx, SS_ERR_ARGUMENT,
+                            "SKYSWEEP_TEST_DEVICE_MEMORY expects a size such as 512M, not '%s'",
+                            device_memory_env);
     static const double metres_per_unit[] = {[Z_UNITS_AUTO] = 0.0,
                                              [Z_UNITS_M] = 1.0,
                                              [Z_UNITS_FT] = 0.3048,
@@ -438,7 +449,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     }
     int rows = -2;
     if (st == SS_OK && may_band)
-        rows = plan_memory(run, dem, cost, budget, cell_bytes, hull_directions, halo);
+        rows = plan_memory(run, dem, cost, budget, device_memory, cell_bytes, hull_directions,
+                           halo);
     else if (st == SS_OK)
         rows = ss_band_rows_for(dem->grid.width, dem->grid.height, common->sweep.directions,
                                 budget);
@@ -456,7 +468,16 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     }
     if (rows != 0 && (!may_band || rows < 0)) {
         double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
-        if (may_band)
+        const ss_memory_plan *m = &run->memory;
+        if (may_band && m->least_budget <= budget && m->device_least > m->device_memory)
+            st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
+                              "the device's memory (%.0f MiB) is too small for one band of %d "
+                              "cells of this DEM and command: it needs a device of at least "
+                              "%.0f MiB (its driver's share kept), or --device reference "
+                              "(doc/scale.md)",
+                              m->device_memory / 1048576.0, dem->grid.width,
+                              ceil(m->device_least / 1048576.0));
+        else if (may_band)
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "the memory budget (%s) is too small for this DEM and command: "
                               "it needs at least --memory %.0fM (the process's %.0f MiB, one "

@@ -452,11 +452,13 @@ static const ss_backend_ops ocl_ops = {.load = ocl_load,
                                        .cells_end = ocl_cells_end};
 
 /* The directions a batch can hold: what was asked, within what the memory
- * plan gives the device's buffers (memory_plan.c) and its largest buffer. A CPU device walks one direction
- * of a whole grid at a time unless the context asks for more: a launch
- * costs it about 0.1 ms against milliseconds of work, while a batch's own
- * sums and stack grids cost memory traffic; in bands, where each round of
- * a batch waits for its hulls' count, it takes up to 4 (doc/engine.md:
+ * plan gives the batch's buffers (memory_plan.c: within a GPU's own memory,
+ * or the host's for a CPU device) and the device's largest buffer. A CPU
+ * device walks one direction of a whole grid at a time unless the context
+ * asks for more: a launch costs it about 0.1 ms against milliseconds of
+ * work, while a batch's own sums and stack grids cost memory traffic; in
+ * bands, where each round of a batch waits for its hulls' count, it takes
+ * up to 4 (doc/engine.md:
  * on 2 cores, SVF of 1024^2 x 64 directions in bands of 256 rows, 0.80 s
  * with 4 against 0.90 s with 16 and 0.91 s one at a time). */
 static int fit_batch(const ss_backend *b, const struct ss_ocl *o)
@@ -528,8 +530,8 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     /* The cells' terms, sums, stored horizons and step take their own
      * buffers, together within the device's largest and what the memory
      * plan gives the device (engine.c, cells_fit). */
-    b->cells_max_bytes =
-        (size_t)fmin((double)o->max_alloc, ss_memory_device_bytes(b->ctx, (double)o->global_mem));
+    b->cells_max_bytes = (size_t)fmin((double)o->max_alloc,
+                                      ss_memory_device_cells_bytes(b->ctx, (double)o->global_mem));
     /* Shadow walks stop early on a whole grid only (engine.c sets lit_level
      * -1 elsewhere). */
     if (horizon && b->walk.lit_levels && b->whole_z)

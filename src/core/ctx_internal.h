@@ -20,9 +20,15 @@ void ss_ocl_release(struct ss_ocl *ocl);
 /* Whether ctx runs on an OpenCL CPU device (opened), whose buffers are
  * host memory. */
 int ss_ocl_is_cpu(const ss_ctx *ctx);
-/* The bytes a device's buffers (a batch, or the cells') may take: the
- * memory plan's for a CPU device, else a quarter of global_mem. */
+/* Whether ctx runs on an OpenCL device with its own memory (a GPU,
+ * opened): its global memory and largest buffer in *global_mem and
+ * *max_alloc (CL_DEVICE_GLOBAL_MEM_SIZE, CL_DEVICE_MAX_MEM_ALLOC_SIZE). */
+int ss_ocl_own_memory(const ss_ctx *ctx, double *global_mem, double *max_alloc);
+/* The bytes a device's batch of directions' buffers, and its cells'
+ * buffers, may take: the memory plan's, else (no plan made) a quarter of
+ * global_mem each. */
 double ss_memory_device_bytes(const ss_ctx *ctx, double global_mem);
+double ss_memory_device_cells_bytes(const ss_ctx *ctx, double global_mem);
 /* The planner (memory_plan.c) on a context or none (NULL: no device): the
  * bytes the process holds with bands of rows rows (the grid's height:
  * whole), and the band rows for need's budget, its plan in *plan (or NULL). */

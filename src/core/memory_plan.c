@@ -32,6 +32,39 @@
  * fit_batch; one on a whole grid). */
 #define CPU_BATCH_IN_BANDS 4
 
+/* The share of a device's own memory (a GPU's) left to its driver and to
+ * other processes (a display, another job's context): OpenCL reports the
+ * whole memory, of which CUDA's runtime keeps a few hundred MiB. */
+#define DEVICE_RESERVE 0.10
+/* The directions a device of its own memory is planned to walk at once,
+ * as a CPU device in bands (backend_ocl.c, fit_batch, gives it more where
+ * the plan's share holds more). */
+#define DEVICE_BATCH_PLANNED 4
+
+/* A device with its own memory: a GPU, or one simulated (need's
+ * device_memory_bytes). memory 0: none. */
+typedef struct {
+    double memory, usable, max_alloc;
+} own_device;
+
+static own_device own_device_of(const ss_ctx *ctx, const ss_memory_need *n)
+{
+    own_device d = {0};
+    double global = 0.0, alloc = 0.0;
+    int gpu = ss_ocl_own_memory(ctx, &global, &alloc);
+    if (n->device_memory_bytes > 0) {
+        d.memory = gpu ? fmin(global, n->device_memory_bytes) : n->device_memory_bytes;
+        d.max_alloc = gpu ? fmin(alloc, d.memory) : d.memory;
+    } else if (gpu) {
+        d.memory = global;
+        d.max_alloc = alloc;
+    }
+    if (!(d.max_alloc > 0)) /* a device that did not say */
+        d.max_alloc = d.memory;
+    d.usable = d.memory * (1.0 - DEVICE_RESERVE);
+    return d;
+}
+
 /* Hulls handed on between bands: a line of each direction (box lines:
  * several) per column crossing a band's edge, the hulls read and the hulls
  * written held together, each array grown by half again as it fills. */
@@ -71,24 +104,94 @@ double ss_memory_planned(const ss_ctx *ctx, const ss_memory_need *n, int rows)
            w * n->hull_lines * n->column_bytes;
 }
 
+/* Bytes per held cell in a device's own memory: the heights and sums, a
+ * batch's stack slots and planes (a band's cell bytes each, as a CPU
+ * device's), and the cells' buffers, whose terms, sums, stored horizons
+ * and step a band's cell bytes bound too (engine.c, cells_fit). */
+static double own_cell_bytes(const ss_memory_need *n)
+{
+    return 2.0 * sizeof(float) + (DEVICE_BATCH_PLANNED + 1) * n->cell_bytes;
+}
+
+static double held_rows_of(const ss_memory_need *n, int rows)
+{
+    return rows >= n->height ? (double)n->height : rows + 2.0 * (HALO + n->halo_rows);
+}
+
+/* Bytes of a device's own memory with bands of rows rows (the grid's
+ * height: whole); in bands the device holds the hulls handed on and the
+ * carried columns too. */
+static double own_device_planned(const ss_memory_need *n, int rows)
+{
+    double w = (double)n->width, held = held_rows_of(n, rows);
+    double carried = rows >= n->height ? 0.0 : hull_bytes(n) + w * n->hull_lines * n->column_bytes;
+    return own_cell_bytes(n) * w * held + carried;
+}
+
+/* The least device memory for bands of rows rows: the plan within it less
+ * the reserve, and one direction's buffers within its largest buffer (a
+ * device whose largest is the same share of its memory). */
+static double own_device_least(const own_device *d, const ss_memory_need *n, int rows)
+{
+    double largest = n->cell_bytes * n->width * held_rows_of(n, rows);
+    return fmax(own_device_planned(n, rows) / (1.0 - DEVICE_RESERVE),
+                largest * d->memory / d->max_alloc);
+}
+
+/* The most rows a band may take on the device (fractional), INFINITY where
+ * the grid fits whole or there is no device of its own memory. */
+static double own_device_rows(const own_device *d, const ss_memory_need *n)
+{
+    double w = (double)n->width;
+    if (d->memory <= 0 || (own_device_planned(n, n->height) <= d->usable &&
+                           n->cell_bytes * w * n->height <= d->max_alloc))
+        return INFINITY;
+    double halo_rows = 2.0 * (HALO + n->halo_rows);
+    double carried = own_device_planned(n, 0) - own_cell_bytes(n) * w * halo_rows;
+    double by_memory = (d->usable - carried) / (own_cell_bytes(n) * w);
+    double by_alloc = d->max_alloc / (n->cell_bytes * w);
+    return fmin(by_memory, by_alloc) - halo_rows;
+}
+
+/* The device's shares of its own memory for the plan's bands: the
+ * batch's and the cells' planned buffers, and half each of what the plan
+ * leaves. */
+static void own_device_shares(const own_device *d, const ss_memory_need *n, int rows,
+                              ss_memory_plan *p)
+{
+    double band = n->cell_bytes * n->width * held_rows_of(n, rows);
+    double left = fmax(d->usable - p->device_planned, 0.0);
+    double batch = DEVICE_BATCH_PLANNED * band + left / 2.0, cells = band + left / 2.0;
+    /* A CPU device simulated smaller: within the host's shares too. */
+    p->device_bytes = p->device_bytes > 0 ? fmin(p->device_bytes, batch) : batch;
+    p->device_cells_bytes = p->device_cells_bytes > 0 ? fmin(p->device_cells_bytes, cells) : cells;
+}
+
 int ss_memory_plan_rows(const ss_ctx *ctx, const ss_memory_need *need, ss_memory_plan *plan)
 {
     ss_memory_plan p = {0};
+    own_device d = own_device_of(ctx, need);
     double budget = need->budget_bytes;
     double whole = ss_memory_planned(ctx, need, need->height);
     double one_band = ss_memory_planned(ctx, need, 1);
+    double device_rows = own_device_rows(&d, need);
     p.least_budget = fmax(fmin(whole, one_band), need->peak_bytes);
     p.hull_bytes = hull_bytes(need);
-    if (need->peak_bytes > budget) {
+    p.device_memory = d.memory;
+    if (d.memory > 0)
+        p.device_least = fmin(own_device_least(&d, need, need->height),
+                              own_device_least(&d, need, 1));
+    if (need->peak_bytes > budget || device_rows < 1) {
         p.band_rows = -1;
-    } else if (whole <= budget) {
+    } else if (whole <= budget && device_rows >= need->height) {
         p.band_rows = 0;
         p.planned_bytes = whole;
     } else {
         double fixed = ss_memory_planned(ctx, need, 0);
         double per_row = ss_memory_planned(ctx, need, 1) - fixed;
+        double host_rows = whole <= budget ? INFINITY : (budget - fixed) / per_row;
         /* More rows than the grid's make one band of them all. */
-        double rows = fmin((budget - fixed) / per_row, (double)need->height);
+        double rows = fmin(fmin(host_rows, device_rows), (double)need->height);
         /* Whole 256-row strips keep GeoTIFF tiles from being written twice. */
         int r = rows < 1 ? -1 : rows >= 256 ? 256 * (int)(rows / 256) : (int)rows;
         p.band_rows = r;
@@ -97,14 +200,24 @@ int ss_memory_plan_rows(const ss_ctx *ctx, const ss_memory_need *need, ss_memory
     }
     /* A CPU device's buffers are counted above within the budget (a batch
      * of CPU_BATCH_IN_BANDS in bands): they may take what was counted for
-     * them and what the budget leaves. A GPU's own memory: a quarter of it
-     * (ss_memory_device_bytes). */
+     * them and what the budget leaves, the batch's and the cells' alike. */
     if (ss_ocl_is_cpu(ctx) && budget > 0 && p.band_rows >= 0) {
         int rows = p.band_rows ? p.band_rows : need->height;
         double held_rows = p.band_rows ? rows + 2.0 * (HALO + need->halo_rows) : rows;
         int batch = p.band_rows ? CPU_BATCH_IN_BANDS : 1;
         p.device_bytes = device_host_cell_bytes(ctx, need, batch) * need->width * held_rows +
                          fmax(budget - p.planned_bytes, 0.0);
+        p.device_cells_bytes = p.device_bytes;
+    }
+    /* A device's own memory (a GPU's) is a second bound beside the host's:
+     * its buffers are planned within it, not within the budget. */
+    if (d.memory > 0 && p.band_rows >= 0) {
+        /* A band of all the grid's rows holds its halo and hulls as bands
+         * do (the grid's height would stand for a whole sweep). */
+        int held = p.band_rows == 0 ? need->height
+                                    : p.band_rows < need->height ? p.band_rows : need->height - 1;
+        p.device_planned = own_device_planned(need, held);
+        own_device_shares(&d, need, held, &p);
     }
     if (plan)
         *plan = p;
@@ -122,4 +235,10 @@ ss_status ss_memory_plan_make(ss_ctx *ctx, const ss_memory_need *need, ss_memory
 double ss_memory_device_bytes(const ss_ctx *ctx, double global_mem)
 {
     return ctx->memory.device_bytes > 0 ? ctx->memory.device_bytes : global_mem / 4.0;
+}
+
+double ss_memory_device_cells_bytes(const ss_ctx *ctx, double global_mem)
+{
+    return ctx->memory.device_cells_bytes > 0 ? ctx->memory.device_cells_bytes
+                                              : ss_memory_device_bytes(ctx, global_mem);
 }

@@ -375,6 +375,15 @@ int ss_ocl_is_cpu(const ss_ctx *ctx)
     return ctx && !ctx->use_reference && ctx->ocl && ctx->ocl->is_cpu;
 }
 
+int ss_ocl_own_memory(const ss_ctx *ctx, double *global_mem, double *max_alloc)
+{
+    if (!ctx || ctx->use_reference || !ctx->ocl || ctx->ocl->is_cpu)
+        return 0;
+    *global_mem = (double)ctx->ocl->global_mem;
+    *max_alloc = (double)ctx->ocl->max_alloc;
+    return 1;
+}
+
 void ss_ocl_release(struct ss_ocl *o)
 {
     if (!o)
