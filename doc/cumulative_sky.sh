@@ -129,7 +129,10 @@ bin. The memory is one bit per cell per pair, held for the whole grid, and the t
 sweep per pair instead of one per daylight record: a year at 45° N (the PVGIS year's 4400-odd
 daylight hours) holds about 700 pairs with 32 directions and 1° bins (87 bytes a cell), 480 with
 16, and about 3350 with 0.1° bins (420 bytes a cell, and nearly as many sweeps as records).
-The memory planner does not count these bits yet.
+The memory planner counts these bits at their most, every direction at every elevation step up to
+90° (`insolation_cumulative_crown_bytes`: 720 bytes a cell for 64 directions at 1°, where a year
+at 45° N holds about 87), so `--memory` stays a bound; `tests/test_insolation_trees.sh` checks
+that the least budget grows by them.
 
 Measured by `tests/test_insolation_trees.sh` on a 60 × 60 town of 1 m cells (a 9 m block on a
 slope, three crowns of 6–12 m, UMEP's trunk ratio, transmissivity 0.03 leaf on and 0.5 leaf off)

@@ -193,6 +193,14 @@ ins "${cumul[@]}" flat.tif cplain.tif
 ins "${cumul[@]}" --canopy zeros.tif flat.tif cz.tif
 cmp -s <(raw cplain.tif) <(raw cz.tif)
 tap_ok $? "cumulative sky: a canopy of zeros gives every band byte for byte as without --canopy"
+# The crowns' crossings of the bins (a bit a cell per direction and
+# elevation, up to 64 x 90 here: 720 bytes a cell, 2.5 MiB) are planned.
+least() { "$SKYSWEEP" insolation --device reference "$@" --memory 1M flat.tif o.tif 2>&1 |
+    sed -n 's/.*at least --memory \([0-9]*\)M.*/\1/p'; }
+exact_least=$(least "${weather[@]}" --shadow exact --canopy cyl.tif)
+cumul_least=$(least "${cumul[@]}" --canopy cyl.tif)
+[ -n "$exact_least" ] && [ -n "$cumul_least" ] && [ "$cumul_least" -ge $((exact_least + 2)) ]
+tap_ok $? "cumulative sky with trees: the crowns' crossings are in the least budget (${cumul_least}M, exact shadows ${exact_least}M)"
 ins "${cumul[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif ct1.tif
 cmp -s <(raw cplain.tif) <(raw ct1.tif)
 tap_ok $? "cumulative sky: transmissivity 1 in both seasons as without --canopy"

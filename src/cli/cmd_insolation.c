@@ -950,7 +950,13 @@ int cmd_insolation(int argc, char **argv)
                                     ss_insolation_band_cell_bytes(want, stores ? directions : 0),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = directions,
-                      .grid_cell_bytes = set->trees.trees.canopy ? INSOLATION_TREES_CELL_BYTES : 0.0};
+                      .grid_cell_bytes =
+                          !set->trees.trees.canopy ? 0.0
+                          : shadow == SS_SHADOW_CUMULATIVE
+                              ? INSOLATION_TREES_CELL_BYTES +
+                                    insolation_cumulative_crown_bytes(
+                                        directions, set->ins.elevation_step_deg)
+                              : INSOLATION_TREES_CELL_BYTES};
     if (rc < 0)
         rc = job_open_banded(&r->job, "insolation", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) { /* --help, or the job failed and is closed */

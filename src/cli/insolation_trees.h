@@ -4,6 +4,8 @@
 #ifndef SS_CLI_INSOLATION_TREES_H
 #define SS_CLI_INSOLATION_TREES_H
 
+#include <math.h>
+
 #include "trees.h"
 
 typedef struct {
@@ -26,6 +28,14 @@ int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
 
 /* Bytes a cell of the whole grid the trees hold (the memory planner's). */
 #define INSOLATION_TREES_CELL_BYTES (TREES_SKY_CELL_BYTES + sizeof(float) + 1.0)
+/* ... and more with the cumulative sky: a bit a cell for each (direction,
+ * elevation) pair of its bins (insolation_cumulative.c's crossings), at
+ * most every direction at every elevation step up to 90 degrees, and a
+ * byte a cell for one pair's sweep. */
+static inline double insolation_cumulative_crown_bytes(int directions, double elevation_step_deg)
+{
+    return directions * ceil(90.0 / elevation_step_deg) / 8.0 + 1.0;
+}
 
 /* A run's trees: the rasters, the sky they hide, each step's season and
  * the library's view of them. */
