@@ -54,12 +54,13 @@ bands_budget() {
     echo "$budget"
 }
 
-"$SKYSWEEP" svf --directions 8 --memory 128M --device reference "$work/dem.tif" \
+svf_budget=$(bands_budget 128M svf --directions 8 --device reference)
+"$SKYSWEEP" svf --directions 8 --memory "$svf_budget" --device reference "$work/dem.tif" \
     "$work/banded.tif" >"$work/banded.out"
 rc=$?
 used=$(peak "$work/banded.out")
 grep -q '^bands ' "$work/banded.out"
-tap_ok $? "a DEM needing ~140 MiB whole is swept in bands under --memory 128M (exit $rc): $(grep '^bands ' "$work/banded.out" | cut -c1-80)"
+tap_ok $? "a DEM needing ~140 MiB whole is swept in bands under --memory $svf_budget (exit $rc): $(grep '^bands ' "$work/banded.out" | cut -c1-80)"
 if "$SKYSWEEP" info | grep -q 'sanitizers yes'; then
     tap_skip "peak resident memory within the bound" "AddressSanitizer's shadow memory and quarantine inflate it"
 else
@@ -74,7 +75,7 @@ tap_ok $? "banded SVF == whole-grid SVF (worst $worst)"
 
 # A window of the banded run equals the same window of the whole-grid run.
 win="260325 2155000 272325 2146000"
-"$SKYSWEEP" svf --directions 8 --memory 128M -q -projwin $win "$work/dem.tif" "$work/bwin.tif"
+"$SKYSWEEP" svf --directions 8 --memory "$svf_budget" -q -projwin $win "$work/dem.tif" "$work/bwin.tif"
 gdal_translate -q -projwin $win "$work/whole.tif" "$work/wcut.tif"
 size=$(gdalinfo "$work/bwin.tif" | grep 'Size is')
 worst=$(worst_of "$work/bwin.tif" "$work/wcut.tif" 1)
@@ -86,12 +87,14 @@ rc=$?
 [ "$rc" -eq 6 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && [ ! -e "$work/x.tif" ]
 tap_ok $? "--memory too small for one band: exit $rc, $(head -c 120 "$work/err")"
 # Horizons, with distances and casting heights, in bands: the same files.
-"$SKYSWEEP" horizon --directions 4 --memory 128M --device reference --distance "$work/hd_b.tif" \
+horizon_budget=$(bands_budget 128M horizon --directions 4 --device reference --distance \
+    "$work/hd_least.tif" --cast-height "$work/hc_least.tif")
+"$SKYSWEEP" horizon --directions 4 --memory "$horizon_budget" --device reference --distance "$work/hd_b.tif" \
     --cast-height "$work/hc_b.tif" "$work/dem.tif" "$work/h_b.tif" >"$work/hb.out"
 rc=$?
 used=$(peak "$work/hb.out")
 grep -q '^bands ' "$work/hb.out"
-tap_ok $? "horizon with distances and casting heights is swept in bands under --memory 128M (exit $rc): $(grep '^bands ' "$work/hb.out" | cut -c1-80)"
+tap_ok $? "horizon with distances and casting heights is swept in bands under --memory $horizon_budget (exit $rc): $(grep '^bands ' "$work/hb.out" | cut -c1-80)"
 if "$SKYSWEEP" info | grep -q 'sanitizers yes'; then
     tap_skip "horizon's peak resident memory within the bound" "AddressSanitizer inflates it"
 else
