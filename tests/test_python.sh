@@ -27,8 +27,13 @@ fi
 export ASAN_OPTIONS=detect_leaks=0:use_sigaltstack=0:${ASAN_OPTIONS:-}
 
 # Installed into a folder of its own, so that the venv stays as run.sh made it.
+# From a copy of python/: pip builds in the folder it is given (build/,
+# *.egg-info), and the Python tests, run in parallel, would race there.
+# (tar leaves out what other builds write, which cp could find half gone).
+tar -C "$top" --exclude=python/build --exclude='python/*.egg-info' -cf - python | tar -C "$work" -xf - &&
+    mv "$work/python" "$work/package"
 SKYSWEEP_BUILD_DIR=$top "$py" -m pip install -q --disable-pip-version-check --no-build-isolation \
-    --no-deps --target "$work/site" "$top/python" >"$work/pip.log" 2>&1
+    --no-deps --target "$work/site" "$work/package" >"$work/pip.log" 2>&1
 tap_ok $? "pip installs the package from the source tree $(tail -n 3 "$work/pip.log" | tr '\n' ' ')"
 
 (cd "$work" && LD_PRELOAD=$preload PYTHONPATH=$work/site "$py" -m pytest -p no:cacheprovider \

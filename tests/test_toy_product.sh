@@ -133,8 +133,13 @@ if ! "$py" -c "import cffi, numpy, wheel" 2>/dev/null; then
     exit
 fi
 # The package's option tables come from the CLI it is built with: the toy's too.
+# From a copy of python/: pip builds in the folder it is given (build/,
+# *.egg-info), and the Python tests, run in parallel, would race there.
+# (tar leaves out what other builds write, which cp could find half gone).
+tar -C "$top" --exclude=python/build --exclude='python/*.egg-info' -cf - python | tar -C "$work" -xf - &&
+    mv "$work/python" "$work/package"
 SKYSWEEP_BUILD_DIR=$top with_toy "$py" -m pip install -q --disable-pip-version-check \
-    --no-build-isolation --no-deps --target "$work/site" "$top/python" >"$work/pip.log" 2>&1
+    --no-build-isolation --no-deps --target "$work/site" "$work/package" >"$work/pip.log" 2>&1
 tap_ok $? "pip installs the package with the toy loaded $(grep -m 3 -i -e 'error' -e 'unable' -e 'asan' "$work/pip.log" | tr '\n' ' ')"
 (cd "$work" && PYTHONPATH=$work/site with_toy "$py" - "$work" <<'PY') >"$work/python.out" 2>&1
 import sys
