@@ -116,8 +116,8 @@ static const opt_spec own_options[] = {
     OPT_END};
 static const opt_spec passed_on[] = {
     {"weather", OPT_INPUT, SET(weather), "FILE", NULL, 0, 0, NULL,
-     "the weather records (EPW, TMY3, PVGIS, NSRDB PSM or CSV; required); --time selects "
-     "records as for insolation"},
+     "the weather records (EPW, TMY3, PVGIS, NSRDB PSM or CSV); --time selects records as for "
+     "insolation (default: a clear sky, hourly over --time or the year 2025)"},
     {"weather-far-ok", OPT_FLAG, SET(weather_far_ok), NULL, NULL, 0, 0, NULL,
      "use a weather file whose site lies farther than 100 km from the DSM's centre (as for "
      "insolation)"},
@@ -150,10 +150,12 @@ static const opt_spec *named_option(const opt_spec *const *tables, const char *n
 /* The insolation command line: every option given that is not roofs' own
  * (so the run is exactly `skysweep insolation --weather F --pv` with the
  * same options), then --pv, -q, GeoTIFF, the DSM tiles and the
- * intermediate raster. Returns the count, or -1 where it does not fit. */
+ * intermediate raster; --weather CLEAR_SKY where roofs wrote the records
+ * of a clear sky (NULL: the user's --weather is among the options).
+ * Returns the count, or -1 where it does not fit. */
 static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
-                           const char *const *dsm, int n_dsm, const char *raster, char **out,
-                           int max)
+                           const char *clear_sky, const char *const *dsm, int n_dsm,
+                           const char *raster, char **out, int max)
 {
     int n = 0;
     out[n++] = "insolation";
@@ -179,8 +181,12 @@ static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
         i += takes_value;
     }
     const char *tail[] = {"--pv", "-q", "-of", "GTiff"};
-    if (n + 4 + n_dsm + 2 > max)
+    if (n + 6 + n_dsm + 2 > max)
         return -1;
+    if (clear_sky) { /* the clear sky's records roofs wrote (write_clear_sky) */
+        out[n++] = "--weather";
+        out[n++] = (char *)clear_sky;
+    }
     for (int k = 0; k < 4; ++k)
         out[n++] = (char *)tail[k];
     for (int k = 0; k < n_dsm; ++k)
@@ -193,11 +199,13 @@ static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
 /* Bands of the insolation raster roofs reads (cmd_insolation.c's order). */
 #define BAND_GLOBAL 1
 #define BAND_MONTHS 6
+#define BAND_PV_DC 18
 #define BAND_PV_AC 19
 
 typedef struct {
     float *global;  /* kWh/m2 for the records, per cell */
     float *monthly; /* 12 planes of kWh/m2 */
+    float *pv_dc;   /* kWh/kWp DC (after the system losses) */
     float *pv_ac;   /* kWh/kWp AC */
 } cell_yield;
 
@@ -205,7 +213,7 @@ typedef struct {
  * the raster is removed. With --plan, insolation prints its plan and
  * nothing is read. Returns the exit code (0: done). */
 static int run_insolation(sweep_job *job, const opt_spec *const *tables, int argc, char **argv,
-                          cell_yield *y)
+                          const char *clear_sky, cell_yield *y)
 {
     char dir[PATH_MAX], prefix[PATH_MAX], raster[PATH_MAX + 40];
     if (!ss_temporary_prefix(job->output, dir, prefix) ||
@@ -214,7 +222,7 @@ static int run_insolation(sweep_job *job, const opt_spec *const *tables, int arg
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
                                                 "output name '%s' is too long", job->output));
     char *args[2 * 128 + COMMAND_MAX_INPUTS + 16];
-    int n = insolation_args(tables, argc, argv, job->inputs, job->n_inputs, raster, args,
+    int n = insolation_args(tables, argc, argv, clear_sky, job->inputs, job->n_inputs, raster, args,
                             (int)(sizeof args / sizeof *args) - 1);
     if (n < 0)
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
@@ -227,13 +235,18 @@ static int run_insolation(sweep_job *job, const opt_spec *const *tables, int arg
     size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
     y->global = malloc(sizeof(float) * cells);
     y->monthly = malloc(sizeof(float) * cells * 12);
+    y->pv_dc = malloc(sizeof(float) * cells);
     y->pv_ac = malloc(sizeof(float) * cells);
-    ss_status st = y->global && y->monthly && y->pv_ac ? SS_OK : command_out_of_memory(&job->run);
+    ss_status st = y->global && y->monthly && y->pv_dc && y->pv_ac
+                       ? SS_OK
+                       : command_out_of_memory(&job->run);
     int w = job->dem.grid.width, h = job->dem.grid.height;
     if (st == SS_OK)
         st = ss_raster_read_bands(job->run.ctx, raster, BAND_GLOBAL, 1, w, h, y->global);
     if (st == SS_OK)
         st = ss_raster_read_bands(job->run.ctx, raster, BAND_MONTHS, 12, w, h, y->monthly);
+    if (st == SS_OK)
+        st = ss_raster_read_bands(job->run.ctx, raster, BAND_PV_DC, 1, w, h, y->pv_dc);
     if (st == SS_OK)
         st = ss_raster_read_bands(job->run.ctx, raster, BAND_PV_AC, 1, w, h, y->pv_ac);
     remove(raster);
@@ -294,6 +307,79 @@ static ss_status make_sky_steps(sweep_job *job, const roofs_settings *set, const
     return st;
 }
 
+/* ---- a clear sky, without --weather --------------------------------------- */
+
+/* The clear sky's span where --time gives none: a calendar year (UTC). */
+#define CLEAR_SKY_YEAR "2025-01-01T00:00Z/2026-01-01T00:00Z"
+/* The most hours of clear sky (as insolation's most clear-sky steps). */
+#define CLEAR_SKY_MAX_HOURS 100000.0
+
+/* Without --weather, the records of a clear sky: one an hour of --time's
+ * whole UTC hours (or CLEAR_SKY_YEAR's), each at the middle of its hour,
+ * ESRA's irradiance for the sun at the DSM's centre (ss_clear_sky_record,
+ * --linke's turbidity of the record's month, the DSM's height), as a plain
+ * CSV beside OUTPUT at path, which the insolation run and the open planes
+ * then read as any weather file: one code path for both skies. The records
+ * give no air temperature or wind: the modules take --temp-air and
+ * --wind-speed. note says which sky it was. */
+static ss_status write_clear_sky(sweep_job *job, const roofs_settings *set, char *path,
+                                 size_t size, char *note, size_t note_size)
+{
+    ss_ctx *ctx = job->run.ctx;
+    char dir[PATH_MAX], prefix[PATH_MAX];
+    if (!ss_temporary_prefix(job->output, dir, prefix) ||
+        (size_t)snprintf(path, size, "%s/%sclear_sky.csv", dir, prefix) >= size)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "output name '%s' is too long", job->output);
+    ss_time_range range = {0};
+    double linke[12];
+    ss_status st = ss_parse_time_range(ctx, set->common.sun.time ? set->common.sun.time
+                                                                 : CLEAR_SKY_YEAR,
+                                       &range);
+    if (st == SS_OK)
+        st = ss_insolation_params_linke(ctx, &set->ins, linke);
+    double first = ceil(range.start_unix_s / 3600.0), end = floor(range.end_unix_s / 3600.0);
+    if (st == SS_OK && !(end > first))
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "without --weather, --time must hold a whole hour (UTC): the clear "
+                          "sky's records are hourly");
+    if (st == SS_OK && end - first > CLEAR_SKY_MAX_HOURS)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "without --weather, --time spans %.0f hours, more than %.0f of clear "
+                          "sky",
+                          end - first, CLEAR_SKY_MAX_HOURS);
+    FILE *f = st == SS_OK ? fopen(path, "w") : NULL;
+    if (st == SS_OK && !f)
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
+    if (f)
+        fprintf(f, "time,ghi,dni,dhi\n");
+    ss_spa_params p;
+    ss_sun_params_spa(&set->common.sun, &p);
+    p.elevation_m = job->dem.grid.z_origin_m;
+    char stamp[40], until[40];
+    for (double hour = first; f && st == SS_OK && hour < end; ++hour) {
+        double t = hour * 3600.0 + 1800.0, ghi, dni, dhi;
+        ss_spa_result sun;
+        st = ss_spa(ctx, t, job->frame.centre_lat_deg, job->frame.centre_lon_deg, &p, &sun);
+        ss_civil_time civil;
+        ss_civil_from_unix(t, &civil);
+        ss_sun_step step;
+        ss_sun_step_clear_sky(&sun, sun.azimuth_deg, 0.0, 1.0, linke[civil.month - 1],
+                              set->ins.solar_constant, &step);
+        ss_clear_sky_record(&step, job->dem.grid.z_origin_m, &ghi, &dni, &dhi);
+        ss_format_instant(t, stamp, sizeof stamp);
+        fprintf(f, "%s,%.9g,%.9g,%.9g\n", stamp, ghi, dni, dhi);
+    }
+    if (f && ((ferror(f) | (fclose(f) != 0)) && st == SS_OK))
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
+    ss_format_instant(first * 3600.0, stamp, sizeof stamp);
+    ss_format_instant(end * 3600.0, until, sizeof until);
+    snprintf(note, note_size,
+             "a clear sky (ESRA, Linke turbidity %s; no --weather), hourly from %s to %s, the "
+             "modules in %g C air and %g m/s wind",
+             set->ins.linke, stamp, until, set->ins.temp_air_c, set->ins.wind_speed_m_s);
+    return st;
+}
+
 /* ---- per plane and per building ------------------------------------------- */
 
 static const char *const month_abbr[12] = {"jan", "feb", "mar", "apr", "may", "jun",
@@ -317,7 +403,7 @@ typedef struct {
     double centre_col, centre_row; /* the plane's cell nearest its mean (--horizon-files) */
     double area_m2, usable_area_m2, inner_area_m2;
     double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
-    double kwp, kwh_ac_year, kwh_per_kwp, kwh_ac_month[12];
+    double kwp, kwh_ac_year, kwh_dc_year, kwh_per_kwp, kwh_ac_month[12];
     int n_panels, racked, landscape;
     int shade_on_usable; /* the shade table counts its usable cells (else all its cells) */
     double panel_tilt_deg, panel_azimuth_deg; /* the modules' (racks': toward the equator) */
@@ -334,7 +420,7 @@ typedef struct {
 
 typedef struct {
     double roof_area_m2, usable_area_m2, obstacle_area_m2, footprint_area_m2;
-    double kwp, kwh_ac_year, kwh_ac_month[12];
+    double kwp, kwh_ac_year, kwh_dc_year, kwh_ac_month[12];
     int n_panels;
     double inner_area_m2, inner_kwh, inner_unshaded_kwh; /* for the mean and the loss */
     double height_m;
@@ -454,20 +540,23 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
                                   360.0);
     row->kwp = (double)l->n * kw;
     row->kwh_ac_year = 0;
+    row->kwh_dc_year = 0;
     for (size_t k = 0; k < l->n; ++k) {
         panel_place *p = &l->items[k];
-        double ac = 0, g_sum = 0;
+        double ac = 0, dc = 0, g_sum = 0;
         for (int i = 0; i < p->n_cells; ++i) {
             int w = l->cells[p->first + (size_t)i];
             size_t cell = (size_t)(fp->row0 + w / fp->cols) * (size_t)width +
                           (size_t)(fp->col0 + w % fp->cols);
             ac += v->yield->pv_ac[cell];
+            dc += v->yield->pv_dc[cell];
             g_sum += v->yield->global[cell];
             for (int m = 0; m < 12; ++m)
                 month[m] += v->yield->monthly[(size_t)m * cells + cell] / p->n_cells;
         }
         p->kwh_ac_year = kw * ac / p->n_cells;
         row->kwh_ac_year += p->kwh_ac_year;
+        row->kwh_dc_year += kw * dc / p->n_cells;
         poa += g_sum / p->n_cells;
     }
     row->kwh_per_kwp = row->kwp > 0 ? row->kwh_ac_year / row->kwp : NAN;
@@ -478,8 +567,8 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
 
 /* ---- outputs --------------------------------------------------------------- */
 
-#define PLANE_FIELDS 32
-#define BUILDING_FIELDS 30
+#define PLANE_FIELDS 33
+#define BUILDING_FIELDS 31
 #define PANEL_FIELDS 7
 #define SHADE_FIELDS 7
 static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS],
@@ -496,6 +585,10 @@ static int common_fields(ss_field *f, int n, int slot)
     f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
                         "AC energy of the modules: each its kWp x the mean AC kWh/kWp of the "
                         "cells it covers (PVWatts, as insolation --pv)"};
+    f[n++] = (ss_field){"kwh_dc_year", SS_FIELD_REAL, "kWh/year",
+                        "DC energy of the modules, after the system losses, before the inverter: "
+                        "each its kWp x the mean DC kWh/kWp of the cells it covers (insolation "
+                        "--pv's pv_yield)"};
     f[n++] = (ss_field){"kwh_per_kwp", SS_FIELD_REAL, "kWh/kWp/year", "kwh_ac_year / kwp"};
     for (int m = 0; m < 12; ++m) {
         snprintf(month_names[slot][m], sizeof month_names[slot][m], "kwh_ac_%s", month_abbr[m]);
@@ -597,6 +690,7 @@ static void plane_values(const plane_row *p, const char *building_id, ss_value *
     v[n++].num = p->n_panels;
     v[n++].num = p->kwp;
     v[n++].num = p->kwh_ac_year;
+    v[n++].num = p->kwh_dc_year;
     v[n++].num = p->kwh_per_kwp;
     for (int m = 0; m < 12; ++m)
         v[n++].num = p->kwh_ac_month[m];
@@ -627,6 +721,7 @@ static void building_values(const ss_footprint *fp, const building_sums *b, ss_v
     v[n++].num = b->n_panels;
     v[n++].num = b->kwp;
     v[n++].num = b->kwh_ac_year;
+    v[n++].num = b->kwh_dc_year;
     v[n++].num = b->kwp > 0 ? b->kwh_ac_year / b->kwp : NAN;
     for (int m = 0; m < 12; ++m)
         v[n++].num = b->kwh_ac_month[m];
@@ -708,6 +803,8 @@ typedef struct {
     size_t n_panels, cap_panels;
     roof_shade shade; /* planes in the order of planes */
     float *dtm;
+    char clear_sky[PATH_MAX + 40]; /* without --weather: the clear sky's records ("": none) */
+    char sky_note[400];            /* the sky the yield is summed under */
     double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_shade;
     double seconds_write;
 } roofs_run;
@@ -886,6 +983,7 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
         s->usable_area_m2 += row->usable_area_m2;
         s->kwp += row->kwp;
         s->kwh_ac_year += row->kwh_ac_year;
+        s->kwh_dc_year += row->kwh_dc_year;
         for (int m = 0; m < 12; ++m)
             s->kwh_ac_month[m] += row->kwh_ac_month[m];
     }
@@ -1051,7 +1149,7 @@ static ss_status write_outputs(roofs_run *r)
         return st;
     }
     int lb, lp;
-    char trees_note[400] = "", described[600];
+    char trees_note[400] = "", described[1100];
     const insolation_tree_settings *t = &r->set.trees;
     if (t->trees.canopy)
         snprintf(trees_note, sizeof trees_note,
@@ -1059,13 +1157,13 @@ static ss_status write_outputs(roofs_run *r)
                  "(doc/vegetation.md)",
                  t->trees.canopy, t->trees.transmissivity, t->transmissivity_leaf_off);
     snprintf(described, sizeof described,
-             "skysweep roofs: per building, sums over its roof planes (doc/roofs.md)%s",
-             trees_note);
+             "skysweep roofs: per building, sums over its roof planes (doc/roofs.md); under %s%s",
+             r->sky_note, trees_note);
     st = ss_vector_layer(w, "buildings", described, building_fields, BUILDING_FIELDS, &lb);
     snprintf(described, sizeof described,
              "skysweep roofs: roof planes fitted in the DSM inside each footprint "
-             "(doc/roofs.md)%s",
-             trees_note);
+             "(doc/roofs.md); under %s%s",
+             r->sky_note, trees_note);
     if (st == SS_OK)
         st = ss_vector_layer(w, "roof_planes", described, plane_fields, PLANE_FIELDS, &lp);
     ss_value v[BUILDING_FIELDS];
@@ -1123,17 +1221,18 @@ static void print_summary(roofs_run *r)
            f->outside, f->no_cell, *f->id_field ? f->id_field : "the feature ids");
     for (size_t i = 0; i < f->n_notes; ++i)
         printf("          %s\n", f->notes[i]);
-    double kwp = 0, kwh = 0, usable = 0, area = 0;
+    printf("sky       %s\n", r->sky_note);
+    double kwp = 0, kwh = 0, dc = 0, usable = 0, area = 0;
     for (size_t b = 0; b < f->n; ++b)
-        kwp += r->sums[b].kwp, kwh += r->sums[b].kwh_ac_year, usable += r->sums[b].usable_area_m2,
-            area += r->sums[b].roof_area_m2;
+        kwp += r->sums[b].kwp, kwh += r->sums[b].kwh_ac_year, dc += r->sums[b].kwh_dc_year,
+            usable += r->sums[b].usable_area_m2, area += r->sums[b].roof_area_m2;
     printf("planes    %zu roof planes, %.0f m2 (true area), %.0f m2 usable\n", r->n_planes, area,
            usable);
     int panels = 0;
     for (size_t b = 0; b < f->n; ++b)
         panels += r->sums[b].n_panels;
-    printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", panels, kwp,
-           kwh, kwp > 0 ? kwh / kwp : 0.0);
+    printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp), %.0f kWh DC\n",
+           panels, kwp, kwh, kwp > 0 ? kwh / kwp : 0.0, dc);
     printf("time      insolation %.2f s, planes %.2f s, panels %.2f s, unshaded planes %.2f s, "
            "shade table %.2f s (%zu sweeps), output %.2f s -> %s\n",
            r->seconds_insolation, r->seconds_planes, r->seconds_panels, r->seconds_unshaded,
@@ -1152,9 +1251,14 @@ static void close_run(roofs_run *r)
     free(r->sums);
     free(r->yield.global);
     free(r->yield.monthly);
+    free(r->yield.pv_dc);
     free(r->yield.pv_ac);
     free(r->sky.steps);
     free(r->dtm);
+    if (*r->clear_sky) {
+        remove(r->clear_sky);
+        ss_temporaries_forget(r->job.output);
+    }
     ss_weather_free(&r->weather);
     ss_footprints_free(&r->fps);
     job_close(&r->job);
@@ -1205,9 +1309,9 @@ static int refuse_options(const roofs_settings *set, const opt_spec *const *tabl
 {
     if (!set->buildings)
         return run_usage_error("roofs", "--buildings FILE is needed (the footprints)");
-    if (!set->weather)
-        return run_usage_error("roofs", "--weather FILE is needed (the records the yield is "
-                                        "summed over)");
+    if (!set->weather && (set->weather_zone || set->weather_far_ok))
+        return run_usage_error("roofs", "--weather-zone and --weather-far-ok are for --weather: "
+                                        "without it the sky is clear");
     if (set->common.projwin)
         return run_usage_error("roofs", "the footprints say where: -projwin is for rasters");
     if (strcmp(set->common.format, opt_find(tables, "of")->default_text) != 0 ||
@@ -1241,15 +1345,16 @@ int cmd_roofs(int argc, char **argv)
     int n_pos = 0;
     int rc = run_parse(
         "roofs", tables, set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
-        "skysweep roofs --buildings FOOTPRINTS --weather FILE [--dtm DTM] [--csv FILE] "
+        "skysweep roofs --buildings FOOTPRINTS [--weather FILE] [--dtm DTM] [--csv FILE] "
         "[options] DSM... OUT.gpkg",
         "A solar cadastre: roof planes fitted in the DSM inside each footprint, their tilt, "
         "azimuth,\ntrue area and usable area, a panel layout on the usable area, and per plane "
-        "and per\nbuilding the modules' kWp, AC kWh per year and month (PVWatts), kWh/kWp, "
-        "shading loss and a\nsuitability class, from the insolation run with --weather and --pv "
-        "on the DSM (its options\napply); on request each plane's share in direct sun by month and "
-        "hour. A GeoPackage with\nlayers buildings and roof_planes, and panels (--panels) and "
-        "plane_shade (--shade-table)\non request (doc/roofs.md).",
+        "and per\nbuilding the modules' kWp, AC and DC kWh per year, AC kWh per month "
+        "(PVWatts), kWh/kWp,\nshading loss and a suitability class, from the insolation run "
+        "with --weather and --pv\non the DSM (its options apply; without --weather a clear "
+        "sky); on request each plane's\nshare in direct sun by month and hour. A GeoPackage "
+        "with layers buildings and roof_planes,\nand panels (--panels) and plane_shade "
+        "(--shade-table) on request (doc/roofs.md).",
         &set->common.device);
     if (rc < 0)
         rc = refuse_options(set, tables);
@@ -1271,6 +1376,15 @@ int cmd_roofs(int argc, char **argv)
     if (st == SS_OK && set->weather_zone &&
         !opt_parse_zone(set->weather_zone, &zone_h, zone_err, sizeof zone_err))
         st = ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT, "%s", zone_err);
+    if (st == SS_OK && !set->weather) {
+        st = write_clear_sky(job, set, r->clear_sky, sizeof r->clear_sky, r->sky_note,
+                             sizeof r->sky_note);
+        if (*r->clear_sky)
+            ss_temporaries_track(job->output); /* the records are among its temporaries */
+        set->weather = r->clear_sky;
+    } else {
+        snprintf(r->sky_note, sizeof r->sky_note, "the weather records of '%s'", set->weather);
+    }
     if (st == SS_OK)
         st = ss_weather_read(job->run.ctx, set->weather, zone_h, &r->weather);
     if (st == SS_OK)
@@ -1287,7 +1401,7 @@ int cmd_roofs(int argc, char **argv)
         return rc;
     }
     double t0 = run_now();
-    rc = run_insolation(job, tables, argc, argv, &r->yield);
+    rc = run_insolation(job, tables, argc, argv, *r->clear_sky ? r->clear_sky : NULL, &r->yield);
     r->seconds_insolation = run_now() - t0;
     if (rc == 0 && !job->run.plan_only)
         rc = set->shade_table || set->shade_masks ? plan_shade_sweeps(r) : -1;
