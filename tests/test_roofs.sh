@@ -15,6 +15,7 @@
 # noon; the shade masks' bits are the shadow product's.
 # Without --weather the sky is clear (hourly records written for the run);
 # kwh_dc_year exceeds kwh_ac_year by the inverter's efficiency (pvlib).
+# Windows of rows holding whole footprints give the whole grid's layers.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 top=${TOP_SRCDIR:-$PWD}
@@ -453,6 +454,31 @@ rc2=$?
 [ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ $rc2 = 2 ] && [ "$(wc -l <err2.txt)" = 1 ] &&
     [ ! -e bad.gpkg ] && [ -z "$(ls -A | grep '^\.bad\.gpkg')" ]
 tap_ok $? "without --weather, --weather-zone (exit $rc: $(head -c 120 err.txt)) and an instant --time (exit $rc2: $(head -c 120 err2.txt)) are refused"
+
+# Scale (doc/roofs.md, "Scale"): windows of rows that each hold whole
+# footprints give the whole grid's rows, byte for byte, in every layer. The
+# test hook makes windows of 30 rows on this small DSM (--memory makes them
+# where the DSM is too large for it): 4 windows, the gable A (rows 110 to
+# 129) across the row 120 that bands of 30 or 40 rows would cut it at. A
+# window too small for a footprint (25 rows, the flat roof D spans 30) is
+# refused in one line, exit 6, before any work.
+SKYSWEEP_TEST_ROOF_WINDOW_ROWS=30 roofs footprints.geojson win.gpkg win.csv --dtm ground.tif \
+    --panels --shade-table >win.out 2>err.txt
+rc=$?
+differ=
+for layer in buildings roof_planes panels plane_shade; do
+    cmp -s <(ogr2ogr -f CSV /vsistdout/ city.gpkg $layer -lco GEOMETRY=AS_WKT 2>/dev/null) \
+        <(ogr2ogr -f CSV /vsistdout/ win.gpkg $layer -lco GEOMETRY=AS_WKT 2>/dev/null) ||
+        differ="$differ $layer"
+done
+cmp -s planes.csv win.csv || differ="$differ csv"
+[ $rc = 0 ] && [ -z "$differ" ] && grep -q "^memory    the DSM held whole, 4 windows of up to 30 rows" win.out
+tap_ok $? "windows of 30 rows give the whole grid's layers byte for byte (differ:${differ:- none}; $(grep '^memory' win.out))"
+SKYSWEEP_TEST_ROOF_WINDOW_ROWS=25 roofs footprints.geojson win25.gpkg win25.csv >/dev/null 2>err.txt
+rc=$?
+[ $rc = 6 ] && [ "$(wc -l <err.txt)" = 1 ] && [ ! -e win25.gpkg ] && [ ! -e win25.csv ] &&
+    grep -q "footprint 'D' spans 30" err.txt
+tap_ok $? "a window smaller than a footprint refused: exit $rc, $(head -c 240 err.txt)"
 
 # An open plane against pvlib.
 if "$python" -c "import pvlib" 2>/dev/null; then

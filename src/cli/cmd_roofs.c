@@ -19,6 +19,7 @@
 
 #include "commands.h"
 #include "insolation_trees.h"
+#include "mpi_share.h"
 #include "roof_horizons.h"
 #include "roof_panels.h"
 #include "roof_planes.h"
@@ -202,23 +203,34 @@ static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
 #define BAND_PV_DC 18
 #define BAND_PV_AC 19
 
+/* A window of the grid's rows [row0, row0 + rows) that holds whole
+ * footprints (doc/roofs.md, "Scale"): the DSM's heights, the ground's
+ * (--dtm) and the insolation run's results per cell. The grid's cell c is
+ * element c - base. */
 typedef struct {
-    float *global;  /* kWh/m2 for the records, per cell */
-    float *monthly; /* 12 planes of kWh/m2 */
-    float *pv_dc;   /* kWh/kWp DC (after the system losses) */
-    float *pv_ac;   /* kWh/kWp AC */
-} cell_yield;
+    int row0, rows;
+    size_t base, n;  /* row0 x width; rows x width */
+    const float *z;  /* the DSM's heights (relative to z_origin_m) */
+    float *z_read;   /* where a banded job reads them, else NULL (the job's whole grid) */
+    float *dtm;      /* absolute ground heights (--dtm), else NULL */
+    float *global;   /* kWh/m2 for the records */
+    float *monthly;  /* 12 planes of kWh/m2 */
+    float *pv_dc;    /* kWh/kWp DC (after the system losses) */
+    float *pv_ac;    /* kWh/kWp AC */
+} roof_window;
 
-/* Runs insolation into OUTPUT's hidden neighbour and reads its bands back;
- * the raster is removed. With --plan, insolation prints its plan and
- * nothing is read. Returns the exit code (0: done). */
+/* Bytes a window holds per cell (roof_window; the DTM's counted always). */
+#define WINDOW_CELL_BYTES (sizeof(float) * 17)
+
+/* Runs insolation into OUTPUT's hidden neighbour raster (its path), which
+ * the windows read back and close_run removes. With --plan, insolation
+ * prints its plan and nothing is kept. Returns the exit code (0: done). */
 static int run_insolation(sweep_job *job, const opt_spec *const *tables, int argc, char **argv,
-                          const char *clear_sky, cell_yield *y)
+                          const char *clear_sky, char *raster, size_t size)
 {
-    char dir[PATH_MAX], prefix[PATH_MAX], raster[PATH_MAX + 40];
+    char dir[PATH_MAX], prefix[PATH_MAX];
     if (!ss_temporary_prefix(job->output, dir, prefix) ||
-        (size_t)snprintf(raster, sizeof raster, "%s/%sinsolation.tif", dir, prefix) >=
-            sizeof raster)
+        (size_t)snprintf(raster, size, "%s/%sinsolation.tif", dir, prefix) >= size)
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
                                                 "output name '%s' is too long", job->output));
     char *args[2 * 128 + COMMAND_MAX_INPUTS + 16];
@@ -228,29 +240,9 @@ static int run_insolation(sweep_job *job, const opt_spec *const *tables, int arg
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
                                                 "too many options to pass on to insolation"));
     int rc = cmd_insolation(n, args);
-    if (rc != 0 || job->run.plan_only) { /* --plan: insolation printed its plan */
+    if (rc != 0 || job->run.plan_only) /* --plan: insolation printed its plan */
         remove(raster);
-        return rc;
-    }
-    size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
-    y->global = malloc(sizeof(float) * cells);
-    y->monthly = malloc(sizeof(float) * cells * 12);
-    y->pv_dc = malloc(sizeof(float) * cells);
-    y->pv_ac = malloc(sizeof(float) * cells);
-    ss_status st = y->global && y->monthly && y->pv_dc && y->pv_ac
-                       ? SS_OK
-                       : command_out_of_memory(&job->run);
-    int w = job->dem.grid.width, h = job->dem.grid.height;
-    if (st == SS_OK)
-        st = ss_raster_read_bands(job->run.ctx, raster, BAND_GLOBAL, 1, w, h, y->global);
-    if (st == SS_OK)
-        st = ss_raster_read_bands(job->run.ctx, raster, BAND_MONTHS, 12, w, h, y->monthly);
-    if (st == SS_OK)
-        st = ss_raster_read_bands(job->run.ctx, raster, BAND_PV_DC, 1, w, h, y->pv_dc);
-    if (st == SS_OK)
-        st = ss_raster_read_bands(job->run.ctx, raster, BAND_PV_AC, 1, w, h, y->pv_ac);
-    remove(raster);
-    return st == SS_OK ? 0 : run_fail(&job->run, st);
+    return rc;
 }
 
 /* ---- the planes with no horizon ------------------------------------------ */
@@ -432,7 +424,7 @@ typedef struct {
     const sweep_job *job;
     const roofs_settings *set;
     const ss_footprint *fp;
-    const cell_yield *yield;
+    const roof_window *win;
 } roofs_run_view;
 
 /* Whether window cell (c, r) of plane p lies at least setback from every
@@ -458,7 +450,7 @@ static int clear_of_edges(const int *plane_at, int cols, int rows, int c, int r,
  * bright enough, not too steep) its usable area, and are marked 1 in
  * usable (the building's window, zeroed by the caller). */
 static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
-                              const cell_yield *y, const ss_footprint *fp, const int *label,
+                              const roof_window *y, const ss_footprint *fp, const int *label,
                               const int *plane_at, int p, plane_row *row, unsigned char *usable)
 {
     double cx = job->dem.grid.cell_x_m, cy = job->dem.grid.cell_y_m;
@@ -470,7 +462,7 @@ static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
         if (label[i] != p)
             continue;
         int cell = fp->cells[i], width = job->dem.grid.width;
-        double g = y->global[cell];
+        double g = y->global[cell - y->base];
         if (!isfinite(g) || g < 0)
             continue;
         n_all++, all_kwh += g;
@@ -479,7 +471,7 @@ static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
             continue;
         n_inner++, inner_kwh += g;
         if (g < set->min_irradiation || row->tilt_deg > set->max_tilt_deg ||
-            !isfinite(y->pv_ac[cell]) || y->pv_ac[cell] < 0)
+            !isfinite(y->pv_ac[cell - y->base]) || y->pv_ac[cell - y->base] < 0)
             continue;
         n_usable++;
         usable[r * fp->cols + c] = 1;
@@ -530,7 +522,7 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
         l->n = 0;
     const ss_footprint *fp = v->fp;
     int width = v->job->dem.grid.width;
-    size_t cells = (size_t)width * (size_t)v->job->dem.grid.height;
+    const roof_window *y = v->win;
     double kw = o->power_w / 1000.0, poa = 0, month[12] = {0};
     row->n_panels = (int)l->n;
     row->racked = g.racked, row->landscape = g.landscape;
@@ -547,12 +539,12 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
         for (int i = 0; i < p->n_cells; ++i) {
             int w = l->cells[p->first + (size_t)i];
             size_t cell = (size_t)(fp->row0 + w / fp->cols) * (size_t)width +
-                          (size_t)(fp->col0 + w % fp->cols);
-            ac += v->yield->pv_ac[cell];
-            dc += v->yield->pv_dc[cell];
-            g_sum += v->yield->global[cell];
+                          (size_t)(fp->col0 + w % fp->cols) - y->base;
+            ac += y->pv_ac[cell];
+            dc += y->pv_dc[cell];
+            g_sum += y->global[cell];
             for (int m = 0; m < 12; ++m)
-                month[m] += v->yield->monthly[(size_t)m * cells + cell] / p->n_cells;
+                month[m] += y->monthly[(size_t)m * y->n + cell] / p->n_cells;
         }
         p->kwh_ac_year = kw * ac / p->n_cells;
         row->kwh_ac_year += p->kwh_ac_year;
@@ -794,7 +786,11 @@ typedef struct {
     sweep_job job;
     ss_footprints fps;
     ss_weather weather;
-    cell_yield yield;
+    char raster[PATH_MAX + 40]; /* the insolation run's, read back a window at a time */
+    roof_window win;            /* the window of rows being worked on */
+    int n_windows, most_rows;   /* windows worked in, and the rows of the largest */
+    ss_dem dtm;                 /* --dtm, read a window at a time */
+    ss_dem_source *dtm_src;
     sky_steps sky;
     plane_row *planes;
     size_t n_planes;
@@ -802,12 +798,30 @@ typedef struct {
     panel_row *panels; /* with --panels */
     size_t n_panels, cap_panels;
     roof_shade shade; /* planes in the order of planes */
-    float *dtm;
     char clear_sky[PATH_MAX + 40]; /* without --weather: the clear sky's records ("": none) */
     char sky_note[400];            /* the sky the yield is summed under */
     double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_shade;
     double seconds_write;
 } roofs_run;
+
+/* A banded job's height origin before any window is read: rows from the
+ * first until one holds a height, as a whole read sets it (the windows'
+ * heights and the DSM's height the sun is taken at are then the whole
+ * grid's). */
+static ss_status settle_origin(sweep_job *job)
+{
+    int width = job->dem.grid.width;
+    float *row = malloc(sizeof(float) * (size_t)width);
+    ss_status st = row ? SS_OK : command_out_of_memory(&job->run);
+    int found = 0;
+    for (int r = 0; st == SS_OK && !found && r < job->dem.grid.height; ++r) {
+        st = job_read_rows(job, r, 1, row);
+        for (int c = 0; st == SS_OK && c < width && !found; ++c)
+            found = isfinite(row[c]);
+    }
+    free(row);
+    return st;
+}
 
 /* The files' overlaps were refused when the options were parsed (every
  * file option is declared an input or an output, run_parse); what is left
@@ -820,32 +834,22 @@ static ss_status check_files(roofs_run *r)
     return st;
 }
 
-/* The --dtm's heights (absolute, NAN: none), on the DSM's grid. */
-static ss_status read_dtm(roofs_run *r)
+/* Opens --dtm, on the DSM's grid, for the windows to read. */
+static ss_status open_dtm(roofs_run *r)
 {
-    ss_dem d = {0};
     ss_dem_read_options o = {0};
     const char *paths[1] = {r->set.dtm};
-    ss_status st = ss_dem_read(r->job.run.ctx, paths, 1, &o, &d);
+    ss_status st = ss_dem_open(r->job.run.ctx, paths, 1, &o, &r->dtm, &r->dtm_src);
     if (st != SS_OK)
         return st;
-    const ss_dem *s = &r->job.dem;
-    int same = d.grid.width == s->grid.width && d.grid.height == s->grid.height;
+    const ss_dem *s = &r->job.dem, *d = &r->dtm;
+    int same = d->grid.width == s->grid.width && d->grid.height == s->grid.height;
     for (int k = 0; same && k < 6; ++k)
-        same = fabs(d.geotransform[k] - s->geotransform[k]) <= 1e-6 * (1 + fabs(s->geotransform[k]));
-    if (!same) {
-        ss_dem_free(&d);
-        return ss_ctx_error(r->job.run.ctx, SS_ERR_INPUT,
-                            "--dtm '%s' must lie on the DSM's grid (size and geotransform)",
-                            r->set.dtm);
-    }
-    size_t n = (size_t)d.grid.width * (size_t)d.grid.height;
-    for (size_t i = 0; i < n; ++i)
-        d.grid.z[i] += (float)d.grid.z_origin_m;
-    r->dtm = d.grid.z;
-    d.grid.z = NULL;
-    ss_dem_free(&d);
-    return SS_OK;
+        same = fabs(d->geotransform[k] - s->geotransform[k]) <= 1e-6 * (1 + fabs(s->geotransform[k]));
+    return same ? SS_OK
+                : ss_ctx_error(r->job.run.ctx, SS_ERR_INPUT,
+                               "--dtm '%s' must lie on the DSM's grid (size and geotransform)",
+                               r->set.dtm);
 }
 
 static int by_float(const void *x, const void *y)
@@ -860,11 +864,13 @@ static double building_height(const roofs_run *r, const ss_footprint *fp, const 
     float *ground = malloc(sizeof(float) * (fp->n_cells + 1));
     size_t n = 0;
     double top = -INFINITY;
+    const roof_window *y = &r->win;
     for (size_t i = 0; ground && i < fp->n_cells; ++i) {
-        if (isfinite(r->dtm[fp->cells[i]]))
-            ground[n++] = r->dtm[fp->cells[i]];
+        size_t cell = (size_t)fp->cells[i] - y->base;
+        if (isfinite(y->dtm[cell]))
+            ground[n++] = y->dtm[cell];
         if (label[i] >= 0)
-            top = fmax(top, r->job.dem.grid.z[fp->cells[i]] + r->job.dem.grid.z_origin_m);
+            top = fmax(top, y->z[cell] + r->job.dem.grid.z_origin_m);
     }
     if (n)
         qsort(ground, n, sizeof *ground, by_float);
@@ -932,8 +938,12 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
                             r->set.obstacle_m};
     double t0 = run_now();
     roof_plane *found;
-    int n = roof_planes_find(g->z, g->width, g->cell_x_m, g->cell_y_m, fp->col0, fp->row0,
-                             fp->cols, fp->rows, fp->cells, fp->n_cells, &o, &found, label);
+    /* the footprint's cells in the window (cells is scratch until the planes') */
+    for (size_t i = 0; i < fp->n_cells; ++i)
+        cells[i] = (int)((size_t)fp->cells[i] - r->win.base);
+    int n = roof_planes_find(r->win.z, g->width, g->cell_x_m, g->cell_y_m, fp->col0,
+                             fp->row0 - r->win.row0, fp->cols, fp->rows, cells, fp->n_cells, &o,
+                             &found, label);
     if (n < 0)
         return command_out_of_memory(&job->run);
     building_sums *s = &r->sums[b];
@@ -968,8 +978,8 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
         roof_plane_centre(fp->cells, label, fp->n_cells, g->width, p, &row->centre_col,
                           &row->centre_row);
         memset(usable, 0, (size_t)fp->cols * (size_t)fp->rows);
-        plane_irradiation(job, &r->set, &r->yield, fp, label, plane_at, p, row, usable);
-        roofs_run_view view = {job, &r->set, fp, &r->yield};
+        plane_irradiation(job, &r->set, &r->win, fp, label, plane_at, p, row, usable);
+        roofs_run_view view = {job, &r->set, fp, &r->win};
         double t1 = run_now();
         if (plane_panels(&view, row, usable, layout) < 0)
             st = command_out_of_memory(&job->run);
@@ -987,11 +997,217 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
         for (int m = 0; m < 12; ++m)
             s->kwh_ac_month[m] += row->kwh_ac_month[m];
     }
-    s->height_m = r->dtm ? building_height(r, fp, label) : NAN;
+    s->height_m = r->win.dtm ? building_height(r, fp, label) : NAN;
     for (int p = 0; geoms && p < n; ++p)
         ss_geometry_free(geoms[p]);
     free(geoms);
     free(found);
+    return st;
+}
+
+/* ---- windows of rows (doc/roofs.md, "Scale") -------------------------------- */
+
+static void free_window(roof_window *w)
+{
+    free(w->z_read);
+    free(w->dtm);
+    free(w->global);
+    free(w->monthly);
+    free(w->pv_dc);
+    free(w->pv_ac);
+    memset(w, 0, sizeof *w);
+}
+
+/* Room for windows of up to rows rows. */
+static ss_status alloc_window(roofs_run *r, int rows)
+{
+    roof_window *w = &r->win;
+    size_t n = (size_t)rows * (size_t)r->job.dem.grid.width + 1;
+    w->global = malloc(sizeof(float) * n);
+    w->monthly = malloc(sizeof(float) * n * 12);
+    w->pv_dc = malloc(sizeof(float) * n);
+    w->pv_ac = malloc(sizeof(float) * n);
+    w->z_read = r->job.source ? malloc(sizeof(float) * n) : NULL;
+    w->dtm = r->set.dtm ? malloc(sizeof(float) * n) : NULL;
+    return w->global && w->monthly && w->pv_dc && w->pv_ac && (w->z_read || !r->job.source) &&
+                   (w->dtm || !r->set.dtm)
+               ? SS_OK
+               : command_out_of_memory(&r->job.run);
+}
+
+/* Rows [row0, row0 + rows) into the window: the DSM's (read from its files
+ * where the job holds it in bands), the ground's (--dtm) and the
+ * insolation run's results. */
+static ss_status read_window(roofs_run *r, int row0, int rows)
+{
+    roof_window *w = &r->win;
+    sweep_job *job = &r->job;
+    ss_ctx *ctx = job->run.ctx;
+    int width = job->dem.grid.width, height = job->dem.grid.height;
+    w->row0 = row0, w->rows = rows;
+    w->base = (size_t)row0 * (size_t)width, w->n = (size_t)rows * (size_t)width;
+    ss_status st = SS_OK;
+    if (job->source)
+        st = job_read_rows(job, row0, rows, w->z_read);
+    w->z = job->source ? w->z_read : job->dem.grid.z + w->base;
+    if (st == SS_OK && w->dtm) {
+        st = ss_dem_source_read(ctx, r->dtm_src, &r->dtm, row0, rows, w->dtm);
+        for (size_t i = 0; st == SS_OK && i < w->n; ++i)
+            w->dtm[i] += (float)r->dtm.grid.z_origin_m;
+    }
+    const char *raster = r->raster;
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_GLOBAL, 1, width, height, row0, rows, w->global);
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_MONTHS, 12, width, height, row0, rows,
+                                 w->monthly);
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_PV_DC, 1, width, height, row0, rows, w->pv_dc);
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_PV_AC, 1, width, height, row0, rows, w->pv_ac);
+    return st;
+}
+
+/* The most rows a window may hold: the job's band where --memory keeps the
+ * DSM in its files, else the grid's; a test hook (doc/roofs.md, "Scale")
+ * makes windows of fewer rows on a DSM held whole, so that a small test
+ * grid runs in several windows. */
+static int window_rows(const roofs_run *r)
+{
+    int rows = r->job.source ? r->job.band_rows : r->job.dem.grid.height;
+    const char *hook = getenv("SKYSWEEP_TEST_ROOF_WINDOW_ROWS");
+    int test = hook ? atoi(hook) : 0;
+    return test > 0 && test < rows ? test : rows;
+}
+
+/* Refuses, before the insolation run, what windows cannot do: a footprint
+ * taller than a window, and what needs the whole grid held (the horizon
+ * files' sweeps, the shade masks). */
+static ss_status check_windows(roofs_run *r)
+{
+    ss_ctx *ctx = r->job.run.ctx;
+    const char *memory = r->set.common.memory ? r->set.common.memory : "half the machine's memory";
+    int most = window_rows(r);
+    double row_mib = (double)r->job.dem.grid.width * (double)WINDOW_CELL_BYTES / 1048576.0;
+    for (size_t b = 0; b < r->fps.n; ++b) {
+        const ss_footprint *fp = &r->fps.items[b];
+        /* bands of 256 rows and more come in whole 256-row strips */
+        int need = fp->rows <= 256 ? fp->rows : 256 * ((fp->rows + 255) / 256);
+        if (fp->rows > most)
+            return ss_ctx_error(ctx, SS_ERR_MEMORY,
+                                "the memory budget (%s) holds windows of %d rows, and footprint "
+                                "'%s' spans %d: windows of %d rows need at least %.0f MiB more "
+                                "--memory (doc/roofs.md)",
+                                memory, most, fp->id, fp->rows, need,
+                                ceil((need - most) * row_mib));
+    }
+    if (r->job.source && (r->set.horizon_dir || r->set.shade_masks))
+        return ss_ctx_error(ctx, SS_ERR_MEMORY,
+                            "%s needs the DSM held whole, and the memory budget (%s) keeps it "
+                            "in its files: give more --memory or leave it out",
+                            r->set.horizon_dir ? "--horizon-files" : "--shade-masks", memory);
+    return SS_OK;
+}
+
+/* A footprint's first row and index. */
+typedef struct {
+    int row0;
+    size_t index;
+} footprint_start;
+
+static int by_start(const void *x, const void *y)
+{
+    const footprint_start *a = x, *b = y;
+    return a->row0 != b->row0 ? (a->row0 > b->row0) - (a->row0 < b->row0)
+                              : (a->index > b->index) - (a->index < b->index);
+}
+
+static int by_index(const void *x, const void *y)
+{
+    const footprint_start *a = x, *b = y;
+    return (a->index > b->index) - (a->index < b->index);
+}
+
+/* Puts the planes (with their modules and shade cells) in the order of
+ * their buildings, as one window over the whole grid gives them: windows
+ * take the buildings by their rows. Returns 0, or -1 out of memory. */
+static int order_planes(roofs_run *r)
+{
+    size_t n = r->n_planes, nb = r->fps.n;
+    size_t *next = calloc(nb + 1, sizeof *next), *to = malloc(sizeof *to * (n + 1));
+    size_t *at = calloc(n + 1, sizeof *at);
+    plane_row *planes = malloc(sizeof *planes * (n + 1));
+    shade_plane *shade = malloc(sizeof *shade * (n + 1));
+    panel_row *panels = malloc(sizeof *panels * (r->n_panels + 1));
+    int ok = next && to && at && planes && shade && panels && r->shade.n_planes == n;
+    for (size_t i = 0; ok && i < n; ++i)
+        next[r->planes[i].building + 1]++;
+    for (size_t b = 1; ok && b <= nb; ++b)
+        next[b] += next[b - 1];
+    for (size_t i = 0; ok && i < n; ++i) {
+        to[i] = next[r->planes[i].building]++;
+        planes[to[i]] = r->planes[i];
+        shade[to[i]] = r->shade.planes[i];
+    }
+    /* the modules by their plane's new place, in their order within it */
+    for (size_t k = 0; ok && k < r->n_panels; ++k)
+        at[to[r->panels[k].plane] + 1]++;
+    for (size_t i = 1; ok && i <= n; ++i)
+        at[i] += at[i - 1];
+    for (size_t k = 0; ok && k < r->n_panels; ++k) {
+        panel_row p = r->panels[k];
+        p.plane = to[p.plane];
+        panels[at[p.plane]++] = p;
+    }
+    if (ok) {
+        memcpy(r->planes, planes, sizeof *planes * n);
+        memcpy(r->shade.planes, shade, sizeof *shade * n);
+        if (r->n_panels)
+            memcpy(r->panels, panels, sizeof *panels * r->n_panels);
+    }
+    free(next);
+    free(to);
+    free(at);
+    free(planes);
+    free(shade);
+    free(panels);
+    return ok ? 0 : -1;
+}
+
+/* Every building, a window of rows at a time: footprints by their first
+ * row, each window taking the next while their rows fit in it, its
+ * buildings in their own order. */
+static ss_status do_windows(roofs_run *r, int *label, int *plane_at, unsigned char *usable,
+                            panel_layout *layout, int *cells)
+{
+    size_t n = r->fps.n;
+    int most = window_rows(r);
+    footprint_start *order = malloc(sizeof *order * (n + 1));
+    ss_status st = order ? alloc_window(r, most) : command_out_of_memory(&r->job.run);
+    for (size_t b = 0; st == SS_OK && b < n; ++b)
+        order[b] = (footprint_start){r->fps.items[b].row0, b};
+    if (st == SS_OK)
+        qsort(order, n, sizeof *order, by_start);
+    for (size_t i = 0, j; st == SS_OK && i < n; i = j) {
+        const ss_footprint *fp = r->fps.items;
+        int row0 = order[i].row0, end = row0 + fp[order[i].index].rows;
+        for (j = i + 1; j < n; ++j) {
+            int e = order[j].row0 + fp[order[j].index].rows;
+            if ((e > end ? e : end) - row0 > most)
+                break;
+            end = e > end ? e : end;
+        }
+        qsort(order + i, j - i, sizeof *order, by_index);
+        st = read_window(r, row0, end - row0);
+        r->n_windows++;
+        r->most_rows = end - row0 > r->most_rows ? end - row0 : r->most_rows;
+        for (size_t k = i; st == SS_OK && k < j; ++k)
+            st = do_building(r, order[k].index, label, plane_at, usable, layout, cells);
+    }
+    free(order);
+    free_window(&r->win);
+    if (st == SS_OK && r->n_windows > 1 && order_planes(r) != 0)
+        st = command_out_of_memory(&r->job.run);
     return st;
 }
 
@@ -1053,8 +1269,8 @@ static ss_status find_all(roofs_run *r)
     ss_status st = label && plane_at && usable && cells && r->planes && r->sums
                        ? SS_OK
                        : command_out_of_memory(&r->job.run);
-    for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b)
-        st = do_building(r, b, label, plane_at, usable, &layout, cells);
+    if (st == SS_OK)
+        st = do_windows(r, label, plane_at, usable, &layout, cells);
     double t0 = run_now();
     if (st == SS_OK)
         st = unshaded_planes(r);
@@ -1233,6 +1449,13 @@ static void print_summary(roofs_run *r)
         panels += r->sums[b].n_panels;
     printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp), %.0f kWh DC\n",
            panels, kwp, kwh, kwp > 0 ? kwh / kwp : 0.0, dc);
+    if (r->job.source)
+        printf("memory    the DSM read in %d windows of up to %d rows (%d rows a window under "
+               "--memory)\n",
+               r->n_windows, r->most_rows, r->job.band_rows);
+    else
+        printf("memory    the DSM held whole, %d window%s of up to %d rows\n", r->n_windows,
+               r->n_windows == 1 ? "" : "s", r->most_rows);
     printf("time      insolation %.2f s, planes %.2f s, panels %.2f s, unshaded planes %.2f s, "
            "shade table %.2f s (%zu sweeps), output %.2f s -> %s\n",
            r->seconds_insolation, r->seconds_planes, r->seconds_panels, r->seconds_unshaded,
@@ -1249,12 +1472,12 @@ static void close_run(roofs_run *r)
     free(r->panels);
     roof_shade_free(&r->shade);
     free(r->sums);
-    free(r->yield.global);
-    free(r->yield.monthly);
-    free(r->yield.pv_dc);
-    free(r->yield.pv_ac);
+    free_window(&r->win);
+    if (*r->raster)
+        remove(r->raster);
     free(r->sky.steps);
-    free(r->dtm);
+    ss_dem_source_close(r->dtm_src);
+    ss_dem_free(&r->dtm);
     if (*r->clear_sky) {
         remove(r->clear_sky);
         ss_temporaries_forget(r->job.output);
@@ -1360,8 +1583,11 @@ int cmd_roofs(int argc, char **argv)
         rc = refuse_options(set, tables);
     if (rc < 0)
         rc = settle_panel_options(set);
+    /* What roofs' own stage holds per cell of a window; its shade table
+     * sweeps (with the job's bands). */
+    band_cost cost = {.cell_bytes = (double)WINDOW_CELL_BYTES, .no_sweep = !set->shade_table};
     if (rc < 0)
-        rc = job_open(&r->job, "roofs", &set->common, pos, n_pos);
+        rc = job_open_banded(&r->job, "roofs", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) {
         free(r);
         return rc;
@@ -1371,6 +1597,8 @@ int cmd_roofs(int argc, char **argv)
     settle_rack_sun(set, job->frame.centre_lat_deg);
     set->ins.pv = 1;
     ss_status st = check_files(r);
+    if (st == SS_OK && job->source)
+        st = settle_origin(job);
     double zone_h = NAN;
     char zone_err[160];
     if (st == SS_OK && set->weather_zone &&
@@ -1390,10 +1618,12 @@ int cmd_roofs(int argc, char **argv)
     if (st == SS_OK)
         st = make_sky_steps(job, set, &r->weather, &r->sky);
     if (st == SS_OK && set->dtm)
-        st = read_dtm(r);
+        st = open_dtm(r);
     if (st == SS_OK)
         st = ss_footprints_read(job->run.ctx, set->buildings, set->buildings_layer, set->id_field,
                                     &job->dem, &r->fps);
+    if (st == SS_OK)
+        st = check_windows(r);
     if (st != SS_OK) {
         rc = job_finish(job, st);
         close_run(r);
@@ -1401,8 +1631,16 @@ int cmd_roofs(int argc, char **argv)
         return rc;
     }
     double t0 = run_now();
-    rc = run_insolation(job, tables, argc, argv, *r->clear_sky ? r->clear_sky : NULL, &r->yield);
+    rc = run_insolation(job, tables, argc, argv, *r->clear_sky ? r->clear_sky : NULL, r->raster,
+                        sizeof r->raster);
     r->seconds_insolation = run_now() - t0;
+    /* Under mpirun the processes shared the insolation run's steps, and
+     * rank 0 wrote its raster: the roofs' own stage is rank 0's alone. */
+    if (rc == 0 && share_rank() > 0) {
+        close_run(r);
+        free(r);
+        return 0;
+    }
     if (rc == 0 && !job->run.plan_only)
         rc = set->shade_table || set->shade_masks ? plan_shade_sweeps(r) : -1;
     if (rc < 0) {
