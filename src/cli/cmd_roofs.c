@@ -352,6 +352,8 @@ static ss_status write_clear_sky(sweep_job *job, const roofs_settings *set, char
         double t = hour * 3600.0 + 1800.0, ghi, dni, dhi;
         ss_spa_result sun;
         st = ss_spa(ctx, t, job->frame.centre_lat_deg, job->frame.centre_lon_deg, &p, &sun);
+        if (st != SS_OK)
+            break;
         ss_civil_time civil;
         ss_civil_from_unix(t, &civil);
         ss_sun_step step;
@@ -361,7 +363,10 @@ static ss_status write_clear_sky(sweep_job *job, const roofs_settings *set, char
         ss_format_instant(t, stamp, sizeof stamp);
         fprintf(f, "%s,%.9g,%.9g,%.9g\n", stamp, ghi, dni, dhi);
     }
-    if (f && ((ferror(f) | (fclose(f) != 0)) && st == SS_OK))
+    int written = f && !ferror(f);
+    if (f && fclose(f) != 0)
+        written = 0;
+    if (f && !written && st == SS_OK)
         st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
     ss_format_instant(first * 3600.0, stamp, sizeof stamp);
     ss_format_instant(end * 3600.0, until, sizeof until);
@@ -1159,7 +1164,7 @@ static int order_planes(roofs_run *r)
         p.plane = to[p.plane];
         panels[at[p.plane]++] = p;
     }
-    if (ok) {
+    if (ok && n) {
         memcpy(r->planes, planes, sizeof *planes * n);
         memcpy(r->shade.planes, shade, sizeof *shade * n);
         if (r->n_panels)
