@@ -798,7 +798,7 @@ typedef struct {
     ss_dem_source *dtm_src;
     sky_steps sky;
     plane_row *planes;
-    size_t n_planes;
+    size_t n_planes, cap_planes;
     building_sums *sums;
     panel_row *panels; /* with --panels */
     size_t n_panels, cap_panels;
@@ -933,6 +933,20 @@ static ss_status add_shade_plane(roofs_run *r, const ss_footprint *fp, const int
                : command_out_of_memory(&r->job.run);
 }
 
+/* Room for n more plane rows (they grow with the planes found, not with
+ * the footprints' cells: a city's would not fit). Returns 0, or -1. */
+static int room_for_planes(roofs_run *r, size_t n)
+{
+    if (r->n_planes + n <= r->cap_planes)
+        return 0;
+    size_t cap = 2 * (r->n_planes + n) + 64;
+    plane_row *p = realloc(r->planes, cap * sizeof *p);
+    if (!p)
+        return -1;
+    r->planes = p, r->cap_planes = cap;
+    return 0;
+}
+
 static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
                              unsigned char *usable, panel_layout *layout, int *cells)
 {
@@ -963,7 +977,8 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
         s->obstacle_area_m2 += label[i] == ROOF_OBSTACLE ? g->cell_x_m * g->cell_y_m : 0;
     }
     void **geoms = calloc((size_t)n + 1, sizeof *geoms);
-    ss_status st = geoms ? ss_polygons_of_labels(job->run.ctx, &job->dem, plane_at, fp->col0,
+    ss_status st = geoms && room_for_planes(r, (size_t)n) == 0
+                       ? ss_polygons_of_labels(job->run.ctx, &job->dem, plane_at, fp->col0,
                                                  fp->row0, fp->cols, fp->rows, n, geoms)
                          : command_out_of_memory(&job->run);
     r->seconds_planes += run_now() - t0;
@@ -1256,22 +1271,19 @@ static ss_status unshaded_planes(roofs_run *r)
 /* Plane ids of a building go 1..n; the ids in plane_at are p + 1. */
 static ss_status find_all(roofs_run *r)
 {
-    size_t most_cells = 1, most_window = 1, total = 0;
+    size_t most_cells = 1, most_window = 1;
     for (size_t b = 0; b < r->fps.n; ++b) {
         const ss_footprint *fp = &r->fps.items[b];
         most_cells = fp->n_cells > most_cells ? fp->n_cells : most_cells;
         size_t win = (size_t)fp->cols * (size_t)fp->rows;
         most_window = win > most_window ? win : most_window;
-        total += fp->n_cells;
     }
     int *label = malloc(sizeof(int) * most_cells), *plane_at = malloc(sizeof(int) * most_window);
     unsigned char *usable = malloc(most_window);
     int *cells = malloc(sizeof(int) * most_cells);
     panel_layout layout = {0};
-    /* at most one plane per cell */
-    r->planes = calloc(total + 1, sizeof *r->planes);
     r->sums = calloc(r->fps.n + 1, sizeof *r->sums);
-    ss_status st = label && plane_at && usable && cells && r->planes && r->sums
+    ss_status st = label && plane_at && usable && cells && r->sums
                        ? SS_OK
                        : command_out_of_memory(&r->job.run);
     if (st == SS_OK)
