@@ -209,14 +209,14 @@ static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
  * element c - base. */
 typedef struct {
     int row0, rows;
-    size_t base, n;  /* row0 x width; rows x width */
-    const float *z;  /* the DSM's heights (relative to z_origin_m) */
-    float *z_read;   /* where a banded job reads them, else NULL (the job's whole grid) */
-    float *dtm;      /* absolute ground heights (--dtm), else NULL */
-    float *global;   /* kWh/m2 for the records */
-    float *monthly;  /* 12 planes of kWh/m2 */
-    float *pv_dc;    /* kWh/kWp DC (after the system losses) */
-    float *pv_ac;    /* kWh/kWp AC */
+    size_t base, n; /* row0 x width; rows x width */
+    const float *z; /* the DSM's heights (relative to z_origin_m) */
+    float *z_read;  /* where a banded job reads them, else NULL (the job's whole grid) */
+    float *dtm;     /* absolute ground heights (--dtm), else NULL */
+    float *global;  /* kWh/m2 for the records */
+    float *monthly; /* 12 planes of kWh/m2 */
+    float *pv_dc;   /* kWh/kWp DC (after the system losses) */
+    float *pv_ac;   /* kWh/kWp AC */
 } roof_window;
 
 /* Bytes a window holds per cell (roof_window; the DTM's counted always). */
@@ -802,7 +802,7 @@ typedef struct {
     building_sums *sums;
     panel_row *panels; /* with --panels */
     size_t n_panels, cap_panels;
-    roof_shade shade; /* planes in the order of planes */
+    roof_shade shade;              /* planes in the order of planes */
     char clear_sky[PATH_MAX + 40]; /* without --weather: the clear sky's records ("": none) */
     char sky_note[400];            /* the sky the yield is summed under */
     double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_shade;
@@ -850,7 +850,8 @@ static ss_status open_dtm(roofs_run *r)
     const ss_dem *s = &r->job.dem, *d = &r->dtm;
     int same = d->grid.width == s->grid.width && d->grid.height == s->grid.height;
     for (int k = 0; same && k < 6; ++k)
-        same = fabs(d->geotransform[k] - s->geotransform[k]) <= 1e-6 * (1 + fabs(s->geotransform[k]));
+        same =
+            fabs(d->geotransform[k] - s->geotransform[k]) <= 1e-6 * (1 + fabs(s->geotransform[k]));
     return same ? SS_OK
                 : ss_ctx_error(r->job.run.ctx, SS_ERR_INPUT,
                                "--dtm '%s' must lie on the DSM's grid (size and geotransform)",
@@ -979,8 +980,8 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
     void **geoms = calloc((size_t)n + 1, sizeof *geoms);
     ss_status st = geoms && room_for_planes(r, (size_t)n) == 0
                        ? ss_polygons_of_labels(job->run.ctx, &job->dem, plane_at, fp->col0,
-                                                 fp->row0, fp->cols, fp->rows, n, geoms)
-                         : command_out_of_memory(&job->run);
+                                               fp->row0, fp->cols, fp->rows, n, geoms)
+                       : command_out_of_memory(&job->run);
     r->seconds_planes += run_now() - t0;
     for (int p = 0; st == SS_OK && p < n; ++p) {
         plane_row *row = &r->planes[r->n_planes++];

@@ -46,8 +46,8 @@ static int slot_of(double unix_s, double utc_offset_h, int *day)
 
 /* Adds one record's sunlit shares of every plane (lit: its cells sunlit)
  * to its slot. */
-static void add_shares(roof_shade *s, const ss_sun_step *step, double sun_grid_az,
-                       const int *lit, int slot)
+static void add_shares(roof_shade *s, const ss_sun_step *step, double sun_grid_az, const int *lit,
+                       int slot)
 {
     for (size_t k = 0; k < s->n_planes; ++k) {
         const shade_plane *p = &s->planes[k];

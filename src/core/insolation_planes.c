@@ -61,8 +61,8 @@ void ss_clear_sky_record(const ss_sun_step *step, double height_m, double *ghi_w
 {
     const double rad = M_PI / 180.0;
     ss_cell_terms level = ss_cell_terms_of(0.0f, 0.0f, 1.0f, height_m);
-    ss_cell_sun s = ss_cell_sun_exact(&level, (float)(step->elevation_deg * rad), 0.0f,
-                                      (float)step->linke, 1);
+    ss_cell_sun s =
+        ss_cell_sun_exact(&level, (float)(step->elevation_deg * rad), 0.0f, (float)step->linke, 1);
     double g0 = step->extraterrestrial_w_m2;
     int up = step->elevation_deg > 0.0;
     *dni_w_m2 = up ? g0 * s.kb : 0.0;
