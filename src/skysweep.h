@@ -727,6 +727,16 @@ SS_API ss_status ss_insolation_open_planes(ss_ctx *ctx, const ss_insolation_opti
                                            int n_planes, const double *tilt_deg,
                                            const double *azimuth_deg, double *global_wh_m2);
 
+/* A clear sky as a weather record (W/m^2): ESRA's direct normal and diffuse
+ * horizontal irradiance of a clear-sky step (ss_sun_step_clear_sky: its
+ * true elevation, Linke turbidity and extraterrestrial irradiance) on level
+ * ground height_m above sea level, as every clear-sky insolation step takes
+ * them, and their global horizontal; all 0 with the sun below the
+ * horizontal. skysweep roofs runs a clear-sky year through the weather
+ * path with them. */
+SS_API void ss_clear_sky_record(const ss_sun_step *step, double height_m, double *ghi_w_m2,
+                                double *dni_w_m2, double *dhi_w_m2);
+
 /* ---- shadows and shaded relief, in rows ---------------------------------- */
 
 /* Outputs of ss_shadow_rows. */

@@ -215,4 +215,31 @@ else
     [ "$missing" -eq 1 ] && [ "$found" -eq 1 ]
     tap_ok $? "skysweep info names the MPI module's path in the build tree ($found) and says where it looked when it is missing ($missing)"
 fi
+
+# roofs shares its insolation run's steps; rank 0 alone runs its own stage
+# and writes: the same planes as one process (the sums added in another
+# order: each value within 1e-5 of |value| + 1; shading_loss_pct, a
+# difference, moves by 3e-6 points), one summary, no temporary left.
+mkdir "$work/city" && sh "${TOP_SRCDIR:-.}/tests/data/make_city.sh" "$work/city" &&
+    cd "$work/city" || exit 1
+roofs() { # NP OUT.gpkg CSV
+    local np=$1 out=$2 csv=$3
+    mpi "$np" "$SKYSWEEP" roofs --buildings footprints.geojson --device reference --directions 8 \
+        --weather "${TOP_SRCDIR:-.}/samples/weather/pvgis_tmy_45N_8E.csv" \
+        --time 2018-01-10T00:00Z/P1D --min-irradiation 0 --panels --csv "$csv" city.tif "$out"
+}
+roofs 1 one.gpkg one.csv >one.out 2>&1
+roofs 2 two.gpkg two.csv >two.out 2>two.err
+rc=$?
+worst=$(paste -d, one.csv two.csv | awk -F, 'NR > 1 { h = NF / 2
+    for (k = 1; k <= h; k++) { a = $k; b = $(k + h)
+        if (a ~ /^"/ || b ~ /^"/) { if (a != b) w = 1e9; continue }
+        d = a - b; d = d < 0 ? -d : d; s = (a < 0 ? -a : a) + 1; if (d / s > w) w = d / s } }
+    END { printf "%.3g", w }')
+[ $rc = 0 ] && [ "$(wc -l <one.csv)" = "$(wc -l <two.csv)" ] && [ "$(wc -l <one.csv)" -gt 10 ] &&
+    awk -v w="$worst" 'BEGIN { exit !(w < 1e-5) }' && [ "$(grep -c '^planes ' two.out)" = 1 ] &&
+    [ "$(ogr2ogr -f CSV /vsistdout/ two.gpkg panels 2>/dev/null | wc -l)" -gt 100 ] &&
+    [ -z "$(ls -A | grep '^\.')" ]
+tap_ok $? "roofs under mpirun -np 2: the planes of one process (largest difference $worst of |value| + 1; exit $rc, $(grep -c '^planes ' two.out) summary)"
+cd "$work" || exit 1
 tap_done

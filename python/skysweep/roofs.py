@@ -71,7 +71,7 @@ class Roofs:
                             index=pd.Index([f["id"] for f in features], name="fid"))
 
 
-def roofs(dsm, buildings, weather, out=None, *, progress=None, **options):
+def roofs(dsm, buildings, weather=None, out=None, *, progress=None, **options):
     """Runs ``skysweep roofs`` and returns its layers as records.
 
     Parameters
@@ -80,8 +80,9 @@ def roofs(dsm, buildings, weather, out=None, *, progress=None, **options):
         The DSM (a list of tiles: a mosaic).
     buildings : str or os.PathLike
         The footprints (--buildings): any vector source OGR reads.
-    weather : str or os.PathLike
-        The weather records (--weather).
+    weather : str or os.PathLike, optional
+        The weather records (--weather); None: a clear sky, hourly over
+        ``time`` or a year (doc/roofs.md).
     out : str or os.PathLike, optional
         The GeoPackage to write and keep; None: a temporary one, removed
         once read.

@@ -145,3 +145,15 @@ def test_missing_footprints_raise_the_cli_message(city, tmp_path):
     assert e.value.status == cli.returncode == 3
     assert f"skysweep roofs: {e.value}" == cli.stderr.strip().splitlines()[-1]
     assert "nothere.shp" in str(e.value) and not (tmp_path / "o.gpkg").exists()
+
+
+def test_without_weather_a_clear_sky_with_dc_and_ac(city, tmp_path):
+    folder, _ = city
+    options = dict(OPTIONS, time="2018-06-21T10:00Z/PT2H")
+    result = skysweep.roofs(folder / "city.tif", folder / "footprints.geojson", None,
+                            tmp_path / "clear.gpkg", **options)
+    planes = [f["properties"] for f in result.roof_planes]
+    assert planes and any(p["n_panels"] for p in planes)
+    for p in planes:
+        if p["n_panels"]:
+            assert p["kwh_dc_year"] > p["kwh_ac_year"] > 0

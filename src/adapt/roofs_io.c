@@ -338,13 +338,14 @@ void ss_footprints_free(ss_footprints *f)
 
 /* ---- rasters and polygons ----------------------------------------------- */
 
-ss_status ss_raster_read_bands(ss_ctx *ctx, const char *path, int first, int n, int width,
-                               int height, float *out)
+ss_status ss_raster_read_rows(ss_ctx *ctx, const char *path, int first, int n, int width,
+                              int height, int row0, int n_rows, float *out)
 {
     ss_gdal_errors_reset();
     GDALDatasetH ds = GDALOpen(path, GA_ReadOnly);
     if (!ds || GDALGetRasterXSize(ds) != width || GDALGetRasterYSize(ds) != height ||
-        GDALGetRasterCount(ds) < first + n - 1) {
+        GDALGetRasterCount(ds) < first + n - 1 || row0 < 0 || n_rows < 0 ||
+        row0 + n_rows > height) {
         if (ds)
             GDALClose(ds);
         return ss_ctx_error(ctx, SS_ERR_INTERNAL, "cannot read back '%s': %s", path,
@@ -352,8 +353,8 @@ ss_status ss_raster_read_bands(ss_ctx *ctx, const char *path, int first, int n, 
     }
     CPLErr err = CE_None;
     for (int b = 0; err == CE_None && b < n; ++b)
-        err = GDALRasterIO(GDALGetRasterBand(ds, first + b), GF_Read, 0, 0, width, height,
-                           out + (size_t)b * width * height, width, height, GDT_Float32, 0, 0);
+        err = GDALRasterIO(GDALGetRasterBand(ds, first + b), GF_Read, 0, row0, width, n_rows,
+                           out + (size_t)b * width * n_rows, width, n_rows, GDT_Float32, 0, 0);
     GDALClose(ds);
     return err == CE_None ? SS_OK
                           : ss_ctx_error(ctx, SS_ERR_INTERNAL, "cannot read back '%s': %s", path,

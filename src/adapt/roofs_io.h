@@ -38,10 +38,11 @@ ss_status ss_footprints_read(ss_ctx *ctx, const char *path, const char *layer_na
                              const char *id_field, const ss_dem *dem, ss_footprints *out);
 void ss_footprints_free(ss_footprints *f);
 
-/* Reads bands [first, first + n) (1-based) of a raster of the DEM's size
- * into out (band after band, width * height floats each). */
-ss_status ss_raster_read_bands(ss_ctx *ctx, const char *path, int first, int n, int width,
-                               int height, float *out);
+/* Reads rows [row0, row0 + n_rows) of bands [first, first + n) (1-based)
+ * of a raster of width x height cells into out (band after band, n_rows *
+ * width floats each). */
+ss_status ss_raster_read_rows(ss_ctx *ctx, const char *path, int first, int n, int width,
+                              int height, int row0, int n_rows, float *out);
 
 /* The cells labelled 1..n_ids in ids (cols x rows, the grid's window at
  * col0, row0; 0: none) as one MultiPolygon per label (OGRGeometryH, NULL

@@ -19,6 +19,7 @@
 
 #include "commands.h"
 #include "insolation_trees.h"
+#include "mpi_share.h"
 #include "roof_horizons.h"
 #include "roof_panels.h"
 #include "roof_planes.h"
@@ -116,8 +117,8 @@ static const opt_spec own_options[] = {
     OPT_END};
 static const opt_spec passed_on[] = {
     {"weather", OPT_INPUT, SET(weather), "FILE", NULL, 0, 0, NULL,
-     "the weather records (EPW, TMY3, PVGIS, NSRDB PSM or CSV; required); --time selects "
-     "records as for insolation"},
+     "the weather records (EPW, TMY3, PVGIS, NSRDB PSM or CSV); --time selects records as for "
+     "insolation (default: a clear sky, hourly over --time or the year 2025)"},
     {"weather-far-ok", OPT_FLAG, SET(weather_far_ok), NULL, NULL, 0, 0, NULL,
      "use a weather file whose site lies farther than 100 km from the DSM's centre (as for "
      "insolation)"},
@@ -150,10 +151,12 @@ static const opt_spec *named_option(const opt_spec *const *tables, const char *n
 /* The insolation command line: every option given that is not roofs' own
  * (so the run is exactly `skysweep insolation --weather F --pv` with the
  * same options), then --pv, -q, GeoTIFF, the DSM tiles and the
- * intermediate raster. Returns the count, or -1 where it does not fit. */
+ * intermediate raster; --weather CLEAR_SKY where roofs wrote the records
+ * of a clear sky (NULL: the user's --weather is among the options).
+ * Returns the count, or -1 where it does not fit. */
 static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
-                           const char *const *dsm, int n_dsm, const char *raster, char **out,
-                           int max)
+                           const char *clear_sky, const char *const *dsm, int n_dsm,
+                           const char *raster, char **out, int max)
 {
     int n = 0;
     out[n++] = "insolation";
@@ -179,8 +182,12 @@ static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
         i += takes_value;
     }
     const char *tail[] = {"--pv", "-q", "-of", "GTiff"};
-    if (n + 4 + n_dsm + 2 > max)
+    if (n + 6 + n_dsm + 2 > max)
         return -1;
+    if (clear_sky) { /* the clear sky's records roofs wrote (write_clear_sky) */
+        out[n++] = "--weather";
+        out[n++] = (char *)clear_sky;
+    }
     for (int k = 0; k < 4; ++k)
         out[n++] = (char *)tail[k];
     for (int k = 0; k < n_dsm; ++k)
@@ -193,51 +200,49 @@ static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
 /* Bands of the insolation raster roofs reads (cmd_insolation.c's order). */
 #define BAND_GLOBAL 1
 #define BAND_MONTHS 6
+#define BAND_PV_DC 18
 #define BAND_PV_AC 19
 
+/* A window of the grid's rows [row0, row0 + rows) that holds whole
+ * footprints (doc/roofs.md, "Scale"): the DSM's heights, the ground's
+ * (--dtm) and the insolation run's results per cell. The grid's cell c is
+ * element c - base. */
 typedef struct {
-    float *global;  /* kWh/m2 for the records, per cell */
+    int row0, rows;
+    size_t base, n; /* row0 x width; rows x width */
+    const float *z; /* the DSM's heights (relative to z_origin_m) */
+    float *z_read;  /* where a banded job reads them, else NULL (the job's whole grid) */
+    float *dtm;     /* absolute ground heights (--dtm), else NULL */
+    float *global;  /* kWh/m2 for the records */
     float *monthly; /* 12 planes of kWh/m2 */
+    float *pv_dc;   /* kWh/kWp DC (after the system losses) */
     float *pv_ac;   /* kWh/kWp AC */
-} cell_yield;
+} roof_window;
 
-/* Runs insolation into OUTPUT's hidden neighbour and reads its bands back;
- * the raster is removed. With --plan, insolation prints its plan and
- * nothing is read. Returns the exit code (0: done). */
+/* Bytes a window holds per cell (roof_window; the DTM's counted always). */
+#define WINDOW_CELL_BYTES (sizeof(float) * 17)
+
+/* Runs insolation into OUTPUT's hidden neighbour raster (its path), which
+ * the windows read back and close_run removes. With --plan, insolation
+ * prints its plan and nothing is kept. Returns the exit code (0: done). */
 static int run_insolation(sweep_job *job, const opt_spec *const *tables, int argc, char **argv,
-                          cell_yield *y)
+                          const char *clear_sky, char *raster, size_t size)
 {
-    char dir[PATH_MAX], prefix[PATH_MAX], raster[PATH_MAX + 40];
+    char dir[PATH_MAX], prefix[PATH_MAX];
     if (!ss_temporary_prefix(job->output, dir, prefix) ||
-        (size_t)snprintf(raster, sizeof raster, "%s/%sinsolation.tif", dir, prefix) >=
-            sizeof raster)
+        (size_t)snprintf(raster, size, "%s/%sinsolation.tif", dir, prefix) >= size)
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
                                                 "output name '%s' is too long", job->output));
     char *args[2 * 128 + COMMAND_MAX_INPUTS + 16];
-    int n = insolation_args(tables, argc, argv, job->inputs, job->n_inputs, raster, args,
+    int n = insolation_args(tables, argc, argv, clear_sky, job->inputs, job->n_inputs, raster, args,
                             (int)(sizeof args / sizeof *args) - 1);
     if (n < 0)
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
                                                 "too many options to pass on to insolation"));
     int rc = cmd_insolation(n, args);
-    if (rc != 0 || job->run.plan_only) { /* --plan: insolation printed its plan */
+    if (rc != 0 || job->run.plan_only) /* --plan: insolation printed its plan */
         remove(raster);
-        return rc;
-    }
-    size_t cells = (size_t)job->dem.grid.width * (size_t)job->dem.grid.height;
-    y->global = malloc(sizeof(float) * cells);
-    y->monthly = malloc(sizeof(float) * cells * 12);
-    y->pv_ac = malloc(sizeof(float) * cells);
-    ss_status st = y->global && y->monthly && y->pv_ac ? SS_OK : command_out_of_memory(&job->run);
-    int w = job->dem.grid.width, h = job->dem.grid.height;
-    if (st == SS_OK)
-        st = ss_raster_read_bands(job->run.ctx, raster, BAND_GLOBAL, 1, w, h, y->global);
-    if (st == SS_OK)
-        st = ss_raster_read_bands(job->run.ctx, raster, BAND_MONTHS, 12, w, h, y->monthly);
-    if (st == SS_OK)
-        st = ss_raster_read_bands(job->run.ctx, raster, BAND_PV_AC, 1, w, h, y->pv_ac);
-    remove(raster);
-    return st == SS_OK ? 0 : run_fail(&job->run, st);
+    return rc;
 }
 
 /* ---- the planes with no horizon ------------------------------------------ */
@@ -294,6 +299,84 @@ static ss_status make_sky_steps(sweep_job *job, const roofs_settings *set, const
     return st;
 }
 
+/* ---- a clear sky, without --weather --------------------------------------- */
+
+/* The clear sky's span where --time gives none: a calendar year (UTC). */
+#define CLEAR_SKY_YEAR "2025-01-01T00:00Z/2026-01-01T00:00Z"
+/* The most hours of clear sky (as insolation's most clear-sky steps). */
+#define CLEAR_SKY_MAX_HOURS 100000.0
+
+/* Without --weather, the records of a clear sky: one an hour of --time's
+ * whole UTC hours (or CLEAR_SKY_YEAR's), each at the middle of its hour,
+ * ESRA's irradiance for the sun at the DSM's centre (ss_clear_sky_record,
+ * --linke's turbidity of the record's month, the DSM's height), as a plain
+ * CSV beside OUTPUT at path, which the insolation run and the open planes
+ * then read as any weather file: one code path for both skies. The records
+ * give no air temperature or wind: the modules take --temp-air and
+ * --wind-speed. note says which sky it was. */
+static ss_status write_clear_sky(sweep_job *job, const roofs_settings *set, char *path,
+                                 size_t size, char *note, size_t note_size)
+{
+    ss_ctx *ctx = job->run.ctx;
+    char dir[PATH_MAX], prefix[PATH_MAX];
+    if (!ss_temporary_prefix(job->output, dir, prefix) ||
+        (size_t)snprintf(path, size, "%s/%sclear_sky.csv", dir, prefix) >= size)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "output name '%s' is too long", job->output);
+    ss_time_range range = {0};
+    double linke[12];
+    ss_status st = ss_parse_time_range(ctx, set->common.sun.time ? set->common.sun.time
+                                                                 : CLEAR_SKY_YEAR,
+                                       &range);
+    if (st == SS_OK)
+        st = ss_insolation_params_linke(ctx, &set->ins, linke);
+    double first = ceil(range.start_unix_s / 3600.0), end = floor(range.end_unix_s / 3600.0);
+    if (st == SS_OK && !(end > first))
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "without --weather, --time must hold a whole hour (UTC): the clear "
+                          "sky's records are hourly");
+    if (st == SS_OK && end - first > CLEAR_SKY_MAX_HOURS)
+        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
+                          "without --weather, --time spans %.0f hours, more than %.0f of clear "
+                          "sky",
+                          end - first, CLEAR_SKY_MAX_HOURS);
+    FILE *f = st == SS_OK ? fopen(path, "w") : NULL;
+    if (st == SS_OK && !f)
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
+    if (f)
+        fprintf(f, "time,ghi,dni,dhi\n");
+    ss_spa_params p;
+    ss_sun_params_spa(&set->common.sun, &p);
+    p.elevation_m = job->dem.grid.z_origin_m;
+    char stamp[40], until[40];
+    for (double hour = first; f && st == SS_OK && hour < end; ++hour) {
+        double t = hour * 3600.0 + 1800.0, ghi, dni, dhi;
+        ss_spa_result sun;
+        st = ss_spa(ctx, t, job->frame.centre_lat_deg, job->frame.centre_lon_deg, &p, &sun);
+        if (st != SS_OK)
+            break;
+        ss_civil_time civil;
+        ss_civil_from_unix(t, &civil);
+        ss_sun_step step;
+        ss_sun_step_clear_sky(&sun, sun.azimuth_deg, 0.0, 1.0, linke[civil.month - 1],
+                              set->ins.solar_constant, &step);
+        ss_clear_sky_record(&step, job->dem.grid.z_origin_m, &ghi, &dni, &dhi);
+        ss_format_instant(t, stamp, sizeof stamp);
+        fprintf(f, "%s,%.9g,%.9g,%.9g\n", stamp, ghi, dni, dhi);
+    }
+    int written = f && !ferror(f);
+    if (f && fclose(f) != 0)
+        written = 0;
+    if (f && !written && st == SS_OK)
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
+    ss_format_instant(first * 3600.0, stamp, sizeof stamp);
+    ss_format_instant(end * 3600.0, until, sizeof until);
+    snprintf(note, note_size,
+             "a clear sky (ESRA, Linke turbidity %s; no --weather), hourly from %s to %s, the "
+             "modules in %g C air and %g m/s wind",
+             set->ins.linke, stamp, until, set->ins.temp_air_c, set->ins.wind_speed_m_s);
+    return st;
+}
+
 /* ---- per plane and per building ------------------------------------------- */
 
 static const char *const month_abbr[12] = {"jan", "feb", "mar", "apr", "may", "jun",
@@ -317,7 +400,7 @@ typedef struct {
     double centre_col, centre_row; /* the plane's cell nearest its mean (--horizon-files) */
     double area_m2, usable_area_m2, inner_area_m2;
     double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
-    double kwp, kwh_ac_year, kwh_per_kwp, kwh_ac_month[12];
+    double kwp, kwh_ac_year, kwh_dc_year, kwh_per_kwp, kwh_ac_month[12];
     int n_panels, racked, landscape;
     int shade_on_usable; /* the shade table counts its usable cells (else all its cells) */
     double panel_tilt_deg, panel_azimuth_deg; /* the modules' (racks': toward the equator) */
@@ -334,7 +417,7 @@ typedef struct {
 
 typedef struct {
     double roof_area_m2, usable_area_m2, obstacle_area_m2, footprint_area_m2;
-    double kwp, kwh_ac_year, kwh_ac_month[12];
+    double kwp, kwh_ac_year, kwh_dc_year, kwh_ac_month[12];
     int n_panels;
     double inner_area_m2, inner_kwh, inner_unshaded_kwh; /* for the mean and the loss */
     double height_m;
@@ -346,7 +429,7 @@ typedef struct {
     const sweep_job *job;
     const roofs_settings *set;
     const ss_footprint *fp;
-    const cell_yield *yield;
+    const roof_window *win;
 } roofs_run_view;
 
 /* Whether window cell (c, r) of plane p lies at least setback from every
@@ -372,7 +455,7 @@ static int clear_of_edges(const int *plane_at, int cols, int rows, int c, int r,
  * bright enough, not too steep) its usable area, and are marked 1 in
  * usable (the building's window, zeroed by the caller). */
 static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
-                              const cell_yield *y, const ss_footprint *fp, const int *label,
+                              const roof_window *y, const ss_footprint *fp, const int *label,
                               const int *plane_at, int p, plane_row *row, unsigned char *usable)
 {
     double cx = job->dem.grid.cell_x_m, cy = job->dem.grid.cell_y_m;
@@ -384,7 +467,7 @@ static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
         if (label[i] != p)
             continue;
         int cell = fp->cells[i], width = job->dem.grid.width;
-        double g = y->global[cell];
+        double g = y->global[cell - y->base];
         if (!isfinite(g) || g < 0)
             continue;
         n_all++, all_kwh += g;
@@ -393,7 +476,7 @@ static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
             continue;
         n_inner++, inner_kwh += g;
         if (g < set->min_irradiation || row->tilt_deg > set->max_tilt_deg ||
-            !isfinite(y->pv_ac[cell]) || y->pv_ac[cell] < 0)
+            !isfinite(y->pv_ac[cell - y->base]) || y->pv_ac[cell - y->base] < 0)
             continue;
         n_usable++;
         usable[r * fp->cols + c] = 1;
@@ -444,7 +527,7 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
         l->n = 0;
     const ss_footprint *fp = v->fp;
     int width = v->job->dem.grid.width;
-    size_t cells = (size_t)width * (size_t)v->job->dem.grid.height;
+    const roof_window *y = v->win;
     double kw = o->power_w / 1000.0, poa = 0, month[12] = {0};
     row->n_panels = (int)l->n;
     row->racked = g.racked, row->landscape = g.landscape;
@@ -454,20 +537,23 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
                                   360.0);
     row->kwp = (double)l->n * kw;
     row->kwh_ac_year = 0;
+    row->kwh_dc_year = 0;
     for (size_t k = 0; k < l->n; ++k) {
         panel_place *p = &l->items[k];
-        double ac = 0, g_sum = 0;
+        double ac = 0, dc = 0, g_sum = 0;
         for (int i = 0; i < p->n_cells; ++i) {
             int w = l->cells[p->first + (size_t)i];
             size_t cell = (size_t)(fp->row0 + w / fp->cols) * (size_t)width +
-                          (size_t)(fp->col0 + w % fp->cols);
-            ac += v->yield->pv_ac[cell];
-            g_sum += v->yield->global[cell];
+                          (size_t)(fp->col0 + w % fp->cols) - y->base;
+            ac += y->pv_ac[cell];
+            dc += y->pv_dc[cell];
+            g_sum += y->global[cell];
             for (int m = 0; m < 12; ++m)
-                month[m] += v->yield->monthly[(size_t)m * cells + cell] / p->n_cells;
+                month[m] += y->monthly[(size_t)m * y->n + cell] / p->n_cells;
         }
         p->kwh_ac_year = kw * ac / p->n_cells;
         row->kwh_ac_year += p->kwh_ac_year;
+        row->kwh_dc_year += kw * dc / p->n_cells;
         poa += g_sum / p->n_cells;
     }
     row->kwh_per_kwp = row->kwp > 0 ? row->kwh_ac_year / row->kwp : NAN;
@@ -478,8 +564,8 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
 
 /* ---- outputs --------------------------------------------------------------- */
 
-#define PLANE_FIELDS 32
-#define BUILDING_FIELDS 30
+#define PLANE_FIELDS 33
+#define BUILDING_FIELDS 31
 #define PANEL_FIELDS 7
 #define SHADE_FIELDS 7
 static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS],
@@ -496,6 +582,10 @@ static int common_fields(ss_field *f, int n, int slot)
     f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
                         "AC energy of the modules: each its kWp x the mean AC kWh/kWp of the "
                         "cells it covers (PVWatts, as insolation --pv)"};
+    f[n++] = (ss_field){"kwh_dc_year", SS_FIELD_REAL, "kWh/year",
+                        "DC energy of the modules, after the system losses, before the inverter: "
+                        "each its kWp x the mean DC kWh/kWp of the cells it covers (insolation "
+                        "--pv's pv_yield)"};
     f[n++] = (ss_field){"kwh_per_kwp", SS_FIELD_REAL, "kWh/kWp/year", "kwh_ac_year / kwp"};
     for (int m = 0; m < 12; ++m) {
         snprintf(month_names[slot][m], sizeof month_names[slot][m], "kwh_ac_%s", month_abbr[m]);
@@ -597,6 +687,7 @@ static void plane_values(const plane_row *p, const char *building_id, ss_value *
     v[n++].num = p->n_panels;
     v[n++].num = p->kwp;
     v[n++].num = p->kwh_ac_year;
+    v[n++].num = p->kwh_dc_year;
     v[n++].num = p->kwh_per_kwp;
     for (int m = 0; m < 12; ++m)
         v[n++].num = p->kwh_ac_month[m];
@@ -627,6 +718,7 @@ static void building_values(const ss_footprint *fp, const building_sums *b, ss_v
     v[n++].num = b->n_panels;
     v[n++].num = b->kwp;
     v[n++].num = b->kwh_ac_year;
+    v[n++].num = b->kwh_dc_year;
     v[n++].num = b->kwp > 0 ? b->kwh_ac_year / b->kwp : NAN;
     for (int m = 0; m < 12; ++m)
         v[n++].num = b->kwh_ac_month[m];
@@ -699,18 +791,42 @@ typedef struct {
     sweep_job job;
     ss_footprints fps;
     ss_weather weather;
-    cell_yield yield;
+    char raster[PATH_MAX + 40]; /* the insolation run's, read back a window at a time */
+    roof_window win;            /* the window of rows being worked on */
+    int n_windows, most_rows;   /* windows worked in, and the rows of the largest */
+    ss_dem dtm;                 /* --dtm, read a window at a time */
+    ss_dem_source *dtm_src;
     sky_steps sky;
     plane_row *planes;
-    size_t n_planes;
+    size_t n_planes, cap_planes;
     building_sums *sums;
     panel_row *panels; /* with --panels */
     size_t n_panels, cap_panels;
-    roof_shade shade; /* planes in the order of planes */
-    float *dtm;
+    roof_shade shade;              /* planes in the order of planes */
+    char clear_sky[PATH_MAX + 40]; /* without --weather: the clear sky's records ("": none) */
+    char sky_note[400];            /* the sky the yield is summed under */
     double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_shade;
     double seconds_write;
 } roofs_run;
+
+/* A banded job's height origin before any window is read: rows from the
+ * first until one holds a height, as a whole read sets it (the windows'
+ * heights and the DSM's height the sun is taken at are then the whole
+ * grid's). */
+static ss_status settle_origin(sweep_job *job)
+{
+    int width = job->dem.grid.width;
+    float *row = malloc(sizeof(float) * (size_t)width);
+    ss_status st = row ? SS_OK : command_out_of_memory(&job->run);
+    int found = 0;
+    for (int r = 0; st == SS_OK && !found && r < job->dem.grid.height; ++r) {
+        st = job_read_rows(job, r, 1, row);
+        for (int c = 0; st == SS_OK && c < width && !found; ++c)
+            found = isfinite(row[c]);
+    }
+    free(row);
+    return st;
+}
 
 /* The files' overlaps were refused when the options were parsed (every
  * file option is declared an input or an output, run_parse); what is left
@@ -723,32 +839,23 @@ static ss_status check_files(roofs_run *r)
     return st;
 }
 
-/* The --dtm's heights (absolute, NAN: none), on the DSM's grid. */
-static ss_status read_dtm(roofs_run *r)
+/* Opens --dtm, on the DSM's grid, for the windows to read. */
+static ss_status open_dtm(roofs_run *r)
 {
-    ss_dem d = {0};
     ss_dem_read_options o = {0};
     const char *paths[1] = {r->set.dtm};
-    ss_status st = ss_dem_read(r->job.run.ctx, paths, 1, &o, &d);
+    ss_status st = ss_dem_open(r->job.run.ctx, paths, 1, &o, &r->dtm, &r->dtm_src);
     if (st != SS_OK)
         return st;
-    const ss_dem *s = &r->job.dem;
-    int same = d.grid.width == s->grid.width && d.grid.height == s->grid.height;
+    const ss_dem *s = &r->job.dem, *d = &r->dtm;
+    int same = d->grid.width == s->grid.width && d->grid.height == s->grid.height;
     for (int k = 0; same && k < 6; ++k)
-        same = fabs(d.geotransform[k] - s->geotransform[k]) <= 1e-6 * (1 + fabs(s->geotransform[k]));
-    if (!same) {
-        ss_dem_free(&d);
-        return ss_ctx_error(r->job.run.ctx, SS_ERR_INPUT,
-                            "--dtm '%s' must lie on the DSM's grid (size and geotransform)",
-                            r->set.dtm);
-    }
-    size_t n = (size_t)d.grid.width * (size_t)d.grid.height;
-    for (size_t i = 0; i < n; ++i)
-        d.grid.z[i] += (float)d.grid.z_origin_m;
-    r->dtm = d.grid.z;
-    d.grid.z = NULL;
-    ss_dem_free(&d);
-    return SS_OK;
+        same =
+            fabs(d->geotransform[k] - s->geotransform[k]) <= 1e-6 * (1 + fabs(s->geotransform[k]));
+    return same ? SS_OK
+                : ss_ctx_error(r->job.run.ctx, SS_ERR_INPUT,
+                               "--dtm '%s' must lie on the DSM's grid (size and geotransform)",
+                               r->set.dtm);
 }
 
 static int by_float(const void *x, const void *y)
@@ -763,11 +870,13 @@ static double building_height(const roofs_run *r, const ss_footprint *fp, const 
     float *ground = malloc(sizeof(float) * (fp->n_cells + 1));
     size_t n = 0;
     double top = -INFINITY;
+    const roof_window *y = &r->win;
     for (size_t i = 0; ground && i < fp->n_cells; ++i) {
-        if (isfinite(r->dtm[fp->cells[i]]))
-            ground[n++] = r->dtm[fp->cells[i]];
+        size_t cell = (size_t)fp->cells[i] - y->base;
+        if (isfinite(y->dtm[cell]))
+            ground[n++] = y->dtm[cell];
         if (label[i] >= 0)
-            top = fmax(top, r->job.dem.grid.z[fp->cells[i]] + r->job.dem.grid.z_origin_m);
+            top = fmax(top, y->z[cell] + r->job.dem.grid.z_origin_m);
     }
     if (n)
         qsort(ground, n, sizeof *ground, by_float);
@@ -825,6 +934,20 @@ static ss_status add_shade_plane(roofs_run *r, const ss_footprint *fp, const int
                : command_out_of_memory(&r->job.run);
 }
 
+/* Room for n more plane rows (they grow with the planes found, not with
+ * the footprints' cells: a city's would not fit). Returns 0, or -1. */
+static int room_for_planes(roofs_run *r, size_t n)
+{
+    if (r->n_planes + n <= r->cap_planes)
+        return 0;
+    size_t cap = 2 * (r->n_planes + n) + 64;
+    plane_row *p = realloc(r->planes, cap * sizeof *p);
+    if (!p)
+        return -1;
+    r->planes = p, r->cap_planes = cap;
+    return 0;
+}
+
 static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
                              unsigned char *usable, panel_layout *layout, int *cells)
 {
@@ -835,8 +958,12 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
                             r->set.obstacle_m};
     double t0 = run_now();
     roof_plane *found;
-    int n = roof_planes_find(g->z, g->width, g->cell_x_m, g->cell_y_m, fp->col0, fp->row0,
-                             fp->cols, fp->rows, fp->cells, fp->n_cells, &o, &found, label);
+    /* the footprint's cells in the window (cells is scratch until the planes') */
+    for (size_t i = 0; i < fp->n_cells; ++i)
+        cells[i] = (int)((size_t)fp->cells[i] - r->win.base);
+    int n = roof_planes_find(r->win.z, g->width, g->cell_x_m, g->cell_y_m, fp->col0,
+                             fp->row0 - r->win.row0, fp->cols, fp->rows, cells, fp->n_cells, &o,
+                             &found, label);
     if (n < 0)
         return command_out_of_memory(&job->run);
     building_sums *s = &r->sums[b];
@@ -851,9 +978,10 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
         s->obstacle_area_m2 += label[i] == ROOF_OBSTACLE ? g->cell_x_m * g->cell_y_m : 0;
     }
     void **geoms = calloc((size_t)n + 1, sizeof *geoms);
-    ss_status st = geoms ? ss_polygons_of_labels(job->run.ctx, &job->dem, plane_at, fp->col0,
-                                                 fp->row0, fp->cols, fp->rows, n, geoms)
-                         : command_out_of_memory(&job->run);
+    ss_status st = geoms && room_for_planes(r, (size_t)n) == 0
+                       ? ss_polygons_of_labels(job->run.ctx, &job->dem, plane_at, fp->col0,
+                                               fp->row0, fp->cols, fp->rows, n, geoms)
+                       : command_out_of_memory(&job->run);
     r->seconds_planes += run_now() - t0;
     for (int p = 0; st == SS_OK && p < n; ++p) {
         plane_row *row = &r->planes[r->n_planes++];
@@ -871,8 +999,8 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
         roof_plane_centre(fp->cells, label, fp->n_cells, g->width, p, &row->centre_col,
                           &row->centre_row);
         memset(usable, 0, (size_t)fp->cols * (size_t)fp->rows);
-        plane_irradiation(job, &r->set, &r->yield, fp, label, plane_at, p, row, usable);
-        roofs_run_view view = {job, &r->set, fp, &r->yield};
+        plane_irradiation(job, &r->set, &r->win, fp, label, plane_at, p, row, usable);
+        roofs_run_view view = {job, &r->set, fp, &r->win};
         double t1 = run_now();
         if (plane_panels(&view, row, usable, layout) < 0)
             st = command_out_of_memory(&job->run);
@@ -886,14 +1014,221 @@ static ss_status do_building(roofs_run *r, size_t b, int *label, int *plane_at,
         s->usable_area_m2 += row->usable_area_m2;
         s->kwp += row->kwp;
         s->kwh_ac_year += row->kwh_ac_year;
+        s->kwh_dc_year += row->kwh_dc_year;
         for (int m = 0; m < 12; ++m)
             s->kwh_ac_month[m] += row->kwh_ac_month[m];
     }
-    s->height_m = r->dtm ? building_height(r, fp, label) : NAN;
+    s->height_m = r->win.dtm ? building_height(r, fp, label) : NAN;
     for (int p = 0; geoms && p < n; ++p)
         ss_geometry_free(geoms[p]);
     free(geoms);
     free(found);
+    return st;
+}
+
+/* ---- windows of rows (doc/roofs.md, "Scale") -------------------------------- */
+
+static void free_window(roof_window *w)
+{
+    free(w->z_read);
+    free(w->dtm);
+    free(w->global);
+    free(w->monthly);
+    free(w->pv_dc);
+    free(w->pv_ac);
+    memset(w, 0, sizeof *w);
+}
+
+/* Room for windows of up to rows rows. */
+static ss_status alloc_window(roofs_run *r, int rows)
+{
+    roof_window *w = &r->win;
+    size_t n = (size_t)rows * (size_t)r->job.dem.grid.width + 1;
+    w->global = malloc(sizeof(float) * n);
+    w->monthly = malloc(sizeof(float) * n * 12);
+    w->pv_dc = malloc(sizeof(float) * n);
+    w->pv_ac = malloc(sizeof(float) * n);
+    w->z_read = r->job.source ? malloc(sizeof(float) * n) : NULL;
+    w->dtm = r->set.dtm ? malloc(sizeof(float) * n) : NULL;
+    return w->global && w->monthly && w->pv_dc && w->pv_ac && (w->z_read || !r->job.source) &&
+                   (w->dtm || !r->set.dtm)
+               ? SS_OK
+               : command_out_of_memory(&r->job.run);
+}
+
+/* Rows [row0, row0 + rows) into the window: the DSM's (read from its files
+ * where the job holds it in bands), the ground's (--dtm) and the
+ * insolation run's results. */
+static ss_status read_window(roofs_run *r, int row0, int rows)
+{
+    roof_window *w = &r->win;
+    sweep_job *job = &r->job;
+    ss_ctx *ctx = job->run.ctx;
+    int width = job->dem.grid.width, height = job->dem.grid.height;
+    w->row0 = row0, w->rows = rows;
+    w->base = (size_t)row0 * (size_t)width, w->n = (size_t)rows * (size_t)width;
+    ss_status st = SS_OK;
+    if (job->source)
+        st = job_read_rows(job, row0, rows, w->z_read);
+    w->z = job->source ? w->z_read : job->dem.grid.z + w->base;
+    if (st == SS_OK && w->dtm) {
+        st = ss_dem_source_read(ctx, r->dtm_src, &r->dtm, row0, rows, w->dtm);
+        for (size_t i = 0; st == SS_OK && i < w->n; ++i)
+            w->dtm[i] += (float)r->dtm.grid.z_origin_m;
+    }
+    const char *raster = r->raster;
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_GLOBAL, 1, width, height, row0, rows, w->global);
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_MONTHS, 12, width, height, row0, rows,
+                                 w->monthly);
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_PV_DC, 1, width, height, row0, rows, w->pv_dc);
+    if (st == SS_OK)
+        st = ss_raster_read_rows(ctx, raster, BAND_PV_AC, 1, width, height, row0, rows, w->pv_ac);
+    return st;
+}
+
+/* The most rows a window may hold: the job's band where --memory keeps the
+ * DSM in its files, else the grid's; a test hook (doc/roofs.md, "Scale")
+ * makes windows of fewer rows on a DSM held whole, so that a small test
+ * grid runs in several windows. */
+static int window_rows(const roofs_run *r)
+{
+    int rows = r->job.source ? r->job.band_rows : r->job.dem.grid.height;
+    const char *hook = getenv("SKYSWEEP_TEST_ROOF_WINDOW_ROWS");
+    int test = hook ? atoi(hook) : 0;
+    return test > 0 && test < rows ? test : rows;
+}
+
+/* Refuses, before the insolation run, what windows cannot do: a footprint
+ * taller than a window, and what needs the whole grid held (the horizon
+ * files' sweeps, the shade masks). */
+static ss_status check_windows(roofs_run *r)
+{
+    ss_ctx *ctx = r->job.run.ctx;
+    const char *memory = r->set.common.memory ? r->set.common.memory : "half the machine's memory";
+    int most = window_rows(r);
+    double row_mib = (double)r->job.dem.grid.width * (double)WINDOW_CELL_BYTES / 1048576.0;
+    for (size_t b = 0; b < r->fps.n; ++b) {
+        const ss_footprint *fp = &r->fps.items[b];
+        /* bands of 256 rows and more come in whole 256-row strips */
+        int need = fp->rows <= 256 ? fp->rows : 256 * ((fp->rows + 255) / 256);
+        if (fp->rows > most)
+            return ss_ctx_error(ctx, SS_ERR_MEMORY,
+                                "the memory budget (%s) holds windows of %d rows, and footprint "
+                                "'%s' spans %d: windows of %d rows need at least %.0f MiB more "
+                                "--memory (doc/roofs.md)",
+                                memory, most, fp->id, fp->rows, need,
+                                ceil((need - most) * row_mib));
+    }
+    if (r->job.source && (r->set.horizon_dir || r->set.shade_masks))
+        return ss_ctx_error(ctx, SS_ERR_MEMORY,
+                            "%s needs the DSM held whole, and the memory budget (%s) keeps it "
+                            "in its files: give more --memory or leave it out",
+                            r->set.horizon_dir ? "--horizon-files" : "--shade-masks", memory);
+    return SS_OK;
+}
+
+/* A footprint's first row and index. */
+typedef struct {
+    int row0;
+    size_t index;
+} footprint_start;
+
+static int by_start(const void *x, const void *y)
+{
+    const footprint_start *a = x, *b = y;
+    return a->row0 != b->row0 ? (a->row0 > b->row0) - (a->row0 < b->row0)
+                              : (a->index > b->index) - (a->index < b->index);
+}
+
+static int by_index(const void *x, const void *y)
+{
+    const footprint_start *a = x, *b = y;
+    return (a->index > b->index) - (a->index < b->index);
+}
+
+/* Puts the planes (with their modules and shade cells) in the order of
+ * their buildings, as one window over the whole grid gives them: windows
+ * take the buildings by their rows. Returns 0, or -1 out of memory. */
+static int order_planes(roofs_run *r)
+{
+    size_t n = r->n_planes, nb = r->fps.n;
+    size_t *next = calloc(nb + 1, sizeof *next), *to = malloc(sizeof *to * (n + 1));
+    size_t *at = calloc(n + 1, sizeof *at);
+    plane_row *planes = malloc(sizeof *planes * (n + 1));
+    shade_plane *shade = malloc(sizeof *shade * (n + 1));
+    panel_row *panels = malloc(sizeof *panels * (r->n_panels + 1));
+    int ok = next && to && at && planes && shade && panels && r->shade.n_planes == n;
+    for (size_t i = 0; ok && i < n; ++i)
+        next[r->planes[i].building + 1]++;
+    for (size_t b = 1; ok && b <= nb; ++b)
+        next[b] += next[b - 1];
+    for (size_t i = 0; ok && i < n; ++i) {
+        to[i] = next[r->planes[i].building]++;
+        planes[to[i]] = r->planes[i];
+        shade[to[i]] = r->shade.planes[i];
+    }
+    /* the modules by their plane's new place, in their order within it */
+    for (size_t k = 0; ok && k < r->n_panels; ++k)
+        at[to[r->panels[k].plane] + 1]++;
+    for (size_t i = 1; ok && i <= n; ++i)
+        at[i] += at[i - 1];
+    for (size_t k = 0; ok && k < r->n_panels; ++k) {
+        panel_row p = r->panels[k];
+        p.plane = to[p.plane];
+        panels[at[p.plane]++] = p;
+    }
+    if (ok && n) {
+        memcpy(r->planes, planes, sizeof *planes * n);
+        memcpy(r->shade.planes, shade, sizeof *shade * n);
+        if (r->n_panels)
+            memcpy(r->panels, panels, sizeof *panels * r->n_panels);
+    }
+    free(next);
+    free(to);
+    free(at);
+    free(planes);
+    free(shade);
+    free(panels);
+    return ok ? 0 : -1;
+}
+
+/* Every building, a window of rows at a time: footprints by their first
+ * row, each window taking the next while their rows fit in it, its
+ * buildings in their own order. */
+static ss_status do_windows(roofs_run *r, int *label, int *plane_at, unsigned char *usable,
+                            panel_layout *layout, int *cells)
+{
+    size_t n = r->fps.n;
+    int most = window_rows(r);
+    footprint_start *order = malloc(sizeof *order * (n + 1));
+    ss_status st = order ? alloc_window(r, most) : command_out_of_memory(&r->job.run);
+    for (size_t b = 0; st == SS_OK && b < n; ++b)
+        order[b] = (footprint_start){r->fps.items[b].row0, b};
+    if (st == SS_OK)
+        qsort(order, n, sizeof *order, by_start);
+    for (size_t i = 0, j; st == SS_OK && i < n; i = j) {
+        const ss_footprint *fp = r->fps.items;
+        int row0 = order[i].row0, end = row0 + fp[order[i].index].rows;
+        for (j = i + 1; j < n; ++j) {
+            int e = order[j].row0 + fp[order[j].index].rows;
+            if ((e > end ? e : end) - row0 > most)
+                break;
+            end = e > end ? e : end;
+        }
+        qsort(order + i, j - i, sizeof *order, by_index);
+        st = read_window(r, row0, end - row0);
+        r->n_windows++;
+        r->most_rows = end - row0 > r->most_rows ? end - row0 : r->most_rows;
+        for (size_t k = i; st == SS_OK && k < j; ++k)
+            st = do_building(r, order[k].index, label, plane_at, usable, layout, cells);
+    }
+    free(order);
+    free_window(&r->win);
+    if (st == SS_OK && r->n_windows > 1 && order_planes(r) != 0)
+        st = command_out_of_memory(&r->job.run);
     return st;
 }
 
@@ -937,26 +1272,23 @@ static ss_status unshaded_planes(roofs_run *r)
 /* Plane ids of a building go 1..n; the ids in plane_at are p + 1. */
 static ss_status find_all(roofs_run *r)
 {
-    size_t most_cells = 1, most_window = 1, total = 0;
+    size_t most_cells = 1, most_window = 1;
     for (size_t b = 0; b < r->fps.n; ++b) {
         const ss_footprint *fp = &r->fps.items[b];
         most_cells = fp->n_cells > most_cells ? fp->n_cells : most_cells;
         size_t win = (size_t)fp->cols * (size_t)fp->rows;
         most_window = win > most_window ? win : most_window;
-        total += fp->n_cells;
     }
     int *label = malloc(sizeof(int) * most_cells), *plane_at = malloc(sizeof(int) * most_window);
     unsigned char *usable = malloc(most_window);
     int *cells = malloc(sizeof(int) * most_cells);
     panel_layout layout = {0};
-    /* at most one plane per cell */
-    r->planes = calloc(total + 1, sizeof *r->planes);
     r->sums = calloc(r->fps.n + 1, sizeof *r->sums);
-    ss_status st = label && plane_at && usable && cells && r->planes && r->sums
+    ss_status st = label && plane_at && usable && cells && r->sums
                        ? SS_OK
                        : command_out_of_memory(&r->job.run);
-    for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b)
-        st = do_building(r, b, label, plane_at, usable, &layout, cells);
+    if (st == SS_OK)
+        st = do_windows(r, label, plane_at, usable, &layout, cells);
     double t0 = run_now();
     if (st == SS_OK)
         st = unshaded_planes(r);
@@ -1051,7 +1383,7 @@ static ss_status write_outputs(roofs_run *r)
         return st;
     }
     int lb, lp;
-    char trees_note[400] = "", described[600];
+    char trees_note[400] = "", described[1100];
     const insolation_tree_settings *t = &r->set.trees;
     if (t->trees.canopy)
         snprintf(trees_note, sizeof trees_note,
@@ -1059,13 +1391,13 @@ static ss_status write_outputs(roofs_run *r)
                  "(doc/vegetation.md)",
                  t->trees.canopy, t->trees.transmissivity, t->transmissivity_leaf_off);
     snprintf(described, sizeof described,
-             "skysweep roofs: per building, sums over its roof planes (doc/roofs.md)%s",
-             trees_note);
+             "skysweep roofs: per building, sums over its roof planes (doc/roofs.md); under %s%s",
+             r->sky_note, trees_note);
     st = ss_vector_layer(w, "buildings", described, building_fields, BUILDING_FIELDS, &lb);
     snprintf(described, sizeof described,
              "skysweep roofs: roof planes fitted in the DSM inside each footprint "
-             "(doc/roofs.md)%s",
-             trees_note);
+             "(doc/roofs.md); under %s%s",
+             r->sky_note, trees_note);
     if (st == SS_OK)
         st = ss_vector_layer(w, "roof_planes", described, plane_fields, PLANE_FIELDS, &lp);
     ss_value v[BUILDING_FIELDS];
@@ -1123,17 +1455,25 @@ static void print_summary(roofs_run *r)
            f->outside, f->no_cell, *f->id_field ? f->id_field : "the feature ids");
     for (size_t i = 0; i < f->n_notes; ++i)
         printf("          %s\n", f->notes[i]);
-    double kwp = 0, kwh = 0, usable = 0, area = 0;
+    printf("sky       %s\n", r->sky_note);
+    double kwp = 0, kwh = 0, dc = 0, usable = 0, area = 0;
     for (size_t b = 0; b < f->n; ++b)
-        kwp += r->sums[b].kwp, kwh += r->sums[b].kwh_ac_year, usable += r->sums[b].usable_area_m2,
-            area += r->sums[b].roof_area_m2;
+        kwp += r->sums[b].kwp, kwh += r->sums[b].kwh_ac_year, dc += r->sums[b].kwh_dc_year,
+            usable += r->sums[b].usable_area_m2, area += r->sums[b].roof_area_m2;
     printf("planes    %zu roof planes, %.0f m2 (true area), %.0f m2 usable\n", r->n_planes, area,
            usable);
     int panels = 0;
     for (size_t b = 0; b < f->n; ++b)
         panels += r->sums[b].n_panels;
-    printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp)\n", panels, kwp,
-           kwh, kwp > 0 ? kwh / kwp : 0.0);
+    printf("yield     %d modules, %.1f kWp, %.0f kWh AC a year (%.0f kWh/kWp), %.0f kWh DC\n",
+           panels, kwp, kwh, kwp > 0 ? kwh / kwp : 0.0, dc);
+    if (r->job.source)
+        printf("memory    the DSM read in %d windows of up to %d rows (%d rows a window under "
+               "--memory)\n",
+               r->n_windows, r->most_rows, r->job.band_rows);
+    else
+        printf("memory    the DSM held whole, %d window%s of up to %d rows\n", r->n_windows,
+               r->n_windows == 1 ? "" : "s", r->most_rows);
     printf("time      insolation %.2f s, planes %.2f s, panels %.2f s, unshaded planes %.2f s, "
            "shade table %.2f s (%zu sweeps), output %.2f s -> %s\n",
            r->seconds_insolation, r->seconds_planes, r->seconds_panels, r->seconds_unshaded,
@@ -1150,11 +1490,16 @@ static void close_run(roofs_run *r)
     free(r->panels);
     roof_shade_free(&r->shade);
     free(r->sums);
-    free(r->yield.global);
-    free(r->yield.monthly);
-    free(r->yield.pv_ac);
+    free_window(&r->win);
+    if (*r->raster)
+        remove(r->raster);
     free(r->sky.steps);
-    free(r->dtm);
+    ss_dem_source_close(r->dtm_src);
+    ss_dem_free(&r->dtm);
+    if (*r->clear_sky) {
+        remove(r->clear_sky);
+        ss_temporaries_forget(r->job.output);
+    }
     ss_weather_free(&r->weather);
     ss_footprints_free(&r->fps);
     job_close(&r->job);
@@ -1205,9 +1550,9 @@ static int refuse_options(const roofs_settings *set, const opt_spec *const *tabl
 {
     if (!set->buildings)
         return run_usage_error("roofs", "--buildings FILE is needed (the footprints)");
-    if (!set->weather)
-        return run_usage_error("roofs", "--weather FILE is needed (the records the yield is "
-                                        "summed over)");
+    if (!set->weather && (set->weather_zone || set->weather_far_ok))
+        return run_usage_error("roofs", "--weather-zone and --weather-far-ok are for --weather: "
+                                        "without it the sky is clear");
     if (set->common.projwin)
         return run_usage_error("roofs", "the footprints say where: -projwin is for rasters");
     if (strcmp(set->common.format, opt_find(tables, "of")->default_text) != 0 ||
@@ -1241,22 +1586,26 @@ int cmd_roofs(int argc, char **argv)
     int n_pos = 0;
     int rc = run_parse(
         "roofs", tables, set, argc, argv, pos, &n_pos, COMMAND_MAX_INPUTS + 1, 2,
-        "skysweep roofs --buildings FOOTPRINTS --weather FILE [--dtm DTM] [--csv FILE] "
+        "skysweep roofs --buildings FOOTPRINTS [--weather FILE] [--dtm DTM] [--csv FILE] "
         "[options] DSM... OUT.gpkg",
         "A solar cadastre: roof planes fitted in the DSM inside each footprint, their tilt, "
         "azimuth,\ntrue area and usable area, a panel layout on the usable area, and per plane "
-        "and per\nbuilding the modules' kWp, AC kWh per year and month (PVWatts), kWh/kWp, "
-        "shading loss and a\nsuitability class, from the insolation run with --weather and --pv "
-        "on the DSM (its options\napply); on request each plane's share in direct sun by month and "
-        "hour. A GeoPackage with\nlayers buildings and roof_planes, and panels (--panels) and "
-        "plane_shade (--shade-table)\non request (doc/roofs.md).",
+        "and per\nbuilding the modules' kWp, AC and DC kWh per year, AC kWh per month "
+        "(PVWatts), kWh/kWp,\nshading loss and a suitability class, from the insolation run "
+        "with --weather and --pv\non the DSM (its options apply; without --weather a clear "
+        "sky); on request each plane's\nshare in direct sun by month and hour. A GeoPackage "
+        "with layers buildings and roof_planes,\nand panels (--panels) and plane_shade "
+        "(--shade-table) on request (doc/roofs.md).",
         &set->common.device);
     if (rc < 0)
         rc = refuse_options(set, tables);
     if (rc < 0)
         rc = settle_panel_options(set);
+    /* What roofs' own stage holds per cell of a window; its shade table
+     * sweeps (with the job's bands). */
+    band_cost cost = {.cell_bytes = (double)WINDOW_CELL_BYTES, .no_sweep = !set->shade_table};
     if (rc < 0)
-        rc = job_open(&r->job, "roofs", &set->common, pos, n_pos);
+        rc = job_open_banded(&r->job, "roofs", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) {
         free(r);
         return rc;
@@ -1266,20 +1615,33 @@ int cmd_roofs(int argc, char **argv)
     settle_rack_sun(set, job->frame.centre_lat_deg);
     set->ins.pv = 1;
     ss_status st = check_files(r);
+    if (st == SS_OK && job->source)
+        st = settle_origin(job);
     double zone_h = NAN;
     char zone_err[160];
     if (st == SS_OK && set->weather_zone &&
         !opt_parse_zone(set->weather_zone, &zone_h, zone_err, sizeof zone_err))
         st = ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT, "%s", zone_err);
+    if (st == SS_OK && !set->weather) {
+        st = write_clear_sky(job, set, r->clear_sky, sizeof r->clear_sky, r->sky_note,
+                             sizeof r->sky_note);
+        if (*r->clear_sky)
+            ss_temporaries_track(job->output); /* the records are among its temporaries */
+        set->weather = r->clear_sky;
+    } else {
+        snprintf(r->sky_note, sizeof r->sky_note, "the weather records of '%s'", set->weather);
+    }
     if (st == SS_OK)
         st = ss_weather_read(job->run.ctx, set->weather, zone_h, &r->weather);
     if (st == SS_OK)
         st = make_sky_steps(job, set, &r->weather, &r->sky);
     if (st == SS_OK && set->dtm)
-        st = read_dtm(r);
+        st = open_dtm(r);
     if (st == SS_OK)
         st = ss_footprints_read(job->run.ctx, set->buildings, set->buildings_layer, set->id_field,
                                     &job->dem, &r->fps);
+    if (st == SS_OK)
+        st = check_windows(r);
     if (st != SS_OK) {
         rc = job_finish(job, st);
         close_run(r);
@@ -1287,8 +1649,16 @@ int cmd_roofs(int argc, char **argv)
         return rc;
     }
     double t0 = run_now();
-    rc = run_insolation(job, tables, argc, argv, &r->yield);
+    rc = run_insolation(job, tables, argc, argv, *r->clear_sky ? r->clear_sky : NULL, r->raster,
+                        sizeof r->raster);
     r->seconds_insolation = run_now() - t0;
+    /* Under mpirun the processes shared the insolation run's steps, and
+     * rank 0 wrote its raster: the roofs' own stage is rank 0's alone. */
+    if (rc == 0 && share_rank() > 0) {
+        close_run(r);
+        free(r);
+        return 0;
+    }
     if (rc == 0 && !job->run.plan_only)
         rc = set->shade_table || set->shade_masks ? plan_shade_sweeps(r) : -1;
     if (rc < 0) {

@@ -80,11 +80,13 @@ static void sharing_products(char *buf, size_t size)
                                   ss_product_at(k)->name);
 }
 
-/* Runs command i, unless several MPI processes would each do all of it. */
+/* Runs command i, unless several MPI processes would each do all of it
+ * (roofs shares its insolation run's steps; its own stage is rank 0's). */
 static int run_command(size_t i, int argc, char **argv)
 {
     const ss_product_info *product = ss_product_named(listed[i].name);
-    if (share_size() > 1 && !(product && product->shares)) {
+    int shares = (product && product->shares) || strcmp(listed[i].name, "roofs") == 0;
+    if (share_size() > 1 && !shares) {
         char sharing[128];
         sharing_products(sharing, sizeof sharing);
         if (share_rank() == 0)

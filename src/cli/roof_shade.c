@@ -44,17 +44,10 @@ static int slot_of(double unix_s, double utc_offset_h, int *day)
     return (local.month - 1) * 24 + local.hour;
 }
 
-static void add_mask_bits(uint32_t *plane, const float *sunlit, size_t cells, int day)
-{
-    uint32_t bit = (uint32_t)1 << (day - 1);
-    for (size_t c = 0; c < cells; ++c)
-        if (sunlit[c] == 1.0f)
-            plane[c] |= bit;
-}
-
-/* Adds one record's sunlit shares of every plane to its slot. */
-static void add_shares(roof_shade *s, const ss_sun_step *step, double sun_grid_az,
-                       const float *sunlit, int slot)
+/* Adds one record's sunlit shares of every plane (lit: its cells sunlit)
+ * to its slot. */
+static void add_shares(roof_shade *s, const ss_sun_step *step, double sun_grid_az, const int *lit,
+                       int slot)
 {
     for (size_t k = 0; k < s->n_planes; ++k) {
         const shade_plane *p = &s->planes[k];
@@ -62,18 +55,20 @@ static void add_shares(roof_shade *s, const ss_sun_step *step, double sun_grid_a
             ss_sun_incidence_deg(90.0 - step->elevation_deg, sun_grid_az, p->tilt_deg,
                                  p->aspect_grid_deg) >= 90.0)
             continue; /* the sun behind the plane: no cell in direct sun */
-        int lit = 0;
-        for (int i = 0; i < p->n_cells; ++i)
-            lit += sunlit[s->cells[p->first + (size_t)i]] == 1.0f;
-        s->lit[k * SHADE_SLOTS + (size_t)slot] += (double)lit / p->n_cells;
+        s->lit[k * SHADE_SLOTS + (size_t)slot] += (double)lit[k] / p->n_cells;
     }
 }
 
-/* One record's sun for ss_shadow_rows (one sun for the grid), and where
- * its sunlit rows go. */
+/* One record's sun for ss_shadow_rows (one sun for the grid), and what its
+ * sunlit rows add to as each band of them comes: the planes' counts of
+ * sunlit cells, and the masks' bits (no row of the grid is held beyond its
+ * band). */
 typedef struct {
     ss_sun_step sun;
-    float *sunlit;
+    const roof_shade *s;
+    int *lit;       /* per plane: its cells sunlit */
+    uint32_t *mask; /* the record's slot of the masks, or NULL */
+    uint32_t bit;   /* the record's day's */
     int width;
 } shade_step;
 
@@ -90,9 +85,19 @@ static ss_status keep_sunlit(void *user, int output, int index, int row0, int n_
 {
     (void)index;
     shade_step *t = user;
-    if (output == SS_OUT_SUNLIT)
-        memcpy(t->sunlit + (size_t)row0 * (size_t)t->width, values,
-               sizeof(float) * (size_t)n_rows * (size_t)t->width);
+    if (output != SS_OUT_SUNLIT)
+        return SS_OK;
+    const roof_shade *s = t->s;
+    size_t first = (size_t)row0 * (size_t)t->width, end = first + (size_t)n_rows * (size_t)t->width;
+    for (size_t k = 0; k < s->n_planes; ++k)
+        for (int i = 0; i < s->planes[k].n_cells; ++i) {
+            size_t c = (size_t)s->cells[s->planes[k].first + (size_t)i];
+            if (c >= first && c < end)
+                t->lit[k] += values[c - first] == 1.0f;
+        }
+    for (size_t c = first; t->mask && c < end; ++c)
+        if (values[c - first] == 1.0f)
+            t->mask[c] |= t->bit;
     return SS_OK;
 }
 
@@ -102,10 +107,10 @@ ss_status roof_shade_sweep(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
 {
     size_t cells = (size_t)src->width * (size_t)src->height;
     s->lit = calloc(s->n_planes * SHADE_SLOTS + 1, sizeof *s->lit);
-    float *sunlit = malloc(sizeof(float) * (cells + 1));
-    ss_status st = s->lit && sunlit ? SS_OK
-                                    : ss_ctx_error(ctx, SS_ERR_MEMORY,
-                                                   "out of memory for the planes' shade table");
+    int *lit = malloc(sizeof(int) * (s->n_planes + 1));
+    ss_status st = s->lit && lit ? SS_OK
+                                 : ss_ctx_error(ctx, SS_ERR_MEMORY,
+                                                "out of memory for the planes' shade table");
     for (int i = 0; st == SS_OK && i < n_steps; ++i) {
         const ss_sun_step *step = &steps[i];
         int day, slot = slot_of(step->unix_s, utc_offset_h, &day);
@@ -119,16 +124,18 @@ ss_status roof_shade_sweep(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
                                 .grid_azimuth_deg = sun_grid_az,
                                 .elevation_deg = step->elevation_deg,
                                 .apparent_elevation_deg = step->apparent_elevation_deg},
-                        .sunlit = sunlit,
+                        .s = s,
+                        .lit = lit,
+                        .mask = s->masks ? s->masks + (size_t)slot * cells : NULL,
+                        .bit = (uint32_t)1 << (day - 1),
                         .width = src->width};
+        memset(lit, 0, sizeof(int) * (s->n_planes + 1));
         st = ss_shadow_rows(ctx, src, opt, step_sun, &t, keep_sunlit, &t);
         if (st == SS_OK)
-            add_shares(s, step, sun_grid_az, sunlit, slot);
-        if (st == SS_OK && s->masks)
-            add_mask_bits(s->masks + (size_t)slot * cells, sunlit, cells, day);
+            add_shares(s, step, sun_grid_az, lit, slot);
         s->sweeps++;
     }
-    free(sunlit);
+    free(lit);
     return st;
 }
 

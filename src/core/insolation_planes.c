@@ -3,7 +3,8 @@
  * with no horizon but the ground's, computed by the same per-cell step as
  * every insolation run (kernels/ss_cell_step.h) with the terms a fixed
  * module on level ground takes. skysweep roofs compares each roof plane
- * with it (its shading loss). */
+ * with it (its shading loss); without weather it runs a clear sky as
+ * records (ss_clear_sky_record). */
 #include "config.h"
 
 #include <math.h>
@@ -53,4 +54,18 @@ ss_status ss_insolation_open_planes(ss_ctx *ctx, const ss_insolation_options *io
         }
     }
     return SS_OK;
+}
+
+void ss_clear_sky_record(const ss_sun_step *step, double height_m, double *ghi_w_m2,
+                         double *dni_w_m2, double *dhi_w_m2)
+{
+    const double rad = M_PI / 180.0;
+    ss_cell_terms level = ss_cell_terms_of(0.0f, 0.0f, 1.0f, height_m);
+    ss_cell_sun s =
+        ss_cell_sun_exact(&level, (float)(step->elevation_deg * rad), 0.0f, (float)step->linke, 1);
+    double g0 = step->extraterrestrial_w_m2;
+    int up = step->elevation_deg > 0.0;
+    *dni_w_m2 = up ? g0 * s.kb : 0.0;
+    *dhi_w_m2 = up ? g0 * s.diffuse_fraction : 0.0;
+    *ghi_w_m2 = up ? *dni_w_m2 * s.sin_h0 + *dhi_w_m2 : 0.0;
 }

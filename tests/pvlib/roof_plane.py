@@ -55,4 +55,19 @@ d_cells = 100 * (cells - theirs) / theirs
 print(f"plane {building} ({plane['tilt_deg']:.2f} deg, {plane['azimuth_deg']:.2f} deg), "
       f"{len(rec)} records: pvlib {theirs:.4f} kWh/m2, unshaded {open_:.4f} ({d_open:+.3f} %), "
       f"per-cell mean {cells:.4f} ({d_cells:+.3f} %)")
-sys.exit(0 if abs(d_open) <= 1 and abs(d_cells) <= float(limit) else 1)
+ok = abs(d_open) <= 1 and abs(d_cells) <= float(limit)
+if "kwh_dc_year" in plane:
+    hours = rec["duration_h"].values
+    poa_w = g / hours
+    temp = rec["temp_air"].fillna(20.0).values
+    wind = rec["wind_speed"].fillna(0.0).values
+    cell = pvlib.temperature.faiman(poa_w, temp, wind)
+    pdc = np.clip(pvlib.pvsystem.pvwatts_dc(poa_w, cell, 1.0, -0.0047), 0, None) * (1 - 0.1142)
+    pac = pvlib.inverter.pvwatts(pdc, 1.0 / (1.2 * 0.96), eta_inv_nom=0.96)
+    theirs_ratio = float(np.sum(np.nan_to_num(pac) * hours) / np.sum(pdc * hours))
+    ours_ratio = float(plane["kwh_ac_year"]) / float(plane["kwh_dc_year"])
+    d_ratio = 100 * (ours_ratio - theirs_ratio) / theirs_ratio
+    print(f"plane {building}: AC/DC {ours_ratio:.5f}, pvlib's PVWatts on the open plane "
+          f"{theirs_ratio:.5f} ({d_ratio:+.3f} %)")
+    ok = ok and abs(d_ratio) <= 0.2 and float(plane["kwh_dc_year"]) >= float(plane["kwh_ac_year"])
+sys.exit(0 if ok else 1)
