@@ -170,9 +170,13 @@ ss_status insolation_trees_open(sweep_job *job, const insolation_tree_settings *
                        it->sky_hidden);
     it->sky_seconds = run_now() - t0;
     seasons_of_steps(job, set, mid_s, n, it);
-    it->lib = (ss_insolation_trees){&it->ground, &it->t.canopy, it->sky_hidden,
-                                    set->transmissivity_leaf_off, it->leaf_off,
-                                    set->crown_lines == 1};
+    it->lib = (ss_insolation_trees){&it->ground,
+                                    &it->t.canopy,
+                                    it->sky_hidden,
+                                    set->transmissivity_leaf_off,
+                                    it->leaf_off,
+                                    set->crown_lines == 1,
+                                    (ss_trunk_gaps)set->trees.trunk_gaps};
     return st;
 }
 

@@ -561,7 +561,8 @@ static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const
     const ss_insolation_trees *t = s->job->io->trees;
     *T = ss_insolation_trees_transmissivity(t, k);
     if (!(s->terms_T == *T)) {
-        ss_insolation_trees_terms(t, band, *T, s->terms, s->terms_trees);
+        ss_insolation_trees_terms(t, s->job->trees_band_hidden, band, *T, s->terms,
+                                  s->terms_trees);
         s->terms_T = *T;
     }
     *terms = s->terms_trees;
@@ -898,7 +899,7 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
                        "the cumulative sky gives no PV yield (its cell temperature needs each "
                        "record's irradiance): use exact or interpolated shadows with it");
     ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
-                             want, sink, user, 0,    NULL, NULL};
+                             want, sink, user, 0,    NULL, NULL, NULL};
     int cumulative = io->shadow_mode == SS_SHADOW_CUMULATIVE;
     steps_plan plan = {NULL, NULL, 0, 0, 0};
     ss_status st = io->trees ? ss_insolation_trees_check(ctx, io, src) : SS_OK;
@@ -908,10 +909,15 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
     job.perez_band = io->sky_model == SS_SKY_MODEL_PEREZ && (cumulative || plan.real_sky);
     if (st == SS_OK)
         st = ss_insolation_cell_inputs(&job);
+    /* A horizontal surface takes none of the horizon band (sin(tilt) 0). */
+    if (st == SS_OK && io->trees && job.perez_band &&
+        io->surface.kind != SS_SURFACE_HORIZONTAL)
+        st = ss_insolation_trees_band(&job);
     if (st == SS_OK)
         st = cumulative ? ss_insolation_cumulative(&job, n_steps) : run_steps(&job, &plan);
     free(plan.kind);
     free(plan.dirs);
+    free(job.trees_band_hidden);
     ss_cell_store_close(job.cells);
     ss_cell_store_close(job.horizons);
     return st;
