@@ -45,7 +45,10 @@ ones as its advanced parameters.
 - `--memory` bounds the process's peak resident memory: the program and its libraries, GDAL's
   cache and a CPU OpenCL device's buffers (PoCL's) included, measured once the device is open. A
   budget the process cannot keep to is refused before any work (exit 6) with the least that would
-  do; the summary prints the peak beside the bound (doc/scale.md).
+  do; the summary prints the peak beside the bound (doc/scale.md). A GPU's buffers are planned
+  within its own memory less a 10 % reserve (bands where it is the limit); a GPU too small for
+  one band is refused the same way (exit 6) with the least device memory that would do, and the
+  summary names the device's plan.
 - A run in bands (`--memory`, doc/scale.md) keeps cells between bands in an unnamed scratch file
   in `$TMPDIR`, else `/tmp` (`src/core/scratch.c`); it is unlinked as soon as made, so nothing
   is left however the run ends. A scratch folder that is missing or full is named in the one

@@ -611,6 +611,14 @@ typedef struct ss_insolation_trees_s {
     const unsigned char *leaf_off; /* per step: nonzero where the leaves are off; NULL: none */
     int digital_lines; /* the crowns' beam on digital lines, not the solid sweep's model */
     ss_trunk_gaps trunk_gaps; /* the horizon band's crowns (sky_hidden's, as its caller took) */
+    /* Beer-Lambert crowns where leaf_area_density > 0 (doc/vegetation.md):
+     * in a leaf-on step the beam, circumsolar light and hours of sun of a
+     * cell keep exp(-extinction x leaf_area_density x the ray's path inside
+     * crowns) (ss_canopy_path, digital lines) instead of the canopy's
+     * transmissivity, which the sky through crowns keeps; leaf-off steps
+     * keep transmissivity_leaf_off. Every step's crowns go on digital
+     * lines. The cumulative sky refuses it. 0: the constant model. */
+    double leaf_area_density, extinction;
 } ss_insolation_trees;
 
 /* Per-cell suns given by a lattice (ss_sun_step's lattice, in place of

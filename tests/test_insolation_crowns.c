@@ -7,7 +7,14 @@
  *   band is) and the band's radiance from Perez's coefficients written
  *   out again; leaf-off records by the leaf-off transmissivity, in exact
  *   steps and in the cumulative sky alike; a surface turned away from the
- *   hedge loses nothing. */
+ *   hedge loses nothing.
+ * - Beer-Lambert crowns: under a cylindrical crown each cell's beam and
+ *   hours of sun are exp(-G LAD L) x the open cell's, L the path inside
+ *   crowns found by brute force on the same digital lines (every cell
+ *   against every crown cell ahead), and the paths' sum within 5 % of the
+ *   closed form of the cylinder's chords; a huge leaf area density gives
+ *   transmissivity 0's output; a leaf-off step keeps the constant leaf-off
+ *   transmissivity on the same cells. */
 #include "config.h"
 
 #include <math.h>
@@ -15,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lines.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -29,24 +37,29 @@ enum { WIDTH = 81, HEIGHT = 801, HEDGE_COL = 40, ROW = HEIGHT / 2 };
 #define BAND_DEG 6.5
 
 /* Weather records: the sun at grid azimuth 150 (its rays from the cells
- * east of the hedge go away from it), elevation 40, DNI 700 and DHI 100
- * W/m^2, an hour each. */
+ * east of the hedge go away from it), elevation 40 (or the sun_pos given),
+ * DNI 700 and DHI 100 W/m^2, an hour each. */
 #define SUN_AZ 150.0
 #define SUN_EL 40.0
 #define DNI 700.0
 #define DHI 100.0
 #define EXTRA 1367.0
 
+typedef struct {
+    double azimuth_deg, elevation_deg;
+} sun_pos;
+
 static ss_status record_at(ss_ctx *ctx, int k, ss_sun_step *step, void *user)
 {
-    (void)ctx, (void)user;
+    (void)ctx;
+    const sun_pos *at = user;
     memset(step, 0, sizeof *step);
     step->duration_h = 1.0;
     step->linke = 3.0;
     step->extraterrestrial_w_m2 = EXTRA;
     step->unix_s = 1781956800.0 + 3600.0 * k; /* 2026-06-20T12:00Z */
-    step->azimuth_deg = step->grid_azimuth_deg = SUN_AZ;
-    step->elevation_deg = step->apparent_elevation_deg = SUN_EL;
+    step->azimuth_deg = step->grid_azimuth_deg = at ? at->azimuth_deg : SUN_AZ;
+    step->elevation_deg = step->apparent_elevation_deg = at ? at->elevation_deg : SUN_EL;
     step->real_sky = 1;
     step->dni_w_m2 = DNI;
     step->dhi_w_m2 = DHI;
@@ -101,9 +114,8 @@ typedef struct {
     float *global, *beam, *diffuse, *reflected, *hours;
 } outputs;
 
-static outputs outputs_new(void)
+static outputs outputs_new(size_t n)
 {
-    size_t n = (size_t)WIDTH * HEIGHT;
     outputs o = {malloc(n * sizeof(float)), malloc(n * sizeof(float)), malloc(n * sizeof(float)),
                  malloc(n * sizeof(float)), malloc(n * sizeof(float))};
     return o;
@@ -114,6 +126,30 @@ static void outputs_free(outputs *o)
     free(o->global), free(o->beam), free(o->diffuse), free(o->reflected), free(o->hours);
 }
 
+/* One insolation run of n_steps records (the sun at `at`, or the hedge's)
+ * over g: the options' trees where `trees` is given, the surface `surface`. */
+static int run_with(const ss_grid *g, ss_insolation_trees *trees, ss_shadow_mode mode,
+                    int n_steps, ss_surface surface, int directions, sun_pos *at, outputs *o)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = directions;
+    ss_insolation_options io = {.albedo = 0.2,
+                                .shadow_mode = mode,
+                                .sky_model = SS_SKY_MODEL_PEREZ,
+                                .elevation_step_deg = 1.0,
+                                .surface = surface,
+                                .trees = trees};
+    ss_insolation_out out = {o->global, o->beam, o->diffuse, o->reflected, o->hours,
+                             NULL,      NULL,    NULL};
+    ss_status st = ss_insolation(ctx, g, &opt, &io, n_steps, record_at, at, NULL, NULL, &out);
+    if (st != SS_OK)
+        tap_diag("insolation: %s", ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    return st == SS_OK;
+}
+
 /* One run over the hedge scene: n_steps records, the surface tilted
  * `tilt` degrees toward azimuth `facing`, trees where cn is given (the
  * crowns' isotropic sky is left out: sky_hidden NULL, so that the band
@@ -122,24 +158,9 @@ static int run(const ss_grid *g, const ss_canopy *cn, ss_trunk_gaps gaps,
                const unsigned char *leaf_off, double T_off, ss_shadow_mode mode, int n_steps,
                double tilt, double facing, outputs *o)
 {
-    ss_ctx *ctx = ss_ctx_new();
-    ss_sweep_options opt;
-    ss_sweep_options_default(&opt);
-    opt.directions = 180;
-    ss_insolation_trees trees = {g, cn, NULL, T_off, leaf_off, 0, gaps};
-    ss_insolation_options io = {.albedo = 0.2,
-                                .shadow_mode = mode,
-                                .sky_model = SS_SKY_MODEL_PEREZ,
-                                .elevation_step_deg = 1.0,
-                                .surface = {SS_SURFACE_FIXED, tilt, facing},
-                                .trees = cn ? &trees : NULL};
-    ss_insolation_out out = {o->global, o->beam, o->diffuse, o->reflected, o->hours,
-                             NULL,      NULL,    NULL};
-    ss_status st = ss_insolation(ctx, g, &opt, &io, n_steps, record_at, NULL, NULL, NULL, &out);
-    if (st != SS_OK)
-        tap_diag("insolation: %s", ss_ctx_message(ctx));
-    ss_ctx_free(ctx);
-    return st == SS_OK;
+    ss_insolation_trees trees = {g, cn, NULL, T_off, leaf_off, 0, gaps, 0.0, 0.0};
+    ss_surface surface = {SS_SURFACE_FIXED, tilt, facing};
+    return run_with(g, cn ? &trees : NULL, mode, n_steps, surface, 180, NULL, o);
 }
 
 /* The hedge's band share the run's diffuse light gives at the cell d east
@@ -165,7 +186,7 @@ static void horizon_band(void)
     double band_wh = perez_band_radiance(); /* an hour of it */
     tap_diag("Perez's horizon band: %.4f W/m^2", band_wh);
     static const int ds[] = {10, 20, 30};
-    outputs open = outputs_new(), o = outputs_new();
+    outputs open = outputs_new(n), o = outputs_new(n);
     /* Crowns from the ground (trunk 0) and a crown from half its height
      * with the gaps under it open: the band's share closed form between
      * the hedge's centre line d and its face d - 1/2 (digital lines take
@@ -218,8 +239,177 @@ static void horizon_band(void)
     ss_grid_free(&g);
 }
 
+/* ---- Beer-Lambert -------------------------------------------------------- */
+
+/* The path of the ray toward the sun (grid azimuth az, elevation el)
+ * inside crowns, by brute force on the engine's digital lines: every cell
+ * against every crown cell ahead of it on its line, the ray's level
+ * strictly inside the crown's interval (trunk to top), each crossing the
+ * ray's run through one cell of the line (the major axis's cell over the
+ * cosine of the azimuth from it) over cos(el). */
+static void brute_paths(const ss_grid *g, const ss_canopy *cn, double az, double el,
+                        double *path)
+{
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, az,
+                            SS_LINE_MODEL_DIGITAL);
+    double t = tan(rad(el)), away_major = (double)ls.along_per_step_m * ls.step;
+    double run_m = ls.major_is_row ? g->cell_y_m / fabs(cos(rad(az)))
+                                   : g->cell_x_m / fabs(sin(rad(az)));
+    double slant_m = run_m / cos(rad(el));
+    size_t *cell = malloc(sizeof(size_t) * ls.major_len);
+    double *level = malloc(sizeof(double) * ls.major_len);
+    for (size_t i = 0; i < (size_t)g->width * g->height; ++i)
+        path[i] = 0.0;
+    for (int line = 0; line < ls.n_lines; ++line) {
+        ss_i64 b16 = ss_line_intercept16(&ls, line);
+        int m = 0;
+        for (int k = 0; k < ls.major_len; ++k) { /* the sunny end first */
+            int major = ls.step > 0 ? k : ls.major_len - 1 - k;
+            int minor = ss_line_minor(&ls, b16, major);
+            if (minor < 0 || minor >= ls.minor_len)
+                continue;
+            cell[m] = (size_t)major * ls.stride_major + (size_t)minor * ls.stride_minor;
+            level[m++] = (major * away_major + minor * (double)ls.along_per_minor_m) * t;
+        }
+        for (int p = 0; p < m; ++p) {
+            int hits = 0;
+            double ray = g->z[cell[p]] + level[p];
+            for (int q = 0; q < p; ++q) {
+                size_t j = cell[q];
+                double bottom = cn->trunk_ratio * cn->height_m[j];
+                hits += cn->height_m[j] > bottom && ray > g->z[j] + bottom + level[q] &&
+                        ray < g->z[j] + cn->height_m[j] + level[q];
+            }
+            path[cell[p]] = hits * slant_m;
+        }
+    }
+    free(cell), free(level);
+}
+
+/* The ray from (x, y) on flat ground toward the sun through a cylinder of
+ * radius R about (cx, cy) from `bottom` to `top`: the length inside it. */
+static double cylinder_path(double x, double y, double az, double el, double cx, double cy,
+                            double R, double bottom, double top)
+{
+    double ux = sin(rad(az)), uy = cos(rad(az)); /* grid y grows northward */
+    double dx = x - cx, dy = y - cy;
+    double b = dx * ux + dy * uy, c = dx * dx + dy * dy - R * R, disc = b * b - c;
+    if (disc <= 0.0)
+        return 0.0;
+    double s0 = fmax(-b - sqrt(disc), bottom / tan(rad(el)));
+    double s1 = fmin(-b + sqrt(disc), top / tan(rad(el)));
+    return s1 > s0 ? (s1 - s0) / cos(rad(el)) : 0.0;
+}
+
+static void beer_lambert(void)
+{
+    enum { W = 60, H = 60 };
+    const size_t n = (size_t)W * H;
+    const double R = 5.0, top = 10.0, ratio = 0.25, G = 0.5, LAD = 0.3;
+    ss_grid g = test_grid(W, H, 1, 1);
+    float *height = calloc(n, sizeof(float));
+    for (int r = 0; r < H; ++r)
+        for (int c = 0; c < W; ++c) {
+            g.z[(size_t)r * W + c] = 0.0f;
+            if (hypot(c + 0.5 - 30.0, r + 0.5 - 30.0) <= R)
+                height[(size_t)r * W + c] = (float)top;
+        }
+    sun_pos at = {200.0, 35.0};
+    ss_surface flat = {SS_SURFACE_CELL, 0.0, 0.0};
+    ss_canopy cn = {height, NULL, ratio, 0.03};
+    ss_insolation_trees bl = {&g, &cn, NULL, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, LAD, G};
+    outputs open = outputs_new(n), o = outputs_new(n);
+    double *path = malloc(n * sizeof(double));
+    brute_paths(&g, &cn, at.azimuth_deg, at.elevation_deg, path);
+    int ok = run_with(&g, NULL, SS_SHADOW_EXACT, 1, flat, 16, &at, &open) &&
+             run_with(&g, &bl, SS_SHADOW_EXACT, 1, flat, 16, &at, &o);
+    size_t shaded = 0, wrong = 0;
+    double worst = 0.0, sum_path = 0.0, sum_closed = 0.0;
+    for (size_t i = 0; ok && i < n; ++i) {
+        double f = exp(-G * LAD * path[i]);
+        double beam = f * open.beam[i], hours = f * open.hours[i];
+        double e = fmax(fabs(o.beam[i] - beam) / open.beam[i], fabs(o.hours[i] - hours));
+        worst = fmax(worst, e);
+        wrong += !(e <= 2e-6);
+        shaded += path[i] > 0.0;
+        sum_path += path[i];
+        int r = (int)(i / W), c = (int)(i % W);
+        /* Rows run north to south: the cell's centre, y northward. */
+        sum_closed += cylinder_path(c + 0.5, H - r - 0.5, at.azimuth_deg, at.elevation_deg,
+                                    30.0, H - 30.0, R, ratio * top, top);
+    }
+    tap_ok(ok && shaded > 50 && wrong == 0,
+           "Beer-Lambert (G %.1f, LAD %.1f m2/m3), a cylindrical crown, sun 200/35: every cell's "
+           "beam and hours of sun are exp(-G LAD L) x the open cell's, L by brute force on the "
+           "digital lines (%zu cells with a path, %zu off, worst %.2g)",
+           G, LAD, shaded, wrong, worst);
+    tap_ok(ok && fabs(sum_path - sum_closed) <= 0.05 * sum_closed,
+           "the paths' sum %.1f m, the cylinder's chords in closed form %.1f m (within 5 %%)",
+           sum_path, sum_closed);
+    /* A huge leaf area density is transmissivity 0 (the sky through crowns
+     * at 0 in both). */
+    ss_canopy opaque = {height, NULL, ratio, 0.0};
+    ss_insolation_trees huge = {&g, &opaque, NULL, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, 20.0, 1.0};
+    ss_insolation_trees zero = {&g, &opaque, NULL, 0.5, NULL, 1, SS_TRUNK_GAPS_IGNORE, 0.0, 0.0};
+    outputs h = outputs_new(n);
+    ok = ok && run_with(&g, &huge, SS_SHADOW_EXACT, 1, flat, 16, &at, &h) &&
+         run_with(&g, &zero, SS_SHADOW_EXACT, 1, flat, 16, &at, &o);
+    double diff = 0.0;
+    for (size_t i = 0; ok && i < n; ++i)
+        diff = fmax(diff, fmax(fabs(h.global[i] - o.global[i]), fabs(h.hours[i] - o.hours[i])));
+    tap_ok(ok && diff <= 1e-6,
+           "Beer-Lambert with LAD 20 m2/m3 and G 1 gives the global and hours of sun of "
+           "transmissivity 0 on digital lines (largest difference %.2g)",
+           diff);
+    /* A leaf-off step: the constant leaf-off transmissivity on the cells
+     * with a path. */
+    const unsigned char off[1] = {1};
+    bl.leaf_off = off;
+    ok = ok && run_with(&g, &bl, SS_SHADOW_EXACT, 1, flat, 16, &at, &o);
+    wrong = 0;
+    for (size_t i = 0; ok && i < n; ++i)
+        wrong += !(fabs(o.beam[i] - (path[i] > 0.0 ? 0.5 : 1.0) * open.beam[i]) <=
+                   2e-6 * open.beam[i]);
+    tap_ok(ok && wrong == 0,
+           "Beer-Lambert, a leaf-off step: the leaf-off transmissivity 0.5 on every cell with a "
+           "path, the open beam elsewhere (%zu cells off)",
+           wrong);
+    outputs_free(&open), outputs_free(&o), outputs_free(&h);
+    free(path), free(height);
+    ss_grid_free(&g);
+}
+
+static void refusals(void)
+{
+    ss_grid g = test_grid(8, 8, 1, 1);
+    float height[64] = {0};
+    for (int i = 0; i < 64; ++i)
+        g.z[i] = 0.0f;
+    ss_canopy cn = {height, NULL, 0.25, 0.03};
+    static const double bad[][2] = {{25.0, 0.5}, {-1.0, 0.5}, {NAN, 0.5}, {1.0, 0.0}, {1.0, 2.0}};
+    int refused = 0;
+    outputs o = outputs_new(64);
+    ss_surface flat = {SS_SURFACE_CELL, 0.0, 0.0};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; ++k) {
+        ss_insolation_trees t = {&g, &cn, NULL, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, bad[k][0],
+                                 bad[k][1]};
+        refused += !run_with(&g, &t, SS_SHADOW_EXACT, 1, flat, 8, NULL, &o);
+    }
+    ss_insolation_trees t = {&g, &cn, NULL, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, 1.0, 0.5};
+    refused += !run_with(&g, &t, SS_SHADOW_CUMULATIVE, 1, flat, 8, NULL, &o);
+    tap_ok(refused == 6,
+           "Beer-Lambert refuses a leaf area density of 25, -1 or NaN, an extinction of 0 or 2, "
+           "and the cumulative sky (%d of 6 refused)",
+           refused);
+    outputs_free(&o);
+    ss_grid_free(&g);
+}
+
 int main(void)
 {
     horizon_band();
+    beer_lambert();
+    refusals();
     return tap_done();
 }

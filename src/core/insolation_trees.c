@@ -17,6 +17,17 @@ ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io
     if (!(t->transmissivity_leaf_off >= 0 && t->transmissivity_leaf_off <= 1))
         return ss_fail(ctx, SS_ERR_ARGUMENT, "the leaf-off transmissivity %g is outside 0..1",
                        t->transmissivity_leaf_off);
+    if (t->leaf_area_density != 0.0 && io->shadow_mode == SS_SHADOW_CUMULATIVE)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the cumulative sky takes the constant crowns' light, not Beer-Lambert: "
+                       "use exact or interpolated shadows with it");
+    if (t->leaf_area_density != 0.0 &&
+        (!(t->extinction > 0.0 && t->extinction <= 1.0) ||
+         !(t->leaf_area_density > 0.0 && t->leaf_area_density <= 20.0)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "Beer-Lambert crowns need an extinction coefficient in (0, 1] and a leaf "
+                       "area density in (0, 20] m2/m3 (got %g, %g)",
+                       t->extinction, t->leaf_area_density);
     return ss_canopy_check(ctx, t->ground, t->canopy);
 }
 
@@ -82,12 +93,28 @@ ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                           sun->apparent_elevation_deg, crossed);
 }
 
+int ss_insolation_trees_beer_lambert(const ss_insolation_trees *t, int k)
+{
+    return t->leaf_area_density > 0.0 && !(t->leaf_off && t->leaf_off[k]);
+}
+
+ss_status ss_insolation_trees_through(ss_ctx *ctx, const ss_insolation_trees *t,
+                                      const ss_sun_step *sun, float *through)
+{
+    size_t n = (size_t)t->ground->width * (size_t)t->ground->height;
+    ss_status st = ss_canopy_path(ctx, t->ground, t->canopy, sun->grid_azimuth_deg,
+                                  sun->apparent_elevation_deg, through);
+    return st == SS_OK ? ss_canopy_path_fraction(ctx, t->extinction, t->leaf_area_density, n,
+                                                 through, through)
+                       : st;
+}
+
 ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees *t,
                                          const ss_sweep_options *opt, double grid_azimuth_deg,
                                          double apparent_elevation_deg, unsigned char *crossed)
 {
     ss_sweep_options lines = *opt;
-    if (t->digital_lines)
+    if (t->digital_lines || t->leaf_area_density > 0.0)
         lines.lines = SS_LINES_DIGITAL;
     return ss_canopy_crossed(ctx, t->ground, t->canopy, &lines, grid_azimuth_deg,
                              apparent_elevation_deg, crossed);

@@ -27,6 +27,15 @@ void ss_insolation_trees_terms(const ss_insolation_trees *t, const float *band_h
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
                                       unsigned char *crossed);
+/* Whether step k's beam crosses crowns by Beer-Lambert (leaf on, and a
+ * leaf area density given). */
+int ss_insolation_trees_beer_lambert(const ss_insolation_trees *t, int k);
+/* Beer-Lambert: through[c] over the whole grid for the step's sun at the
+ * grid's centre, the fraction of the beam that arrives, exp(-G LAD path)
+ * of the ray's path inside crowns (1 where it crosses none, SS_NODATA at
+ * nodata). */
+ss_status ss_insolation_trees_through(ss_ctx *ctx, const ss_insolation_trees *t,
+                                      const ss_sun_step *sun, float *through);
 /* The same for a sun at a grid azimuth and apparent elevation (degrees):
  * the cumulative sky's bins. */
 ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees *t,
