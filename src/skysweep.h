@@ -596,7 +596,9 @@ typedef struct {
  * sun (the centre's) crosses a crown (ss_canopy_crossed) keep the step's
  * transmissivity T; the cell's sky view loses sky_hidden x (1 - T), for
  * the isotropic diffuse and the reflected light alike (SOLWEIG's
- * svfbuveg). The steps run on the host. The cumulative sky bins leaf-on
+ * svfbuveg), and under Perez's sky the share of the horizon band it sees
+ * loses the share crowns hide x (1 - T), which the run sweeps itself from
+ * the canopy and trunk_gaps. The steps run on the host. The cumulative sky bins leaf-on
  * and leaf-off records apart within each bin and sweeps the crowns once per
  * (direction, elevation) of its bins, at their mean sun
  * (doc/cumulative_sky.md, "Trees"). */
@@ -608,6 +610,15 @@ typedef struct ss_insolation_trees_s {
     double transmissivity_leaf_off;
     const unsigned char *leaf_off; /* per step: nonzero where the leaves are off; NULL: none */
     int digital_lines; /* the crowns' beam on digital lines, not the solid sweep's model */
+    ss_trunk_gaps trunk_gaps; /* the horizon band's crowns (sky_hidden's, as its caller took) */
+    /* Beer-Lambert crowns where leaf_area_density > 0 (doc/vegetation.md):
+     * in a leaf-on step the beam, circumsolar light and hours of sun of a
+     * cell keep exp(-extinction x leaf_area_density x the ray's path inside
+     * crowns) (ss_canopy_path, digital lines) instead of the canopy's
+     * transmissivity, which the sky through crowns keeps; leaf-off steps
+     * keep transmissivity_leaf_off. Every step's crowns go on digital
+     * lines. The cumulative sky refuses it. 0: the constant model. */
+    double leaf_area_density, extinction;
 } ss_insolation_trees;
 
 /* Per-cell suns given by a lattice (ss_sun_step's lattice, in place of

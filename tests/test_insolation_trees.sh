@@ -13,7 +13,11 @@
 # refused in one line, exit 2, with no output. The cumulative sky with trees:
 # zeros and transmissivity 1 byte for byte, a leaf-off June by the leaf-off
 # transmissivity in closed form, and its error against the exact run with
-# trees close to its error without.
+# trees close to its error without. A tilted module (Perez's horizon band,
+# which crowns dim) keeps zeros and transmissivity 1 byte for byte.
+# --crown-light beer-lambert: the beam is shadow's Beer-Lambert fraction x
+# the open beam, a huge leaf area density is transmissivity 0, the metadata
+# name the model, absurd densities and extinctions are refused.
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
 SKYSWEEP=${SKYSWEEP:-$PWD/skysweep}
@@ -74,6 +78,16 @@ tap_ok $? "weather with --pv: a canopy of zeros gives all 19 bands byte for byte
 ins "${weather[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif wt1.tif
 cmp -s <(raw wplain.tif) <(raw wt1.tif)
 tap_ok $? "weather with --pv: transmissivity 1 in both seasons as without --canopy"
+# A module tilted 60 degrees facing west (Perez's horizon band counts on a
+# tilted surface, and the crown hides part of it from the cells east of it).
+tilted=("${weather[@]}" --surface 60,270)
+ins "${tilted[@]}" flat.tif tplain.tif
+ins "${tilted[@]}" --canopy zeros.tif flat.tif tz.tif
+cmp -s <(raw tplain.tif) <(raw tz.tif)
+tap_ok $? "weather, a tilted module: a canopy of zeros gives all 19 bands byte for byte"
+ins "${tilted[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif tt1.tif
+cmp -s <(raw tplain.tif) <(raw tt1.tif)
+tap_ok $? "weather, a tilted module: transmissivity 1 in both seasons as without --canopy"
 ins "${weather[@]}" --canopy cyl.tif flat.tif wc.tif
 paste <(band wplain.tif 18) <(band wc.tif 18) |
     awk '$2 < $1 - 1 { low++ } $2 > $1 + 1e-3 { high++ } END { exit !(low > 20 && !high) }'
@@ -168,6 +182,39 @@ tap_ok $((!$?)) "--crown-lines digital under box lines changes the crowns' shado
 gdalinfo s_boxdig.tif | grep -q 'CROWN_LINES=digital'
 tap_ok $? "the metadata name the crowns' lines"
 
+# --crown-light beer-lambert (doc/vegetation.md): the beam of the step is
+# exp(-G LAD path) x the open beam, shadow --crown-light beer-lambert's band
+# 5 at the step's instant, exactly on its vegetation-shadow cells (both on
+# digital lines); a huge leaf area density is transmissivity 0; the
+# metadata and summary name the model; weather with --pv falls under the
+# crown and nowhere rises.
+bl=(--canopy cyl.tif --crown-light beer-lambert --leaf-area-density 0.4 --extinction 0.6)
+"$SKYSWEEP" shadow -q --device reference --time 2024-06-21T10:05Z "${bl[@]}" flat.tif shbl.tif
+ins "${step[@]}" "${bl[@]}" flat.tif s_bl.tif
+paste <(band s_open.tif 2) <(band s_bl.tif 2) <(band shbl.tif 4) <(band shbl.tif 5) | awk '{
+    r = $2 / $1; d = r - ($3 == 2 ? $4 : 1); if (d < 0) d = -d
+    if (d > 2e-6) off++; if ($3 == 2) { shaded++; lo = (lo == "" || r < lo) ? r : lo; hi = r > hi ? r : hi } }
+    END { printf "%d cells in vegetation shadow, beam / open %.4f to %.4f, %d off", shaded, lo, hi, off
+          exit !(shaded > 20 && lo < hi && !off) }' >bl.txt
+tap_ok $? "beer-lambert: the beam is exp(-G LAD path) x open, shadow's band 5 at the step's instant: $(cat bl.txt)"
+ins "${step[@]}" --canopy cyl.tif --crown-light beer-lambert --leaf-area-density 20 --extinction 1 \
+    --transmissivity 0 --transmissivity-leaf-off 0 flat.tif s_huge.tif
+ins "${step[@]}" --canopy cyl.tif --crown-lines digital --transmissivity 0 \
+    --transmissivity-leaf-off 0 flat.tif s_t0.tif
+cmp -s <(raw s_huge.tif) <(raw s_t0.tif)
+tap_ok $? "beer-lambert with LAD 20 and G 1: every band byte for byte as transmissivity 0"
+gdalinfo s_bl.tif >blinfo.txt
+grep -q 'CROWN_LIGHT=Beer-Lambert: exp(-0.6 x 0.4 m2/m3 x the ray.s path inside crowns), paths on digital lines, for the beam, circumsolar light and hours of sun of leaf-on steps; leaf-off steps the constant 0.5' blinfo.txt &&
+    grep -q 'CROWN_LINES=digital' blinfo.txt && grep -q 'CROWN_LIGHT=constant: transmissivity 0.03 leaf on, 0.5 leaf off' info.txt
+tap_ok $? "the metadata name the crown-light model (CROWN_LIGHT), constant and Beer-Lambert"
+"$SKYSWEEP" insolation --device reference "${step[@]}" "${bl[@]}" flat.tif s_bl2.tif |
+    grep -q '^trees   light through crowns: Beer-Lambert'
+tap_ok $? "the summary names Beer-Lambert"
+ins "${weather[@]}" "${bl[@]}" flat.tif wbl.tif
+paste <(band wplain.tif 18) <(band wbl.tif 18) |
+    awk '$2 < $1 - 1 { low++ } $2 > $1 + 1e-3 { high++ } END { exit !(low > 20 && !high) }'
+tap_ok $? "weather with --pv, beer-lambert: the PV yield falls in the crown's shade and nowhere rises"
+
 refused() { # WHAT ARGS...: one line on stderr, exit 2, no output
     local what=$1
     shift
@@ -186,6 +233,14 @@ refused "a word for a date" --canopy cyl.tif --leaf-off autumn
 refused "--leaf-on without --canopy" --leaf-on 100
 refused "--transmissivity-leaf-off without --canopy" --transmissivity-leaf-off 0.2
 refused "--crown-lines without --canopy" --crown-lines digital
+refused "a leaf area density of 0" "${bl[@]}" --leaf-area-density 0
+refused "a leaf area density of 25" "${bl[@]}" --leaf-area-density 25
+refused "a leaf area density of nan" "${bl[@]}" --leaf-area-density nan
+refused "an extinction of 0" "${bl[@]}" --extinction 0
+refused "an extinction of 2" "${bl[@]}" --extinction 2
+refused "--leaf-area-density without beer-lambert" --canopy cyl.tif --leaf-area-density 2
+refused "--crown-light beer-lambert without --canopy" --crown-light beer-lambert
+refused "beer-lambert with the cumulative sky" "${bl[@]}" --shadow cumulative
 
 # The cumulative sky with trees (doc/cumulative_sky.md, "Trees").
 cumul=(--weather "$pvgis" --weather-far-ok --directions 16 --shadow cumulative)
@@ -204,6 +259,10 @@ tap_ok $? "cumulative sky with trees: the crowns' crossings are in the least bud
 ins "${cumul[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif ct1.tif
 cmp -s <(raw cplain.tif) <(raw ct1.tif)
 tap_ok $? "cumulative sky: transmissivity 1 in both seasons as without --canopy"
+ins "${cumul[@]}" --surface 60,270 flat.tif ctplain.tif
+ins "${cumul[@]}" --surface 60,270 --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif ctt1.tif
+cmp -s <(raw ctplain.tif) <(raw ctt1.tif)
+tap_ok $? "cumulative sky, a tilted module: transmissivity 1 in both seasons as without --canopy"
 
 # June of the PVGIS year (2006), leaves on by default and off with
 # --leaf-on 200; crowns from the ground. On the flat DSM each cell's beam is

@@ -894,8 +894,15 @@ int cmd_insolation(int argc, char **argv)
     opt_from_params("insolation", offsetof(insolation_settings, ins), insolation_options, 32);
     opt_spec tree_opts[TREE_OPTIONS_MAX], season_opts[INSOLATION_TREE_OPTIONS_MAX];
     insolation_tree_options(offsetof(insolation_settings, trees), tree_opts, season_opts);
-    const opt_spec *tables[] = {insolation_options, file_options, tree_opts, season_opts,
-                                sun_options(), common_options(), NULL};
+    const opt_spec *tables[] = {insolation_options,
+                                file_options,
+                                tree_opts,
+                                season_opts,
+                                crown_light_options(offsetof(insolation_settings, trees) +
+                                                    offsetof(insolation_tree_settings, light)),
+                                sun_options(),
+                                common_options(),
+                                NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse(
@@ -937,6 +944,15 @@ int cmd_insolation(int argc, char **argv)
     ss_shadow_mode shadow = ss_insolation_params_shadow(&set->ins);
     if (rc < 0)
         rc = insolation_trees_usage(tables, set, &set->trees);
+    /* Beer-Lambert is the beam's: the sky through crowns keeps
+     * --transmissivity. */
+    if (rc < 0)
+        rc = crown_light_alone("insolation", tables, set, &set->trees.light,
+                               set->trees.trees.canopy != NULL, 1);
+    if (rc < 0 && set->trees.light.beer_lambert && shadow == SS_SHADOW_CUMULATIVE)
+        rc = run_usage_error("insolation", "--crown-light beer-lambert takes exact or "
+                                           "interpolated shadows: the cumulative sky keeps one "
+                                           "bit a cell per sun bin for its crowns, no path");
     /* Trees: auto takes exact shadows. The planner's error tables have no
      * trees, and the cumulative sky's error with crowns is measured on one
      * small scene only (doc/cumulative_sky.md, "Trees"), so it is given on
@@ -956,6 +972,8 @@ int cmd_insolation(int argc, char **argv)
                               ? INSOLATION_TREES_CELL_BYTES +
                                     insolation_cumulative_crown_bytes(
                                         directions, set->ins.elevation_step_deg)
+                          : set->trees.light.beer_lambert
+                              ? INSOLATION_TREES_CELL_BYTES + INSOLATION_BEER_LAMBERT_CELL_BYTES
                               : INSOLATION_TREES_CELL_BYTES};
     if (rc < 0)
         rc = job_open_banded(&r->job, "insolation", &set->common, pos, n_pos, cost);

@@ -1,7 +1,7 @@
 /* How light crosses crowns (doc/vegetation.md): the constant
  * transmissivity of the tree options (UMEP's), or Beer-Lambert by the
  * ray's path inside crowns. The options, declared once for the commands
- * that take them (shadow). */
+ * that take them (shadow, insolation). */
 #ifndef SS_CLI_CROWN_LIGHT_H
 #define SS_CLI_CROWN_LIGHT_H
 
@@ -18,10 +18,13 @@ typedef struct {
 const opt_spec *crown_light_options(size_t base);
 
 /* --leaf-area-density and --extinction without --crown-light beer-lambert,
- * and Beer-Lambert without --canopy, are refused rather than ignored: an
- * exit code, or -1 when they are fine. */
+ * and Beer-Lambert without --canopy, are refused rather than ignored, and
+ * so is --transmissivity with Beer-Lambert unless the command keeps it for
+ * the light that is not the beam (sky_keeps_transmissivity: insolation's
+ * sky through crowns): an exit code, or -1 when they are fine. */
 int crown_light_alone(const char *command, const opt_spec *const *tables, const void *settings,
-                      const crown_light_settings *set, int have_canopy);
+                      const crown_light_settings *set, int have_canopy,
+                      int sky_keeps_transmissivity);
 
 /* Bytes per cell Beer-Lambert holds for the whole grid beside the
  * command's trees: the paths and the fractions. */

@@ -170,9 +170,15 @@ ss_status insolation_trees_open(sweep_job *job, const insolation_tree_settings *
                        it->sky_hidden);
     it->sky_seconds = run_now() - t0;
     seasons_of_steps(job, set, mid_s, n, it);
-    it->lib = (ss_insolation_trees){&it->ground, &it->t.canopy, it->sky_hidden,
-                                    set->transmissivity_leaf_off, it->leaf_off,
-                                    set->crown_lines == 1};
+    it->lib = (ss_insolation_trees){&it->ground,
+                                    &it->t.canopy,
+                                    it->sky_hidden,
+                                    set->transmissivity_leaf_off,
+                                    it->leaf_off,
+                                    set->crown_lines == 1,
+                                    (ss_trunk_gaps)set->trees.trunk_gaps,
+                                    set->light.beer_lambert ? set->light.leaf_area_density : 0.0,
+                                    set->light.extinction};
     return st;
 }
 
@@ -205,6 +211,27 @@ static void describe_season(const insolation_tree_settings *set, const insolatio
              set->trees.transmissivity, set->transmissivity_leaf_off);
 }
 
+/* The light through crowns: constant, or Beer-Lambert in leaf-on steps. */
+static void describe_light(const insolation_tree_settings *set, char *buf, size_t size)
+{
+    char light[300];
+    crown_light_describe(&set->light, set->trees.transmissivity, light, sizeof light);
+    if (set->light.beer_lambert)
+        snprintf(buf, size,
+                 "%s, for the beam, circumsolar light and hours of sun of leaf-on steps; "
+                 "leaf-off steps the constant %.6g; the sky through crowns the constant "
+                 "transmissivity of the season",
+                 light, set->transmissivity_leaf_off);
+    else
+        snprintf(buf, size, "%s leaf on, %.6g leaf off", light, set->transmissivity_leaf_off);
+}
+
+/* The lines each step's crowns are swept on. */
+static const char *crown_lines_of(const insolation_tree_settings *set)
+{
+    return set->crown_lines || set->light.beer_lambert ? "digital" : "the solid sweep's";
+}
+
 void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settings *set,
                                const insolation_trees *it)
 {
@@ -215,7 +242,9 @@ void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settin
     describe_season(set, it, buf, sizeof buf);
     ss_writer_metadata(w, "SEASON", buf);
     ss_writer_metadata(w, "TRUNK_GAPS", set->trees.trunk_gaps ? "open" : "ignore");
-    ss_writer_metadata(w, "CROWN_LINES", set->crown_lines ? "digital" : "the solid sweep's");
+    ss_writer_metadata(w, "CROWN_LINES", crown_lines_of(set));
+    describe_light(set, buf, sizeof buf);
+    ss_writer_metadata(w, "CROWN_LIGHT", buf);
 }
 
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
@@ -229,8 +258,12 @@ void insolation_trees_print(const insolation_tree_settings *set, const insolatio
            described, set->transmissivity_leaf_off, it->sky_seconds,
            cumulative ? "each sun bin's direction and elevation at its mean sun"
                       : "each step's sun after its solid shadow",
-           set->crown_lines ? "digital" : "the solid sweep's");
+           crown_lines_of(set));
     printf("season  %s; %d of %d steps leaf off\n", season, it->leaf_off_steps, n_steps);
+    if (set->light.beer_lambert) {
+        describe_light(set, season, sizeof season);
+        printf("trees   light through crowns: %s\n", season);
+    }
     if (shadows_forced)
         printf("trees   shadows exact: with --canopy the planner does not choose interpolated or "
                "cumulative shadows\n");

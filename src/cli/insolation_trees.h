@@ -6,6 +6,7 @@
 
 #include <math.h>
 
+#include "crown_light.h"
 #include "trees.h"
 
 typedef struct {
@@ -13,6 +14,7 @@ typedef struct {
     double transmissivity_leaf_off;
     const char *leaf_on, *leaf_off; /* DAY of the year or MM-DD; NULL: UMEP's */
     int crown_lines;                /* index into "auto|digital" */
+    crown_light_settings light;     /* insolation's own options (crown_light_options) */
 } insolation_tree_settings;
 
 #define INSOLATION_TREE_OPTIONS_MAX 5
@@ -26,8 +28,13 @@ void insolation_tree_options(size_t base, opt_spec trees_out[TREE_OPTIONS_MAX],
 int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
                            const insolation_tree_settings *set);
 
-/* Bytes a cell of the whole grid the trees hold (the memory planner's). */
+/* Bytes a cell of the whole grid the trees hold (the memory planner's):
+ * besides the sky's, the share of it hidden, a byte for the crowns
+ * crossed; the crowns' horizon band (the share hidden and, while it is
+ * swept, the surfaces' gradients and weights) stays within the sky's. */
 #define INSOLATION_TREES_CELL_BYTES (TREES_SKY_CELL_BYTES + sizeof(float) + 1.0)
+/* ... and Beer-Lambert's fractions of each step's beam. */
+#define INSOLATION_BEER_LAMBERT_CELL_BYTES (sizeof(float))
 /* ... and more with the cumulative sky: a bit a cell for each (direction,
  * elevation) pair of its bins (insolation_cumulative.c's crossings), at
  * most every direction at every elevation step up to 90 degrees, and a
@@ -56,7 +63,7 @@ typedef struct {
 ss_status insolation_trees_open(sweep_job *job, const insolation_tree_settings *set,
                                 const double *mid_s, int n, insolation_trees *it);
 void insolation_trees_free(insolation_trees *it);
-/* CANOPY, TRUNK, TRANSMISSIVITY (both seasons) and SEASON. */
+/* CANOPY, TRUNK, TRANSMISSIVITY (both seasons), SEASON and CROWN_LIGHT. */
 void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settings *set,
                                const insolation_trees *it);
 /* The summary's trees lines (cumulative: the crowns were swept per sun

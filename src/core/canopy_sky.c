@@ -26,6 +26,7 @@
 #include "crown_union.h"
 #include "lines.h"
 #include "products_internal.h"
+#include "ss_sun.h"
 
 typedef struct {
     double w, z; /* distance walked, height */
@@ -92,6 +93,15 @@ typedef struct {
     double w, bottom, top;
 } line_crown;
 
+/* ss_canopy_band_hidden's sums: the share of the horizon band crowns hide
+ * in each direction, weighted by how squarely the cell's surface faces it. */
+typedef struct {
+    const float *dz_de, *dz_dn; /* each cell's surface gradient, grid frame */
+    float east, north;          /* the direction looked in, grid frame */
+    double band_rad;            /* the band: 0 to this elevation */
+    float *hidden, *weight;     /* per cell: sums over the directions */
+} band_walk;
+
 typedef struct {
     const ss_grid *grid;
     const ss_canopy *canopy;
@@ -101,7 +111,8 @@ typedef struct {
     line_crown *crowns; /* the line's, in walk order */
     size_t n_crowns;
     crown_union rises;             /* SS_TRUNK_GAPS_OPEN: those hidden from one cell */
-    double *solid_sum, *crown_sum; /* per cell, over the directions */
+    double *solid_sum, *crown_sum; /* per cell, over the directions (the sky) */
+    band_walk *band;               /* the horizon band instead of the sky (else NULL) */
 } sky_walk;
 
 /* SS_TRUNK_GAPS_OPEN: the share the crowns before q hide above the solid
@@ -131,6 +142,33 @@ static double open_gaps_share(sky_walk *s, hull_point q, double ts, double ttop)
     return share;
 }
 
+/* The share of the band [0, band_rad] of elevations that the rises
+ * (lo, hi) hide. */
+static double band_share_of(double lo, double hi, double band_rad)
+{
+    double a = fmax(atan(lo), 0.0), b = fmin(atan(hi), band_rad);
+    return b > a ? (b - a) / band_rad : 0.0;
+}
+
+/* Cell i's band in this direction: the crowns hide the rises from ts to
+ * ttop (columns) or, with the gaps open, the union open_gaps_share left
+ * in s->rises; they count where the cell's surface faces the direction. */
+static void band_add(sky_walk *s, size_t i, double ts, double ttop, int hides)
+{
+    band_walk *b = s->band;
+    float facing = ss_cos_incidence_gradient(b->east, b->north, 0.0f, b->dz_de[i], b->dz_dn[i]);
+    if (!(facing > 0.0f))
+        return;
+    double share = 0.0;
+    if (hides && s->gaps == SS_TRUNK_GAPS_OPEN)
+        for (size_t k = 0; k < s->rises.n; ++k)
+            share += band_share_of(s->rises.span[k].lo, s->rises.span[k].hi, b->band_rad);
+    else if (hides)
+        share = band_share_of(ts, ttop, b->band_rad);
+    b->hidden[i] += facing * (float)share;
+    b->weight[i] += facing;
+}
+
 /* One digital line, walked from the far end of the direction looked in;
  * -1 when out of memory. */
 static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
@@ -152,8 +190,12 @@ static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
             crowns = hidden_share(s->definition, ttop) - solid;
         if (crowns < 0.0)
             return -1;
-        s->solid_sum[i] += solid;
-        s->crown_sum[i] += crowns;
+        if (s->band) {
+            band_add(s, i, ts, ttop, ttop > ts);
+        } else {
+            s->solid_sum[i] += solid;
+            s->crown_sum[i] += crowns;
+        }
         double top = s->canopy->height_m[i], bottom = trunk_of(s->canopy, i);
         hull_add(&s->solid, q);
         hull_add(&s->top, (hull_point){q.w, z + top});
@@ -161,6 +203,21 @@ static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
             s->crowns[s->n_crowns++] = (line_crown){q.w, z + bottom, z + top};
     }
     return 0;
+}
+
+/* Every digital line of one direction (grid azimuth, degrees). */
+static ss_status walk_direction(ss_ctx *ctx, sky_walk *s, double grid_azimuth_deg)
+{
+    ss_status st = ss_check_cancel(ctx, "the crowns' sky");
+    const ss_grid *grid = s->grid;
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
+                            grid_azimuth_deg, SS_LINE_MODEL_DIGITAL);
+    ls.families = 1;
+    for (int line = 0; st == SS_OK && line < ss_line_count(&ls); ++line)
+        if (walk_line(s, &ls, line) != 0)
+            st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
+    return st;
 }
 
 ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
@@ -189,19 +246,12 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
                   0,
                   {0},
                   calloc(n, sizeof(double)),
-                  calloc(n, sizeof(double))};
+                  calloc(n, sizeof(double)),
+                  NULL};
     if (!s.solid.p || !s.top.p || !s.crowns || !s.solid_sum || !s.crown_sum)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' sky");
-    for (int d = 0; st == SS_OK && d < opt->directions; ++d) {
-        st = ss_check_cancel(ctx, "the crowns' sky");
-        ss_line_set ls;
-        ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
-                                ss_direction_azimuth(opt, d), SS_LINE_MODEL_DIGITAL);
-        ls.families = 1;
-        for (int line = 0; st == SS_OK && line < ss_line_count(&ls); ++line)
-            if (walk_line(&s, &ls, line) != 0)
-                st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
-    }
+    for (int d = 0; st == SS_OK && d < opt->directions; ++d)
+        st = walk_direction(ctx, &s, ss_direction_azimuth(opt, d));
     for (size_t i = 0; st == SS_OK && i < n; ++i) {
         int valid = isfinite(grid->z[i]);
         if (solid_share)
@@ -214,6 +264,50 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
     free(s.rises.span);
     free(s.solid_sum);
     free(s.crown_sum);
+    return st;
+}
+
+ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                const ss_sweep_options *opt, ss_trunk_gaps gaps, double band_deg,
+                                const float *dz_de, const float *dz_dn, float *hidden)
+{
+    size_t n = (size_t)grid->width * (size_t)grid->height;
+    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
+    band_walk b = {dz_de, dz_dn, 0.0f, 0.0f, band_deg * (M_PI / 180.0), hidden,
+                   ss_malloc(n * sizeof(float))};
+    sky_walk s = {grid,
+                  canopy,
+                  SS_SVF_DEF_HORIZONTAL,
+                  gaps,
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  ss_malloc(longest * sizeof(line_crown)),
+                  0,
+                  {0},
+                  NULL,
+                  NULL,
+                  &b};
+    ss_status st = SS_OK;
+    if (!s.solid.p || !s.top.p || !s.crowns || !b.weight)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' horizon band");
+    for (size_t i = 0; st == SS_OK && i < n; ++i)
+        hidden[i] = b.weight[i] = 0.0f;
+    for (int d = 0; st == SS_OK && d < opt->directions; ++d) {
+        /* The engine's lines for the options' direction d (products_common.c). */
+        double az = ss_direction_azimuth(opt, d) - opt->grid_north_deg;
+        b.east = (float)sin(az * (M_PI / 180.0));
+        b.north = (float)cos(az * (M_PI / 180.0));
+        st = walk_direction(ctx, &s, az);
+    }
+    for (size_t i = 0; st == SS_OK && i < n; ++i)
+        hidden[i] = !isfinite(grid->z[i]) ? SS_NODATA
+                    : b.weight[i] > 0.0f  ? hidden[i] / b.weight[i]
+                                          : 0.0f;
+    free(s.solid.p);
+    free(s.top.p);
+    free(s.crowns);
+    free(s.rises.span);
+    free(b.weight);
     return st;
 }
 

@@ -222,10 +222,12 @@ typedef struct {
     double *lattice_tx;      /* a step's sun lattice's places of the columns (or NULL) */
     size_t lattice_tx_count;
     /* Trees: the terms with the crowns' sky at transmissivity terms_T (NAN:
-     * not made for this band), and the crowns each step's sun crosses. */
+     * not made for this band), the crowns each step's sun crosses, and
+     * (Beer-Lambert) the fraction of its beam each cell keeps. */
     ss_cell_terms *terms_trees;
     float terms_T;
     unsigned char *crossed;
+    float *through;
 } steps_run;
 
 /* Where an azimuth (options' frame) falls between the stored directions:
@@ -293,19 +295,23 @@ static ss_cell_step cell_step_exact(const ss_lane_step *l, const ss_lane_suns *s
  * x its step lit plus (1 - T) x its step in shadow, which passes T of the
  * beam, of the circumsolar diffuse and of the hours of sun (and, under the
  * clear sky, weighs Muneer's sunlit and shaded diffuse so); a cell the
- * terrain shades loses nothing more. Both steps are the cell's exact sun's. */
+ * terrain shades loses nothing more. Both steps are the cell's exact sun's.
+ * T is the step's, or with Beer-Lambert (through given) the cell's own. */
 static void trees_shade_run(const ss_lane_step *l, const ss_lane_suns *suns,
                             const ss_step_sun *tables, const ss_cell_terms *terms,
-                            const unsigned char *crossed, float T, size_t c0, int m,
-                            ss_lane_adds *a)
+                            const unsigned char *crossed, const float *through, float T,
+                            size_t c0, int m, ss_lane_adds *a)
 {
     for (int j = 0; j < m; ++j) {
         size_t c = c0 + (size_t)j;
-        if (a->what[j] == SS_LANE_SKIP || !crossed[c])
+        /* Beer-Lambert's fraction is below 1 exactly where a path crosses
+         * a crown (SS_NODATA at nodata). */
+        int shaded = through ? through[c] >= 0.0f && through[c] < 1.0f : crossed[c];
+        if (a->what[j] == SS_LANE_SKIP || !shaded)
             continue;
         ss_cell_step lit = cell_step_exact(l, suns, tables, &terms[c], c, j);
         ss_cell_step dark = cell_step_behind(l, suns, tables, &terms[c], 90.0f, j);
-        float keep = 1.0f - T;
+        float keep = 1.0f - (through ? through[c] : T);
         ss_cell_step d = {keep * (dark.beam - lit.beam), keep * (dark.diffuse - lit.diffuse),
                           keep * (dark.reflected - lit.reflected),
                           keep * (dark.total - lit.total),
@@ -552,26 +558,33 @@ static void step_global_clear(float *step_global, const ss_band_view *band)
 
 /* Trees at step k: its transmissivity T, the band's terms with the
  * crowns' sky at T (made again where T changes), and the crowns its sun
- * crosses from the band's cells (NULL where no beam or circumsolar light
- * could be shaded, or T is 1). */
+ * crosses from the band's cells, or with Beer-Lambert the fraction of the
+ * beam each keeps (both NULL where no beam or circumsolar light could be
+ * shaded, or the crowns pass all of it). */
 static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const ss_sun_step *sun,
                             const ss_sky_record *rec, float *T, const ss_cell_terms **terms,
-                            const unsigned char **crossed)
+                            const unsigned char **crossed, const float **through)
 {
     const ss_insolation_trees *t = s->job->io->trees;
     *T = ss_insolation_trees_transmissivity(t, k);
     if (!(s->terms_T == *T)) {
-        ss_insolation_trees_terms(t, band, *T, s->terms, s->terms_trees);
+        ss_insolation_trees_terms(t, s->job->trees_band_hidden, band, *T, s->terms,
+                                  s->terms_trees);
         s->terms_T = *T;
     }
     *terms = s->terms_trees;
-    int shaded = sun->apparent_elevation_deg > 0.0 && *T < 1.0f &&
+    int beer_lambert = ss_insolation_trees_beer_lambert(t, k);
+    int shaded = sun->apparent_elevation_deg > 0.0 && (beer_lambert || *T < 1.0f) &&
                  (!sun->real_sky || record_casts_shadows(s->job->io, sun, rec));
     if (!shaded)
         return SS_OK;
-    ss_status st = ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun, s->crossed);
-    *crossed = s->crossed + (size_t)band->row0 * band->width;
-    return st;
+    size_t at = (size_t)band->row0 * band->width;
+    if (beer_lambert) {
+        *through = s->through + at;
+        return ss_insolation_trees_through(s->job->ctx, t, sun, s->through);
+    }
+    *crossed = s->crossed + at;
+    return ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun, s->crossed);
 }
 
 /* Step k over a band's own cells: its shadows (rows of the walk at its
@@ -632,8 +645,9 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         const ss_cell_terms *terms = s->terms;
         float T = 1.0f;
         const unsigned char *crossed = NULL;
+        const float *through = NULL;
         if (st == SS_OK && io->trees)
-            st = step_trees(s, k, band, &sun, &rec, &T, &terms, &crossed);
+            st = step_trees(s, k, band, &sun, &rec, &T, &terms, &crossed, &through);
         if (st == SS_OK && lattice) {
             float h_lo, h_hi, a_lo, a_hi;
             lattice_range(lattice, !sun.real_sky, &h_lo, &h_hi, &a_lo, &a_hi);
@@ -705,8 +719,8 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
                         month[c] += add.total;
                     a.global[j] = add.total;
                 }
-            if (crossed)
-                trees_shade_run(&lane, &suns, s->sun, terms, crossed, T, c0, m, &a);
+            if (crossed || through)
+                trees_shade_run(&lane, &suns, s->sun, terms, crossed, through, T, c0, m, &a);
             for (int j = 0; (pv_on || step_global) && j < m; ++j) {
                 size_t c = c0 + (size_t)j;
                 if (a.what[j] == SS_LANE_SKIP)
@@ -848,12 +862,15 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
         .sun = ss_malloc(sizeof(ss_step_sun))};
     int steps_out = (job->want & SS_INSOLATION_STEPS) != 0;
     int trees = job->io->trees != NULL;
+    int beer_lambert = trees && job->io->trees->leaf_area_density > 0.0;
     if (trees) {
         s.terms_trees = ss_malloc(n * sizeof(ss_cell_terms));
         s.crossed = ss_malloc((size_t)src->width * src->height);
     }
+    if (beer_lambert)
+        s.through = ss_malloc((size_t)src->width * src->height * sizeof(float));
     if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band) ||
-        (trees && (!s.terms_trees || !s.crossed)))
+        (trees && (!s.terms_trees || !s.crossed)) || (beer_lambert && !s.through))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
     /* Steps go to the device where the backend can take them, with the
      * stored horizons of interpolated shadows. */
@@ -879,6 +896,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     free(s.lattice_tx);
     free(s.terms_trees);
     free(s.crossed);
+    free(s.through);
     free(levels);
     return st;
 }
@@ -898,7 +916,7 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
                        "the cumulative sky gives no PV yield (its cell temperature needs each "
                        "record's irradiance): use exact or interpolated shadows with it");
     ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
-                             want, sink, user, 0,    NULL, NULL};
+                             want, sink, user, 0,    NULL, NULL, NULL};
     int cumulative = io->shadow_mode == SS_SHADOW_CUMULATIVE;
     steps_plan plan = {NULL, NULL, 0, 0, 0};
     ss_status st = io->trees ? ss_insolation_trees_check(ctx, io, src) : SS_OK;
@@ -908,10 +926,15 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
     job.perez_band = io->sky_model == SS_SKY_MODEL_PEREZ && (cumulative || plan.real_sky);
     if (st == SS_OK)
         st = ss_insolation_cell_inputs(&job);
+    /* A horizontal surface takes none of the horizon band (sin(tilt) 0). */
+    if (st == SS_OK && io->trees && job.perez_band &&
+        io->surface.kind != SS_SURFACE_HORIZONTAL)
+        st = ss_insolation_trees_band(&job);
     if (st == SS_OK)
         st = cumulative ? ss_insolation_cumulative(&job, n_steps) : run_steps(&job, &plan);
     free(plan.kind);
     free(plan.dirs);
+    free(job.trees_band_hidden);
     ss_cell_store_close(job.cells);
     ss_cell_store_close(job.horizons);
     return st;

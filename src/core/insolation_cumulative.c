@@ -52,9 +52,9 @@ typedef struct {
     double isotropic; /* times the cell's sky view */
     double band;      /* times sin(tilt) times the band the cell sees */
     double reflected; /* times (1 - sky view) */
-    /* Trees: the isotropic and reflected sums of the leaf-off records,
-     * whose sky view is the leaf-off one. */
-    double isotropic_off, reflected_off;
+    /* Trees: the isotropic, horizon band and reflected sums of the
+     * leaf-off records, whose sky view and band are the leaf-off ones. */
+    double isotropic_off, band_off, reflected_off;
 } month_sums;
 
 typedef struct {
@@ -146,6 +146,8 @@ static ss_status add_step(ss_ctx *ctx, sun_map *m, const ss_sweep_options *opt,
     if (off)
         ms->isotropic_off += sky.isotropic * dt;
     ms->band += sky.horizon * dt;
+    if (off)
+        ms->band_off += sky.horizon * dt;
     double az = sun->grid_azimuth_deg * M_PI / 180.0;
     float s[3] = {(float)(cos(h0) * sin(az)), (float)(cos(h0) * cos(az)), sinf(h0)};
     double pos = fmod((sun->azimuth_deg - opt->offset_deg) / (360.0 / m->directions), m->directions);
@@ -182,11 +184,12 @@ static ss_status add_step(ss_ctx *ctx, sun_map *m, const ss_sweep_options *opt,
 /* Trees at one cell: the crowns' crossings (a bit per pair and grid cell,
  * pairs one after another; NULL where no crown passes less than all the
  * light), the cell's index in the grid, both seasons' transmissivities and
- * the cell's leaf-off sky view (its terms' is the leaf-on one). */
+ * the cell's leaf-off sky view and horizon band seen (its terms' are the
+ * leaf-on ones). */
 typedef struct {
     const unsigned char *crossed;
     size_t grid_cells, at;
-    float T_on, T_off, sky_view_off;
+    float T_on, T_off, sky_view_off, band_seen_off;
 } cell_trees;
 
 static float dot3(const float n[3], const float v[3])
@@ -253,11 +256,13 @@ static void cell_sums(const sun_map *m, const ss_cell_terms *t, const cell_trees
     /* Without trees, or with crowns that hide no sky, the leaf-off terms
      * add an exact zero. */
     double sky_off = tr ? (double)tr->sky_view_off - t->sky_view : 0.0;
+    double band_off = tr ? (double)tr->band_seen_off - t->band_seen : 0.0;
     double year_beam = 0, year_diffuse = 0, year_reflected = 0;
     for (int month = 0; month < 12; ++month) {
         const month_sums *ms = &m->month[month];
         double diffuse = fmax(ms->isotropic * t->sky_view + ms->isotropic_off * sky_off +
-                                  circ[month] + ms->band * t->sin_tilt * t->band_seen,
+                                  circ[month] + ms->band * t->sin_tilt * t->band_seen +
+                                  ms->band_off * t->sin_tilt * band_off,
                               0.0);
         double reflected = ms->reflected * (1.0 - t->sky_view) - ms->reflected_off * sky_off;
         year_beam += beam[month];
@@ -311,15 +316,18 @@ static ss_status cumulative_band(void *user, const ss_band_view *band, float *pl
     if (trees) {
         T_on = (float)trees->canopy->transmissivity;
         T_off = (float)trees->transmissivity_leaf_off;
-        ss_insolation_trees_terms(trees, band, T_on, r->terms, r->terms_on);
-        ss_insolation_trees_terms(trees, band, T_off, r->terms, r->terms_off);
+        ss_insolation_trees_terms(trees, job->trees_band_hidden, band, T_on, r->terms,
+                                  r->terms_on);
+        ss_insolation_trees_terms(trees, job->trees_band_hidden, band, T_off, r->terms,
+                                  r->terms_off);
         terms = r->terms_on;
     }
 #pragma omp parallel for schedule(dynamic, 256)
     for (size_t c = 0; c < n; ++c)
         if (isfinite(band->own_z[c])) {
             cell_trees tr = {r->crossed, grid_cells, (size_t)band->row0 * band->width + c, T_on, T_off,
-                             trees ? r->terms_off[c].sky_view : 0.0f};
+                             trees ? r->terms_off[c].sky_view : 0.0f,
+                             trees ? r->terms_off[c].band_seen : 0.0f};
             cell_sums(r->map, &terms[c], trees ? &tr : NULL, stored, stride, c, &p, n, planes);
         }
     return ss_insolation_write_band(job, band, planes);

@@ -29,7 +29,19 @@ typedef struct {
     /* Interpolated shadows and the cumulative sky: each cell's horizon at the
      * D directions (kernels/ss_stored_horizon.h), one plane each. */
     ss_cell_store *horizons;
+    /* Trees under Perez's sky: per cell of the whole grid, the share of the
+     * horizon band crowns hide (ss_insolation_trees_band); else NULL. */
+    float *trees_band_hidden;
 } ss_insolation_job;
+
+/* Perez's horizon band spans the 6.5 degrees above the horizontal (Perez
+ * et al. 1987). */
+#define SS_PEREZ_BAND_DEG 6.5f
+
+/* The gradient (east, north) of a fixed surface in the grid's frame (0, 0
+ * for the cell's own surface, whose gradient is its slope's). */
+void ss_insolation_surface_gradient(const ss_surface *s, const ss_sweep_options *opt,
+                                    float *dz_de, float *dz_dn);
 
 /* Each cell's sky view and horizon band into job->cells (a summed walk, and
  * a horizon walk where Perez's band or a surface other than the cell's

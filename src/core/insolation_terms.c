@@ -11,19 +11,17 @@
 
 #include "insolation_internal.h"
 
-/* Perez's horizon band as each cell sees it: the band spans the 6.5
- * degrees above the horizontal (Perez et al. 1987); in each of the sweep's
- * directions the terrain horizon hides its lowest part, and the shares left
- * open are averaged over the directions in front of the cell's surface,
- * each weighted by the cosine of its incidence on the cell. A surface other
- * than the cell's own also gets its tilted sky view here, from the same
- * horizons (the SVF product sweeps with the cell's own gradient). */
-#define PEREZ_BAND_DEG 6.5f
+/* Perez's horizon band as each cell sees it (SS_PEREZ_BAND_DEG): in each
+ * of the sweep's directions the terrain horizon hides its lowest part, and
+ * the shares left open are averaged over the directions in front of the
+ * cell's surface, each weighted by the cosine of its incidence on the cell.
+ * A surface other than the cell's own also gets its tilted sky view here,
+ * from the same horizons (the SVF product sweeps with the cell's own
+ * gradient). */
 
-/* The gradient (east, north) of a fixed surface in the grid's frame: it
- * descends toward the azimuth it faces. */
-static void surface_gradient(const ss_surface *s, const ss_sweep_options *opt, float *dz_de,
-                             float *dz_dn)
+/* A fixed surface descends toward the azimuth it faces. */
+void ss_insolation_surface_gradient(const ss_surface *s, const ss_sweep_options *opt,
+                                    float *dz_de, float *dz_dn)
 {
     *dz_de = *dz_dn = 0.0f;
     if (s->kind != SS_SURFACE_FIXED)
@@ -42,7 +40,7 @@ static void band_gradients(const ss_insolation_job *job, const ss_band_view *ban
     ss_grid held = ss_band_grid(band, job->src);
     int own = job->io->surface.kind == SS_SURFACE_CELL, first = band->row0 - band->lo;
     float fixed_de, fixed_dn, cx = (float)held.cell_x_m, cy = (float)held.cell_y_m;
-    surface_gradient(&job->io->surface, job->opt, &fixed_de, &fixed_dn);
+    ss_insolation_surface_gradient(&job->io->surface, job->opt, &fixed_de, &fixed_dn);
 #pragma omp parallel for schedule(static)
     for (int r = 0; r < band->n_rows; ++r)
         for (int c = 0; c < band->width; ++c) {
@@ -199,7 +197,7 @@ static ss_status terms_direction(void *user, int index, const ss_band_view *band
         if (facing <= 0.0f)
             continue;
         weight[c] += facing;
-        open[c] += facing * fminf(fmaxf(1.0f - angle_deg[c] / PEREZ_BAND_DEG, 0.0f), 1.0f);
+        open[c] += facing * fminf(fmaxf(1.0f - angle_deg[c] / SS_PEREZ_BAND_DEG, 0.0f), 1.0f);
     }
     return h->stored ? store_horizon_rows(h->job, index, band, angle_deg, h->stored) : SS_OK;
 }

@@ -2,6 +2,7 @@
 #include "config.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "insolation_trees.h"
 
@@ -16,6 +17,17 @@ ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io
     if (!(t->transmissivity_leaf_off >= 0 && t->transmissivity_leaf_off <= 1))
         return ss_fail(ctx, SS_ERR_ARGUMENT, "the leaf-off transmissivity %g is outside 0..1",
                        t->transmissivity_leaf_off);
+    if (t->leaf_area_density != 0.0 && io->shadow_mode == SS_SHADOW_CUMULATIVE)
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "the cumulative sky takes the constant crowns' light, not Beer-Lambert: "
+                       "use exact or interpolated shadows with it");
+    if (t->leaf_area_density != 0.0 &&
+        (!(t->extinction > 0.0 && t->extinction <= 1.0) ||
+         !(t->leaf_area_density > 0.0 && t->leaf_area_density <= 20.0)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "Beer-Lambert crowns need an extinction coefficient in (0, 1] and a leaf "
+                       "area density in (0, 20] m2/m3 (got %g, %g)",
+                       t->extinction, t->leaf_area_density);
     return ss_canopy_check(ctx, t->ground, t->canopy);
 }
 
@@ -25,8 +37,9 @@ float ss_insolation_trees_transmissivity(const ss_insolation_trees *t, int k)
                                                  : t->canopy->transmissivity);
 }
 
-void ss_insolation_trees_terms(const ss_insolation_trees *t, const ss_band_view *band, float T,
-                               const ss_cell_terms *in, ss_cell_terms *out)
+void ss_insolation_trees_terms(const ss_insolation_trees *t, const float *band_hidden,
+                               const ss_band_view *band, float T, const ss_cell_terms *in,
+                               ss_cell_terms *out)
 {
     size_t n = (size_t)band->n_rows * band->width, at = (size_t)band->row0 * band->width;
     for (size_t c = 0; c < n; ++c) {
@@ -34,7 +47,42 @@ void ss_insolation_trees_terms(const ss_insolation_trees *t, const ss_band_view 
         float hidden = t->sky_hidden ? t->sky_hidden[at + c] : 0.0f;
         if (hidden > 0.0f && hidden != SS_NODATA)
             out[c].sky_view = fmaxf(in[c].sky_view - hidden * (1.0f - T), 0.0f);
+        float band_off = band_hidden ? band_hidden[at + c] : 0.0f;
+        if (band_off > 0.0f && band_off != SS_NODATA)
+            out[c].band_seen = fmaxf(in[c].band_seen - band_off * (1.0f - T), 0.0f);
     }
+}
+
+ss_status ss_insolation_trees_band(ss_insolation_job *job)
+{
+    const ss_insolation_trees *t = job->io->trees;
+    const ss_grid *g = t->ground;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    float *de = ss_malloc(n * sizeof(float)), *dn = ss_malloc(n * sizeof(float));
+    job->trees_band_hidden = ss_malloc(n * sizeof(float));
+    ss_status st = SS_OK;
+    if (!de || !dn || !job->trees_band_hidden)
+        st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for the crowns' horizon band");
+    /* The surfaces insolation_terms.c weighs the band on: the cell's own
+     * slope (Horn's) or the fixed surface. */
+    float fixed_de, fixed_dn;
+    ss_insolation_surface_gradient(&job->io->surface, job->opt, &fixed_de, &fixed_dn);
+    int own = job->io->surface.kind == SS_SURFACE_CELL;
+    for (int r = 0; st == SS_OK && r < g->height; ++r)
+        for (int c = 0; c < g->width; ++c) {
+            size_t i = (size_t)r * g->width + c;
+            de[i] = fixed_de;
+            dn[i] = fixed_dn;
+            if (own && isfinite(g->z[i]))
+                ss_gradient_horn(g->z, g->width, g->height, c, r, (float)g->cell_x_m,
+                                 (float)g->cell_y_m, &de[i], &dn[i]);
+        }
+    if (st == SS_OK)
+        st = ss_canopy_band_hidden(job->ctx, g, t->canopy, job->opt, t->trunk_gaps,
+                                   SS_PEREZ_BAND_DEG, de, dn, job->trees_band_hidden);
+    free(de);
+    free(dn);
+    return st;
 }
 
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
@@ -45,12 +93,28 @@ ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                           sun->apparent_elevation_deg, crossed);
 }
 
+int ss_insolation_trees_beer_lambert(const ss_insolation_trees *t, int k)
+{
+    return t->leaf_area_density > 0.0 && !(t->leaf_off && t->leaf_off[k]);
+}
+
+ss_status ss_insolation_trees_through(ss_ctx *ctx, const ss_insolation_trees *t,
+                                      const ss_sun_step *sun, float *through)
+{
+    size_t n = (size_t)t->ground->width * (size_t)t->ground->height;
+    ss_status st = ss_canopy_path(ctx, t->ground, t->canopy, sun->grid_azimuth_deg,
+                                  sun->apparent_elevation_deg, through);
+    return st == SS_OK ? ss_canopy_path_fraction(ctx, t->extinction, t->leaf_area_density, n,
+                                                 through, through)
+                       : st;
+}
+
 ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees *t,
                                          const ss_sweep_options *opt, double grid_azimuth_deg,
                                          double apparent_elevation_deg, unsigned char *crossed)
 {
     ss_sweep_options lines = *opt;
-    if (t->digital_lines)
+    if (t->digital_lines || t->leaf_area_density > 0.0)
         lines.lines = SS_LINES_DIGITAL;
     return ss_canopy_crossed(ctx, t->ground, t->canopy, &lines, grid_azimuth_deg,
                              apparent_elevation_deg, crossed);

@@ -11,15 +11,31 @@ ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io
                                     const ss_source *src);
 /* The transmissivity of step k: leaf off or on. */
 float ss_insolation_trees_transmissivity(const ss_insolation_trees *t, int k);
+/* The share of Perez's horizon band crowns hide, per cell of the whole
+ * grid, as the run's surfaces face it (ss_canopy_band_hidden) into
+ * job->trees_band_hidden. */
+ss_status ss_insolation_trees_band(ss_insolation_job *job);
 /* The terms of a band's own cells with the crowns' sky at transmissivity
- * T: each cell's sky view less sky_hidden x (1 - T), at least 0. */
-void ss_insolation_trees_terms(const ss_insolation_trees *t, const ss_band_view *band, float T,
-                               const ss_cell_terms *in, ss_cell_terms *out);
+ * T: each cell's sky view less sky_hidden x (1 - T), and the share of
+ * the horizon band it sees less band_hidden x (1 - T) (band_hidden, the
+ * whole grid's, may be NULL: none), each at least 0. */
+void ss_insolation_trees_terms(const ss_insolation_trees *t, const float *band_hidden,
+                               const ss_band_view *band, float T, const ss_cell_terms *in,
+                               ss_cell_terms *out);
 /* crossed[c] over the whole grid for the step's sun at the grid's centre:
  * 1 where the ray toward it crosses a crown (ss_canopy_crossed). */
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
                                       unsigned char *crossed);
+/* Whether step k's beam crosses crowns by Beer-Lambert (leaf on, and a
+ * leaf area density given). */
+int ss_insolation_trees_beer_lambert(const ss_insolation_trees *t, int k);
+/* Beer-Lambert: through[c] over the whole grid for the step's sun at the
+ * grid's centre, the fraction of the beam that arrives, exp(-G LAD path)
+ * of the ray's path inside crowns (1 where it crosses none, SS_NODATA at
+ * nodata). */
+ss_status ss_insolation_trees_through(ss_ctx *ctx, const ss_insolation_trees *t,
+                                      const ss_sun_step *sun, float *through);
 /* The same for a sun at a grid azimuth and apparent elevation (degrees):
  * the cumulative sky's bins. */
 ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees *t,

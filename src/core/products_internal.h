@@ -67,6 +67,19 @@ ss_grid ss_band_grid(const ss_band_view *band, const ss_source *src);
 ss_status ss_horizon_bound_of(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                               double *deg);
 
+/* Trees in Perez's horizon band (doc/vegetation.md, "insolation"): per
+ * cell, the share of the band (elevations 0 to band_deg) that crowns of
+ * other cells hide above the solid horizon, as ss_canopy_sky's crowns hide
+ * the sky (digital lines, the gaps under crowns as `gaps` says, the earth
+ * flat), each direction's share weighted as Perez's band is: by the cosine
+ * of its incidence on the cell's surface (dz_de, dz_dn: the gradient in
+ * the grid's frame), the directions behind the surface not counted; the
+ * options' directions on the engine's lines (grid_north_deg taken off).
+ * 0 where the surface faces no direction, SS_NODATA at nodata. */
+ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                const ss_sweep_options *opt, ss_trunk_gaps gaps, double band_deg,
+                                const float *dz_de, const float *dz_dn, float *hidden);
+
 /* The insolation options and step count, as every insolation path needs them. */
 ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps);
 
