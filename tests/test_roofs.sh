@@ -428,6 +428,32 @@ tap_ok $? "roofs --canopy: a winter crown south of shed C lowers its kWh/m2 $c_p
 ogrinfo -so tree.gpkg roof_planes 2>/dev/null | grep -q "with trees from tree.tif, transmissivity 0.03 leaf on, 0.5 leaf off"
 tap_ok $? "roofs --canopy: the layers' description names the trees and their transmissivities"
 
+# Beer-Lambert crown light (--crown-light, passed on to insolation) on a
+# leaf-on day: so dense a crown (LAD 20, G 1) lets no beam through, every
+# row as the constant transmissivity 0 with its crowns on the same (digital)
+# lines; and the layers name the model.
+june() { # CSV OUT.gpkg [options]: a clear 21 June with the crown south of C
+    local csv=$1 out=$2
+    shift 2
+    "$SKYSWEEP" roofs --buildings footprints.geojson --time 2018-06-21T00:00Z/P1D \
+        --device reference --directions 8 --min-irradiation 0 --canopy tree.tif --csv "$csv" "$@" \
+        city.tif "$out" >/dev/null 2>err.txt
+}
+june t0.csv t0.gpkg --transmissivity 0 --crown-lines digital &&
+    june bl.csv bl.gpkg --transmissivity 0 --crown-light beer-lambert --leaf-area-density 20 \
+        --extinction 1 &&
+    worst=$(paste -d '\n' t0.csv bl.csv | awk -F, 'NR % 2 { split($0, a, ","); next }
+        { for (k = 1; k <= NF; k++) if (a[k] != $k) { d = (a[k] - $k) / (1e-9 + (a[k] < 0 ? -a[k] : a[k]))
+              d = d < 0 ? -d : d; w = d > w ? d : w; if (a[k] + 0 != a[k] || NF != length(a)) bad = 1 } }
+        END { printf "%.2g", w; exit bad || w > 1e-6 }')
+tap_ok $? "roofs --crown-light beer-lambert, LAD 20 and G 1: every plane's row as transmissivity 0 (the crowns on digital lines both), worst relative $worst (exp(-20 L) is not quite 0 on the shortest paths) $(head -c 160 err.txt)"
+ogrinfo -so bl.gpkg roof_planes 2>/dev/null | grep -q "crown light: Beer-Lambert: exp(-1 x 20 m2/m3"
+tap_ok $? "roofs --crown-light: the layers' description names Beer-Lambert"
+june bad.csv bad.gpkg --leaf-area-density 2
+rc=$?
+[ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ ! -e bad.gpkg ]
+tap_ok $? "roofs --leaf-area-density without --crown-light beer-lambert is refused (exit $rc: $(head -c 160 err.txt))"
+
 # Without --weather: a clear sky, hourly over --time (doc/roofs.md). The
 # tall neighbour E's flat roof, the highest in the DSM, has no horizon above
 # its horizontal, so its cells' mean equals the open plane's to float

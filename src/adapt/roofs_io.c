@@ -485,13 +485,19 @@ static ss_status create_layer(ss_vector_writer *w, const char *name, const char 
                               OGRwkbGeometryType type, const ss_field *fields, int n_fields,
                               int *layer)
 {
-    char desc[300];
-    snprintf(desc, sizeof desc, "DESCRIPTION=%s", description);
+    /* The description whole: it names the sky, the trees and the crown
+     * light, longer than any fixed buffer would be sure to hold. */
+    size_t size = strlen("DESCRIPTION=") + strlen(description) + 1;
+    char *desc = malloc(size);
+    if (!desc)
+        return vector_failed(w, "create a layer in");
+    snprintf(desc, size, "DESCRIPTION=%s", description);
     char *opts[] = {desc, NULL};
     OGRLayerH l = w->n_layers < MAX_LAYERS
                       ? GDALDatasetCreateLayer(w->ds, name, type == wkbNone ? NULL : w->srs,
                                                type, opts)
                       : NULL;
+    free(desc);
     if (!l)
         return vector_failed(w, "create a layer in");
     /* The units and meanings, in the layer's metadata (gpkg_metadata). */

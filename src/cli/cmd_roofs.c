@@ -1383,13 +1383,15 @@ static ss_status write_outputs(roofs_run *r)
         return st;
     }
     int lb, lp;
-    char trees_note[400] = "", described[1100];
+    char trees_note[600] = "", light[200], described[1300];
     const insolation_tree_settings *t = &r->set.trees;
-    if (t->trees.canopy)
+    if (t->trees.canopy) {
+        crown_light_describe(&t->light, t->trees.transmissivity, light, sizeof light);
         snprintf(trees_note, sizeof trees_note,
-                 "; with trees from %s, transmissivity %.4g leaf on, %.4g leaf off "
-                 "(doc/vegetation.md)",
-                 t->trees.canopy, t->trees.transmissivity, t->transmissivity_leaf_off);
+                 "; with trees from %s, transmissivity %.4g leaf on, %.4g leaf off, crown "
+                 "light: %s (doc/vegetation.md)",
+                 t->trees.canopy, t->trees.transmissivity, t->transmissivity_leaf_off, light);
+    }
     snprintf(described, sizeof described,
              "skysweep roofs: per building, sums over its roof planes (doc/roofs.md); under %s%s",
              r->sky_note, trees_note);
@@ -1580,8 +1582,16 @@ int cmd_roofs(int argc, char **argv)
     /* Trees and their seasons, as insolation's (doc/vegetation.md). */
     opt_spec tree_opts[TREE_OPTIONS_MAX], season_opts[INSOLATION_TREE_OPTIONS_MAX];
     insolation_tree_options(offsetof(roofs_settings, trees), tree_opts, season_opts);
-    const opt_spec *tables[] = {own_options, passed_on, insolation_options, tree_opts,
-                                season_opts, sun_options(), common_options(), NULL};
+    const opt_spec *tables[] = {own_options,
+                                passed_on,
+                                insolation_options,
+                                tree_opts,
+                                season_opts,
+                                crown_light_options(offsetof(roofs_settings, trees) +
+                                                    offsetof(insolation_tree_settings, light)),
+                                sun_options(),
+                                common_options(),
+                                NULL};
     const char *pos[COMMAND_MAX_INPUTS + 1];
     int n_pos = 0;
     int rc = run_parse(
@@ -1599,6 +1609,9 @@ int cmd_roofs(int argc, char **argv)
         &set->common.device);
     if (rc < 0)
         rc = refuse_options(set, tables);
+    if (rc < 0)
+        rc = crown_light_alone("roofs", tables, set, &set->trees.light,
+                               set->trees.trees.canopy != NULL, 1);
     if (rc < 0)
         rc = settle_panel_options(set);
     /* What roofs' own stage holds per cell of a window; its shade table
