@@ -29,15 +29,27 @@ typedef struct {
     int optional;           /* written only when its option is given */
 } ss_product_output;
 
+/* What a product that needs a sun (group "Sun": shadow, insolation) runs
+ * with besides its parameters; the others take NULL. */
+typedef struct {
+    int n_steps;             /* its time steps; shadow's one sun is step 0 */
+    ss_sun_rows_fn sun_rows; /* each step's sun for the rows of a band */
+    void *sun_user;
+    int real_sky;               /* the steps are weather records: the months' sums besides */
+    ss_shadow_mode shadow_mode; /* insolation's shadows: the plan's (ss_plan's shadow_mode) */
+    const struct ss_insolation_trees_s *trees; /* insolation's trees (NULL: none) */
+} ss_product_sun;
+
 /* Runs a product on src into sink (output i of the product's outputs is
  * the sink's output i): params is the struct of the product's own
- * parameter table (NULL for a product without one), outputs the
- * bits (1 << i) of the optional outputs asked for, share (may be NULL)
- * deals out its directions where the product shares (`shares`). */
+ * parameter table (NULL for a product without one), sun its steps' suns
+ * (NULL for a product that needs none), outputs the bits (1 << i) of the
+ * optional outputs asked for, share (may be NULL) deals out its
+ * directions or time steps where the product shares (`shares`). */
 typedef ss_status (*ss_product_run_fn)(ss_ctx *ctx, const ss_source *src,
                                        const ss_sweep_options *opt, const void *params,
-                                       unsigned outputs, const ss_share *share, ss_rows_sink sink,
-                                       void *user);
+                                       const ss_product_sun *sun, unsigned outputs,
+                                       const ss_share *share, ss_rows_sink sink, void *user);
 
 typedef struct {
     const char *name;        /* "svf": its command, scene key and Python function */
@@ -66,8 +78,8 @@ typedef struct {
     /* Metres of terrain beyond a band it reads (its radius), on cells of cell_size_m (NAN
      * before the DEM is read: a radius in metres does not need it); 0: the sweep's own halo. */
     double (*halo_m)(const void *params, double cell_size_m);
-    /* NULL where a run needs more than its parameters (the sun of each time step:
-     * shadow and insolation run through ss_shadow_rows and ss_insolation_rows). */
+    /* Runs it (every built-in product has one; a registered one without it has no
+     * command of its own). */
     ss_product_run_fn run;
 } ss_product_info;
 

@@ -135,6 +135,40 @@ if [[ $devices == *Portable* ]]; then
     tap_ok $? "svf on Portable, a device of the least named, ${device_least:-0} MiB: in bands (exit $rc)"
     rm -f "$work/out.tif"
 fi
+# --device auto plans the memory for the device it runs (issue 41): the DEM
+# is opened and its bands planned before the effects plan picks the device,
+# so the plan is made again once it is open. PoCL is never faster than the
+# C twin, so SKYSWEEP_TEST_AUTO_DEVICE (a test hook, doc/scale.md) makes
+# auto pick it. The summary's memory line names the device planned for, and
+# under auto equals --device 0:0's (the planned peaks within 2 MiB: what the
+# process holds is measured). Where the device leaves no room for the DEM
+# already held whole, the C twin runs within the bound, a warning says so.
+if [[ $devices == *Portable* ]]; then
+    gdal_translate -q -r bilinear -outsize 1024 1024 "$work/coarse.tif" "$work/small.tif"
+    auto_run() { # DEVICE BUDGET_MIB: "peak rc" of svf on small.tif; its output in auto.out
+        SKYSWEEP_TEST_AUTO_DEVICE=0:0 /usr/bin/time -o "$work/time" -f '%M' "$SKYSWEEP" svf \
+            --directions 16 --device "$1" --memory "$2M" "$work/small.tif" "$work/auto.tif" \
+            >"$work/auto.out" 2>"$work/auto.err"
+        local rc=$?
+        echo "$(($(tail -1 "$work/time") / 1024)) $rc"
+        rm -f "$work/auto.tif"
+    }
+    planned() { sed -n 's/^memory.*, planned \([0-9]*\) MiB for \(.*\)$/\1 \2/p' "$work/auto.out"; }
+    auto_run 0:0 512 >/dev/null
+    read -r device_mib device_name < <(planned)
+    read -r peak rc < <(auto_run auto 512)
+    read -r auto_mib auto_name < <(planned)
+    [ "$rc" -eq 0 ] && [ "$peak" -le 512 ] && [ -n "$device_name" ] && [ "$auto_name" = "$device_name" ] &&
+        [ "${auto_mib:-0}" -ge $((${device_mib:-0} - 2)) ] && [ "${auto_mib:-0}" -le $((${device_mib:-0} + 2)) ] &&
+        grep -q "^sweep.*$device_name" "$work/auto.out"
+    tap_ok $? "svf --device auto (picking 0:0), --memory 512M: planned ${auto_mib:-?} MiB for ${auto_name:-?}; --device 0:0 planned ${device_mib:-?} MiB for ${device_name:-?} (exit $rc, peak $peak MiB)"
+    budget=$((${device_mib:-0} - 4))
+    read -r peak rc < <(auto_run auto "$budget")
+    read -r auto_mib auto_name < <(planned)
+    [ "$rc" -eq 0 ] && [ "$peak" -le "$budget" ] && [[ $auto_name == "C reference"* ]] &&
+        grep -q "warning: --device auto chose .* the C twin runs" "$work/auto.err"
+    tap_ok $? "svf --device auto (picking 0:0), --memory ${budget}M, below 0:0's whole grid: the C twin runs, planned ${auto_mib:-?} MiB for ${auto_name:-?}, peak $peak MiB (exit $rc): $(head -c 160 "$work/auto.err")"
+fi
 # Insolation's least budget here is above 256M (64 suns' hulls at a time):
 # 32 MiB above it, it keeps within its bound too.
 ins="${products[-1]}"

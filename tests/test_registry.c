@@ -3,7 +3,8 @@
  * exist; outputs with a unit and their bands, OUTPUT first, every other
  * output optional and named by its option), found by index and by name,
  * asking the planner for its own product at the parameters' defaults, and
- * running where it has a run: every row of its first output delivered;
+ * running through its run call (every built-in product has one; shadow and
+ * insolation with one sun): every row of its first output delivered;
  * and prepared (ss_product_prepare) into options that obey their plan;
  * products registered at run time (ss_product_register) found, bad ones refused.
  * `test_registry --list` prints each product's name and outputs, one
@@ -122,7 +123,19 @@ static ss_status count_rows(void *user, int output, int index, int row0, int n_r
     return SS_OK;
 }
 
-/* A small cone: every product has terrain to see. */
+/* One sun for every row: south-east, 30 degrees up, a clear hour. */
+static ss_status one_sun(ss_ctx *ctx, int index, int row0, int n_rows, ss_sun_step *step,
+                         void *user)
+{
+    (void)ctx, (void)index, (void)row0, (void)n_rows, (void)user;
+    *step = (ss_sun_step){.duration_h = 1, .linke = 3, .extraterrestrial_w_m2 = 1361,
+                          .unix_s = 1.7e9, .azimuth_deg = 135, .grid_azimuth_deg = 135,
+                          .elevation_deg = 30, .apparent_elevation_deg = 30};
+    return SS_OK;
+}
+
+/* A small cone: every product has terrain to see, and runs through its
+ * entry, a product of the "Sun" group with the sun of one step. */
 static void runs(void)
 {
     enum { W = 24, H = 20, DIRECTIONS = 8 };
@@ -139,7 +152,7 @@ static void runs(void)
     for (int i = 0; i < ss_product_count(); ++i) {
         const ss_product_info *p = ss_product_at(i);
         if (!p->run) {
-            tap_skip(p->name, "its run needs the sun of each step (no registry run)");
+            tap_ok(0, "%s: no run call", p->name);
             continue;
         }
         double params[32] = {0};
@@ -148,15 +161,29 @@ static void runs(void)
             light->altitude_deg = 45;
             light->z_factor = 1;
         }
+        if (strcmp(p->name, "insolation") == 0) /* the cells' own slopes, some ground light */
+            *(ss_insolation_params *)params =
+                (ss_insolation_params){.albedo = 0.2, .surface = "cell"};
+        ss_product_sun sun = {.n_steps = 1, .sun_rows = one_sun};
         row_count c = {{0}};
-        ss_status st =
-            p->run(ctx, &src, &opt, p->params_size ? params : NULL, 0, NULL, count_rows, &c);
+        ss_status st = p->run(ctx, &src, &opt, p->params_size ? params : NULL,
+                              strcmp(p->group, "Sun") == 0 ? &sun : NULL, 0, NULL, count_rows, &c);
         int want = p->outputs[0].bands ? p->outputs[0].bands * H : DIRECTIONS * H;
         tap_ok(st == SS_OK && c.rows[0] == want && c.rows[1] == 0,
                "%s: its run delivers %d rows of OUTPUT (want %d), none of the optional outputs "
                "not asked for (status %d: %s)",
                p->name, c.rows[0], want, (int)st, ss_ctx_message(ctx));
     }
+    /* Insolation's optional output 1, each step's global, asked for. */
+    ss_insolation_params clear = {.albedo = 0.2, .surface = "cell"};
+    ss_product_sun sun = {.n_steps = 1, .sun_rows = one_sun};
+    row_count c = {{0}};
+    ss_status st = ss_product_named("insolation")->run(ctx, &src, &opt, &clear, &sun, 2u, NULL,
+                                                       count_rows, &c);
+    tap_ok(st == SS_OK && c.rows[0] == 5 * H && c.rows[1] == H,
+           "insolation: with its steps asked for, %d rows of OUTPUT's 5 bands and %d of the "
+           "one step's (want %d and %d)",
+           c.rows[0], c.rows[1], 5 * H, H);
     ss_ctx_free(ctx);
 }
 

@@ -41,10 +41,10 @@ static ss_status fold(void *user, int output, int index, int row0, int n_rows,
 }
 
 static ss_status toy_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
-                         const void *params, unsigned outputs, const ss_share *share,
-                         ss_rows_sink sink, void *user)
+                         const void *params, const ss_product_sun *sun, unsigned outputs,
+                         const ss_share *share, ss_rows_sink sink, void *user)
 {
-    (void)params, (void)outputs, (void)share;
+    (void)params, (void)sun, (void)outputs, (void)share;
     toy_rows t = {sink, user, src->width, opt->directions,
                   malloc((size_t)src->width * (size_t)src->height * sizeof(float)),
                   calloc((size_t)src->height, sizeof(int))};

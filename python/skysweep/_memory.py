@@ -272,15 +272,16 @@ def forget_plan(ctx):
 
 def rows_sink(targets, width):
     """A sink (ss_rows_sink) writing finished rows into targets[output]
-    (2-D planes) or targets[output][index] (cubes), NaN at nodata. Returns
-    the callback and a list that holds its own exception, if any."""
+    (2-D planes) or targets[output][index] (cubes), or targets[output, index]
+    (one band's plane), NaN at nodata. Returns the callback and a list that
+    holds its own exception, if any."""
     failed = []
     nodata = np.float32(CONST["SS_NODATA"])
 
     @ffi.callback("ss_status(void *, int, int, int, int, const float *)",
                   error=lib.SS_ERR_INTERNAL, onerror=lambda *e: failed.append(e))
     def sink(user, output, index, row0, n_rows, values):
-        plane = targets.get(output)
+        plane = targets.get((output, index), targets.get(output))
         if plane is None:  # an output the call does not return
             return lib.SS_OK
         if plane.ndim == 3:

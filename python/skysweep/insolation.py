@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from ._context import ArgumentError
-from ._lib import CONST, default, ffi, lib
+from ._lib import CONST, PRODUCTS, default, ffi, lib
 from ._memory import BandCost, BandedGrid, run_banded
 from .products import (SWEEP_OPTIONS, _begin, _doc_options, _numpydoc, _params, _renamed,
                        _sweep, _value)
@@ -95,10 +95,10 @@ def _steps(ctx, time, step):
     return mids, np.full(mids.shape, d.seconds / 3600.0)
 
 
-def _insolation_banded(ctx, grid, opt, options, plan, n_steps, sun_at, planes, kw):
-    """insolation in bands within memory=: ss_insolation_rows' five outputs
-    (SS_OUT_GLOBAL ... SS_OUT_SUN_HOURS, _PARTS' order), one sun for every
-    row as sun_at gives it. A band holds a horizon's sums and the cells'
+def _insolation_banded(ctx, grid, opt, params, plan, n_steps, sun_at, planes, kw):
+    """insolation in bands within memory=: the registry's run, the five
+    bands of its output 0 (SS_OUT_GLOBAL ... SS_OUT_SUN_HOURS, _PARTS'
+    order), one sun for every row as sun_at gives it, shadows as planned. A band holds a horizon's sums and the cells'
     terms and sums, and the horizons stored where shadows are interpolated
     (the CLI's band cost); hulls are handed on for up to 64 steps at once."""
     @ffi.callback("ss_status(ss_ctx *, int, int, int, ss_sun_step *, void *)",
@@ -111,11 +111,12 @@ def _insolation_banded(ctx, grid, opt, options, plan, n_steps, sun_at, planes, k
                     lib.ss_insolation_band_cell_bytes(0, stored),
                     column_bytes=lib.ss_horizon_column_bytes(),
                     hull_lines=max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"]))
-    targets = dict(enumerate(planes.values()))
+    targets = {(0, band): plane for band, plane in enumerate(planes.values())}
+    sun = ffi.new("ss_product_sun *", {"n_steps": n_steps, "sun_rows": sun_rows,
+                                       "shadow_mode": plan.shadow_mode})
+    run = PRODUCTS["insolation"].run
     run_banded(ctx, grid, opt, cost, kw["memory"], targets,
-               lambda c, src, sink: lib.ss_insolation_rows(c, src, opt, options, n_steps,
-                                                           sun_rows, ffi.NULL, 0, ffi.NULL,
-                                                           sink, ffi.NULL),
+               lambda c, src, sink: run(c, src, opt, params, sun, 0, ffi.NULL, sink, ffi.NULL),
                progress=kw.get("progress"))
 
 
@@ -226,7 +227,7 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
     options.shadow_mode = plan.shadow_mode  # as the CLI sets it once planned
     planes = {k: grid.new_plane() for k in _PARTS}
     if isinstance(grid, BandedGrid):
-        _insolation_banded(ctx, grid, opt, options, plan, len(mids), sun_at, planes, kw)
+        _insolation_banded(ctx, grid, opt, params, plan, len(mids), sun_at, planes, kw)
     else:
         out = ffi.new("ss_insolation_out *")
         buffers = {k: ffi.from_buffer("float[]", planes[k]) for k in _PARTS}

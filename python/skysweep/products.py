@@ -416,7 +416,8 @@ def _sky_banded(ctx, grid, opt, name, params, kw):
     out = grid.new_plane()
     run = PRODUCTS[name].run
     run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: out},
-               lambda c, src, sink: run(c, src, opt, params, 0, ffi.NULL, sink, ffi.NULL),
+               lambda c, src, sink: run(c, src, opt, params, ffi.NULL, 0, ffi.NULL, sink,
+                                        ffi.NULL),
                progress=kw.get("progress"))
     return out
 
@@ -481,8 +482,8 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
         run_banded(ctx, grid, opt, _product_cost("horizon", ffi.NULL, want << 1,
                                                  column_bytes=lib.ss_horizon_column_bytes()),
                    kw["memory"], cubes,
-                   lambda c, src, sink: run(c, src, opt, ffi.NULL, want << 1, ffi.NULL, sink,
-                                            ffi.NULL),
+                   lambda c, src, sink: run(c, src, opt, ffi.NULL, ffi.NULL, want << 1,
+                                            ffi.NULL, sink, ffi.NULL),
                    progress=kw.get("progress"))
     else:
         ctx.call(lib.ss_horizon, grid.ptr, opt, want, sink, ffi.NULL,
@@ -594,8 +595,9 @@ def _shadow_tree_bands(ctx, grid, opt, sun_azimuth, sun_elevation, sunlit, trees
 
 
 def _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):
-    """shadow in bands within memory=: ss_shadow_rows' sunlit rows, for the
-    one sun ss_cast_shadow takes (an array's grid north is true north)."""
+    """shadow in bands within memory=: the registry's run, its sunlit rows,
+    for the one sun ss_cast_shadow takes (an array's grid north is true
+    north)."""
     @ffi.callback("ss_status(ss_ctx *, int, int, int, ss_sun_step *, void *)",
                   error=lib.SS_ERR_INTERNAL)
     def sun_rows(c, index, row0, n_rows, step, user):
@@ -606,9 +608,10 @@ def _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):
 
     cost = _product_cost("shadow", ffi.NULL, column_bytes=lib.ss_horizon_column_bytes(),
                          hull_lines=1)
-    run_banded(ctx, grid, opt, cost, kw["memory"], {CONST["SS_OUT_SUNLIT"]: out},
-               lambda c, src, sink: lib.ss_shadow_rows(c, src, opt, sun_rows, ffi.NULL, sink,
-                                                       ffi.NULL),
+    sun = ffi.new("ss_product_sun *", {"n_steps": 1, "sun_rows": sun_rows})
+    run = PRODUCTS["shadow"].run
+    run_banded(ctx, grid, opt, cost, kw["memory"], {(0, CONST["SS_OUT_SUNLIT"]): out},
+               lambda c, src, sink: run(c, src, opt, ffi.NULL, sun, 0, ffi.NULL, sink, ffi.NULL),
                progress=kw.get("progress"))
 
 
@@ -913,7 +916,7 @@ def _array_call(name):
         bands = out.bands or opt.directions
         result = np.empty((bands, *grid.shape) if bands > 1 else grid.shape, np.float32)
         run = PRODUCTS[name].run
-        args = (opt, ffi.NULL if params is None else params, 0, ffi.NULL)
+        args = (opt, ffi.NULL if params is None else params, ffi.NULL, 0, ffi.NULL)
         if isinstance(grid, BandedGrid):
             run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: result},
                        lambda c, src, sink: run(c, src, *args, sink, ffi.NULL),
@@ -941,6 +944,9 @@ def _array_call(name):
 
 
 #: The array calls generated for the registry's products that have a run
-#: call and none written above (a product added to the registry alone).
+#: call and none written above (a product added to the registry alone). A
+#: product of the "Sun" group runs with its steps' suns, which only a call
+#: written for it gives (shadow above, insolation in insolation.py).
 ARRAY_CALLS = {name: _array_call(name) for name, p in PRODUCTS.items()
-               if p.run != ffi.NULL and name not in globals()}
+               if p.run != ffi.NULL and name not in globals() and
+               ffi.string(p.group) != b"Sun"}

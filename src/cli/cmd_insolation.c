@@ -313,31 +313,29 @@ typedef struct {
     float *row;             /* a band's rows in kWh/m^2 */
 } insolation_out;
 
+/* The registry's outputs (its insolation entry): 0 the sums, band by
+ * band in the output's order (the five, the months' globals, the PV
+ * yields DC and AC), 1 each step's global. */
 static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
                             const float *values)
 {
     insolation_out *o = user;
     size_t n = (size_t)n_rows * (size_t)o->width;
-    if (output == SS_OUT_STEP)
+    if (output == 1)
         return ss_writer_rows(o->steps_w, o->step0 + index + 1, row0, n_rows, values);
     if (!o->w) /* another process's sums: rank 0 writes */
         return SS_OK;
-    run_tally *tally = output == SS_OUT_GLOBAL  ? &o->tally[3 * o->block]
-                       : output == SS_OUT_PV    ? &o->tally[3 * o->block + 1]
-                       : output == SS_OUT_PV_AC ? &o->tally[3 * o->block + 2]
-                                                : NULL;
+    enum { PV_DC = WEATHER_BANDS, PV_AC = WEATHER_BANDS + 1 };
+    run_tally *tally = index == SS_OUT_GLOBAL ? &o->tally[3 * o->block]
+                       : index == PV_DC       ? &o->tally[3 * o->block + 1]
+                       : index == PV_AC       ? &o->tally[3 * o->block + 2]
+                                              : NULL;
     if (tally)
         run_tally_add(tally, values, n);
-    int band = output == SS_OUT_MONTHLY ? 6 + index
-               : output == SS_OUT_PV    ? WEATHER_BANDS + 1
-               : output == SS_OUT_PV_AC ? WEATHER_BANDS + 2
-                                        : output + 1;
+    int band = index + 1;
     /* A weather run's irradiation in kWh/m^2 (hours stay hours, the PV
      * yields are kWh/kWp already), and all of it of the mean year. */
-    float kilo = o->weather && output != SS_OUT_SUN_HOURS && output != SS_OUT_PV &&
-                         output != SS_OUT_PV_AC
-                     ? 1000.0f
-                     : 1.0f;
+    float kilo = o->weather && index != SS_OUT_SUN_HOURS && index < PV_DC ? 1000.0f : 1.0f;
     if (kilo != 1.0f || o->years > 1) {
         for (size_t c = 0; c < n; ++c)
             o->row[c] = values[c] == SS_NODATA ? SS_NODATA : values[c] / kilo / (float)o->years;
@@ -594,32 +592,32 @@ static ss_status sun_of_part_rows(ss_ctx *ctx, int k, int row0, int n_rows, ss_s
     return sun_of_step_rows(ctx, part->k0 + k, row0, n_rows, step, part->steps);
 }
 
-/* The library's run over all the steps, or with --years each over each
+/* The registry's run over all the steps, or with --years each over each
  * year's steps in turn into its block of bands. */
 static ss_status run(insolation_run *r)
 {
     const insolation_settings *set = &r->set;
-    int want = (r->have_weather ? SS_INSOLATION_MONTHLY : 0) |
-               (set->ins.pv ? SS_INSOLATION_PV : 0) | (set->steps_path ? SS_INSOLATION_STEPS : 0);
-    r->io.shadow_mode = r->job.plan.shadow_mode;
+    const ss_product_info *product = ss_product_named("insolation");
     ss_status st = SS_OK;
     for (int b = 0; st == SS_OK && b < r->blocks; ++b) {
         steps_part part = {&r->steps, r->blocks > 1 ? r->years.first[b] : 0};
-        if (set->trees.trees.canopy) {
+        if (set->trees.trees.canopy)
             r->trees.lib.leaf_off = r->trees.leaf_off + part.k0;
-            r->io.trees = &r->trees.lib;
-        }
-        int n = r->blocks > 1 ? r->years.count[b] : r->steps.n;
+        ss_product_sun sun = {.n_steps = r->blocks > 1 ? r->years.count[b] : r->steps.n,
+                              .sun_rows = sun_of_part_rows,
+                              .sun_user = &part,
+                              .real_sky = r->have_weather,
+                              .shadow_mode = r->job.plan.shadow_mode,
+                              .trees = set->trees.trees.canopy ? &r->trees.lib : NULL};
         r->out.block = b;
         r->out.step0 = part.k0;
         run_progress_part(&r->job.run, b, r->blocks);
         ss_source src = job_source(&r->job, &r->bands);
         share_reducer reducer;
         ss_share share = share_of(&reducer, &r->job.run, job_bands(&r->job));
-        st = share_end(&reducer,
-                       ss_insolation_rows(r->job.run.ctx, &src, &r->job.opt, &r->io, n,
-                                          sun_of_part_rows, &part, want, &share, write_rows,
-                                          &r->out));
+        st = share_end(&reducer, product->run(r->job.run.ctx, &src, &r->job.opt, &set->ins, &sun,
+                                              set->steps_path ? 2u : 0u, &share, write_rows,
+                                              &r->out));
     }
     run_progress_part(&r->job.run, 0, 1);
     return st;

@@ -1,6 +1,6 @@
 /* skysweep shadow: where the terrain casts shadows for one sun (an exact
  * sweep along the sun's azimuth), where cells face away from it, and the
- * shaded relief that combines both (ss_shadow_rows), on the DEM held whole
+ * shaded relief that combines both (the registry's run), on the DEM held whole
  * or read band by band; with --canopy, the trees' shadow besides
  * (doc/vegetation.md). */
 #include "config.h"
@@ -69,19 +69,20 @@ typedef struct {
     float *sunlit;
 } shadow_out;
 
+/* The registry's one output, its bands SS_OUT_SUNLIT, _FACING, _LIGHT. */
 static ss_status write_rows(void *user, int output, int index, int row0, int n_rows,
                             const float *values)
 {
-    (void)index;
+    (void)output;
     shadow_out *o = user;
     size_t n = (size_t)n_rows * (size_t)o->width;
-    for (size_t c = 0; output == SS_OUT_SUNLIT && c < n; ++c) {
+    for (size_t c = 0; index == SS_OUT_SUNLIT && c < n; ++c) {
         o->lit += values[c] == 1.0f;
         o->valid += values[c] != SS_NODATA;
     }
-    if (output == SS_OUT_SUNLIT && o->sunlit)
+    if (index == SS_OUT_SUNLIT && o->sunlit)
         memcpy(o->sunlit + (size_t)row0 * (size_t)o->width, values, n * sizeof(float));
-    return ss_writer_rows(o->w, output + 1, row0, n_rows, values);
+    return ss_writer_rows(o->w, index + 1, row0, n_rows, values);
 }
 
 /* Beer-Lambert (--crown-light): each cell's path inside crowns toward
@@ -188,7 +189,7 @@ int cmd_shadow(int argc, char **argv)
         return rc;
     /* One horizon, along the sun's azimuth, and the planes facing the sun
      * and illumination that ss_shadow_rows holds a band of. */
-    band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) + 2.0 * sizeof(float),
+    band_cost cost = {.cell_bytes = ss_product_named("shadow")->cell_bytes(NULL, 0),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = 1,
                       .grid_cell_bytes = (set.trees.canopy ? TREES_SHADOW_CELL_BYTES : 0.0) +
@@ -234,9 +235,11 @@ int cmd_shadow(int argc, char **argv)
     ss_raster_writer *w = out.w;
     double sun_az_true = sun.centre_grid_azimuth_deg + job.opt.grid_north_deg;
     shadow_sun ss = {&job, &sun};
+    ss_product_sun one_sun = {.n_steps = 1, .sun_rows = sun_rows, .sun_user = &ss};
     ss_source src = job_source(&job, &bands);
     if (st == SS_OK)
-        st = ss_shadow_rows(job.run.ctx, &src, &job.opt, sun_rows, &ss, write_rows, &out);
+        st = ss_product_named("shadow")->run(job.run.ctx, &src, &job.opt, NULL, &one_sun, 0, NULL,
+                                             write_rows, &out);
     double trees_s = run_now();
     if (st == SS_OK && set.trees.canopy)
         st = trees_write(&job, &tr, &set.light, &out, &sun, &shaded);

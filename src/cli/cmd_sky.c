@@ -67,7 +67,8 @@ static ss_status sky_product(sweep_job *job, const ss_product_info *product,
     ss_source src = job_source(job, stats);
     share_reducer reducer;
     ss_share share = share_of(&reducer, &job->run, job_bands(job));
-    ss_status st = product->run(job->run.ctx, &src, &job->opt, params, 0, &share, write_rows, &k);
+    ss_status st =
+        product->run(job->run.ctx, &src, &job->opt, params, NULL, 0, &share, write_rows, &k);
     st = share_end(&reducer, st);
     run_tally_result(&k.tally, NAN, min, mean, max);
     return st;

@@ -67,6 +67,10 @@ void command_print_memory(const sweep_job *job, const char *how)
     if (run->memory_bound > 0)
         printf(", bound --memory %.0f MiB, planned %.0f MiB", run->memory_bound / 1048576.0,
                m->planned_bytes / 1048576.0);
+    /* The device the plan was made for: under --device auto the one it
+     * picked (job_memory_replan). */
+    if (run->memory_device[0])
+        printf("%s for %s", run->memory_bound > 0 ? "" : ", planned", run->memory_device);
     /* A device's own memory is planned apart from the process's. */
     if (m->device_memory > 0) {
         printf(", device ");

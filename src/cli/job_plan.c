@@ -21,8 +21,11 @@ int job_plan(sweep_job *job, const common_settings *common, const ss_product_inf
     double t = run_now(), built = ss_ctx_counters(job->run.ctx).build_seconds;
     ss_product_job with = {&common->sweep, &common->sun, &place, n_steps, step_unix_s,
                            job->weather};
+    memory_mark before = job_memory_mark();
     ss_status st = ss_product_prepare(job->run.ctx, product, params, &job->dem.grid, &with,
                                       &job->opt, &job->plan);
+    if (st == SS_OK)
+        st = job_memory_replan(job, before);
     if (st != SS_OK)
         return job_finish(job, st);
     const ss_plan *p = &job->plan;

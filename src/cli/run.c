@@ -244,6 +244,7 @@ int run_begin(run_state *run, const char *command, const common_settings *common
         sigaction(stop_signals[i], &sa, NULL);
     ss_ctx_set_progress(run->ctx, progress, run);
     ss_ctx_use_device(run->ctx, device);
+    run->device_auto = strcasecmp(device, "auto") == 0;
     return 0;
 }
 
@@ -364,7 +365,63 @@ static int plan_memory(run_state *run, const ss_dem *dem, const band_cost *cost,
                            .grid_cell_bytes = cost->grid_cell_bytes,
                            .device_memory_bytes = device_memory};
     ss_memory_plan_make(run->ctx, &need, &run->memory);
+    run->memory_need = need;
+    snprintf(run->memory_device, sizeof run->memory_device, "%s",
+             cost->no_sweep ? "" : ss_ctx_device_name(run->ctx));
     return run->memory.band_rows;
+}
+
+memory_mark job_memory_mark(void)
+{
+    return (memory_mark){resident_bytes(), peak_bytes()};
+}
+
+/* Whether the plan just made lets the job's DEM be swept as it was opened:
+ * in bands (any band rows; the grid would fit whole too), or whole. */
+static int plan_keeps_dem(const sweep_job *job)
+{
+    int rows = job->run.memory.band_rows;
+    return job->source ? rows >= 0 : rows == 0;
+}
+
+ss_status job_memory_replan(sweep_job *job, memory_mark before)
+{
+    run_state *run = &job->run;
+    /* Processes sharing a run sweep the same bands, agreed at the DEM's
+     * opening (share_band_rows): they keep them. */
+    if (!run->device_auto || run->memory_need.width == 0 || !run->memory_device[0] ||
+        share_size() > 1)
+        return SS_OK;
+    /* Looking for OpenCL devices loads their platforms even where the C
+     * twin stays: that is counted as well. */
+    ss_memory_need need = run->memory_need;
+    need.baseline_bytes += fmax(resident_bytes() - before.resident, 0.0);
+    need.peak_bytes += fmax(peak_bytes() - before.peak, 0.0);
+    char chosen[sizeof run->memory_device];
+    snprintf(chosen, sizeof chosen, "%s", ss_ctx_device_name(run->ctx));
+    ss_memory_plan_make(run->ctx, &need, &run->memory);
+    if (!plan_keeps_dem(job) && strcmp(chosen, run->memory_device) != 0) {
+        if (!run->quiet)
+            fprintf(stderr,
+                    "skysweep %s: warning: --device auto chose %s, whose buffers leave no room "
+                    "for %s within the memory budget: the C twin runs\n",
+                    run->command, chosen, job->source ? "one band" : "the DEM held whole");
+        ss_ctx_use_device(run->ctx, "reference");
+        snprintf(job->plan.device, sizeof job->plan.device, "reference");
+        snprintf(chosen, sizeof chosen, "%s", ss_ctx_device_name(run->ctx));
+        ss_memory_plan_make(run->ctx, &need, &run->memory);
+    }
+    if (!plan_keeps_dem(job))
+        return ss_ctx_error(run->ctx, SS_ERR_MEMORY,
+                            "the memory budget is too small for this DEM with the OpenCL "
+                            "platforms --device auto loaded to choose a device (%.0f MiB held "
+                            "now): use --device reference, or a larger --memory (doc/scale.md)",
+                            need.baseline_bytes / 1048576.0);
+    if (job->source && run->memory.band_rows > 0)
+        job->band_rows = run->memory.band_rows;
+    run->memory_need = need;
+    snprintf(run->memory_device, sizeof run->memory_device, "%s", chosen);
+    return SS_OK;
 }
 
 static ss_status open_dem_file(run_state *run, const char *const *paths, int n_paths,

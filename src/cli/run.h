@@ -66,6 +66,9 @@ typedef struct {
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
     double memory_bound;     /* --memory in bytes (0: none given), for the summary */
     ss_memory_plan memory;   /* the memory plan its bands and device buffers follow */
+    ss_memory_need memory_need; /* what it was made from (width 0: none was made) */
+    char memory_device[128];    /* the device it was made for ("": none opened) */
+    int device_auto;            /* --device auto: the effects plan picks the device */
 } run_state;
 
 /* A run made of `parts` library calls, each reporting its progress from 0
@@ -174,6 +177,20 @@ ss_status job_sun(sweep_job *job, const common_settings *common, ss_sun_field *f
  * (0 after --plan). */
 int job_plan(sweep_job *job, const common_settings *common, const ss_product_info *product,
              const void *params, int n_steps, const double *step_unix_s);
+/* What the process holds before --device auto's plan opens its device ... */
+typedef struct {
+    double resident, peak;
+} memory_mark;
+memory_mark job_memory_mark(void);
+/* ... and the job's memory planned again for the device the plan opened
+ * (job_plan), what the process grew by since `before` held beside the
+ * rest: the DEM was opened and its bands planned on the C twin, before
+ * the device was chosen. A banded DEM takes the new band rows; where the
+ * device leaves no room within the budget (not one band, or a DEM already
+ * held whole that would need bands beside it) the C twin runs, and a line
+ * on stderr says so; SS_ERR_MEMORY where even the C twin has no room left
+ * beside what choosing loaded. */
+ss_status job_memory_replan(sweep_job *job, memory_mark before);
 /* Opens the job's output of n_bands bands on rank 0 (the one that writes,
  * alone or under mpirun), before the run so that it fails early; the other
  * ranks leave *w NULL. Every rank learns whether rank 0 failed. */

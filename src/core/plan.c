@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "accuracy_table.h"
@@ -540,17 +541,28 @@ static double device_seconds(device_kind kind, double sweeps, double cells, int 
     return COST_GPU_SETUP_S + sweeps * COST_GPU_LAUNCH_S + work / (COST_GPU_RATE * share);
 }
 
+/* A test hook (doc/scale.md): SKYSWEEP_TEST_AUTO_DEVICE=P:D makes
+ * --device auto pick that OpenCL device whatever the cost model says, so
+ * that a machine without a GPU (PoCL is never faster than the C twin)
+ * tests the run that auto hands to a device; NULL: none. */
+static const char *auto_device_forced(void)
+{
+    const char *spec = getenv("SKYSWEEP_TEST_AUTO_DEVICE");
+    return spec && spec[0] ? spec : NULL;
+}
+
 /* --device auto: the device the cost model finds fastest for this job. The
  * OpenCL platforms are only looked at when a device of some kind could beat
  * the C twin: loading them costs 20-30 ms and 60 MiB. */
 static void plan_device(ss_plan *p, double sweeps, double host_s)
 {
+    const char *forced = auto_device_forced();
     double ref_s = device_seconds(DEVICE_REF, sweeps, p->cells, 0);
     double cpu_cl_s = device_seconds(DEVICE_CPU_CL, sweeps, p->cells, 0);
     double gpu_s = device_seconds(DEVICE_GPU, sweeps, p->cells, 0);
     snprintf(p->device, sizeof p->device, "reference");
     p->estimated_seconds = host_s + ref_s;
-    if (ref_s <= fmin(cpu_cl_s, gpu_s)) {
+    if (ref_s <= fmin(cpu_cl_s, gpu_s) && !forced) {
         add(p, "device", 1, 0, "",
             "the C twin (host, OpenMP): its sweeps take about %.2g s, where PoCL would take "
             "%.2g s and a GPU %.2g s with their set-up, so none was looked for",
@@ -569,7 +581,7 @@ static void plan_device(ss_plan *p, double sweeps, double host_s)
         if (used < sizeof others)
             used += (size_t)snprintf(others + used, sizeof others - used, "%s%.60s (%s) %.2g s",
                                      used ? ", " : "", found[i].name, found[i].spec, s);
-        if (s < best_s) {
+        if (forced ? strcmp(found[i].spec, forced) == 0 : s < best_s) {
             best_s = s;
             best = i;
         }

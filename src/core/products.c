@@ -33,10 +33,10 @@ static double svf_halo_m(const void *params, double cell_size_m)
 }
 
 static ss_status svf_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
-                         const void *params, unsigned outputs, const ss_share *share,
-                         ss_rows_sink sink, void *user)
+                         const void *params, const ss_product_sun *sun, unsigned outputs,
+                         const ss_share *share, ss_rows_sink sink, void *user)
 {
-    (void)outputs;
+    (void)sun, (void)outputs;
     const ss_svf_params *p = params;
     return ss_sky_rows(ctx, src, opt, ss_svf_params_term(p), p->radius_m, share, sink, user);
 }
@@ -62,10 +62,10 @@ static double openness_halo_m(const void *params, double cell_size_m)
 }
 
 static ss_status openness_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
-                              const void *params, unsigned outputs, const ss_share *share,
-                              ss_rows_sink sink, void *user)
+                              const void *params, const ss_product_sun *sun, unsigned outputs,
+                              const ss_share *share, ss_rows_sink sink, void *user)
 {
-    (void)outputs;
+    (void)sun, (void)outputs;
     const ss_openness_params *p = params;
     return ss_sky_rows(ctx, src, opt, ss_openness_params_term(p), p->radius_m, share, sink, user);
 }
@@ -85,10 +85,10 @@ static double horizon_cell_bytes(const void *params, unsigned outputs)
 }
 
 static ss_status horizon_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
-                             const void *params, unsigned outputs, const ss_share *share,
-                             ss_rows_sink sink, void *user)
+                             const void *params, const ss_product_sun *sun, unsigned outputs,
+                             const ss_share *share, ss_rows_sink sink, void *user)
 {
-    (void)params, (void)share; /* it does not share */
+    (void)params, (void)sun, (void)share; /* it does not share */
     return ss_horizon_rows(ctx, src, opt, (int)(outputs >> 1), sink, user);
 }
 
@@ -120,10 +120,10 @@ static double hillshade_halo_m(const void *params, double cell_size_m)
 }
 
 static ss_status hillshade_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
-                               const void *params, unsigned outputs, const ss_share *share,
-                               ss_rows_sink sink, void *user)
+                               const void *params, const ss_product_sun *sun, unsigned outputs,
+                               const ss_share *share, ss_rows_sink sink, void *user)
 {
-    (void)outputs, (void)share; /* it does not share */
+    (void)sun, (void)outputs, (void)share; /* it does not share */
     ss_hillshade_options ho;
     ss_hillshade_params_options(params, sqrt(src->cell_x_m * src->cell_y_m), &ho);
     return ss_hillshade_rows(ctx, src, opt, &ho, sink, user);
@@ -142,6 +142,33 @@ static double shadow_cell_bytes(const void *params, unsigned outputs)
     return ss_horizon_band_cell_bytes(0) + 2.0 * sizeof(float);
 }
 
+/* Where a rows call's outputs go as the entry declares them. */
+typedef struct {
+    ss_rows_sink sink;
+    void *user;
+} entry_sink;
+
+/* ss_shadow_rows' three outputs are the bands of the entry's one. */
+static ss_status shadow_bands(void *user, int output, int index, int row0, int n_rows,
+                              const float *values)
+{
+    (void)index;
+    const entry_sink *to = user;
+    return to->sink(to->user, 0, output, row0, n_rows, values);
+}
+
+/* The sun's step 0, along whose azimuth it sweeps. */
+static ss_status shadow_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                            const void *params, const ss_product_sun *sun, unsigned outputs,
+                            const ss_share *share, ss_rows_sink sink, void *user)
+{
+    (void)params, (void)outputs, (void)share; /* it does not share */
+    if (!sun)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "shadow needs a sun");
+    entry_sink to = {sink, user};
+    return ss_shadow_rows(ctx, src, opt, sun->sun_rows, sun->sun_user, shadow_bands, &to);
+}
+
 static void insolation_request(const void *params, double cell_size_m, ss_plan_request *req)
 {
     (void)cell_size_m;
@@ -156,6 +183,44 @@ static double insolation_cell_bytes(const void *params, unsigned outputs)
     const ss_insolation_params *p = params;
     int want = (p->pv ? SS_INSOLATION_PV : 0) | (outputs & 2u ? SS_INSOLATION_STEPS : 0);
     return ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(want, 0);
+}
+
+/* ss_insolation_rows' sums are the bands of the entry's output 0 in its
+ * order: the five (SS_OUT_GLOBAL .. SS_OUT_SUN_HOURS), the global of each
+ * month, the PV yields DC and AC; each step's global is output 1. */
+static ss_status insolation_bands(void *user, int output, int index, int row0, int n_rows,
+                                  const float *values)
+{
+    const entry_sink *to = user;
+    if (output == SS_OUT_STEP)
+        return to->sink(to->user, 1, index, row0, n_rows, values);
+    int band = output == SS_OUT_MONTHLY ? SS_OUT_MONTHLY + index
+               : output == SS_OUT_PV    ? SS_OUT_MONTHLY + 12
+               : output == SS_OUT_PV_AC ? SS_OUT_MONTHLY + 13
+                                        : output;
+    return to->sink(to->user, 0, band, row0, n_rows, values);
+}
+
+/* Its library options from its parameters and the run's shadows and trees;
+ * weather records add the months' sums, --pv its yields, the optional
+ * output 1 each step's global. */
+static ss_status insolation_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                                const void *params, const ss_product_sun *sun, unsigned outputs,
+                                const ss_share *share, ss_rows_sink sink, void *user)
+{
+    const ss_insolation_params *p = params;
+    if (!sun)
+        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "insolation needs the suns of its steps");
+    ss_insolation_options io;
+    ss_status st = ss_insolation_params_options(ctx, p, sun->shadow_mode, &io);
+    if (st != SS_OK)
+        return st;
+    io.trees = sun->trees;
+    int want = (sun->real_sky ? SS_INSOLATION_MONTHLY : 0) | (p->pv ? SS_INSOLATION_PV : 0) |
+               (outputs & 2u ? SS_INSOLATION_STEPS : 0);
+    entry_sink to = {sink, user};
+    return ss_insolation_rows(ctx, src, opt, &io, sun->n_steps, sun->sun_rows, sun->sun_user, want,
+                              share, insolation_bands, &to);
 }
 
 static double no_halo(const void *params, double cell_size_m)
@@ -189,7 +254,8 @@ static const ss_product_output shadow_outputs[] = {
     {0}};
 /* sun_hours is in hours. A weather run writes 17 bands in kWh/m2 (the five
  * for the year, the global of each month) and, with --pv, two of PV yield
- * (kWh/kWp). */
+ * (kWh/kWp); the run's sink gets them as output 0's bands 0..18 all the
+ * same, in Wh/m2 (insolation_bands). */
 static const ss_product_output insolation_outputs[] = {
     {"insolation", NULL, "Wh/m2", 5, "global|beam|diffuse|reflected|sun_hours", 0},
     {"steps", "steps", "Wh/m2", 0, "the step's instant (ISO 8601)", 1},
@@ -226,7 +292,7 @@ static const ss_product_info products[] = {
      "hours of direct\nsun. Real sky from a weather file: the same five (kWh/m2, hours) for "
      "the year, then the\nglobal of each month.",
      "insolation", sweep_and_sun, sizeof(ss_insolation_params), insolation_outputs,
-     SS_PLAN_INSOLATION, 1, insolation_request, insolation_cell_bytes, no_halo, NULL},
+     SS_PLAN_INSOLATION, 1, insolation_request, insolation_cell_bytes, no_halo, insolation_run},
     {"shadow", "cast shadows and self-shadow for one sun (exact sweep)", "Cast shadows", "Sun",
      "Cast shadows for one sun, by an exact sweep along its azimuth. Bands: 1 sunlit (1) or in "
      "a cast\nshadow (0); 2 facing the sun (1) or away (self-shadow, 0); 3 illumination cos(i) "
@@ -234,7 +300,7 @@ static const ss_product_info products[] = {
      "--canopy: 4 lit (0), solid\nshadow (1) or vegetation shadow (2); 5 fraction of the beam "
      "that arrives.",
      NULL, sweep_and_sun, 0, shadow_outputs, SS_PLAN_SHADOW, 0, shadow_request,
-     shadow_cell_bytes, no_halo, NULL},
+     shadow_cell_bytes, no_halo, shadow_run},
 };
 
 /* Products registered at run time (ss_product_register), after the table's. */
