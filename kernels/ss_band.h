@@ -52,7 +52,7 @@ typedef struct {
     int lit_level;        /* horizon walks on a whole grid: cells whose bound level (src/core/
                              lit_levels.h) is at most this are lit whatever the walk finds;
                              -1: none known */
-    int pad;              /* to a whole 8 bytes, which the line set's alignment asks */
+    int lit_sector;       /* the bounds' sector of its azimuth: their plane it reads */
 } ss_band_dir;
 
 /* What a band walk shares across its directions and lines (4-byte

@@ -543,6 +543,9 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
                       run->curv_k >= 0.0f
                   ? d->lit_level
                   : -1;
+    /* The bounds of the sector of the direction's azimuth. */
+    if (lit >= 0)
+        lit_levels += (ss_i64)d->lit_sector * run->height * run->width;
     if (lit >= 0) {
         int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, lit);
         skipped = s_hi - end;

@@ -1,12 +1,13 @@
-/* The per-cell horizon bounds (src/core/lit_levels.c) against the walks
- * they bound: on terrains made to break them (spikes far and near, cliffs,
- * plateaus of ties, nodata holes, cells longer one way, grids of one row
- * or column up, a shield island in a nodata sea) and on the Gothenburg DSM
+/* The per-cell horizon bounds of each azimuth sector (src/core/
+ * lit_levels.c) against the walks they bound: on terrains made to break
+ * them (spikes far and near, cliffs, plateaus of ties, nodata holes, cells
+ * longer one way, grids of one row or column up, city blocks of walls, one
+ * tower seen in 720 azimuths, a shield island in a nodata sea) and on the Gothenburg DSM
  * and the Kilauea DEM where ../shared/data has them, every horizon the
  * library's interpolated and box walks (few and many families) give a
  * cell, in up to 240 azimuths (the axes and diagonals, and others a
  * hundredth of a degree off them) with and without curvature, lies below
- * its level's angle. Digital lines have no per-cell bound. A bound that failed would light a shaded cell. Then the walks
+ * its level's angle in the sector of the walk's azimuth. Digital lines have no per-cell bound. A bound that failed would light a shaded cell. Then the walks
  * that stop past the last cell a sun may not clear (ss_walk.lit_levels),
  * and give no horizon to the cells the bounds know lit: every cell is lit
  * or shaded as by the whole walk, and the cells the bounds leave open
@@ -34,19 +35,27 @@ typedef struct {
     double worst_deg; /* the highest horizon minus its cell's level angle */
 } check_state;
 
+/* The bounds of the sector holding a walk's azimuth. */
+static const unsigned char *sector_levels(const unsigned char *levels, size_t cells,
+                                          double azimuth_deg)
+{
+    return levels + (size_t)ss_lit_sector(azimuth_deg) * cells;
+}
+
 static int check_direction(int index, double azimuth_deg, const float *angle_deg,
                            const float *dist_m, const float *cast_height_m, void *user)
 {
     (void)index;
-    (void)azimuth_deg;
     (void)dist_m;
     (void)cast_height_m;
     check_state *s = user;
+    /* The options' grid north is 0: the azimuth is the grid's. */
+    const unsigned char *levels = sector_levels(s->levels, s->cells, azimuth_deg);
     for (size_t c = 0; c < s->cells; ++c) {
         if (!isfinite(angle_deg[c]) || angle_deg[c] == SS_NODATA ||
-            s->levels[c] == SS_LIT_UNBOUNDED)
+            levels[c] == SS_LIT_UNBOUNDED)
             continue;
-        double over = angle_deg[c] - ss_lit_level_deg(s->levels[c]);
+        double over = angle_deg[c] - ss_lit_level_deg(levels[c]);
         s->checked++;
         s->above += over >= 0.0;
         if (over > s->worst_deg)
@@ -106,15 +115,15 @@ static void check_grid(const char *name, const ss_grid *g, int directions, doubl
     ss_status st = levels ? ss_horizon(ctx, g, &o, 0, check_direction, &s) : SS_ERR_MEMORY;
     long bounded = 0;
     double level_sum = 0;
-    for (size_t c = 0; levels && c < cells; ++c)
-        if (isfinite(g->z[c]) && levels[c] != SS_LIT_UNBOUNDED) {
+    for (size_t i = 0; levels && i < cells * SS_LIT_SECTORS; ++i)
+        if (isfinite(g->z[i % cells]) && levels[i] != SS_LIT_UNBOUNDED) {
             bounded++;
-            level_sum += ss_lit_level_deg(levels[c]);
+            level_sum += ss_lit_level_deg(levels[i]);
         }
     tap_ok(st == SS_OK && s.above == 0,
            "%s, %s (%d x %d, %d directions from %g deg, curvature %s): status %d%s%s, %ld horizons of %ld at or above their "
-           "cell's bound (want 0), the closest %.3f deg from it; %ld cells bounded, mean "
-           "bound %.1f deg",
+           "cell's sector bound (want 0), the closest %.3f deg from it; %ld cell-sectors "
+           "bounded, mean bound %.1f deg",
            name, lines_name(k), g->width, g->height, directions, offset_deg,
            earth_radius_m > 0 ? "on" : "off", (int)st,
            st == SS_OK ? "" : ": ", st == SS_OK ? "" : ss_ctx_message(ctx), s.above,
@@ -177,6 +186,7 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
     for (int a = 0; a < 16 && !failed; ++a) {
         double az = 7.3 + 22.5 * a;
         failed |= shadow_angles(device, g, &o, az, NULL, -1, whole) != SS_OK;
+        const unsigned char *sector = levels ? sector_levels(levels, n, az) : NULL;
         for (size_t e = 0; e < sizeof elevations / sizeof *elevations && !failed; ++e) {
             int lit_level = ss_lit_level_below(elevations[e]);
             failed |= shadow_angles(device, g, &o, az, levels, lit_level, early) != SS_OK;
@@ -185,7 +195,7 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
                     continue;
                 verdicts++;
                 flipped += (elevations[e] > whole[c]) != (elevations[e] > early[c]);
-                if (levels[c] > lit_level) {
+                if (sector[c] > lit_level) {
                     open++;
                     changed += memcmp(&whole[c], &early[c], sizeof(float)) != 0;
                 } else {
@@ -233,6 +243,27 @@ static ss_grid shield_island(void)
                 z -= 120.0; /* pit crater */
             g.z[(size_t)y * g.width + x] = (float)z;
         }
+    return g;
+}
+
+/* A city of 1 m cells: blocks of houses and towers (walls of one cell's
+ * step up to 60 m) on a plain with a few nodata courtyards, the bounds'
+ * sectors facing toward or away from walls at every distance. */
+static ss_grid city_blocks(void)
+{
+    ss_grid g = test_grid(160, 140, 1.0, 1.0);
+    unsigned seed = 11;
+    for (size_t c = 0; c < (size_t)160 * 140; ++c)
+        g.z[c] = 2.0f;
+    for (int b = 0; b < 40; ++b) {
+        seed = seed * 1103515245u + 12345u;
+        int x0 = (int)(seed >> 8) % 150, y0 = (int)(seed >> 16) % 130;
+        int bw = 2 + (int)(seed >> 4) % 14, bh = 2 + (int)(seed >> 12) % 14;
+        float top = 4.0f + (float)((seed >> 20) % 57);
+        for (int y = y0; y < y0 + bh && y < 140; ++y)
+            for (int x = x0; x < x0 + bw && x < 160; ++x)
+                g.z[(size_t)y * 160 + x] = b % 13 == 12 ? NAN : top;
+    }
     return g;
 }
 
@@ -316,6 +347,20 @@ int main(void)
     check_grid("two spikes far apart on a plain", &far, 240, 0.11, 0.0, INTERPOLATED);
     check_grid("two spikes far apart on a plain", &far, 96, 0.0, 0.0, box_few);
     ss_grid_free(&far);
+    ss_grid city = city_blocks();
+    check_grid("city blocks", &city, 240, 0.0, 0.0, INTERPOLATED);
+    check_grid("city blocks", &city, 97, 0.003, 6371000.0, INTERPOLATED);
+    check_grid("city blocks", &city, 96, 0.0, 0.0, box_few);
+    check_grid("city blocks", &city, 48, 0.01, 0.0, box_many);
+    ss_grid_free(&city);
+    /* One tower on a plain, in 720 azimuths: every sector's edge. */
+    ss_grid tower = test_grid(120, 100, 2.0, 2.0);
+    for (size_t c = 0; c < (size_t)120 * 100; ++c)
+        tower.z[c] = 0.0f;
+    tower.z[(size_t)50 * 120 + 60] = 80.0f;
+    check_grid("one tower on a plain", &tower, 720, 0.0, 0.0, INTERPOLATED);
+    check_grid("one tower on a plain", &tower, 720, 0.0, 0.0, box_few);
+    ss_grid_free(&tower);
     ss_grid island = shield_island();
     check_grid("a shield island", &island, 240, 0.0, 0.0, INTERPOLATED);
     check_grid("a shield island", &island, 240, 0.01, 6371000.0, INTERPOLATED);
@@ -346,6 +391,11 @@ int main(void)
     check_early_stops("reference", "gentle hills, cells twice as long north-south", &gentle, 0.0,
                       box_few);
     ss_grid_free(&gentle);
+    ss_grid town = city_blocks();
+    check_early_stops("reference", "city blocks", &town, 0.0, box_many);
+    check_early_stops_on_pocl(have_pocl, "city blocks", &town, 0.0, box_many);
+    check_early_stops("reference", "city blocks", &town, 0.0, INTERPOLATED);
+    ss_grid_free(&town);
     ss_grid spikes = test_grid(90, 110, 20.0, 20.0);
     test_fill(&spikes, TERRAIN_SPIKES, 8, 60.0);
     check_early_stops("reference", "spikes on a plain", &spikes, 0.0, INTERPOLATED);

@@ -26,7 +26,7 @@ typedef struct {
     double radius_m;
     int negate;     /* heights read as -z (negative openness) */
     /* SS_TERM_HORIZON for shadows alone, on a whole grid: each cell's bound
-     * level (lit_levels.h), so that the walks stop past the last cell a
+     * level per sector of azimuth (lit_levels.h), so that the walks stop past the last cell a
      * direction's sun may not clear (ss_engine_dir.lit_level), on every
      * backend; NULL: whole walks. The C twin counts the samples it leaves
      * (ss_counters.shadow_steps_skipped). */

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lit_levels.h"
 #include "ocl_internal.h"
 #include "ss_passes.h"
 
@@ -535,8 +536,8 @@ ss_status ss_backend_ocl_open(ss_backend *b)
     /* Shadow walks stop early on a whole grid only (engine.c sets lit_level
      * -1 elsewhere). */
     if (horizon && b->walk.lit_levels && b->whole_z)
-        q->lit_levels = ocl_new_buffer(b, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, cells,
-                                   (void *)b->walk.lit_levels, &err);
+        q->lit_levels = ocl_new_buffer(b, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR,
+                                       cells * SS_LIT_SECTORS, (void *)b->walk.lit_levels, &err);
     else
         q->lit_levels = ocl_new_buffer(b, CL_MEM_READ_ONLY, 1, NULL, &err);
     /* Valid (if empty) hull buffers, so every kernel argument is a buffer. */

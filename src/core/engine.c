@@ -18,6 +18,7 @@
 
 #include "engine.h"
 #include "lines.h"
+#include "lit_levels.h"
 #include "products_internal.h"
 #include "scratch.h"
 #include "ss_passes.h"
@@ -430,6 +431,7 @@ static ss_status make_directions(engine_run *e)
         d->cos_az = (float)cos(az);
         d->pass = ss_band_pass_of(&d->ls);
         d->lit_level = job->walk.lit_levels ? job->dirs[i].lit_level : -1;
+        d->lit_sector = ss_lit_sector(job->dirs[i].azimuth_deg - e->opt->grid_north_deg);
     }
     return SS_OK;
 }

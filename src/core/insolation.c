@@ -826,7 +826,7 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
     return classify_steps(job, n_steps, plan);
 }
 
-/* Each cell's bound level (lit_levels.h), where exact shadows are walked
+/* Each cell's bound level per sector of azimuth (lit_levels.h), where exact shadows are walked
  * over a grid held whole where ss_lit_levels_used says they repay it;
  * else NULL, and where memory is short too: the walks then go whole. Its work space is freed before the steps' buffers (about 90
  * bytes a cell, band_memory.c) are made, so it adds nothing to the peak. */

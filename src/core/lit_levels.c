@@ -52,7 +52,28 @@
  * many times that. Bound 2 has no counterpart (a column's face rises
  * without a slope), so box bounds are bound 1's alone, over the same
  * zones, with z_c for the lowest sample and the box distance for each
- * zone's nearest cell. */
+ * zone's nearest cell.
+ *
+ * The proof per sector of azimuths [a0, a1] (the grid's frame). A walk at
+ * azimuth A looks for horizons toward A along lines whose direction u is
+ * A's but for the fixed-point slope, 2^-17 minor cells a major step off,
+ * which turns u by at most eps = 2^-16 max(cx, cy) / min(cx, cy) radians.
+ * Write q - c for the vector, in metres east and north, from c's centre
+ * C to q's. Interpolated lines: q - c = (P - C) + |PQ| u + (q - Q), the
+ * first and last across the line by under a cell and at most a cell of
+ * the minor axis, so q's centre lies within L = 2 max(cx, cy) of the ray
+ * from C along u. Box lines: P is C's projection, within e of C, and Q
+ * lies in q's square, within hypot(cx, cy) / 2 of its centre: L = e +
+ * hypot(cx, cy) / 2 (plus the slack in positions). So q gives c a horizon
+ * in the sector only if q - c lies within L of the wedge of rays at the
+ * azimuths [a0 - eps, a1 + eps]: if q - c lies outside the wedge at
+ * distance r, its angle from the wedge's nearer edge is at most asin(L /
+ * r). A zone's pair of blocks (or of cells, blocks of one) spans the
+ * offsets q - c of a rectangle; its corners give the azimuths it spans,
+ * widened by asin(L / its distance from C) (every azimuth where L reaches
+ * that far), and the zone counts toward the sector's bound only where
+ * those meet the sector's. Bounds 1 and 2 are the same in every sector;
+ * each sector keeps the largest of the zones that count toward it. */
 #include "config.h"
 
 #include <float.h>
@@ -94,7 +115,49 @@ typedef struct {
     double cx, cy;  /* cell sizes, metres */
     double beside;  /* box: the farthest a cell's centre lies from its line (e) */
     double slack;   /* box: the walks' float error in a distance */
+    double lateral; /* the farthest an occluding cell's centre lies from the ray (L) */
+    double turn;    /* radians: the most a line's direction differs from its azimuth (eps) */
 } line_geometry;
+
+int ss_lit_sector(double grid_azimuth_deg)
+{
+    double a = fmod(grid_azimuth_deg, 360.0);
+    a = a < 0.0 ? a + 360.0 : a;
+    int k = (int)(a * (SS_LIT_SECTORS / 360.0));
+    return k < SS_LIT_SECTORS ? k : SS_LIT_SECTORS - 1;
+}
+
+/* The azimuth difference a - b wrapped to [-pi, pi]. */
+static double turn_between(double a, double b)
+{
+    return remainder(a - b, 2.0 * M_PI);
+}
+
+/* Whether cells q whose offsets from c (cells east, south) lie in
+ * [x_lo, x_hi] x [y_lo, y_hi] can give c a horizon in sector k (the head
+ * comment's proof): the rectangle's azimuths, widened by the lateral
+ * reach, meet the sector's, widened by the lines' turn. */
+static int offsets_seen(int k, double x_lo, double x_hi, double y_lo, double y_hi,
+                        const line_geometry *g)
+{
+    double e_lo = x_lo * g->cx, e_hi = x_hi * g->cx, n_lo = -y_hi * g->cy, n_hi = -y_lo * g->cy;
+    double near_e = e_lo > 0.0 ? e_lo : (e_hi < 0.0 ? -e_hi : 0.0);
+    double near_n = n_lo > 0.0 ? n_lo : (n_hi < 0.0 ? -n_hi : 0.0);
+    double r = hypot(near_e, near_n);
+    if (!(r > g->lateral))
+        return 1;
+    double mid = atan2(0.5 * (e_lo + e_hi), 0.5 * (n_lo + n_hi)), lo = 0.0, hi = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        double t = turn_between(atan2(i & 1 ? e_hi : e_lo, i & 2 ? n_hi : n_lo), mid);
+        lo = fmin(lo, t);
+        hi = fmax(hi, t);
+    }
+    double width = 2.0 * M_PI / SS_LIT_SECTORS;
+    double reach = asin(g->lateral / r) + g->turn;
+    double sector_mid = (k + 0.5) * width;
+    double gap = fabs(turn_between(mid + 0.5 * (lo + hi), sector_mid));
+    return gap <= 0.5 * (hi - lo) + 0.5 * width + reach;
+}
 
 /* The box proof's distance for cells ax, ay >= 0 apart along the axes, not
  * both 0; 0 where none is proven. */
@@ -212,25 +275,36 @@ static int window_max(const float *in, int w, int h, int r, float *out, float *t
     return ok;
 }
 
-/* Caps every zone bound in zone[] at bound 2 over the square of radius
- * reach + 2 around its cell (gx NULL: no cap, box lines), and raises best
- * to it. */
-static int add_zone(const float *gx, const float *gy, int w, int h, double cx, double cy,
-                    int reach, float *zone, float *best, float *win_x, float *win_y, float *tmp)
+/* Bound 2 over the square of radius reach + 2 around each cell, into cap
+ * (gx NULL: no cap, box lines, +INFINITY); win_y and tmp: work space. */
+static int zone_cap(const float *gx, const float *gy, int w, int h, double cx, double cy,
+                    int reach, float *cap, float *win_y, float *tmp)
 {
-    if (gx && (!window_max(gx, w, h, reach + 2, win_x, tmp) ||
-               !window_max(gy, w, h, reach + 2, win_y, tmp)))
-        return 0;
     size_t n = (size_t)w * h;
+    if (!gx) {
+        for (size_t c = 0; c < n; ++c)
+            cap[c] = INFINITY;
+        return 1;
+    }
+    if (!window_max(gx, w, h, reach + 2, cap, tmp) || !window_max(gy, w, h, reach + 2, win_y, tmp))
+        return 0;
     float icx = (float)(1.0 / cx), icy = (float)(1.0 / cy);
 #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < n; ++c)
+        cap[c] = hypotf(cap[c] * icx, win_y[c] * icy);
+    return 1;
+}
+
+/* Caps every zone bound in zone[] at cap, raises best to it, and empties
+ * the zone for the next. */
+static void add_zone(const float *cap, size_t n, float *zone, float *best)
+{
+#pragma omp parallel for schedule(static)
     for (size_t c = 0; c < n; ++c) {
-        float slope = gx ? hypotf(win_x[c] * icx, win_y[c] * icy) : INFINITY;
-        float t = zone[c] < slope ? zone[c] : slope;
+        float t = zone[c] < cap[c] ? zone[c] : cap[c];
         best[c] = t > best[c] ? t : best[c];
         zone[c] = -INFINITY;
     }
-    return 1;
 }
 
 /* zone[x] = max(zone[x], (e[x + shift] - lo[x]) * inv) for x in [x0, x1). */
@@ -244,13 +318,18 @@ static void add_tangents(float *zone, const float *e, const float *lo, int x0, i
     }
 }
 
-/* Bound 1 over the cells r_lo..r_hi away (Chebyshev), one by one, for
- * each line orientation that can pair them, with its own lowest samples
- * (box lines: one distance, lo_ns and lo_ew both the centres' heights). */
+/* Bound 1 over the cells r_lo..r_hi away (Chebyshev) that can give a
+ * horizon in sector k, one by one, for each line orientation that can
+ * pair them, with its own lowest samples (box lines: one distance, lo_ns
+ * and lo_ew both the centres' heights). */
 static void near_zone(const float *z, const float *lo_ns, const float *lo_ew, int w, int h,
-                      const line_geometry *g, int r_lo, int r_hi, float *zone)
+                      const line_geometry *g, int k, int r_lo, int r_hi, float *zone)
 {
     double cx = g->cx, cy = g->cy;
+    unsigned char seen[2 * NEAR_R + 1][2 * NEAR_R + 1];
+    for (int dy = -r_hi; dy <= r_hi; ++dy)
+        for (int dx = -r_hi; dx <= r_hi; ++dx)
+            seen[dy + NEAR_R][dx + NEAR_R] = (unsigned char)offsets_seen(k, dx, dx, dy, dy, g);
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < h; ++y) {
         float *row_zone = zone + (size_t)y * w;
@@ -260,7 +339,7 @@ static void near_zone(const float *z, const float *lo_ns, const float *lo_ew, in
             const float *row = z + (size_t)(y + dy) * w;
             for (int dx = -r_hi; dx <= r_hi; ++dx) {
                 int ax = abs(dx), ay = abs(dy), x0 = dx < 0 ? -dx : 0, x1 = dx > 0 ? w - dx : w;
-                if ((ax > ay ? ax : ay) < r_lo)
+                if ((ax > ay ? ax : ay) < r_lo || !seen[dy + NEAR_R][dx + NEAR_R])
                     continue;
                 if (g->box) {
                     add_tangents(row_zone, row, lo_ns + (size_t)y * w, x0, x1, dx,
@@ -297,15 +376,21 @@ static void halve(const float *below, int pw, int ph, float *out, int nbx, int n
         }
 }
 
-/* Bound 1 over level j's ring: blocks of s = 2^j cells (heights: the
- * level's nbx x nby maxima). Each block row's rows of maxima are spread
- * over cells once (spread[x] = the block over cell x) and serve its s rows
- * of cells. */
+/* Bound 1 over level j's ring in sector k: blocks of s = 2^j cells
+ * (heights: the level's nbx x nby maxima) whose cells can give a horizon
+ * to a cell of the block at the ring's centre in that sector. Each block
+ * row's rows of maxima are spread over cells once (spread[x] = the block
+ * over cell x) and serve its s rows of cells. */
 static int ring_zone(const float *level, int nbx, int nby, int j, const float *lo, int w, int h,
-                     const line_geometry *g, float *zone)
+                     const line_geometry *g, int k, float *zone)
 {
     int s = 1 << j, span = nbx * s;
     int ok = 1;
+    unsigned char seen[2 * RING_M + 1][2 * RING_M + 1];
+    for (int dby = -RING_M; dby <= RING_M; ++dby)
+        for (int dbx = -RING_M; dbx <= RING_M; ++dbx)
+            seen[dby + RING_M][dbx + RING_M] = (unsigned char)offsets_seen(
+                k, dbx * s - (s - 1), dbx * s + (s - 1), dby * s - (s - 1), dby * s + (s - 1), g);
 #pragma omp parallel
     {
         float *spread = malloc(sizeof(float) * (size_t)span);
@@ -326,7 +411,7 @@ static int ring_zone(const float *level, int nbx, int nby, int j, const float *l
                 int ay = abs(dby), gap_y = ay > 0 ? (ay - 1) * s + 1 : 0;
                 for (int dbx = -RING_M; dbx <= RING_M; ++dbx) {
                     int ax = abs(dbx);
-                    if ((ax > ay ? ax : ay) < RING_LO)
+                    if ((ax > ay ? ax : ay) < RING_LO || !seen[dby + RING_M][dbx + RING_M])
                         continue;
                     int gap_x = ax > 0 ? (ax - 1) * s + 1 : 0;
                     float inv = inverse_distance(
@@ -355,14 +440,39 @@ static void centre_heights(const float *z, size_t n, float *lo)
         lo[c] = isfinite(z[c]) ? z[c] : INFINITY;
 }
 
-/* The tangent bound of every cell into best (w x h), the planes p being
- * work space of the same size. */
+/* Each zone of the nearest cells or of a level's ring, in every sector:
+ * the cells of the zone that count toward the sector (near_zone,
+ * ring_zone), capped by the zone's bound 2. */
+typedef struct {
+    const float *lo, *lo_ns, *lo_ew, *level;
+    int nbx, nby, j;  /* a ring's level (j > 0), or 0: the nearest cells */
+    int r_lo, r_hi;   /* the nearest cells' ring */
+} zone_source;
+
+static int add_sectors(const zone_source *zs, const float *cap, int w, int h,
+                       const line_geometry *g, float *zone, float *best)
+{
+    size_t n = (size_t)w * h;
+    for (int k = 0; k < SS_LIT_SECTORS; ++k) {
+        if (zs->j > 0) {
+            if (!ring_zone(zs->level, zs->nbx, zs->nby, zs->j, zs->lo, w, h, g, k, zone))
+                return 0;
+        } else {
+            near_zone(zs->level, zs->lo_ns, zs->lo_ew, w, h, g, k, zs->r_lo, zs->r_hi, zone);
+        }
+        add_zone(cap, n, zone, best + (size_t)k * n);
+    }
+    return 1;
+}
+
+/* The tangent bound of every sector and cell into best (SS_LIT_SECTORS
+ * planes of w x h), the planes p being work space of one plane's size. */
 #define WORK_PLANES 10
 static int bound_tangents(const float *z, int w, int h, const line_geometry *g, float *best,
                           float *p[WORK_PLANES])
 {
     float *lo = p[0], *zone = p[1], *level = p[2], *next = p[3], *gx = p[4], *gy = p[5];
-    float *win_x = p[6], *win_y = p[7], *lo_ns = p[8], *lo_ew = p[9];
+    float *cap = p[6], *win_y = p[7], *lo_ns = p[8], *lo_ew = p[9];
     size_t n = (size_t)w * h;
     if (g->box) {
         centre_heights(z, n, lo);
@@ -373,17 +483,20 @@ static int bound_tangents(const float *z, int w, int h, const line_geometry *g, 
         neighbour_steps(z, w, h, gx, gy);
     }
     for (size_t c = 0; c < n; ++c) {
-        best[c] = zone[c] = -INFINITY;
+        zone[c] = -INFINITY;
         level[c] = isfinite(z[c]) ? z[c] : -INFINITY; /* never the highest */
     }
+    for (size_t c = 0; c < n * SS_LIT_SECTORS; ++c)
+        best[c] = -INFINITY;
     double cx = g->cx, cy = g->cy;
     /* The nearest cells in rings of their own, each capped by the slopes
      * of a window only as wide as it needs. */
     static const int near_rings[][2] = {{1, 2}, {3, 4}, {5, NEAR_R}};
     int ok = 1;
     for (int k = 0; ok && k < 3; ++k) {
-        near_zone(level, lo_ns, lo_ew, w, h, g, near_rings[k][0], near_rings[k][1], zone);
-        ok = add_zone(gx, gy, w, h, cx, cy, near_rings[k][1], zone, best, win_x, win_y, next);
+        zone_source zs = {lo, lo_ns, lo_ew, level, 0, 0, 0, near_rings[k][0], near_rings[k][1]};
+        ok = zone_cap(gx, gy, w, h, cx, cy, near_rings[k][1], cap, win_y, next) &&
+             add_sectors(&zs, cap, w, h, g, zone, best);
     }
     /* Level j's ring holds cells within (RING_M + 1) 2^j - 1 of c and
      * covers every cell within (RING_M - 1) 2^j + 1. The blocks it skips
@@ -399,9 +512,9 @@ static int bound_tangents(const float *z, int w, int h, const line_geometry *g, 
         pw = nbx;
         ph = nby;
         /* next, the level below, is work space from here on. */
-        ok = ring_zone(level, nbx, nby, j, lo, w, h, g, zone) &&
-             add_zone(gx, gy, w, h, cx, cy, (RING_M + 1) * (1 << j) - 1, zone, best, win_x,
-                      win_y, next);
+        zone_source zs = {lo, lo_ns, lo_ew, level, nbx, nby, j, 0, 0};
+        ok = zone_cap(gx, gy, w, h, cx, cy, (RING_M + 1) * (1 << j) - 1, cap, win_y, next) &&
+             add_sectors(&zs, cap, w, h, g, zone, best);
         cover = (RING_M - 1) * (1 << j) + 1;
     }
     return ok;
@@ -410,24 +523,24 @@ static int bound_tangents(const float *z, int w, int h, const line_geometry *g, 
 /* The levels of the bounds g's proof gives (lit_levels.h). */
 static unsigned char *levels_of(const float *z, int w, int h, const line_geometry *g)
 {
-    size_t n = (size_t)w * h;
-    float *best = ss_malloc(n * sizeof(float)), *p[WORK_PLANES];
+    size_t n = (size_t)w * h, all = n * SS_LIT_SECTORS;
+    float *best = ss_malloc(all * sizeof(float)), *p[WORK_PLANES];
     int ok = best != NULL;
     for (int i = 0; i < WORK_PLANES; ++i) {
         p[i] = ss_malloc(n * sizeof(float));
         ok = ok && p[i];
     }
-    unsigned char *out = ss_malloc(n);
+    unsigned char *out = ss_malloc(all);
     ok = ok && out && bound_tangents(z, w, h, g, best, p);
     if (ok) {
 #pragma omp parallel for schedule(static)
-        for (size_t c = 0; c < n; ++c) {
-            double deg = atan(best[c] * (1.0 + ROUNDING_MARGIN) + ROUNDING_MARGIN) * (180.0 / M_PI);
+        for (size_t i = 0; i < all; ++i) {
+            double deg = atan(best[i] * (1.0 + ROUNDING_MARGIN) + ROUNDING_MARGIN) * (180.0 / M_PI);
             /* The first level above deg (an angle of 0 is below level 0's). */
             int k = deg < 0.0 ? 0 : (int)floor(deg / SS_LIT_STEP_DEG);
             while (k < SS_LIT_LEVELS && !(deg < ss_lit_level_deg(k)))
                 ++k;
-            out[c] = !isfinite(z[c])        ? 0
+            out[i] = !isfinite(z[i % n])    ? 0
                      : k < SS_LIT_LEVELS ? (unsigned char)k
                                          : SS_LIT_UNBOUNDED;
         }
@@ -442,16 +555,27 @@ static unsigned char *levels_of(const float *z, int w, int h, const line_geometr
     return out;
 }
 
+/* The most a line's direction turns from its azimuth: its slope is
+ * rounded to 2^-17 minor cells a major step (lines.c), twice that for
+ * margin, times the cells' aspect. */
+static double line_turn(double cx, double cy)
+{
+    return 0x1p-16 * fmax(cx, cy) / fmin(cx, cy);
+}
+
 unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
 {
-    line_geometry g = {0, cx, cy, 0.0, 0.0};
+    line_geometry g = {0, cx, cy, 0.0, 0.0, 2.0 * fmax(cx, cy), line_turn(cx, cy)};
     return levels_of(z, w, h, &g);
 }
 
 unsigned char *ss_lit_levels_box(const float *z, int w, int h, double cx, double cy,
                                  int families)
 {
-    line_geometry g = {1, cx, cy, 0.5 / families * fmax(cx, cy),
-                       (w > h ? w : h) * hypot(cx, cy) * 0x1p-20};
+    double beside = 0.5 / families * fmax(cx, cy), slack = (w > h ? w : h) * hypot(cx, cy) * 0x1p-20;
+    line_geometry g = {1,     cx,
+                       cy,    beside,
+                       slack, beside + 0.5 * hypot(cx, cy) + slack,
+                       line_turn(cx, cy)};
     return levels_of(z, w, h, &g);
 }
