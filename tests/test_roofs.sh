@@ -454,6 +454,28 @@ rc=$?
 [ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ ! -e bad.gpkg ]
 tap_ok $? "roofs --leaf-area-density without --crown-light beer-lambert is refused (exit $rc: $(head -c 160 err.txt))"
 
+# --cell-raster keeps the per-cell results: the insolation run's raster,
+# every band as `skysweep insolation --pv` with the same options gives it
+# alone, with the bands' names and units; no temporary is left beside it.
+# Not a GeoTIFF's name, or an input's, is refused in one line.
+roofs footprints.geojson cells.gpkg cells.csv --cell-raster cells.tif >/dev/null 2>err.txt &&
+    "$SKYSWEEP" insolation --weather "$weather" --time "$window" --device reference --directions 8 \
+        --pv -q city.tif alone.tif 2>>err.txt &&
+    gdal_translate -q -of ENVI cells.tif cells.bin && gdal_translate -q -of ENVI alone.tif alone.bin &&
+    cmp -s cells.bin alone.bin && cmp -s cells.csv plain.csv
+rc=$?
+n_bands=$(gdalinfo cells.tif 2>/dev/null | grep -c "^Band ")
+n_units=$(gdalinfo cells.tif 2>/dev/null | grep -c "Unit Type: ")
+[ $rc = 0 ] && [ "$n_bands" -gt 5 ] && [ "$n_units" = "$n_bands" ] && [ -z "$(ls -A | grep '^\.cells')" ]
+tap_ok $? "roofs --cell-raster: $n_bands bands ($n_units with units) equal to insolation --pv's alone, the planes as without it $(head -c 160 err.txt)"
+roofs footprints.geojson bad.gpkg bad.csv --cell-raster cells.png >/dev/null 2>err.txt
+rc=$?
+roofs footprints.geojson bad.gpkg bad.csv --cell-raster city.tif >/dev/null 2>err2.txt
+rc2=$?
+[ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ $rc2 -ne 0 ] && [ "$(wc -l <err2.txt)" = 1 ] &&
+    [ ! -e bad.gpkg ] && [ ! -e cells.png ]
+tap_ok $? "roofs --cell-raster not a .tif (exit $rc: $(head -c 120 err.txt)) or the DSM itself (exit $rc2: $(head -c 120 err2.txt)) is refused"
+
 # Without --weather: a clear sky, hourly over --time (doc/roofs.md). The
 # tall neighbour E's flat roof, the highest in the DSM, has no horizon above
 # its horizontal, so its cells' mean equals the open plane's to float

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "commands.h"
 #include "insolation_trees.h"
@@ -36,7 +37,7 @@ typedef struct {
     ss_insolation_params ins;
     const char *weather, *weather_zone;
     int weather_far_ok;
-    const char *buildings, *buildings_layer, *dtm, *csv, *id_field, *shade_masks;
+    const char *buildings, *buildings_layer, *dtm, *csv, *id_field, *shade_masks, *cell_raster;
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
     double setback_m, min_irradiation, max_tilt_deg;
     const char *module_size;
@@ -109,6 +110,10 @@ static const opt_spec own_options[] = {
     {"shade-masks", OPT_OUTPUT, SET(shade_masks), "FILE", NULL, 0, 0, NULL,
      "also write every cell's hourly shade masks (Google's hourlyShade): a GeoTIFF of 288 "
      "UInt32 bands, month x hour, bit d - 1 set where the cell is sunlit at that hour of day d"},
+    {"cell-raster", OPT_OUTPUT, SET(cell_raster), "FILE", NULL, 0, 0, NULL,
+     "also keep the per-cell results the planes are summed from: the insolation run's GeoTIFF "
+     "on the DSM's grid, every band with its name and unit (global kWh/m2 of the period and of "
+     "each month, DC and AC PV yield per kWp, ...; doc/insolation.md)"},
     {"horizon-files", OPT_STRING, SET(horizon_dir), "DIR", NULL, 0, 0, NULL,
      "also write a horizon file for PV software per roof plane, seen from its centre, into "
      "this existing folder as BUILDING_PLANE.ext (doc/pv-horizons.md)"},
@@ -222,17 +227,22 @@ typedef struct {
 /* Bytes a window holds per cell (roof_window; the DTM's counted always). */
 #define WINDOW_CELL_BYTES (sizeof(float) * 17)
 
-/* Runs insolation into OUTPUT's hidden neighbour raster (its path), which
- * the windows read back and close_run removes. With --plan, insolation
- * prints its plan and nothing is kept. Returns the exit code (0: done). */
+/* Runs insolation into a hidden neighbour raster (its path) of OUTPUT, or
+ * of `kept` (--cell-raster), which write_outputs renames it to: the
+ * windows read it back and close_run removes what is left. With --plan,
+ * insolation prints its plan and nothing is kept. Returns the exit code
+ * (0: done). */
 static int run_insolation(sweep_job *job, const opt_spec *const *tables, int argc, char **argv,
-                          const char *clear_sky, char *raster, size_t size)
+                          const char *clear_sky, const char *kept, char *raster, size_t size)
 {
     char dir[PATH_MAX], prefix[PATH_MAX];
-    if (!ss_temporary_prefix(job->output, dir, prefix) ||
+    const char *beside = kept ? kept : job->output;
+    if (!ss_temporary_prefix(beside, dir, prefix) ||
         (size_t)snprintf(raster, size, "%s/%sinsolation.tif", dir, prefix) >= size)
         return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
-                                                "output name '%s' is too long", job->output));
+                                                "output name '%s' is too long", beside));
+    if (kept) /* its temporaries go if the run is stopped (temporaries.h) */
+        ss_temporaries_track(kept);
     char *args[2 * 128 + COMMAND_MAX_INPUTS + 16];
     int n = insolation_args(tables, argc, argv, clear_sky, job->inputs, job->n_inputs, raster, args,
                             (int)(sizeof args / sizeof *args) - 1);
@@ -836,6 +846,8 @@ static ss_status check_files(roofs_run *r)
     ss_status st = r->set.csv ? ss_output_check(r->job.run.ctx, r->set.csv) : SS_OK;
     if (st == SS_OK && r->set.shade_masks)
         st = ss_output_check(r->job.run.ctx, r->set.shade_masks);
+    if (st == SS_OK && r->set.cell_raster)
+        st = ss_output_check(r->job.run.ctx, r->set.cell_raster);
     return st;
 }
 
@@ -1369,6 +1381,24 @@ static ss_status write_masks(roofs_run *r, char **tmp)
                           r->shade.masks, descriptions, tmp);
 }
 
+/* --cell-raster: the insolation run's raster, beside it, moved into place
+ * whole (close_run no longer finds it to remove). */
+static ss_status keep_cell_raster(roofs_run *r)
+{
+    ss_ctx *ctx = r->job.run.ctx;
+    if (!ss_temporaries_hold())
+        return ss_ctx_error(ctx, SS_ERR_CANCELLED, "stopped before '%s' was renamed",
+                            r->set.cell_raster);
+    ss_status st = SS_OK;
+    if (ss_output_rename(r->raster, r->set.cell_raster) != 0)
+        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename '%s' to '%s'", r->raster,
+                          r->set.cell_raster);
+    else
+        *r->raster = '\0';
+    ss_temporaries_release();
+    return st;
+}
+
 static ss_status write_outputs(roofs_run *r)
 {
     double t0 = run_now();
@@ -1443,6 +1473,8 @@ static ss_status write_outputs(roofs_run *r)
         st = ss_masks_commit(ctx, r->set.shade_masks, masks_tmp);
     else
         ss_masks_abort(r->set.shade_masks, masks_tmp);
+    if (st == SS_OK && r->set.cell_raster)
+        st = keep_cell_raster(r);
     r->seconds_write = run_now() - t0;
     return st;
 }
@@ -1495,6 +1527,8 @@ static void close_run(roofs_run *r)
     free_window(&r->win);
     if (*r->raster)
         remove(r->raster);
+    if (r->set.cell_raster)
+        ss_temporaries_forget(r->set.cell_raster);
     free(r->sky.steps);
     ss_dem_source_close(r->dtm_src);
     ss_dem_free(&r->dtm);
@@ -1548,6 +1582,13 @@ static void settle_rack_sun(roofs_settings *set, double lat_deg)
 }
 
 /* Options that make no sense for roofs, refused in one line. */
+/* Whether a file's name ends as a GeoTIFF's does. */
+static int raster_is_geotiff(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    return dot && (strcasecmp(dot, ".tif") == 0 || strcasecmp(dot, ".tiff") == 0);
+}
+
 static int refuse_options(const roofs_settings *set, const opt_spec *const *tables)
 {
     if (!set->buildings)
@@ -1564,6 +1605,9 @@ static int refuse_options(const roofs_settings *set, const opt_spec *const *tabl
     if (strcmp(set->ins.surface, opt_find(tables, "surface")->default_text) != 0)
         return run_usage_error("roofs", "roofs take each cell's own surface: --surface is for "
                                         "insolation");
+    if (set->cell_raster && !raster_is_geotiff(set->cell_raster))
+        return run_usage_error("roofs", "--cell-raster writes the insolation run's GeoTIFF: "
+                                        "name it .tif or .tiff");
     int bad_folder = roof_horizon_check(set->horizon_dir);
     return bad_folder ? bad_folder : -1;
 }
@@ -1662,8 +1706,8 @@ int cmd_roofs(int argc, char **argv)
         return rc;
     }
     double t0 = run_now();
-    rc = run_insolation(job, tables, argc, argv, *r->clear_sky ? r->clear_sky : NULL, r->raster,
-                        sizeof r->raster);
+    rc = run_insolation(job, tables, argc, argv, *r->clear_sky ? r->clear_sky : NULL,
+                        set->cell_raster, r->raster, sizeof r->raster);
     r->seconds_insolation = run_now() - t0;
     /* Under mpirun the processes shared the insolation run's steps, and
      * rank 0 wrote its raster: the roofs' own stage is rank 0's alone. */
