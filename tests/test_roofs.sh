@@ -454,6 +454,20 @@ rc=$?
 [ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ ! -e bad.gpkg ]
 tap_ok $? "roofs --leaf-area-density without --crown-light beer-lambert is refused (exit $rc: $(head -c 160 err.txt))"
 
+# --max-off-equator 90.5: the planes facing more than that from the
+# equator (A's and B's north faces, azimuth 0) have no usable area and no
+# module; every other plane (B's east and west faces, 90 degrees off and a
+# fit's 1e-4 degrees, among them) keeps its usable area as without the rule.
+roofs footprints.geojson off.gpkg off.csv --max-off-equator 90.5 >/dev/null 2>err.txt
+rc=$?
+says=$(paste -d '\n' plain.csv off.csv | awk -F, 'NR <= 2 { if (NR == 2) for (k = 1; k <= NF; k++) col[$k] = k; next }
+    NR % 2 { split($0, a, ","); next }
+    { az = a[col["azimuth_deg"]]; off = az - 180; off = off < 0 ? -off : off
+      if (off > 90.5) { dropped++; bad += ($col["usable_area_m2"] != 0 || $col["n_panels"] != 0) }
+      else { kept++; bad += ($col["usable_area_m2"] != a[col["usable_area_m2"]]) } }
+    END { printf "%d planes dropped, %d kept", dropped, kept; exit !(bad == 0 && dropped == 2 && kept > 5) }')
+tap_ok $? "roofs --max-off-equator 90.5 (exit $rc): $says $(head -c 120 err.txt)"
+
 # --cell-raster keeps the per-cell results: the insolation run's raster,
 # every band as `skysweep insolation --pv` with the same options gives it
 # alone, with the bands' names and units; no temporary is left beside it.

@@ -39,7 +39,7 @@ typedef struct {
     int weather_far_ok;
     const char *buildings, *buildings_layer, *dtm, *csv, *id_field, *shade_masks, *cell_raster;
     double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
-    double setback_m, min_irradiation, max_tilt_deg;
+    double setback_m, min_irradiation, max_tilt_deg, max_off_equator_deg;
     const char *module_size;
     const char *horizon_dir;
     int horizon_format;
@@ -81,6 +81,10 @@ static const opt_spec own_options[] = {
      "usable cells receive at least this much in the weather file's year (kWh/m2)"},
     {"max-tilt", OPT_DOUBLE, SET(max_tilt_deg), "DEG", "60", 0, 90, NULL,
      "usable planes are tilted at most this much"},
+    {"max-off-equator", OPT_DOUBLE, SET(max_off_equator_deg), "DEG", "180", 0, 180, NULL,
+     "usable planes face at most this far (azimuth) from the equator: 90 keeps east through "
+     "west by the equator's side; planes tilted under 1 degree face it (default 180: any "
+     "orientation, left to --min-irradiation)"},
     {"module-size", OPT_STRING, SET(module_size), "LxW", "1.7x1.0", 0, 0, NULL,
      "the modules' long and short sides (m) of the panel layout"},
     {"module-power", OPT_DOUBLE, SET(module_power_w), "W", "400", 1, 5000, NULL,
@@ -460,9 +464,17 @@ static int clear_of_edges(const int *plane_at, int cols, int rows, int c, int r,
     return 1;
 }
 
+/* How far azimuth (clockwise from true north) turns from the equator's
+ * direction at latitude lat: 0 facing it, 180 facing the pole. */
+static double off_equator_deg(double azimuth_deg, double lat_deg)
+{
+    return fabs(fmod(azimuth_deg - (lat_deg >= 0 ? 180.0 : 0.0) + 540.0, 360.0) - 180.0);
+}
+
 /* Plane p's sums over its cells (label p, p + 1 in plane_at): the inner
  * ones (clear of the edges) give its irradiation; the usable ones (inner,
- * bright enough, not too steep) its usable area, and are marked 1 in
+ * bright enough, not too steep, not facing too far from the equator) its
+ * usable area, and are marked 1 in
  * usable (the building's window, zeroed by the caller). */
 static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
                               const roof_window *y, const ss_footprint *fp, const int *label,
@@ -486,6 +498,8 @@ static void plane_irradiation(const sweep_job *job, const roofs_settings *set,
             continue;
         n_inner++, inner_kwh += g;
         if (g < set->min_irradiation || row->tilt_deg > set->max_tilt_deg ||
+            off_equator_deg(row->azimuth_deg, job->frame.centre_lat_deg) >
+                set->max_off_equator_deg ||
             !isfinite(y->pv_ac[cell - y->base]) || y->pv_ac[cell - y->base] < 0)
             continue;
         n_usable++;
