@@ -47,8 +47,9 @@ check() {
     # The end of each failing test's log: CI keeps only what is printed.
     grep -E '^(FAIL|ERROR|XPASS):' tests/check.out | awk '!seen[$2]++ { print $2 }' |
         while read -r name; do
-            echo "--- the end of $name.log:"
-            tail -n 20 "$name.log" 2>/dev/null | sed 's/^/    /'
+            # automake's log of tests/x.sh is tests/x.log
+            echo "--- the end of ${name%.sh}.log:"
+            tail -n 20 "${name%.sh}.log" 2>/dev/null | sed 's/^/    /'
         done
     summary=$(cat test-suite.log 2>/dev/null)
     count() { echo "$summary" | sed -n "s/^# $1: *//p" | head -n1; }
