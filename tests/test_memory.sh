@@ -161,7 +161,7 @@ done
 # Insolation in bands (a sun per cell, five steps): the same totals and steps.
 sun="--time 2026-12-21T07:00-10:00/PT10H --step PT2H --sun-per-cell on"
 # shellcheck disable=SC2086
-"$SKYSWEEP" insolation $sun --memory 320M --steps "$work/is_b.tif" "$work/dem.tif" \
+"$SKYSWEEP" insolation $sun --memory 320M --device reference --steps "$work/is_b.tif" "$work/dem.tif" \
     "$work/i_b.tif" >"$work/ib.out"
 rc=$?
 # shellcheck disable=SC2086
@@ -175,7 +175,7 @@ tap_ok $? "banded insolation == whole grid: global worst $wg Wh/m2, sun hours $w
 # Interpolated shadows store every direction's horizons: in bands they wait
 # in a temporary file until the bands' steps need them.
 # shellcheck disable=SC2086
-"$SKYSWEEP" insolation $sun --shadow interpolated --memory 320M "$work/dem.tif" \
+"$SKYSWEEP" insolation $sun --shadow interpolated --memory 320M --device reference "$work/dem.tif" \
     "$work/ii_b.tif" >"$work/iib.out"
 rc=$?
 # shellcheck disable=SC2086

@@ -1452,10 +1452,11 @@ static ss_status write_outputs(roofs_run *r)
         building_values(&r->fps.items[b], &r->sums[b], v);
         st = ss_vector_add(w, lb, r->fps.items[b].geometry, v);
     }
+    ss_value pv_row[PLANE_FIELDS]; /* a plane has more fields than a building */
     for (size_t i = 0; st == SS_OK && i < r->n_planes; ++i) {
-        memset(v, 0, sizeof v);
-        plane_values(&r->planes[i], r->fps.items[r->planes[i].building].id, v);
-        st = ss_vector_add(w, lp, r->planes[i].geometry, v);
+        memset(pv_row, 0, sizeof pv_row);
+        plane_values(&r->planes[i], r->fps.items[r->planes[i].building].id, pv_row);
+        st = ss_vector_add(w, lp, r->planes[i].geometry, pv_row);
     }
     int lpanels;
     if (st == SS_OK && r->set.panels_layer)
