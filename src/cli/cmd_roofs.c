@@ -7,7 +7,8 @@
  * insolation option passed on), and the planes' unshaded irradiation
  * comes from the same sky model on the plane with no horizon. Results go
  * to a GeoPackage (layers buildings and roof_planes), and a CSV of the
- * planes on request. */
+ * planes on request. Its insolation run and skies are in
+ * roofs_insolation.c, the layers it writes in roofs_layers.c. */
 #include "config.h"
 
 #include <limits.h>
@@ -19,36 +20,10 @@
 #include <strings.h>
 
 #include "commands.h"
-#include "insolation_trees.h"
 #include "mpi_share.h"
 #include "roof_horizons.h"
-#include "roof_panels.h"
-#include "roof_planes.h"
-#include "roof_shade.h"
-#include "roofs_io.h"
-#include "run.h"
-#include "skysweep_sun.h"
+#include "roofs.h"
 #include "temporaries.h"
-#include "temporary_name.h"
-#include "weather.h"
-
-typedef struct {
-    common_settings common; /* first: common_options()' offsets are relative to it */
-    ss_insolation_params ins;
-    const char *weather, *weather_zone;
-    int weather_far_ok;
-    const char *buildings, *buildings_layer, *dtm, *csv, *id_field, *shade_masks, *cell_raster;
-    double min_area_m2, max_angle_deg, tolerance_m, obstacle_m;
-    double setback_m, min_irradiation, max_tilt_deg, max_off_equator_deg;
-    const char *module_size;
-    const char *horizon_dir;
-    int horizon_format;
-    int orientation, panels_layer, shade_table;
-    double module_power_w, module_spacing_m, row_spacing_m, min_panel_area_m2;
-    double flat_tilt_deg, rack_tilt_deg, rack_sun_elevation_deg;
-    panel_options panel; /* from the above (settle_panel_options) */
-    insolation_tree_settings trees; /* passed on to insolation */
-} roofs_settings;
 
 #define SET(field) offsetof(roofs_settings, field)
 /* roofs' own options; the others go on to the insolation run. */
@@ -136,315 +111,7 @@ static const opt_spec passed_on[] = {
      "UMEP/SUEWS met file)"},
     OPT_END};
 
-/* ---- the insolation run ------------------------------------------------- */
-
-/* Whether spec is one of roofs' own options. */
-static int is_own(const opt_spec *spec)
-{
-    return spec >= own_options && spec < own_options + sizeof own_options / sizeof *own_options;
-}
-
-/* The option a command-line word names: its full name, or a prefix of
- * one alone (getopt_long_only's rule); NULL: none. */
-static const opt_spec *named_option(const opt_spec *const *tables, const char *name)
-{
-    const opt_spec *exact = opt_find(tables, name), *only = NULL;
-    int matches = 0;
-    for (int t = 0; !exact && tables[t]; ++t)
-        for (const opt_spec *o = tables[t]; o->name; ++o)
-            if (strncmp(o->name, name, strlen(name)) == 0)
-                matches++, only = o;
-    return exact ? exact : matches == 1 ? only : NULL;
-}
-
-/* The insolation command line: every option given that is not roofs' own
- * (so the run is exactly `skysweep insolation --weather F --pv` with the
- * same options), then --pv, -q, GeoTIFF, the DSM tiles and the
- * intermediate raster; --weather CLEAR_SKY where roofs wrote the records
- * of a clear sky (NULL: the user's --weather is among the options).
- * Returns the count, or -1 where it does not fit. */
-static int insolation_args(const opt_spec *const *tables, int argc, char **argv,
-                           const char *clear_sky, const char *const *dsm, int n_dsm,
-                           const char *raster, char **out, int max)
-{
-    int n = 0;
-    out[n++] = "insolation";
-    for (int i = 1; i < argc; ++i) {
-        const char *t = argv[i];
-        if (strcmp(t, "--") == 0)
-            break; /* positionals only from here */
-        if (t[0] != '-' || !t[1])
-            continue; /* a positional: the DSM tiles and OUTPUT are added below */
-        char name[64];
-        const char *start = t + (t[1] == '-' ? 2 : 1);
-        size_t len = strcspn(start, "=");
-        snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), start);
-        const opt_spec *spec = named_option(tables, name);
-        int takes_value = spec && spec->type != OPT_FLAG && !start[len];
-        if (!spec || !is_own(spec)) {
-            if (n + 2 >= max)
-                return -1;
-            out[n++] = argv[i];
-            if (takes_value && i + 1 < argc)
-                out[n++] = argv[i + 1];
-        }
-        i += takes_value;
-    }
-    const char *tail[] = {"--pv", "-q", "-of", "GTiff"};
-    if (n + 6 + n_dsm + 2 > max)
-        return -1;
-    if (clear_sky) { /* the clear sky's records roofs wrote (write_clear_sky) */
-        out[n++] = "--weather";
-        out[n++] = (char *)clear_sky;
-    }
-    for (int k = 0; k < 4; ++k)
-        out[n++] = (char *)tail[k];
-    for (int k = 0; k < n_dsm; ++k)
-        out[n++] = (char *)dsm[k];
-    out[n++] = (char *)raster;
-    out[n] = NULL;
-    return n;
-}
-
-/* Bands of the insolation raster roofs reads (cmd_insolation.c's order). */
-#define BAND_GLOBAL 1
-#define BAND_MONTHS 6
-#define BAND_PV_DC 18
-#define BAND_PV_AC 19
-
-/* A window of the grid's rows [row0, row0 + rows) that holds whole
- * footprints (doc/roofs.md, "Scale"): the DSM's heights, the ground's
- * (--dtm) and the insolation run's results per cell. The grid's cell c is
- * element c - base. */
-typedef struct {
-    int row0, rows;
-    size_t base, n; /* row0 x width; rows x width */
-    const float *z; /* the DSM's heights (relative to z_origin_m) */
-    float *z_read;  /* where a banded job reads them, else NULL (the job's whole grid) */
-    float *dtm;     /* absolute ground heights (--dtm), else NULL */
-    float *global;  /* kWh/m2 for the records */
-    float *monthly; /* 12 planes of kWh/m2 */
-    float *pv_dc;   /* kWh/kWp DC (after the system losses) */
-    float *pv_ac;   /* kWh/kWp AC */
-} roof_window;
-
-/* Bytes a window holds per cell (roof_window; the DTM's counted always). */
-#define WINDOW_CELL_BYTES (sizeof(float) * 17)
-
-/* Runs insolation into a hidden neighbour raster (its path) of OUTPUT, or
- * of `kept` (--cell-raster), which write_outputs renames it to: the
- * windows read it back and close_run removes what is left. With --plan,
- * insolation prints its plan and nothing is kept. Returns the exit code
- * (0: done). */
-static int run_insolation(sweep_job *job, const opt_spec *const *tables, int argc, char **argv,
-                          const char *clear_sky, const char *kept, char *raster, size_t size)
-{
-    char dir[PATH_MAX], prefix[PATH_MAX];
-    const char *beside = kept ? kept : job->output;
-    if (!ss_temporary_prefix(beside, dir, prefix) ||
-        (size_t)snprintf(raster, size, "%s/%sinsolation.tif", dir, prefix) >= size)
-        return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
-                                                "output name '%s' is too long", beside));
-    if (kept) /* its temporaries go if the run is stopped (temporaries.h) */
-        ss_temporaries_track(kept);
-    char *args[2 * 128 + COMMAND_MAX_INPUTS + 16];
-    int n = insolation_args(tables, argc, argv, clear_sky, job->inputs, job->n_inputs, raster, args,
-                            (int)(sizeof args / sizeof *args) - 1);
-    if (n < 0)
-        return run_fail(&job->run, ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT,
-                                                "too many options to pass on to insolation"));
-    int rc = cmd_insolation(n, args);
-    if (rc != 0 || job->run.plan_only) /* --plan: insolation printed its plan */
-        remove(raster);
-    return rc;
-}
-
-/* ---- the planes with no horizon ------------------------------------------ */
-
-/* The weather's records as insolation steps at the DSM's centre, in a
- * frame whose grid north is true north (the steps of the unshaded runs). */
-typedef struct {
-    ss_sun_step *steps;
-    int n;
-} sky_steps;
-
-static ss_status step_at(ss_ctx *ctx, int index, ss_sun_step *step, void *user)
-{
-    (void)ctx;
-    *step = ((const sky_steps *)user)->steps[index];
-    return SS_OK;
-}
-
-static ss_status make_sky_steps(sweep_job *job, const roofs_settings *set, const ss_weather *w,
-                                sky_steps *out)
-{
-    ss_ctx *ctx = job->run.ctx;
-    ss_time_range range = {0};
-    ss_status st = set->common.sun.time ? ss_parse_time_range(ctx, set->common.sun.time, &range)
-                                        : SS_OK;
-    out->steps = calloc(w->n ? w->n : 1, sizeof *out->steps);
-    out->n = 0;
-    if (st == SS_OK && !out->steps)
-        st = command_out_of_memory(&job->run);
-    ss_spa_params p;
-    ss_sun_params_spa(&set->common.sun, &p);
-    p.elevation_m = job->dem.grid.z_origin_m;
-    for (size_t i = 0; st == SS_OK && i < w->n; ++i) {
-        const ss_weather_record *rec = &w->records[i];
-        if (set->common.sun.time &&
-            !(rec->sun_unix_s >= range.start_unix_s && rec->sun_unix_s < range.end_unix_s))
-            continue;
-        ss_spa_result sun;
-        st = ss_spa(ctx, rec->sun_unix_s, job->frame.centre_lat_deg, job->frame.centre_lon_deg,
-                    &p, &sun);
-        if (st != SS_OK)
-            break;
-        ss_sun_step *s = &out->steps[out->n++];
-        ss_sun_step_clear_sky(&sun, sun.azimuth_deg, 0.0, rec->duration_h, 3.0,
-                              set->ins.solar_constant, s);
-        ss_civil_time local;
-        ss_civil_from_unix(rec->sun_unix_s + w->utc_offset_h * 3600.0, &local);
-        s->real_sky = 1;
-        s->ghi_w_m2 = rec->ghi, s->dni_w_m2 = rec->dni, s->dhi_w_m2 = rec->dhi;
-        s->albedo = rec->albedo;
-        s->temp_air_c = rec->temp_air_c, s->wind_speed_m_s = rec->wind_speed_m_s;
-        s->month = local.month;
-    }
-    return st;
-}
-
-/* ---- a clear sky, without --weather --------------------------------------- */
-
-/* The clear sky's span where --time gives none: a calendar year (UTC). */
-#define CLEAR_SKY_YEAR "2025-01-01T00:00Z/2026-01-01T00:00Z"
-/* The most hours of clear sky (as insolation's most clear-sky steps). */
-#define CLEAR_SKY_MAX_HOURS 100000.0
-
-/* Without --weather, the records of a clear sky: one an hour of --time's
- * whole UTC hours (or CLEAR_SKY_YEAR's), each at the middle of its hour,
- * ESRA's irradiance for the sun at the DSM's centre (ss_clear_sky_record,
- * --linke's turbidity of the record's month, the DSM's height), as a plain
- * CSV beside OUTPUT at path, which the insolation run and the open planes
- * then read as any weather file: one code path for both skies. The records
- * give no air temperature or wind: the modules take --temp-air and
- * --wind-speed. note says which sky it was. */
-static ss_status write_clear_sky(sweep_job *job, const roofs_settings *set, char *path,
-                                 size_t size, char *note, size_t note_size)
-{
-    ss_ctx *ctx = job->run.ctx;
-    char dir[PATH_MAX], prefix[PATH_MAX];
-    if (!ss_temporary_prefix(job->output, dir, prefix) ||
-        (size_t)snprintf(path, size, "%s/%sclear_sky.csv", dir, prefix) >= size)
-        return ss_ctx_error(ctx, SS_ERR_ARGUMENT, "output name '%s' is too long", job->output);
-    ss_time_range range = {0};
-    double linke[12];
-    ss_status st = ss_parse_time_range(ctx, set->common.sun.time ? set->common.sun.time
-                                                                 : CLEAR_SKY_YEAR,
-                                       &range);
-    if (st == SS_OK)
-        st = ss_insolation_params_linke(ctx, &set->ins, linke);
-    double first = ceil(range.start_unix_s / 3600.0), end = floor(range.end_unix_s / 3600.0);
-    if (st == SS_OK && !(end > first))
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                          "without --weather, --time must hold a whole hour (UTC): the clear "
-                          "sky's records are hourly");
-    if (st == SS_OK && end - first > CLEAR_SKY_MAX_HOURS)
-        st = ss_ctx_error(ctx, SS_ERR_ARGUMENT,
-                          "without --weather, --time spans %.0f hours, more than %.0f of clear "
-                          "sky",
-                          end - first, CLEAR_SKY_MAX_HOURS);
-    FILE *f = st == SS_OK ? fopen(path, "w") : NULL;
-    if (st == SS_OK && !f)
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
-    if (f)
-        fprintf(f, "time,ghi,dni,dhi\n");
-    ss_spa_params p;
-    ss_sun_params_spa(&set->common.sun, &p);
-    p.elevation_m = job->dem.grid.z_origin_m;
-    char stamp[40], until[40];
-    for (double hour = first; f && st == SS_OK && hour < end; ++hour) {
-        double t = hour * 3600.0 + 1800.0, ghi, dni, dhi;
-        ss_spa_result sun;
-        st = ss_spa(ctx, t, job->frame.centre_lat_deg, job->frame.centre_lon_deg, &p, &sun);
-        if (st != SS_OK)
-            break;
-        ss_civil_time civil;
-        ss_civil_from_unix(t, &civil);
-        ss_sun_step step;
-        ss_sun_step_clear_sky(&sun, sun.azimuth_deg, 0.0, 1.0, linke[civil.month - 1],
-                              set->ins.solar_constant, &step);
-        ss_clear_sky_record(&step, job->dem.grid.z_origin_m, &ghi, &dni, &dhi);
-        ss_format_instant(t, stamp, sizeof stamp);
-        fprintf(f, "%s,%.9g,%.9g,%.9g\n", stamp, ghi, dni, dhi);
-    }
-    int written = f && !ferror(f);
-    if (f && fclose(f) != 0)
-        written = 0;
-    if (f && !written && st == SS_OK)
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
-    ss_format_instant(first * 3600.0, stamp, sizeof stamp);
-    ss_format_instant(end * 3600.0, until, sizeof until);
-    snprintf(note, note_size,
-             "a clear sky (ESRA, Linke turbidity %s; no --weather), hourly from %s to %s, the "
-             "modules in %g C air and %g m/s wind",
-             set->ins.linke, stamp, until, set->ins.temp_air_c, set->ins.wind_speed_m_s);
-    return st;
-}
-
 /* ---- per plane and per building ------------------------------------------- */
-
-static const char *const month_abbr[12] = {"jan", "feb", "mar", "apr", "may", "jun",
-                                           "jul", "aug", "sep", "oct", "nov", "dec"};
-
-/* Suitability after sonnendach.ch's classes of annual irradiation. */
-static int suitability_class(double kwh_m2)
-{
-    return !isfinite(kwh_m2) ? 0 : kwh_m2 < 800 ? 1 : kwh_m2 < 1000 ? 2 : kwh_m2 < 1200 ? 3
-                                                   : kwh_m2 < 1400 ? 4
-                                                                   : 5;
-}
-static const char *const class_names[6] = {"none", "low", "medium", "good", "very good",
-                                           "excellent"};
-
-typedef struct {
-    size_t building;
-    int number; /* 1.. within the building */
-    roof_plane fit;
-    double tilt_deg, azimuth_deg; /* true azimuth of the downslope direction */
-    double centre_col, centre_row; /* the plane's cell nearest its mean (--horizon-files) */
-    double area_m2, usable_area_m2, inner_area_m2;
-    double kwh_m2_year, unshaded_kwh_m2_year, shading_loss_pct;
-    double kwp, kwh_ac_year, kwh_dc_year, kwh_per_kwp, kwh_ac_month[12];
-    int n_panels, racked, landscape;
-    int shade_on_usable; /* the shade table counts its usable cells (else all its cells) */
-    double panel_tilt_deg, panel_azimuth_deg; /* the modules' (racks': toward the equator) */
-    void *geometry;
-} plane_row;
-
-/* A module of the layer panels. */
-typedef struct {
-    size_t plane; /* index of its plane_row */
-    int number;   /* 1.. within the plane */
-    double kwh_ac_year;
-    void *geometry;
-} panel_row;
-
-typedef struct {
-    double roof_area_m2, usable_area_m2, obstacle_area_m2, footprint_area_m2;
-    double kwp, kwh_ac_year, kwh_dc_year, kwh_ac_month[12];
-    int n_panels;
-    double inner_area_m2, inner_kwh, inner_unshaded_kwh; /* for the mean and the loss */
-    double height_m;
-    int n_planes;
-} building_sums;
-
-/* What a plane's panel layout reads. */
-typedef struct {
-    const sweep_job *job;
-    const roofs_settings *set;
-    const ss_footprint *fp;
-    const roof_window *win;
-} roofs_run_view;
 
 /* Whether window cell (c, r) of plane p lies at least setback from every
  * cell that is not p's (outside the building's window included). */
@@ -586,252 +253,6 @@ static int plane_panels(const roofs_run_view *v, plane_row *row, const unsigned 
     return 0;
 }
 
-/* ---- outputs --------------------------------------------------------------- */
-
-#define PLANE_FIELDS 33
-#define BUILDING_FIELDS 31
-#define PANEL_FIELDS 7
-#define SHADE_FIELDS 7
-static ss_field plane_fields[PLANE_FIELDS], building_fields[BUILDING_FIELDS],
-    panel_fields[PANEL_FIELDS], shade_fields[SHADE_FIELDS];
-static char month_names[2][12][24];
-
-static int common_fields(ss_field *f, int n, int slot)
-{
-    f[n++] = (ss_field){"usable_area_m2", SS_FIELD_REAL, "m2",
-                        "true (3D) area of the usable cells: clear of edges and obstacles by the "
-                        "setback, at least the minimum irradiation, tilt at most the maximum"};
-    f[n++] = (ss_field){"n_panels", SS_FIELD_INT, "", "modules laid on the usable cells"};
-    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "n_panels x the module's power"};
-    f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
-                        "AC energy of the modules: each its kWp x the mean AC kWh/kWp of the "
-                        "cells it covers (PVWatts, as insolation --pv)"};
-    f[n++] = (ss_field){"kwh_dc_year", SS_FIELD_REAL, "kWh/year",
-                        "DC energy of the modules, after the system losses, before the inverter: "
-                        "each its kWp x the mean DC kWh/kWp of the cells it covers (insolation "
-                        "--pv's pv_yield)"};
-    f[n++] = (ss_field){"kwh_per_kwp", SS_FIELD_REAL, "kWh/kWp/year", "kwh_ac_year / kwp"};
-    for (int m = 0; m < 12; ++m) {
-        snprintf(month_names[slot][m], sizeof month_names[slot][m], "kwh_ac_%s", month_abbr[m]);
-        f[n++] = (ss_field){month_names[slot][m], SS_FIELD_REAL, "kWh/month",
-                            "the month's share of kwh_ac_year (as its share of the modules' "
-                            "cells' irradiation)"};
-    }
-    f[n++] = (ss_field){"kwh_m2_year", SS_FIELD_REAL, "kWh/m2/year",
-                        "mean irradiation on the roof (its cells clear of edges by the setback)"};
-    f[n++] = (ss_field){"unshaded_kwh_m2_year", SS_FIELD_REAL, "kWh/m2/year",
-                        "the same surface with no horizon (no shade, sky to the horizontal)"};
-    f[n++] = (ss_field){"shading_loss_pct", SS_FIELD_REAL, "%",
-                        "100 x (1 - kwh_m2_year / unshaded_kwh_m2_year)"};
-    f[n++] = (ss_field){"class", SS_FIELD_TEXT, "",
-                        "suitability by kwh_m2_year (sonnendach.ch): low < 800, medium < 1000, "
-                        "good < 1200, very good < 1400, excellent"};
-    f[n++] = (ss_field){"class_code", SS_FIELD_INT, "", "1 low .. 5 excellent"};
-    return n;
-}
-
-static void define_fields(void)
-{
-    int n = 0;
-    ss_field *f = plane_fields;
-    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
-                                                          "feature id"};
-    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "1.. within the building"};
-    f[n++] = (ss_field){"tilt_deg", SS_FIELD_REAL, "deg", "tilt from the horizontal"};
-    f[n++] = (ss_field){"azimuth_deg", SS_FIELD_REAL, "deg",
-                        "azimuth of the downslope direction, clockwise from true north (pvlib's "
-                        "surface_azimuth); 180 (0 south of the equator) where tilt < 1"};
-    f[n++] = (ss_field){"area_m2", SS_FIELD_REAL, "m2", "true (3D) area: planimetric / cos tilt"};
-    f[n++] = (ss_field){"fit_rms_m", SS_FIELD_REAL, "m", "rms distance of its cells from the "
-                                                          "plane"};
-    n = common_fields(f, n, 0);
-    f[n++] = (ss_field){"panel_tilt_deg", SS_FIELD_REAL, "deg",
-                        "the modules' tilt: the plane's, or the racks' on a flat roof"};
-    f[n++] = (ss_field){"panel_azimuth_deg", SS_FIELD_REAL, "deg",
-                        "the way the modules face, clockwise from true north: the plane's, or "
-                        "the equator on a flat roof"};
-    f[n++] = (ss_field){"racked", SS_FIELD_INT, "", "1: a flat roof, modules on racks"};
-    f[n++] = (ss_field){"landscape", SS_FIELD_INT, "",
-                        "1: modules' long side along the rows, 0: up the slope (portrait)"};
-    n = 0;
-    f = panel_fields;
-    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
-                                                          "feature id"};
-    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "its roof plane"};
-    f[n++] = (ss_field){"panel_id", SS_FIELD_INT, "", "1.. within the plane"};
-    f[n++] = (ss_field){"tilt_deg", SS_FIELD_REAL, "deg", "the module's tilt"};
-    f[n++] = (ss_field){"azimuth_deg", SS_FIELD_REAL, "deg",
-                        "the way the module faces, clockwise from true north"};
-    f[n++] = (ss_field){"kwp", SS_FIELD_REAL, "kWp", "the module's power"};
-    f[n++] = (ss_field){"kwh_ac_year", SS_FIELD_REAL, "kWh/year",
-                        "its kWp x the mean AC kWh/kWp of the cells it covers"};
-    n = 0;
-    f = shade_fields;
-    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
-                                                          "feature id"};
-    f[n++] = (ss_field){"plane_id", SS_FIELD_INT, "", "its roof plane"};
-    f[n++] = (ss_field){"month", SS_FIELD_INT, "", "1..12, of the weather file's local time"};
-    f[n++] = (ss_field){"hour", SS_FIELD_INT, "",
-                        "0..23, the hour of the weather file's local (standard) time the "
-                        "records' suns fall in"};
-    f[n++] = (ss_field){"sun_fraction", SS_FIELD_REAL, "",
-                        "share of the plane's cells in direct sun (sunlit, facing the sun), "
-                        "averaged over the month's records of that hour; 0 at night"};
-    f[n++] = (ss_field){"n_records", SS_FIELD_INT, "", "weather records averaged"};
-    f[n++] = (ss_field){"usable_cells", SS_FIELD_INT, "",
-                        "1: the plane's usable cells are counted, 0: all its cells (none "
-                        "usable)"};
-    n = 0;
-    f = building_fields;
-    f[n++] = (ss_field){"building_id", SS_FIELD_TEXT, "", "the footprint's id field, else its "
-                                                          "feature id"};
-    f[n++] = (ss_field){"partly_outside", SS_FIELD_INT, "", "1: part of the footprint lies "
-                                                             "outside the DSM"};
-    f[n++] = (ss_field){"repaired", SS_FIELD_INT, "", "1: invalid geometry made valid"};
-    f[n++] = (ss_field){"n_planes", SS_FIELD_INT, "", "roof planes"};
-    f[n++] = (ss_field){"footprint_area_m2", SS_FIELD_REAL, "m2", "cells of the footprint"};
-    f[n++] = (ss_field){"area_m2", SS_FIELD_REAL, "m2", "true (3D) area of the roof planes"};
-    f[n++] = (ss_field){"obstacle_area_m2", SS_FIELD_REAL, "m2", "planimetric area of obstacle "
-                                                                 "cells"};
-    f[n++] = (ss_field){"height_m", SS_FIELD_REAL, "m",
-                        "highest roof-plane cell above the median ground (--dtm; null without)"};
-    n = common_fields(f, n, 1);
-}
-
-static void plane_values(const plane_row *p, const char *building_id, ss_value *v)
-{
-    int n = 0;
-    v[n++].text = building_id;
-    v[n++].num = p->number;
-    v[n++].num = p->tilt_deg;
-    v[n++].num = p->azimuth_deg;
-    v[n++].num = p->area_m2;
-    v[n++].num = p->fit.rms_m;
-    v[n++].num = p->usable_area_m2;
-    v[n++].num = p->n_panels;
-    v[n++].num = p->kwp;
-    v[n++].num = p->kwh_ac_year;
-    v[n++].num = p->kwh_dc_year;
-    v[n++].num = p->kwh_per_kwp;
-    for (int m = 0; m < 12; ++m)
-        v[n++].num = p->kwh_ac_month[m];
-    v[n++].num = p->kwh_m2_year;
-    v[n++].num = p->unshaded_kwh_m2_year;
-    v[n++].num = p->shading_loss_pct;
-    int cls = suitability_class(p->kwh_m2_year);
-    v[n++].text = class_names[cls];
-    v[n++].num = cls ? cls : NAN;
-    v[n++].num = p->panel_tilt_deg;
-    v[n++].num = p->panel_azimuth_deg;
-    v[n++].num = p->racked;
-    v[n++].num = p->landscape;
-}
-
-static void building_values(const ss_footprint *fp, const building_sums *b, ss_value *v)
-{
-    int n = 0;
-    v[n++].text = fp->id;
-    v[n++].num = fp->partly_outside;
-    v[n++].num = fp->repaired;
-    v[n++].num = b->n_planes;
-    v[n++].num = b->footprint_area_m2;
-    v[n++].num = b->roof_area_m2;
-    v[n++].num = b->obstacle_area_m2;
-    v[n++].num = b->height_m;
-    v[n++].num = b->usable_area_m2;
-    v[n++].num = b->n_panels;
-    v[n++].num = b->kwp;
-    v[n++].num = b->kwh_ac_year;
-    v[n++].num = b->kwh_dc_year;
-    v[n++].num = b->kwp > 0 ? b->kwh_ac_year / b->kwp : NAN;
-    for (int m = 0; m < 12; ++m)
-        v[n++].num = b->kwh_ac_month[m];
-    double mean = b->inner_area_m2 > 0 ? b->inner_kwh / b->inner_area_m2 : NAN;
-    double unshaded = b->inner_area_m2 > 0 ? b->inner_unshaded_kwh / b->inner_area_m2 : NAN;
-    v[n++].num = mean;
-    v[n++].num = unshaded;
-    v[n++].num = unshaded > 0 ? 100.0 * (1.0 - mean / unshaded) : NAN;
-    int cls = suitability_class(mean);
-    v[n++].text = class_names[cls];
-    v[n++].num = cls ? cls : NAN;
-}
-
-/* A text as RFC 4180 quotes it (a quote doubled). */
-static void write_csv_text(FILE *f, const char *text)
-{
-    fputc('"', f);
-    for (const char *c = text; *c; ++c)
-        fputs(*c == '"' ? "\"\"" : (char[2]){*c, 0}, f);
-    fputc('"', f);
-}
-
-/* The planes as CSV, written to a temporary and renamed into place. */
-static ss_status write_csv(ss_ctx *ctx, const char *path, const plane_row *rows, size_t n,
-                           const ss_footprints *fps)
-{
-    char *tmp = ss_temporary_name(path, "tmp");
-    FILE *f = tmp ? fopen(tmp, "w") : NULL;
-    if (!f) {
-        free(tmp);
-        return ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot write '%s'", path);
-    }
-    ss_temporaries_track(path);
-    for (int k = 0; k < PLANE_FIELDS; ++k)
-        fprintf(f, "%s%s", k ? "," : "", plane_fields[k].name);
-    fprintf(f, "\n");
-    ss_value v[PLANE_FIELDS];
-    for (size_t i = 0; i < n; ++i) {
-        memset(v, 0, sizeof v);
-        plane_values(&rows[i], fps->items[rows[i].building].id, v);
-        for (int k = 0; k < PLANE_FIELDS; ++k) {
-            fputs(k ? "," : "", f);
-            if (plane_fields[k].type == SS_FIELD_TEXT)
-                write_csv_text(f, v[k].text ? v[k].text : "");
-            else if (isfinite(v[k].num))
-                fprintf(f, "%.10g", v[k].num);
-        }
-        fprintf(f, "\n");
-    }
-    int ok = !ferror(f) & (fclose(f) == 0);
-    ss_status st = SS_OK;
-    if (!ok || !ss_temporaries_hold())
-        st = ss_ctx_error(ctx, ok ? SS_ERR_CANCELLED : SS_ERR_OUTPUT, "cannot write '%s'", path);
-    else {
-        if (rename(tmp, path) != 0)
-            st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename '%s' to '%s'", tmp, path);
-        ss_temporaries_release();
-    }
-    if (st != SS_OK)
-        remove(tmp);
-    ss_temporaries_forget(path);
-    free(tmp);
-    return st;
-}
-
-/* ---- the run ---------------------------------------------------------------- */
-
-typedef struct {
-    roofs_settings set;
-    sweep_job job;
-    ss_footprints fps;
-    ss_weather weather;
-    char raster[PATH_MAX + 40]; /* the insolation run's, read back a window at a time */
-    roof_window win;            /* the window of rows being worked on */
-    int n_windows, most_rows;   /* windows worked in, and the rows of the largest */
-    ss_dem dtm;                 /* --dtm, read a window at a time */
-    ss_dem_source *dtm_src;
-    sky_steps sky;
-    plane_row *planes;
-    size_t n_planes, cap_planes;
-    building_sums *sums;
-    panel_row *panels; /* with --panels */
-    size_t n_panels, cap_panels;
-    roof_shade shade;              /* planes in the order of planes */
-    char clear_sky[PATH_MAX + 40]; /* without --weather: the clear sky's records ("": none) */
-    char sky_note[400];            /* the sky the yield is summed under */
-    double seconds_planes, seconds_panels, seconds_insolation, seconds_unshaded, seconds_shade;
-    double seconds_write;
-} roofs_run;
 
 /* A banded job's height origin before any window is read: rows from the
  * first until one holds a height, as a whole read sets it (the windows'
@@ -1274,7 +695,7 @@ static ss_status unshaded_planes(roofs_run *r)
     for (size_t i = 0; st == SS_OK && i < n; ++i)
         tilt[i] = r->planes[i].tilt_deg, az[i] = r->planes[i].azimuth_deg;
     if (st == SS_OK)
-        st = ss_insolation_open_planes(ctx, &io, r->sky.n, step_at, &r->sky, (int)n, tilt, az, wh);
+        st = ss_insolation_open_planes(ctx, &io, r->sky.n, roofs_sky_step_at, &r->sky, (int)n, tilt, az, wh);
     for (size_t i = 0; st == SS_OK && i < n; ++i) {
         plane_row *p = &r->planes[i];
         p->unshaded_kwh_m2_year = wh[i] / 1000.0;
@@ -1351,146 +772,6 @@ static ss_status plane_horizon_files(roofs_run *r)
     ss_status st = roof_horizon_files(r->job.run.ctx, &r->job.dem, &r->job.frame,
                                       r->set.horizon_dir, r->set.horizon_format, s, r->n_planes);
     free(s);
-    return st;
-}
-
-/* The table plane_shade: a row per plane, month and hour with records. */
-static ss_status write_shade_table(ss_vector_writer *w, const roofs_run *r)
-{
-    int layer;
-    ss_status st = ss_vector_table(w, "plane_shade",
-                                   "skysweep roofs: each roof plane's share in direct sun by "
-                                   "month and hour (doc/roofs.md)",
-                                   shade_fields, SHADE_FIELDS, &layer);
-    for (size_t i = 0; st == SS_OK && i < r->n_planes; ++i)
-        for (int m = 0; st == SS_OK && m < 12; ++m)
-            for (int h = 0; st == SS_OK && h < 24; ++h) {
-                int n = r->shade.records[m * 24 + h];
-                if (!n)
-                    continue;
-                const plane_row *p = &r->planes[i];
-                ss_value v[SHADE_FIELDS] = {{.text = r->fps.items[p->building].id},
-                                            {.num = p->number},
-                                            {.num = m + 1},
-                                            {.num = h},
-                                            {.num = roof_shade_fraction(&r->shade, i, m, h)},
-                                            {.num = n},
-                                            {.num = p->shade_on_usable}};
-                st = ss_vector_add(w, layer, NULL, v);
-            }
-    return st;
-}
-
-/* --shade-masks into a temporary (renamed with the GeoPackage). */
-static ss_status write_masks(roofs_run *r, char **tmp)
-{
-    static char names[SHADE_SLOTS][40];
-    const char *descriptions[SHADE_SLOTS];
-    for (int m = 0; m < 12; ++m)
-        for (int h = 0; h < 24; ++h) {
-            snprintf(names[m * 24 + h], sizeof names[0], "month %02d hour %02d", m + 1, h);
-            descriptions[m * 24 + h] = names[m * 24 + h];
-        }
-    return ss_masks_write(r->job.run.ctx, r->set.shade_masks, &r->job.dem, SHADE_SLOTS,
-                          r->shade.masks, descriptions, tmp);
-}
-
-/* --cell-raster: the insolation run's raster, beside it, moved into place
- * whole (close_run no longer finds it to remove). */
-static ss_status keep_cell_raster(roofs_run *r)
-{
-    ss_ctx *ctx = r->job.run.ctx;
-    if (!ss_temporaries_hold())
-        return ss_ctx_error(ctx, SS_ERR_CANCELLED, "stopped before '%s' was renamed",
-                            r->set.cell_raster);
-    ss_status st = SS_OK;
-    if (ss_output_rename(r->raster, r->set.cell_raster) != 0)
-        st = ss_ctx_error(ctx, SS_ERR_OUTPUT, "cannot rename '%s' to '%s'", r->raster,
-                          r->set.cell_raster);
-    else
-        *r->raster = '\0';
-    ss_temporaries_release();
-    return st;
-}
-
-static ss_status write_outputs(roofs_run *r)
-{
-    double t0 = run_now();
-    ss_ctx *ctx = r->job.run.ctx;
-    ss_vector_writer *w;
-    char *masks_tmp = NULL;
-    ss_status st = r->set.shade_masks ? write_masks(r, &masks_tmp) : SS_OK;
-    if (st == SS_OK)
-        st = ss_vector_open(ctx, r->job.output, &r->job.dem, &w);
-    if (st != SS_OK) {
-        ss_masks_abort(r->set.shade_masks, masks_tmp);
-        return st;
-    }
-    int lb, lp;
-    char trees_note[600] = "", light[200], described[1300];
-    const insolation_tree_settings *t = &r->set.trees;
-    if (t->trees.canopy) {
-        crown_light_describe(&t->light, t->trees.transmissivity, light, sizeof light);
-        snprintf(trees_note, sizeof trees_note,
-                 "; with trees from %s, transmissivity %.4g leaf on, %.4g leaf off, crown "
-                 "light: %s (doc/vegetation.md)",
-                 t->trees.canopy, t->trees.transmissivity, t->transmissivity_leaf_off, light);
-    }
-    snprintf(described, sizeof described,
-             "skysweep roofs: per building, sums over its roof planes (doc/roofs.md); under %s%s",
-             r->sky_note, trees_note);
-    st = ss_vector_layer(w, "buildings", described, building_fields, BUILDING_FIELDS, &lb);
-    snprintf(described, sizeof described,
-             "skysweep roofs: roof planes fitted in the DSM inside each footprint "
-             "(doc/roofs.md); under %s%s",
-             r->sky_note, trees_note);
-    if (st == SS_OK)
-        st = ss_vector_layer(w, "roof_planes", described, plane_fields, PLANE_FIELDS, &lp);
-    ss_value v[BUILDING_FIELDS];
-    for (size_t b = 0; st == SS_OK && b < r->fps.n; ++b) {
-        memset(v, 0, sizeof v);
-        building_values(&r->fps.items[b], &r->sums[b], v);
-        st = ss_vector_add(w, lb, r->fps.items[b].geometry, v);
-    }
-    ss_value pv_row[PLANE_FIELDS]; /* a plane has more fields than a building */
-    for (size_t i = 0; st == SS_OK && i < r->n_planes; ++i) {
-        memset(pv_row, 0, sizeof pv_row);
-        plane_values(&r->planes[i], r->fps.items[r->planes[i].building].id, pv_row);
-        st = ss_vector_add(w, lp, r->planes[i].geometry, pv_row);
-    }
-    int lpanels;
-    if (st == SS_OK && r->set.panels_layer)
-        st = ss_vector_layer(w, "panels",
-                             "skysweep roofs: each module of the panel layout, its footprint on "
-                             "the ground (doc/roofs.md)",
-                             panel_fields, PANEL_FIELDS, &lpanels);
-    for (size_t i = 0; st == SS_OK && r->set.panels_layer && i < r->n_panels; ++i) {
-        const panel_row *k = &r->panels[i];
-        const plane_row *p = &r->planes[k->plane];
-        ss_value pv[PANEL_FIELDS] = {{.text = r->fps.items[p->building].id},
-                                     {.num = p->number},
-                                     {.num = k->number},
-                                     {.num = p->panel_tilt_deg},
-                                     {.num = p->panel_azimuth_deg},
-                                     {.num = r->set.panel.power_w / 1000.0},
-                                     {.num = k->kwh_ac_year}};
-        st = ss_vector_add(w, lpanels, k->geometry, pv);
-    }
-    if (st == SS_OK && r->set.shade_table)
-        st = write_shade_table(w, r);
-    if (st == SS_OK && r->set.csv)
-        st = write_csv(ctx, r->set.csv, r->planes, r->n_planes, &r->fps);
-    if (st == SS_OK)
-        st = ss_vector_commit(w);
-    else
-        ss_vector_abort(w);
-    if (st == SS_OK && masks_tmp)
-        st = ss_masks_commit(ctx, r->set.shade_masks, masks_tmp);
-    else
-        ss_masks_abort(r->set.shade_masks, masks_tmp);
-    if (st == SS_OK && r->set.cell_raster)
-        st = keep_cell_raster(r);
-    r->seconds_write = run_now() - t0;
     return st;
 }
 
@@ -1682,7 +963,7 @@ int cmd_roofs(int argc, char **argv)
         free(r);
         return rc;
     }
-    define_fields();
+    roofs_define_fields();
     sweep_job *job = &r->job;
     settle_rack_sun(set, job->frame.centre_lat_deg);
     set->ins.pv = 1;
@@ -1695,7 +976,7 @@ int cmd_roofs(int argc, char **argv)
         !opt_parse_zone(set->weather_zone, &zone_h, zone_err, sizeof zone_err))
         st = ss_ctx_error(job->run.ctx, SS_ERR_ARGUMENT, "%s", zone_err);
     if (st == SS_OK && !set->weather) {
-        st = write_clear_sky(job, set, r->clear_sky, sizeof r->clear_sky, r->sky_note,
+        st = roofs_write_clear_sky(job, set, r->clear_sky, sizeof r->clear_sky, r->sky_note,
                              sizeof r->sky_note);
         if (*r->clear_sky)
             ss_temporaries_track(job->output); /* the records are among its temporaries */
@@ -1706,7 +987,7 @@ int cmd_roofs(int argc, char **argv)
     if (st == SS_OK)
         st = ss_weather_read(job->run.ctx, set->weather, zone_h, &r->weather);
     if (st == SS_OK)
-        st = make_sky_steps(job, set, &r->weather, &r->sky);
+        st = roofs_sky_steps(job, set, &r->weather, &r->sky);
     if (st == SS_OK && set->dtm)
         st = open_dtm(r);
     if (st == SS_OK)
@@ -1721,7 +1002,7 @@ int cmd_roofs(int argc, char **argv)
         return rc;
     }
     double t0 = run_now();
-    rc = run_insolation(job, tables, argc, argv, *r->clear_sky ? r->clear_sky : NULL,
+    rc = roofs_run_insolation(job, tables, own_options, argc, argv, *r->clear_sky ? r->clear_sky : NULL,
                         set->cell_raster, r->raster, sizeof r->raster);
     r->seconds_insolation = run_now() - t0;
     /* Under mpirun the processes shared the insolation run's steps, and
@@ -1738,7 +1019,7 @@ int cmd_roofs(int argc, char **argv)
         if (st == SS_OK && set->horizon_dir)
             st = plane_horizon_files(r);
         if (st == SS_OK)
-            st = write_outputs(r);
+            st = roofs_write_outputs(r);
         rc = job_finish(job, st);
         if (st == SS_OK && !job->run.quiet)
             print_summary(r);
