@@ -10,6 +10,7 @@ whole grid. Results hold NaN where the DEM has no height.
 """
 import inspect
 import math
+import os
 from collections import namedtuple
 
 import numpy as np
@@ -319,10 +320,13 @@ def _canopy(ctx, grid, trees):
 
 def _tree_layer(grid, values, what):
     """A canopy or trunk layer onto the grid's cells (float32, rows north to
-    south): a DataArray flipped as its DEM was, NaN, masked and declared
-    nodata cells no tree (0), as the CLI reads a tree raster."""
-    nodata_values = []
-    if _is_dataarray(values):
+    south): a DataArray flipped as its DEM was, a file's band 1 as it lies,
+    NaN, masked and declared nodata cells no tree (0), as the CLI reads a
+    tree raster."""
+    nodata_values, flips = [], grid.flips
+    if isinstance(values, (str, os.PathLike)):
+        values, flips = _tree_file(grid, values, what), []
+    elif _is_dataarray(values):
         _same_coords(grid, values, what)
         nodata_values = _declared_nodata(values)
         values = values.values
@@ -333,16 +337,44 @@ def _tree_layer(grid, values, what):
     if a.shape != grid.shape:
         raise ValueError(f"{what} must be shaped like the DEM {grid.shape}, not {a.shape}")
     layer = a.astype(np.float32)
-    for axis in grid.flips:
+    for axis in flips:
         layer = np.flip(layer, axis)
     if masked is not None:
-        for axis in grid.flips:
+        for axis in flips:
             masked = np.flip(masked, axis)
         layer[masked] = 0.0
     layer[np.isnan(layer)] = 0.0
     for nodata in nodata_values:
         layer[layer == np.float32(nodata)] = 0.0
     return np.ascontiguousarray(layer)
+
+
+def _tree_file(grid, path, what):
+    """Band 1 of a tree raster (rasterio), its nodata masked, rows north to
+    south. Where the DEM is a DataArray, the file's cell centres must be
+    its x, y (the CLI warps a tree raster onto the DEM's grid; an array has
+    no place to warp onto)."""
+    try:
+        import rasterio
+    except ImportError:
+        raise ImportError(f"{what} as a file needs rasterio (pip install rasterio); or give "
+                          "it as an array") from None
+    with rasterio.open(path) as dataset:
+        t = dataset.transform
+        if t.b != 0 or t.d != 0 or t.e > 0:
+            raise ValueError(f"{what} {path}: its grid is rotated or its rows run south to "
+                             "north: resample it north-up first")
+        layer = dataset.read(1, masked=True)
+    template = grid.template
+    if template is not None and layer.shape == grid.shape:
+        centres = {"x": t.c + t.a * (np.arange(layer.shape[1]) + 0.5),
+                   "y": t.f + t.e * (np.arange(layer.shape[0]) + 0.5)}
+        for dim, mine in centres.items():
+            if dim in template.coords and not np.allclose(
+                    mine, np.sort(np.asarray(template.coords[dim]))[::1 if dim == "x" else -1]):
+                raise ValueError(f"{what} {path}: its cells are not the DEM's: put it on the "
+                                 "DEM's grid first (gdalwarp, or rioxarray's reproject_match)")
+    return layer
 
 
 def _same_coords(grid, layer, what):
