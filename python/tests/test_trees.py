@@ -233,3 +233,28 @@ def test_insolation_trees_refused_as_the_cli_refuses_them():
         skysweep.insolation(z, 10, canopy=canopy, extinction=0.3, **INSOLATION)
     with pytest.raises(ValueError, match="memory="):
         skysweep.insolation(z, 10, canopy=canopy, memory="64M", **INSOLATION)
+
+
+def test_a_canopy_file_must_lie_on_a_dataarray_dems_cells(tmp_path):
+    xr = pytest.importorskip("xarray")
+    rasterio = pytest.importorskip("rasterio")
+    from rasterio.transform import from_origin
+    z, canopy = town()
+    z[np.isnan(z)] = 100.0
+    x, y = 5.0 + np.arange(44) * 10.0, 395.0 - np.arange(40) * 10.0  # cell centres
+    dem = xr.DataArray(z, dims=("y", "x"), coords={"y": y, "x": x})
+
+    def canopy_file(name, west):
+        path = tmp_path / name
+        with rasterio.open(path, "w", driver="GTiff", width=44, height=40, count=1,
+                           dtype="float32", transform=from_origin(west, 400.0, 10.0, 10.0),
+                           nodata=-1.0) as dataset:
+            dataset.write(np.where(canopy > 0, canopy, -1.0).astype(np.float32), 1)
+        return path
+
+    on_grid = skysweep.insolation(dem, canopy=canopy_file("on.tif", 0.0), **INSOLATION)
+    as_array = skysweep.insolation(dem, canopy=canopy, **INSOLATION)
+    for part in on_grid.data_vars:  # its nodata is no tree, as the array's zeros
+        assert same(on_grid[part].values, as_array[part].values), part
+    with pytest.raises(ValueError, match="its cells are not the DEM's"):
+        skysweep.insolation(dem, canopy=canopy_file("off.tif", 30.0), **INSOLATION)
