@@ -228,11 +228,12 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
         Metres; horizons only that far (geometric or horizontal). 0: unlimited, exact.
     {nodata}
     {name}
-    canopy : array_like, numpy.ma.MaskedArray or xarray.DataArray, default None
+    canopy : array_like, numpy.ma.MaskedArray, xarray.DataArray or path, default None
         Trees (the CLI's --canopy, doc/vegetation.md): crown tops in metres above the
-        DEM's surface, shaped like the DEM (a DataArray in its order); NaN, masked or
-        declared nodata cells are no tree (0). Not with radius, "radiative" or memory=.
-    trunk : array_like, default None
+        DEM's surface, shaped like the DEM (a DataArray in its order; a file read with
+        rasterio, on the DEM's cells); NaN, masked or declared nodata cells are no tree
+        (0). Not with radius, "radiative" or memory=.
+    trunk : array_like or path, default None
         Crown bottoms in metres above the surface, like canopy (--trunk); None:
         trunk_ratio x the canopy height.
     trunk_ratio : float, default 0.25
