@@ -621,6 +621,27 @@ typedef struct ss_insolation_trees_s {
     double leaf_area_density, extinction;
 } ss_insolation_trees;
 
+/* The leaf season of insolation's steps (doc/vegetation.md, "insolation"),
+ * for ss_insolation_trees' leaf_off; the command line and the Python
+ * package both take it from here. A leaf date is a day of the year (1-366)
+ * or MM-DD; ss_leaf_date_valid says whether text is one. */
+SS_API int ss_leaf_date_valid(const char *text);
+typedef struct {
+    int on_day, off_day; /* the season's days (a date given as MM-DD: in 2001) */
+    int south;           /* UMEP's defaults shifted by half a year (183 days) */
+    int leaf_off_steps;  /* steps with the leaves off */
+} ss_leaf_season;
+/* Each of n steps (instants mid_s, Unix seconds) leaf off (1) or on (0)
+ * into leaf_off, by its local date in mean solar time at longitude_deg.
+ * Leaves are on from leaf_on up to the day before leaf_off (over the new
+ * year where leaf_on comes later); NULL dates (or malformed ones) take
+ * UMEP's: on from day 98, off from day 300 (its firstdayleaf 97 and
+ * lastdayleaf 300), half a year later where latitude_deg is south of the
+ * equator. */
+SS_API void ss_leaf_seasons(const char *leaf_on, const char *leaf_off, double latitude_deg,
+                            double longitude_deg, const double *mid_s, int n,
+                            unsigned char *leaf_off_out, ss_leaf_season *season);
+
 /* Per-cell suns given by a lattice (ss_sun_step's lattice, in place of
  * per-cell arrays; insolation reads it, the shadow product takes arrays):
  * the sun's grid azimuth, true elevation and refraction (degrees) at nodes

@@ -1,5 +1,7 @@
 """numpy (and xarray) DEMs into library grids, and results back."""
+import contextlib
 import math
+import sys
 import warnings
 
 import numpy as np
@@ -67,14 +69,14 @@ def _metres_or_refuse(crs):
                          "reproject it, give cell_size in metres, or use a file call")
 
 
-def _north_up(dem, cell_size):
+def _north_up(dem, cell_size, whole=True):
     """A DataArray's heights with rows north to south and columns west to
     east (an ascending y, as netCDF often has, is flipped, and flipped back
     in the results), and its cell sizes from regular x, y coordinates in
-    metres where cell_size is None. Returns (values, cell_size, flips)."""
+    metres where cell_size is None. Returns (values, cell_size, flips);
+    values read whole, or (whole False) as _DataArrayRows."""
     if dem.ndim != 2:
         raise ValueError(f"the DEM must be a 2-D DataArray (y, x), not dims {dem.dims}")
-    values = np.asarray(dem.values)
     flips = []
     sizes = []
     for axis, dim in ((1, dem.dims[1]), (0, dem.dims[0])):
@@ -100,9 +102,69 @@ def _north_up(dem, cell_size):
         if crs is not None:
             x, y = (float(np.asarray(dem.coords[d])[[0, -1]].mean()) for d in dem.dims[::-1])
             cell_size = _ground_cell_sizes(crs.to_wkt(), x, y, cell_size)
+    if not whole:
+        return _DataArrayRows(dem, flips), cell_size, flips
+    values = np.asarray(dem.values)
     for axis in flips:
         values = np.flip(values, axis)
     return values, cell_size, flips
+
+
+#: The GDAL block cache (rasterio's own GDAL) a DEM read in windows may
+#: hold: the command line's cap, 16 MiB, counted by the plan.
+GDAL_CACHE_BYTES = 16 * 1048576
+
+
+class _Rows:
+    """A DEM read a window of rows at a time (rows[r0:r1], rows north to
+    south: a numpy array), not whole: memory='s bands read it this way, so
+    that the budget bounds the read too (doc/python.md, "Memory")."""
+    ndim = 2
+    #: The block cache its reads may hold (a file behind it): the plan counts it.
+    cache_bytes = 0
+
+    def reading(self):
+        """While a run reads it: rasterio's GDAL block cache capped at
+        cache_bytes (where a file is behind it), restored after."""
+        if not self.cache_bytes:
+            return contextlib.nullcontext()
+        import rasterio
+        return rasterio.Env(GDAL_CACHEMAX=self.cache_bytes)
+
+
+class _DataArrayRows(_Rows):
+    """A DataArray's heights, north up as _north_up gives them, read where a
+    band asks: a file rioxarray opened lazily is read a window at a time."""
+
+    def __init__(self, da, flips):
+        self.da, self.flips = da, flips
+        self.shape, self.dtype = da.shape, np.dtype(da.dtype)
+        # Not in memory, with rasterio loaded: a file rioxarray opened lazily.
+        if not getattr(da.variable, "_in_memory", True) and "rasterio" in sys.modules:
+            self.cache_bytes = GDAL_CACHE_BYTES
+
+    def __getitem__(self, rows):
+        start, stop, _ = rows.indices(self.shape[0])
+        if 0 in self.flips:
+            start, stop = self.shape[0] - stop, self.shape[0] - start
+        values = np.asarray(self.da[start:stop].values)
+        for axis in self.flips:
+            values = np.flip(values, axis)
+        return values
+
+
+class _RasterioRows(_Rows):
+    """Band 1 of an open rasterio dataset, a window of rows at a time."""
+
+    cache_bytes = GDAL_CACHE_BYTES
+
+    def __init__(self, dataset):
+        self.dataset = dataset
+        self.shape, self.dtype = (dataset.height, dataset.width), np.dtype(dataset.dtypes[0])
+
+    def __getitem__(self, rows):
+        start, stop, _ = rows.indices(self.shape[0])
+        return self.dataset.read(1, window=((start, max(start, stop)), (0, self.shape[1])))
 
 
 #: Half the projected step (metres) over which a cell's ground size is measured.
@@ -137,9 +199,10 @@ def _is_rasterio_dataset(obj):
     return all(hasattr(obj, a) for a in ("read", "transform", "crs", "res", "nodata"))
 
 
-def _from_rasterio(dataset, cell_size, nodata):
-    """Band 1 of an open rasterio dataset, its nodata, and its cell size
-    where its CRS is projected in metres (rows must run north to south)."""
+def _from_rasterio(dataset, cell_size, nodata, whole=True):
+    """Band 1 of an open rasterio dataset (read whole, or as _RasterioRows),
+    its nodata, and its cell size where its CRS is projected in metres
+    (rows must run north to south)."""
     if dataset.transform.b != 0 or dataset.transform.d != 0:
         raise ValueError("the dataset's grid is rotated: resample it north-up first")
     if dataset.transform.e > 0:
@@ -153,7 +216,8 @@ def _from_rasterio(dataset, cell_size, nodata):
         x, y = t.c + t.a * dataset.width / 2, t.f + t.e * dataset.height / 2
         cell_size = _ground_cell_sizes(crs.to_wkt(), x, y,
                                        (abs(dataset.res[0]), abs(dataset.res[1])))
-    return dataset.read(1), cell_size, dataset.nodata if nodata is None else nodata
+    band = dataset.read(1) if whole else _RasterioRows(dataset)
+    return band, cell_size, dataset.nodata if nodata is None else nodata
 
 
 def _cell_sizes(cell_size):
@@ -220,10 +284,11 @@ class _Heights:
         self.a, self.masked, self.nodata_values = a, masked, nodata_values
 
     def rows(self, row0, row1):
-        heights = np.array(self.a[row0:row1], dtype=np.float64, order="C")
+        raw = self.a[row0:row1]  # read once (a window of a file, for _Rows)
+        heights = np.array(raw, dtype=np.float64, order="C")
         if self.masked is not None:
             heights[self.masked[row0:row1]] = np.nan
-        _mask_nodata(self.a[row0:row1], heights, self.nodata_values)
+        _mask_nodata(raw, heights, self.nodata_values)
         return heights
 
 
@@ -254,25 +319,28 @@ class Grid:
         ctx.check(lib.ss_grid_check(ctx.ptr, grid, ffi.NULL))
         self.cell_size = (cx, cy)
 
-    def _take(self, dem, cell_size, nodata):
-        """The DEM as an array (not copied where it is one), its mask, the
-        nodata values it declares, and its cell sizes; sets template and flips."""
+    def _take(self, dem, cell_size, nodata, whole=True):
+        """The DEM as an array (not copied where it is one; a DataArray's or
+        a rasterio dataset's read whole, or with whole False as _Rows), its
+        mask, the nodata values it declares, and its cell sizes; sets
+        template and flips."""
         self.template = dem if _is_dataarray(dem) else None
         self.flips = []
         nodata_values = [] if nodata is None else [nodata]
         masked = np.ma.getmaskarray(dem) if np.ma.isMaskedArray(dem) else None
         if self.template is not None:
             nodata_values += _declared_nodata(dem)
-            dem, cell_size, self.flips = _north_up(dem, cell_size)
+            dem, cell_size, self.flips = _north_up(dem, cell_size, whole)
         elif _is_rasterio_dataset(dem):
-            dem, cell_size, nodata = _from_rasterio(dem, cell_size, nodata)
+            dem, cell_size, nodata = _from_rasterio(dem, cell_size, nodata, whole)
             nodata_values = [] if nodata is None else [nodata]
         if cell_size is None:
             raise TypeError("cell_size is needed (metres, one number or (east-west, "
                             "north-south)) unless the DEM is a DataArray with regular x, y "
                             "coordinates in metres")
         cell = _cell_sizes(cell_size)
-        a = np.ma.getdata(dem) if masked is not None else np.asarray(dem)
+        a = (np.ma.getdata(dem) if masked is not None else
+             dem if isinstance(dem, _Rows) else np.asarray(dem))
         if a.dtype.kind not in "iuf":
             raise TypeError(f"the DEM must hold real numbers (heights in metres), not dtype {a.dtype}")
         if a.ndim != 2:
@@ -325,8 +393,11 @@ class Grid:
         crs = _crs_of(self.template)
         if crs is not None:  # under whatever name the DEM's grid mapping has
             rio = self.template.rio
-            out = out.rio.write_crs(crs, grid_mapping_name=rio.grid_mapping)
-            out = out.rio.write_transform(rio.transform(), grid_mapping_name=rio.grid_mapping)
+            # In place: a copy of the result (rioxarray's default) would be a
+            # peak beyond memory='s bound.
+            out = out.rio.write_crs(crs, grid_mapping_name=rio.grid_mapping, inplace=True)
+            out = out.rio.write_transform(rio.transform(), grid_mapping_name=rio.grid_mapping,
+                                          inplace=True)
         return out
 
 

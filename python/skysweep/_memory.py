@@ -8,6 +8,7 @@ returns, plus the budget. The library's one memory planner
 runs through the library's banded calls (ss_*_rows) with the caller's array as
 the band source, read a band at a time, and a sink that writes the finished
 rows into the result."""
+import contextlib
 import math
 import re
 import resource
@@ -17,7 +18,7 @@ import warnings
 import numpy as np
 
 from ._context import ArgumentError, OutOfMemory
-from ._grid import Grid, _fill_extremes, _fill_warning, _Heights, _rejected_warning
+from ._grid import Grid, _fill_extremes, _fill_warning, _Heights, _rejected_warning, _Rows
 from ._lib import CONST, ffi, lib
 
 _SIZE = re.compile(r"([0-9]+\.?[0-9]*(?:[eE][-+]?[0-9]+)?)([kMGT]?)")
@@ -82,13 +83,26 @@ class BandedGrid(Grid):
     def __init__(self, ctx, dem, cell_size=None, nodata=None, start_resident=0.0):
         """start_resident: the process's resident memory when the call
         began, before its context (resident_bytes)."""
-        a, masked, nodata_values, (cx, cy) = self._take(dem, cell_size, nodata)
+        a, masked, nodata_values, (cx, cy) = self._take(dem, cell_size, nodata, whole=False)
         self.ctx, self.shape, self.cell_size = ctx, a.shape, (cx, cy)
         self.start_resident = start_resident
+        # A DataArray's or rasterio dataset's heights are read a window at a
+        # time (_Rows): its reads and their GDAL cache within the budget too.
+        self._reads = a if isinstance(a, _Rows) else None
         self._heights = _Heights(a, masked, nodata_values)
         self._fills = _fill_extremes(a)
         self._origin = ffi.new("double *", 0.0)
-        self._scan(a)
+        with self.reading():
+            self._scan(a)
+
+    @property
+    def cache_bytes(self):
+        """The GDAL block cache its reads may hold (the plan counts it)."""
+        return self._reads.cache_bytes if self._reads is not None else 0
+
+    def reading(self):
+        """The context a run reads the DEM in (_Rows.reading)."""
+        return self._reads.reading() if self._reads is not None else contextlib.nullcontext()
 
     def _chunks(self, row0=0, row1=None):
         """(row, heights) of rows [row0, row1) a chunk of rows at a time."""
@@ -129,13 +143,17 @@ class BandedGrid(Grid):
             self.ctx.fail(status, message)
 
     def _scan(self, a):
-        """One pass in chunks of rows: the stored zero, and the warnings and
-        refusals Grid gives for the whole array."""
+        """One pass in chunks of rows (each read once): the stored zero, and
+        the warnings and refusals Grid gives for the whole array (fills
+        counted where no mask or nodata took the cell, as Grid counts them)."""
         found, filled, rejected, valid = False, dict.fromkeys(self._fills, 0), 0, 0
-        for row0, heights in self._chunks():
-            raw = np.asarray(a[row0:row0 + heights.shape[0]])
+        step = chunk_rows(self.shape[1])
+        for row0 in range(0, self.shape[0], step):
+            heights = self._heights.rows(row0, min(row0 + step, self.shape[0]))
             for fill in filled:
-                filled[fill] += np.count_nonzero(raw == fill)
+                hit = heights == fill
+                filled[fill] += np.count_nonzero(hit)
+                heights[hit] = np.nan
             plausible = np.abs(heights) <= CONST["SS_Z_PLAUSIBLE_M"]
             rejected += np.count_nonzero(np.isfinite(heights) & ~plausible)
             valid += np.count_nonzero(plausible)
@@ -251,7 +269,8 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
         "peak_bytes": peak if peak > peak_before else 0.0,
         "width": width, "height": height, "cell_bytes": cell_bytes,
         "whole_cell_bytes": cell_bytes, "column_bytes": cost.column_bytes,
-        "hull_lines": max(lines, 1), "halo_rows": halo_rows, "cache_bytes": 0.0})
+        "hull_lines": max(lines, 1), "halo_rows": halo_rows,
+        "cache_bytes": float(grid.cache_bytes)})
     plan = ffi.new("ss_memory_plan *")
     ctx.check(lib.ss_memory_plan_make(ctx.ptr, need, plan))
     if plan.band_rows < 0:
@@ -306,7 +325,8 @@ def run_banded(ctx, grid, opt, cost, memory, targets, run, progress=None):
     rows = plan_bands(ctx, grid, opt, cost, memory, result_bytes)
     sink, failed = rows_sink(targets, grid.shape[1])
     try:
-        ctx.call(lambda c: run(c, grid.source(rows), sink), progress=progress)
+        with grid.reading():
+            ctx.call(lambda c: run(c, grid.source(rows), sink), progress=progress)
     finally:
         forget_plan(ctx)
         grid.raise_failure()

@@ -6,10 +6,11 @@ import math
 import numpy as np
 
 from ._context import ArgumentError
-from ._lib import CONST, PRODUCTS, default, ffi, lib
-from ._memory import BandCost, BandedGrid, run_banded
-from .products import (SWEEP_OPTIONS, _begin, _doc_options, _numpydoc, _params, _renamed,
-                       _sweep, _value)
+from ._grid import out_buffer
+from ._lib import CONST, PRODUCTS, default, ffi, lib, option
+from ._memory import BandCost, BandedGrid, rows_sink, run_banded
+from .products import (SWEEP_OPTIONS, _begin, _canopy, _doc_options, _numpydoc, _params,
+                       _renamed, _sweep, _trees, _value)
 from .sun import iso_duration, unix_seconds
 
 #: The library's parts (ss_insolation_out's fields, the CLI's bands, in order)
@@ -44,8 +45,8 @@ def _as_text(value):
 def _clear_sky_params(ctx, given):
     """The library's insolation parameters from keywords (--linke and
     --surface as their text, or as sequences of numbers), checked as the CLI
-    checks them before it plans: the run's options (their shadow mode the
-    plan's, set once it is made) and the Linke turbidity of each month."""
+    checks them before it plans (the registry's run makes its options from
+    them), and the Linke turbidity of each month."""
     given = dict(given, linke=_as_text(given.get("linke")),
                  surface=_as_text(given.get("surface")))
     params = _params("insolation", "insolation", given)
@@ -53,7 +54,7 @@ def _clear_sky_params(ctx, given):
     ctx.check(lib.ss_insolation_params_options(ctx.ptr, params, lib.SS_SHADOW_EXACT, options))
     by_month = ffi.new("double[12]")
     ctx.check(lib.ss_insolation_params_linke(ctx.ptr, params, by_month))
-    return params, options, by_month
+    return params, by_month
 
 
 def _surface(surface, tilt, azimuth):
@@ -95,10 +96,61 @@ def _steps(ctx, time, step):
     return mids, np.full(mids.shape, d.seconds / 3600.0)
 
 
-def _insolation_banded(ctx, grid, opt, params, plan, n_steps, sun_at, planes, kw):
-    """insolation in bands within memory=: the registry's run, the five
-    bands of its output 0 (SS_OUT_GLOBAL ... SS_OUT_SUN_HOURS, _PARTS'
-    order), one sun for every row as sun_at gives it, shadows as planned. A band holds a horizon's sums and the cells'
+def _insolation_trees_options(canopy, given, defaults, kw):
+    """The tree options, checked as `skysweep insolation` checks them (its
+    wording); None without a canopy."""
+    trees = _trees("insolation", canopy, given, defaults, kw)
+    if trees is None:
+        return None
+    for key in ("leaf_area_density", "extinction"):
+        if trees["crown_light"] != "beer-lambert" and given[key] is not defaults[key]:
+            raise ArgumentError(f"--{key.replace('_', '-')} needs --crown-light beer-lambert",
+                                2)
+    for key in ("leaf_on", "leaf_off"):
+        day = trees[key]
+        if day is not None:
+            trees[key] = str(day)
+            if not lib.ss_leaf_date_valid(trees[key].encode()):
+                raise ArgumentError(f"--{key.replace('_', '-')} '{trees[key][:60]}' is neither "
+                                    "a day of the year (1-366) nor a date MM-DD", 2)
+    return trees
+
+
+def _insolation_trees(ctx, grid, opt, trees, mids, latitude, longitude):
+    """The library's ss_insolation_trees, as `skysweep insolation --canopy`
+    makes them: the canopy checked, the sky its crowns hide from a
+    horizontal surface (ss_canopy_sky), each step's leaf season at the
+    place (ss_leaf_seasons). It holds what it points to as long as it
+    lives. Returns it and the steps with the leaves off."""
+    canopy = _canopy(ctx, grid, trees)
+    gaps = option("insolation", "trunk-gaps")["choices"].index(trees["trunk_gaps"])
+    hidden = grid.new_plane()
+    ctx.call(lib.ss_canopy_sky, grid.ptr, canopy, opt, lib.SS_SVF_DEF_HORIZONTAL, gaps,
+             ffi.NULL, out_buffer(hidden))
+    leaf_off = np.zeros(max(len(mids), 1), np.uint8)
+    season = ffi.new("ss_leaf_season *")
+    dates = [ffi.NULL if trees[k] is None else ffi.new("char[]", trees[k].encode())
+             for k in ("leaf_on", "leaf_off")]
+    lib.ss_leaf_seasons(dates[0], dates[1], latitude, longitude,
+                        ffi.new("double[]", list(mids)), len(mids),
+                        ffi.from_buffer("unsigned char[]", leaf_off), season)
+    beer_lambert = trees["crown_light"] == "beer-lambert"
+    held = ffi.new("ss_insolation_trees *", {
+        "ground": grid.ptr, "canopy": canopy, "sky_hidden": out_buffer(hidden),
+        "transmissivity_leaf_off": trees["transmissivity_leaf_off"],
+        "leaf_off": ffi.from_buffer("unsigned char[]", leaf_off),
+        "digital_lines": int(trees["crown_lines"] == "digital"), "trunk_gaps": gaps,
+        "leaf_area_density": trees["leaf_area_density"] if beer_lambert else 0.0,
+        "extinction": trees["extinction"]})
+    return ffi.gc(held, lambda _held, _keep=(canopy, hidden, leaf_off): None), \
+        season.leaf_off_steps
+
+
+def _run_insolation(ctx, grid, opt, params, plan, n_steps, sun_at, planes, trees, kw):
+    """The registry's insolation run, the five bands of its output 0
+    (SS_OUT_GLOBAL ... SS_OUT_SUN_HOURS, _PARTS' order) into planes, one sun
+    for every row as sun_at gives it, shadows as planned: on the whole grid,
+    or in bands within memory=. A band holds a horizon's sums and the cells'
     terms and sums, and the horizons stored where shadows are interpolated
     (the CLI's band cost); hulls are handed on for up to 64 steps at once."""
     @ffi.callback("ss_status(ss_ctx *, int, int, int, ss_sun_step *, void *)",
@@ -106,15 +158,25 @@ def _insolation_banded(ctx, grid, opt, params, plan, n_steps, sun_at, planes, kw
     def sun_rows(c, k, row0, n_rows, step, user):
         return sun_at(c, k, step, user)
 
+    targets = {(0, band): plane for band, plane in enumerate(planes.values())}
+    sun = ffi.new("ss_product_sun *", {"n_steps": n_steps, "sun_rows": sun_rows,
+                                       "shadow_mode": plan.shadow_mode,
+                                       "trees": ffi.NULL if trees is None else trees})
+    run = PRODUCTS["insolation"].run
+    if not isinstance(grid, BandedGrid):
+        sink, failed = rows_sink(targets, grid.shape[1])
+        try:
+            ctx.call(run, grid.source(), opt, params, sun, 0, ffi.NULL, sink, ffi.NULL,
+                     progress=kw.get("progress"))
+        finally:
+            if failed:  # the sink's own exception, not the library's status for it
+                raise failed[0][1].with_traceback(failed[0][2])
+        return
     stored = opt.directions if plan.shadow_mode == lib.SS_SHADOW_INTERPOLATED else 0
     cost = BandCost(lib.ss_horizon_band_cell_bytes(0) +
                     lib.ss_insolation_band_cell_bytes(0, stored),
                     column_bytes=lib.ss_horizon_column_bytes(),
                     hull_lines=max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"]))
-    targets = {(0, band): plane for band, plane in enumerate(planes.values())}
-    sun = ffi.new("ss_product_sun *", {"n_steps": n_steps, "sun_rows": sun_rows,
-                                       "shadow_mode": plan.shadow_mode})
-    run = PRODUCTS["insolation"].run
     run_banded(ctx, grid, opt, cost, kw["memory"], targets,
                lambda c, src, sink: run(c, src, opt, params, sun, 0, ffi.NULL, sink, ffi.NULL),
                progress=kw.get("progress"))
@@ -127,7 +189,15 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
                solar_constant=default("insolation", "solar-constant"), surface="cell",
                surface_tilt=None, surface_azimuth=None, altitude=None, pressure=101325.0,
                temperature=default("insolation", "temperature"), delta_t=None, nodata=None,
-               linke=None, **kw):
+               linke=None, canopy=None, trunk=None,
+               trunk_ratio=default("insolation", "trunk-ratio"),
+               transmissivity=default("insolation", "transmissivity"),
+               trunk_gaps=default("insolation", "trunk-gaps"),
+               transmissivity_leaf_off=default("insolation", "transmissivity-leaf-off"),
+               leaf_on=None, leaf_off=None, crown_lines=default("insolation", "crown-lines"),
+               crown_light=default("insolation", "crown-light"),
+               leaf_area_density=default("insolation", "leaf-area-density"),
+               extinction=default("insolation", "extinction"), **kw):
     """Clear-sky irradiation of every cell, as `skysweep insolation --time` computes it.
 
     ESRA with Linke turbidity, as GRASS r.sun: beam, sky diffuse and reflected
@@ -175,6 +245,38 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
     linke : float, str or sequence of 12 floats, default None
         The former name of linke_turbidity, kept as an alias; giving both is a
         TypeError.
+    canopy : array_like, numpy.ma.MaskedArray, xarray.DataArray or path, default None
+        Trees (the CLI's --canopy, doc/vegetation.md): crown tops in metres above the
+        DEM's surface, on the DEM's cells (a DataArray in its order; a file read with
+        rasterio, its cell centres the DEM's x, y where it is a DataArray); NaN, masked
+        or nodata cells are no tree (0). The beam and circumsolar light through crowns
+        keep the step's transmissivity, the sky diffuse and reflected light the sky the
+        crowns leave. "auto" shadows are exact with trees. Not with memory=.
+    trunk : array_like or path, default None
+        Crown bottoms in metres above the surface, like canopy (--trunk); None:
+        trunk_ratio x the canopy height.
+    trunk_ratio : float, default 0.25
+        Crown bottoms as a share of the canopy height, where trunk is None.
+    transmissivity : float, default 0.03
+        The share of light that crosses a crown with the leaves on (0..1).
+    trunk_gaps : {{"open", "ignore"}}, default "open"
+        The sky under crowns: "open" sees it between the ground and the trunk height;
+        "ignore" takes each crown down to the ground.
+    transmissivity_leaf_off : float, default 0.5
+        The share of light that crosses a crown with the leaves off (UMEP's 0.5).
+    leaf_on, leaf_off : int or str, default None
+        The days the leaves come out and fall: a day of the year (1-366) or "MM-DD";
+        None: UMEP's days 98 and 300, half a year later south of the equator. Each
+        step's season is its local date in mean solar time at `longitude`.
+    crown_lines : {{"auto", "digital"}}, default "auto"
+        The lines each step's crowns are swept on (doc/vegetation.md).
+    crown_light : {{"constant", "beer-lambert"}}, default "constant"
+        The beam through crowns: the constant transmissivity, or Beer-Lambert by the
+        ray's path inside crowns in leaf-on steps.
+    leaf_area_density : float, default 1
+        With crown_light "beer-lambert": leaf area per volume of crown (m2/m3).
+    extinction : float, default 0.5
+        With crown_light "beer-lambert": the leaves' extinction coefficient.
 
     Returns
     -------
@@ -185,19 +287,28 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
         direct sun on the cell's surface); NaN where the DEM has no height. The dict
         still takes the former keys "global", "beam", "diffuse" (sky) and
         "reflected". For a DataArray DEM, a Dataset of these variables (units "Wh
-        m-2", "h") with its CRS and transform.
+        m-2", "h") with its CRS and transform. With canopy, the Dataset's attributes
+        (for an array, the dict's attribute ``trees``) say the trees' transmissivities
+        and how many steps had the leaves off.
 
     {raises}
     """
     linke_turbidity = _renamed("insolation", "linke_turbidity", linke_turbidity,
                                insolation.__kwdefaults__["linke_turbidity"], "linke", linke)
     surface = _surface(surface, surface_tilt, surface_azimuth)
+    trees = _insolation_trees_options(canopy, {
+        "trunk": trunk, "trunk_ratio": trunk_ratio, "transmissivity": transmissivity,
+        "trunk_gaps": trunk_gaps, "transmissivity_leaf_off": transmissivity_leaf_off,
+        "leaf_on": leaf_on, "leaf_off": leaf_off, "crown_lines": crown_lines,
+        "crown_light": crown_light, "leaf_area_density": leaf_area_density,
+        "extinction": extinction}, insolation.__kwdefaults__, kw)
+    if trees is not None and _value("insolation", "shadow", shadow) == "auto":
+        shadow = "exact"  # the CLI's too: the planner's error tables have no trees
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
-    params, options, linke = _clear_sky_params(
+    params, linke = _clear_sky_params(
         ctx, {"step": iso_duration(step), "linke": linke_turbidity, "albedo": albedo,
               "shadow": shadow, "solar_constant": solar_constant, "surface": surface})
-    shadow = lib.ss_insolation_params_shadow(params)
-    if shadow == lib.SS_SHADOW_CUMULATIVE:
+    if lib.ss_insolation_params_shadow(params) == lib.SS_SHADOW_CUMULATIVE:
         raise ArgumentError("--shadow cumulative bins the suns of weather records: use "
                             "insolation_file with --weather", 2)
     temperature = _value("insolation", "temperature", temperature)
@@ -224,17 +335,10 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
                                       linke[civil.month - 1], params.solar_constant, out)
         return status
 
-    options.shadow_mode = plan.shadow_mode  # as the CLI sets it once planned
+    held, leaf_off_steps = (None, 0) if trees is None else _insolation_trees(
+        ctx, grid, opt, trees, mids, latitude, longitude)
     planes = {k: grid.new_plane() for k in _PARTS}
-    if isinstance(grid, BandedGrid):
-        _insolation_banded(ctx, grid, opt, params, plan, len(mids), sun_at, planes, kw)
-    else:
-        out = ffi.new("ss_insolation_out *")
-        buffers = {k: ffi.from_buffer("float[]", planes[k]) for k in _PARTS}
-        for k, field in _PARTS.items():
-            setattr(out, field, buffers[k])  # "global" is a Python keyword: no out.global
-        ctx.call(lib.ss_insolation, grid.ptr, opt, options, len(mids), sun_at, ffi.NULL,
-                 ffi.NULL, ffi.NULL, out, progress=kw.get("progress"))
+    _run_insolation(ctx, grid, opt, params, plan, len(mids), sun_at, planes, held, kw)
     shadow_used = ffi.string(lib.ss_shadow_mode_name(plan.shadow_mode)).decode()
     parts = {k: grid.finish(plane, k, {"long_name": _LONG_NAMES[k],
                                        "units": "h" if k == "sun_hours" else "Wh m-2"})
@@ -243,8 +347,15 @@ def insolation(dem, cell_size=None, *, time, latitude, longitude,
     parts["poa_diffuse"] = grid.wrap(diffuse, "poa_diffuse", {
         "long_name": _LONG_NAMES["poa_diffuse"], "units": "Wh m-2"})
     about = {"shadow": shadow_used, "steps": len(mids)}
+    if trees is not None:
+        about.update(transmissivity=trees["transmissivity"],
+                     transmissivity_leaf_off=trees["transmissivity_leaf_off"],
+                     leaf_off_steps=leaf_off_steps, crown_light=trees["crown_light"])
     if grid.template is None:
-        return Irradiation(parts)
+        result = Irradiation(parts)
+        if trees is not None:
+            result.trees = about
+        return result
     return grid.dataset(parts, about)
 
 

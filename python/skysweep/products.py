@@ -10,6 +10,7 @@ whole grid. Results hold NaN where the DEM has no height.
 """
 import inspect
 import math
+import os
 from collections import namedtuple
 
 import numpy as np
@@ -159,6 +160,27 @@ def _product_cost(name, params, outputs=0, cell_m=math.nan, **more):
                     **more)
 
 
+def _run(ctx, grid, opt, name, params, targets, kw, cost=None, sun=ffi.NULL, outputs=0):
+    """The one path of the array calls: the registry product's run call
+    (skysweep_products.h), as the CLI runs it, into targets (rows_sink's:
+    output, or (output, band), to a plane or cube), NaN at nodata. On the
+    whole grid held in memory, or within memory= in bands of what `cost`
+    says a band holds (a BandCost; None: _product_cost's)."""
+    run = PRODUCTS[name].run
+    args = (opt, ffi.NULL if params is None else params, sun, outputs, ffi.NULL)
+    if isinstance(grid, BandedGrid):
+        run_banded(ctx, grid, opt, cost or _product_cost(name, params, outputs), kw["memory"],
+                   targets, lambda c, src, sink: run(c, src, *args, sink, ffi.NULL),
+                   progress=kw.get("progress"))
+        return
+    sink, failed = rows_sink(targets, grid.shape[1])
+    try:
+        ctx.call(run, grid.source(), *args, sink, ffi.NULL, progress=kw.get("progress"))
+    finally:
+        if failed:  # the sink's own exception, not the library's status for it
+            raise failed[0][1].with_traceback(failed[0][2])
+
+
 _RAISES = """Raises
 ------
 ArgumentError
@@ -206,11 +228,12 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
         Metres; horizons only that far (geometric or horizontal). 0: unlimited, exact.
     {nodata}
     {name}
-    canopy : array_like, numpy.ma.MaskedArray or xarray.DataArray, default None
+    canopy : array_like, numpy.ma.MaskedArray, xarray.DataArray or path, default None
         Trees (the CLI's --canopy, doc/vegetation.md): crown tops in metres above the
-        DEM's surface, shaped like the DEM (a DataArray in its order); NaN, masked or
-        declared nodata cells are no tree (0). Not with radius, "radiative" or memory=.
-    trunk : array_like, default None
+        DEM's surface, shaped like the DEM (a DataArray in its order; a file read with
+        rasterio, on the DEM's cells); NaN, masked or declared nodata cells are no tree
+        (0). Not with radius, "radiative" or memory=.
+    trunk : array_like or path, default None
         Crown bottoms in metres above the surface, like canopy (--trunk); None:
         trunk_ratio x the canopy height.
     trunk_ratio : float, default 0.25
@@ -240,15 +263,8 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
     params = _params("svf", "svf", {"definition": definition, "radius": radius})
     code = lib.ss_svf_params_term(params)
     opt = _sweep(ctx, grid, "svf", params, kw)
-    if isinstance(grid, BandedGrid):
-        out = _sky_banded(ctx, grid, opt, "svf", params, kw)
-    elif radius > 0:
-        out = grid.new_plane()
-        ctx.call(lib.ss_svf_within, grid.ptr, opt, code, radius, out_buffer(out),
-                 progress=kw.get("progress"))
-    else:
-        out = grid.new_plane()
-        ctx.call(lib.ss_svf, grid.ptr, opt, code, out_buffer(out), progress=kw.get("progress"))
+    out = grid.new_plane()
+    _run(ctx, grid, opt, "svf", params, {0: out}, kw)
     attrs = {"long_name": "sky-view factor", "units": "1", "definition": definition,
              "directions": opt.directions}
     if trees is None:
@@ -319,10 +335,13 @@ def _canopy(ctx, grid, trees):
 
 def _tree_layer(grid, values, what):
     """A canopy or trunk layer onto the grid's cells (float32, rows north to
-    south): a DataArray flipped as its DEM was, NaN, masked and declared
-    nodata cells no tree (0), as the CLI reads a tree raster."""
-    nodata_values = []
-    if _is_dataarray(values):
+    south): a DataArray flipped as its DEM was, a file's band 1 as it lies,
+    NaN, masked and declared nodata cells no tree (0), as the CLI reads a
+    tree raster."""
+    nodata_values, flips = [], grid.flips
+    if isinstance(values, (str, os.PathLike)):
+        values, flips = _tree_file(grid, values, what), []
+    elif _is_dataarray(values):
         _same_coords(grid, values, what)
         nodata_values = _declared_nodata(values)
         values = values.values
@@ -333,16 +352,44 @@ def _tree_layer(grid, values, what):
     if a.shape != grid.shape:
         raise ValueError(f"{what} must be shaped like the DEM {grid.shape}, not {a.shape}")
     layer = a.astype(np.float32)
-    for axis in grid.flips:
+    for axis in flips:
         layer = np.flip(layer, axis)
     if masked is not None:
-        for axis in grid.flips:
+        for axis in flips:
             masked = np.flip(masked, axis)
         layer[masked] = 0.0
     layer[np.isnan(layer)] = 0.0
     for nodata in nodata_values:
         layer[layer == np.float32(nodata)] = 0.0
     return np.ascontiguousarray(layer)
+
+
+def _tree_file(grid, path, what):
+    """Band 1 of a tree raster (rasterio), its nodata masked, rows north to
+    south. Where the DEM is a DataArray, the file's cell centres must be
+    its x, y (the CLI warps a tree raster onto the DEM's grid; an array has
+    no place to warp onto)."""
+    try:
+        import rasterio
+    except ImportError:
+        raise ImportError(f"{what} as a file needs rasterio (pip install rasterio); or give "
+                          "it as an array") from None
+    with rasterio.open(path) as dataset:
+        t = dataset.transform
+        if t.b != 0 or t.d != 0 or t.e > 0:
+            raise ValueError(f"{what} {path}: its grid is rotated or its rows run south to "
+                             "north: resample it north-up first")
+        layer = dataset.read(1, masked=True)
+    template = grid.template
+    if template is not None and layer.shape == grid.shape:
+        centres = {"x": t.c + t.a * (np.arange(layer.shape[1]) + 0.5),
+                   "y": t.f + t.e * (np.arange(layer.shape[0]) + 0.5)}
+        for dim, mine in centres.items():
+            if dim in template.coords and not np.allclose(
+                    mine, np.sort(np.asarray(template.coords[dim]))[::1 if dim == "x" else -1]):
+                raise ValueError(f"{what} {path}: its cells are not the DEM's: put it on the "
+                                 "DEM's grid first (gdalwarp, or rioxarray's reproject_match)")
+    return layer
 
 
 def _same_coords(grid, layer, what):
@@ -360,7 +407,7 @@ def _same_coords(grid, layer, what):
 
 
 def _svf_tree_bands(ctx, grid, opt, code, svf_plane, trees, kw):
-    """svfveg and svfbuveg from the svf plane (SS_NODATA still at nodata),
+    """svfveg and svfbuveg from the svf plane (NaN at nodata),
     as `skysweep svf --canopy` makes bands 2 and 3: ss_canopy_sky's crown
     share, then ss_canopy_svf_bands."""
     canopy = _canopy(ctx, grid, trees)
@@ -368,7 +415,8 @@ def _svf_tree_bands(ctx, grid, opt, code, svf_plane, trees, kw):
     gaps = option("svf", "trunk-gaps")["choices"].index(trees["trunk_gaps"])
     ctx.call(lib.ss_canopy_sky, grid.ptr, canopy, opt, code, gaps, ffi.NULL, out_buffer(veg),
              progress=kw.get("progress"))
-    lib.ss_canopy_svf_bands(veg.size, ffi.from_buffer("float[]", svf_plane), out_buffer(veg),
+    lib.ss_canopy_svf_bands(veg.size, ffi.from_buffer("float[]", _nodata_marked(svf_plane)),
+                            out_buffer(veg),
                             trees["transmissivity"], out_buffer(veg), out_buffer(total))
     return veg, total
 
@@ -400,26 +448,11 @@ def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
     radius = _value("openness", "radius", radius)
     params = _params("openness", "openness", {"kind": kind, "radius": radius})
     opt = _sweep(ctx, grid, "openness", params, kw)
-    if isinstance(grid, BandedGrid):
-        out = _sky_banded(ctx, grid, opt, "openness", params, kw)
-    else:
-        out = grid.new_plane()
-        ctx.call(lib.ss_openness, grid.ptr, opt, int(kind == "negative"), radius,
-                 out_buffer(out), progress=kw.get("progress"))
+    out = grid.new_plane()
+    _run(ctx, grid, opt, "openness", params, {0: out}, kw)
     return grid.finish(out, name or f"{kind} openness",
                        {"long_name": f"{kind} openness", "units": "degree",
                         "directions": opt.directions})
-
-
-def _sky_banded(ctx, grid, opt, name, params, kw):
-    """SVF or openness in bands within memory=: the registry's run call."""
-    out = grid.new_plane()
-    run = PRODUCTS[name].run
-    run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: out},
-               lambda c, src, sink: run(c, src, opt, params, ffi.NULL, 0, ffi.NULL, sink,
-                                        ffi.NULL),
-               progress=kw.get("progress"))
-    return out
 
 
 Horizons = namedtuple("Horizons", "azimuth elevation distance cast_height")
@@ -460,40 +493,14 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
     angle = np.empty((d, h, w), np.float32)
     dist = np.empty((d, h, w), np.float32) if distance else None
     height = np.empty((d, h, w), np.float32) if cast_height else None
-    n = h * w
-
-    @ffi.callback("int(int, double, const float *, const float *, const float *, void *)")
-    def sink(index, azimuth_deg, angle_deg, dist_m, cast_height_m, user):
-        angle[index] = np.frombuffer(ffi.buffer(angle_deg, 4 * n), np.float32).reshape(h, w)
-        if dist is not None:
-            dist[index] = np.frombuffer(ffi.buffer(dist_m, 4 * n), np.float32).reshape(h, w)
-        if height is not None:
-            height[index] = np.frombuffer(ffi.buffer(cast_height_m, 4 * n),
-                                          np.float32).reshape(h, w)
-        return 1
-
     want = (CONST["SS_HORIZON_DISTANCE"] if distance else 0) | (
         CONST["SS_HORIZON_CAST_HEIGHT"] if cast_height else 0)
-    if isinstance(grid, BandedGrid):
-        # Output i of the registry's horizon is ss_horizon_rows' SS_OUT_HORIZON_*:
-        # its optional outputs' bits are want shifted by one.
-        cubes = {i: c for i, c in enumerate((angle, dist, height)) if c is not None}
-        run = PRODUCTS["horizon"].run
-        run_banded(ctx, grid, opt, _product_cost("horizon", ffi.NULL, want << 1,
-                                                 column_bytes=lib.ss_horizon_column_bytes()),
-                   kw["memory"], cubes,
-                   lambda c, src, sink: run(c, src, opt, ffi.NULL, ffi.NULL, want << 1,
-                                            ffi.NULL, sink, ffi.NULL),
-                   progress=kw.get("progress"))
-    else:
-        ctx.call(lib.ss_horizon, grid.ptr, opt, want, sink, ffi.NULL,
-                 progress=kw.get("progress"))
-        nodata_cells = angle[0] == np.float32(CONST["SS_NODATA"])
-        for cube in (angle, dist, height):
-            if cube is not None:
-                cube[:, nodata_cells] = np.nan
-        if height is not None:
-            height[height == np.float32(CONST["SS_NODATA"])] = np.nan
+    # Output i of the registry's horizon is ss_horizon_rows' SS_OUT_HORIZON_*:
+    # its optional outputs' bits are want shifted by one.
+    cubes = {i: c for i, c in enumerate((angle, dist, height)) if c is not None}
+    _run(ctx, grid, opt, "horizon", None, cubes, kw, outputs=want << 1,
+         cost=_product_cost("horizon", None, want << 1,
+                            column_bytes=lib.ss_horizon_column_bytes()))
     lead = {"azimuth": ("azimuth", azimuth, {"long_name": "azimuth clockwise from north",
                                              "units": "degree"})}
     cubes = Horizons(azimuth, grid.wrap(angle, "elevation", {"long_name": "horizon elevation",
@@ -556,11 +563,7 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
     sun_elevation = _checked("shadow", "sun_elevation", sun_elevation)
     opt = _sweep(ctx, grid, "shadow", None, kw)
     out = grid.new_plane()
-    if isinstance(grid, BandedGrid):
-        _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw)
-    else:
-        ctx.call(lib.ss_cast_shadow, grid.ptr, opt, sun_azimuth, sun_elevation, ffi.NULL,
-                 out_buffer(out), ffi.NULL, progress=kw.get("progress"))
+    _sunlit(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw)
     attrs = {"long_name": "sunlit", "units": "1", "sun_azimuth": sun_azimuth,
              "sun_elevation": sun_elevation}
     if trees is None:
@@ -579,25 +582,30 @@ def shadow(dem, cell_size=None, *, sun_azimuth, sun_elevation, nodata=None, name
                         {"transmissivity": trees["transmissivity"]})
 
 
+def _nodata_marked(plane):
+    """A result plane (NaN at nodata, as the run's sink gives it) as the
+    library's tree calls take it: SS_NODATA at nodata."""
+    return np.where(np.isnan(plane), np.float32(CONST["SS_NODATA"]), plane).astype(np.float32)
+
+
 def _shadow_tree_bands(ctx, grid, opt, sun_azimuth, sun_elevation, sunlit, trees):
     """The shadow class and the beam's fraction over the solid verdict
-    (SS_NODATA still at nodata), as `skysweep shadow --canopy` makes bands
+    (NaN at nodata), as `skysweep shadow --canopy` makes bands
     4 and 5: ss_canopy_crossed on the sweep's lines, then ss_canopy_classes."""
     canopy = _canopy(ctx, grid, trees)
     crossed = np.empty(grid.shape, np.uint8)
     ctx.check(lib.ss_canopy_crossed(ctx.ptr, grid.ptr, canopy, opt, sun_azimuth, sun_elevation,
                                     ffi.from_buffer("unsigned char[]", crossed)))
     klass, fraction = grid.new_plane(), grid.new_plane()
-    lib.ss_canopy_classes(canopy, klass.size, ffi.from_buffer("float[]", sunlit),
+    lib.ss_canopy_classes(canopy, klass.size, ffi.from_buffer("float[]", _nodata_marked(sunlit)),
                           ffi.from_buffer("unsigned char[]", crossed), out_buffer(klass),
                           out_buffer(fraction))
     return klass, fraction
 
 
-def _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):
-    """shadow in bands within memory=: the registry's run, its sunlit rows,
-    for the one sun ss_cast_shadow takes (an array's grid north is true
-    north)."""
+def _sunlit(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):
+    """shadow's sunlit plane: the registry's run, its sunlit rows, for one
+    sun on every cell (an array's grid north is true north)."""
     @ffi.callback("ss_status(ss_ctx *, int, int, int, ss_sun_step *, void *)",
                   error=lib.SS_ERR_INTERNAL)
     def sun_rows(c, index, row0, n_rows, step, user):
@@ -606,20 +614,18 @@ def _shadow_banded(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):
         step.elevation_deg = step.apparent_elevation_deg = sun_elevation
         return lib.SS_OK
 
-    cost = _product_cost("shadow", ffi.NULL, column_bytes=lib.ss_horizon_column_bytes(),
+    cost = _product_cost("shadow", None, column_bytes=lib.ss_horizon_column_bytes(),
                          hull_lines=1)
     sun = ffi.new("ss_product_sun *", {"n_steps": 1, "sun_rows": sun_rows})
-    run = PRODUCTS["shadow"].run
-    run_banded(ctx, grid, opt, cost, kw["memory"], {(0, CONST["SS_OUT_SUNLIT"]): out},
-               lambda c, src, sink: run(c, src, opt, ffi.NULL, sun, 0, ffi.NULL, sink, ffi.NULL),
-               progress=kw.get("progress"))
+    _run(ctx, grid, opt, "shadow", None, {(0, CONST["SS_OUT_SUNLIT"]): out}, kw, cost=cost,
+         sun=sun)
 
 
 def _shade(dem, cell_size, nodata, kw, given, radius=None):
     """gdaldem's hillshade or RVT's VAT blend (1..255), as `skysweep
     hillshade` computes it: the library's options from its hillshade table
     (ss_hillshade_params_options), the planner asked for what they sweep,
-    and the rows of ss_hillshade_rows on the whole grid. radius (metres)
+    and the registry's hillshade run. radius (metres)
     gives the blend's radius in the table's cells (the library measures
     them with the cells' geometric mean size, as here)."""
     ctx, grid = _begin(dem, cell_size, nodata, kw, SWEEP_OPTIONS)
@@ -631,33 +637,11 @@ def _shade(dem, cell_size, nodata, kw, given, radius=None):
     lib.ss_hillshade_params_options(params, cell_m, shading)
     opt = _sweep(ctx, grid, "hillshade", params, kw)
     out = grid.new_plane()
-    if isinstance(grid, BandedGrid):
-        sweeps = params.blend or params.cast_shadows or params.sky_view > 0
-        cost = _product_cost("hillshade", params, cell_m=cell_m,
-                             column_bytes=lib.ss_horizon_column_bytes() if sweeps else 0.0,
-                             hull_lines=None if sweeps else 1)
-        run_banded(ctx, grid, opt, cost, kw["memory"], {CONST["SS_OUT_SHADE"]: out},
-                   lambda c, src, sink: lib.ss_hillshade_rows(c, src, opt, shading, sink,
-                                                              ffi.NULL),
-                   progress=kw.get("progress"))
-        return grid, opt, out, shading.radius_m
-    width = grid.shape[1]
-
-    failed = []
-
-    @ffi.callback("ss_status(void *, int, int, int, int, const float *)",
-                  error=lib.SS_ERR_INTERNAL, onerror=lambda *e: failed.append(e))
-    def into_plane(user, output, index, row0, n_rows, values):
-        out[row0:row0 + n_rows] = np.frombuffer(ffi.buffer(values, 4 * n_rows * width),
-                                                np.float32).reshape(n_rows, width)
-        return 0
-
-    try:
-        ctx.call(lib.ss_hillshade_rows, grid.source(), opt, shading, into_plane, ffi.NULL,
-                 progress=kw.get("progress"))
-    finally:
-        if failed:  # the sink's own exception, not the library's status for it
-            raise failed[0][1].with_traceback(failed[0][2])
+    sweeps = params.blend or params.cast_shadows or params.sky_view > 0
+    cost = _product_cost("hillshade", params, cell_m=cell_m,
+                         column_bytes=lib.ss_horizon_column_bytes() if sweeps else 0.0,
+                         hull_lines=None if sweeps else 1)
+    _run(ctx, grid, opt, "hillshade", params, {CONST["SS_OUT_SHADE"]: out}, kw, cost=cost)
     return grid, opt, out, shading.radius_m
 
 
@@ -778,15 +762,10 @@ def vat(dem, cell_size=None, *, radius=None, nodata=None, name="vat", blend_radi
                         "give one")
     grid, opt, out, radius_m = _shade(dem, cell_size, nodata, kw,
                             {"blend": "vat", "blend_radius": blend_radius}, radius)
-    if isinstance(grid, BandedGrid):  # NaN at nodata already: in place, no copies
-        out -= np.float32(1.0)
-        out /= np.float32(254.0)
-        blend = out
-    else:
-        blend = np.where(out == np.float32(CONST["SS_NODATA"]), out, (out - 1.0) / 254.0)
-    return grid.finish(blend.astype(np.float32, copy=False), name, {"long_name": "VAT relief blend",
-                                                        "units": "1", "radius": radius_m,
-                                                        "directions": opt.directions})
+    out -= np.float32(1.0)  # NaN at nodata already: in place, no copies
+    out /= np.float32(254.0)
+    return grid.finish(out, name, {"long_name": "VAT relief blend", "units": "1",
+                                   "radius": radius_m, "directions": opt.directions})
 
 
 #: The products plan() plans: the registry's whose plan needs no time steps
@@ -915,19 +894,7 @@ def _array_call(name):
         opt = _sweep(ctx, grid, name, params, kw)
         bands = out.bands or opt.directions
         result = np.empty((bands, *grid.shape) if bands > 1 else grid.shape, np.float32)
-        run = PRODUCTS[name].run
-        args = (opt, ffi.NULL if params is None else params, ffi.NULL, 0, ffi.NULL)
-        if isinstance(grid, BandedGrid):
-            run_banded(ctx, grid, opt, _product_cost(name, params), kw["memory"], {0: result},
-                       lambda c, src, sink: run(c, src, *args, sink, ffi.NULL),
-                       progress=kw.get("progress"))
-        else:
-            sink, failed = rows_sink({0: result}, grid.shape[1])
-            try:
-                ctx.call(run, grid.source(), *args, sink, ffi.NULL, progress=kw.get("progress"))
-            finally:
-                if failed:  # the sink's own exception, not the library's status for it
-                    raise failed[0][1].with_traceback(failed[0][2])
+        _run(ctx, grid, opt, name, params, {0: result}, kw)
         if bands > 1:
             return result
         return grid.wrap(result, name, {"long_name": ffi.string(out.band_names).decode(),

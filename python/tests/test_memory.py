@@ -241,3 +241,108 @@ def test_a_dem_read_in_bands_is_refused_as_whole(dem, cell):
     with pytest.raises(skysweep.InputError) as banded:
         skysweep.svf(dem, cell, memory="1G", **SWEEP)
     assert str(banded.value) == str(whole.value)
+
+
+#: The same rule for a DEM in a file that rasterio or rioxarray opened: the
+#: heights are read a window of rows at a time through the band source, and
+#: rasterio's GDAL block cache is capped (16 MiB, counted by the plan), so the
+#: budget bounds the read too. Before, the dataset was read whole first (a
+#: float64 copy of 183 MiB: memory='80M' was refused), and a DataArray's
+#: result was copied by rioxarray's write_crs. A GeoTIFF of 16000 x 1500
+#: float64, written a strip at a time in the test's own process; opened in
+#: the child after its resident memory is measured (opening reads no heights).
+FILE_PEAK_SCRIPT = textwrap.dedent("""
+    import sys
+    import numpy as np
+    import rasterio
+    import skysweep
+    from skysweep._memory import resident_bytes
+    path, how, budget = sys.argv[1], sys.argv[2], 80 * 1048576
+    def peak_resident():
+        with open("/proc/self/status") as f:
+            return next(int(l.split()[1]) * 1024 for l in f if l.startswith("VmHWM:"))
+    if how == "rioxarray":
+        import rioxarray
+    before = resident_bytes()
+    peak_before = peak_resident()
+    if how == "rioxarray":
+        dem = rioxarray.open_rasterio(path).squeeze("band", drop=True)
+    else:
+        dem = rasterio.open(path)
+    out = skysweep.svf(dem, device="reference", directions=4, lines="interpolated",
+                       memory=budget)
+    peak = peak_resident()
+    lazy = how != "rioxarray" or not dem.variable._in_memory
+    print(before, peak_before, peak, out.nbytes, budget, float(np.nanmean(out)), int(lazy))
+""")
+
+
+def write_tall_geotiff(path, rows=16000, cols=1500):
+    rasterio = pytest.importorskip("rasterio")
+    from rasterio.transform import from_origin
+    x = np.arange(cols) * 0.02
+    with rasterio.open(path, "w", driver="GTiff", width=cols, height=rows, count=1,
+                       dtype="float64", crs="EPSG:32633", nodata=-9999.0,
+                       transform=from_origin(500000.0, 5200000.0, 10.0, 10.0)) as dataset:
+        for r in range(0, rows, 200):
+            strip = np.sin(x)[None, :] * np.cos(np.arange(r, r + 200) * 0.013)[:, None] * 150
+            dataset.write(strip + 800 + 0.7 * (r % 7), 1,
+                          window=((r, r + 200), (0, cols)))
+    return path
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="VmHWM: Linux's /proc")
+@UNDER_ASAN
+@pytest.mark.parametrize("how", ["rasterio", "rioxarray"])
+def test_a_file_dataset_is_read_in_bands_within_the_budget(tmp_path, how):
+    if how == "rioxarray":
+        pytest.importorskip("rioxarray")
+    path = write_tall_geotiff(tmp_path / "tall.tif")
+    done = subprocess.run([sys.executable, "-c", FILE_PEAK_SCRIPT, str(path), how],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    before, peak_before, peak, result, budget, mean, lazy = (
+        float(v) for v in done.stdout.split())
+    assert 16000 * 1500 * 8 >= 2 * budget  # the DEM's heights are more than twice the budget
+    assert 0 < mean <= 1 and lazy, "the DataArray was loaded whole"
+    assert peak <= before + result + budget, (
+        f"peak {peak / MIB:.1f} MiB > {before / MIB:.1f} before + {result / MIB:.1f} result + "
+        f"{budget / MIB:.1f} budget")
+
+
+@UNDER_ASAN
+@pytest.mark.parametrize("how", ["rasterio", "rioxarray"])
+def test_a_file_dataset_read_in_windows_equals_the_whole_read(tmp_path, how, monkeypatch):
+    rasterio = pytest.importorskip("rasterio")
+    if how == "rioxarray":
+        pytest.importorskip("rioxarray")
+    from rasterio.transform import from_origin
+    z = TALL.astype(np.float32)
+    z[700:720, 10:30] = -9999.0  # the file's nodata
+    path = tmp_path / "tall.tif"
+    with rasterio.open(path, "w", driver="GTiff", width=z.shape[1], height=z.shape[0], count=1,
+                       dtype="float32", crs="EPSG:32633", nodata=-9999.0,
+                       transform=from_origin(500000.0, 5200000.0, 10.0, 10.0)) as dataset:
+        dataset.write(z, 1)
+
+    def call(**kw):
+        if how == "rioxarray":
+            import rioxarray
+            dem = rioxarray.open_rasterio(path).squeeze("band", drop=True)
+            return dem, skysweep.svf(dem, **SWEEP, **kw)
+        with rasterio.open(path) as dem:
+            return dem, skysweep.svf(dem, **SWEEP, **kw)
+
+    _, whole = call()  # first: GDAL's set-up in the process is not the banded call's
+    least = least_memory(call)
+    planned = []
+    plan_bands = memory_module.plan_bands
+    monkeypatch.setattr(memory_module, "plan_bands",
+                        lambda *a: planned.append(plan_bands(*a)) or planned[-1])
+    dem, banded = call(memory=f"{least + 1}M")
+    assert planned and 0 < planned[0] < z.shape[0], f"not run in bands: {planned} at {least + 1}M"
+    if how == "rioxarray":
+        assert not dem.variable._in_memory  # read a window at a time, never whole
+    assert np.isnan(np.asarray(banded)[710, 20])
+    np.testing.assert_allclose(np.asarray(banded), np.asarray(whole), rtol=0,
+                               atol=CALLS["svf"][1], equal_nan=True)

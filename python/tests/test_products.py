@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import skysweep
-from conftest import rough_dem, same
+from conftest import read_envi, rough_dem, same
 
 # None is --device auto, as the CLI's default; PoCL's CPU device by name.
 DEVICES = [None, "reference", "Portable"]
@@ -46,12 +46,17 @@ def test_openness_default_directions_follow_the_planner(cli_run):
                 cli_run("openness", z, "--horizon-tolerance", 0.01)[0])
 
 
-def test_horizon_equals_the_cli(cli_run):
+def test_horizon_equals_the_cli(cli_run, tmp_path):
     z = rough_dem()
     h = skysweep.horizon(z, 10, directions=8, distance=True, cast_height=True)
     assert h.elevation.shape == (8,) + z.shape
     assert np.allclose(h.azimuth, np.arange(8) * 45.0)
-    assert same(h.elevation, cli_run("horizon", z, "--directions", 8))
+    assert same(h.elevation, cli_run("horizon", z, "--directions", 8,
+                                     "--distance", tmp_path / "distance.envi",
+                                     "--cast-height", tmp_path / "cast.envi"))
+    # The optional outputs too, nodata and "none ahead" (NaN) where the CLI's are.
+    assert same(h.distance, read_envi(tmp_path / "distance.envi"))
+    assert same(h.cast_height, read_envi(tmp_path / "cast.envi"))
     # Something lies ahead exactly where a distance is given.
     ahead = h.elevation > -90
     assert np.all(h.distance[ahead] > 0) and np.all(h.distance[~ahead & ~np.isnan(h.elevation)] == 0)

@@ -152,3 +152,109 @@ def test_shadow_trees_refused_as_the_cli_refuses_them():
                         transmissivity=2)
     with pytest.raises(ValueError, match="memory="):
         skysweep.shadow(z, 10, sun_azimuth=200, sun_elevation=25, canopy=canopy, memory="64M")
+
+
+# insolation(canopy=...) against `skysweep insolation --canopy` (doc/vegetation.md,
+# "insolation"): the CLI's DEM lies at 45 N 8 E (test_insolation's TM_45N_8E), its canopy
+# on the same grid.
+INSOLATION = dict(time="2026-06-21T04:00Z/PT6H", step="PT1H", latitude=45, longitude=8,
+                  directions=16, linke=3.5)
+INSOLATION_CLI = ("--time", "2026-06-21T04:00Z/PT6H", "--step", "PT1H", "--directions", 16,
+                  "--linke", 3.5, "--sun-per-cell", "off")
+PARTS = ("global", "beam", "diffuse", "reflected", "sun_hours")
+
+
+def tm_45n_8e():
+    from test_insolation import TM_45N_8E
+    return TM_45N_8E
+
+
+@pytest.mark.parametrize("options, leaf_off_steps", [
+    ({}, 0),
+    ({"trunk": "file", "transmissivity": 0.1, "trunk_gaps": "ignore", "leaf_on": "07-01",
+      "transmissivity_leaf_off": 0.3, "crown_lines": "digital"}, 6),
+    ({"crown_light": "beer-lambert", "leaf_area_density": 0.8, "leaf_off": "06-22"}, 0),
+    ({"leaf_off": 172, "transmissivity_leaf_off": 0.7}, 6),
+], ids=["defaults", "trunk-leaf-off", "beer-lambert", "leaf-off-day"])
+def test_insolation_canopy_equals_the_cli(cli_run, tmp_path, options, leaf_off_steps):
+    z, canopy = town()
+    prj = tm_45n_8e()
+    path = write_asc(tmp_path / "canopy.asc", canopy, prj=prj, centred=True)
+    cli, mine_options = [], dict(options)
+    for key, value in options.items():
+        if key == "trunk":
+            trunk = np.where(canopy > 0, 2.0, 0.0)
+            value = write_asc(tmp_path / "trunk.asc", trunk, prj=prj, centred=True)
+            mine_options["trunk"] = trunk
+        cli += [f"--{key.replace('_', '-')}", value]
+    mine = skysweep.insolation(z, 10, canopy=canopy, **INSOLATION, **mine_options)
+    theirs = cli_run("insolation", z, *INSOLATION_CLI, "--canopy", path, *cli, prj=prj,
+                     centred=True)
+    for k, part in enumerate(PARTS):
+        assert same(mine[part], theirs[k]), part
+    alone = skysweep.insolation(z, 10, shadow="exact", **INSOLATION)
+    assert np.nanmin(mine["beam"] - alone["beam"]) < -100  # the crowns shade the beam
+    assert np.nanmin(mine["poa_sky_diffuse"] - alone["poa_sky_diffuse"]) < 0  # and the sky
+    assert mine.trees["leaf_off_steps"] == leaf_off_steps
+    # The canopy given as its file: read with rasterio, the same cells.
+    if not options and pytest.importorskip("rasterio"):
+        from_file = skysweep.insolation(z, 10, canopy=path, **INSOLATION)
+        for part in PARTS:
+            assert same(from_file[part], mine[part]), part
+
+
+def test_insolation_with_a_canopy_of_zeros_or_clear_crowns_is_without_trees():
+    z, canopy = town()
+    for shadow in ("exact", "interpolated"):
+        alone = skysweep.insolation(z, 10, shadow=shadow, **INSOLATION)
+        zeros = skysweep.insolation(z, 10, shadow=shadow, canopy=np.zeros_like(z), **INSOLATION)
+        clear = skysweep.insolation(z, 10, shadow=shadow, canopy=canopy, transmissivity=1,
+                                    transmissivity_leaf_off=1, **INSOLATION)
+        for part in PARTS:
+            assert same(zeros[part], alone[part]), (shadow, part)
+            assert same(clear[part], alone[part]), (shadow, part)
+
+
+def test_insolation_trees_refused_as_the_cli_refuses_them():
+    z, canopy = town()
+    with pytest.raises(ValueError, match=r"canopy must be shaped like the DEM \(40, 44\)"):
+        skysweep.insolation(z, 10, canopy=canopy[:-1], **INSOLATION)
+    with pytest.raises(ValueError, match="canopy height"):
+        skysweep.insolation(z, 10, canopy=-canopy, **INSOLATION)
+    with pytest.raises(TypeError, match="canopy must hold real numbers"):
+        skysweep.insolation(z, 10, canopy=np.full(z.shape, "tree"), **INSOLATION)
+    with pytest.raises(ValueError, match="--leaf-on needs --canopy"):
+        skysweep.insolation(z, 10, leaf_on=100, **INSOLATION)
+    with pytest.raises(ValueError, match="--leaf-off '13-40' is neither a day of the year"):
+        skysweep.insolation(z, 10, canopy=canopy, leaf_off="13-40", **INSOLATION)
+    with pytest.raises(ValueError, match="--transmissivity-leaf-off expects 0 to 1"):
+        skysweep.insolation(z, 10, canopy=canopy, transmissivity_leaf_off=1.5, **INSOLATION)
+    with pytest.raises(ValueError, match="--extinction needs --crown-light beer-lambert"):
+        skysweep.insolation(z, 10, canopy=canopy, extinction=0.3, **INSOLATION)
+    with pytest.raises(ValueError, match="memory="):
+        skysweep.insolation(z, 10, canopy=canopy, memory="64M", **INSOLATION)
+
+
+def test_a_canopy_file_must_lie_on_a_dataarray_dems_cells(tmp_path):
+    xr = pytest.importorskip("xarray")
+    rasterio = pytest.importorskip("rasterio")
+    from rasterio.transform import from_origin
+    z, canopy = town()
+    z[np.isnan(z)] = 100.0
+    x, y = 5.0 + np.arange(44) * 10.0, 395.0 - np.arange(40) * 10.0  # cell centres
+    dem = xr.DataArray(z, dims=("y", "x"), coords={"y": y, "x": x})
+
+    def canopy_file(name, west):
+        path = tmp_path / name
+        with rasterio.open(path, "w", driver="GTiff", width=44, height=40, count=1,
+                           dtype="float32", transform=from_origin(west, 400.0, 10.0, 10.0),
+                           nodata=-1.0) as dataset:
+            dataset.write(np.where(canopy > 0, canopy, -1.0).astype(np.float32), 1)
+        return path
+
+    on_grid = skysweep.insolation(dem, canopy=canopy_file("on.tif", 0.0), **INSOLATION)
+    as_array = skysweep.insolation(dem, canopy=canopy, **INSOLATION)
+    for part in on_grid.data_vars:  # its nodata is no tree, as the array's zeros
+        assert same(on_grid[part].values, as_array[part].values), part
+    with pytest.raises(ValueError, match="its cells are not the DEM's"):
+        skysweep.insolation(dem, canopy=canopy_file("off.tif", 30.0), **INSOLATION)

@@ -5,18 +5,8 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "insolation_trees.h"
-#include "skysweep_sun.h"
-
-/* UMEP/SOLWEIG's leaf season: firstdayleaf 97 and lastdayleaf 300, leaves
- * on strictly between them, that is from day 98 up to day 299; its
- * leaf-off transmissivity 0.5 (umep-rust's Transmissivity_leafoff). */
-#define LEAF_ON_DAY 98
-#define LEAF_OFF_DAY 300
-/* The southern hemisphere's: half a year (183 days) later. */
-#define HALF_YEAR_DAYS 183
 
 #define SET(field) offsetof(insolation_tree_settings, field)
 static const opt_spec season_table[] = {
@@ -50,28 +40,6 @@ void insolation_tree_options(size_t base, opt_spec trees_out[TREE_OPTIONS_MAX],
     seasons_out[n] = (opt_spec)OPT_END;
 }
 
-/* A leaf date: a day of the year (1-366) into *day, or MM-DD into *month
- * and *day_of_month (*day 0). Returns 0 where it is neither. */
-static int leaf_date(const char *text, int *day, int *month, int *day_of_month)
-{
-    static const int days_in[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
-    int a, b, used = 0;
-    *day = *month = *day_of_month = 0;
-    if (sscanf(text, "%d-%d%n", &a, &b, &used) == 2 && text[used] == '\0' &&
-        strlen(text) == 5 && a >= 1 && a <= 12 && b >= 1 && b <= days_in[a - 1]) {
-        *month = a;
-        *day_of_month = b;
-        return 1;
-    }
-    used = 0;
-    if (sscanf(text, "%d%n", &a, &used) == 1 && text[used] == '\0' && a >= 1 && a <= 366 &&
-        strspn(text, "0123456789") == strlen(text)) {
-        *day = a;
-        return 1;
-    }
-    return 0;
-}
-
 int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
                            const insolation_tree_settings *set)
 {
@@ -88,8 +56,7 @@ int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
     }
     const char *dates[2] = {set->leaf_on, set->leaf_off}, *names[2] = {"leaf-on", "leaf-off"};
     for (int i = 0; rc < 0 && i < 2; ++i) {
-        int d, m, dm;
-        if (dates[i] && !leaf_date(dates[i], &d, &m, &dm)) {
+        if (dates[i] && !ss_leaf_date_valid(dates[i])) {
             char why[200];
             snprintf(why, sizeof why,
                      "--%s '%.60s' is neither a day of the year (1-366) nor a date MM-DD",
@@ -100,52 +67,17 @@ int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
     return rc;
 }
 
-/* A leaf date's day of the year in `year`. */
-static int day_in_year(const char *text, int fallback, long long year)
-{
-    int day, month, dom;
-    if (!text || !leaf_date(text, &day, &month, &dom))
-        return fallback;
-    if (day)
-        return day;
-    return (int)((ss_unix_from_civil(year, month, dom, 0, 0, 0) -
-                  ss_unix_from_civil(year, 1, 1, 0, 0, 0)) /
-                     86400.0 +
-                 0.5) +
-           1;
-}
-
-/* Leaves are on from the leaf-on day up to the day before the leaf-off
- * day, over the new year where leaf-on comes later in the year. */
-static int leaves_off(int day, int on, int off)
-{
-    int on_season = on <= off ? day >= on && day < off : day >= on || day < off;
-    return !on_season;
-}
-
-/* Each step's season by its local date: mean solar time at the DEM's
- * centre (its longitude / 15 h from UTC), which the weather's zone moves
- * by at most hours, at night. */
+/* Each step's season by its local date at the DEM's centre. */
 static void seasons_of_steps(const sweep_job *job, const insolation_tree_settings *set,
                              const double *mid_s, int n, insolation_trees *it)
 {
-    double shift_s = job->frame.centre_lon_deg / 15.0 * 3600.0;
-    int south = job->frame.centre_lat_deg < 0.0 ? HALF_YEAR_DAYS : 0;
-    int on_default = (LEAF_ON_DAY - 1 + south) % 365 + 1;
-    int off_default = (LEAF_OFF_DAY - 1 + south) % 365 + 1;
-    it->south = south != 0;
-    it->on_day = day_in_year(set->leaf_on, on_default, 2001);
-    it->off_day = day_in_year(set->leaf_off, off_default, 2001);
-    for (int k = 0; k < n; ++k) {
-        ss_civil_time t;
-        double local = mid_s[k] + shift_s;
-        ss_civil_from_unix(local, &t);
-        int day = (int)((local - ss_unix_from_civil(t.year, 1, 1, 0, 0, 0)) / 86400.0) + 1;
-        int on = day_in_year(set->leaf_on, on_default, t.year);
-        int off = day_in_year(set->leaf_off, off_default, t.year);
-        it->leaf_off[k] = (unsigned char)leaves_off(day, on, off);
-        it->leaf_off_steps += it->leaf_off[k];
-    }
+    ss_leaf_season season;
+    ss_leaf_seasons(set->leaf_on, set->leaf_off, job->frame.centre_lat_deg,
+                    job->frame.centre_lon_deg, mid_s, n, it->leaf_off, &season);
+    it->south = season.south;
+    it->on_day = season.on_day;
+    it->off_day = season.off_day;
+    it->leaf_off_steps = season.leaf_off_steps;
 }
 
 ss_status insolation_trees_open(sweep_job *job, const insolation_tree_settings *set,

@@ -2,9 +2,12 @@
 #include "config.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "insolation_trees.h"
+#include "skysweep_sun.h"
 
 ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io,
                                     const ss_source *src)
@@ -118,4 +121,90 @@ ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees 
         lines.lines = SS_LINES_DIGITAL;
     return ss_canopy_crossed(ctx, t->ground, t->canopy, &lines, grid_azimuth_deg,
                              apparent_elevation_deg, crossed);
+}
+
+/* ---- the leaf season -------------------------------------------------------- */
+
+/* UMEP/SOLWEIG's leaf season: firstdayleaf 97 and lastdayleaf 300, leaves
+ * on strictly between them, that is from day 98 up to day 299. */
+#define LEAF_ON_DAY 98
+#define LEAF_OFF_DAY 300
+/* The southern hemisphere's: half a year (183 days) later. */
+#define HALF_YEAR_DAYS 183
+
+/* A leaf date: a day of the year (1-366) into *day, or MM-DD into *month
+ * and *day_of_month (*day 0). Returns 0 where it is neither. */
+static int leaf_date(const char *text, int *day, int *month, int *day_of_month)
+{
+    static const int days_in[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    int a, b, used = 0;
+    *day = *month = *day_of_month = 0;
+    if (sscanf(text, "%d-%d%n", &a, &b, &used) == 2 && text[used] == '\0' &&
+        strlen(text) == 5 && a >= 1 && a <= 12 && b >= 1 && b <= days_in[a - 1]) {
+        *month = a;
+        *day_of_month = b;
+        return 1;
+    }
+    used = 0;
+    if (sscanf(text, "%d%n", &a, &used) == 1 && text[used] == '\0' && a >= 1 && a <= 366 &&
+        strspn(text, "0123456789") == strlen(text)) {
+        *day = a;
+        return 1;
+    }
+    return 0;
+}
+
+int ss_leaf_date_valid(const char *text)
+{
+    int day, month, day_of_month;
+    return text && leaf_date(text, &day, &month, &day_of_month);
+}
+
+/* A leaf date's day of the year in `year`. */
+static int day_in_year(const char *text, int fallback, long long year)
+{
+    int day, month, dom;
+    if (!text || !leaf_date(text, &day, &month, &dom))
+        return fallback;
+    if (day)
+        return day;
+    return (int)((ss_unix_from_civil(year, month, dom, 0, 0, 0) -
+                  ss_unix_from_civil(year, 1, 1, 0, 0, 0)) /
+                     86400.0 +
+                 0.5) +
+           1;
+}
+
+/* Leaves are on from the leaf-on day up to the day before the leaf-off
+ * day, over the new year where leaf-on comes later in the year. */
+static int leaves_off(int day, int on, int off)
+{
+    int on_season = on <= off ? day >= on && day < off : day >= on || day < off;
+    return !on_season;
+}
+
+/* Mean solar time at the longitude differs from the weather's zone by at
+ * most hours, at night. */
+void ss_leaf_seasons(const char *leaf_on, const char *leaf_off, double latitude_deg,
+                     double longitude_deg, const double *mid_s, int n,
+                     unsigned char *leaf_off_out, ss_leaf_season *season)
+{
+    double shift_s = longitude_deg / 15.0 * 3600.0;
+    int south = latitude_deg < 0.0 ? HALF_YEAR_DAYS : 0;
+    int on_default = (LEAF_ON_DAY - 1 + south) % 365 + 1;
+    int off_default = (LEAF_OFF_DAY - 1 + south) % 365 + 1;
+    season->south = south != 0;
+    season->on_day = day_in_year(leaf_on, on_default, 2001);
+    season->off_day = day_in_year(leaf_off, off_default, 2001);
+    season->leaf_off_steps = 0;
+    for (int k = 0; k < n; ++k) {
+        ss_civil_time t;
+        double local = mid_s[k] + shift_s;
+        ss_civil_from_unix(local, &t);
+        int day = (int)((local - ss_unix_from_civil(t.year, 1, 1, 0, 0, 0)) / 86400.0) + 1;
+        int on = day_in_year(leaf_on, on_default, t.year);
+        int off = day_in_year(leaf_off, off_default, t.year);
+        leaf_off_out[k] = (unsigned char)leaves_off(day, on, off);
+        season->leaf_off_steps += leaf_off_out[k];
+    }
 }
