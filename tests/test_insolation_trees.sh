@@ -198,13 +198,13 @@ paste <(band s_open.tif 2) <(band s_bl.tif 2) <(band shbl.tif 4) <(band shbl.tif
           exit !(shaded > 20 && lo < hi && !off) }' >bl.txt
 tap_ok $? "beer-lambert: the beam is exp(-G LAD path) x open, shadow's band 5 at the step's instant: $(cat bl.txt)"
 ins "${step[@]}" --canopy cyl.tif --crown-light beer-lambert --leaf-area-density 20 --extinction 1 \
-    --transmissivity 0 --transmissivity-leaf-off 0 flat.tif s_huge.tif
+    --transmissivity-leaf-off 0 flat.tif s_huge.tif
 ins "${step[@]}" --canopy cyl.tif --crown-lines digital --transmissivity 0 \
     --transmissivity-leaf-off 0 flat.tif s_t0.tif
 cmp -s <(raw s_huge.tif) <(raw s_t0.tif)
 tap_ok $? "beer-lambert with LAD 20 and G 1: every band byte for byte as transmissivity 0"
 gdalinfo s_bl.tif >blinfo.txt
-grep -q 'CROWN_LIGHT=Beer-Lambert: exp(-0.6 x 0.4 m2/m3 x the ray.s path inside crowns), paths on digital lines, for the beam, circumsolar light and hours of sun of leaf-on steps; leaf-off steps the constant 0.5' blinfo.txt &&
+grep -q 'CROWN_LIGHT=Beer-Lambert: exp(-0.6 x 0.4 m2/m3 x the ray.s path inside crowns), paths on digital lines, for the beam, circumsolar light and hours of sun of leaf-on steps, and their sky through crowns by its mean over the directions the crowns hide; leaf-off steps the constant 0.5' blinfo.txt &&
     grep -q 'CROWN_LINES=digital' blinfo.txt && grep -q 'CROWN_LIGHT=constant: transmissivity 0.03 leaf on, 0.5 leaf off' info.txt
 tap_ok $? "the metadata name the crown-light model (CROWN_LIGHT), constant and Beer-Lambert"
 "$SKYSWEEP" insolation --device reference "${step[@]}" "${bl[@]}" flat.tif s_bl2.tif |
@@ -241,6 +241,7 @@ refused "an extinction of 2" "${bl[@]}" --extinction 2
 refused "--leaf-area-density without beer-lambert" --canopy cyl.tif --leaf-area-density 2
 refused "--crown-light beer-lambert without --canopy" --crown-light beer-lambert
 refused "beer-lambert with the cumulative sky" "${bl[@]}" --shadow cumulative
+refused "--transmissivity with beer-lambert" "${bl[@]}" --transmissivity 0.1
 
 # The cumulative sky with trees (doc/cumulative_sky.md, "Trees").
 cumul=(--weather "$pvgis" --weather-far-ok --directions 16 --shadow cumulative)
