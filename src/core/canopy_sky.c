@@ -193,13 +193,14 @@ static void band_add(sky_walk *s, size_t i, double ts, double ttop, int hides)
 }
 
 /* E_3(x) = integral over t >= 1 of exp(-x t) / t^3, x >= 0: the series
- * up to 1, Lentz's continued fraction beyond (Numerical Recipes' expint,
- * n = 3), to double precision. */
+ * up to 2.5, Lentz's continued fraction beyond (Numerical Recipes' expint,
+ * n = 3, which splits at 1: at 2.5 each side takes at most about 30
+ * terms), to 1e-14. */
 static double expint3(double x)
 {
     if (!(x > 0.0))
         return 0.5;
-    if (x > 1.0) {
+    if (x > 2.5) {
         double b = x + 3.0, c = 1e300, d = 1.0 / b, h = d;
         for (int i = 1; i < 500; ++i) {
             double a = -(double)i * (i + 2);
@@ -207,7 +208,7 @@ static double expint3(double x)
             d = 1.0 / (a * d + b);
             c = b + a / c;
             h *= c * d;
-            if (fabs(c * d - 1.0) < 1e-16)
+            if (fabs(c * d - 1.0) < 1e-14)
                 break;
         }
         return h * exp(-x);
@@ -218,7 +219,7 @@ static double expint3(double x)
         term *= -x / k;
         double add = k != 2 ? -term / (k - 2) : term * (-log(x) + 1.5 - euler);
         sum += add;
-        if (fabs(add) < fabs(sum) * 1e-17)
+        if (fabs(add) < fabs(sum) * 1e-16)
             break;
     }
     return sum;
