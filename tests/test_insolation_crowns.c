@@ -11,10 +11,13 @@
  * - Beer-Lambert crowns: under a cylindrical crown each cell's beam and
  *   hours of sun are exp(-G LAD L) x the open cell's, L the path inside
  *   crowns found by brute force on the same digital lines (every cell
- *   against every crown cell ahead), and the paths' sum within 5 % of the
- *   closed form of the cylinder's chords; a huge leaf area density gives
- *   transmissivity 0's output; a leaf-off step keeps the constant leaf-off
- *   transmissivity on the same cells. */
+ *   against every crown cell ahead: tree_brute_paths), and the paths' sum
+ *   within 5 % of the closed form of the cylinder's chords; the sky through
+ *   crowns takes the mean of exp(-G LAD L) over the directions they hide,
+ *   that mean matching a brute-force path march over the same lines (the
+ *   sky's and Perez's band's) on hills with crowns; a huge leaf area
+ *   density gives transmissivity 0's output byte for byte; a leaf-off step
+ *   keeps the constant leaf-off transmissivity on the same cells. */
 #include "config.h"
 
 #include <math.h>
@@ -27,6 +30,7 @@
 #include "ss_sun.h"
 #include "tap.h"
 #include "testlib.h"
+#include "tree_scenes.h"
 
 static double rad(double deg)
 {
@@ -179,12 +183,9 @@ static void horizon_band(void)
 {
     ss_grid g = test_grid(WIDTH, HEIGHT, 1, 1);
     size_t n = (size_t)WIDTH * HEIGHT;
-    float *height = calloc(n, sizeof(float));
-    for (size_t i = 0; i < n; ++i)
-        g.z[i] = 0.0f;
+    float *height = malloc(n * sizeof(float));
     const double top = 2.0, tilt = 60.0;
-    for (int r = 0; r < HEIGHT; ++r)
-        height[(size_t)r * WIDTH + HEDGE_COL] = (float)top;
+    tree_hedge(&g, height, HEDGE_COL, top);
     double band_wh = perez_band_radiance(); /* an hour of it */
     tap_diag("Perez's horizon band: %.4f W/m^2", band_wh);
     static const int ds[] = {10, 20, 30};
@@ -243,52 +244,6 @@ static void horizon_band(void)
 
 /* ---- Beer-Lambert -------------------------------------------------------- */
 
-/* The path of the ray toward the sun (grid azimuth az, elevation el)
- * inside crowns, by brute force on the engine's digital lines: every cell
- * against every crown cell ahead of it on its line, the ray's level
- * strictly inside the crown's interval (trunk to top), each crossing the
- * ray's run through one cell of the line (the major axis's cell over the
- * cosine of the azimuth from it) over cos(el). */
-static void brute_paths(const ss_grid *g, const ss_canopy *cn, double az, double el,
-                        double *path)
-{
-    ss_line_set ls;
-    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, az,
-                            SS_LINE_MODEL_DIGITAL);
-    double t = tan(rad(el)), away_major = (double)ls.along_per_step_m * ls.step;
-    double run_m = ls.major_is_row ? g->cell_y_m / fabs(cos(rad(az)))
-                                   : g->cell_x_m / fabs(sin(rad(az)));
-    double slant_m = run_m / cos(rad(el));
-    size_t *cell = malloc(sizeof(size_t) * ls.major_len);
-    double *level = malloc(sizeof(double) * ls.major_len);
-    for (size_t i = 0; i < (size_t)g->width * g->height; ++i)
-        path[i] = 0.0;
-    for (int line = 0; line < ls.n_lines; ++line) {
-        ss_i64 b16 = ss_line_intercept16(&ls, line);
-        int m = 0;
-        for (int k = 0; k < ls.major_len; ++k) { /* the sunny end first */
-            int major = ls.step > 0 ? k : ls.major_len - 1 - k;
-            int minor = ss_line_minor(&ls, b16, major);
-            if (minor < 0 || minor >= ls.minor_len)
-                continue;
-            cell[m] = (size_t)major * ls.stride_major + (size_t)minor * ls.stride_minor;
-            level[m++] = (major * away_major + minor * (double)ls.along_per_minor_m) * t;
-        }
-        for (int p = 0; p < m; ++p) {
-            int hits = 0;
-            double ray = g->z[cell[p]] + level[p];
-            for (int q = 0; q < p; ++q) {
-                size_t j = cell[q];
-                double bottom = cn->trunk_ratio * cn->height_m[j];
-                hits += cn->height_m[j] > bottom && ray > g->z[j] + bottom + level[q] &&
-                        ray < g->z[j] + cn->height_m[j] + level[q];
-            }
-            path[cell[p]] = hits * slant_m;
-        }
-    }
-    free(cell), free(level);
-}
-
 /* The ray from (x, y) on flat ground toward the sun through a cylinder of
  * radius R about (cx, cy) from `bottom` to `top`: the length inside it. */
 static double cylinder_path(double x, double y, double az, double el, double cx, double cy,
@@ -310,20 +265,15 @@ static void beer_lambert(void)
     const size_t n = (size_t)W * H;
     const double R = 5.0, top = 10.0, ratio = 0.25, G = 0.5, LAD = 0.3;
     ss_grid g = test_grid(W, H, 1, 1);
-    float *height = calloc(n, sizeof(float));
-    for (int r = 0; r < H; ++r)
-        for (int c = 0; c < W; ++c) {
-            g.z[(size_t)r * W + c] = 0.0f;
-            if (hypot(c + 0.5 - 30.0, r + 0.5 - 30.0) <= R)
-                height[(size_t)r * W + c] = (float)top;
-        }
+    float *height = malloc(n * sizeof(float));
+    tree_cylinder(&g, height, 30.0, 30.0, R, top);
     sun_pos at = {200.0, 35.0};
     ss_surface flat = {SS_SURFACE_CELL, 0.0, 0.0};
     ss_canopy cn = {height, NULL, ratio, 0.03};
     ss_insolation_trees bl = {&g, &cn, NULL, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, LAD, G};
     outputs open = outputs_new(n), o = outputs_new(n);
     double *path = malloc(n * sizeof(double));
-    brute_paths(&g, &cn, at.azimuth_deg, at.elevation_deg, path);
+    tree_brute_paths(&g, &cn, at.azimuth_deg, at.elevation_deg, path);
     int ok = run_with(&g, NULL, SS_SHADOW_EXACT, 1, flat, 16, &at, &open) &&
              run_with(&g, &bl, SS_SHADOW_EXACT, 1, flat, 16, &at, &o);
     size_t shaded = 0, wrong = 0;
@@ -633,8 +583,7 @@ static void refusals(void)
 {
     ss_grid g = test_grid(8, 8, 1, 1);
     float height[64] = {0};
-    for (int i = 0; i < 64; ++i)
-        g.z[i] = 0.0f;
+    test_plane(&g, 0.0, 0.0);
     ss_canopy cn = {height, NULL, 0.25, 0.03};
     static const double bad[][2] = {{25.0, 0.5}, {-1.0, 0.5}, {NAN, 0.5}, {1.0, 0.0}, {1.0, 2.0}};
     int refused = 0;
