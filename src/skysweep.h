@@ -615,9 +615,12 @@ typedef struct ss_insolation_trees_s {
      * in a leaf-on step the beam, circumsolar light and hours of sun of a
      * cell keep exp(-extinction x leaf_area_density x the ray's path inside
      * crowns) (ss_canopy_path, digital lines) instead of the canopy's
-     * transmissivity, which the sky through crowns keeps; leaf-off steps
-     * keep transmissivity_leaf_off. Every step's crowns go on digital
-     * lines. The cumulative sky refuses it. 0: the constant model. */
+     * transmissivity, and the sky and horizon band the crowns hide pass
+     * the mean of that over the directions they hide (the run sweeps it
+     * from sky_hidden's options: its directions, horizontal definition and
+     * trunk_gaps); leaf-off steps keep transmissivity_leaf_off. Every
+     * step's crowns go on digital lines. The cumulative sky refuses it. 0:
+     * the constant model. */
     double leaf_area_density, extinction;
 } ss_insolation_trees;
 

@@ -347,18 +347,6 @@ static void expect_refused(const char *label, const ss_grid *g, ss_status want)
 
 /* ---- helpers for known answers ------------------------------------------- */
 
-/* Plane of slope S facing aspect A (it falls toward A). */
-static void fill_plane(ss_grid *g, double slope_deg, double aspect_deg)
-{
-    double t = tan(slope_deg * M_PI / 180), a = aspect_deg * M_PI / 180;
-    int cc = g->width / 2, cr = g->height / 2;
-    for (int r = 0; r < g->height; ++r)
-        for (int c = 0; c < g->width; ++c) {
-            double east = (c - cc) * g->cell_x_m, north = -(r - cr) * g->cell_y_m;
-            g->z[(size_t)r * g->width + c] = (float)(-t * (east * sin(a) + north * cos(a)));
-        }
-}
-
 /* Rise of the plane along azimuth phi: a cell on it sees every point of it
  * ahead at atan(rise) (negative downhill). */
 static double plane_horizon_deg(double slope_deg, double aspect_deg, double phi_deg)
@@ -472,7 +460,7 @@ static void slopes(void)
                  sun_above[2] = {0.002, 89.5};
     for (int i = 0; i < 2; ++i) {
         ss_grid g = test_grid(25, 25, 30, 30);
-        fill_plane(&g, slope[i], 180);
+        test_plane(&g, slope[i], 180);
         char label[80];
         snprintf(label, sizeof label, "constant %g-degree slope", slope[i]);
         run_opts o = default_opts();
@@ -721,7 +709,7 @@ static void grid_shapes(void)
     } sizes[] = {{1, 40}, {40, 1}, {2, 2}, {3000, 2}, {2, 3000}, {4099, 3}};
     for (int i = 0; i < 6; ++i) {
         g = test_grid(sizes[i].w, sizes[i].h, 10, 10);
-        fill_plane(&g, 20, sizes[i].w == 1 ? 0 : 90); /* rises along the long axis */
+        test_plane(&g, 20, sizes[i].w == 1 ? 0 : 90); /* rises along the long axis */
         if (sizes[i].w * sizes[i].h > 100)
             test_fill(&g, TERRAIN_SMOOTH, 5, 50);
         char label[80];
@@ -764,7 +752,7 @@ static void grid_shapes(void)
 static void non_square(void)
 {
     ss_grid g = test_grid(31, 31, 30, 10);
-    fill_plane(&g, 30, 120);
+    test_plane(&g, 30, 120);
     run_opts o = default_opts();
     o.directions = 8;
     o.offset_deg = 10;
@@ -816,7 +804,7 @@ static void nodata(void)
     ss_grid_free(&g);
 
     g = test_grid(30, 30, 10, 10);
-    fill_plane(&g, 25, 300);
+    test_plane(&g, 25, 300);
     for (int k = 0; k < 30; ++k)
         g.z[k] = g.z[29 * 30 + k] = g.z[k * 30] = g.z[k * 30 + 29] = NAN;
     o = default_opts();
@@ -882,7 +870,7 @@ static void nodata(void)
 static void azimuth_edges(void)
 {
     ss_grid g = test_grid(31, 31, 25, 25);
-    fill_plane(&g, 20, 63);
+    test_plane(&g, 20, 63);
     const double axes[6] = {0, 45, 90, 135, 180, 270};
     verdict v[2] = {{"", 0}, {"", 0}};
     for (int a = 0; a < 6; ++a)
@@ -929,7 +917,7 @@ static void azimuth_edges(void)
 static void direction_counts(void)
 {
     ss_grid g = test_grid(31, 31, 20, 20);
-    fill_plane(&g, 30, 200);
+    test_plane(&g, 30, 200);
     const int counts[5] = {1, 2, 3, 7, 360};
     for (int i = 0; i < 5; ++i)
         for (int mode = 0; mode < 2; ++mode) {

@@ -11,10 +11,13 @@
  * - Beer-Lambert crowns: under a cylindrical crown each cell's beam and
  *   hours of sun are exp(-G LAD L) x the open cell's, L the path inside
  *   crowns found by brute force on the same digital lines (every cell
- *   against every crown cell ahead), and the paths' sum within 5 % of the
- *   closed form of the cylinder's chords; a huge leaf area density gives
- *   transmissivity 0's output; a leaf-off step keeps the constant leaf-off
- *   transmissivity on the same cells. */
+ *   against every crown cell ahead: tree_brute_paths), and the paths' sum
+ *   within 5 % of the closed form of the cylinder's chords; the sky through
+ *   crowns takes the mean of exp(-G LAD L) over the directions they hide,
+ *   that mean matching a brute-force path march over the same lines (the
+ *   sky's and Perez's band's) on hills with crowns; a huge leaf area
+ *   density gives transmissivity 0's output byte for byte; a leaf-off step
+ *   keeps the constant leaf-off transmissivity on the same cells. */
 #include "config.h"
 
 #include <math.h>
@@ -23,8 +26,11 @@
 #include <string.h>
 
 #include "lines.h"
+#include "products_internal.h"
+#include "ss_sun.h"
 #include "tap.h"
 #include "testlib.h"
+#include "tree_scenes.h"
 
 static double rad(double deg)
 {
@@ -177,12 +183,9 @@ static void horizon_band(void)
 {
     ss_grid g = test_grid(WIDTH, HEIGHT, 1, 1);
     size_t n = (size_t)WIDTH * HEIGHT;
-    float *height = calloc(n, sizeof(float));
-    for (size_t i = 0; i < n; ++i)
-        g.z[i] = 0.0f;
+    float *height = malloc(n * sizeof(float));
     const double top = 2.0, tilt = 60.0;
-    for (int r = 0; r < HEIGHT; ++r)
-        height[(size_t)r * WIDTH + HEDGE_COL] = (float)top;
+    tree_hedge(&g, height, HEDGE_COL, top);
     double band_wh = perez_band_radiance(); /* an hour of it */
     tap_diag("Perez's horizon band: %.4f W/m^2", band_wh);
     static const int ds[] = {10, 20, 30};
@@ -241,52 +244,6 @@ static void horizon_band(void)
 
 /* ---- Beer-Lambert -------------------------------------------------------- */
 
-/* The path of the ray toward the sun (grid azimuth az, elevation el)
- * inside crowns, by brute force on the engine's digital lines: every cell
- * against every crown cell ahead of it on its line, the ray's level
- * strictly inside the crown's interval (trunk to top), each crossing the
- * ray's run through one cell of the line (the major axis's cell over the
- * cosine of the azimuth from it) over cos(el). */
-static void brute_paths(const ss_grid *g, const ss_canopy *cn, double az, double el,
-                        double *path)
-{
-    ss_line_set ls;
-    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, az,
-                            SS_LINE_MODEL_DIGITAL);
-    double t = tan(rad(el)), away_major = (double)ls.along_per_step_m * ls.step;
-    double run_m = ls.major_is_row ? g->cell_y_m / fabs(cos(rad(az)))
-                                   : g->cell_x_m / fabs(sin(rad(az)));
-    double slant_m = run_m / cos(rad(el));
-    size_t *cell = malloc(sizeof(size_t) * ls.major_len);
-    double *level = malloc(sizeof(double) * ls.major_len);
-    for (size_t i = 0; i < (size_t)g->width * g->height; ++i)
-        path[i] = 0.0;
-    for (int line = 0; line < ls.n_lines; ++line) {
-        ss_i64 b16 = ss_line_intercept16(&ls, line);
-        int m = 0;
-        for (int k = 0; k < ls.major_len; ++k) { /* the sunny end first */
-            int major = ls.step > 0 ? k : ls.major_len - 1 - k;
-            int minor = ss_line_minor(&ls, b16, major);
-            if (minor < 0 || minor >= ls.minor_len)
-                continue;
-            cell[m] = (size_t)major * ls.stride_major + (size_t)minor * ls.stride_minor;
-            level[m++] = (major * away_major + minor * (double)ls.along_per_minor_m) * t;
-        }
-        for (int p = 0; p < m; ++p) {
-            int hits = 0;
-            double ray = g->z[cell[p]] + level[p];
-            for (int q = 0; q < p; ++q) {
-                size_t j = cell[q];
-                double bottom = cn->trunk_ratio * cn->height_m[j];
-                hits += cn->height_m[j] > bottom && ray > g->z[j] + bottom + level[q] &&
-                        ray < g->z[j] + cn->height_m[j] + level[q];
-            }
-            path[cell[p]] = hits * slant_m;
-        }
-    }
-    free(cell), free(level);
-}
-
 /* The ray from (x, y) on flat ground toward the sun through a cylinder of
  * radius R about (cx, cy) from `bottom` to `top`: the length inside it. */
 static double cylinder_path(double x, double y, double az, double el, double cx, double cy,
@@ -308,20 +265,15 @@ static void beer_lambert(void)
     const size_t n = (size_t)W * H;
     const double R = 5.0, top = 10.0, ratio = 0.25, G = 0.5, LAD = 0.3;
     ss_grid g = test_grid(W, H, 1, 1);
-    float *height = calloc(n, sizeof(float));
-    for (int r = 0; r < H; ++r)
-        for (int c = 0; c < W; ++c) {
-            g.z[(size_t)r * W + c] = 0.0f;
-            if (hypot(c + 0.5 - 30.0, r + 0.5 - 30.0) <= R)
-                height[(size_t)r * W + c] = (float)top;
-        }
+    float *height = malloc(n * sizeof(float));
+    tree_cylinder(&g, height, 30.0, 30.0, R, top);
     sun_pos at = {200.0, 35.0};
     ss_surface flat = {SS_SURFACE_CELL, 0.0, 0.0};
     ss_canopy cn = {height, NULL, ratio, 0.03};
     ss_insolation_trees bl = {&g, &cn, NULL, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, LAD, G};
     outputs open = outputs_new(n), o = outputs_new(n);
     double *path = malloc(n * sizeof(double));
-    brute_paths(&g, &cn, at.azimuth_deg, at.elevation_deg, path);
+    tree_brute_paths(&g, &cn, at.azimuth_deg, at.elevation_deg, path);
     int ok = run_with(&g, NULL, SS_SHADOW_EXACT, 1, flat, 16, &at, &open) &&
              run_with(&g, &bl, SS_SHADOW_EXACT, 1, flat, 16, &at, &o);
     size_t shaded = 0, wrong = 0;
@@ -347,21 +299,72 @@ static void beer_lambert(void)
     tap_ok(ok && fabs(sum_path - sum_closed) <= 0.05 * sum_closed,
            "the paths' sum %.1f m, the cylinder's chords in closed form %.1f m (within 5 %%)",
            sum_path, sum_closed);
-    /* A huge leaf area density is transmissivity 0 (the sky through crowns
-     * at 0 in both). */
-    ss_canopy opaque = {height, NULL, ratio, 0.0};
-    ss_insolation_trees huge = {&g, &opaque, NULL, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, 20.0, 1.0};
-    ss_insolation_trees zero = {&g, &opaque, NULL, 0.5, NULL, 1, SS_TRUNK_GAPS_IGNORE, 0.0, 0.0};
+    /* The sky through crowns (the run's 16 directions, trunk gaps
+     * ignored): where no path crosses the beam, the diffuse and reflected
+     * light the crowns take are (1 - the cell's mean light through its
+     * hidden sky) / (1 - T) x the constant model's. */
+    float *V = malloc(n * sizeof(float)), *sky_T = malloc(n * sizeof(float));
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = 16;
+    ss_ctx *ctx = ss_ctx_new();
+    ok = ok &&
+         ss_canopy_sky(ctx, &g, &cn, &opt, SS_SVF_DEF_HORIZONTAL, SS_TRUNK_GAPS_IGNORE, NULL,
+                       V) == SS_OK &&
+         ss_canopy_sky_through(ctx, &g, &cn, &opt, SS_TRUNK_GAPS_IGNORE, G * LAD, sky_T) == SS_OK;
+    ss_ctx_free(ctx);
+    bl.sky_hidden = V;
+    ss_insolation_trees constant = {&g, &cn, V, 0.5, NULL, 1, SS_TRUNK_GAPS_IGNORE, 0.0, 0.0};
+    outputs k = outputs_new(n);
+    ok = ok && run_with(&g, &bl, SS_SHADOW_EXACT, 1, flat, 16, &at, &o) &&
+         run_with(&g, &constant, SS_SHADOW_EXACT, 1, flat, 16, &at, &k);
+    size_t sky_cells = 0;
+    wrong = 0;
+    worst = 0.0;
+    for (size_t i = 0; ok && i < n; ++i) {
+        if (path[i] > 0.0 || !(V[i] > 0.05))
+            continue;
+        double ratio_want = (1.0 - sky_T[i]) / (1.0 - cn.transmissivity);
+        double e = fmax(fabs((open.diffuse[i] - o.diffuse[i]) -
+                             ratio_want * (open.diffuse[i] - k.diffuse[i])) /
+                            (open.diffuse[i] - k.diffuse[i]),
+                        fabs((o.reflected[i] - open.reflected[i]) -
+                             ratio_want * (k.reflected[i] - open.reflected[i])) /
+                            (k.reflected[i] - open.reflected[i]));
+        worst = fmax(worst, e);
+        wrong += !(e <= 1e-4);
+        ++sky_cells;
+    }
+    tap_ok(ok && sky_cells > 50 && wrong == 0,
+           "Beer-Lambert's sky: on %zu cells whose sky crowns hide (V > 0.05) and whose beam "
+           "crosses none, the diffuse and reflected light the crowns take are (1 - the mean "
+           "exp(-G LAD L) over the hidden sky) / (1 - T) x the constant model's (%zu off, "
+           "worst relative %.2g)",
+           sky_cells, wrong, worst);
+    /* A huge leaf area density is transmissivity 0 byte for byte, the sky
+     * through crowns and Perez's band on a tilted surface included, though
+     * the canopy's constant is 0.5: Beer-Lambert's leaf-on steps do not
+     * take it. */
+    ss_canopy opaque = {height, NULL, ratio, 0.0}, half = {height, NULL, ratio, 0.5};
+    ss_insolation_trees huge = {&g, &half, V, 0.5, NULL, 0, SS_TRUNK_GAPS_IGNORE, 20.0, 1.0};
+    ss_insolation_trees zero = {&g, &opaque, V, 0.5, NULL, 1, SS_TRUNK_GAPS_IGNORE, 0.0, 0.0};
     outputs h = outputs_new(n);
-    ok = ok && run_with(&g, &huge, SS_SHADOW_EXACT, 1, flat, 16, &at, &h) &&
-         run_with(&g, &zero, SS_SHADOW_EXACT, 1, flat, 16, &at, &o);
-    double diff = 0.0;
-    for (size_t i = 0; ok && i < n; ++i)
-        diff = fmax(diff, fmax(fabs(h.global[i] - o.global[i]), fabs(h.hours[i] - o.hours[i])));
-    tap_ok(ok && diff <= 1e-6,
-           "Beer-Lambert with LAD 20 m2/m3 and G 1 gives the global and hours of sun of "
-           "transmissivity 0 on digital lines (largest difference %.2g)",
-           diff);
+    int same = ok;
+    ss_surface tilted = {SS_SURFACE_FIXED, 60.0, 20.0};
+    for (int s = 0; s < 2; ++s) {
+        ss_surface surface = s ? tilted : flat;
+        ok = ok && run_with(&g, &huge, SS_SHADOW_EXACT, 1, surface, 16, &at, &h) &&
+             run_with(&g, &zero, SS_SHADOW_EXACT, 1, surface, 16, &at, &o);
+        same &= ok && !memcmp(h.global, o.global, n * sizeof(float)) &&
+                !memcmp(h.diffuse, o.diffuse, n * sizeof(float)) &&
+                !memcmp(h.reflected, o.reflected, n * sizeof(float)) &&
+                !memcmp(h.beam, o.beam, n * sizeof(float)) &&
+                !memcmp(h.hours, o.hours, n * sizeof(float));
+    }
+    tap_ok(same,
+           "Beer-Lambert with LAD 20 m2/m3 and G 1 gives transmissivity 0's global, beam, "
+           "diffuse, reflected light and hours of sun byte for byte on digital lines, a "
+           "horizontal and a tilted surface (the sky and horizon band through crowns included)");
     /* A leaf-off step: the constant leaf-off transmissivity on the cells
      * with a path. */
     const unsigned char off[1] = {1};
@@ -375,8 +378,204 @@ static void beer_lambert(void)
            "Beer-Lambert, a leaf-off step: the leaf-off transmissivity 0.5 on every cell with a "
            "path, the open beam elsewhere (%zu cells off)",
            wrong);
-    outputs_free(&open), outputs_free(&o), outputs_free(&h);
-    free(path), free(height);
+    outputs_free(&open), outputs_free(&o), outputs_free(&h), outputs_free(&k);
+    free(path), free(height), free(V), free(sky_T);
+    ss_grid_free(&g);
+}
+
+/* ---- Beer-Lambert through the crowns' sky ------------------------------ */
+
+/* Smooth hills 3 m high and round crowns of several sizes. */
+static void crowned_hills(ss_grid *g, float *height)
+{
+    static const double crowns[][4] = {/* column, row, radius, top */
+                                       {10, 12, 3.5, 11}, {30, 9, 2.5, 7},   {22, 26, 4.5, 13},
+                                       {38, 34, 3.0, 9},  {9, 37, 2.0, 6},   {27, 40, 1.5, 8},
+                                       {40, 18, 2.0, 12}, {16, 20, 1.0, 5}};
+    int w = g->width, h = g->height;
+    test_fill(g, TERRAIN_SMOOTH, 7, 3.0);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            float top = 0.0f;
+            for (size_t k = 0; k < sizeof crowns / sizeof *crowns; ++k)
+                if (hypot(c + 0.5 - crowns[k][0], r + 0.5 - crowns[k][1]) <= crowns[k][2])
+                    top = (float)crowns[k][3];
+            height[(size_t)r * w + c] = top;
+        }
+}
+
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The integral of exp(-x sec e) x f(e) over elevations (a, b): f is
+ * sin 2e (the horizontal surface's sky) or 1 (the horizon band); Simpson's
+ * rule on 512 panels. */
+static double simpson_through(double a, double b, double x, int sky)
+{
+    const int n = 512;
+    double h = (b - a) / n, sum = 0.0;
+    for (int k = 0; k <= n; ++k) {
+        double e = a + k * h, f = exp(-x / cos(e)) * (sky ? sin(2.0 * e) : 1.0);
+        sum += f * (k == 0 || k == n ? 1.0 : k % 2 ? 4.0 : 2.0);
+    }
+    return sum * h / 3.0;
+}
+
+/* By brute force on one direction's digital lines: for each cell, its
+ * solid horizon is the steepest rise to any cell before it; every crown
+ * before it hides the rises from its bottom (with the gaps ignored, from
+ * the ground: all below the solid horizon) to its top; the elevations
+ * between every two ends of those rises, above the solid horizon and the
+ * horizontal, cross the crowns that hold their middle, a path of that
+ * many cells' runs x sec e; their weight and passed light are summed
+ * (band_rad 0: the sky, weighted d sin^2 e; else the band, uniform in e
+ * to band_rad, each direction weighted by `facing` per cell). */
+static void brute_sky(const ss_grid *g, const ss_canopy *cn, int open, double per_m, double az,
+                      double band_rad, const float *facing, double *hidden, double *through)
+{
+    ss_line_set ls;
+    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, az,
+                            SS_LINE_MODEL_DIGITAL);
+    ls.families = 1;
+    double run_m = ls.major_is_row ? g->cell_y_m / fabs(cos(rad(az)))
+                                   : g->cell_x_m / fabs(sin(rad(az)));
+    int longest = g->width > g->height ? g->width : g->height;
+    size_t *cell = malloc(sizeof(size_t) * longest);
+    double *w = malloc(sizeof(double) * longest), *ends = malloc(sizeof(double) * 2 * longest);
+    for (int line = 0; line < ss_line_count(&ls); ++line) {
+        int m = 0;
+        ss_line_cursor cur = ss_line_cursor_start(&ls, line);
+        while (ss_line_cursor_next(&cur))
+            cell[m] = cur.cell, w[m++] = cur.walked_m;
+        for (int p = 0; p < m; ++p) {
+            size_t i = cell[p];
+            double z = g->z[i], ts = -HUGE_VAL;
+            for (int q = 0; q < p; ++q)
+                if (w[p] > w[q])
+                    ts = fmax(ts, (g->z[cell[q]] - z) / (w[p] - w[q]));
+            double floor_rise = fmax(ts, 0.0);
+            int n_ends = 0;
+            ends[n_ends++] = floor_rise;
+            for (int q = 0; q < p; ++q) {
+                size_t j = cell[q];
+                if (!(w[p] > w[q]) || !(cn->height_m[j] > 0.0f))
+                    continue;
+                double d = w[p] - w[q];
+                ends[n_ends++] = (g->z[j] + cn->trunk_ratio * cn->height_m[j] - z) / d;
+                ends[n_ends++] = (g->z[j] + cn->height_m[j] - z) / d;
+            }
+            qsort(ends, (size_t)n_ends, sizeof *ends, by_value);
+            double f = band_rad > 0.0 ? facing[i] : 1.0;
+            if (!(f > 0.0))
+                continue;
+            for (int k = 0; k + 1 < n_ends; ++k) {
+                double a = ends[k], b = ends[k + 1], mid = 0.5 * (a + b);
+                if (!(a >= floor_rise) || !(b > a))
+                    continue;
+                int count = 0;
+                for (int q = 0; q < p; ++q) {
+                    size_t j = cell[q];
+                    double d = w[p] - w[q];
+                    if (!(d > 0.0) || !(cn->height_m[j] > 0.0f))
+                        continue;
+                    double lo = open ? (g->z[j] + cn->trunk_ratio * cn->height_m[j] - z) / d
+                                     : -HUGE_VAL;
+                    count += mid > lo && mid < (g->z[j] + cn->height_m[j] - z) / d;
+                }
+                if (count == 0)
+                    continue;
+                double ea = atan(a), eb = atan(b), x = per_m * run_m * count;
+                if (band_rad > 0.0) {
+                    eb = fmin(eb, band_rad);
+                    if (!(eb > ea))
+                        continue;
+                    hidden[i] += f * (eb - ea) / band_rad;
+                    through[i] += f * simpson_through(ea, eb, x, 0) / band_rad;
+                } else {
+                    hidden[i] += sin(eb) * sin(eb) - sin(ea) * sin(ea);
+                    through[i] += simpson_through(ea, eb, x, 1);
+                }
+            }
+        }
+    }
+    free(cell), free(w), free(ends);
+}
+
+static void beer_lambert_sky(void)
+{
+    enum { W = 48, H = 48, D = 8 };
+    const size_t n = (size_t)W * H;
+    const double per_m = 0.5 * 0.6, band_rad = rad(BAND_DEG);
+    ss_grid g = test_grid(W, H, 1, 1);
+    float *height = calloc(n, sizeof(float)), *got = malloc(n * sizeof(float)),
+          *V = malloc(n * sizeof(float)), *band_hidden = malloc(n * sizeof(float));
+    float *de = malloc(n * sizeof(float)), *dn = malloc(n * sizeof(float)),
+          *facing = malloc(n * sizeof(float));
+    double *hidden = malloc(n * sizeof(double)), *through = malloc(n * sizeof(double)),
+           *weight = malloc(n * sizeof(double));
+    crowned_hills(&g, height);
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = D;
+    /* The band on a surface tilted 40 degrees toward grid azimuth 120. */
+    for (size_t i = 0; i < n; ++i) {
+        de[i] = (float)(tan(rad(40.0)) * -sin(rad(120.0)));
+        dn[i] = (float)(tan(rad(40.0)) * -cos(rad(120.0)));
+    }
+    ss_ctx *ctx = ss_ctx_new();
+    for (int open = 0; open < 2; ++open) {
+        ss_canopy cn = {height, NULL, 0.3, 0.03};
+        ss_trunk_gaps gaps = open ? SS_TRUNK_GAPS_OPEN : SS_TRUNK_GAPS_IGNORE;
+        for (int band = 0; band < 2; ++band) {
+            for (size_t i = 0; i < n; ++i)
+                hidden[i] = through[i] = weight[i] = 0.0;
+            for (int d = 0; d < D; ++d) {
+                double az = ss_direction_azimuth(&opt, d);
+                float east = (float)sin(rad(az)), north = (float)cos(rad(az));
+                for (size_t i = 0; i < n; ++i) {
+                    facing[i] = fmaxf(ss_cos_incidence_gradient(east, north, 0.0f, de[i], dn[i]),
+                                      0.0f);
+                    weight[i] += facing[i];
+                }
+                brute_sky(&g, &cn, open, per_m, az, band ? band_rad : 0.0, facing, hidden,
+                          through);
+            }
+            int ok = band ? ss_canopy_band_hidden(ctx, &g, &cn, &opt, gaps, BAND_DEG, de, dn,
+                                                  per_m, band_hidden, got) == SS_OK
+                          : ss_canopy_sky(ctx, &g, &cn, &opt, SS_SVF_DEF_HORIZONTAL, gaps, NULL,
+                                          V) == SS_OK &&
+                                ss_canopy_sky_through(ctx, &g, &cn, &opt, gaps, per_m, got) ==
+                                    SS_OK;
+            double worst = 0.0, worst_hidden = 0.0, lo = 1.0, hi = 0.0;
+            size_t cells = 0;
+            for (size_t i = 0; ok && i < n; ++i) {
+                double share = band ? (weight[i] > 0.0 ? hidden[i] / weight[i] : 0.0)
+                                    : hidden[i] / D;
+                double mine = band ? band_hidden[i] : V[i];
+                double want = hidden[i] > 0.0 ? through[i] / hidden[i] : 1.0;
+                worst_hidden = fmax(worst_hidden, fabs(mine - share));
+                worst = fmax(worst, fabs(got[i] - want));
+                if (hidden[i] > 0.0) {
+                    ++cells;
+                    lo = fmin(lo, want), hi = fmax(hi, want);
+                }
+            }
+            tap_ok(ok && cells > 200 && lo < hi && worst <= 1e-6 && worst_hidden <= 1e-6,
+                   "Beer-Lambert through the crowns' %s, --trunk-gaps %s, G LAD %.2f/m, %d "
+                   "directions: the mean of exp(-G LAD L) over the hidden directions matches a "
+                   "brute-force path march on the same digital lines on every cell (%zu cells "
+                   "hide some, mean %.4f to %.4f; worst %.2g; the hidden share itself within "
+                   "%.2g)",
+                   band ? "horizon band (a surface tilted 40 degrees)" : "sky",
+                   open ? "open" : "ignore", per_m, D, cells, lo, hi, worst, worst_hidden);
+        }
+    }
+    ss_ctx_free(ctx);
+    free(height), free(got), free(V), free(band_hidden), free(de), free(dn), free(facing);
+    free(hidden), free(through), free(weight);
     ss_grid_free(&g);
 }
 
@@ -384,8 +583,7 @@ static void refusals(void)
 {
     ss_grid g = test_grid(8, 8, 1, 1);
     float height[64] = {0};
-    for (int i = 0; i < 64; ++i)
-        g.z[i] = 0.0f;
+    test_plane(&g, 0.0, 0.0);
     ss_canopy cn = {height, NULL, 0.25, 0.03};
     static const double bad[][2] = {{25.0, 0.5}, {-1.0, 0.5}, {NAN, 0.5}, {1.0, 0.0}, {1.0, 2.0}};
     int refused = 0;
@@ -410,6 +608,7 @@ int main(void)
 {
     horizon_band();
     beer_lambert();
+    beer_lambert_sky();
     refusals();
     return tap_done();
 }

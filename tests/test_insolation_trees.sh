@@ -60,36 +60,35 @@ day=(--time 2024-06-21T00:00Z/2024-06-22T00:00Z --step PT1H)
 pvgis=$top/samples/weather/pvgis_tmy_45N_8E.csv
 weather=(--weather "$pvgis" --weather-far-ok --directions 16 --pv)
 
-ins "${day[@]}" flat.tif plain.tif
-ins "${day[@]}" --canopy zeros.tif flat.tif z.tif
-cmp -s <(raw plain.tif) <(raw z.tif)
-tap_ok $? "clear sky: a canopy of zeros gives every band byte for byte as without --canopy"
-ins "${day[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif t1.tif
-cmp -s <(raw plain.tif) <(raw t1.tif)
-tap_ok $? "clear sky: crowns of transmissivity 1 (both seasons) as without --canopy"
+# as_without RUN WHAT [zeros]: the run of the array named RUN without
+# --canopy (RUN.tif), then with crowns of transmissivity 1 in both seasons
+# and, with `zeros`, a canopy of zeros: every band byte for byte as without.
+as_without() {
+    local -n args=$1
+    local what=$2 trees
+    local -A options=([zeros]="--canopy zeros.tif"
+        [t1]="--canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1")
+    local -A named=([zeros]="a canopy of zeros" [t1]="crowns of transmissivity 1 in both seasons")
+    ins "${args[@]}" flat.tif "$1.tif"
+    for trees in ${3:+zeros} t1; do
+        # shellcheck disable=SC2086 # the options are words
+        ins "${args[@]}" ${options[$trees]} flat.tif "$1_$trees.tif"
+        cmp -s <(raw "$1.tif") <(raw "$1_$trees.tif")
+        tap_ok $? "$what: ${named[$trees]} give every band byte for byte as without --canopy"
+    done
+}
+as_without day "clear sky" zeros
 ins "${day[@]}" --canopy cyl.tif flat.tif c.tif
-cmp -s <(raw plain.tif) <(raw c.tif)
+cmp -s <(raw day.tif) <(raw c.tif)
 tap_ok $((!$?)) "clear sky: a crown of transmissivity 0.03 changes the output"
 
-ins "${weather[@]}" flat.tif wplain.tif
-ins "${weather[@]}" --canopy zeros.tif flat.tif wz.tif
-cmp -s <(raw wplain.tif) <(raw wz.tif)
-tap_ok $? "weather with --pv: a canopy of zeros gives all 19 bands byte for byte"
-ins "${weather[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif wt1.tif
-cmp -s <(raw wplain.tif) <(raw wt1.tif)
-tap_ok $? "weather with --pv: transmissivity 1 in both seasons as without --canopy"
+as_without weather "weather with --pv (19 bands)" zeros
 # A module tilted 60 degrees facing west (Perez's horizon band counts on a
 # tilted surface, and the crown hides part of it from the cells east of it).
 tilted=("${weather[@]}" --surface 60,270)
-ins "${tilted[@]}" flat.tif tplain.tif
-ins "${tilted[@]}" --canopy zeros.tif flat.tif tz.tif
-cmp -s <(raw tplain.tif) <(raw tz.tif)
-tap_ok $? "weather, a tilted module: a canopy of zeros gives all 19 bands byte for byte"
-ins "${tilted[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif tt1.tif
-cmp -s <(raw tplain.tif) <(raw tt1.tif)
-tap_ok $? "weather, a tilted module: transmissivity 1 in both seasons as without --canopy"
+as_without tilted "weather, a tilted module" zeros
 ins "${weather[@]}" --canopy cyl.tif flat.tif wc.tif
-paste <(band wplain.tif 18) <(band wc.tif 18) |
+paste <(band weather.tif 18) <(band wc.tif 18) |
     awk '$2 < $1 - 1 { low++ } $2 > $1 + 1e-3 { high++ } END { exit !(low > 20 && !high) }'
 tap_ok $? "weather: the PV yield falls in the crown's shade and nowhere rises"
 
@@ -198,20 +197,20 @@ paste <(band s_open.tif 2) <(band s_bl.tif 2) <(band shbl.tif 4) <(band shbl.tif
           exit !(shaded > 20 && lo < hi && !off) }' >bl.txt
 tap_ok $? "beer-lambert: the beam is exp(-G LAD path) x open, shadow's band 5 at the step's instant: $(cat bl.txt)"
 ins "${step[@]}" --canopy cyl.tif --crown-light beer-lambert --leaf-area-density 20 --extinction 1 \
-    --transmissivity 0 --transmissivity-leaf-off 0 flat.tif s_huge.tif
+    --transmissivity-leaf-off 0 flat.tif s_huge.tif
 ins "${step[@]}" --canopy cyl.tif --crown-lines digital --transmissivity 0 \
     --transmissivity-leaf-off 0 flat.tif s_t0.tif
 cmp -s <(raw s_huge.tif) <(raw s_t0.tif)
 tap_ok $? "beer-lambert with LAD 20 and G 1: every band byte for byte as transmissivity 0"
 gdalinfo s_bl.tif >blinfo.txt
-grep -q 'CROWN_LIGHT=Beer-Lambert: exp(-0.6 x 0.4 m2/m3 x the ray.s path inside crowns), paths on digital lines, for the beam, circumsolar light and hours of sun of leaf-on steps; leaf-off steps the constant 0.5' blinfo.txt &&
+grep -q 'CROWN_LIGHT=Beer-Lambert: exp(-0.6 x 0.4 m2/m3 x the ray.s path inside crowns), paths on digital lines, for the beam, circumsolar light and hours of sun of leaf-on steps, and their sky through crowns by its mean over the directions the crowns hide; leaf-off steps the constant 0.5' blinfo.txt &&
     grep -q 'CROWN_LINES=digital' blinfo.txt && grep -q 'CROWN_LIGHT=constant: transmissivity 0.03 leaf on, 0.5 leaf off' info.txt
 tap_ok $? "the metadata name the crown-light model (CROWN_LIGHT), constant and Beer-Lambert"
 "$SKYSWEEP" insolation --device reference "${step[@]}" "${bl[@]}" flat.tif s_bl2.tif |
     grep -q '^trees   light through crowns: Beer-Lambert'
 tap_ok $? "the summary names Beer-Lambert"
 ins "${weather[@]}" "${bl[@]}" flat.tif wbl.tif
-paste <(band wplain.tif 18) <(band wbl.tif 18) |
+paste <(band weather.tif 18) <(band wbl.tif 18) |
     awk '$2 < $1 - 1 { low++ } $2 > $1 + 1e-3 { high++ } END { exit !(low > 20 && !high) }'
 tap_ok $? "weather with --pv, beer-lambert: the PV yield falls in the crown's shade and nowhere rises"
 
@@ -241,13 +240,13 @@ refused "an extinction of 2" "${bl[@]}" --extinction 2
 refused "--leaf-area-density without beer-lambert" --canopy cyl.tif --leaf-area-density 2
 refused "--crown-light beer-lambert without --canopy" --crown-light beer-lambert
 refused "beer-lambert with the cumulative sky" "${bl[@]}" --shadow cumulative
+refused "--transmissivity with beer-lambert" "${bl[@]}" --transmissivity 0.1
 
 # The cumulative sky with trees (doc/cumulative_sky.md, "Trees").
 cumul=(--weather "$pvgis" --weather-far-ok --directions 16 --shadow cumulative)
-ins "${cumul[@]}" flat.tif cplain.tif
-ins "${cumul[@]}" --canopy zeros.tif flat.tif cz.tif
-cmp -s <(raw cplain.tif) <(raw cz.tif)
-tap_ok $? "cumulative sky: a canopy of zeros gives every band byte for byte as without --canopy"
+as_without cumul "cumulative sky" zeros
+ctilted=("${cumul[@]}" --surface 60,270)
+as_without ctilted "cumulative sky, a tilted module"
 # The crowns' crossings of the bins (a bit a cell per direction and
 # elevation, up to 64 x 90 here: 720 bytes a cell, 2.5 MiB) are planned.
 least() { "$SKYSWEEP" insolation --device reference "$@" --memory 1M flat.tif o.tif 2>&1 |
@@ -256,13 +255,6 @@ exact_least=$(least "${weather[@]}" --shadow exact --canopy cyl.tif)
 cumul_least=$(least "${cumul[@]}" --canopy cyl.tif)
 [ -n "$exact_least" ] && [ -n "$cumul_least" ] && [ "$cumul_least" -ge $((exact_least + 2)) ]
 tap_ok $? "cumulative sky with trees: the crowns' crossings are in the least budget (${cumul_least}M, exact shadows ${exact_least}M)"
-ins "${cumul[@]}" --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif ct1.tif
-cmp -s <(raw cplain.tif) <(raw ct1.tif)
-tap_ok $? "cumulative sky: transmissivity 1 in both seasons as without --canopy"
-ins "${cumul[@]}" --surface 60,270 flat.tif ctplain.tif
-ins "${cumul[@]}" --surface 60,270 --canopy cyl.tif --transmissivity 1 --transmissivity-leaf-off 1 flat.tif ctt1.tif
-cmp -s <(raw ctplain.tif) <(raw ctt1.tif)
-tap_ok $? "cumulative sky, a tilted module: transmissivity 1 in both seasons as without --canopy"
 
 # June of the PVGIS year (2006), leaves on by default and off with
 # --leaf-on 200; crowns from the ground. On the flat DSM each cell's beam is

@@ -440,7 +440,7 @@ june() { # CSV OUT.gpkg [options]: a clear 21 June with the crown south of C
         city.tif "$out" >/dev/null 2>err.txt
 }
 june t0.csv t0.gpkg --transmissivity 0 --crown-lines digital &&
-    june bl.csv bl.gpkg --transmissivity 0 --crown-light beer-lambert --leaf-area-density 20 \
+    june bl.csv bl.gpkg --crown-light beer-lambert --leaf-area-density 20 \
         --extinction 1 &&
     worst=$(paste -d '\n' t0.csv bl.csv | awk -F, 'NR % 2 { split($0, a, ","); next }
         { for (k = 1; k <= NF; k++) if (a[k] != $k) { d = (a[k] - $k) / (1e-9 + (a[k] < 0 ? -a[k] : a[k]))

@@ -16,7 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lines.h"
 #include "tap.h"
 #include "testlib.h"
 #include "tree_scenes.h"
@@ -96,53 +95,19 @@ static double zmax_of(const ss_grid *g, const ss_canopy *cn)
 }
 
 /* The crowns crossed by brute force on the engine's digital lines (the
- * sweep's geometry, not its union of intervals): every cell against every
- * cell ahead of it on its line, trunk to top. Returns the cells where the
- * sweep differs: crossed or not, and Beer-Lambert's path (ss_canopy_path),
- * which must be the crowns passed times the ray's run through a cell of
- * the line, the major axis's cell size over the cosine of the azimuth from
- * it, over cos(elevation). */
+ * sweep's geometry, not its union of intervals: tree_brute_paths). Returns
+ * the cells where the sweep differs: crossed or not, and Beer-Lambert's
+ * path (ss_canopy_path), which must be the brute force's. */
 static size_t brute_on_lines(const ss_grid *g, const ss_canopy *cn, double az, double el,
                              const unsigned char *crossed, const float *path_m)
 {
-    ss_line_set ls;
-    ss_line_set_for_azimuth(&ls, g->width, g->height, g->cell_x_m, g->cell_y_m, az,
-                            SS_LINE_MODEL_DIGITAL);
-    double t = tan(rad(el)), away_major = (double)ls.along_per_step_m * ls.step;
-    double run_m = ls.major_is_row ? g->cell_y_m / fabs(cos(rad(az)))
-                                   : g->cell_x_m / fabs(sin(rad(az)));
-    double slant_m = run_m / cos(rad(el));
-    size_t *cell = malloc(sizeof(size_t) * ls.major_len), wrong = 0;
-    double *level = malloc(sizeof(double) * ls.major_len);
-    for (int line = 0; line < ls.n_lines; ++line) {
-        ss_i64 b16 = ss_line_intercept16(&ls, line);
-        int m = 0;
-        for (int k = 0; k < ls.major_len; ++k) { /* the sunny end first */
-            int major = ls.step > 0 ? k : ls.major_len - 1 - k;
-            int minor = ss_line_minor(&ls, b16, major);
-            if (minor < 0 || minor >= ls.minor_len)
-                continue;
-            size_t i = (size_t)major * ls.stride_major + (size_t)minor * ls.stride_minor;
-            if (!isfinite(g->z[i]))
-                continue;
-            cell[m] = i;
-            /* Heights relative to the ray: + distance walked x tan e. */
-            level[m++] = (major * away_major + minor * (double)ls.along_per_minor_m) * t;
-        }
-        for (int p = 0; p < m; ++p) {
-            int hits = 0;
-            double ray = g->z[cell[p]] + level[p];
-            for (int q = 0; q < p; ++q) {
-                size_t j = cell[q];
-                hits += cn->height_m[j] > tree_trunk_at(cn, j) &&
-                        ray > g->z[j] + tree_trunk_at(cn, j) + level[q] &&
-                        ray < g->z[j] + cn->height_m[j] + level[q];
-            }
-            wrong += (hits > 0) != crossed[cell[p]] ||
-                     fabs(path_m[cell[p]] - hits * slant_m) > 1e-4 * (1 + hits * slant_m);
-        }
-    }
-    free(cell), free(level);
+    size_t n = (size_t)g->width * g->height, wrong = 0;
+    double *path = malloc(n * sizeof(double));
+    tree_brute_paths(g, cn, az, el, path);
+    for (size_t i = 0; i < n; ++i)
+        wrong += isfinite(g->z[i]) && ((path[i] > 0.0) != crossed[i] ||
+                                       fabs(path_m[i] - path[i]) > 1e-4 * (1 + path[i]));
+    free(path);
     return wrong;
 }
 
@@ -205,14 +170,9 @@ static void against_march(const char *what, const ss_grid *g, const ss_canopy *c
 static void cylinder(ss_grid *g, float *height, float *trunk, double R, double B, double H)
 {
     int n = g->width;
-    for (int r = 0; r < n; ++r)
-        for (int c = 0; c < n; ++c) {
-            size_t i = (size_t)r * n + c;
-            int inside = hypot(c - n / 2, r - n / 2) <= R;
-            g->z[i] = 0.0f;
-            height[i] = inside ? (float)H : 0.0f;
-            trunk[i] = inside ? (float)B : 0.0f;
-        }
+    tree_cylinder(g, height, n / 2 + 0.5, n / 2 + 0.5, R, H);
+    for (size_t i = 0; i < (size_t)n * n; ++i)
+        trunk[i] = height[i] > 0.0f ? (float)B : 0.0f;
 }
 
 static size_t count_set(const unsigned char *v, size_t n)

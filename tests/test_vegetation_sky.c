@@ -79,11 +79,8 @@ static void hedge(void)
     const double H = 10.0;
     ss_grid g = test_grid(width, height, 1, 1);
     size_t n = (size_t)width * height;
-    float *canopy = calloc(n, sizeof(float)), *crown = malloc(n * sizeof(float));
-    for (size_t i = 0; i < n; ++i)
-        g.z[i] = 0.0f;
-    for (int r = 0; r < height; ++r)
-        canopy[(size_t)r * width + col] = (float)H;
+    float *canopy = malloc(n * sizeof(float)), *crown = malloc(n * sizeof(float));
+    tree_hedge(&g, canopy, col, H);
     ss_canopy cn = {canopy, NULL, 0.0, 0.03};
     static const int ds[] = {3, 5, 10, 20, 40};
     for (int def = SS_SVF_DEF_GEOMETRIC; def <= SS_SVF_DEF_HORIZONTAL; ++def) {

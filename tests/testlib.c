@@ -36,6 +36,18 @@ static double rng_unit(unsigned *state)
     return (rng_next(state) & 0xffffff) / 16777216.0;
 }
 
+void test_plane(ss_grid *g, double slope_deg, double aspect_deg)
+{
+    double t = tan(slope_deg * M_PI / 180), a = aspect_deg * M_PI / 180;
+    int cc = g->width / 2, cr = g->height / 2;
+    for (int r = 0; r < g->height; ++r)
+        for (int c = 0; c < g->width; ++c) {
+            double east = (c - cc) * g->cell_x_m, north = -(r - cr) * g->cell_y_m;
+            /* + 0.0: flat ground is +0, not -0 */
+            g->z[(size_t)r * g->width + c] = (float)(-t * (east * sin(a) + north * cos(a)) + 0.0);
+        }
+}
+
 void test_fill(ss_grid *g, terrain_kind kind, unsigned seed, double relief_m)
 {
     unsigned s = seed * 2654435761u + 1;

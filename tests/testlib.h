@@ -17,6 +17,9 @@ typedef enum {
 } terrain_kind;
 
 void test_fill(ss_grid *g, terrain_kind kind, unsigned seed, double relief_m);
+/* A plane of slope S degrees falling toward aspect A (0 0: flat ground at
+ * height 0), level with 0 at the grid's centre cell. */
+void test_plane(ss_grid *g, double slope_deg, double aspect_deg);
 /* Sets random rectangular holes of nodata. */
 void test_holes(ss_grid *g, unsigned seed, int n_holes, int max_size);
 

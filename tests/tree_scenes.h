@@ -1,5 +1,6 @@
 /* Scenes with trees shared by the tests of the crowns' sweeps
- * (test_vegetation, test_vegetation_sky). */
+ * (test_vegetation, test_vegetation_sky, test_insolation_crowns), and the
+ * brute-force paths of rays through them. */
 #ifndef SS_TREE_SCENES_H
 #define SS_TREE_SCENES_H
 
@@ -18,5 +19,23 @@ void tree_plant(const ss_grid *g, float *height, unsigned seed, int n_trees);
  * are not there (the caller skips), -1 when they cannot be read (tap_ok
  * has failed with the reason). Free with ss_dem_free and free. */
 int tree_gothenburg(ss_dem *dsm, float **height);
+
+/* Flat ground at height 0 with one cylindrical crown, `top` metres tall,
+ * over the cells whose centres lie within R cells of (cx, cy) (in cells
+ * from the grid's north-west corner); canopy heights 0 elsewhere. */
+void tree_cylinder(ss_grid *g, float *height, double cx, double cy, double R, double top);
+
+/* Flat ground at height 0 with a hedge one cell thick, `top` metres tall,
+ * along the whole column `col`; canopy heights 0 elsewhere. */
+void tree_hedge(ss_grid *g, float *height, int col, double top);
+
+/* The path (m) of the ray from each cell toward the sun (grid azimuth az,
+ * elevation el) inside crowns, by brute force on the engine's digital
+ * lines: every cell against every crown cell ahead of it on its line, the
+ * ray's level strictly inside the crown's interval (trunk to top), each
+ * crossing the ray's run through one cell of the line (the major axis's
+ * cell over the cosine of the azimuth from it) over cos(el). Cells
+ * without a height get 0. */
+void tree_brute_paths(const ss_grid *g, const ss_canopy *cn, double az, double el, double *path);
 
 #endif

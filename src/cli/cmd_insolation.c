@@ -942,11 +942,11 @@ int cmd_insolation(int argc, char **argv)
     ss_shadow_mode shadow = ss_insolation_params_shadow(&set->ins);
     if (rc < 0)
         rc = insolation_trees_usage(tables, set, &set->trees);
-    /* Beer-Lambert is the beam's: the sky through crowns keeps
-     * --transmissivity. */
+    /* Beer-Lambert takes the beam and the sky through crowns of leaf-on
+     * steps: --transmissivity would reach nothing. */
     if (rc < 0)
         rc = crown_light_alone("insolation", tables, set, &set->trees.light,
-                               set->trees.trees.canopy != NULL, 1);
+                               set->trees.trees.canopy != NULL);
     if (rc < 0 && set->trees.light.beer_lambert && shadow == SS_SHADOW_CUMULATIVE)
         rc = run_usage_error("insolation", "--crown-light beer-lambert takes exact or "
                                            "interpolated shadows: the cumulative sky keeps one "

@@ -951,7 +951,7 @@ int cmd_roofs(int argc, char **argv)
         rc = refuse_options(set, tables);
     if (rc < 0)
         rc = crown_light_alone("roofs", tables, set, &set->trees.light,
-                               set->trees.trees.canopy != NULL, 1);
+                               set->trees.trees.canopy != NULL);
     if (rc < 0)
         rc = settle_panel_options(set);
     /* What roofs' own stage holds per cell of a window; its shade table

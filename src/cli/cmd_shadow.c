@@ -184,7 +184,7 @@ int cmd_shadow(int argc, char **argv)
     if (rc < 0)
         rc = trees_options_alone("shadow", tables, &set, &set.trees);
     if (rc < 0)
-        rc = crown_light_alone("shadow", tables, &set, &set.light, set.trees.canopy != NULL, 0);
+        rc = crown_light_alone("shadow", tables, &set, &set.light, set.trees.canopy != NULL);
     if (rc >= 0)
         return rc;
     /* One horizon, along the sun's azimuth, and the planes facing the sun

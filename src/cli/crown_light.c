@@ -33,8 +33,7 @@ const opt_spec *crown_light_options(size_t base)
 }
 
 int crown_light_alone(const char *command, const opt_spec *const *tables, const void *settings,
-                      const crown_light_settings *set, int have_canopy,
-                      int sky_keeps_transmissivity)
+                      const crown_light_settings *set, int have_canopy)
 {
     static const char *const needs[] = {"leaf-area-density", "extinction"};
     for (size_t i = 0; !set->beer_lambert && i < sizeof needs / sizeof *needs; ++i)
@@ -45,8 +44,7 @@ int crown_light_alone(const char *command, const opt_spec *const *tables, const 
         }
     if (set->beer_lambert && !have_canopy)
         return run_usage_error(command, "--crown-light needs --canopy");
-    if (set->beer_lambert && !sky_keeps_transmissivity &&
-        !opt_at_default(opt_find(tables, "transmissivity"), settings))
+    if (set->beer_lambert && !opt_at_default(opt_find(tables, "transmissivity"), settings))
         return run_usage_error(command, "--transmissivity is the constant crowns' light: "
                                         "Beer-Lambert takes --leaf-area-density instead");
     return -1;

@@ -19,12 +19,11 @@ const opt_spec *crown_light_options(size_t base);
 
 /* --leaf-area-density and --extinction without --crown-light beer-lambert,
  * and Beer-Lambert without --canopy, are refused rather than ignored, and
- * so is --transmissivity with Beer-Lambert unless the command keeps it for
- * the light that is not the beam (sky_keeps_transmissivity: insolation's
- * sky through crowns): an exit code, or -1 when they are fine. */
+ * so is --transmissivity with Beer-Lambert, which takes the light it would
+ * (insolation's leaf-on beam and sky through crowns alike): an exit code,
+ * or -1 when they are fine. */
 int crown_light_alone(const char *command, const opt_spec *const *tables, const void *settings,
-                      const crown_light_settings *set, int have_canopy,
-                      int sky_keeps_transmissivity);
+                      const crown_light_settings *set, int have_canopy);
 
 /* Bytes per cell Beer-Lambert holds for the whole grid beside the
  * command's trees: the paths and the fractions. */

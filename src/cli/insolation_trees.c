@@ -150,9 +150,9 @@ static void describe_light(const insolation_tree_settings *set, char *buf, size_
     crown_light_describe(&set->light, set->trees.transmissivity, light, sizeof light);
     if (set->light.beer_lambert)
         snprintf(buf, size,
-                 "%s, for the beam, circumsolar light and hours of sun of leaf-on steps; "
-                 "leaf-off steps the constant %.6g; the sky through crowns the constant "
-                 "transmissivity of the season",
+                 "%s, for the beam, circumsolar light and hours of sun of leaf-on steps, and "
+                 "their sky through crowns by its mean over the directions the crowns hide; "
+                 "leaf-off steps the constant %.6g",
                  light, set->transmissivity_leaf_off);
     else
         snprintf(buf, size, "%s leaf on, %.6g leaf off", light, set->transmissivity_leaf_off);

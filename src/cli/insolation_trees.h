@@ -33,8 +33,10 @@ int insolation_trees_usage(const opt_spec *const *tables, const void *settings,
  * crossed; the crowns' horizon band (the share hidden and, while it is
  * swept, the surfaces' gradients and weights) stays within the sky's. */
 #define INSOLATION_TREES_CELL_BYTES (TREES_SKY_CELL_BYTES + sizeof(float) + 1.0)
-/* ... and Beer-Lambert's fractions of each step's beam. */
-#define INSOLATION_BEER_LAMBERT_CELL_BYTES (sizeof(float))
+/* ... and Beer-Lambert's fractions of each step's beam, the mean light
+ * through the sky and the horizon band the crowns hide, and those
+ * means' two sums of doubles while they are swept. */
+#define INSOLATION_BEER_LAMBERT_CELL_BYTES (3.0 * sizeof(float) + 2.0 * sizeof(double))
 /* ... and more with the cumulative sky: a bit a cell for each (direction,
  * elevation) pair of its bins (insolation_cumulative.c's crossings), at
  * most every direction at every elevation step up to 90 degrees, and a

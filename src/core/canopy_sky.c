@@ -102,6 +102,23 @@ typedef struct {
     float *hidden, *weight;     /* per cell: sums over the directions */
 } band_walk;
 
+/* One end of the rises a crown hides from a cell: +1 where they begin,
+ * -1 where they end. */
+typedef struct {
+    double rise;
+    int step;
+} crown_end;
+
+/* Beer-Lambert through the hidden sky (ss_canopy_sky_through and the
+ * band's): per cell, the share the crowns hide and the share of it they
+ * pass, exp(-k L) in each direction, summed over the directions. */
+typedef struct {
+    double k;        /* extinction x leaf area density, per metre of crown */
+    double run_m;    /* the direction's horizontal run through one cell of its line */
+    crown_end *ends; /* one cell's, sorted */
+    double *hidden_sum, *through_sum;
+} crown_light;
+
 typedef struct {
     const ss_grid *grid;
     const ss_canopy *canopy;
@@ -111,8 +128,9 @@ typedef struct {
     line_crown *crowns; /* the line's, in walk order */
     size_t n_crowns;
     crown_union rises;             /* SS_TRUNK_GAPS_OPEN: those hidden from one cell */
-    double *solid_sum, *crown_sum; /* per cell, over the directions (the sky) */
+    double *solid_sum, *crown_sum; /* per cell, over the directions (the sky; else NULL) */
     band_walk *band;               /* the horizon band instead of the sky (else NULL) */
+    crown_light *light;            /* Beer-Lambert's sums besides (else NULL) */
 } sky_walk;
 
 /* SS_TRUNK_GAPS_OPEN: the share the crowns before q hide above the solid
@@ -153,10 +171,15 @@ static double band_share_of(double lo, double hi, double band_rad)
 /* Cell i's band in this direction: the crowns hide the rises from ts to
  * ttop (columns) or, with the gaps open, the union open_gaps_share left
  * in s->rises; they count where the cell's surface faces the direction. */
+static float band_facing(const band_walk *b, size_t i)
+{
+    return ss_cos_incidence_gradient(b->east, b->north, 0.0f, b->dz_de[i], b->dz_dn[i]);
+}
+
 static void band_add(sky_walk *s, size_t i, double ts, double ttop, int hides)
 {
     band_walk *b = s->band;
-    float facing = ss_cos_incidence_gradient(b->east, b->north, 0.0f, b->dz_de[i], b->dz_dn[i]);
+    float facing = band_facing(b, i);
     if (!(facing > 0.0f))
         return;
     double share = 0.0;
@@ -167,6 +190,121 @@ static void band_add(sky_walk *s, size_t i, double ts, double ttop, int hides)
         share = band_share_of(ts, ttop, b->band_rad);
     b->hidden[i] += facing * (float)share;
     b->weight[i] += facing;
+}
+
+/* E_3(x) = integral over t >= 1 of exp(-x t) / t^3, x >= 0: the series
+ * up to 2.5, Lentz's continued fraction beyond (Numerical Recipes' expint,
+ * n = 3, which splits at 1: at 2.5 each side takes at most about 30
+ * terms), to 1e-14. */
+static double expint3(double x)
+{
+    if (!(x > 0.0))
+        return 0.5;
+    if (x > 2.5) {
+        double b = x + 3.0, c = 1e300, d = 1.0 / b, h = d;
+        for (int i = 1; i < 500; ++i) {
+            double a = -(double)i * (i + 2);
+            b += 2.0;
+            d = 1.0 / (a * d + b);
+            c = b + a / c;
+            h *= c * d;
+            if (fabs(c * d - 1.0) < 1e-14)
+                break;
+        }
+        return h * exp(-x);
+    }
+    const double euler = 0.57721566490153286061;
+    double sum = 0.5, term = 1.0; /* the k = 0 term, 1 / (n - 1) */
+    for (int k = 1; k < 500; ++k) {
+        term *= -x / k;
+        double add = k != 2 ? -term / (k - 2) : term * (-log(x) + 1.5 - euler);
+        sum += add;
+        if (fabs(add) < fabs(sum) * 1e-16)
+            break;
+    }
+    return sum;
+}
+
+/* The sky's weight of the rises (ta, tb), 0 <= ta < tb, cosine-weighted
+ * as a horizontal surface's (d sin^2 e), and the part of it a ray
+ * through a path of x sec(e) / k of crown passes: with u = sec e,
+ * d sin^2 e = 2 du / u^3, and the integral of 2 exp(-x u) / u^3 from ua
+ * to ub is 2 (E_3(x ua) / ua^2 - E_3(x ub) / ub^2). */
+static void sky_segment(double ta, double tb, double x, double *hidden, double *through)
+{
+    double ua = sqrt(1.0 + ta * ta), ub = sqrt(1.0 + tb * tb);
+    *hidden += hidden_share(SS_SVF_DEF_HORIZONTAL, tb) - hidden_share(SS_SVF_DEF_HORIZONTAL, ta);
+    *through += 2.0 * (expint3(x * ua) / (ua * ua) - expint3(x * ub) / (ub * ub));
+}
+
+/* The horizon band's share of the rises (ta, tb), uniform in elevation
+ * over [0, band_rad], and the part of it passed, exp(-x sec e): 8-point
+ * Gauss-Legendre over at most 6.5 degrees, where sec e moves by 0.65 %
+ * (exact to rounding for any x whose light is not already below 1e-300). */
+static void band_segment(double ta, double tb, double band_rad, double x, double *hidden,
+                         double *through)
+{
+    static const double node[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                   0.9602898564975363},
+                        weight[4] = {0.3626837833783620, 0.3137066458778873,
+                                     0.2223810344533745, 0.1012285362903763};
+    double a = atan(ta), b = fmin(atan(tb), band_rad);
+    if (!(b > a))
+        return;
+    double mid = 0.5 * (a + b), half = 0.5 * (b - a), sum = 0.0;
+    for (int k = 0; k < 4; ++k)
+        sum += weight[k] * (exp(-x / cos(mid - half * node[k])) + exp(-x / cos(mid + half * node[k])));
+    *hidden += (b - a) / band_rad;
+    *through += sum * half / band_rad;
+}
+
+static int by_rise(const void *a, const void *b)
+{
+    double x = ((const crown_end *)a)->rise, y = ((const crown_end *)b)->rise;
+    return (x > y) - (x < y);
+}
+
+/* Beer-Lambert from q, its solid horizon's rise ts: every crown before q
+ * on the line (none left out: each adds to the paths) hides the rises
+ * from its bottom (the solid horizon with the gaps ignored: a column) to
+ * its top, above the horizontal; between consecutive ends the ray crosses
+ * `count` crowns, a path of count x run_m x sec e. */
+static void light_add(sky_walk *s, size_t i, hull_point q, double ts)
+{
+    crown_light *l = s->light;
+    float facing = s->band ? band_facing(s->band, i) : 1.0f;
+    if (!(facing > 0.0f))
+        return;
+    double floor_rise = fmax(ts, 0.0);
+    size_t m = 0;
+    for (size_t k = 0; k < s->n_crowns; ++k) {
+        const line_crown *c = &s->crowns[k];
+        double d = q.w - c->w;
+        if (!(d > 0.0))
+            continue;
+        double lo = s->gaps == SS_TRUNK_GAPS_OPEN ? fmax((c->bottom - q.z) / d, floor_rise)
+                                                  : floor_rise;
+        double hi = (c->top - q.z) / d;
+        if (!(hi > lo))
+            continue;
+        l->ends[m++] = (crown_end){lo, 1};
+        l->ends[m++] = (crown_end){hi, -1};
+    }
+    qsort(l->ends, m, sizeof *l->ends, by_rise);
+    double hidden = 0.0, through = 0.0;
+    int count = 0;
+    for (size_t k = 0; k + 1 < m; ++k) {
+        count += l->ends[k].step;
+        double ta = l->ends[k].rise, tb = l->ends[k + 1].rise, x = l->k * l->run_m * count;
+        if (count <= 0 || !(tb > ta))
+            continue;
+        if (s->band)
+            band_segment(ta, tb, s->band->band_rad, x, &hidden, &through);
+        else
+            sky_segment(ta, tb, x, &hidden, &through);
+    }
+    l->hidden_sum[i] += facing * hidden;
+    l->through_sum[i] += facing * through;
 }
 
 /* One digital line, walked from the far end of the direction looked in;
@@ -192,14 +330,19 @@ static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
             return -1;
         if (s->band) {
             band_add(s, i, ts, ttop, ttop > ts);
-        } else {
+        } else if (s->solid_sum) {
             s->solid_sum[i] += solid;
             s->crown_sum[i] += crowns;
         }
+        if (s->light && ttop > ts)
+            light_add(s, i, q, ts);
         double top = s->canopy->height_m[i], bottom = trunk_of(s->canopy, i);
         hull_add(&s->solid, q);
         hull_add(&s->top, (hull_point){q.w, z + top});
-        if (top > bottom)
+        /* A crown as thin as nothing (trunk at its top) hides no rise with
+         * the gaps open; with them ignored it is a column, as the top hull
+         * takes it. */
+        if (top > 0.0f)
             s->crowns[s->n_crowns++] = (line_crown){q.w, z + bottom, z + top};
     }
     return 0;
@@ -214,6 +357,12 @@ static ss_status walk_direction(ss_ctx *ctx, sky_walk *s, double grid_azimuth_de
     ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
                             grid_azimuth_deg, SS_LINE_MODEL_DIGITAL);
     ls.families = 1;
+    if (s->light) { /* the distance along the azimuth per step of the major axis (canopy_path.c) */
+        double minor_per_major = (double)ls.slope_fx / 4294967296.0;
+        double c_major = ls.major_is_row ? grid->cell_y_m : grid->cell_x_m,
+               c_minor = ls.major_is_row ? grid->cell_x_m : grid->cell_y_m;
+        s->light->run_m = hypot(c_major, minor_per_major * c_minor);
+    }
     for (int line = 0; st == SS_OK && line < ss_line_count(&ls); ++line)
         if (walk_line(s, &ls, line) != 0)
             st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns of a line");
@@ -247,6 +396,7 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
                   {0},
                   calloc(n, sizeof(double)),
                   calloc(n, sizeof(double)),
+                  NULL,
                   NULL};
     if (!s.solid.p || !s.top.p || !s.crowns || !s.solid_sum || !s.crown_sum)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' sky");
@@ -267,14 +417,51 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
     return st;
 }
 
-ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
-                                const ss_sweep_options *opt, ss_trunk_gaps gaps, double band_deg,
-                                const float *dz_de, const float *dz_dn, float *hidden)
+/* Beer-Lambert's sums for n cells, ends for the longest line (NULL where
+ * k is 0: the constant model); *failed where out of memory. */
+static crown_light *crown_light_new(double k, size_t n, size_t longest, int *failed)
+{
+    if (!(k > 0.0))
+        return NULL;
+    crown_light *l = ss_malloc(sizeof *l);
+    if (l)
+        *l = (crown_light){k, 0.0, ss_malloc(2 * longest * sizeof(crown_end)),
+                           calloc(n, sizeof(double)), calloc(n, sizeof(double))};
+    *failed = !l || !l->ends || !l->hidden_sum || !l->through_sum;
+    return l;
+}
+
+/* The mean of exp(-k L) over the sky the crowns hide, per cell: 1 where
+ * they hide none, SS_NODATA at nodata. */
+static void crown_light_mean(const crown_light *l, const ss_grid *grid, float *through)
 {
     size_t n = (size_t)grid->width * (size_t)grid->height;
+    for (size_t i = 0; i < n; ++i)
+        through[i] = !isfinite(grid->z[i])     ? SS_NODATA
+                     : l->hidden_sum[i] > 0.0 ? (float)(l->through_sum[i] / l->hidden_sum[i])
+                                               : 1.0f;
+}
+
+static void crown_light_free(crown_light *l)
+{
+    if (l) {
+        free(l->ends);
+        free(l->hidden_sum);
+        free(l->through_sum);
+        free(l);
+    }
+}
+
+ss_status ss_canopy_sky_through(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                const ss_sweep_options *opt, ss_trunk_gaps gaps,
+                                double per_m, float *through)
+{
+    if (!(per_m > 0.0 && isfinite(per_m)))
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "the crowns' extinction per metre %g is not above 0",
+                       per_m);
+    size_t n = (size_t)grid->width * (size_t)grid->height;
     size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
-    band_walk b = {dz_de, dz_dn, 0.0f, 0.0f, band_deg * (M_PI / 180.0), hidden,
-                   ss_malloc(n * sizeof(float))};
+    int failed = 0;
     sky_walk s = {grid,
                   canopy,
                   SS_SVF_DEF_HORIZONTAL,
@@ -286,9 +473,49 @@ ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canop
                   {0},
                   NULL,
                   NULL,
-                  &b};
+                  NULL,
+                  crown_light_new(per_m, n, longest, &failed)};
     ss_status st = SS_OK;
-    if (!s.solid.p || !s.top.p || !s.crowns || !b.weight)
+    if (!s.solid.p || !s.top.p || !s.crowns || !s.light || failed)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the light through the crowns' sky");
+    /* ss_canopy_sky's directions, so that the sky hidden is its. */
+    for (int d = 0; st == SS_OK && d < opt->directions; ++d)
+        st = walk_direction(ctx, &s, ss_direction_azimuth(opt, d));
+    if (st == SS_OK)
+        crown_light_mean(s.light, grid, through);
+    free(s.solid.p);
+    free(s.top.p);
+    free(s.crowns);
+    free(s.rises.span);
+    crown_light_free(s.light);
+    return st;
+}
+
+ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                const ss_sweep_options *opt, ss_trunk_gaps gaps, double band_deg,
+                                const float *dz_de, const float *dz_dn, double per_m,
+                                float *hidden, float *through)
+{
+    size_t n = (size_t)grid->width * (size_t)grid->height;
+    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
+    band_walk b = {dz_de, dz_dn, 0.0f, 0.0f, band_deg * (M_PI / 180.0), hidden,
+                   ss_malloc(n * sizeof(float))};
+    int failed = 0;
+    sky_walk s = {grid,
+                  canopy,
+                  SS_SVF_DEF_HORIZONTAL,
+                  gaps,
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  {ss_malloc(longest * sizeof(hull_point)), 0},
+                  ss_malloc(longest * sizeof(line_crown)),
+                  0,
+                  {0},
+                  NULL,
+                  NULL,
+                  &b,
+                  through ? crown_light_new(per_m, n, longest, &failed) : NULL};
+    ss_status st = SS_OK;
+    if (!s.solid.p || !s.top.p || !s.crowns || !b.weight || failed || (through && !s.light))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' horizon band");
     for (size_t i = 0; st == SS_OK && i < n; ++i)
         hidden[i] = b.weight[i] = 0.0f;
@@ -303,11 +530,14 @@ ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canop
         hidden[i] = !isfinite(grid->z[i]) ? SS_NODATA
                     : b.weight[i] > 0.0f  ? hidden[i] / b.weight[i]
                                           : 0.0f;
+    if (st == SS_OK && s.light)
+        crown_light_mean(s.light, grid, through);
     free(s.solid.p);
     free(s.top.p);
     free(s.crowns);
     free(s.rises.span);
     free(b.weight);
+    crown_light_free(s.light);
     return st;
 }
 

@@ -567,13 +567,14 @@ static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const
 {
     const ss_insolation_trees *t = s->job->io->trees;
     *T = ss_insolation_trees_transmissivity(t, k);
-    if (!(s->terms_T == *T)) {
-        ss_insolation_trees_terms(t, s->job->trees_band_hidden, band, *T, s->terms,
-                                  s->terms_trees);
-        s->terms_T = *T;
+    int beer_lambert = ss_insolation_trees_beer_lambert(t, k);
+    /* Beer-Lambert's sky is each cell's own: keyed -1, no transmissivity. */
+    float key = beer_lambert ? -1.0f : *T;
+    if (!(s->terms_T == key)) {
+        ss_insolation_trees_terms(s->job, band, *T, beer_lambert, s->terms, s->terms_trees);
+        s->terms_T = key;
     }
     *terms = s->terms_trees;
-    int beer_lambert = ss_insolation_trees_beer_lambert(t, k);
     int shaded = sun->apparent_elevation_deg > 0.0 && (beer_lambert || *T < 1.0f) &&
                  (!sun->real_sky || record_casts_shadows(s->job->io, sun, rec));
     if (!shaded)
@@ -916,7 +917,7 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
                        "the cumulative sky gives no PV yield (its cell temperature needs each "
                        "record's irradiance): use exact or interpolated shadows with it");
     ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
-                             want, sink, user, 0,    NULL, NULL, NULL};
+                             want, sink, user, 0,    NULL, NULL, NULL, NULL, NULL};
     int cumulative = io->shadow_mode == SS_SHADOW_CUMULATIVE;
     steps_plan plan = {NULL, NULL, 0, 0, 0};
     ss_status st = io->trees ? ss_insolation_trees_check(ctx, io, src) : SS_OK;
@@ -930,11 +931,15 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
     if (st == SS_OK && io->trees && job.perez_band &&
         io->surface.kind != SS_SURFACE_HORIZONTAL)
         st = ss_insolation_trees_band(&job);
+    if (st == SS_OK && io->trees)
+        st = ss_insolation_trees_sky(&job);
     if (st == SS_OK)
         st = cumulative ? ss_insolation_cumulative(&job, n_steps) : run_steps(&job, &plan);
     free(plan.kind);
     free(plan.dirs);
     free(job.trees_band_hidden);
+    free(job.trees_sky_through);
+    free(job.trees_band_through);
     ss_cell_store_close(job.cells);
     ss_cell_store_close(job.horizons);
     return st;

@@ -316,10 +316,8 @@ static ss_status cumulative_band(void *user, const ss_band_view *band, float *pl
     if (trees) {
         T_on = (float)trees->canopy->transmissivity;
         T_off = (float)trees->transmissivity_leaf_off;
-        ss_insolation_trees_terms(trees, job->trees_band_hidden, band, T_on, r->terms,
-                                  r->terms_on);
-        ss_insolation_trees_terms(trees, job->trees_band_hidden, band, T_off, r->terms,
-                                  r->terms_off);
+        ss_insolation_trees_terms(job, band, T_on, 0, r->terms, r->terms_on);
+        ss_insolation_trees_terms(job, band, T_off, 0, r->terms, r->terms_off);
         terms = r->terms_on;
     }
 #pragma omp parallel for schedule(dynamic, 256)

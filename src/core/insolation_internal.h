@@ -32,6 +32,10 @@ typedef struct {
     /* Trees under Perez's sky: per cell of the whole grid, the share of the
      * horizon band crowns hide (ss_insolation_trees_band); else NULL. */
     float *trees_band_hidden;
+    /* Beer-Lambert crowns: per cell of the whole grid, the mean of
+     * exp(-G LAD L) over the sky they hide and over the horizon band they
+     * hide (ss_insolation_trees_sky, ss_insolation_trees_band); else NULL. */
+    float *trees_sky_through, *trees_band_through;
 } ss_insolation_job;
 
 /* Perez's horizon band spans the 6.5 degrees above the horizontal (Perez

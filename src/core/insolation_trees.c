@@ -40,20 +40,38 @@ float ss_insolation_trees_transmissivity(const ss_insolation_trees *t, int k)
                                                  : t->canopy->transmissivity);
 }
 
-void ss_insolation_trees_terms(const ss_insolation_trees *t, const float *band_hidden,
-                               const ss_band_view *band, float T, const ss_cell_terms *in,
-                               ss_cell_terms *out)
+void ss_insolation_trees_terms(const ss_insolation_job *job, const ss_band_view *band, float T,
+                               int beer_lambert, const ss_cell_terms *in, ss_cell_terms *out)
 {
+    const ss_insolation_trees *t = job->io->trees;
+    const float *band_hidden = job->trees_band_hidden;
+    const float *sky_T = beer_lambert ? job->trees_sky_through : NULL,
+                *band_T = beer_lambert ? job->trees_band_through : NULL;
     size_t n = (size_t)band->n_rows * band->width, at = (size_t)band->row0 * band->width;
     for (size_t c = 0; c < n; ++c) {
         out[c] = in[c];
         float hidden = t->sky_hidden ? t->sky_hidden[at + c] : 0.0f;
         if (hidden > 0.0f && hidden != SS_NODATA)
-            out[c].sky_view = fmaxf(in[c].sky_view - hidden * (1.0f - T), 0.0f);
+            out[c].sky_view =
+                fmaxf(in[c].sky_view - hidden * (1.0f - (sky_T ? sky_T[at + c] : T)), 0.0f);
         float band_off = band_hidden ? band_hidden[at + c] : 0.0f;
         if (band_off > 0.0f && band_off != SS_NODATA)
-            out[c].band_seen = fmaxf(in[c].band_seen - band_off * (1.0f - T), 0.0f);
+            out[c].band_seen =
+                fmaxf(in[c].band_seen - band_off * (1.0f - (band_T ? band_T[at + c] : T)), 0.0f);
     }
+}
+
+ss_status ss_insolation_trees_sky(ss_insolation_job *job)
+{
+    const ss_insolation_trees *t = job->io->trees;
+    if (!(t->leaf_area_density > 0.0) || !t->sky_hidden)
+        return SS_OK;
+    size_t n = (size_t)t->ground->width * (size_t)t->ground->height;
+    job->trees_sky_through = ss_malloc(n * sizeof(float));
+    if (!job->trees_sky_through)
+        return ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for the light through crowns");
+    return ss_canopy_sky_through(job->ctx, t->ground, t->canopy, job->opt, t->trunk_gaps,
+                                 t->extinction * t->leaf_area_density, job->trees_sky_through);
 }
 
 ss_status ss_insolation_trees_band(ss_insolation_job *job)
@@ -63,8 +81,11 @@ ss_status ss_insolation_trees_band(ss_insolation_job *job)
     size_t n = (size_t)g->width * (size_t)g->height;
     float *de = ss_malloc(n * sizeof(float)), *dn = ss_malloc(n * sizeof(float));
     job->trees_band_hidden = ss_malloc(n * sizeof(float));
+    int beer_lambert = t->leaf_area_density > 0.0;
+    if (beer_lambert)
+        job->trees_band_through = ss_malloc(n * sizeof(float));
     ss_status st = SS_OK;
-    if (!de || !dn || !job->trees_band_hidden)
+    if (!de || !dn || !job->trees_band_hidden || (beer_lambert && !job->trees_band_through))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for the crowns' horizon band");
     /* The surfaces insolation_terms.c weighs the band on: the cell's own
      * slope (Horn's) or the fixed surface. */
@@ -82,7 +103,9 @@ ss_status ss_insolation_trees_band(ss_insolation_job *job)
         }
     if (st == SS_OK)
         st = ss_canopy_band_hidden(job->ctx, g, t->canopy, job->opt, t->trunk_gaps,
-                                   SS_PEREZ_BAND_DEG, de, dn, job->trees_band_hidden);
+                                   SS_PEREZ_BAND_DEG, de, dn,
+                                   t->extinction * t->leaf_area_density, job->trees_band_hidden,
+                                   job->trees_band_through);
     free(de);
     free(dn);
     return st;

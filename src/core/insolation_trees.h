@@ -13,15 +13,21 @@ ss_status ss_insolation_trees_check(ss_ctx *ctx, const ss_insolation_options *io
 float ss_insolation_trees_transmissivity(const ss_insolation_trees *t, int k);
 /* The share of Perez's horizon band crowns hide, per cell of the whole
  * grid, as the run's surfaces face it (ss_canopy_band_hidden) into
- * job->trees_band_hidden. */
+ * job->trees_band_hidden, and with Beer-Lambert the mean light the crowns
+ * pass over it into job->trees_band_through. */
 ss_status ss_insolation_trees_band(ss_insolation_job *job);
+/* Beer-Lambert: the mean light the crowns pass over the sky they hide,
+ * per cell of the whole grid (ss_canopy_sky_through, the run's
+ * directions and trunk gaps), into job->trees_sky_through; nothing for
+ * the constant model or without sky_hidden. */
+ss_status ss_insolation_trees_sky(ss_insolation_job *job);
 /* The terms of a band's own cells with the crowns' sky at transmissivity
- * T: each cell's sky view less sky_hidden x (1 - T), and the share of
- * the horizon band it sees less band_hidden x (1 - T) (band_hidden, the
- * whole grid's, may be NULL: none), each at least 0. */
-void ss_insolation_trees_terms(const ss_insolation_trees *t, const float *band_hidden,
-                               const ss_band_view *band, float T, const ss_cell_terms *in,
-                               ss_cell_terms *out);
+ * T, or with beer_lambert at each cell's own (job->trees_sky_through and
+ * trees_band_through): each cell's sky view less sky_hidden x (1 - T),
+ * and the share of the horizon band it sees less the job's
+ * trees_band_hidden x (1 - T) (NULL: none), each at least 0. */
+void ss_insolation_trees_terms(const ss_insolation_job *job, const ss_band_view *band, float T,
+                               int beer_lambert, const ss_cell_terms *in, ss_cell_terms *out);
 /* crossed[c] over the whole grid for the step's sun at the grid's centre:
  * 1 where the ray toward it crosses a crown (ss_canopy_crossed). */
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,

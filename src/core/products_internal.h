@@ -78,7 +78,22 @@ ss_status ss_horizon_bound_of(ss_ctx *ctx, const ss_source *src, const ss_sweep_
  * 0 where the surface faces no direction, SS_NODATA at nodata. */
 ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                                 const ss_sweep_options *opt, ss_trunk_gaps gaps, double band_deg,
-                                const float *dz_de, const float *dz_dn, float *hidden);
+                                const float *dz_de, const float *dz_dn, double per_m,
+                                float *hidden, float *through);
+/* Beer-Lambert through the crowns' sky (doc/vegetation.md, "Beer-Lambert
+ * in insolation"): per cell, the mean of exp(-per_m L) over the sky that
+ * ss_canopy_sky (horizontal definition, the same options and gaps) finds
+ * the crowns hide, weighted as it weighs them, L the ray's path inside
+ * crowns in each direction: the crown cells it passes on the digital line
+ * (the rises from each one's bottom, or with the gaps ignored the solid
+ * horizon, to its top) x the line's run through a cell x sec(elevation).
+ * Exact on the lines (E_3 in closed form between the crowns' ends). 1
+ * where the crowns hide nothing, SS_NODATA at nodata. ss_canopy_band_hidden
+ * gives the same for Perez's band in `through` (NULL: not wanted; per_m
+ * then unused), each direction weighted as the band's hidden share. */
+ss_status ss_canopy_sky_through(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                const ss_sweep_options *opt, ss_trunk_gaps gaps,
+                                double per_m, float *through);
 
 /* The insolation options and step count, as every insolation path needs them. */
 ss_status ss_insolation_check(ss_ctx *ctx, const ss_insolation_options *io, int n_steps);
