@@ -65,6 +65,7 @@ typedef struct {
     int progress_part, progress_parts; /* a run of several library calls: which one runs */
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
     double memory_bound;     /* --memory in bytes (0: none given), for the summary */
+    const char *memory_asked; /* --memory as given (NULL: none) */
     ss_memory_plan memory;   /* the memory plan its bands and device buffers follow */
     ss_memory_need memory_need; /* what it was made from (width 0: none was made) */
     char memory_device[128];    /* the device it was made for ("": none opened) */
@@ -133,6 +134,9 @@ typedef struct {
      * (horizon's planes of every direction), beyond cell_bytes. */
     double output_bytes;
     int no_sweep; /* sweeps nothing (a plain hillshade): opens no device */
+    /* Plans its sweeps only after other work (roofs' shade table): a budget
+     * too small is refused at the DEM's opening, under --device auto too. */
+    int plans_late;
     /* Held per cell of the whole grid beside the bands (svf's trees). */
     double grid_cell_bytes;
 } band_cost;
