@@ -238,7 +238,8 @@ static ss_status compile_kernels_now(ss_ctx *ctx, struct ss_ocl *o)
     size_t local = o->work_group;
     size_t ranges[] = {local, (65536 + local - 1) / local * local};
     cl_int err = CL_SUCCESS;
-    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0] && err == CL_SUCCESS; ++i) {
+    ss_status st = SS_OK;
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0] && st == SS_OK; ++i) {
         cl_kernel k = kernels[i].k;
         for (cl_uint a = 0; kernels[i].args[a] && err == CL_SUCCESS; ++a) {
             char c = kernels[i].args[a];
@@ -250,10 +251,14 @@ static ss_status compile_kernels_now(ss_ctx *ctx, struct ss_ocl *o)
         for (size_t r = 0; r < 2 && err == CL_SUCCESS; ++r)
             err = clEnqueueNDRangeKernel(o->queue, k, 1, NULL, &ranges[r], &local, 0, NULL,
                                          NULL);
+        if (err == CL_SUCCESS)
+            err = clFinish(o->queue);
+        /* A kernel's compile takes a second or so with a cold cache: a
+         * cancel is heard between them. */
+        st = err == CL_SUCCESS ? ss_progress(ctx, 0.0, "the kernel build")
+                               : ocl_fail(ctx, err, "compiling the kernels");
     }
-    if (err == CL_SUCCESS)
-        err = clFinish(o->queue);
-    return err == CL_SUCCESS ? SS_OK : ocl_fail(ctx, err, "compiling the kernels");
+    return st;
 }
 
 static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
