@@ -422,8 +422,9 @@ static double whole_least(ss_ctx *ctx, ss_memory_need need)
  * plan at the DEM's opening (first, made before choosing, on heights the
  * effects plan reads) sweeps whole, the DEM is read whole before the
  * device is chosen, and then only a whole grid keeps it. A budget is named
- * in whole MiB, and what the process holds varies by some KiB from run to
- * run: a least within 1 MiB of the first plan's whole grid is taken whole. */
+ * in whole MiB, and what the process holds varies by a few hundred KiB
+ * from run to run: a least within 1 MiB of the first plan's whole grid is
+ * taken whole. */
 static double auto_least(run_state *run, const ss_memory_need *first, double least_bands,
                          double least_whole)
 {

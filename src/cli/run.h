@@ -193,7 +193,9 @@ memory_mark job_memory_mark(void);
  * device leaves no room within the budget (not one band, or a DEM already
  * held whole that would need bands beside it) the C twin runs, and a line
  * on stderr says so; SS_ERR_MEMORY where even the C twin has no room left
- * beside what choosing loaded. */
+ * beside what choosing loaded, or where the DEM's opening found the budget
+ * too small for one band (open_dem_file leaves that to here under auto),
+ * naming the least budget with which auto, choosing again, runs. */
 ss_status job_memory_replan(sweep_job *job, memory_mark before);
 /* Opens the job's output of n_bands bands on rank 0 (the one that writes,
  * alone or under mpirun), before the run so that it fails early; the other
