@@ -476,6 +476,7 @@ ss_status job_memory_replan(sweep_job *job, memory_mark before)
                 run->command, picked, fell_back);
     if (job->source && run->memory.band_rows > 0)
         job->band_rows = run->memory.band_rows;
+    run->memory_choosing = need.baseline_bytes - run->memory_need.baseline_bytes;
     run->memory_need = need;
     snprintf(run->memory_device, sizeof run->memory_device, "%s", chosen);
     return SS_OK;

@@ -69,6 +69,7 @@ typedef struct {
     ss_memory_plan memory;   /* the memory plan its bands and device buffers follow */
     ss_memory_need memory_need; /* what it was made from (width 0: none was made) */
     char memory_device[128];    /* the device it was made for ("": none opened) */
+    double memory_choosing;     /* what --device auto's choosing added to the process, bytes */
     int device_auto;            /* --device auto: the effects plan picks the device */
 } run_state;
 
