@@ -43,9 +43,11 @@ ones as its advanced parameters.
   yet, when their folders resolve to one and their names are equal. An overlap is refused in one
   line naming both files and how each was given (exit 2), even with `--plan`.
 - `--memory` bounds the process's peak resident memory: the program and its libraries, GDAL's
-  cache and a CPU OpenCL device's buffers (PoCL's) included, measured once the device is open. A
-  budget the process cannot keep to is refused before any work (exit 6) with the least that would
-  do; the summary prints the peak beside the bound (doc/scale.md). A GPU's buffers are planned
+  cache and a CPU OpenCL device's buffers and kernel compiles (PoCL's) included, measured once
+  the device is open. A budget the process cannot keep to is refused before any work (exit 6)
+  with the least that would do (under `--device auto`, once it has chosen the device: the least
+  counts what choosing loaded, and the line says how much); the summary prints the peak beside
+  the bound (doc/scale.md). A GPU's buffers are planned
   within its own memory less a 10 % reserve (bands where it is the limit); a GPU too small for
   one band is refused the same way (exit 6) with the least device memory that would do, and the
   summary names the device's plan.

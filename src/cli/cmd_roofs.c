@@ -956,7 +956,9 @@ int cmd_roofs(int argc, char **argv)
         rc = settle_panel_options(set);
     /* What roofs' own stage holds per cell of a window; its shade table
      * sweeps (with the job's bands). */
-    band_cost cost = {.cell_bytes = (double)WINDOW_CELL_BYTES, .no_sweep = !set->shade_table};
+    band_cost cost = {.cell_bytes = (double)WINDOW_CELL_BYTES,
+                      .no_sweep = !set->shade_table,
+                      .plans_late = 1};
     if (rc < 0)
         rc = job_open_banded(&r->job, "roofs", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) {

@@ -65,8 +65,13 @@ void command_print_memory(const sweep_job *job, const char *how)
     const ss_memory_plan *m = &run->memory;
     printf("memory  peak resident %.0f MiB (%s)", peak_resident_mib(), how);
     if (run->memory_bound > 0)
-        printf(", bound --memory %.0f MiB, planned %.0f MiB", run->memory_bound / 1048576.0,
-               m->planned_bytes / 1048576.0);
+        printf(", bound --memory %.0f MiB", run->memory_bound / 1048576.0);
+    /* What --device auto loaded to choose the device (job_memory_replan):
+     * the OpenCL platforms, and the device with its kernels. */
+    if (run->memory_bound > 0 && run->memory_choosing >= 1048576.0)
+        printf(", choosing the device loaded %.0f MiB", run->memory_choosing / 1048576.0);
+    if (run->memory_bound > 0)
+        printf(", planned %.0f MiB", m->planned_bytes / 1048576.0);
     /* The device the plan was made for: under --device auto the one it
      * picked (job_memory_replan). */
     if (run->memory_device[0])

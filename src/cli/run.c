@@ -1,6 +1,7 @@
 /* Shared CLI runtime (see run.h). */
 #include "config.h"
 
+#include <float.h>
 #include <math.h>
 #include <signal.h>
 #include <stddef.h>
@@ -384,6 +385,54 @@ static int plan_keeps_dem(const sweep_job *job)
     return job->source ? rows >= 0 : rows == 0;
 }
 
+/* Refuses a budget too small for one band, naming the least that would do
+ * and what the process holds (of it, what --device auto loaded to choose a
+ * device: 0 where it loaded nothing). */
+static ss_status refuse_budget(const run_state *run, double least, double held,
+                               double loaded_by_auto, int width)
+{
+    char loaded[96] = "";
+    if (loaded_by_auto >= 1048576.0)
+        snprintf(loaded, sizeof loaded, ", %.0f MiB of it loaded by --device auto to choose a device",
+                 loaded_by_auto / 1048576.0);
+    return ss_ctx_error(run->ctx, SS_ERR_MEMORY,
+                        "the memory budget (%s) is too small for this DEM and command: it "
+                        "needs at least --memory %.0fM (the process's %.0f MiB%s, one band of "
+                        "%d cells with the hulls handed on, GDAL's cache and the device's "
+                        "buffers; doc/scale.md)",
+                        run->memory_asked ? run->memory_asked : "half this machine's memory",
+                        ceil(least / 1048576.0), held / 1048576.0, loaded, width);
+}
+
+/* The least budget with which a plan for need on the context's device
+ * sweeps the grid whole (the peak already reached included), DBL_MAX
+ * where the device holds no whole grid. The context keeps that plan: make
+ * the run's after it. */
+static double whole_least(ss_ctx *ctx, ss_memory_need need)
+{
+    ss_memory_plan p;
+    need.budget_bytes = DBL_MAX;
+    ss_memory_plan_make(ctx, &need, &p);
+    return p.band_rows == 0 ? fmax(p.planned_bytes, need.peak_bytes) : DBL_MAX;
+}
+
+/* The least budget --device auto accepts, choosing again as it did, on
+ * the devices tried (least_bands: the least of their plans' least budgets,
+ * least_whole: of their whole grids'): with a budget that the C twin's
+ * plan at the DEM's opening (first, made before choosing, on heights the
+ * effects plan reads) sweeps whole, the DEM is read whole before the
+ * device is chosen, and then only a whole grid keeps it. A budget is named
+ * in whole MiB, and what the process holds varies by a few hundred KiB
+ * from run to run: a least within 1 MiB of the first plan's whole grid is
+ * taken whole. */
+static double auto_least(run_state *run, const ss_memory_need *first, double least_bands,
+                         double least_whole)
+{
+    double whole_first = whole_least(run->ctx, *first);
+    double named = ceil(least_bands / 1048576.0) * 1048576.0;
+    return named + 1048576.0 < whole_first ? least_bands : fmax(whole_first, least_whole);
+}
+
 ss_status job_memory_replan(sweep_job *job, memory_mark before)
 {
     run_state *run = &job->run;
@@ -399,29 +448,51 @@ ss_status job_memory_replan(sweep_job *job, memory_mark before)
     need.peak_bytes += fmax(peak_bytes() - before.peak, 0.0);
     char chosen[sizeof run->memory_device];
     snprintf(chosen, sizeof chosen, "%s", ss_ctx_device_name(run->ctx));
+    double least_whole = whole_least(run->ctx, need);
     ss_memory_plan_make(run->ctx, &need, &run->memory);
+    double least_bands = run->memory.least_budget;
+    const char *fell_back = NULL;
+    char picked[sizeof chosen];
+    snprintf(picked, sizeof picked, "%s", chosen);
     if (!plan_keeps_dem(job) && strcmp(chosen, run->memory_device) != 0) {
-        if (!run->quiet)
-            fprintf(stderr,
-                    "skysweep %s: warning: --device auto chose %s, whose buffers leave no room "
-                    "for %s within the memory budget: the C twin runs\n",
-                    run->command, chosen, job->source ? "one band" : "the DEM held whole");
+        fell_back = job->source ? "one band" : "the DEM held whole";
         ss_ctx_use_device(run->ctx, "reference");
         snprintf(job->plan.device, sizeof job->plan.device, "reference");
         snprintf(chosen, sizeof chosen, "%s", ss_ctx_device_name(run->ctx));
+        least_whole = fmin(least_whole, whole_least(run->ctx, need));
         ss_memory_plan_make(run->ctx, &need, &run->memory);
+        least_bands = fmin(least_bands, run->memory.least_budget);
     }
+    /* The context is on the C twin here, as at the DEM's opening. */
     if (!plan_keeps_dem(job))
-        return ss_ctx_error(run->ctx, SS_ERR_MEMORY,
-                            "the memory budget is too small for this DEM with the OpenCL "
-                            "platforms --device auto loaded to choose a device (%.0f MiB held "
-                            "now): use --device reference, or a larger --memory (doc/scale.md)",
-                            need.baseline_bytes / 1048576.0);
+        return refuse_budget(run, auto_least(run, &run->memory_need, least_bands, least_whole),
+                             need.baseline_bytes,
+                             need.baseline_bytes - run->memory_need.baseline_bytes,
+                             job->dem.grid.width);
+    if (fell_back && !run->quiet)
+        fprintf(stderr,
+                "skysweep %s: warning: --device auto chose %s, whose buffers leave no room "
+                "for %s within the memory budget: the C twin runs\n",
+                run->command, picked, fell_back);
     if (job->source && run->memory.band_rows > 0)
         job->band_rows = run->memory.band_rows;
+    run->memory_choosing = need.baseline_bytes - run->memory_need.baseline_bytes;
     run->memory_need = need;
     snprintf(run->memory_device, sizeof run->memory_device, "%s", chosen);
     return SS_OK;
+}
+
+/* Whether a budget too small for one band on the C twin is refused once
+ * --device auto has chosen its device (job_memory_replan) rather than now:
+ * choosing may load the OpenCL platforms and a device's kernels, and the
+ * least budget named must be one that auto, choosing again, accepts. Not
+ * for processes sharing a run (their bands are agreed now), nor for a
+ * command that plans only after other work (roofs). */
+static int refused_after_choosing(const run_state *run, const band_cost *cost, int rows,
+                                  double budget)
+{
+    return rows < 0 && cost && !cost->no_sweep && !cost->plans_late && run->device_auto &&
+           share_size() == 1 && run->memory.least_budget > budget;
 }
 
 static ss_status open_dem_file(run_state *run, const char *const *paths, int n_paths,
@@ -474,6 +545,7 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         budget = 0.5 * (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
     else
         run->memory_bound = budget;
+    run->memory_asked = common->memory;
     ss_dem_source *src;
     ss_status st = ss_dem_open(run->ctx, paths, n_paths, &ro, dem, &src);
     /* The engine indexes a run's cells with ints (engine.c): no budget
@@ -523,6 +595,8 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
         return ss_ctx_error(run->ctx, SS_ERR_INPUT, "another process could not open '%s'",
                             paths[0]);
     }
+    if (st == SS_OK && refused_after_choosing(run, cost, rows, budget))
+        rows = 1; /* until job_memory_replan refuses */
     if (rows != 0 && (!may_band || rows < 0)) {
         double need = ss_whole_sweep_bytes(dem->grid.width, dem->grid.height);
         const ss_memory_plan *m = &run->memory;
@@ -535,14 +609,7 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
                               m->device_memory / 1048576.0, dem->grid.width,
                               ceil(m->device_least / 1048576.0));
         else if (may_band)
-            st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
-                              "the memory budget (%s) is too small for this DEM and command: "
-                              "it needs at least --memory %.0fM (the process's %.0f MiB, one "
-                              "band of %d cells with the hulls handed on, GDAL's cache and "
-                              "the device's buffers; doc/scale.md)",
-                              common->memory ? common->memory : "half this machine's memory",
-                              ceil(run->memory.least_budget / 1048576.0),
-                              resident_bytes() / 1048576.0, dem->grid.width);
+            st = refuse_budget(run, m->least_budget, resident_bytes(), 0, dem->grid.width);
         else
             st = ss_ctx_error(run->ctx, SS_ERR_MEMORY,
                               "'%s' needs about %.0f MiB for a whole-grid sweep, more than "

@@ -65,9 +65,11 @@ typedef struct {
     int progress_part, progress_parts; /* a run of several library calls: which one runs */
     char z_unit_source[200]; /* the DEM's height unit and where it came from (metadata) */
     double memory_bound;     /* --memory in bytes (0: none given), for the summary */
+    const char *memory_asked; /* --memory as given (NULL: none) */
     ss_memory_plan memory;   /* the memory plan its bands and device buffers follow */
     ss_memory_need memory_need; /* what it was made from (width 0: none was made) */
     char memory_device[128];    /* the device it was made for ("": none opened) */
+    double memory_choosing;     /* what --device auto's choosing added to the process, bytes */
     int device_auto;            /* --device auto: the effects plan picks the device */
 } run_state;
 
@@ -133,6 +135,9 @@ typedef struct {
      * (horizon's planes of every direction), beyond cell_bytes. */
     double output_bytes;
     int no_sweep; /* sweeps nothing (a plain hillshade): opens no device */
+    /* Plans its sweeps only after other work (roofs' shade table): a budget
+     * too small is refused at the DEM's opening, under --device auto too. */
+    int plans_late;
     /* Held per cell of the whole grid beside the bands (svf's trees). */
     double grid_cell_bytes;
 } band_cost;
@@ -189,7 +194,9 @@ memory_mark job_memory_mark(void);
  * device leaves no room within the budget (not one band, or a DEM already
  * held whole that would need bands beside it) the C twin runs, and a line
  * on stderr says so; SS_ERR_MEMORY where even the C twin has no room left
- * beside what choosing loaded. */
+ * beside what choosing loaded, or where the DEM's opening found the budget
+ * too small for one band (open_dem_file leaves that to here under auto),
+ * naming the least budget with which auto, choosing again, runs. */
 ss_status job_memory_replan(sweep_job *job, memory_mark before);
 /* Opens the job's output of n_bands bands on rank 0 (the one that writes,
  * alone or under mpirun), before the run so that it fails early; the other

@@ -207,6 +207,60 @@ int ss_opencl_devices(ss_device_candidate *out, int max)
     return cs.n;
 }
 
+/* A CPU device's OpenCL (PoCL) compiles each kernel for the work-group
+ * size it is enqueued with (and for ranges below 65536 work-items apart,
+ * its "smallgrid" variant) only when it is first enqueued, keeping the
+ * result in its cache folder (POCL_CACHE_DIR). With a cold cache those
+ * compiles, LLVM's working memory, came in the middle of the sweep, after
+ * the memory plan had measured the process, and its peak passed --memory
+ * (doc/engine.md). Here every kernel is enqueued with the sweeps'
+ * work-group size over both sizes of range, on nothing: no direction slot
+ * and no cell, so that every work-item returns at once (NULL buffers).
+ * The compiles then come with the program's build, before the plan
+ * measures the process. Each kernel's arguments: m a buffer, R the band
+ * (ss_band_run), S an insolation step (ss_cells_step), i an int. */
+static ss_status compile_kernels_now(ss_ctx *ctx, struct ss_ocl *o)
+{
+    ss_band_run run;
+    ss_cells_step step;
+    memset(&run, 0, sizeof run);
+    memset(&step, 0, sizeof step);
+    run.lines = 1; /* batch_line divides by it; with no slot every work-item returns */
+    int zero = 0;
+    struct {
+        cl_kernel k;
+        const char *args;
+    } kernels[] = {{o->k_sum, "mRimmmmmmmmm"},  {o->k_horizon, "mRimmmmmmmmm"},
+                   {o->k_hand_on, "mRimmmmmmmmm"}, {o->k_radius, "mRimmm"},
+                   {o->k_bare, "mRimm"},         {o->k_reduce, "Rimm"},
+                   {o->k_carry, "Riiiiimmm"},    {o->k_finish, "Rim"},
+                   {o->k_cells, "RSimmmmmmmm"}};
+    size_t local = o->work_group;
+    size_t ranges[] = {local, (65536 + local - 1) / local * local};
+    cl_int err = CL_SUCCESS;
+    ss_status st = SS_OK;
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0] && st == SS_OK; ++i) {
+        cl_kernel k = kernels[i].k;
+        for (cl_uint a = 0; kernels[i].args[a] && err == CL_SUCCESS; ++a) {
+            char c = kernels[i].args[a];
+            err = c == 'm'   ? clSetKernelArg(k, a, sizeof(cl_mem), NULL)
+                  : c == 'R' ? clSetKernelArg(k, a, sizeof run, &run)
+                  : c == 'S' ? clSetKernelArg(k, a, sizeof step, &step)
+                             : clSetKernelArg(k, a, sizeof zero, &zero);
+        }
+        for (size_t r = 0; r < 2 && err == CL_SUCCESS; ++r)
+            err = clEnqueueNDRangeKernel(o->queue, k, 1, NULL, &ranges[r], &local, 0, NULL,
+                                         NULL);
+        if (err == CL_SUCCESS)
+            err = clFinish(o->queue);
+        /* A kernel's compile takes a second or so with a cold cache: a
+         * cancel is heard between them. */
+        st = err == CL_SUCCESS ? ss_progress(ctx, 0.0, "the kernel build")
+                               : ocl_fail(ctx, err, "compiling the kernels");
+    }
+    return st;
+}
+
 static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
 {
     cl_int err;
@@ -253,7 +307,12 @@ static ss_status build_program(ss_ctx *ctx, struct ss_ocl *o)
     clGetKernelWorkGroupInfo(o->k_sum, o->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max_wg,
                              &max_wg, NULL);
     o->work_group = max_wg < 64 ? max_wg : 64;
-    return SS_OK;
+    if (!o->is_cpu)
+        return SS_OK;
+    t0 = ss_seconds_now();
+    st = compile_kernels_now(ctx, o);
+    ctx->counters.build_seconds += ss_seconds_now() - t0;
+    return st;
 }
 
 /* PoCL compiles kernels into files under its cache folder (LLVM ends the
