@@ -206,6 +206,12 @@ gdalinfo s_bl.tif >blinfo.txt
 grep -q 'CROWN_LIGHT=Beer-Lambert: exp(-0.6 x 0.4 m2/m3 x the ray.s path inside crowns), paths on digital lines, for the beam, circumsolar light and hours of sun of leaf-on steps, and their sky through crowns by its mean over the directions the crowns hide; leaf-off steps the constant 0.5' blinfo.txt &&
     grep -q 'CROWN_LINES=digital' blinfo.txt && grep -q 'CROWN_LIGHT=constant: transmissivity 0.03 leaf on, 0.5 leaf off' info.txt
 tap_ok $? "the metadata name the crown-light model (CROWN_LIGHT), constant and Beer-Lambert"
+# With Beer-Lambert the constant leaf-on transmissivity reaches nothing: the
+# metadata do not give it as if it did.
+grep -q 'TRANSMISSIVITY=none leaf on: Beer-Lambert' blinfo.txt &&
+    grep -q 'SEASON=.*transmissivity Beer-Lambert (CROWN_LIGHT) leaf on, 0.5 leaf off' blinfo.txt &&
+    grep -q 'TRANSMISSIVITY=0.03$' info.txt && grep -q 'SEASON=.*transmissivity 0.03 leaf on' info.txt
+tap_ok $? "with Beer-Lambert, TRANSMISSIVITY and SEASON name it, not the constant the run ignored"
 "$SKYSWEEP" insolation --device reference "${step[@]}" "${bl[@]}" flat.tif s_bl2.tif |
     grep -q '^trees   light through crowns: Beer-Lambert'
 tap_ok $? "the summary names Beer-Lambert"

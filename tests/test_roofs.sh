@@ -447,8 +447,9 @@ june t0.csv t0.gpkg --transmissivity 0 --crown-lines digital &&
               d = d < 0 ? -d : d; w = d > w ? d : w; if (a[k] + 0 != a[k] || NF != length(a)) bad = 1 } }
         END { printf "%.2g", w; exit bad || w > 1e-6 }')
 tap_ok $? "roofs --crown-light beer-lambert, LAD 20 and G 1: every plane's row as transmissivity 0 (the crowns on digital lines both), worst relative $worst (exp(-20 L) is not quite 0 on the shortest paths) $(head -c 160 err.txt)"
-ogrinfo -so bl.gpkg roof_planes 2>/dev/null | grep -q "crown light: Beer-Lambert: exp(-1 x 20 m2/m3"
-tap_ok $? "roofs --crown-light: the layers' description names Beer-Lambert"
+ogrinfo -so bl.gpkg roof_planes 2>/dev/null |
+    grep -q "transmissivity Beer-Lambert leaf on, 0.5 leaf off, crown light: Beer-Lambert: exp(-1 x 20 m2/m3"
+tap_ok $? "roofs --crown-light: the layers' description names Beer-Lambert (not the constant it replaces)"
 june bad.csv bad.gpkg --leaf-area-density 2
 rc=$?
 [ $rc = 2 ] && [ "$(wc -l <err.txt)" = 1 ] && [ ! -e bad.gpkg ]

@@ -289,8 +289,10 @@ paste <(band bl.tif 4) <(band bl.tif 5) <(band bl.tif 6) |
          END {exit !(veg > 20 && bad == 0)}'
 tap_ok $? "--crown-light beer-lambert: a path exactly where class 2 is, its fraction exp(-0.5 x 0.8 x path)"
 grep -q "CROWN_LIGHT=Beer-Lambert: exp(-0.5 x 0.8 m2/m3" <(gdalinfo bl.tif) &&
-    grep -q "CROWN_LIGHT=constant: transmissivity 0.03" <(gdalinfo t0.03.tif)
-tap_ok $? "the metadata name the crowns' light: constant or Beer-Lambert with its coefficients"
+    grep -q "TRANSMISSIVITY=none leaf on: Beer-Lambert" <(gdalinfo bl.tif) &&
+    grep -q "CROWN_LIGHT=constant: transmissivity 0.03" <(gdalinfo t0.03.tif) &&
+    grep -q "TRANSMISSIVITY=0.03$" <(gdalinfo t0.03.tif)
+tap_ok $? "the metadata name the crowns' light: constant or Beer-Lambert with its coefficients (TRANSMISSIVITY not the constant Beer-Lambert replaces)"
 refuse 2 "--leaf-area-density without --crown-light beer-lambert" --canopy canopy.tif --leaf-area-density 2 dsm.tif bad.tif
 refuse 2 "--crown-light beer-lambert without --canopy" --crown-light beer-lambert dsm.tif bad.tif
 refuse 2 "--transmissivity with --crown-light beer-lambert" --canopy canopy.tif --crown-light beer-lambert --transmissivity 0.1 dsm.tif bad.tif

@@ -261,7 +261,7 @@ int cmd_shadow(int argc, char **argv)
         if (set.trees.canopy) {
             trees_metadata(w, &set.trees, &tr);
             crown_light_describe(&set.light, set.trees.transmissivity, buf, sizeof buf);
-            ss_writer_metadata(w, "CROWN_LIGHT", buf);
+            crown_light_metadata(w, &set.light, buf);
             trees_bands(w, set.light.beer_lambert);
         }
     }

@@ -61,3 +61,12 @@ void crown_light_describe(const crown_light_settings *set, double transmissivity
     else
         snprintf(buf, size, "constant: transmissivity %.6g", transmissivity);
 }
+
+void crown_light_metadata(ss_raster_writer *w, const crown_light_settings *set,
+                          const char *described)
+{
+    ss_writer_metadata(w, "CROWN_LIGHT", described);
+    if (set->beer_lambert)
+        ss_writer_metadata(w, "TRANSMISSIVITY",
+                           "none leaf on: Beer-Lambert's exp(-G LAD path) instead (CROWN_LIGHT)");
+}

@@ -33,4 +33,9 @@ int crown_light_alone(const char *command, const opt_spec *const *tables, const 
 void crown_light_describe(const crown_light_settings *set, double transmissivity, char *buf,
                           size_t size);
 
+/* Writes CROWN_LIGHT (described); with Beer-Lambert also TRANSMISSIVITY,
+ * which trees_metadata gave the constant that Beer-Lambert replaces. */
+void crown_light_metadata(ss_raster_writer *w, const crown_light_settings *set,
+                          const char *described);
+
 #endif

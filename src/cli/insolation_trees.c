@@ -134,13 +134,18 @@ static void describe_season(const insolation_tree_settings *set, const insolatio
         snprintf(off, sizeof off, "%s (given)", set->leaf_off);
     else
         snprintf(off, sizeof off, "day %d", it->off_day);
+    char leaf_on[60];
+    if (set->light.beer_lambert)
+        snprintf(leaf_on, sizeof leaf_on, "Beer-Lambert (CROWN_LIGHT)");
+    else
+        snprintf(leaf_on, sizeof leaf_on, "%.4g", set->trees.transmissivity);
     snprintf(buf, size,
              "leaves on from %s until %s (off from that day), by each step's local date (mean "
              "solar time at the DEM's centre); defaults UMEP's firstdayleaf 97, lastdayleaf "
-             "300%s; transmissivity %.4g leaf on, %.4g leaf off",
+             "300%s; transmissivity %s leaf on, %.4g leaf off",
              on, off,
              it->south ? ", shifted by 183 days: the DEM's centre lies south of the equator" : "",
-             set->trees.transmissivity, set->transmissivity_leaf_off);
+             leaf_on, set->transmissivity_leaf_off);
 }
 
 /* The light through crowns: constant, or Beer-Lambert in leaf-on steps. */
@@ -176,7 +181,7 @@ void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settin
     ss_writer_metadata(w, "TRUNK_GAPS", set->trees.trunk_gaps ? "open" : "ignore");
     ss_writer_metadata(w, "CROWN_LINES", crown_lines_of(set));
     describe_light(set, buf, sizeof buf);
-    ss_writer_metadata(w, "CROWN_LIGHT", buf);
+    crown_light_metadata(w, &set->light, buf);
 }
 
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,

@@ -323,10 +323,13 @@ ss_status roofs_write_outputs(roofs_run *r)
     const insolation_tree_settings *t = &r->set.trees;
     if (t->trees.canopy) {
         crown_light_describe(&t->light, t->trees.transmissivity, light, sizeof light);
+        char leaf_on[40] = "Beer-Lambert";
+        if (!t->light.beer_lambert)
+            snprintf(leaf_on, sizeof leaf_on, "%.4g", t->trees.transmissivity);
         snprintf(trees_note, sizeof trees_note,
-                 "; with trees from %s, transmissivity %.4g leaf on, %.4g leaf off, crown "
+                 "; with trees from %s, transmissivity %s leaf on, %.4g leaf off, crown "
                  "light: %s (doc/vegetation.md)",
-                 t->trees.canopy, t->trees.transmissivity, t->transmissivity_leaf_off, light);
+                 t->trees.canopy, leaf_on, t->transmissivity_leaf_off, light);
     }
     snprintf(described, sizeof described,
              "skysweep roofs: per building, sums over its roof planes (doc/roofs.md); under %s%s",
