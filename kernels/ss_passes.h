@@ -522,8 +522,46 @@ SS_FN int ss_line_shadow_end(const ss_walker *w, const ss_line_set *ls, int s_lo
     return s_lo;
 }
 
+/* Whether a step of [s_from, count) of a line may give a horizon to a
+ * cell whose block (kernels/ss_band.h; blocks: the largest level of each,
+ * over the grid) is above lit_level: the cells ss_line_shadow_end tests,
+ * by their blocks' levels, each at least the cell's. */
+SS_FN int ss_line_shadow_ahead(const ss_walker *w, const ss_line_set *ls, int s_from, int count,
+                               SS_GLOBAL const unsigned char *blocks, int width, int lit_level)
+{
+    int box = ls->model == SS_LINE_MODEL_BOX;
+    int nbx = (width + (1 << SS_LIT_BLOCK_SHIFT) - 1) >> SS_LIT_BLOCK_SHIFT;
+    for (int s = count - 1; s >= s_from; --s) {
+        ss_line_sample p = ss_walker_sample(ls, w, s);
+        for (int k = 0; k < (box ? 1 : 2); ++k) {
+            int minor = p.minor0 + k;
+            if (minor < 0 || minor >= ls->minor_len || (k == 1 && !(p.w1 > 0.0f)))
+                continue;
+            int row = ls->major_is_row ? p.major : minor, col = ls->major_is_row ? minor : p.major;
+            if (blocks[(row >> SS_LIT_BLOCK_SHIFT) * nbx + (col >> SS_LIT_BLOCK_SHIFT)] >
+                lit_level)
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* A band's blocks of sector k: after the planes of its held rows. */
+SS_FN SS_GLOBAL const unsigned char *ss_lit_blocks(SS_GLOBAL const unsigned char *lit_levels,
+                                                   const ss_band_run *run, int k)
+{
+    int side = 1 << SS_LIT_BLOCK_SHIFT;
+    ss_i64 nbx = (run->width + side - 1) >> SS_LIT_BLOCK_SHIFT;
+    ss_i64 nby = (run->height + side - 1) >> SS_LIT_BLOCK_SHIFT;
+    return lit_levels + SS_LIT_SECTORS * (ss_i64)run->held_rows * run->width + k * nbx * nby;
+}
+
 /* A horizon walk of a line's band steps into its direction's planes;
- * returns the steps it left unwalked (ss_line_shadow_end). On
+ * returns the steps it left unwalked (ss_line_shadow_end). In bands, the
+ * walk goes on through the band's steps where a block ahead may need it
+ * (ss_line_shadow_ahead), with its hull handed on; else it stops as on
+ * the whole grid, and hands nothing on: no step ahead is walked (a cell's
+ * level is at most its block's). On
  * the host, by a copy of the walk compiled for the line's flags as
  * ss_band_sum_line's (box lines share one copy): 6 % faster sweeps. A
  * device keeps one general copy: four made PoCL's first compile of the
@@ -539,17 +577,24 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
         return 0;
     /* The bounds hold for interpolated and box lines (the host makes them
      * for the run's model), bent down by curvature or not. */
-    int lit = lit_levels && run->whole && d->ls.model != SS_LINE_MODEL_DIGITAL &&
-                      run->curv_k >= 0.0f
+    int lit = lit_levels && d->ls.model != SS_LINE_MODEL_DIGITAL && run->curv_k >= 0.0f
                   ? d->lit_level
                   : -1;
-    /* The bounds of the sector of the direction's azimuth. */
-    if (lit >= 0)
-        lit_levels += (ss_i64)d->lit_sector * run->height * run->width;
+    int done = s_hi; /* the step the line's state is recorded at */
     if (lit >= 0) {
-        int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, lit);
-        skipped = s_hi - end;
-        s_hi = end;
+        /* The bounds of the sector of the direction's azimuth: the held
+         * rows' plane, and in bands the blocks' after the planes. */
+        int stops = run->whole || !ss_line_shadow_ahead(&w, &d->ls, s_hi, count,
+                                                        ss_lit_blocks(lit_levels, run,
+                                                                      d->lit_sector),
+                                                        run->width, lit);
+        lit_levels += (ss_i64)d->lit_sector * run->held_rows * run->width;
+        if (stops) {
+            int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, lit);
+            skipped = s_hi - end;
+            s_hi = end;
+            done = count;
+        }
     }
     /* Planes not asked for are never written: the angle plane stands in. */
     SS_GLOBAL float *angle = ss_band_plane(outs, run, d->slot, 0);
@@ -584,7 +629,7 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
                          ss_walk_flags(ls, k), lit_levels, lit);
     }
 #endif
-    ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
+    ss_band_line_end(&w, d, run, line, done, count, hulls.state, hulls.counters);
     return skipped;
 }
 

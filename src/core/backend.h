@@ -31,6 +31,9 @@ typedef struct {
      * backend; NULL: whole walks. The C twin counts the samples it leaves
      * (ss_counters.shadow_steps_skipped). */
     const unsigned char *lit_levels;
+    /* The same in bands (lit_levels.h): the driver reads each band's into
+     * lit_levels before its walks, on the C twin (a device walks whole). */
+    struct ss_lit_bands *lit_bands;
 } ss_walk;
 
 /* Output planes per direction of a horizon walk: angle sums, weights, and

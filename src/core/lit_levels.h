@@ -7,6 +7,7 @@
 #define SS_LIT_LEVELS_H
 
 #include "ctx_internal.h" /* ss_malloc */
+#include "ss_band.h"      /* SS_LIT_SECTORS, SS_LIT_BLOCK_SHIFT */
 
 /* A cell's bound is rounded up to a level: level k is (k + 1) steps of
  * SS_LIT_STEP_DEG. */
@@ -23,7 +24,7 @@ double ss_lit_level_deg(int level);
  * sixteen lower the Gothenburg DSM's median bound facing south from 38
  * to 33 degrees but skip only 3.0 % of a June week's walks there against
  * eight's 2.4 %, for twice the bytes (doc/performance.md). */
-#define SS_LIT_SECTORS 8
+/* (SS_LIT_SECTORS, the kernels' too, is defined in kernels/ss_band.h.) */
 /* The sector of walks at this azimuth in the grid's frame (degrees, any
  * finite value). */
 int ss_lit_sector(double grid_azimuth_deg);
@@ -42,6 +43,26 @@ unsigned char *ss_lit_levels(const float *z, int width, int height, double cell_
 /* The same for box lines (kernels/ss_box.h) of `families` families. */
 unsigned char *ss_lit_levels_box(const float *z, int width, int height, double cell_x_m,
                                  double cell_y_m, int families);
+
+/* The same levels for a DEM read in bands (src: its band_rows less than
+ * its height), made in two passes over it: the highest height of each
+ * block of 8 x 8 cells and the block levels above, held whole (a
+ * sixty-fourth of the heights and a third more); then each band of rows
+ * with LOCAL_REACH rows around it, whose cells within that reach give the
+ * bounds' near zones and lower levels (lit_levels.c's proof, the same
+ * zones; the farther levels take no slope cap, which only lowers a bound).
+ * The levels go to a store of cells (a temporary file), with the largest
+ * level of each block of 2^SS_LIT_BLOCK_SHIFT cells per sector held whole;
+ * families 0: interpolated lines, else box lines of that many families.
+ * *out NULL where memory is short (the walks then go whole). */
+typedef struct ss_lit_bands ss_lit_bands;
+ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, ss_lit_bands **out);
+/* A band visit's levels for its held rows [lo, lo + n), in the layout
+ * kernels/ss_passes.h reads (ss_band_horizon_line): each sector's plane of
+ * n rows, then each sector's blocks; ss_lit_bands_bytes(lb, n) bytes. */
+ss_status ss_lit_bands_read(ss_lit_bands *lb, int lo, int n, unsigned char *out);
+size_t ss_lit_bands_bytes(const ss_lit_bands *lb, int held_rows);
+void ss_lit_bands_free(ss_lit_bands *lb);
 
 /* Whether exact shadow walks over a grid held whole use the bounds: their
  * proof is for interpolated and box lines, and fewer than 48 walked steps
