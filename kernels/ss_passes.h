@@ -525,23 +525,36 @@ SS_FN int ss_line_shadow_end(const ss_walker *w, const ss_line_set *ls, int s_lo
 /* Whether a step of [s_from, count) of a line may give a horizon to a
  * cell whose block (kernels/ss_band.h; blocks: the largest level of each,
  * over the grid) is above lit_level: the cells ss_line_shadow_end tests,
- * by their blocks' levels, each at least the cell's. */
+ * by their blocks' levels, each at least the cell's. The steps go in runs
+ * within one block column (or row) of the major axis, each run's cells
+ * lying between its first and last steps' across the line (the line is
+ * straight): two samples and a block or two a run, not a sample a step. */
 SS_FN int ss_line_shadow_ahead(const ss_walker *w, const ss_line_set *ls, int s_from, int count,
                                SS_GLOBAL const unsigned char *blocks, int width, int lit_level)
 {
-    int box = ls->model == SS_LINE_MODEL_BOX;
-    int nbx = (width + (1 << SS_LIT_BLOCK_SHIFT) - 1) >> SS_LIT_BLOCK_SHIFT;
-    for (int s = count - 1; s >= s_from; --s) {
-        ss_line_sample p = ss_walker_sample(ls, w, s);
-        for (int k = 0; k < (box ? 1 : 2); ++k) {
-            int minor = p.minor0 + k;
-            if (minor < 0 || minor >= ls->minor_len || (k == 1 && !(p.w1 > 0.0f)))
-                continue;
-            int row = ls->major_is_row ? p.major : minor, col = ls->major_is_row ? minor : p.major;
-            if (blocks[(row >> SS_LIT_BLOCK_SHIFT) * nbx + (col >> SS_LIT_BLOCK_SHIFT)] >
-                lit_level)
+    int side = 1 << SS_LIT_BLOCK_SHIFT;
+    int nbx = (width + side - 1) >> SS_LIT_BLOCK_SHIFT;
+    /* A box line's step gives a horizon to its nearest cell alone. */
+    int reach = ls->model == SS_LINE_MODEL_BOX ? 0 : 1;
+    for (int s1 = count - 1; s1 >= s_from;) {
+        ss_line_sample last = ss_walker_sample(ls, w, s1);
+        /* Back to the first step of the run in last's block of majors:
+         * majors move by one a step, up or down. */
+        int off = last.major & (side - 1);
+        int back = w->dmajor > 0 ? off : side - 1 - off;
+        int s0 = s1 - back > s_from ? s1 - back : s_from;
+        ss_line_sample first = ss_walker_sample(ls, w, s0);
+        int lo = first.minor0 < last.minor0 ? first.minor0 : last.minor0;
+        int hi = (first.minor0 > last.minor0 ? first.minor0 : last.minor0) + reach;
+        lo = lo > 0 ? lo : 0;
+        hi = hi < ls->minor_len - 1 ? hi : ls->minor_len - 1;
+        int major_block = last.major >> SS_LIT_BLOCK_SHIFT;
+        for (int m = lo >> SS_LIT_BLOCK_SHIFT; m <= hi >> SS_LIT_BLOCK_SHIFT && lo <= hi; ++m) {
+            int row = ls->major_is_row ? major_block : m, col = ls->major_is_row ? m : major_block;
+            if (blocks[row * nbx + col] > lit_level)
                 return 1;
         }
+        s1 = s0 - 1;
     }
     return 0;
 }
