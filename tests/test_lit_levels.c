@@ -66,12 +66,18 @@ static int check_direction(int index, double azimuth_deg, const float *angle_deg
 
 /* Lines to bound: interpolated (families 0) or box lines of `families`;
  * bounds made of the grid held whole (band_rows 0) or read in bands of
- * band_rows rows (ss_lit_bands_make). */
+ * band_rows rows (ss_lit_bands_make); per sector, or one_bound: one for
+ * every azimuth (ss_lit_sectors_for). */
 typedef struct {
-    int families, band_rows;
+    int families, band_rows, one_bound;
 } line_kind;
 
-static const line_kind INTERPOLATED = {0, 0};
+static const line_kind INTERPOLATED = {0, 0, 0};
+
+static int sectors_of(line_kind k)
+{
+    return k.one_bound ? 1 : SS_LIT_SECTORS;
+}
 
 /* The levels of a grid read in bands, every row's (NULL: none made). */
 static unsigned char *banded_levels(const ss_grid *g, line_kind k, ss_lit_bands **bands)
@@ -81,7 +87,7 @@ static unsigned char *banded_levels(const ss_grid *g, line_kind k, ss_lit_bands 
     src.band_rows = k.band_rows;
     ss_lit_bands *lb = NULL;
     unsigned char *out = NULL;
-    if (ss_lit_bands_make(ctx, &src, k.families, &lb) == SS_OK && lb &&
+    if (ss_lit_bands_make(ctx, &src, k.families, sectors_of(k), &lb) == SS_OK && lb &&
         (out = malloc(ss_lit_bands_bytes(lb, g->height))) &&
         ss_lit_bands_read(lb, 0, g->height, out) != SS_OK) {
         free(out);
@@ -100,8 +106,9 @@ static unsigned char *levels_for(const ss_grid *g, line_kind k)
     if (k.band_rows > 0)
         return banded_levels(g, k, NULL);
     return k.families ? ss_lit_levels_box(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m,
-                                          k.families)
-                      : ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m);
+                                          k.families, sectors_of(k))
+                      : ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m,
+                                      sectors_of(k));
 }
 
 static void use_lines(ss_sweep_options *o, line_kind k)
@@ -117,7 +124,10 @@ static const char *lines_name(line_kind k)
     int n = k.families ? snprintf(name, sizeof name, "box lines x%d", k.families)
                        : snprintf(name, sizeof name, "interpolated lines");
     if (k.band_rows > 0)
-        snprintf(name + n, sizeof name - (size_t)n, ", bounds in bands of %d rows", k.band_rows);
+        n += snprintf(name + n, sizeof name - (size_t)n, ", bounds in bands of %d rows",
+                      k.band_rows);
+    if (k.one_bound)
+        snprintf(name + n, sizeof name - (size_t)n, ", one bound for every azimuth");
     return name;
 }
 
@@ -352,10 +362,13 @@ int main(void)
     };
     /* Box lines of 2 families put a centre a quarter cell beside its line,
      * of 32 (the default on city DSMs) a 64th. */
-    static const line_kind box_few = {2, 0}, box_many = {32, 0};
+    static const line_kind box_few = {2, 0, 0}, box_many = {32, 0, 0};
     /* Bounds made band by band: bands shorter than a window's reach, so
      * that the far levels come from the pyramid held whole. */
-    static const line_kind banded = {0, 17}, banded_box = {32, 23};
+    static const line_kind banded = {0, 17, 0}, banded_box = {32, 23, 0};
+    /* One bound for every azimuth, whole and in bands. */
+    static const line_kind one_bound = {0, 0, 1}, one_bound_box = {4, 0, 1},
+                           one_bound_banded = {4, 19, 1};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         ss_grid g = test_grid(cases[i].width, cases[i].height, cases[i].cell_x, cases[i].cell_y);
         test_fill(&g, cases[i].kind, 17 + (unsigned)i, cases[i].relief);
@@ -390,6 +403,8 @@ int main(void)
     check_grid("two spikes far apart on a plain", &far, 96, 0.0, 0.0, box_few);
     check_grid("two spikes far apart on a plain", &far, 96, 0.11, 0.0, banded);
     check_grid("two spikes far apart on a plain", &far, 48, 0.0, 6371000.0, banded_box);
+    check_grid("two spikes far apart on a plain", &far, 96, 0.11, 0.0, one_bound);
+    check_grid("two spikes far apart on a plain", &far, 48, 0.0, 0.0, one_bound_banded);
     ss_grid_free(&far);
     ss_grid city = city_blocks();
     check_grid("city blocks", &city, 240, 0.0, 0.0, INTERPOLATED);
@@ -413,6 +428,7 @@ int main(void)
     check_grid("a shield island", &island, 24, 0.01, 6371000.0, box_many);
     check_grid("a shield island", &island, 96, 0.0, 0.0, banded);
     check_grid("a shield island", &island, 24, 0.01, 6371000.0, banded_box);
+    check_grid("a shield island", &island, 48, 0.0, 0.0, one_bound_box);
     ss_grid_free(&island);
     check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 96, INTERPOLATED);
     check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 24, box_many);
@@ -454,6 +470,8 @@ int main(void)
     check_early_stops_on_pocl(have_pocl, "spikes on a plain", &spikes, 0.0, INTERPOLATED);
     check_early_stops("reference", "spikes on a plain", &spikes, 0.0, box_many);
     check_early_stops("reference", "spikes on a plain", &spikes, 0.0, banded);
+    check_early_stops("reference", "spikes on a plain", &spikes, 0.0, one_bound_box);
+    check_early_stops("reference", "spikes on a plain", &spikes, 0.0, one_bound_banded);
     ss_grid_free(&spikes);
     return tap_done();
 }

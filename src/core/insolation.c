@@ -836,16 +836,18 @@ static ss_status shadow_levels(const ss_insolation_job *job, const steps_plan *p
                                unsigned char **levels, ss_lit_bands **bands)
 {
     const ss_source *src = job->src;
-    int box = job->opt->lines == SS_LINES_BOX;
+    int box = job->opt->lines == SS_LINES_BOX, families = box ? job->opt->box_lines : 0;
+    int sectors = ss_lit_sectors_for(plan->n_swept, job->opt->lines, families);
     *levels = NULL;
     *bands = NULL;
     if (!ss_lit_levels_used(plan->n_swept, job->opt->lines))
         return SS_OK;
     if (!src->z || ss_source_band_rows(src) < src->height)
-        return ss_lit_bands_make(job->ctx, src, box ? job->opt->box_lines : 0, bands);
+        return ss_lit_bands_make(job->ctx, src, families, sectors, bands);
     *levels = box ? ss_lit_levels_box(src->z, src->width, src->height, src->cell_x_m,
-                                      src->cell_y_m, job->opt->box_lines)
-                  : ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m);
+                                      src->cell_y_m, families, sectors)
+                  : ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m,
+                                  sectors);
     return SS_OK;
 }
 

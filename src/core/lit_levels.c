@@ -96,6 +96,12 @@ int ss_lit_levels_used(int walked_steps, int lines)
     return walked_steps >= 48 && (lines == SS_LINES_INTERPOLATED || lines == SS_LINES_BOX);
 }
 
+int ss_lit_sectors_for(int walked_steps, int lines, int families)
+{
+    double walks = (double)walked_steps * (lines == SS_LINES_BOX ? families : 1);
+    return walks >= 2048.0 ? SS_LIT_SECTORS : 1;
+}
+
 double ss_lit_level_deg(int level)
 {
     return (level + 1) * SS_LIT_STEP_DEG;
@@ -120,6 +126,7 @@ typedef struct {
     double slack;   /* box: the walks' float error in a distance */
     double lateral; /* the farthest an occluding cell's centre lies from the ray (L) */
     double turn;    /* radians: the most a line's direction differs from its azimuth (eps) */
+    int sectors;    /* SS_LIT_SECTORS, or 1: one bound for every azimuth */
 } line_geometry;
 
 int ss_lit_sector(double grid_azimuth_deg)
@@ -143,6 +150,8 @@ static double turn_between(double a, double b)
 static int offsets_seen(int k, double x_lo, double x_hi, double y_lo, double y_hi,
                         const line_geometry *g)
 {
+    if (g->sectors == 1)
+        return 1;
     double e_lo = x_lo * g->cx, e_hi = x_hi * g->cx, n_lo = -y_hi * g->cy, n_hi = -y_lo * g->cy;
     double near_e = e_lo > 0.0 ? e_lo : (e_hi < 0.0 ? -e_hi : 0.0);
     double near_n = n_lo > 0.0 ? n_lo : (n_hi < 0.0 ? -n_hi : 0.0);
@@ -462,7 +471,7 @@ static int add_sectors(const zone_source *zs, const float *cap, int w, int h,
                        const line_geometry *g, float *zone, float *best)
 {
     size_t n = (size_t)w * h;
-    for (int k = 0; k < SS_LIT_SECTORS; ++k) {
+    for (int k = 0; k < g->sectors; ++k) {
         if (zs->j > 0) {
             if (!ring_zone(zs->level, zs->nbx, zs->nby, zs->j, zs->row0, zs->lo, w, h, g, k, zone))
                 return 0;
@@ -494,7 +503,7 @@ typedef struct {
 } window;
 
 /* The tangent bound of every sector and cell of a window of w x h cells
- * into best (SS_LIT_SECTORS planes of w x h), the planes p being work
+ * into best (g->sectors planes of w x h), the planes p being work
  * space of one plane's size. Cells beyond the window count as missing, so
  * the bounds of a window's cells hold where the window holds every cell
  * within LOCAL_REACH rows of them, or reaches the grid's edge. */
@@ -517,7 +526,7 @@ static int bound_tangents(const float *z, int w, int h, const window *win,
         zone[c] = -INFINITY;
         level[c] = isfinite(z[c]) ? z[c] : -INFINITY; /* never the highest */
     }
-    for (size_t c = 0; c < n * SS_LIT_SECTORS; ++c)
+    for (size_t c = 0; c < n * g->sectors; ++c)
         best[c] = -INFINITY;
     double cx = g->cx, cy = g->cy;
     /* The nearest cells in rings of their own, each capped by the slopes
@@ -572,7 +581,7 @@ static unsigned char *levels_of(const float *z, int w, int h, const window *win,
                                 const line_geometry *g)
 {
     size_t n = (size_t)w * h, all = n * SS_LIT_SECTORS;
-    float *best = ss_malloc(all * sizeof(float)), *p[WORK_PLANES];
+    float *best = ss_malloc(n * g->sectors * sizeof(float)), *p[WORK_PLANES];
     int ok = best != NULL;
     for (int i = 0; i < WORK_PLANES; ++i) {
         p[i] = ss_malloc(n * sizeof(float));
@@ -583,7 +592,9 @@ static unsigned char *levels_of(const float *z, int w, int h, const window *win,
     if (ok) {
 #pragma omp parallel for schedule(static)
         for (size_t i = 0; i < all; ++i) {
-            double deg = atan(best[i] * (1.0 + ROUNDING_MARGIN) + ROUNDING_MARGIN) * (180.0 / M_PI);
+            /* One bound serves every sector's plane. */
+            float t = best[g->sectors == 1 ? i % n : i];
+            double deg = atan(t * (1.0 + ROUNDING_MARGIN) + ROUNDING_MARGIN) * (180.0 / M_PI);
             /* The first level above deg (an angle of 0 is below level 0's). */
             int k = deg < 0.0 ? 0 : (int)floor(deg / SS_LIT_STEP_DEG);
             while (k < SS_LIT_LEVELS && !(deg < ss_lit_level_deg(k)))
@@ -613,28 +624,30 @@ static double line_turn(double cx, double cy)
 
 /* The geometry of interpolated lines (families 0) or of box lines of
  * `families` families on a grid of w x h cells. */
-static line_geometry geometry_of(int families, int w, int h, double cx, double cy)
+static line_geometry geometry_of(int families, int sectors, int w, int h, double cx, double cy)
 {
+    sectors = sectors == 1 ? 1 : SS_LIT_SECTORS;
     if (families <= 0)
-        return (line_geometry){0, cx, cy, 0.0, 0.0, 2.0 * fmax(cx, cy), line_turn(cx, cy)};
+        return (line_geometry){0,   cx, cy, 0.0, 0.0, 2.0 * fmax(cx, cy), line_turn(cx, cy),
+                               sectors};
     double beside = 0.5 / families * fmax(cx, cy), slack = (w > h ? w : h) * hypot(cx, cy) * 0x1p-20;
     return (line_geometry){1,     cx,
                            cy,    beside,
                            slack, beside + 0.5 * hypot(cx, cy) + slack,
-                           line_turn(cx, cy)};
+                           line_turn(cx, cy), sectors};
 }
 
-unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
+unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy, int sectors)
 {
-    line_geometry g = geometry_of(0, w, h, cx, cy);
+    line_geometry g = geometry_of(0, sectors, w, h, cx, cy);
     window whole = {0, NULL};
     return levels_of(z, w, h, &whole, &g);
 }
 
 unsigned char *ss_lit_levels_box(const float *z, int w, int h, double cx, double cy,
-                                 int families)
+                                 int families, int sectors)
 {
-    line_geometry g = geometry_of(families, w, h, cx, cy);
+    line_geometry g = geometry_of(families, sectors, w, h, cx, cy);
     window whole = {0, NULL};
     return levels_of(z, w, h, &whole, &g);
 }
@@ -766,7 +779,8 @@ void ss_lit_bands_free(ss_lit_bands *lb)
     free(lb);
 }
 
-ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, ss_lit_bands **out)
+ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, int sectors,
+                            ss_lit_bands **out)
 {
     *out = NULL;
     int w = src->width, h = src->height, s = 1 << SS_LIT_BLOCK_SHIFT;
@@ -784,7 +798,7 @@ ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, ss_
     int made = lb && buf && lb->blocks;
     if (made)
         st = ss_cell_store_open(ctx, src, SS_LIT_SECTORS, 1, &lb->fine);
-    line_geometry g = geometry_of(families, w, h, src->cell_x_m, src->cell_y_m);
+    line_geometry g = geometry_of(families, sectors, w, h, src->cell_x_m, src->cell_y_m);
     far_pyramid far = {.n = 0};
     if (st == SS_OK && made)
         st = far_pyramid_of(ctx, src, rows, buf, &far, &made);

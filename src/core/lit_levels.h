@@ -37,12 +37,15 @@ int ss_lit_sector(double grid_azimuth_deg);
  * sectors' planes of width x height bytes follow each other, sector 0
  * first. Freed with free(); NULL when out of memory (the walks then go
  * whole). Its work space, about 44 + 4 SS_LIT_SECTORS bytes a cell, is
- * freed before it returns. */
+ * freed before it returns. sectors 1: one bound for every azimuth, the
+ * largest of the sectors' (each zone counts toward every sector), in each
+ * sector's plane: the zones made once instead of about twice
+ * (ss_lit_sectors_for); else SS_LIT_SECTORS. */
 unsigned char *ss_lit_levels(const float *z, int width, int height, double cell_x_m,
-                             double cell_y_m);
+                             double cell_y_m, int sectors);
 /* The same for box lines (kernels/ss_box.h) of `families` families. */
 unsigned char *ss_lit_levels_box(const float *z, int width, int height, double cell_x_m,
-                                 double cell_y_m, int families);
+                                 double cell_y_m, int families, int sectors);
 
 /* The same levels for a DEM read in bands (src: its band_rows less than
  * its height), made in two passes over it: the highest height of each
@@ -56,7 +59,8 @@ unsigned char *ss_lit_levels_box(const float *z, int width, int height, double c
  * families 0: interpolated lines, else box lines of that many families.
  * *out NULL where memory is short (the walks then go whole). */
 typedef struct ss_lit_bands ss_lit_bands;
-ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, ss_lit_bands **out);
+ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, int sectors,
+                            ss_lit_bands **out);
 /* A band visit's levels for its held rows [lo, lo + n), in the layout
  * kernels/ss_passes.h reads (ss_band_horizon_line): each sector's plane of
  * n rows, then each sector's blocks; ss_lit_bands_bytes(lb, n) bytes. */
@@ -64,7 +68,7 @@ ss_status ss_lit_bands_read(ss_lit_bands *lb, int lo, int n, unsigned char *out)
 size_t ss_lit_bands_bytes(const ss_lit_bands *lb, int held_rows);
 void ss_lit_bands_free(ss_lit_bands *lb);
 
-/* Whether exact shadow walks over a grid held whole use the bounds: their
+/* Whether exact shadow walks use the bounds (held whole or in bands): their
  * proof is for interpolated and box lines, and fewer than 48 walked steps
  * do not repay them (interpolated: 0.2 s on 857 x 793 cells, about 16
  * steps' walks there; box lines of 32 families: 0.15 s on the Gothenburg
@@ -72,6 +76,17 @@ void ss_lit_bands_free(ss_lit_bands *lb);
  * 0.9 % of a June week's walks, 3 ms a step of about 0.3 s). The plan
  * (plan.c) and the run (insolation.c) both ask here. */
 int ss_lit_levels_used(int walked_steps, int lines);
+
+/* The sectors the bounds of a run are made in: SS_LIT_SECTORS where the
+ * walks repay making them, walked steps times the walks' cost per step
+ * (box lines: their families; interpolated lines: 1) at least 2048; else
+ * 1. Sectors take about twice the making (a zone counts toward about two)
+ * and pay where a cell is open in some azimuths, as beside a wall:
+ * measured on terrain (Kilauea's sample, box lines x4, five June days,
+ * 65 walked steps) 8.5 s user with one bound against 9.5 s with sectors;
+ * on the Gothenburg DSM (box lines x32, a June week, 173 steps) 53 s
+ * against 42 s (doc/performance.md). */
+int ss_lit_sectors_for(int walked_steps, int lines, int families);
 
 /* The highest level at or below elevation_deg (-1: none): a cell whose
  * level is at most this has every horizon below a sun that high. */
