@@ -120,7 +120,7 @@ static void use_lines(ss_sweep_options *o, line_kind k)
 
 static const char *lines_name(line_kind k)
 {
-    static char name[64];
+    static char name[112];
     int n = k.families ? snprintf(name, sizeof name, "box lines x%d", k.families)
                        : snprintf(name, sizeof name, "interpolated lines");
     if (k.band_rows > 0)

@@ -83,9 +83,9 @@ int ss_lit_levels_used(int walked_steps, int lines);
  * 1. Sectors take about twice the making (a zone counts toward about two)
  * and pay where a cell is open in some azimuths, as beside a wall:
  * measured on terrain (Kilauea's sample, box lines x4, five June days,
- * 65 walked steps) 8.5 s user with one bound against 9.5 s with sectors;
- * on the Gothenburg DSM (box lines x32, a June week, 173 steps) 53 s
- * against 42 s (doc/performance.md). */
+ * 65 walked steps) 9.3 s user with one bound against 10.3 s with sectors;
+ * on the Gothenburg DSM (box lines x32, a June week, 109 walked steps)
+ * 53.0 s with one bound against 42.3 s with sectors (doc/performance.md). */
 int ss_lit_sectors_for(int walked_steps, int lines, int families);
 
 /* The highest level at or below elevation_deg (-1: none): a cell whose
