@@ -12,8 +12,9 @@
  * sky and for weather records; on an OpenCL device, which takes the
  * lattice itself, they are the C twin's to float rounding. Runs of 48
  * walked steps or more stop their shadow walks by the cells' proven
- * bounds (src/core/lit_levels.h), in bands as on the whole grid: each
- * banded run leaves some of its walks' samples unwalked. */
+ * bounds (src/core/lit_levels.h), in bands as on the whole grid: on box
+ * lines of 32 families, each banded run leaves some of its walks' samples
+ * unwalked. */
 #include "config.h"
 
 #include <math.h>
@@ -195,11 +196,18 @@ static double worst_of(const float *a, const float *b, size_t n, size_t *nodata_
     return w;
 }
 
-static void compare(const ss_grid *g, const char *terrain, int per_cell, int curved, int first,
-                    int n_steps, const int *band_rows, int n_band_rows)
+/* Box lines of box_lines families (0: interpolated lines); want_skips:
+ * every banded run must stop some walks by the bounds. */
+static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, int curved,
+                          int first, int n_steps, const int *band_rows, int n_band_rows,
+                          int box_lines, int want_skips)
 {
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
+    if (box_lines > 0) {
+        opt.lines = SS_LINES_BOX;
+        opt.box_lines = box_lines;
+    }
     opt.directions = 12;
     opt.earth_radius_m = curved ? 3e4 : 0;
     opt.refraction_k = 0;
@@ -256,7 +264,7 @@ static void compare(const ss_grid *g, const char *terrain, int per_cell, int cur
      * lattice, whatever the band (sun_table.h), so a step's beam is the
      * whole grid's and its sum differs by the order alone. */
     double long_run = per_step ? 1.0 : 3.0;
-    int bounded = n_steps >= 48; /* walked steps enough for the bounds (lit_levels.h) */
+    int bounded = want_skips;
     tap_ok(ok && rows_ok && !mismatch && worst[0] <= 1e-5 && worst[1] <= 1.2e-7 * n_steps &&
                worst[2] <= 1e-4 && worst[3] <= 1e-4 * long_run && worst[4] == 0 &&
                worst_step <= 1e-5 && (!bounded || runs_skipping == n_band_rows),
@@ -534,6 +542,12 @@ static void lattice_on_device(const ss_grid *g, int weather, ss_shadow_mode shad
     grids_free(&device);
 }
 
+static void compare(const ss_grid *g, const char *terrain, int per_cell, int curved, int first,
+                    int n_steps, const int *band_rows, int n_band_rows)
+{
+    compare_lines(g, terrain, per_cell, curved, first, n_steps, band_rows, n_band_rows, 0, 0);
+}
+
 int main(void)
 {
     static const int band_rows[] = {1, 2, 5, 16, 200};
@@ -552,6 +566,10 @@ int main(void)
     /* 150 steps, 128 of them in daylight: two groups of 64 and one of 0
      * (SS_INSOLATION_STEPS_PER_RUN), their sums carried between runs. */
     compare(&s, "spikes 30x44, 150 steps", 1, 0, 0, 150, band_rows, nb);
+    /* The same on box lines of 32 families, whose walks repay bounds per
+     * sector (lit_levels.h): every banded run stops walks by them. */
+    compare_lines(&s, "spikes 30x44, 150 steps, box lines x32", 1, 0, 0, 150, band_rows, nb, 32,
+                  1);
     /* Only the night step: nothing swept, every row still written. */
     compare(&s, "spikes 30x44, night only", 0, 0, N_STEPS - 1, 1, band_rows, nb);
     lattice_against_arrays(&s, 0, band_rows, nb);

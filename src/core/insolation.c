@@ -842,7 +842,11 @@ static ss_status shadow_levels(const ss_insolation_job *job, const steps_plan *p
     *bands = NULL;
     if (!ss_lit_levels_used(plan->n_swept, job->opt->lines))
         return SS_OK;
-    if (!src->z || ss_source_band_rows(src) < src->height)
+    int banded = ss_source_band_rows(src) < src->height;
+    /* A device walks its bands whole (engine.c): no bounds to make for it. */
+    if (banded && !job->ctx->use_reference)
+        return SS_OK;
+    if (!src->z || banded)
         return ss_lit_bands_make(job->ctx, src, families, sectors, bands);
     *levels = box ? ss_lit_levels_box(src->z, src->width, src->height, src->cell_x_m,
                                       src->cell_y_m, families, sectors)
