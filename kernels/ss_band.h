@@ -39,6 +39,12 @@
 
 #define SS_BAND_HALO 2 /* rows held above and below a band */
 
+/* Shadow walks' bounds (src/core/lit_levels.h): sectors of azimuth, and
+ * in bands the blocks of 2^SS_LIT_BLOCK_SHIFT cells whose largest level
+ * tells a walk whether the line's steps in the bands ahead need it. */
+#define SS_LIT_SECTORS 8
+#define SS_LIT_BLOCK_SHIFT 3
+
 /* One direction of a batch: host-made; each work-item copies its own into
  * private memory. Layout shared with the host: 4-byte members after the
  * line set. */
@@ -49,9 +55,8 @@ typedef struct {
     int line_base;        /* its first entry in the per-line hull arrays */
     int slot;             /* its place in the batch: stack grid and output planes */
     int carry;            /* its rows of sums carried between bands (horizon walks) */
-    int lit_level;        /* horizon walks on a whole grid: cells whose bound level (src/core/
-                             lit_levels.h) is at most this are lit whatever the walk finds;
-                             -1: none known */
+    int lit_level;        /* horizon walks: cells whose bound level (src/core/lit_levels.h)
+                             is at most this are lit whatever the walk finds; -1: none known */
     int lit_sector;       /* the bounds' sector of its azimuth: their plane it reads */
 } ss_band_dir;
 

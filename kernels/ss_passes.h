@@ -522,8 +522,59 @@ SS_FN int ss_line_shadow_end(const ss_walker *w, const ss_line_set *ls, int s_lo
     return s_lo;
 }
 
+/* Whether a step of [s_from, count) of a line may give a horizon to a
+ * cell whose block (kernels/ss_band.h; blocks: the largest level of each,
+ * over the grid) is above lit_level: the cells ss_line_shadow_end tests,
+ * by their blocks' levels, each at least the cell's. The steps go in runs
+ * within one block column (or row) of the major axis, each run's cells
+ * lying between its first and last steps' across the line (the line is
+ * straight): two samples and a block or two a run, not a sample a step. */
+SS_FN int ss_line_shadow_ahead(const ss_walker *w, const ss_line_set *ls, int s_from, int count,
+                               SS_GLOBAL const unsigned char *blocks, int width, int lit_level)
+{
+    int side = 1 << SS_LIT_BLOCK_SHIFT;
+    int nbx = (width + side - 1) >> SS_LIT_BLOCK_SHIFT;
+    /* A box line's step gives a horizon to its nearest cell alone. */
+    int reach = ls->model == SS_LINE_MODEL_BOX ? 0 : 1;
+    for (int s1 = count - 1; s1 >= s_from;) {
+        ss_line_sample last = ss_walker_sample(ls, w, s1);
+        /* Back to the first step of the run in last's block of majors:
+         * majors move by one a step, up or down. */
+        int off = last.major & (side - 1);
+        int back = w->dmajor > 0 ? off : side - 1 - off;
+        int s0 = s1 - back > s_from ? s1 - back : s_from;
+        ss_line_sample first = ss_walker_sample(ls, w, s0);
+        int lo = first.minor0 < last.minor0 ? first.minor0 : last.minor0;
+        int hi = (first.minor0 > last.minor0 ? first.minor0 : last.minor0) + reach;
+        lo = lo > 0 ? lo : 0;
+        hi = hi < ls->minor_len - 1 ? hi : ls->minor_len - 1;
+        int major_block = last.major >> SS_LIT_BLOCK_SHIFT;
+        for (int m = lo >> SS_LIT_BLOCK_SHIFT; m <= hi >> SS_LIT_BLOCK_SHIFT && lo <= hi; ++m) {
+            int row = ls->major_is_row ? major_block : m, col = ls->major_is_row ? m : major_block;
+            if (blocks[row * nbx + col] > lit_level)
+                return 1;
+        }
+        s1 = s0 - 1;
+    }
+    return 0;
+}
+
+/* A band's blocks of sector k: after the planes of its held rows. */
+SS_FN SS_GLOBAL const unsigned char *ss_lit_blocks(SS_GLOBAL const unsigned char *lit_levels,
+                                                   const ss_band_run *run, int k)
+{
+    int side = 1 << SS_LIT_BLOCK_SHIFT;
+    ss_i64 nbx = (run->width + side - 1) >> SS_LIT_BLOCK_SHIFT;
+    ss_i64 nby = (run->height + side - 1) >> SS_LIT_BLOCK_SHIFT;
+    return lit_levels + SS_LIT_SECTORS * (ss_i64)run->held_rows * run->width + k * nbx * nby;
+}
+
 /* A horizon walk of a line's band steps into its direction's planes;
- * returns the steps it left unwalked (ss_line_shadow_end). On
+ * returns the steps it left unwalked (ss_line_shadow_end). In bands, the
+ * walk goes on through the band's steps where a block ahead may need it
+ * (ss_line_shadow_ahead), with its hull handed on; else it stops as on
+ * the whole grid, and hands nothing on: no step ahead is walked (a cell's
+ * level is at most its block's). On
  * the host, by a copy of the walk compiled for the line's flags as
  * ss_band_sum_line's (box lines share one copy): 6 % faster sweeps. A
  * device keeps one general copy: four made PoCL's first compile of the
@@ -539,17 +590,24 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
         return 0;
     /* The bounds hold for interpolated and box lines (the host makes them
      * for the run's model), bent down by curvature or not. */
-    int lit = lit_levels && run->whole && d->ls.model != SS_LINE_MODEL_DIGITAL &&
-                      run->curv_k >= 0.0f
+    int lit = lit_levels && d->ls.model != SS_LINE_MODEL_DIGITAL && run->curv_k >= 0.0f
                   ? d->lit_level
                   : -1;
-    /* The bounds of the sector of the direction's azimuth. */
-    if (lit >= 0)
-        lit_levels += (ss_i64)d->lit_sector * run->height * run->width;
+    int done = s_hi; /* the step the line's state is recorded at */
     if (lit >= 0) {
-        int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, lit);
-        skipped = s_hi - end;
-        s_hi = end;
+        /* The bounds of the sector of the direction's azimuth: the held
+         * rows' plane, and in bands the blocks' after the planes. */
+        int stops = run->whole || !ss_line_shadow_ahead(&w, &d->ls, s_hi, count,
+                                                        ss_lit_blocks(lit_levels, run,
+                                                                      d->lit_sector),
+                                                        run->width, lit);
+        lit_levels += (ss_i64)d->lit_sector * run->held_rows * run->width;
+        if (stops) {
+            int end = ss_line_shadow_end(&w, &d->ls, s_lo, s_hi, lit_levels, lit);
+            skipped = s_hi - end;
+            s_hi = end;
+            done = count;
+        }
     }
     /* Planes not asked for are never written: the angle plane stands in. */
     SS_GLOBAL float *angle = ss_band_plane(outs, run, d->slot, 0);
@@ -584,7 +642,7 @@ SS_FN int ss_band_horizon_line(const ss_band_dir *d, const ss_band_run *run, int
                          ss_walk_flags(ls, k), lit_levels, lit);
     }
 #endif
-    ss_band_line_end(&w, d, run, line, s_hi, count, hulls.state, hulls.counters);
+    ss_band_line_end(&w, d, run, line, done, count, hulls.state, hulls.counters);
     return skipped;
 }
 

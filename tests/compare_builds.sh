@@ -196,6 +196,11 @@ product "insolation, 5 days of exact shadows" insolation --time 2026-06-19T00:00
 product "insolation, 5 days of exact shadows, box lines" insolation \
     --time 2026-06-19T00:00Z/P5D --step PT1H --directions 16 --shadow exact --lines box \
     --box-lines 4 "$dem" out.tif
+# In bands, whose walks stop early too (since issue 42 item 1).
+same_rows insolation --time 2026-06-19T00:00Z/P5D --step PT1H --directions 16 --shadow exact \
+    --memory 110M "$dem2" out.tif
+product "insolation, 5 days of exact shadows, bands" insolation --time 2026-06-19T00:00Z/P5D \
+    --step PT1H --directions 16 --shadow exact --memory 110M "$dem2" out.tif
 loose=
 echo "$same same, $differ differ"
 [ "$differ" -eq 0 ]

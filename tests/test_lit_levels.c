@@ -64,18 +64,51 @@ static int check_direction(int index, double azimuth_deg, const float *angle_deg
     return 1;
 }
 
-/* Lines to bound: interpolated (families 0) or box lines of `families`. */
+/* Lines to bound: interpolated (families 0) or box lines of `families`;
+ * bounds made of the grid held whole (band_rows 0) or read in bands of
+ * band_rows rows (ss_lit_bands_make); per sector, or one_bound: one for
+ * every azimuth (ss_lit_sectors_for). */
 typedef struct {
-    int families;
+    int families, band_rows, one_bound;
 } line_kind;
 
-static const line_kind INTERPOLATED = {0};
+static const line_kind INTERPOLATED = {0, 0, 0};
+
+static int sectors_of(line_kind k)
+{
+    return k.one_bound ? 1 : SS_LIT_SECTORS;
+}
+
+/* The levels of a grid read in bands, every row's (NULL: none made). */
+static unsigned char *banded_levels(const ss_grid *g, line_kind k, ss_lit_bands **bands)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_source src = ss_source_of_grid(g);
+    src.band_rows = k.band_rows;
+    ss_lit_bands *lb = NULL;
+    unsigned char *out = NULL;
+    if (ss_lit_bands_make(ctx, &src, k.families, sectors_of(k), &lb) == SS_OK && lb &&
+        (out = malloc(ss_lit_bands_bytes(lb, g->height))) &&
+        ss_lit_bands_read(lb, 0, g->height, out) != SS_OK) {
+        free(out);
+        out = NULL;
+    }
+    if (bands)
+        *bands = lb;
+    else
+        ss_lit_bands_free(lb);
+    ss_ctx_free(ctx);
+    return out;
+}
 
 static unsigned char *levels_for(const ss_grid *g, line_kind k)
 {
+    if (k.band_rows > 0)
+        return banded_levels(g, k, NULL);
     return k.families ? ss_lit_levels_box(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m,
-                                          k.families)
-                      : ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m);
+                                          k.families, sectors_of(k))
+                      : ss_lit_levels(g->z, g->width, g->height, g->cell_x_m, g->cell_y_m,
+                                      sectors_of(k));
 }
 
 static void use_lines(ss_sweep_options *o, line_kind k)
@@ -87,11 +120,14 @@ static void use_lines(ss_sweep_options *o, line_kind k)
 
 static const char *lines_name(line_kind k)
 {
-    static char name[32];
-    if (k.families)
-        snprintf(name, sizeof name, "box lines x%d", k.families);
-    else
-        snprintf(name, sizeof name, "interpolated lines");
+    static char name[112];
+    int n = k.families ? snprintf(name, sizeof name, "box lines x%d", k.families)
+                       : snprintf(name, sizeof name, "interpolated lines");
+    if (k.band_rows > 0)
+        n += snprintf(name + n, sizeof name - (size_t)n, ", bounds in bands of %d rows",
+                      k.band_rows);
+    if (k.one_bound)
+        snprintf(name + n, sizeof name - (size_t)n, ", one bound for every azimuth");
     return name;
 }
 
@@ -145,17 +181,22 @@ static ss_status keep_angles(void *user, int index, const ss_band_view *band,
 }
 
 /* The shadow walk of one azimuth on a device, whole or stopping early for
- * cells of levels above lit_level (levels NULL: whole). */
+ * cells of levels above lit_level (levels and bands NULL: whole), over the
+ * grid held whole or in bands of band_rows rows (bands: their bounds). */
 static ss_status shadow_angles(const char *device, const ss_grid *g, const ss_sweep_options *o,
-                               double azimuth_deg, const unsigned char *levels, int lit_level,
-                               float *out)
+                               double azimuth_deg, const unsigned char *levels,
+                               ss_lit_bands *bands, int band_rows, int lit_level, float *out)
 {
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, device);
     ss_source src = ss_source_of_grid(g);
+    src.band_rows = band_rows;
     ss_engine_dir dir = {azimuth_deg, 1, 0, lit_level};
     ss_consumer consumer = {.planes = 0, .direction = keep_angles};
-    ss_engine_job job = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
+    ss_engine_job job = {.walk = {.term = SS_TERM_HORIZON,
+                                  .none_deg = 0.0f,
+                                  .lit_levels = levels,
+                                  .lit_bands = bands},
                          .dirs = &dir,
                          .n_dirs = 1,
                          .consumer = &consumer,
@@ -174,7 +215,8 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
                               double earth_radius_m, line_kind k)
 {
     static const double elevations[] = {2.0, 8.0, 20.0, 40.0, 65.0};
-    unsigned char *levels = levels_for(g, k);
+    ss_lit_bands *bands = NULL;
+    unsigned char *levels = k.band_rows > 0 ? banded_levels(g, k, &bands) : levels_for(g, k);
     size_t n = (size_t)g->width * g->height;
     float *whole = malloc(n * sizeof(float)), *early = malloc(n * sizeof(float));
     ss_sweep_options o;
@@ -185,11 +227,12 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
     long failed = !levels;
     for (int a = 0; a < 16 && !failed; ++a) {
         double az = 7.3 + 22.5 * a;
-        failed |= shadow_angles(device, g, &o, az, NULL, -1, whole) != SS_OK;
+        failed |= shadow_angles(device, g, &o, az, NULL, NULL, 0, -1, whole) != SS_OK;
         const unsigned char *sector = levels ? sector_levels(levels, n, az) : NULL;
         for (size_t e = 0; e < sizeof elevations / sizeof *elevations && !failed; ++e) {
             int lit_level = ss_lit_level_below(elevations[e]);
-            failed |= shadow_angles(device, g, &o, az, levels, lit_level, early) != SS_OK;
+            failed |= shadow_angles(device, g, &o, az, bands ? NULL : levels, bands,
+                                    k.band_rows, lit_level, early) != SS_OK;
             for (size_t c = 0; c < n; ++c) {
                 if (!isfinite(g->z[c]))
                     continue;
@@ -214,6 +257,7 @@ static void check_early_stops(const char *device, const char *name, const ss_gri
            name, lines_name(k), device, earth_radius_m > 0 ? "on" : "off", verdicts, flipped, open, changed,
            verdicts ? 100.0 * known / verdicts : 0.0, stopped);
     free(levels);
+    ss_lit_bands_free(bands);
     free(whole);
     free(early);
 }
@@ -318,7 +362,13 @@ int main(void)
     };
     /* Box lines of 2 families put a centre a quarter cell beside its line,
      * of 32 (the default on city DSMs) a 64th. */
-    static const line_kind box_few = {2}, box_many = {32};
+    static const line_kind box_few = {2, 0, 0}, box_many = {32, 0, 0};
+    /* Bounds made band by band: bands shorter than a window's reach, so
+     * that the far levels come from the pyramid held whole. */
+    static const line_kind banded = {0, 17, 0}, banded_box = {32, 23, 0};
+    /* One bound for every azimuth, whole and in bands. */
+    static const line_kind one_bound = {0, 0, 1}, one_bound_box = {4, 0, 1},
+                           one_bound_banded = {4, 19, 1};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         ss_grid g = test_grid(cases[i].width, cases[i].height, cases[i].cell_x, cases[i].cell_y);
         test_fill(&g, cases[i].kind, 17 + (unsigned)i, cases[i].relief);
@@ -330,6 +380,11 @@ int main(void)
         if (box) {
             check_grid(cases[i].name, &g, 96, 0.0, 0.0, box_few);
             check_grid(cases[i].name, &g, 24, 0.01, 0.0, box_many);
+        }
+        if (i == 2 || i == 4 || i == 5 || i == 10) {
+            check_grid(cases[i].name, &g, 96, 0.37, 0.0, banded);
+            if (box)
+                check_grid(cases[i].name, &g, 24, 0.01, 0.0, banded_box);
         }
         if (i < 3 || i == 10) {
             check_grid(cases[i].name, &g, 97, 1.9, 6371000.0, INTERPOLATED);
@@ -346,12 +401,17 @@ int main(void)
     far.z[(size_t)5 * 400 + 7] = 1500.0f;
     check_grid("two spikes far apart on a plain", &far, 240, 0.11, 0.0, INTERPOLATED);
     check_grid("two spikes far apart on a plain", &far, 96, 0.0, 0.0, box_few);
+    check_grid("two spikes far apart on a plain", &far, 96, 0.11, 0.0, banded);
+    check_grid("two spikes far apart on a plain", &far, 48, 0.0, 6371000.0, banded_box);
+    check_grid("two spikes far apart on a plain", &far, 96, 0.11, 0.0, one_bound);
+    check_grid("two spikes far apart on a plain", &far, 48, 0.0, 0.0, one_bound_banded);
     ss_grid_free(&far);
     ss_grid city = city_blocks();
     check_grid("city blocks", &city, 240, 0.0, 0.0, INTERPOLATED);
     check_grid("city blocks", &city, 97, 0.003, 6371000.0, INTERPOLATED);
     check_grid("city blocks", &city, 96, 0.0, 0.0, box_few);
     check_grid("city blocks", &city, 48, 0.01, 0.0, box_many);
+    check_grid("city blocks", &city, 48, 0.01, 0.0, banded_box);
     ss_grid_free(&city);
     /* One tower on a plain, in 720 azimuths: every sector's edge. */
     ss_grid tower = test_grid(120, 100, 2.0, 2.0);
@@ -366,12 +426,17 @@ int main(void)
     check_grid("a shield island", &island, 240, 0.01, 6371000.0, INTERPOLATED);
     check_grid("a shield island", &island, 96, 0.0, 0.0, box_few);
     check_grid("a shield island", &island, 24, 0.01, 6371000.0, box_many);
+    check_grid("a shield island", &island, 96, 0.0, 0.0, banded);
+    check_grid("a shield island", &island, 24, 0.01, 6371000.0, banded_box);
+    check_grid("a shield island", &island, 48, 0.0, 0.0, one_bound_box);
     ss_grid_free(&island);
     check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 96, INTERPOLATED);
     check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 24, box_many);
     check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 64, box_few);
     check_shared("hawaii_kilauea_utm5n_30m.tif", "the Kilauea 30 m DEM", 16, INTERPOLATED);
     check_shared("hawaii_kilauea_utm5n_30m.tif", "the Kilauea 30 m DEM", 8, box_few);
+    check_shared("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg 1 m DSM", 24, banded_box);
+    check_shared("hawaii_kilauea_utm5n_30m.tif", "the Kilauea 30 m DEM", 16, banded);
 
     ss_grid hills = test_grid(150, 120, 30.0, 30.0);
     test_fill(&hills, TERRAIN_SMOOTH, 3, 150.0);
@@ -382,6 +447,8 @@ int main(void)
     check_early_stops_on_pocl(have_pocl, "hills with holes", &hills, 6371000.0, INTERPOLATED);
     check_early_stops("reference", "hills with holes", &hills, 0.0, box_many);
     check_early_stops_on_pocl(have_pocl, "hills with holes", &hills, 0.0, box_many);
+    check_early_stops("reference", "hills with holes", &hills, 6371000.0, banded);
+    check_early_stops("reference", "hills with holes", &hills, 0.0, banded_box);
     ss_grid_free(&hills);
     ss_grid gentle = test_grid(130, 110, 10.0, 20.0);
     test_fill(&gentle, TERRAIN_SMOOTH, 8, 15.0);
@@ -394,6 +461,7 @@ int main(void)
     ss_grid town = city_blocks();
     check_early_stops("reference", "city blocks", &town, 0.0, box_many);
     check_early_stops_on_pocl(have_pocl, "city blocks", &town, 0.0, box_many);
+    check_early_stops("reference", "city blocks", &town, 0.0, banded_box);
     check_early_stops("reference", "city blocks", &town, 0.0, INTERPOLATED);
     ss_grid_free(&town);
     ss_grid spikes = test_grid(90, 110, 20.0, 20.0);
@@ -401,6 +469,9 @@ int main(void)
     check_early_stops("reference", "spikes on a plain", &spikes, 0.0, INTERPOLATED);
     check_early_stops_on_pocl(have_pocl, "spikes on a plain", &spikes, 0.0, INTERPOLATED);
     check_early_stops("reference", "spikes on a plain", &spikes, 0.0, box_many);
+    check_early_stops("reference", "spikes on a plain", &spikes, 0.0, banded);
+    check_early_stops("reference", "spikes on a plain", &spikes, 0.0, one_bound_box);
+    check_early_stops("reference", "spikes on a plain", &spikes, 0.0, one_bound_banded);
     ss_grid_free(&spikes);
     return tap_done();
 }

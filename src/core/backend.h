@@ -25,12 +25,15 @@ typedef struct {
     float none_deg; /* SS_TERM_HORIZON: where no terrain lies ahead */
     double radius_m;
     int negate;     /* heights read as -z (negative openness) */
-    /* SS_TERM_HORIZON for shadows alone, on a whole grid: each cell's bound
+    /* SS_TERM_HORIZON for shadows alone: each cell's bound
      * level per sector of azimuth (lit_levels.h), so that the walks stop past the last cell a
      * direction's sun may not clear (ss_engine_dir.lit_level), on every
      * backend; NULL: whole walks. The C twin counts the samples it leaves
      * (ss_counters.shadow_steps_skipped). */
     const unsigned char *lit_levels;
+    /* The same in bands (lit_levels.h): the driver reads each band's into
+     * lit_levels before its walks, on the C twin (a device walks whole). */
+    struct ss_lit_bands *lit_bands;
 } ss_walk;
 
 /* Output planes per direction of a horizon walk: angle sums, weights, and

@@ -192,7 +192,9 @@ static ss_status ref_walk(ss_backend *b, const ss_band_run *run, const ss_band_d
                 planes[c] = 0.0f;
             carry_rows(b, run, d, 1);
         }
-        if (horizon && b->walk.lit_levels && run->whole && d->lit_level >= 0)
+        /* Counted once, at the pass's first band. */
+        int first_band = d->pass > 0 ? run->row0 == 0 : run->row1 == run->height;
+        if (horizon && b->walk.lit_levels && (run->whole || first_band) && d->lit_level >= 0)
             b->ctx->counters.shadow_steps += direction_samples(&d->ls);
         for (int round = 0; round < ss_line_rounds(&d->ls) && st == SS_OK; ++round)
             st = walk_round(b, run, d, round);

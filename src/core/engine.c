@@ -49,6 +49,7 @@ typedef struct {
     float *z;         /* held rows (bands, or the whole grid negated) */
     int any_height;   /* a valid height was read */
     float *grad;      /* their gradients (the radiative SVF) */
+    unsigned char *lit_levels; /* the held rows' bounds (walk.lit_bands), else NULL */
     float *planes;    /* the consumer's planes (horizon walks and no walk) */
     float *loaded;    /* a band's planes as earlier visits left them */
     ss_scratch partial; /* planes between visits, whole rows (file NULL: none) */
@@ -282,6 +283,10 @@ static ss_status visit_band(engine_run *e, int row0, int row1, int pass, int fir
     ss_band_view view = {row0,      row1 - row0, run.lo, run.held_rows,
                          run.width, run.height,  z,      z + (size_t)(row0 - run.lo) * run.width,
                          on_device ? &e->device : NULL};
+    if (st == SS_OK && e->lit_levels && e->banded) {
+        st = ss_lit_bands_read(e->job->walk.lit_bands, run.lo, run.held_rows, e->lit_levels);
+        e->b.walk.lit_levels = e->lit_levels;
+    }
     if (st == SS_OK && walks(e))
         st = e->b.ops->load(&e->b, &run, z, e->grad);
     if (st == SS_OK && c->visit)
@@ -430,7 +435,7 @@ static ss_status make_directions(engine_run *e)
         d->sin_az = (float)sin(az);
         d->cos_az = (float)cos(az);
         d->pass = ss_band_pass_of(&d->ls);
-        d->lit_level = job->walk.lit_levels ? job->dirs[i].lit_level : -1;
+        d->lit_level = job->walk.lit_levels || e->lit_levels ? job->dirs[i].lit_level : -1;
         d->lit_sector = ss_lit_sector(job->dirs[i].azimuth_deg - e->opt->grid_north_deg);
     }
     return SS_OK;
@@ -495,6 +500,12 @@ static ss_status open_run(engine_run *e)
                              : h;
     size_t held = (size_t)max_held * (size_t)w;
     int whole_in_place = !e->banded && src->z && !job->walk.negate;
+    /* Bounds made band by band: read once for one band, else per band on
+     * the C twin (a device's band walks go whole). */
+    if (job->walk.lit_bands && (!e->banded || e->ctx->use_reference) &&
+        !(e->lit_levels = ss_malloc(ss_lit_bands_bytes(job->walk.lit_bands, max_held))))
+        return ss_fail(e->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for a band's bounds",
+                       ss_lit_bands_bytes(job->walk.lit_bands, max_held) >> 20);
     e->dirs = ss_calloc((size_t)(job->n_dirs > 0 ? job->n_dirs : 1), sizeof *e->dirs);
     e->order = ss_malloc(sizeof(int) * (size_t)(job->n_dirs > 0 ? job->n_dirs : 1));
     if (!e->dirs || !e->order)
@@ -531,6 +542,12 @@ static ss_status open_run(engine_run *e)
     }
     e->b.ctx = e->ctx;
     e->b.walk = job->walk;
+    if (e->lit_levels && !e->banded) {
+        st = ss_lit_bands_read(job->walk.lit_bands, 0, h, e->lit_levels);
+        e->b.walk.lit_levels = e->lit_levels;
+        if (st != SS_OK)
+            return st;
+    }
     e->b.width = w;
     e->b.max_held_rows = max_held;
     int radius_hulls = job->walk.radius_m > 0 &&
@@ -560,6 +577,7 @@ static void close_run(engine_run *e)
         e->b.ops->close(&e->b);
     free(e->z);
     free(e->grad);
+    free(e->lit_levels);
     free(e->planes);
     free(e->loaded);
     ss_scratch_close(&e->partial);

@@ -63,7 +63,7 @@ typedef struct {
     double azimuth_deg; /* the options' frame */
     int walk;           /* 0: the consumer sees it in its turn without a walk */
     int index;          /* what the consumer is told */
-    /* With the walk's lit_levels: cells of this bound level or below have
+    /* With the walk's lit_levels or lit_bands: cells of this bound level or below have
      * every horizon below the direction's sun, so their angles may be any
      * such horizon (-1: none). */
     int lit_level;

@@ -828,19 +828,32 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
 }
 
 /* Each cell's bound level per sector of azimuth (lit_levels.h), where exact shadows are walked
- * over a grid held whole where ss_lit_levels_used says they repay it;
- * else NULL, and where memory is short too: the walks then go whole. Its work space is freed before the steps' buffers (about 90
- * bytes a cell, band_memory.c) are made, so it adds nothing to the peak. */
-static unsigned char *shadow_levels(const ss_insolation_job *job, const steps_plan *plan)
+ * and ss_lit_levels_used says they repay it: of a grid held whole into
+ * *levels, of one read in bands into *bands; else neither, and where
+ * memory is short too: the walks then go whole. Their work space is freed
+ * before the steps' buffers (about 90 bytes a cell, band_memory.c) are
+ * made, so on a grid held whole it adds nothing to the peak. */
+static ss_status shadow_levels(const ss_insolation_job *job, const steps_plan *plan,
+                               unsigned char **levels, ss_lit_bands **bands)
 {
     const ss_source *src = job->src;
-    if (!ss_lit_levels_used(plan->n_swept, job->opt->lines) || !src->z ||
-        ss_source_band_rows(src) < src->height)
-        return NULL;
-    if (job->opt->lines == SS_LINES_BOX)
-        return ss_lit_levels_box(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m,
-                                 job->opt->box_lines);
-    return ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m);
+    int box = job->opt->lines == SS_LINES_BOX, families = box ? job->opt->box_lines : 0;
+    int sectors = ss_lit_sectors_for(plan->n_swept, job->opt->lines, families);
+    *levels = NULL;
+    *bands = NULL;
+    if (!ss_lit_levels_used(plan->n_swept, job->opt->lines))
+        return SS_OK;
+    int banded = ss_source_band_rows(src) < src->height;
+    /* A device walks its bands whole (engine.c): no bounds to make for it. */
+    if (banded && !job->ctx->use_reference)
+        return SS_OK;
+    if (!src->z || banded)
+        return ss_lit_bands_make(job->ctx, src, families, sectors, bands);
+    *levels = box ? ss_lit_levels_box(src->z, src->width, src->height, src->cell_x_m,
+                                      src->cell_y_m, families, sectors)
+                  : ss_lit_levels(src->z, src->width, src->height, src->cell_x_m, src->cell_y_m,
+                                  sectors);
+    return SS_OK;
 }
 
 static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
@@ -848,8 +861,9 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     const ss_source *src = job->src;
     int rows = ss_source_band_rows(src);
     size_t n = (size_t)rows * src->width;
-    unsigned char *levels = shadow_levels(job, plan);
-    ss_status st = SS_OK;
+    unsigned char *levels;
+    ss_lit_bands *bands;
+    ss_status st = shadow_levels(job, plan, &levels, &bands);
     /* Stored horizons not held in memory are read band by band. */
     int read_stored = job->horizons && !ss_cell_store_peek(job->horizons, 0, 0);
     steps_run s = {
@@ -870,8 +884,9 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     }
     if (beer_lambert)
         s.through = ss_malloc((size_t)src->width * src->height * sizeof(float));
-    if (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band) ||
-        (trees && (!s.terms_trees || !s.crossed)) || (beer_lambert && !s.through))
+    if (st == SS_OK &&
+        (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band) ||
+         (trees && (!s.terms_trees || !s.crossed)) || (beer_lambert && !s.through)))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
     /* Steps go to the device where the backend can take them, with the
      * stored horizons of interpolated shadows. */
@@ -881,7 +896,10 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
                             .finish = steps_finish,
                             .device_cells = !trees, /* the crowns run on the host */
                             .device_stored = job->horizons ? job->opt->directions : 0};
-    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON, .none_deg = 0.0f, .lit_levels = levels},
+    ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON,
+                                  .none_deg = 0.0f,
+                                  .lit_levels = levels,
+                                  .lit_bands = bands},
                          .dirs = plan->dirs,
                          .n_dirs = plan->n_dirs,
                          .group = SS_INSOLATION_STEPS_PER_RUN,
@@ -899,6 +917,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     free(s.crossed);
     free(s.through);
     free(levels);
+    ss_lit_bands_free(bands);
     return st;
 }
 

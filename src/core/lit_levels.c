@@ -79,7 +79,10 @@
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
+#include "cell_store.h"
+#include "engine.h"
 #include "lit_levels.h"
 
 #define NEAR_R 7  /* cells, in Chebyshev distance, bounded one by one */
@@ -91,6 +94,12 @@
 int ss_lit_levels_used(int walked_steps, int lines)
 {
     return walked_steps >= 48 && (lines == SS_LINES_INTERPOLATED || lines == SS_LINES_BOX);
+}
+
+int ss_lit_sectors_for(int walked_steps, int lines, int families)
+{
+    double walks = (double)walked_steps * (lines == SS_LINES_BOX ? families : 1);
+    return walks >= 2048.0 ? SS_LIT_SECTORS : 1;
 }
 
 double ss_lit_level_deg(int level)
@@ -117,6 +126,7 @@ typedef struct {
     double slack;   /* box: the walks' float error in a distance */
     double lateral; /* the farthest an occluding cell's centre lies from the ray (L) */
     double turn;    /* radians: the most a line's direction differs from its azimuth (eps) */
+    int sectors;    /* SS_LIT_SECTORS, or 1: one bound for every azimuth */
 } line_geometry;
 
 int ss_lit_sector(double grid_azimuth_deg)
@@ -140,6 +150,8 @@ static double turn_between(double a, double b)
 static int offsets_seen(int k, double x_lo, double x_hi, double y_lo, double y_hi,
                         const line_geometry *g)
 {
+    if (g->sectors == 1)
+        return 1;
     double e_lo = x_lo * g->cx, e_hi = x_hi * g->cx, n_lo = -y_hi * g->cy, n_hi = -y_lo * g->cy;
     double near_e = e_lo > 0.0 ? e_lo : (e_hi < 0.0 ? -e_hi : 0.0);
     double near_n = n_lo > 0.0 ? n_lo : (n_hi < 0.0 ? -n_hi : 0.0);
@@ -378,11 +390,13 @@ static void halve(const float *below, int pw, int ph, float *out, int nbx, int n
 
 /* Bound 1 over level j's ring in sector k: blocks of s = 2^j cells
  * (heights: the level's nbx x nby maxima) whose cells can give a horizon
- * to a cell of the block at the ring's centre in that sector. Each block
- * row's rows of maxima are spread over cells once (spread[x] = the block
- * over cell x) and serve its s rows of cells. */
-static int ring_zone(const float *level, int nbx, int nby, int j, const float *lo, int w, int h,
-                     const line_geometry *g, int k, float *zone)
+ * to a cell of the block at the ring's centre in that sector. The cells
+ * are rows [row0, row0 + h) of the level's grid (a window of a grid read
+ * in bands, else row0 0). Each block row's rows of maxima are spread over
+ * cells once (spread[x] = the block over cell x) and serve its rows of
+ * cells. */
+static int ring_zone(const float *level, int nbx, int nby, int j, int row0, const float *lo,
+                     int w, int h, const line_geometry *g, int k, float *zone)
 {
     int s = 1 << j, span = nbx * s;
     int ok = 1;
@@ -391,6 +405,7 @@ static int ring_zone(const float *level, int nbx, int nby, int j, const float *l
         for (int dbx = -RING_M; dbx <= RING_M; ++dbx)
             seen[dby + RING_M][dbx + RING_M] = (unsigned char)offsets_seen(
                 k, dbx * s - (s - 1), dbx * s + (s - 1), dby * s - (s - 1), dby * s + (s - 1), g);
+    int by0 = row0 >> j, by1 = (row0 + h - 1) >> j;
 #pragma omp parallel
     {
         float *spread = malloc(sizeof(float) * (size_t)span);
@@ -399,9 +414,11 @@ static int ring_zone(const float *level, int nbx, int nby, int j, const float *l
             ok = 0;
         }
 #pragma omp for schedule(dynamic, 1)
-        for (int by = 0; by < nby; ++by) {
+        for (int by = by0; by <= by1; ++by) {
             if (!spread)
                 continue;
+            int y0 = by * s > row0 ? by * s : row0;
+            int y1 = (by + 1) * s < row0 + h ? (by + 1) * s : row0 + h;
             for (int dby = -RING_M; dby <= RING_M; ++dby) {
                 int ry = by + dby;
                 if (ry < 0 || ry >= nby)
@@ -420,9 +437,9 @@ static int ring_zone(const float *level, int nbx, int nby, int j, const float *l
                     int x0 = dbx < 0 ? -dbx * s : 0;
                     int x1 = span - (dbx > 0 ? dbx * s : 0);
                     x1 = x1 < w ? x1 : w;
-                    for (int y = by * s; y < (by + 1) * s && y < h; ++y)
-                        add_tangents(zone + (size_t)y * w, spread, lo + (size_t)y * w, x0, x1,
-                                     dbx * s, inv);
+                    for (int y = y0; y < y1; ++y)
+                        add_tangents(zone + (size_t)(y - row0) * w, spread,
+                                     lo + (size_t)(y - row0) * w, x0, x1, dbx * s, inv);
                 }
             }
         }
@@ -446,6 +463,7 @@ static void centre_heights(const float *z, size_t n, float *lo)
 typedef struct {
     const float *lo, *lo_ns, *lo_ew, *level;
     int nbx, nby, j;  /* a ring's level (j > 0), or 0: the nearest cells */
+    int row0;         /* a ring's: the cells' first row in the level's grid */
     int r_lo, r_hi;   /* the nearest cells' ring */
 } zone_source;
 
@@ -453,9 +471,9 @@ static int add_sectors(const zone_source *zs, const float *cap, int w, int h,
                        const line_geometry *g, float *zone, float *best)
 {
     size_t n = (size_t)w * h;
-    for (int k = 0; k < SS_LIT_SECTORS; ++k) {
+    for (int k = 0; k < g->sectors; ++k) {
         if (zs->j > 0) {
-            if (!ring_zone(zs->level, zs->nbx, zs->nby, zs->j, zs->lo, w, h, g, k, zone))
+            if (!ring_zone(zs->level, zs->nbx, zs->nby, zs->j, zs->row0, zs->lo, w, h, g, k, zone))
                 return 0;
         } else {
             near_zone(zs->level, zs->lo_ns, zs->lo_ew, w, h, g, k, zs->r_lo, zs->r_hi, zone);
@@ -465,11 +483,33 @@ static int add_sectors(const zone_source *zs, const float *cap, int w, int h,
     return 1;
 }
 
-/* The tangent bound of every sector and cell into best (SS_LIT_SECTORS
- * planes of w x h), the planes p being work space of one plane's size. */
+/* The levels FAR_J and up of a grid read in bands: the highest height of
+ * each block of 2^j cells, held whole while each band's window makes the
+ * levels below from its own rows (ss_lit_bands_make). */
+#define FAR_J 3
+#define FAR_MAX 32
+typedef struct {
+    float *level[FAR_MAX]; /* level FAR_J + i */
+    int nbx[FAR_MAX], nby[FAR_MAX], n;
+    int height;            /* the grid's */
+} far_pyramid;
+
+/* Where the cells that get bounds lie: a window of rows [row0, row0 + h)
+ * of a grid read in bands, with that grid's far pyramid; far NULL: the
+ * whole grid (row0 0). */
+typedef struct {
+    int row0;
+    const far_pyramid *far;
+} window;
+
+/* The tangent bound of every sector and cell of a window of w x h cells
+ * into best (g->sectors planes of w x h), the planes p being work
+ * space of one plane's size. Cells beyond the window count as missing, so
+ * the bounds of a window's cells hold where the window holds every cell
+ * within LOCAL_REACH rows of them, or reaches the grid's edge. */
 #define WORK_PLANES 10
-static int bound_tangents(const float *z, int w, int h, const line_geometry *g, float *best,
-                          float *p[WORK_PLANES])
+static int bound_tangents(const float *z, int w, int h, const window *win,
+                          const line_geometry *g, float *best, float *p[WORK_PLANES])
 {
     float *lo = p[0], *zone = p[1], *level = p[2], *next = p[3], *gx = p[4], *gy = p[5];
     float *cap = p[6], *win_y = p[7], *lo_ns = p[8], *lo_ew = p[9];
@@ -486,7 +526,7 @@ static int bound_tangents(const float *z, int w, int h, const line_geometry *g, 
         zone[c] = -INFINITY;
         level[c] = isfinite(z[c]) ? z[c] : -INFINITY; /* never the highest */
     }
-    for (size_t c = 0; c < n * SS_LIT_SECTORS; ++c)
+    for (size_t c = 0; c < n * g->sectors; ++c)
         best[c] = -INFINITY;
     double cx = g->cx, cy = g->cy;
     /* The nearest cells in rings of their own, each capped by the slopes
@@ -494,48 +534,67 @@ static int bound_tangents(const float *z, int w, int h, const line_geometry *g, 
     static const int near_rings[][2] = {{1, 2}, {3, 4}, {5, NEAR_R}};
     int ok = 1;
     for (int k = 0; ok && k < 3; ++k) {
-        zone_source zs = {lo, lo_ns, lo_ew, level, 0, 0, 0, near_rings[k][0], near_rings[k][1]};
+        zone_source zs = {lo,   lo_ns, lo_ew, level, 0, 0, 0, 0, near_rings[k][0],
+                          near_rings[k][1]};
         ok = zone_cap(gx, gy, w, h, cx, cy, near_rings[k][1], cap, win_y, next) &&
              add_sectors(&zs, cap, w, h, g, zone, best);
     }
     /* Level j's ring holds cells within (RING_M + 1) 2^j - 1 of c and
      * covers every cell within (RING_M - 1) 2^j + 1. The blocks it skips
      * lie within RING_LO 2^j - 1: within NEAR_R at level 1, and within the
-     * level below's cover at the others. */
-    int pw = w, ph = h, cover = NEAR_R, farthest = (w > h ? w : h) - 1;
+     * level below's cover at the others. A window takes levels FAR_J and up
+     * from its grid's pyramid, with no slope cap (a cap only lowers a
+     * bound). */
+    const far_pyramid *far = win->far;
+    int grid_h = far ? far->height : h;
+    int pw = w, ph = h, cover = NEAR_R, farthest = (w > grid_h ? w : grid_h) - 1;
     for (int j = 1; ok && cover < farthest; ++j) {
-        int nbx = (pw + 1) / 2, nby = (ph + 1) / 2;
-        halve(level, pw, ph, next, nbx, nby);
-        float *t = level;
-        level = next;
-        next = t;
-        pw = nbx;
-        ph = nby;
-        /* next, the level below, is work space from here on. */
-        zone_source zs = {lo, lo_ns, lo_ew, level, nbx, nby, j, 0, 0};
-        ok = zone_cap(gx, gy, w, h, cx, cy, (RING_M + 1) * (1 << j) - 1, cap, win_y, next) &&
-             add_sectors(&zs, cap, w, h, g, zone, best);
+        zone_source zs;
+        if (far && j >= FAR_J) {
+            int i = j - FAR_J;
+            if (i >= far->n)
+                return 0;
+            zs = (zone_source){lo, lo_ns, lo_ew, far->level[i], far->nbx[i], far->nby[i],
+                               j,  win->row0, 0,  0};
+            ok = zone_cap(NULL, NULL, w, h, cx, cy, 0, cap, win_y, next);
+        } else {
+            int nbx = (pw + 1) / 2, nby = (ph + 1) / 2;
+            halve(level, pw, ph, next, nbx, nby);
+            float *t = level;
+            level = next;
+            next = t;
+            pw = nbx;
+            ph = nby;
+            /* next, the level below, is work space from here on. */
+            zs = (zone_source){lo, lo_ns, lo_ew, level, nbx, nby, j, 0, 0, 0};
+            ok = zone_cap(gx, gy, w, h, cx, cy, (RING_M + 1) * (1 << j) - 1, cap, win_y, next);
+        }
+        ok = ok && add_sectors(&zs, cap, w, h, g, zone, best);
         cover = (RING_M - 1) * (1 << j) + 1;
     }
     return ok;
 }
 
-/* The levels of the bounds g's proof gives (lit_levels.h). */
-static unsigned char *levels_of(const float *z, int w, int h, const line_geometry *g)
+/* The levels of the bounds g's proof gives (lit_levels.h), for the cells
+ * of a window (bound_tangents). */
+static unsigned char *levels_of(const float *z, int w, int h, const window *win,
+                                const line_geometry *g)
 {
     size_t n = (size_t)w * h, all = n * SS_LIT_SECTORS;
-    float *best = ss_malloc(all * sizeof(float)), *p[WORK_PLANES];
+    float *best = ss_malloc(n * g->sectors * sizeof(float)), *p[WORK_PLANES];
     int ok = best != NULL;
     for (int i = 0; i < WORK_PLANES; ++i) {
         p[i] = ss_malloc(n * sizeof(float));
         ok = ok && p[i];
     }
     unsigned char *out = ss_malloc(all);
-    ok = ok && out && bound_tangents(z, w, h, g, best, p);
+    ok = ok && out && bound_tangents(z, w, h, win, g, best, p);
     if (ok) {
 #pragma omp parallel for schedule(static)
         for (size_t i = 0; i < all; ++i) {
-            double deg = atan(best[i] * (1.0 + ROUNDING_MARGIN) + ROUNDING_MARGIN) * (180.0 / M_PI);
+            /* One bound serves every sector's plane. */
+            float t = best[g->sectors == 1 ? i % n : i];
+            double deg = atan(t * (1.0 + ROUNDING_MARGIN) + ROUNDING_MARGIN) * (180.0 / M_PI);
             /* The first level above deg (an angle of 0 is below level 0's). */
             int k = deg < 0.0 ? 0 : (int)floor(deg / SS_LIT_STEP_DEG);
             while (k < SS_LIT_LEVELS && !(deg < ss_lit_level_deg(k)))
@@ -563,19 +622,210 @@ static double line_turn(double cx, double cy)
     return 0x1p-16 * fmax(cx, cy) / fmin(cx, cy);
 }
 
-unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy)
+/* The geometry of interpolated lines (families 0) or of box lines of
+ * `families` families on a grid of w x h cells. */
+static line_geometry geometry_of(int families, int sectors, int w, int h, double cx, double cy)
 {
-    line_geometry g = {0, cx, cy, 0.0, 0.0, 2.0 * fmax(cx, cy), line_turn(cx, cy)};
-    return levels_of(z, w, h, &g);
+    sectors = sectors == 1 ? 1 : SS_LIT_SECTORS;
+    if (families <= 0)
+        return (line_geometry){0,   cx, cy, 0.0, 0.0, 2.0 * fmax(cx, cy), line_turn(cx, cy),
+                               sectors};
+    double beside = 0.5 / families * fmax(cx, cy), slack = (w > h ? w : h) * hypot(cx, cy) * 0x1p-20;
+    return (line_geometry){1,     cx,
+                           cy,    beside,
+                           slack, beside + 0.5 * hypot(cx, cy) + slack,
+                           line_turn(cx, cy), sectors};
+}
+
+unsigned char *ss_lit_levels(const float *z, int w, int h, double cx, double cy, int sectors)
+{
+    line_geometry g = geometry_of(0, sectors, w, h, cx, cy);
+    window whole = {0, NULL};
+    return levels_of(z, w, h, &whole, &g);
 }
 
 unsigned char *ss_lit_levels_box(const float *z, int w, int h, double cx, double cy,
-                                 int families)
+                                 int families, int sectors)
 {
-    double beside = 0.5 / families * fmax(cx, cy), slack = (w > h ? w : h) * hypot(cx, cy) * 0x1p-20;
-    line_geometry g = {1,     cx,
-                       cy,    beside,
-                       slack, beside + 0.5 * hypot(cx, cy) + slack,
-                       line_turn(cx, cy)};
-    return levels_of(z, w, h, &g);
+    line_geometry g = geometry_of(families, sectors, w, h, cx, cy);
+    window whole = {0, NULL};
+    return levels_of(z, w, h, &whole, &g);
+}
+
+/* ---- a DEM read in bands ------------------------------------------------------- */
+
+/* The rows a band's window holds beyond its own on each side: every cell
+ * within the reach of its own cells' near zones, local rings (levels
+ * below FAR_J, (RING_M + 1) 2^(FAR_J - 1) - 1 rows) and their slope caps'
+ * windows (2 more, and a row of neighbour steps), so that its own cells'
+ * bounds are those of the grid's cells. */
+#define LOCAL_REACH (((RING_M + 1) << (FAR_J - 1)) + 3)
+
+struct ss_lit_bands {
+    ss_ctx *ctx;
+    ss_cell_store *fine; /* each sector's levels, one plane each */
+    unsigned char *blocks; /* each sector's largest level per block (lit_levels.h) */
+    int width, height, nbx, nby;
+};
+
+/* Rows [lo, lo + n) of the DEM into out (NaN at nodata). */
+static ss_status read_rows(ss_ctx *ctx, const ss_source *src, int lo, int n, float *out)
+{
+    size_t w = (size_t)src->width;
+    if (src->z) {
+        memcpy(out, src->z + (size_t)lo * w, (size_t)n * w * sizeof(float));
+        return SS_OK;
+    }
+    unsigned long failures = ctx->failures;
+    ss_status st = src->read(src->read_user, lo, n, out);
+    if (st != SS_OK && ctx->failures == failures)
+        st = ss_fail(ctx, st, "could not read DEM rows %d..%d", lo, lo + n - 1);
+    return st;
+}
+
+static void far_free(far_pyramid *f)
+{
+    for (int i = 0; i < f->n; ++i)
+        free(f->level[i]);
+    f->n = 0;
+}
+
+/* The far pyramid of the DEM, read band by band (rows: buf's), up to the
+ * level whose ring covers the grid; *made 0 where memory is short. */
+static ss_status far_pyramid_of(ss_ctx *ctx, const ss_source *src, int rows, float *buf,
+                                far_pyramid *f, int *made)
+{
+    int w = src->width, h = src->height, s = 1 << FAR_J;
+    *f = (far_pyramid){.height = h};
+    *made = 0;
+    int nbx = (w + s - 1) / s, nby = (h + s - 1) / s;
+    float *first = ss_malloc(sizeof(float) * (size_t)nbx * nby);
+    if (!first)
+        return SS_OK;
+    f->level[0] = first;
+    f->nbx[0] = nbx;
+    f->nby[0] = nby;
+    f->n = 1;
+    for (size_t b = 0; b < (size_t)nbx * nby; ++b)
+        first[b] = -INFINITY;
+    for (int r0 = 0; r0 < h; r0 += rows) {
+        int n = r0 + rows < h ? rows : h - r0;
+        ss_status st = read_rows(ctx, src, r0, n, buf);
+        if (st != SS_OK) {
+            far_free(f);
+            return st;
+        }
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < w; ++x) {
+                float v = buf[(size_t)y * w + x];
+                float *m = &first[(size_t)((r0 + y) >> FAR_J) * nbx + (x >> FAR_J)];
+                if (isfinite(v) && v > *m)
+                    *m = v;
+            }
+    }
+    int farthest = (w > h ? w : h) - 1;
+    for (int j = FAR_J; (RING_M - 1) * (1 << j) + 1 < farthest && f->n < FAR_MAX; ++j) {
+        int i = f->n, pw = f->nbx[i - 1], ph = f->nby[i - 1];
+        f->nbx[i] = (pw + 1) / 2;
+        f->nby[i] = (ph + 1) / 2;
+        if (!(f->level[i] = ss_malloc(sizeof(float) * (size_t)f->nbx[i] * f->nby[i]))) {
+            far_free(f);
+            return SS_OK;
+        }
+        halve(f->level[i - 1], pw, ph, f->level[i], f->nbx[i], f->nby[i]);
+        f->n++;
+    }
+    *made = 1;
+    return SS_OK;
+}
+
+/* Band [r0, r1)'s levels, from its window's heights in buf: put in the
+ * store and raised into the blocks'; *made 0 where memory is short. */
+static ss_status band_levels(ss_lit_bands *lb, const ss_source *src, const line_geometry *g,
+                             const far_pyramid *far, int r0, int r1, float *buf, int *made)
+{
+    int w = src->width, h = src->height;
+    int lo = r0 - LOCAL_REACH > 0 ? r0 - LOCAL_REACH : 0;
+    int hi = r1 + LOCAL_REACH < h ? r1 + LOCAL_REACH : h;
+    ss_status st = read_rows(lb->ctx, src, lo, hi - lo, buf);
+    if (st != SS_OK)
+        return st;
+    window win = {lo, far};
+    unsigned char *levels = levels_of(buf, w, hi - lo, &win, g);
+    *made = levels != NULL;
+    size_t plane = (size_t)(hi - lo) * w, own = (size_t)(r0 - lo) * w;
+    for (int k = 0; levels && k < SS_LIT_SECTORS && st == SS_OK; ++k) {
+        const unsigned char *at = levels + k * plane + own;
+        st = ss_cell_store_put(lb->fine, k, r0, r1 - r0, at);
+        unsigned char *blocks = lb->blocks + (size_t)k * lb->nbx * lb->nby;
+        for (int y = r0; y < r1; ++y)
+            for (int x = 0; x < w; ++x) {
+                unsigned char v = at[(size_t)(y - r0) * w + x];
+                unsigned char *m = &blocks[(size_t)(y >> SS_LIT_BLOCK_SHIFT) * lb->nbx +
+                                           (x >> SS_LIT_BLOCK_SHIFT)];
+                *m = v > *m ? v : *m;
+            }
+    }
+    free(levels);
+    return st;
+}
+
+void ss_lit_bands_free(ss_lit_bands *lb)
+{
+    if (!lb)
+        return;
+    ss_cell_store_close(lb->fine);
+    free(lb->blocks);
+    free(lb);
+}
+
+ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, int sectors,
+                            ss_lit_bands **out)
+{
+    *out = NULL;
+    int w = src->width, h = src->height, s = 1 << SS_LIT_BLOCK_SHIFT;
+    int rows = ss_source_band_rows(src);
+    rows = rows > LOCAL_REACH ? rows : LOCAL_REACH; /* the windows' rows, not all halo */
+    rows = rows < h ? rows : h;
+    ss_lit_bands *lb = ss_calloc(1, sizeof *lb);
+    int hi = rows + 2 * LOCAL_REACH < h ? rows + 2 * LOCAL_REACH : h;
+    float *buf = ss_malloc(sizeof(float) * (size_t)w * hi);
+    if (lb) {
+        *lb = (ss_lit_bands){ctx, NULL, NULL, w, h, (w + s - 1) / s, (h + s - 1) / s};
+        lb->blocks = ss_calloc((size_t)SS_LIT_SECTORS * lb->nbx * lb->nby, 1);
+    }
+    ss_status st = SS_OK;
+    int made = lb && buf && lb->blocks;
+    if (made)
+        st = ss_cell_store_open(ctx, src, SS_LIT_SECTORS, 1, &lb->fine);
+    line_geometry g = geometry_of(families, sectors, w, h, src->cell_x_m, src->cell_y_m);
+    far_pyramid far = {.n = 0};
+    if (st == SS_OK && made)
+        st = far_pyramid_of(ctx, src, rows, buf, &far, &made);
+    for (int r0 = 0; st == SS_OK && made && r0 < h; r0 += rows)
+        st = band_levels(lb, src, &g, &far, r0, r0 + rows < h ? r0 + rows : h, buf, &made);
+    far_free(&far);
+    free(buf);
+    if (st == SS_OK && made)
+        *out = lb;
+    else
+        ss_lit_bands_free(lb);
+    return st;
+}
+
+size_t ss_lit_bands_bytes(const ss_lit_bands *lb, int held_rows)
+{
+    return (size_t)SS_LIT_SECTORS * ((size_t)held_rows * lb->width + (size_t)lb->nbx * lb->nby);
+}
+
+ss_status ss_lit_bands_read(ss_lit_bands *lb, int lo, int n, unsigned char *out)
+{
+    size_t plane = (size_t)n * lb->width;
+    ss_status st = SS_OK;
+    for (int k = 0; k < SS_LIT_SECTORS && st == SS_OK; ++k)
+        st = ss_cell_store_get(lb->fine, k, lo, n, out + k * plane);
+    if (st == SS_OK)
+        memcpy(out + SS_LIT_SECTORS * plane, lb->blocks,
+               (size_t)SS_LIT_SECTORS * lb->nbx * lb->nby);
+    return st;
 }

@@ -453,8 +453,8 @@ static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place
 }
 
 /* Whether insolation's shadow walks will stop early (insolation.c,
- * lit_levels.h): exact shadows with interpolated or box lines on a grid held
- * whole, with walks enough. */
+ * lit_levels.h): exact shadows with interpolated or box lines, with walks
+ * enough (in bands, on the C twin alone). */
 static int stops_shadow_walks(const ss_plan *p, const ss_plan_request *r)
 {
     int walked = r->n_steps - p->steps_night - p->steps_high_sun;
@@ -503,11 +503,15 @@ static ss_status plan_steps(ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
             p->directions, r->n_steps - p->steps_night);
     else if (bound_deg >= 90.0)
         add(p, "shadow_sweeps", 1, 0, "",
-            "%s, so no bound on its horizons is known: every one of the %d daylight steps gets "
-            "its shadow sweep%s",
+            "%s, so no bound on its horizons is known: every one of the %d daylight steps "
+            "gets its shadow sweep%s%s",
             held_whole ? "its box lines may touch a column's face" : "the DEM is read in bands",
             r->n_steps - p->steps_night,
-            r->weather.what ? ", but records with neither beam nor circumsolar light" : "");
+            r->weather.what ? ", but records with neither beam nor circumsolar light" : "",
+            stops_shadow_walks(p, r) && (held_whole || ctx->use_reference)
+                ? "; their walks stop past the last cell of each line "
+                  "whose own proven horizon bound the sun may not clear"
+                : "");
     else
         add(p, "shadow_sweeps", 1, 0, "",
             "%d of %d daylight steps have the sun above %.2f deg, the highest horizon this "
