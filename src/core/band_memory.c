@@ -5,6 +5,7 @@
 #include "ctx_internal.h"
 #include "engine.h"
 #include "insolation_cell.h"
+#include "lit_levels.h"
 #include "ss_passes.h"
 
 #define HALO SS_BAND_HALO
@@ -61,12 +62,13 @@ double ss_insolation_band_cell_bytes(int want, int stored_directions)
      * band 8, the cells' terms, the suns per cell (true and apparent
      * elevation, azimuth) 12, and per output plane its sums and the sums
      * earlier visits left 8: five planes, twelve months, PV's DC and AC;
-     * a step's global; the stored horizons. Measured: 121 bytes a cell
+     * a step's global; the stored horizons; exact shadows' bounds, a byte
+     * a sector (lit_levels.h), counted whether or not a run makes them. Measured: 121 bytes a cell
      * with the sweep's 16 for a clear sky's exact shadows on a 2048^2 DEM
      * (peak resident, doc/scale.md), against 112 counted here. */
     int planes = 5 + (want & SS_INSOLATION_MONTHLY ? 12 : 0) + (want & SS_INSOLATION_PV ? 2 : 0);
     return 4.0 + 8.0 + (double)sizeof(ss_cell_terms) + 12.0 + 8.0 * planes +
-           (want & SS_INSOLATION_STEPS ? 4.0 : 0.0) + 2.0 * stored_directions;
+           (want & SS_INSOLATION_STEPS ? 4.0 : 0.0) + 2.0 * stored_directions + SS_LIT_SECTORS;
 }
 
 /* Without a measured process: 16 MiB stand for the program and 16 for

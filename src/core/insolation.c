@@ -832,7 +832,8 @@ static ss_status plan_steps(ss_insolation_job *job, int n_steps, steps_plan *pla
  * *levels, of one read in bands into *bands; else neither, and where
  * memory is short too: the walks then go whole. Their work space is freed
  * before the steps' buffers (about 90 bytes a cell, band_memory.c) are
- * made, so on a grid held whole it adds nothing to the peak. */
+ * made, so on a grid held whole it adds nothing to the peak; the levels
+ * kept, a byte a cell and sector, are in ss_insolation_band_cell_bytes. */
 static ss_status shadow_levels(const ss_insolation_job *job, const steps_plan *plan,
                                unsigned char **levels, ss_lit_bands **bands)
 {
@@ -846,6 +847,14 @@ static ss_status shadow_levels(const ss_insolation_job *job, const steps_plan *p
     int banded = ss_source_band_rows(src) < src->height;
     /* A device walks its bands whole (engine.c): no bounds to make for it. */
     if (banded && !job->ctx->use_reference)
+        return SS_OK;
+    /* In bands the levels are made a window at a time before the band's
+     * buffers: where a window's making needs more than the band a memory
+     * plan sized (narrow bands under a tight --memory), the walks go whole. */
+    int rows = ss_source_band_rows(src);
+    if (banded && job->ctx->memory.band_rows > 0 &&
+        (double)SS_LIT_MAKING_CELL_BYTES * ss_lit_bands_window_rows(rows, src->height) >
+            (ss_horizon_band_cell_bytes(0) + ss_insolation_band_cell_bytes(job->want, 0)) * rows)
         return SS_OK;
     if (!src->z || banded)
         return ss_lit_bands_make(job->ctx, src, families, sectors, bands);

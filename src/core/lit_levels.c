@@ -508,6 +508,9 @@ typedef struct {
  * the bounds of a window's cells hold where the window holds every cell
  * within LOCAL_REACH rows of them, or reaches the grid's edge. */
 #define WORK_PLANES 10
+_Static_assert(SS_LIT_MAKING_CELL_BYTES ==
+                   4 + 4 * SS_LIT_SECTORS + WORK_PLANES * sizeof(float) + SS_LIT_SECTORS,
+               "lit_levels.h counts the work planes levels_of makes");
 static int bound_tangents(const float *z, int w, int h, const window *win,
                           const line_geometry *g, float *best, float *p[WORK_PLANES])
 {
@@ -768,6 +771,13 @@ static ss_status band_levels(ss_lit_bands *lb, const ss_source *src, const line_
     }
     free(levels);
     return st;
+}
+
+int ss_lit_bands_window_rows(int band_rows, int height)
+{
+    int rows = band_rows > LOCAL_REACH ? band_rows : LOCAL_REACH;
+    rows += 2 * LOCAL_REACH;
+    return rows < height ? rows : height;
 }
 
 void ss_lit_bands_free(ss_lit_bands *lb)

@@ -59,6 +59,12 @@ unsigned char *ss_lit_levels_box(const float *z, int width, int height, double c
  * families 0: interpolated lines, else box lines of that many families.
  * *out NULL where memory is short (the walks then go whole). */
 typedef struct ss_lit_bands ss_lit_bands;
+/* Bytes a cell of a band's window takes while its levels are made (the
+ * heights 4, levels_of's tangents per sector and ten work planes, the
+ * levels): the window holds the band's rows and LOCAL_REACH more on each
+ * side, ss_lit_bands_window_rows(rows, height). */
+#define SS_LIT_MAKING_CELL_BYTES (4 + 4 * SS_LIT_SECTORS + 40 + SS_LIT_SECTORS)
+int ss_lit_bands_window_rows(int band_rows, int height);
 ss_status ss_lit_bands_make(ss_ctx *ctx, const ss_source *src, int families, int sectors,
                             ss_lit_bands **out);
 /* A band visit's levels for its held rows [lo, lo + n), in the layout
