@@ -142,6 +142,13 @@ for device in $devices; do
     read -r peak rc least < <(bounded "svf --directions 4" "$device" 24)
     if [ "$rc" -eq 6 ] && [ "$least" -gt 24 ]; then
         read -r peak rc2 least2 < <(bounded "svf --directions 4" "$device" "$least")
+        # As at auto's least (above): where the process held a little more
+        # this run and the least crossed a MiB, it names the next one.
+        if [ "$rc2" -eq 6 ] && [ "$least2" -eq $((least + 1)) ]; then
+            tap_diag "at ${least}M the least named moved to ${least2}M (the process held a little more)"
+            least=$least2
+            read -r peak rc2 least2 < <(bounded "svf --directions 4" "$device" "$least")
+        fi
         [ "$rc2" -eq 0 ] && [ "$peak" -le "$least" ]
         tap_ok $? "svf on $device at the least budget named, ${least}M: peak resident $peak MiB (exit $rc2)"
     else
