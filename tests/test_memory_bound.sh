@@ -235,6 +235,14 @@ if [[ $devices == *Portable* ]]; then
     if [ "$rc" -eq 6 ] && [ "$least" -gt 24 ]; then
         budget=$((least + 8))
         read -r peak rc2 least2 < <(cold_run "$budget")
+        # LLVM's memory after the compiles varies by up to some 20 MiB from
+        # one cold run to the next (363-381M named here): where this run
+        # named more, it runs at that and 8 more, within it.
+        if [ "$rc2" -eq 6 ] && [ "$least2" -gt "$budget" ] && [ "$least2" -le $((least + 32)) ]; then
+            tap_diag "the cold run at ${budget}M named ${least2}M (its compiles held more this time)"
+            least=$least2 budget=$((least2 + 8))
+            read -r peak rc2 least2 < <(cold_run "$budget")
+        fi
         [ "$rc2" -eq 0 ] && [ "$peak" -le "$budget" ] && [ -s "$work/out.tif" ]
         tap_ok $? "svf on Portable with an empty kernel cache, --memory ${budget}M (the least named, ${least}M, and 8): peak resident $peak MiB (exit $rc2) $(grep '^memory' "$work/out" | head -c 100)"
     else
