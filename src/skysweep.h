@@ -136,6 +136,10 @@ typedef struct {
     /* Of cell_steps, those an OpenCL device computed (ss_ctx_set_cells):
      * every cell with a height, of every step it took. */
     uint64_t cell_steps_on_device;
+    /* Exact shadows on box lines by each cell's own ray (box_shadows
+     * march): the steps, their cells with a height, and of those the
+     * cells the proven bounds left to the march. */
+    uint64_t box_march_steps, box_march_cells, box_march_marched;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
@@ -179,6 +183,8 @@ typedef enum {
     SS_LINES_BOX = 2       /* cells as flat-topped columns: city DSMs with vertical walls */
 } ss_line_model;
 
+typedef enum { SS_BOX_SHADOWS_MARCH = 0, SS_BOX_SHADOWS_LINES = 1 } ss_box_shadows;
+
 typedef struct {
     int directions;        /* D >= 1, evenly spaced */
     double offset_deg;     /* azimuth of the first direction */
@@ -193,6 +199,11 @@ typedef struct {
      * SS_BOX_LINES_MAX); a cell takes the nearest, at most half a spacing
      * beside its centre (doc/model.md, "City DSMs"). */
     int box_lines;
+    /* SS_LINES_BOX's cast shadows (shadow, insolation's exact steps): each
+     * cell's own ray, settled by proven bounds or marched (the C twin with
+     * the grid held whole; elsewhere, and for horizon angles, the lines),
+     * or the box_lines families' walks (doc/box_lines.md). */
+    ss_box_shadows box_shadows;
 } ss_sweep_options;
 
 #define SS_BOX_LINES_MAX 64

@@ -61,6 +61,7 @@ typedef struct {
     double horizon_tolerance_deg, svf_tolerance, sun_tolerance_deg;
     int lines;                    /* "auto|interpolated|digital|box" (ss_line_model + 1) */
     int box_lines;                /* box lines per cell across */
+    int box_shadows;              /* "march|lines" (ss_box_shadows) */
 } ss_sweep_params;
 #define SS_NORTH_AUTO 0
 #define SS_NORTH_TRUE 1

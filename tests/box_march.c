@@ -10,6 +10,12 @@
 
 int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z_max)
 {
+    return box_march_lit_curved(g, r, c, az, el, z_max, 0.0);
+}
+
+int box_march_lit_curved(const ss_grid *g, int r, int c, double az, double el, double z_max,
+                         double curv_k)
+{
     double z0 = g->z[(size_t)r * g->width + c];
     double tan_el = tan(el * M_PI / 180);
     double dx = sin(az * M_PI / 180) / g->cell_x_m;  /* columns per metre */
@@ -34,7 +40,7 @@ int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z
         if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height || z0 + tan_el * t > z_max)
             return 1;
         float h = g->z[(size_t)ri * g->width + ci];
-        if (isfinite(h) && h - z0 > tan_el * t)
+        if (isfinite(h) && h - z0 - curv_k * t * t > tan_el * t)
             return 0;
     }
 }

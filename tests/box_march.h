@@ -13,6 +13,10 @@
  * clockwise from the grid's north, elevation el, degrees) passes above
  * every column it crosses, else 0; z_max: the grid's highest height. */
 int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z_max);
+/* The same with the earth's curvature: a column's top lowered by curv_k
+ * t^2 at distance t (curv_k = 1 / (2 R_eff)). */
+int box_march_lit_curved(const ss_grid *g, int r, int c, double az, double el, double z_max,
+                         double curv_k);
 
 /* The box-model horizon (degrees) from cell (r, c) toward azimuth az: the
  * largest elevation of the column tops its ray crosses, the cell's own top

@@ -3,10 +3,11 @@
  * (tests/box_march.c) at suns off the grid axes, on a synthetic city of
  * boxes and on the Gothenburg 1 m DSM where ../shared/data has it (skipped
  * otherwise). The march itself is checked first against a single box's
- * closed-form shadow. Box lines (doc/model.md, "City DSMs") must agree on
- * at least 99.5 % of cells for every sun, exactly on the grid's axes,
- * better with more lines per cell, and the same on OpenCL as on
- * the C twin; the interpolated and digital models are held at the floors
+ * closed-form shadow. Box shadows by each cell's own ray (the default,
+ * src/core/box_shadow.c) must agree on every cell; the box lines' own
+ * shadows (doc/model.md, "City DSMs") on at least 99.5 % of cells for
+ * every sun, exactly on the grid's axes, better with more lines per cell,
+ * and the same on OpenCL as on the C twin; the interpolated and digital models are held at the floors
  * measured on 2026-12-02, so that they cannot get worse unnoticed. */
 #include "config.h"
 
@@ -64,13 +65,17 @@ static void march_closed_form(void)
     ss_grid_free(&g);
 }
 
+/* Box lines' own shadows where box_lines > 0 (the families' walks), else
+ * the default: each cell's own ray. */
 static ss_sweep_options options(ss_line_model lines, int box_lines)
 {
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.lines = lines;
-    if (box_lines > 0)
+    if (box_lines > 0) {
         opt.box_lines = box_lines;
+        opt.box_shadows = SS_BOX_SHADOWS_LINES;
+    }
     return opt;
 }
 
@@ -90,7 +95,7 @@ static void agreement_of(const ss_grid *g, const ss_sweep_options *opt, double *
 static void compare(const char *what, const ss_grid *g, const double floors[3])
 {
     for (int m = 0; m < 3; ++m) {
-        ss_sweep_options opt = options((ss_line_model)m, 0);
+        ss_sweep_options opt = options((ss_line_model)m, m == SS_LINES_BOX ? 32 : 0);
         char err[300] = "";
         double mean, worst;
         agreement_of(g, &opt, &mean, &worst, err);
@@ -102,6 +107,19 @@ static void compare(const char *what, const ss_grid *g, const double floors[3])
     }
 }
 
+/* The default box shadows: each cell's own ray, exact. */
+static void box_march_exact(const char *what, const ss_grid *g)
+{
+    ss_sweep_options opt = options(SS_LINES_BOX, 0);
+    char err[300] = "";
+    double mean, worst;
+    agreement_of(g, &opt, &mean, &worst, err);
+    tap_ok(worst == 1.0,
+           "%s, box shadows by each cell's own ray: the shadows of 4 off-axis suns agree with "
+           "the box-model march on every cell (worst %.4f %%)%s%s",
+           what, 100 * worst, err[0] ? ": " : "", err);
+}
+
 /* Suns along the axes: a line of slope 0 runs through the centres of the
  * cells it delivers to, so box lines are the march itself. (Along the
  * diagonals rays run through cell corners, where the march and the lines
@@ -109,7 +127,7 @@ static void compare(const char *what, const ss_grid *g, const double floors[3])
 static void box_on_axes(const ss_grid *g)
 {
     const double az[] = {0, 90, 180, 270};
-    ss_sweep_options opt = options(SS_LINES_BOX, 0);
+    ss_sweep_options opt = options(SS_LINES_BOX, 32);
     double worst = 1;
     char err[300] = "";
     for (int k = 0; k < 4; ++k)
@@ -194,7 +212,7 @@ static void box_svf(const char *what, const ss_grid *g)
  * radius-limited horizons and site horizons. */
 static void box_refusals(const ss_grid *g)
 {
-    ss_sweep_options opt = options(SS_LINES_BOX, 0);
+    ss_sweep_options opt = options(SS_LINES_BOX, 32);
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
     float *out = malloc(sizeof(float) * (size_t)g->width * g->height);
@@ -219,6 +237,16 @@ static void box_refusals(const ss_grid *g)
     st = ss_cast_shadow(ctx, &flat, &opt, 117, 25, NULL, out, NULL);
     tap_ok(st == SS_ERR_ARGUMENT && strstr(ss_ctx_message(ctx), "twice"),
            "box lines: cells 2.5 times as long as wide are refused: %s", ss_ctx_message(ctx));
+    /* Each cell's own ray takes any cell shape. */
+    for (int i = 0; i < 400; i += 7)
+        flat.z[i] = (float)(i % 13);
+    ss_sweep_options own = options(SS_LINES_BOX, 0);
+    char err[300] = "";
+    double a = box_march_agreement(&flat, &own, 117, 25, err);
+    tap_ok(a == 1.0,
+           "box shadows by each cell's own ray on cells 2.5 times as long as wide: the march's "
+           "on %.2f %% of cells%s%s",
+           100 * a, err[0] ? ": " : "", err);
     ss_grid_free(&flat);
     free(out);
     ss_ctx_free(ctx);
@@ -234,6 +262,7 @@ int main(void)
     march_closed_form();
     ss_grid g = box_march_city(300);
     compare("a synthetic city (300 m, boxes of 4..45 m)", &g, city_floor);
+    box_march_exact("a synthetic city", &g);
     box_on_axes(&g);
     box_lines_converge(&g);
     box_devices_agree(&g);
@@ -252,6 +281,7 @@ int main(void)
     const char *paths[] = {path};
     if (ss_dem_read(ctx, paths, 1, NULL, &dem) == SS_OK) {
         compare("the Gothenburg 1 m DSM", &dem.grid, goteborg_floor);
+        box_march_exact("the Gothenburg 1 m DSM", &dem.grid);
         box_svf("the Gothenburg 1 m DSM", &dem.grid);
         ss_dem_free(&dem);
     } else {

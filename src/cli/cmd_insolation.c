@@ -837,6 +837,12 @@ static void print_summary(insolation_run *r)
                "last cell of their line whose proven horizon bound the sun may not clear\n",
                (unsigned long long)c.shadow_steps_skipped, (unsigned long long)c.shadow_steps,
                100.0 * (double)c.shadow_steps_skipped / (double)c.shadow_steps);
+    if (c.box_march_steps)
+        printf("shadows %llu steps of box shadows by each cell's own ray: %llu of %llu cell-steps "
+               "(%.1f %%) marched, the rest settled by proven bounds\n",
+               (unsigned long long)c.box_march_steps, (unsigned long long)c.box_march_marched,
+               (unsigned long long)c.box_march_cells,
+               100.0 * (double)c.box_march_marched / (double)c.box_march_cells);
     uint64_t host_cells = c.cell_steps - c.cell_steps_on_device;
     if (c.cell_steps_on_device)
         printf("cells   %llu cell-steps on the device (the sun's terms per cell; the horizons "

@@ -696,7 +696,7 @@ ss_status run_check_output(run_state *run, const char *output)
 void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
                          const ss_dem_frame *frame)
 {
-    char buf[256];
+    char buf[400];
     ss_writer_metadata(w, "SKYSWEEP_VERSION", ss_version());
     ss_writer_metadata(w, "SKYSWEEP_COMMAND", run->command);
     snprintf(buf, sizeof buf, "%d", opt->directions);
@@ -727,8 +727,12 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     if (opt->lines == SS_LINES_BOX)
         snprintf(buf, sizeof buf,
                  "box: cells as flat-topped columns, %d lines per cell, each cell's horizon from "
-                 "the nearest (at most %.3g cell beside its centre)",
-                 opt->box_lines, 0.5 / opt->box_lines);
+                 "the nearest (at most %.3g cell beside its centre)%s",
+                 opt->box_lines, 0.5 / opt->box_lines,
+                 opt->box_shadows == SS_BOX_SHADOWS_MARCH
+                     ? "; cast shadows from each cell's own ray (exact: proven bounds, else a "
+                       "march) where the C twin holds the grid whole, else from the lines"
+                     : "; cast shadows from the lines");
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
                            ? "digital: lines through cell centres, distance projected on the "

@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "box_shadow.h"
 #include "insolation_internal.h"
 #include "insolation_lanes.h"
 #include "insolation_trees.h"
@@ -39,6 +40,7 @@ enum {
                     horizontal, with light), or a record without light shadows change:
                     no shadows */
     STEP_SWEPT,  /* exact shadows: a sweep at its sun's azimuth */
+    STEP_MARCHED, /* exact box-model shadows by bounds and march (box_shadow.h) */
     STEP_STORED  /* interpolated shadows from the stored horizons */
 };
 
@@ -228,6 +230,7 @@ typedef struct {
     float terms_T;
     unsigned char *crossed;
     float *through;
+    float *marched; /* a STEP_MARCHED step's horizons over the grid */
 } steps_run;
 
 /* Where an azimuth (options' frame) falls between the stored directions:
@@ -588,6 +591,25 @@ static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const
     return ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun, s->crossed);
 }
 
+/* A STEP_MARCHED step's horizons over the grid, held whole in the band:
+ * right for every sun between the step's lowest and highest over the cells. */
+static ss_status march_step(steps_run *s, const ss_band_view *band, const ss_sun_step *sun)
+{
+    ss_insolation_job *job = s->job;
+    ss_grid grid = {band->width, band->height, job->src->cell_x_m, job->src->cell_y_m, 0.0,
+                    (float *)band->z};
+    ss_box_shadow_counts counts;
+    if (!ss_box_shadow_horizons(&grid, sun->azimuth_deg - job->opt->grid_north_deg,
+                                sun->apparent_elevation_deg - sun->spread_deg,
+                                sun->apparent_elevation_deg + sun->spread_deg,
+                                ss_curvature_k(job->opt), s->marched, &counts))
+        return ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for the box shadows' lines");
+    job->ctx->counters.box_march_steps++;
+    job->ctx->counters.box_march_cells += counts.cells;
+    job->ctx->counters.box_march_marched += counts.marched;
+    return SS_OK;
+}
+
 /* Step k over a band's own cells: its shadows (rows of the walk at its
  * sun's azimuth, the stored horizons, or none), irradiance added into the
  * planes, its global to the step's output where asked for. */
@@ -634,6 +656,8 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
         ss_dir_rows read = rows ? *rows : (ss_dir_rows){NULL, NULL, NULL, 0};
         if (band->device && kind == STEP_SWEPT)
             st = ss_engine_device_rows(band->device, &read);
+        if (st == SS_OK && kind == STEP_MARCHED)
+            st = march_step(s, band, &sun);
         float *beam = planes + (size_t)p.beam * n, *diffuse = planes + (size_t)p.diffuse * n;
         float *reflected = planes + (size_t)p.reflected * n, *global = planes + (size_t)p.global * n;
         float *hours = planes + (size_t)p.hours * n;
@@ -666,7 +690,7 @@ static ss_status steps_direction(void *user, int k, const ss_band_view *band,
             .h0_step_deg = (float)sun.elevation_deg,
             .az_step_deg = (float)sun.grid_azimuth_deg,
             .app_step_deg = (float)sun.apparent_elevation_deg,
-            .swept = kind == STEP_SWEPT ? read.angle : NULL,
+            .swept = kind == STEP_SWEPT ? read.angle : kind == STEP_MARCHED ? s->marched : NULL,
             .stored0 = kind == STEP_STORED ? s->stored + (size_t)between.i0 * s->stored_stride : NULL,
             .stored1 = kind == STEP_STORED ? s->stored + (size_t)between.i1 * s->stored_stride : NULL,
             .stored_t = between.t,
@@ -758,6 +782,7 @@ typedef struct {
     ss_engine_dir *dirs;
     int n_dirs, real_sky;
     int n_swept; /* steps with a shadow walk */
+    int n_marched; /* steps with box shadows by bounds and march */
 } steps_plan;
 
 /* Decides what every step of this process is (kind), counting the night
@@ -772,7 +797,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
     ss_status st = ss_horizon_bound_of(ctx, job->src, job->opt, &bound_deg);
     if (st != SS_OK)
         return st;
-    plan->n_dirs = plan->n_swept = 0;
+    plan->n_dirs = plan->n_swept = plan->n_marched = 0;
     for (int k = 0; k < n_steps; ++k) {
         if (!ss_share_has(job->share, k))
             continue; /* another process's step */
@@ -802,8 +827,9 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
             ctx->counters.shadow_sweeps_unshaded += unshaded;
             all_lit |= unshaded;
             kind[k] = all_lit                                        ? STEP_LIT
-                      : io->shadow_mode == SS_SHADOW_EXACT ? STEP_SWEPT
-                                                           : STEP_STORED;
+                      : io->shadow_mode != SS_SHADOW_EXACT ? STEP_STORED
+                      : ss_box_shadows_marched(ctx, job->src, job->opt) ? STEP_MARCHED
+                                                           : STEP_SWEPT;
             if ((job->want & SS_INSOLATION_PV) && sun.real_sky && io->pv.on &&
                 (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))
                 ctx->counters.records_without_temperature++;
@@ -812,6 +838,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
          * lie below it need no walk (lit_levels.h). */
         int lit_level = ss_lit_level_below(sun.apparent_elevation_deg - sun.spread_deg);
         plan->n_swept += kind[k] == STEP_SWEPT;
+        plan->n_marched += kind[k] == STEP_MARCHED;
         plan->dirs[plan->n_dirs++] =
             (ss_engine_dir){sun.azimuth_deg, kind[k] == STEP_SWEPT, k, lit_level};
     }
@@ -893,9 +920,12 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     }
     if (beer_lambert)
         s.through = ss_malloc((size_t)src->width * src->height * sizeof(float));
+    if (plan->n_marched)
+        s.marched = ss_malloc(n * sizeof(float));
     if (st == SS_OK &&
         (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band) ||
-         (trees && (!s.terms_trees || !s.crossed)) || (beer_lambert && !s.through)))
+         (trees && (!s.terms_trees || !s.crossed)) || (beer_lambert && !s.through) ||
+         (plan->n_marched && !s.marched)))
         st = ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for a band of insolation");
     /* Steps go to the device where the backend can take them, with the
      * stored horizons of interpolated shadows. */
@@ -925,6 +955,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     free(s.terms_trees);
     free(s.crossed);
     free(s.through);
+    free(s.marched);
     free(levels);
     ss_lit_bands_free(bands);
     return st;
@@ -947,7 +978,7 @@ static ss_status run_insolation(ss_ctx *ctx, const ss_source *src, const ss_swee
     ss_insolation_job job = {ctx,  src,  opt,  io,   share, sun_rows, sun_user,
                              want, sink, user, 0,    NULL, NULL, NULL, NULL, NULL};
     int cumulative = io->shadow_mode == SS_SHADOW_CUMULATIVE;
-    steps_plan plan = {NULL, NULL, 0, 0, 0};
+    steps_plan plan = {NULL, NULL, 0, 0, 0, 0};
     ss_status st = io->trees ? ss_insolation_trees_check(ctx, io, src) : SS_OK;
     if (st == SS_OK && !cumulative)
         st = plan_steps(&job, n_steps, &plan);

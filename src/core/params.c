@@ -48,6 +48,10 @@ static const ss_param sweep_params[] = {
     {"box-lines", SS_PARAM_INT, SWEEP(box_lines), "N", "32", 1, SS_BOX_LINES_MAX, NULL,
      "box lines per cell across, a power of two: a cell's line runs at most 1/(2N) cell beside "
      "its centre; time grows with N (doc/model.md)"},
+    {"box-shadows", SS_PARAM_CHOICE, SWEEP(box_shadows), NULL, "march", 0, 0, "march|lines",
+     "box lines' cast shadows: march: each cell's own ray, exact, settled by proven bounds "
+     "where it can be (the C twin, grid held whole); lines: the --box-lines walks "
+     "(doc/box_lines.md)"},
     END};
 
 #define SUN(field) offsetof(ss_sun_params, field)
@@ -280,6 +284,7 @@ void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,
     ss_line_model asked = ss_sweep_params_lines(p);
     opt->lines = asked == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : asked;
     opt->box_lines = p->box_lines;
+    opt->box_shadows = (ss_box_shadows)p->box_shadows;
     opt->grid_north_deg = place && p->north != SS_NORTH_GRID ? place->grid_north_deg : 0.0;
 }
 

@@ -8,6 +8,12 @@
 /* curv_k = 1 / (2 R_eff), R_eff = R / (1 - k); 0 when curvature is off. */
 float ss_curvature_k(const ss_sweep_options *opt);
 
+/* Whether cast shadows on box lines are each cell's own ray by bounds and
+ * march (box_shadow.h): asked for (box_shadows), on the C twin, with the
+ * grid held whole (a march reads columns anywhere upstream). */
+int ss_box_shadows_marched(const ss_ctx *ctx, const ss_source *src,
+                           const ss_sweep_options *opt);
+
 /* Line set of direction i; returns the direction's azimuth in the grid's
  * frame, radians (the frame the sweep and cell slopes live in). */
 double ss_product_lines(const ss_grid *grid, const ss_sweep_options *opt, int i,

@@ -18,6 +18,7 @@ void ss_sweep_options_default(ss_sweep_options *opt)
     opt->lines = SS_LINES_INTERPOLATED;
     opt->grid_north_deg = 0.0;
     opt->box_lines = SS_BOX_LINES_DEFAULT;
+    opt->box_shadows = SS_BOX_SHADOWS_MARCH;
 }
 
 ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
@@ -43,6 +44,9 @@ ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
     if (opt->lines != SS_LINES_INTERPOLATED && opt->lines != SS_LINES_DIGITAL &&
         opt->lines != SS_LINES_BOX)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown line model %d", (int)opt->lines);
+    if (opt->box_shadows != SS_BOX_SHADOWS_MARCH && opt->box_shadows != SS_BOX_SHADOWS_LINES)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown way of box shadows %d",
+                       (int)opt->box_shadows);
     if (opt->lines == SS_LINES_BOX &&
         (opt->box_lines < 1 || opt->box_lines > SS_BOX_LINES_MAX ||
          (opt->box_lines & (opt->box_lines - 1)) != 0))

@@ -1,0 +1,139 @@
+/* Box-model shadows by bounds and march (src/core/box_shadow.c) against
+ * the independent box-model ray march of tests/box_march.c, cell by cell:
+ * on a synthetic city, the same with nodata holes and cells longer one
+ * way, a grid of one row, a tower seen from a plain, and the Gothenburg
+ * DSM where ../shared/data has it. Suns in 40 azimuths (the axes, the
+ * diagonals, and others between and a hundredth of a degree off them),
+ * from the horizontal to overhead, each over a range of elevations (a
+ * step's suns over the cells) whose lowest, middle and highest must all
+ * be lit exactly where the march lights them; with and without the
+ * earth's curvature. A bound that failed would settle a cell the march
+ * decides otherwise. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#ifdef SS_TEST_READS_DEMS
+#include "dem_io.h"
+#endif
+#include "box_march.h"
+#include "box_shadow.h"
+#include "tap.h"
+#include "testlib.h"
+
+static const double azimuths[] = {0.0,    0.01,   17.3,  44.99, 45.0,  45.01, 63.4,  89.99,
+                                  90.0,   90.01,  101.7, 134.99, 135.0, 152.2, 179.99, 180.0,
+                                  180.01, 197.6,  224.99, 225.0, 225.01, 243.3, 269.99, 270.0,
+                                  270.01, 288.8,  314.99, 315.0, 315.01, 333.1, 359.99, 7.7,
+                                  26.57,  116.57, 206.57, 296.57, 11.0,  191.0, 78.0,  258.0};
+static const double elevations[][2] = {{-2.0, 0.5}, {0.5, 0.5},   {3.0, 3.4},  {9.0, 9.0},
+                                       {20.0, 21.5}, {33.0, 33.0}, {55.0, 57.0}, {88.5, 89.6}};
+
+/* Cells whose verdict differs from the march's at elevation el. */
+static long disagreements(const ss_grid *g, const float *angle, double az, double el,
+                          double z_max, double curv_k)
+{
+    long wrong = 0;
+    for (int r = 0; r < g->height; ++r)
+        for (int c = 0; c < g->width; ++c) {
+            size_t i = (size_t)r * g->width + c;
+            if (!isfinite(g->z[i]))
+                continue;
+            int lit = el > angle[i];
+            /* A sun at or below the horizontal lights no column's top. */
+            wrong += lit != (el > 0.0 && box_march_lit_curved(g, r, c, az, el, z_max, curv_k));
+        }
+    return wrong;
+}
+
+static void check_grid(const char *name, const ss_grid *g, double curv_k, int n_azimuths)
+{
+    size_t n = (size_t)g->width * g->height;
+    float *angle = malloc(n * sizeof(float));
+    double z_max = box_march_top(g);
+    long wrong = 0, suns = 0;
+    uint64_t cells = 0, marched = 0;
+    int failed = !angle;
+    for (int a = 0; !failed && a < n_azimuths; ++a)
+        for (size_t e = 0; !failed && e < sizeof elevations / sizeof elevations[0]; ++e) {
+            double lo = elevations[e][0], hi = elevations[e][1];
+            ss_box_shadow_counts counts;
+            if (!ss_box_shadow_horizons(g, azimuths[a], lo, hi, curv_k, angle, &counts)) {
+                failed = 1;
+                break;
+            }
+            cells += counts.cells;
+            marched += counts.marched;
+            double at[3] = {lo, 0.5 * (lo + hi), hi};
+            for (int k = 0; k < 3; ++k, ++suns) {
+                long w = disagreements(g, angle, azimuths[a], at[k], z_max, curv_k);
+                if (w && !wrong)
+                    tap_diag("%s: %ld cells differ at azimuth %g, elevation %g (range %g..%g)",
+                             name, w, azimuths[a], at[k], lo, hi);
+                wrong += w;
+            }
+        }
+    tap_ok(!failed && wrong == 0,
+           "%s%s: every cell lit exactly where the box-model march lights it (%ld suns, "
+           "%.1f %% of cells marched)",
+           name, curv_k > 0 ? ", curvature" : "", suns,
+           cells ? 100.0 * (double)marched / (double)cells : 0.0);
+    /* The bounds must settle most cells, or the march is all there is. */
+    if (!failed && curv_k == 0.0)
+        tap_ok(marched < cells / 2, "%s: the bounds settle %.1f %% of cells", name,
+               cells ? 100.0 - 100.0 * (double)marched / (double)cells : 0.0);
+    free(angle);
+}
+
+static void check_shared(void)
+{
+#ifndef SS_TEST_READS_DEMS
+    tap_skip("the Gothenburg DSM", "a build without GDAL reads no GeoTIFF");
+#else
+    const char *path = test_shared_data("goteborg_kronenhuset_dsm_1m.tif");
+    if (!path) {
+        tap_skip("the Gothenburg DSM", "../shared/data is not here");
+        return;
+    }
+    ss_ctx *ctx = ss_ctx_new();
+    ss_dem dem;
+    const char *paths[] = {path};
+    if (ss_dem_read(ctx, paths, 1, NULL, &dem) == SS_OK) {
+        check_grid("the Gothenburg DSM", &dem.grid, 0.0, 40);
+        ss_dem_free(&dem);
+    } else {
+        tap_ok(0, "cannot read %s: %s", path, ss_ctx_message(ctx));
+    }
+    ss_ctx_free(ctx);
+#endif
+}
+
+int main(void)
+{
+    ss_grid city = box_march_city(120);
+    check_grid("a synthetic city", &city, 0.0, 40);
+    /* A radius of 2 km: curvature that matters across 120 m. */
+    check_grid("a synthetic city", &city, 1.0 / (2.0 * 2000.0), 40);
+    /* Holes of nodata, which neither cast nor receive, and cells half as
+     * long again north-south. */
+    for (size_t i = 0; i < (size_t)120 * 120; i += 37)
+        city.z[i] = NAN;
+    city.cell_y_m = 1.5;
+    check_grid("a city with holes, 1 x 1.5 m cells", &city, 0.0, 40);
+    ss_grid_free(&city);
+    ss_grid row = test_grid(300, 1, 1.0, 1.0);
+    for (int c = 0; c < 300; ++c)
+        row.z[c] = (float)((c * 7919) % 23);
+    check_grid("one row", &row, 0.0, 40);
+    ss_grid_free(&row);
+    ss_grid tower = test_grid(90, 70, 2.0, 2.0);
+    for (size_t i = 0; i < (size_t)90 * 70; ++i)
+        tower.z[i] = 0.0f;
+    tower.z[(size_t)35 * 90 + 45] = 80.0f;
+    check_grid("one tower on a plain", &tower, 0.0, 40);
+    ss_grid_free(&tower);
+    check_shared();
+    return tap_done();
+}
