@@ -7,10 +7,10 @@ import numpy as np
 
 from ._context import ArgumentError
 from ._grid import out_buffer
-from ._lib import CONST, PRODUCTS, default, ffi, lib, option
+from ._lib import CONST, PRODUCTS, default, ffi, lib
 from ._memory import BandCost, BandedGrid, rows_sink, run_banded
-from .products import (SWEEP_OPTIONS, _begin, _canopy, _doc_options, _numpydoc, _params,
-                       _renamed, _sweep, _trees, _value)
+from .products import (SWEEP_OPTIONS, _begin, _crowns_sky, _doc_options, _numpydoc, _params,
+                       _renamed, _stated, _sweep, _trees, _value)
 from .sun import iso_duration, unix_seconds
 
 #: The library's parts (ss_insolation_out's fields, the CLI's bands, in order)
@@ -103,7 +103,7 @@ def _insolation_trees_options(canopy, given, defaults, kw):
     if trees is None:
         return None
     for key in ("leaf_area_density", "extinction"):
-        if trees["crown_light"] != "beer-lambert" and given[key] is not defaults[key]:
+        if trees["crown_light"] != "beer-lambert" and key in _stated(given, defaults):
             raise ArgumentError(f"--{key.replace('_', '-')} needs --crown-light beer-lambert",
                                 2)
     for key in ("leaf_on", "leaf_off"):
@@ -122,11 +122,8 @@ def _insolation_trees(ctx, grid, opt, trees, mids, latitude, longitude):
     horizontal surface (ss_canopy_sky), each step's leaf season at the
     place (ss_leaf_seasons). It holds what it points to as long as it
     lives. Returns it and the steps with the leaves off."""
-    canopy = _canopy(ctx, grid, trees)
-    gaps = option("insolation", "trunk-gaps")["choices"].index(trees["trunk_gaps"])
-    hidden = grid.new_plane()
-    ctx.call(lib.ss_canopy_sky, grid.ptr, canopy, opt, lib.SS_SVF_DEF_HORIZONTAL, gaps,
-             ffi.NULL, out_buffer(hidden))
+    canopy, gaps, hidden = _crowns_sky(ctx, grid, opt, "insolation", trees,
+                                       lib.SS_SVF_DEF_HORIZONTAL)
     leaf_off = np.zeros(max(len(mids), 1), np.uint8)
     season = ffi.new("ss_leaf_season *")
     dates = [ffi.NULL if trees[k] is None else ffi.new("char[]", trees[k].encode())

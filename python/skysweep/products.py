@@ -300,12 +300,17 @@ def _svf_trees(canopy, trunk, trunk_ratio, transmissivity, trunk_gaps, definitio
     return trees
 
 
+def _stated(given, defaults):
+    """The keywords of `given` a caller stated: not the signature's own
+    default object (a caller's 0.25 is another)."""
+    return [k for k, v in given.items() if v is not defaults[k]]
+
+
 def _trees(command, canopy, given, defaults, kw):
     """A command's tree options (given: trunk, trunk_ratio, ... as keywords),
     checked against its table as the CLI checks them (its wording); None
     without a canopy."""
-    # Given: not the signature's own default object (a caller's 0.25 is another).
-    stated = [k for k, v in given.items() if v is not defaults[k]]
+    stated = _stated(given, defaults)
     if canopy is None:
         if stated:
             raise ArgumentError(f"--{stated[0].replace('_', '-')} needs --canopy", 2)
@@ -331,6 +336,19 @@ def _canopy(ctx, grid, trees):
         "trunk_ratio": trees["trunk_ratio"], "transmissivity": trees["transmissivity"]})
     ctx.check(lib.ss_canopy_check(ctx.ptr, grid.ptr, canopy))
     return ffi.gc(canopy, lambda _canopy, _layers=(height, trunk): None)
+
+
+def _crowns_sky(ctx, grid, opt, command, trees, definition, progress=None):
+    """The trees' ss_canopy (_canopy), their trunk gaps as the library's
+    code, and the share of each cell's sky their crowns hide
+    (ss_canopy_sky, by `definition`), as `skysweep svf --canopy` and
+    `skysweep insolation --canopy` compute it."""
+    canopy = _canopy(ctx, grid, trees)
+    gaps = option(command, "trunk-gaps")["choices"].index(trees["trunk_gaps"])
+    hidden = grid.new_plane()
+    ctx.call(lib.ss_canopy_sky, grid.ptr, canopy, opt, definition, gaps, ffi.NULL,
+             out_buffer(hidden), progress=progress)
+    return canopy, gaps, hidden
 
 
 def _tree_layer(grid, values, what):
@@ -410,11 +428,8 @@ def _svf_tree_bands(ctx, grid, opt, code, svf_plane, trees, kw):
     """svfveg and svfbuveg from the svf plane (NaN at nodata),
     as `skysweep svf --canopy` makes bands 2 and 3: ss_canopy_sky's crown
     share, then ss_canopy_svf_bands."""
-    canopy = _canopy(ctx, grid, trees)
-    veg, total = grid.new_plane(), grid.new_plane()
-    gaps = option("svf", "trunk-gaps")["choices"].index(trees["trunk_gaps"])
-    ctx.call(lib.ss_canopy_sky, grid.ptr, canopy, opt, code, gaps, ffi.NULL, out_buffer(veg),
-             progress=kw.get("progress"))
+    _, _, veg = _crowns_sky(ctx, grid, opt, "svf", trees, code, kw.get("progress"))
+    total = grid.new_plane()
     lib.ss_canopy_svf_bands(veg.size, ffi.from_buffer("float[]", _nodata_marked(svf_plane)),
                             out_buffer(veg),
                             trees["transmissivity"], out_buffer(veg), out_buffer(total))

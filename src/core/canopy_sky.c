@@ -119,11 +119,28 @@ typedef struct {
     double *hidden_sum, *through_sum;
 } crown_light;
 
+typedef struct sky_walk sky_walk;
+
+/* How a walk weighs the rises the crowns hide from a cell: as the sky's
+ * share of the direction (sky_weight) or as the horizon band's, seen by
+ * the cell's surface (band_weight). The walks over a cell's crowns
+ * (crowns_share, light_add) are the same for both. */
 typedef struct {
+    /* how squarely cell i faces the direction walked; the sky's 1 */
+    float (*facing)(const sky_walk *s, size_t i);
+    /* the share of the direction that the rises (lo, hi) take */
+    double (*share)(const sky_walk *s, double lo, double hi);
+    /* of that share of the rises (ta, tb), 0 <= ta < tb, the part a ray
+     * through a path of x sec(e) / k of crown passes */
+    double (*passed)(const sky_walk *s, double ta, double tb, double x);
+} span_weight;
+
+struct sky_walk {
     const ss_grid *grid;
     const ss_canopy *canopy;
     ss_svf_definition definition;
     ss_trunk_gaps gaps;
+    const span_weight *weight;
     upper_hull solid, top;
     line_crown *crowns; /* the line's, in walk order */
     size_t n_crowns;
@@ -131,65 +148,39 @@ typedef struct {
     double *solid_sum, *crown_sum; /* per cell, over the directions (the sky; else NULL) */
     band_walk *band;               /* the horizon band instead of the sky (else NULL) */
     crown_light *light;            /* Beer-Lambert's sums besides (else NULL) */
-} sky_walk;
+};
 
-/* SS_TRUNK_GAPS_OPEN: the share the crowns before q hide above the solid
- * horizon's rise ts, up to the canopy-top horizon's ttop > ts; -1 when
- * out of memory. */
-static double open_gaps_share(sky_walk *s, hull_point q, double ts, double ttop)
+/* The rises crown c hides from q above floor_rise: from its bottom (the
+ * gaps open) or floor_rise (ignored: a column) to its top; 0 where it hides
+ * none there, or does not lie before q. */
+static int crown_rises(const sky_walk *s, const line_crown *c, hull_point q, double floor_rise,
+                       double *lo, double *hi)
+{
+    double d = q.w - c->w;
+    if (!(d > 0.0))
+        return 0;
+    *lo = s->gaps == SS_TRUNK_GAPS_OPEN ? fmax((c->bottom - q.z) / d, floor_rise) : floor_rise;
+    *hi = (c->top - q.z) / d;
+    return *hi > *lo;
+}
+
+/* SS_TRUNK_GAPS_OPEN: into s->rises, the union of the rises the crowns
+ * before q hide above the solid horizon's rise ts, up to the canopy-top
+ * horizon's ttop > ts; -1 when out of memory. */
+static int open_gaps_union(sky_walk *s, hull_point q, double ts, double ttop)
 {
     crown_union *u = &s->rises;
     u->n = 0;
+    double lo, hi;
     for (size_t k = s->n_crowns; k-- > 0;) {
-        const line_crown *c = &s->crowns[k];
-        double d = q.w - c->w;
-        if (!(d > 0.0))
-            continue;
-        double lo = fmax((c->bottom - q.z) / d, ts), hi = (c->top - q.z) / d;
-        if (!(hi > lo))
+        if (!crown_rises(s, &s->crowns[k], q, ts, &lo, &hi))
             continue;
         if (union_add(u, lo, hi) != 0)
-            return -1.0;
+            return -1;
         if (u->span[0].lo <= ts && u->span[0].hi >= ttop)
             break; /* covered: crowns further back hide nothing more */
     }
-    double share = 0.0;
-    for (size_t k = 0; k < u->n; ++k)
-        share +=
-            hidden_share(s->definition, u->span[k].hi) - hidden_share(s->definition, u->span[k].lo);
-    return share;
-}
-
-/* The share of the band [0, band_rad] of elevations that the rises
- * (lo, hi) hide. */
-static double band_share_of(double lo, double hi, double band_rad)
-{
-    double a = fmax(atan(lo), 0.0), b = fmin(atan(hi), band_rad);
-    return b > a ? (b - a) / band_rad : 0.0;
-}
-
-/* Cell i's band in this direction: the crowns hide the rises from ts to
- * ttop (columns) or, with the gaps open, the union open_gaps_share left
- * in s->rises; they count where the cell's surface faces the direction. */
-static float band_facing(const band_walk *b, size_t i)
-{
-    return ss_cos_incidence_gradient(b->east, b->north, 0.0f, b->dz_de[i], b->dz_dn[i]);
-}
-
-static void band_add(sky_walk *s, size_t i, double ts, double ttop, int hides)
-{
-    band_walk *b = s->band;
-    float facing = band_facing(b, i);
-    if (!(facing > 0.0f))
-        return;
-    double share = 0.0;
-    if (hides && s->gaps == SS_TRUNK_GAPS_OPEN)
-        for (size_t k = 0; k < s->rises.n; ++k)
-            share += band_share_of(s->rises.span[k].lo, s->rises.span[k].hi, b->band_rad);
-    else if (hides)
-        share = band_share_of(ts, ttop, b->band_rad);
-    b->hidden[i] += facing * (float)share;
-    b->weight[i] += facing;
+    return 0;
 }
 
 /* E_3(x) = integral over t >= 1 of exp(-x t) / t^3, x >= 0: the series
@@ -225,37 +216,94 @@ static double expint3(double x)
     return sum;
 }
 
-/* The sky's weight of the rises (ta, tb), 0 <= ta < tb, cosine-weighted
- * as a horizontal surface's (d sin^2 e), and the part of it a ray
- * through a path of x sec(e) / k of crown passes: with u = sec e,
- * d sin^2 e = 2 du / u^3, and the integral of 2 exp(-x u) / u^3 from ua
- * to ub is 2 (E_3(x ua) / ua^2 - E_3(x ub) / ub^2). */
-static void sky_segment(double ta, double tb, double x, double *hidden, double *through)
+static float sky_facing(const sky_walk *s, size_t i)
 {
-    double ua = sqrt(1.0 + ta * ta), ub = sqrt(1.0 + tb * tb);
-    *hidden += hidden_share(SS_SVF_DEF_HORIZONTAL, tb) - hidden_share(SS_SVF_DEF_HORIZONTAL, ta);
-    *through += 2.0 * (expint3(x * ua) / (ua * ua) - expint3(x * ub) / (ub * ub));
+    (void)s, (void)i;
+    return 1.0f;
 }
 
-/* The horizon band's share of the rises (ta, tb), uniform in elevation
- * over [0, band_rad], and the part of it passed, exp(-x sec e): 8-point
+/* The sky's share of the rises (lo, hi) by the walk's definition. */
+static double sky_share(const sky_walk *s, double lo, double hi)
+{
+    return hidden_share(s->definition, hi) - hidden_share(s->definition, lo);
+}
+
+/* The sky's weight of the rises (ta, tb), cosine-weighted as a horizontal
+ * surface's (d sin^2 e: ss_canopy_sky_through walks the horizontal
+ * definition), passed through a path of x sec(e) / k of crown: with
+ * u = sec e, d sin^2 e = 2 du / u^3, and the integral of
+ * 2 exp(-x u) / u^3 from ua to ub is 2 (E_3(x ua) / ua^2 - E_3(x ub) / ub^2). */
+static double sky_passed(const sky_walk *s, double ta, double tb, double x)
+{
+    (void)s;
+    double ua = sqrt(1.0 + ta * ta), ub = sqrt(1.0 + tb * tb);
+    return 2.0 * (expint3(x * ua) / (ua * ua) - expint3(x * ub) / (ub * ub));
+}
+
+static const span_weight sky_weight = {sky_facing, sky_share, sky_passed};
+
+/* The band's directions count where the cell's surface faces them. */
+static float band_facing(const sky_walk *s, size_t i)
+{
+    const band_walk *b = s->band;
+    return ss_cos_incidence_gradient(b->east, b->north, 0.0f, b->dz_de[i], b->dz_dn[i]);
+}
+
+/* The share of the band [0, band_rad] of elevations that the rises
+ * (lo, hi) hide, uniform in elevation. */
+static double band_share(const sky_walk *s, double lo, double hi)
+{
+    double band_rad = s->band->band_rad;
+    double a = fmax(atan(lo), 0.0), b = fmin(atan(hi), band_rad);
+    return b > a ? (b - a) / band_rad : 0.0;
+}
+
+/* The band's share of the rises (ta, tb) passed, exp(-x sec e): 8-point
  * Gauss-Legendre over at most 6.5 degrees, where sec e moves by 0.65 %
  * (exact to rounding for any x whose light is not already below 1e-300). */
-static void band_segment(double ta, double tb, double band_rad, double x, double *hidden,
-                         double *through)
+static double band_passed(const sky_walk *s, double ta, double tb, double x)
 {
     static const double node[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
                                    0.9602898564975363},
                         weight[4] = {0.3626837833783620, 0.3137066458778873,
                                      0.2223810344533745, 0.1012285362903763};
+    double band_rad = s->band->band_rad;
     double a = atan(ta), b = fmin(atan(tb), band_rad);
     if (!(b > a))
-        return;
+        return 0.0;
     double mid = 0.5 * (a + b), half = 0.5 * (b - a), sum = 0.0;
     for (int k = 0; k < 4; ++k)
         sum += weight[k] * (exp(-x / cos(mid - half * node[k])) + exp(-x / cos(mid + half * node[k])));
-    *hidden += (b - a) / band_rad;
-    *through += sum * half / band_rad;
+    return sum * half / band_rad;
+}
+
+static const span_weight band_weight = {band_facing, band_share, band_passed};
+
+/* The share (s->weight's) that the crowns before q hide above the solid
+ * horizon's rise ts, up to the canopy-top horizon's ttop > ts: all of it
+ * with the gaps ignored (the crowns columns), else the union of their
+ * rises; -1 when out of memory. */
+static double crowns_share(sky_walk *s, hull_point q, double ts, double ttop)
+{
+    if (s->gaps != SS_TRUNK_GAPS_OPEN)
+        return s->weight->share(s, ts, ttop);
+    if (open_gaps_union(s, q, ts, ttop) != 0)
+        return -1.0;
+    double share = 0.0;
+    for (size_t k = 0; k < s->rises.n; ++k)
+        share += s->weight->share(s, s->rises.span[k].lo, s->rises.span[k].hi);
+    return share;
+}
+
+/* Cell i's band in this direction, `share` of it hidden by the crowns. */
+static void band_add(sky_walk *s, size_t i, double share)
+{
+    band_walk *b = s->band;
+    float facing = band_facing(s, i);
+    if (!(facing > 0.0f))
+        return;
+    b->hidden[i] += facing * (float)share;
+    b->weight[i] += facing;
 }
 
 static int by_rise(const void *a, const void *b)
@@ -272,24 +320,17 @@ static int by_rise(const void *a, const void *b)
 static void light_add(sky_walk *s, size_t i, hull_point q, double ts)
 {
     crown_light *l = s->light;
-    float facing = s->band ? band_facing(s->band, i) : 1.0f;
+    const span_weight *w = s->weight;
+    float facing = w->facing(s, i);
     if (!(facing > 0.0f))
         return;
-    double floor_rise = fmax(ts, 0.0);
+    double floor_rise = fmax(ts, 0.0), lo, hi;
     size_t m = 0;
-    for (size_t k = 0; k < s->n_crowns; ++k) {
-        const line_crown *c = &s->crowns[k];
-        double d = q.w - c->w;
-        if (!(d > 0.0))
-            continue;
-        double lo = s->gaps == SS_TRUNK_GAPS_OPEN ? fmax((c->bottom - q.z) / d, floor_rise)
-                                                  : floor_rise;
-        double hi = (c->top - q.z) / d;
-        if (!(hi > lo))
-            continue;
-        l->ends[m++] = (crown_end){lo, 1};
-        l->ends[m++] = (crown_end){hi, -1};
-    }
+    for (size_t k = 0; k < s->n_crowns; ++k)
+        if (crown_rises(s, &s->crowns[k], q, floor_rise, &lo, &hi)) {
+            l->ends[m++] = (crown_end){lo, 1};
+            l->ends[m++] = (crown_end){hi, -1};
+        }
     qsort(l->ends, m, sizeof *l->ends, by_rise);
     double hidden = 0.0, through = 0.0;
     int count = 0;
@@ -298,10 +339,8 @@ static void light_add(sky_walk *s, size_t i, hull_point q, double ts)
         double ta = l->ends[k].rise, tb = l->ends[k + 1].rise, x = l->k * l->run_m * count;
         if (count <= 0 || !(tb > ta))
             continue;
-        if (s->band)
-            band_segment(ta, tb, s->band->band_rad, x, &hidden, &through);
-        else
-            sky_segment(ta, tb, x, &hidden, &through);
+        hidden += w->share(s, ta, tb);
+        through += w->passed(s, ta, tb, x);
     }
     l->hidden_sum[i] += facing * hidden;
     l->through_sum[i] += facing * through;
@@ -321,17 +360,13 @@ static int walk_line(sky_walk *s, const ss_line_set *ls, int line)
             continue;
         hull_point q = {c.walked_m, z};
         double ts = hull_rise(&s->solid, q), ttop = hull_rise(&s->top, q);
-        double solid = hidden_share(s->definition, ts), crowns = 0.0;
-        if (ttop > ts && s->gaps == SS_TRUNK_GAPS_OPEN)
-            crowns = open_gaps_share(s, q, ts, ttop);
-        else if (ttop > ts)
-            crowns = hidden_share(s->definition, ttop) - solid;
+        double crowns = ttop > ts ? crowns_share(s, q, ts, ttop) : 0.0;
         if (crowns < 0.0)
             return -1;
         if (s->band) {
-            band_add(s, i, ts, ttop, ttop > ts);
+            band_add(s, i, crowns);
         } else if (s->solid_sum) {
-            s->solid_sum[i] += solid;
+            s->solid_sum[i] += hidden_share(s->definition, ts);
             s->crown_sum[i] += crowns;
         }
         if (s->light && ttop > ts)
@@ -369,6 +404,58 @@ static ss_status walk_direction(ss_ctx *ctx, sky_walk *s, double grid_azimuth_de
     return st;
 }
 
+/* Cells on the longest line of the grid's. */
+static size_t longest_line(const ss_grid *grid)
+{
+    return (size_t)(grid->width > grid->height ? grid->width : grid->height);
+}
+
+/* A walk weighed by `weight`, with the buffers every walk takes: the
+ * hulls and the crowns of the longest line (NULL where out of memory:
+ * sky_walk_made). Its caller adds the sums it fills; sky_walk_free frees
+ * them all. */
+static sky_walk sky_walk_new(const ss_grid *grid, const ss_canopy *canopy,
+                             ss_svf_definition definition, ss_trunk_gaps gaps,
+                             const span_weight *weight)
+{
+    size_t longest = longest_line(grid);
+    return (sky_walk){.grid = grid,
+                      .canopy = canopy,
+                      .definition = definition,
+                      .gaps = gaps,
+                      .weight = weight,
+                      .solid = {ss_malloc(longest * sizeof(hull_point)), 0},
+                      .top = {ss_malloc(longest * sizeof(hull_point)), 0},
+                      .crowns = ss_malloc(longest * sizeof(line_crown))};
+}
+
+static int sky_walk_made(const sky_walk *s)
+{
+    return s->solid.p && s->top.p && s->crowns;
+}
+
+static void crown_light_free(crown_light *l)
+{
+    if (l) {
+        free(l->ends);
+        free(l->hidden_sum);
+        free(l->through_sum);
+        free(l);
+    }
+}
+
+/* Frees a walk's buffers and sums (not its band's, the caller's). */
+static void sky_walk_free(sky_walk *s)
+{
+    free(s->solid.p);
+    free(s->top.p);
+    free(s->crowns);
+    free(s->rises.span);
+    free(s->solid_sum);
+    free(s->crown_sum);
+    crown_light_free(s->light);
+}
+
 ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                         const ss_sweep_options *opt, ss_svf_definition definition,
                         ss_trunk_gaps gaps, float *solid_share, float *crown_share)
@@ -384,21 +471,10 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
     if (st != SS_OK)
         return st;
     size_t n = (size_t)grid->width * (size_t)grid->height;
-    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
-    sky_walk s = {grid,
-                  canopy,
-                  definition,
-                  gaps,
-                  {ss_malloc(longest * sizeof(hull_point)), 0},
-                  {ss_malloc(longest * sizeof(hull_point)), 0},
-                  ss_malloc(longest * sizeof(line_crown)),
-                  0,
-                  {0},
-                  calloc(n, sizeof(double)),
-                  calloc(n, sizeof(double)),
-                  NULL,
-                  NULL};
-    if (!s.solid.p || !s.top.p || !s.crowns || !s.solid_sum || !s.crown_sum)
+    sky_walk s = sky_walk_new(grid, canopy, definition, gaps, &sky_weight);
+    s.solid_sum = calloc(n, sizeof(double));
+    s.crown_sum = calloc(n, sizeof(double));
+    if (!sky_walk_made(&s) || !s.solid_sum || !s.crown_sum)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' sky");
     for (int d = 0; st == SS_OK && d < opt->directions; ++d)
         st = walk_direction(ctx, &s, ss_direction_azimuth(opt, d));
@@ -408,12 +484,7 @@ ss_status ss_canopy_sky(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canop
             solid_share[i] = valid ? (float)(s.solid_sum[i] / opt->directions) : SS_NODATA;
         crown_share[i] = valid ? (float)(s.crown_sum[i] / opt->directions) : SS_NODATA;
     }
-    free(s.solid.p);
-    free(s.top.p);
-    free(s.crowns);
-    free(s.rises.span);
-    free(s.solid_sum);
-    free(s.crown_sum);
+    sky_walk_free(&s);
     return st;
 }
 
@@ -442,16 +513,6 @@ static void crown_light_mean(const crown_light *l, const ss_grid *grid, float *t
                                                : 1.0f;
 }
 
-static void crown_light_free(crown_light *l)
-{
-    if (l) {
-        free(l->ends);
-        free(l->hidden_sum);
-        free(l->through_sum);
-        free(l);
-    }
-}
-
 ss_status ss_canopy_sky_through(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                                 const ss_sweep_options *opt, ss_trunk_gaps gaps,
                                 double per_m, float *through)
@@ -460,34 +521,18 @@ ss_status ss_canopy_sky_through(ss_ctx *ctx, const ss_grid *grid, const ss_canop
         return ss_fail(ctx, SS_ERR_ARGUMENT, "the crowns' extinction per metre %g is not above 0",
                        per_m);
     size_t n = (size_t)grid->width * (size_t)grid->height;
-    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
     int failed = 0;
-    sky_walk s = {grid,
-                  canopy,
-                  SS_SVF_DEF_HORIZONTAL,
-                  gaps,
-                  {ss_malloc(longest * sizeof(hull_point)), 0},
-                  {ss_malloc(longest * sizeof(hull_point)), 0},
-                  ss_malloc(longest * sizeof(line_crown)),
-                  0,
-                  {0},
-                  NULL,
-                  NULL,
-                  NULL,
-                  crown_light_new(per_m, n, longest, &failed)};
+    sky_walk s = sky_walk_new(grid, canopy, SS_SVF_DEF_HORIZONTAL, gaps, &sky_weight);
+    s.light = crown_light_new(per_m, n, longest_line(grid), &failed);
     ss_status st = SS_OK;
-    if (!s.solid.p || !s.top.p || !s.crowns || !s.light || failed)
+    if (!sky_walk_made(&s) || !s.light || failed)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the light through the crowns' sky");
     /* ss_canopy_sky's directions, so that the sky hidden is its. */
     for (int d = 0; st == SS_OK && d < opt->directions; ++d)
         st = walk_direction(ctx, &s, ss_direction_azimuth(opt, d));
     if (st == SS_OK)
         crown_light_mean(s.light, grid, through);
-    free(s.solid.p);
-    free(s.top.p);
-    free(s.crowns);
-    free(s.rises.span);
-    crown_light_free(s.light);
+    sky_walk_free(&s);
     return st;
 }
 
@@ -497,25 +542,15 @@ ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canop
                                 float *hidden, float *through)
 {
     size_t n = (size_t)grid->width * (size_t)grid->height;
-    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
     band_walk b = {dz_de, dz_dn, 0.0f, 0.0f, band_deg * (M_PI / 180.0), hidden,
                    ss_malloc(n * sizeof(float))};
     int failed = 0;
-    sky_walk s = {grid,
-                  canopy,
-                  SS_SVF_DEF_HORIZONTAL,
-                  gaps,
-                  {ss_malloc(longest * sizeof(hull_point)), 0},
-                  {ss_malloc(longest * sizeof(hull_point)), 0},
-                  ss_malloc(longest * sizeof(line_crown)),
-                  0,
-                  {0},
-                  NULL,
-                  NULL,
-                  &b,
-                  through ? crown_light_new(per_m, n, longest, &failed) : NULL};
+    sky_walk s = sky_walk_new(grid, canopy, SS_SVF_DEF_HORIZONTAL, gaps, &band_weight);
+    s.band = &b;
+    if (through)
+        s.light = crown_light_new(per_m, n, longest_line(grid), &failed);
     ss_status st = SS_OK;
-    if (!s.solid.p || !s.top.p || !s.crowns || !b.weight || failed || (through && !s.light))
+    if (!sky_walk_made(&s) || !b.weight || failed || (through && !s.light))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' horizon band");
     for (size_t i = 0; st == SS_OK && i < n; ++i)
         hidden[i] = b.weight[i] = 0.0f;
@@ -532,12 +567,8 @@ ss_status ss_canopy_band_hidden(ss_ctx *ctx, const ss_grid *grid, const ss_canop
                                           : 0.0f;
     if (st == SS_OK && s.light)
         crown_light_mean(s.light, grid, through);
-    free(s.solid.p);
-    free(s.top.p);
-    free(s.crowns);
-    free(s.rises.span);
     free(b.weight);
-    crown_light_free(s.light);
+    sky_walk_free(&s);
     return st;
 }
 
@@ -586,8 +617,7 @@ ss_status ss_canopy_top_horizon(ss_ctx *ctx, const ss_grid *grid, const ss_canop
     if (!isfinite(grid_azimuth_deg))
         return ss_fail(ctx, SS_ERR_ARGUMENT, "azimuth %g is not a direction", grid_azimuth_deg);
     size_t n = (size_t)grid->width * (size_t)grid->height;
-    size_t longest = (size_t)(grid->width > grid->height ? grid->width : grid->height);
-    upper_hull tops = {ss_malloc(longest * sizeof(hull_point)), 0};
+    upper_hull tops = {ss_malloc(longest_line(grid) * sizeof(hull_point)), 0};
     if (!tops.p)
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' horizon");
     for (size_t i = 0; i < n; ++i)
