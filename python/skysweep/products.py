@@ -77,7 +77,7 @@ def _sweep_params(command, kw):
 
 #: Each sweeping function's options shared with every sweeping command.
 SWEEP_OPTIONS = ("directions", "offset", "curvature", "refraction", "earth_radius", "lines",
-                 "box_lines", "horizon_tolerance", "svf_tolerance")
+                 "box_lines", "box_shadows", "horizon_tolerance", "svf_tolerance")
 
 
 def _checked(command, name, value):

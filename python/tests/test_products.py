@@ -71,6 +71,34 @@ def test_shadow_equals_the_cli(cli_run):
     assert 0 < np.nanmean(mine) < 1
 
 
+def box_city():
+    """Flat ground with blocks of 5 to 20 m on 1 m cells."""
+    rng = np.random.default_rng(4)
+    z = np.zeros((60, 70), dtype=np.float32)
+    for _ in range(12):
+        r, c = rng.integers(0, 55), rng.integers(0, 65)
+        z[r:r + rng.integers(4, 12), c:c + rng.integers(4, 12)] = rng.uniform(5, 20)
+    return z
+
+
+def test_box_shadows_by_each_cells_ray_equal_the_cli_and_the_lines(cli_run):
+    """Box lines' shadows default to each cell's own ray (--box-shadows
+    march): the CLI's, and the box lines' own walks' on all but a few cells
+    next to walls."""
+    z = box_city()
+    march = skysweep.shadow(z, 1, sun_azimuth=203, sun_elevation=25, lines="box",
+                            device="reference")
+    theirs = cli_run("shadow", z, "--sun-azimuth", 203, "--sun-elevation", 25, "--lines", "box",
+                     "--device", "reference", cell=1.0)[0]
+    assert same(march, theirs)
+    lines = skysweep.shadow(z, 1, sun_azimuth=203, sun_elevation=25, lines="box",
+                            box_shadows="lines", box_lines=64, device="reference")
+    assert 0 < np.mean(march) < 1
+    assert np.mean(march == lines) >= 0.99
+    with pytest.raises(skysweep.ArgumentError, match="box-shadows"):
+        skysweep.shadow(z, 1, sun_azimuth=203, sun_elevation=25, box_shadows="rays")
+
+
 @pytest.mark.parametrize("options", [{}, {"az": 100, "alt": 20, "z": 2.5},
                                      {"alg": "ZevenbergenThorne"}, {"multidirectional": True},
                                      {"alt": 12, "cast_shadows": True},
