@@ -448,6 +448,31 @@ static void shadow_table_monotone(void)
            e16, e128);
 }
 
+/* Exact shadows of a year on box lines, modelled: each cell's own ray (the
+ * default, box_shadow.h) costs about one sweep a record, the box lines'
+ * own walks 1.8 per line per cell: the model, and so the choice of mode,
+ * must tell them apart. */
+static void box_shadow_costs(void)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    ss_grid city = box_march_city(120);
+    ss_place place = place_of(&city, 0, 57.7);
+    ss_plan march, lines;
+    ss_plan_request r = weather_year(0.001, 1);
+    ss_status st = ss_plan_make(ctx, &city, &place, &r, &march);
+    r.box_shadows = SS_BOX_SHADOWS_LINES;
+    if (st == SS_OK)
+        st = ss_plan_make(ctx, &city, &place, &r, &lines);
+    tap_ok(st == SS_OK && march.lines == SS_LINES_BOX && march.sweeps == lines.sweeps &&
+               march.estimated_seconds < lines.estimated_seconds / 10,
+           "an exact PV year on a city: %d sweeps modelled at %.3g s by each cell's own ray, "
+           "%.3g s by %d box lines' walks",
+           march.sweeps, march.estimated_seconds, lines.estimated_seconds, lines.box_lines);
+    ss_grid_free(&city);
+    ss_ctx_free(ctx);
+}
+
 /* --shadow auto: the cheapest mode whose tabulated error meets the
  * tolerance, PV included; exact shadows where none does, for per-step
  * bands, short runs and the clear sky; an explicit mode or count wins. */
@@ -547,6 +572,7 @@ int main(void)
 {
     shadow_table_monotone();
     shadow_modes();
+    box_shadow_costs();
     lines();
     device_auto();
     directions();

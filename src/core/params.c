@@ -267,6 +267,7 @@ void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_params *sun,
     req->directions = p->directions;
     req->lines = ss_sweep_params_lines(p);
     req->box_lines = p->box_lines;
+    req->box_shadows = (ss_box_shadows)p->box_shadows;
 }
 
 void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,

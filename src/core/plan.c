@@ -35,6 +35,10 @@
 #define COST_GPU_RATE 1.5e9      /* ... with the H200's 132 compute units (scaled by a GPU's own) */
 #define COST_GPU_UNITS 132.0
 #define COST_BOX_PER_LINE 1.8    /* a box sweep per line per cell, in sweeps (doc/box_lines.md) */
+/* Box shadows by each cell's own ray (box_shadow.h), in sweeps: the
+ * bounds' walk and the marches, 1.1 ms for one sun on Gothenburg's DSM on
+ * one core against 1.1 ms for a digital shadow walk. */
+#define COST_BOX_MARCH 1.0
 #define PLAN_CELL_STEP_S 2e-8
 #define PLAN_MAX_CANDIDATES 8
 
@@ -302,18 +306,34 @@ static const char *shadow_table_gap(const ss_plan *p, const ss_plan_request *r)
     return NULL;
 }
 
+/* A sweep's cost in interpolated sweeps: a box sweep walks box_lines
+ * lines per cell. */
+static double box_sweep_cost(const ss_plan *p)
+{
+    return p->lines == SS_LINES_BOX ? COST_BOX_PER_LINE * p->box_lines : 1.0;
+}
+
+/* A cast shadow's: box lines' by each cell's own ray where asked for (the
+ * C twin with the grid held whole runs them; the model takes it so). */
+static double shadow_sweep_cost(const ss_plan *p, const ss_plan_request *r)
+{
+    return p->lines == SS_LINES_BOX && r->box_shadows == SS_BOX_SHADOWS_MARCH ? COST_BOX_MARCH
+                                                                            : box_sweep_cost(p);
+}
+
 /* The modelled seconds per cell of a year's shadows in a mode with
  * `directions` (the sky's too), on the C twin: the sweeps (box sweeps
  * walking box_lines lines per cell) and the per-cell work per record, or,
  * for the cumulative sky, per bin of suns, at most directions x 90 (the
  * default 1 degree bins). Daylight records are taken as half the records
  * (a year's share; the plan's own count comes after the choice). */
-static double shadow_seconds(const ss_plan *p, ss_shadow_mode mode, int directions, int n_steps)
+static double shadow_seconds(const ss_plan *p, const ss_plan_request *r, ss_shadow_mode mode,
+                             int directions, int n_steps)
 {
     double daylight = 0.5 * n_steps;
-    double sweeps = directions + (mode == SS_SHADOW_EXACT ? daylight : directions);
-    if (p->lines == SS_LINES_BOX)
-        sweeps *= COST_BOX_PER_LINE * p->box_lines;
+    double sweeps = directions * box_sweep_cost(p) +
+                    (mode == SS_SHADOW_EXACT ? daylight * shadow_sweep_cost(p, r)
+                                             : directions * box_sweep_cost(p));
     double steps = mode == SS_SHADOW_CUMULATIVE ? fmin(daylight, 90.0 * directions) : daylight;
     return sweeps / COST_REF_RATE + steps * PLAN_CELL_STEP_S;
 }
@@ -335,7 +355,7 @@ static void choose_shadows(ss_plan *p, const ss_plan_request *r, double *error)
     p->shadow_mode = SS_SHADOW_EXACT;
     if (shadow_table_gap(p, r) || !(r->weather.tolerance_pct > 0)) /* 0: none allowed */
         return;
-    double best = shadow_seconds(p, SS_SHADOW_EXACT, p->directions, r->n_steps);
+    double best = shadow_seconds(p, r, SS_SHADOW_EXACT, p->directions, r->n_steps);
     int directions = p->directions;
     for (int i = 0; i < ss_shadow_mode_n_rows; ++i) {
         const ss_shadow_mode_row *row = &ss_shadow_mode_rows[i];
@@ -343,7 +363,7 @@ static void choose_shadows(ss_plan *p, const ss_plan_request *r, double *error)
         if ((int)row->scene != shadow_scene(p->lines) || d < p->directions)
             continue;
         double e = ss_shadow_expected_error(row->scene, row->mode, d, r->weather.pv);
-        double seconds = shadow_seconds(p, row->mode, d, r->n_steps);
+        double seconds = shadow_seconds(p, r, row->mode, d, r->n_steps);
         int cheaper = seconds < best || (seconds == best && row->mode == SS_SHADOW_CUMULATIVE &&
                                          p->shadow_mode != SS_SHADOW_CUMULATIVE);
         if (e <= r->weather.tolerance_pct && cheaper) { /* NAN: not covered */
@@ -386,8 +406,8 @@ static void plan_shadows(ss_plan *p, const ss_plan_request *r, double error)
             "%.2g s",
             p->shadow_mode == SS_SHADOW_CUMULATIVE ? "the cumulative sky" : "interpolated shadows",
             p->directions, scene, sums, w->tolerance_pct,
-            p->cells * shadow_seconds(p, SS_SHADOW_EXACT, p->directions, r->n_steps),
-            p->cells * shadow_seconds(p, p->shadow_mode, p->directions, r->n_steps));
+            p->cells * shadow_seconds(p, r, SS_SHADOW_EXACT, p->directions, r->n_steps),
+            p->cells * shadow_seconds(p, r, p->shadow_mode, p->directions, r->n_steps));
         return;
     }
     if (gap) {
@@ -671,30 +691,30 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
                          "sweep over %d directions that stores the horizons",
             p->directions);
 
-    /* Work: sweeps of all cells, then per-cell arithmetic for each step. */
-    double sweeps = 0;
+    /* Work: sweeps of all cells (the sky's, and the cast shadows'), then
+     * per-cell arithmetic for each step. */
+    double sky = 0, shadows = 0;
     int daylight = p->steps_total - p->steps_night;
     switch (r->kind) {
     case SS_PLAN_HORIZONS:
     case SS_PLAN_SKY_VIEW:
-        sweeps = p->directions;
+        sky = p->directions;
         break;
     case SS_PLAN_SHADOW:
-        sweeps = 1;
+        shadows = 1;
         break;
     case SS_PLAN_NO_SWEEP:
-        sweeps = 0;
         break;
     case SS_PLAN_INSOLATION:
-        sweeps = p->directions + (p->shadow_mode != SS_SHADOW_EXACT
-                                      ? p->directions
-                                      : daylight - p->steps_high_sun) +
-                 (band_sweep ? p->directions : 0);
+        sky = p->directions + (band_sweep ? p->directions : 0);
+        if (p->shadow_mode == SS_SHADOW_EXACT)
+            shadows = daylight - p->steps_high_sun;
+        else
+            sky += p->directions;
         break;
     }
-    p->sweeps = (int)sweeps;
-    if (p->lines == SS_LINES_BOX) /* a box sweep walks box_lines lines per cell */
-        sweeps *= COST_BOX_PER_LINE * p->box_lines;
+    p->sweeps = (int)(sky + shadows);
+    double sweeps = sky * box_sweep_cost(p) + shadows * shadow_sweep_cost(p, r);
     double host_s = daylight * p->cells * PLAN_CELL_STEP_S;
     if (ctx->device_auto) {
         plan_device(p, sweeps, host_s);
