@@ -22,6 +22,7 @@ typedef struct {
     int sun_at_high_major; /* the sun lies toward increasing major index */
     double step_m;         /* metres along the ray per major column */
     const int *shift;      /* per major index: floor(slope * major + 1/2), in minor cells */
+    int shift_rising;      /* shift never falls along the walk */
     double col_per_m, row_per_m; /* the ray toward the sun, in cells per metre */
     double tan_lit;   /* the lowest sun's slope (clamped to 0..STEEPEST_BOUNDED_DEG) */
     double tan_shade; /* the highest sun's slope; INFINITY: no lower bound */
@@ -47,7 +48,7 @@ static inline double rounding_margin(double threshold)
  * minor_len. The minor index is monotonic along a line. */
 static int first_past(const box_sun *b, int line, int its_end)
 {
-    int rising = b->shift[walk_position(b, b->major_len - 1)] >= b->shift[walk_position(b, 0)];
+    int rising = b->shift_rising;
     int lo = 0, hi = b->major_len;
     while (lo < hi) {
         int mid = lo + (hi - lo) / 2;
@@ -195,7 +196,8 @@ static void frame_of(box_sun *b, const ss_grid *g, double az_rad)
 }
 
 int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double el_lo_deg,
-                           double el_hi_deg, double curv_k, float *angle,
+                           double el_hi_deg, double curv_k,
+                           const volatile sig_atomic_t *cancel, float *angle,
                            ss_box_shadow_counts *counts)
 {
     size_t n = (size_t)grid->width * grid->height;
@@ -219,6 +221,7 @@ int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double 
         highest = shift[m] > highest ? shift[m] : highest;
     }
     b.shift = shift;
+    b.shift_rising = shift[walk_position(&b, b.major_len - 1)] >= shift[walk_position(&b, 0)];
     double lo = fmin(fmax(el_lo_deg, 0.0), STEEPEST_BOUNDED_DEG);
     b.tan_lit = tan(lo * (M_PI / 180.0));
     b.tan_shade = el_hi_deg < STEEPEST_BOUNDED_DEG ? tan(el_hi_deg * (M_PI / 180.0)) : INFINITY;
@@ -235,7 +238,7 @@ int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double 
         failed += !bound_before;
 #pragma omp for schedule(dynamic, 16)
         for (int line = first_line; line <= last_line; ++line)
-            if (bound_before)
+            if (bound_before && !(cancel && *cancel))
                 walk_line(&b, line, bound_before, angle, &mine);
         cells += mine.cells;
         marched += mine.marched;

@@ -28,6 +28,7 @@
 #ifndef SS_BOX_SHADOW_H
 #define SS_BOX_SHADOW_H
 
+#include <signal.h>
 #include <stdint.h>
 
 #include "skysweep.h"
@@ -45,9 +46,12 @@ typedef struct {
  * column's own top reaches its edge); 90 marks cells no sun in the range
  * lights. curv_k: 1 / (2 R_eff), 0 for none. Nodata cells neither cast
  * nor receive (their angle is 0); the ray ends at the grid's edge.
- * Returns 0 when out of memory for the lines' work space. */
+ * Lines not yet walked are left once *cancel (NULL: never) is set, for the
+ * caller to report. Returns 0 when out of memory for the lines' work
+ * space. */
 int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double el_lo_deg,
-                           double el_hi_deg, double curv_k, float *angle,
+                           double el_hi_deg, double curv_k,
+                           const volatile sig_atomic_t *cancel, float *angle,
                            ss_box_shadow_counts *counts);
 
 #endif

@@ -602,12 +602,13 @@ static ss_status march_step(steps_run *s, const ss_band_view *band, const ss_sun
     if (!ss_box_shadow_horizons(&grid, sun->azimuth_deg - job->opt->grid_north_deg,
                                 sun->apparent_elevation_deg - sun->spread_deg,
                                 sun->apparent_elevation_deg + sun->spread_deg,
-                                ss_curvature_k(job->opt), s->marched, &counts))
+                                ss_curvature_k(job->opt), &job->ctx->cancel_requested,
+                                s->marched, &counts))
         return ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for the box shadows' lines");
     job->ctx->counters.box_march_steps++;
     job->ctx->counters.box_march_cells += counts.cells;
     job->ctx->counters.box_march_marched += counts.marched;
-    return SS_OK;
+    return ss_check_cancel(job->ctx, "the box shadows");
 }
 
 /* Step k over a band's own cells: its shadows (rows of the walk at its

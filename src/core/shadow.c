@@ -67,8 +67,8 @@ static ss_status shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_
     ss_box_shadow_counts counts;
     ss_status st = angle && ss_box_shadow_horizons(&grid, azimuth_deg - opt->grid_north_deg,
                                                    el_lo_deg, el_hi_deg, ss_curvature_k(opt),
-                                                   angle, &counts)
-                       ? SS_OK
+                                                   &ctx->cancel_requested, angle, &counts)
+                       ? ss_check_cancel(ctx, "the box shadows")
                        : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the box shadows");
     if (st == SS_OK) {
         ctx->counters.box_march_steps++;
