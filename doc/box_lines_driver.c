@@ -1,10 +1,14 @@
-/* What box lines cost and buy (doc/box_lines.md, written by `make
- * box-lines`): for each line model and number of box lines per cell, the
- * share of cells whose cast shadow agrees with the box-model ray march
- * (tests/box_march.c) for four suns off the grid axes, the mean error of
- * the geometric SVF (16 directions) against the march's, and the wall time
- * of one cast shadow and of a 16-direction SVF on the C twin (medians),
- * on a synthetic city and on the Gothenburg 1 m DSM (argument 1). */
+/* What box lines cost and buy (doc/box_lines.md and the planner's table
+ * src/core/box_lines_table.c, both written by `make box-lines`): for each
+ * line model and number of box lines per cell, the share of cells whose
+ * cast shadow agrees with the box-model ray march (tests/box_march.c) for
+ * four suns off the grid axes, the mean and 95th percentile error of the
+ * geometric SVF (16 directions) against the march's, and the wall time of
+ * one cast shadow and of a 16-direction SVF on the C twin (medians), on a
+ * synthetic city and on the Gothenburg 1 m DSM.
+ *
+ * usage: box_lines_driver [--table FILE] [DSM]
+ * --table writes the box-line counts' SVF errors (p95, from 5 deg) as C. */
 #include "config.h"
 
 #include <math.h>
@@ -51,66 +55,145 @@ static double seconds(const ss_grid *g, const ss_sweep_options *opt, int svf, in
     return t[reps / 2];
 }
 
-static void table(const char *name, const ss_grid *g)
+/* The box-line counts the planner's table covers (powers of two). */
+static const int counts[] = {1, 2, 4, 8, 16, 32, 64};
+#define N_COUNTS ((int)(sizeof counts / sizeof counts[0]))
+
+typedef struct {
+    char name[160];
+    double p95[N_COUNTS]; /* geometric SVF error from 5 deg, 95th percentile */
+} measured;
+
+static void row(const char *lines, const char *per_cell, const ss_grid *g,
+                const ss_sweep_options *opt, int svf, double *p95_turned)
+{
+    double mean = 0, worst = 1;
+    char err[300] = "";
+    for (int s = 0; s < 4; ++s) {
+        double a = box_march_agreement(g, opt, suns[s][0], suns[s][1], err);
+        mean += a / 4;
+        worst = fmin(worst, a);
+    }
+    printf("| %s | %s | %.3f %% | %.3f %% ", lines, per_cell, 100 * mean, 100 * worst);
+    if (svf) {
+        ss_sweep_options turned = *opt;
+        turned.offset_deg = 5;
+        double p95;
+        double from_0 = box_march_svf_error(g, opt, NULL, err);
+        double from_5 = box_march_svf_error(g, &turned, &p95, err);
+        printf("| %.4f | %.4f | %.4f | %.4f | %.3f |\n", from_0, from_5, p95,
+               seconds(g, opt, 0, 5), seconds(g, opt, 1, 3));
+        if (p95_turned)
+            *p95_turned = p95;
+    } else {
+        printf("| - | - | - | %.4f | - |\n", seconds(g, opt, 0, 5));
+    }
+    if (err[0])
+        fprintf(stderr, "box_lines_driver: %s\n", err);
+}
+
+static void table(const char *name, const ss_grid *g, measured *m)
 {
     printf("\n### %s (%d x %d cells)\n\n", name, g->width, g->height);
-    printf("| lines | per cell | shadows agree, mean of 4 suns | worst sun | SVF error, from "
-           "0 deg | from 5 deg | shadow, s | SVF 16 directions, s |\n"
-           "|---|---|---|---|---|---|---|---|\n");
-    const int counts[] = {0, 0, 1, 2, 4, 8, 16, 32, 64};
-    for (int k = 0; k < 9; ++k) {
-        ss_sweep_options opt;
-        ss_sweep_options_default(&opt);
-        opt.directions = 16;
-        opt.lines = k == 0 ? SS_LINES_INTERPOLATED : k == 1 ? SS_LINES_DIGITAL : SS_LINES_BOX;
-        if (counts[k] > 0)
-            opt.box_lines = counts[k];
-        double mean = 0, worst = 1;
-        char err[300] = "";
-        for (int s = 0; s < 4; ++s) {
-            double a = box_march_agreement(g, &opt, suns[s][0], suns[s][1], err);
-            mean += a / 4;
-            worst = fmin(worst, a);
-        }
-        char per_cell[16] = "-";
-        if (counts[k] > 0)
-            snprintf(per_cell, sizeof per_cell, "%d", counts[k]);
-        double svf_error = box_march_svf_error(g, &opt, err);
-        ss_sweep_options turned = opt;
-        turned.offset_deg = 5;
-        printf("| %s | %s | %.3f %% | %.3f %% | %.4f | %.4f | %.4f | %.3f |\n",
-               ss_line_model_name(opt.lines), per_cell, 100 * mean, 100 * worst, svf_error,
-               box_march_svf_error(g, &turned, err), seconds(g, &opt, 0, 5),
-               seconds(g, &opt, 1, 3));
+    printf("| lines | per cell | shadows agree, mean of 4 suns | worst sun | SVF error, mean, "
+           "from 0 deg | mean, from 5 deg | p95, from 5 deg | shadow, s | SVF 16 directions, s "
+           "|\n"
+           "|---|---|---|---|---|---|---|---|---|\n");
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.directions = 16;
+    opt.lines = SS_LINES_INTERPOLATED;
+    row("interpolated", "-", g, &opt, 1, NULL);
+    opt.lines = SS_LINES_DIGITAL;
+    row("digital", "-", g, &opt, 1, NULL);
+    opt.lines = SS_LINES_BOX;
+    /* The rows per count measure the families' walks, shadows included. */
+    opt.box_shadows = SS_BOX_SHADOWS_LINES;
+    for (int k = 0; k < N_COUNTS; ++k) {
+        char per_cell[16];
+        snprintf(per_cell, sizeof per_cell, "%d", counts[k]);
+        opt.box_lines = counts[k];
+        row("box", per_cell, g, &opt, 1, &m->p95[k]);
     }
+    /* The default since: each cell's own ray; the SVF still takes the lines. */
+    opt.box_lines = SS_BOX_LINES_DEFAULT;
+    opt.box_shadows = SS_BOX_SHADOWS_MARCH;
+    row("box, each cell's own ray (--box-shadows march, the default)", "-", g, &opt, 0, NULL);
+    snprintf(m->name, sizeof m->name, "%s (%d x %d cells)", name, g->width, g->height);
+}
+
+/* The planner's table (src/core/box_lines_table.h), as C. */
+static int write_table(const char *path, const measured *m, int n)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        perror(path);
+        return 1;
+    }
+    fprintf(f, "/* The 95th percentile (over cells) of |geometric SVF with box lines - the\n"
+               " * box model's from an independent ray march| (tests/box_march.c), 16\n"
+               " * directions from 5 deg, for each box-line count (box_lines_table.h).\n"
+               " * GENERATED by `make box-lines` (doc/box_lines_driver.c), which writes\n"
+               " * doc/box_lines.md from the same run: do not edit by hand. */\n"
+               "#include \"config.h\"\n\n#include \"box_lines_table.h\"\n\n"
+               "/* clang-format off */\n"
+               "const int ss_box_lines_counts[SS_BOX_LINES_N_COUNTS] = {");
+    for (int k = 0; k < N_COUNTS; ++k)
+        fprintf(f, "%s%d", k ? ", " : "", counts[k]);
+    fprintf(f, "};\n\nconst ss_box_lines_row ss_box_lines_rows[] = {\n");
+    for (int r = 0; r < n; ++r) {
+        fprintf(f, "    {\"%s\",\n     {", m[r].name);
+        for (int k = 0; k < N_COUNTS; ++k)
+            fprintf(f, "%s%.3g", k ? ", " : "", m[r].p95[k]);
+        fprintf(f, "}},\n");
+    }
+    fprintf(f, "};\nconst int ss_box_lines_n_rows = (int)(sizeof ss_box_lines_rows / "
+               "sizeof ss_box_lines_rows[0]);\n/* clang-format on */\n");
+    return fclose(f) != 0;
 }
 
 int main(int argc, char **argv)
 {
+    const char *table_path = NULL, *dsm = NULL;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--table") == 0 && i + 1 < argc)
+            table_path = argv[++i];
+        else
+            dsm = argv[i];
+    }
     printf("# Box lines: agreement with the box model against time\n\n"
-           "Written by `make box-lines` (doc/box_lines_driver.c). Suns (azimuth/elevation): "
+           "Written by `make box-lines` (doc/box_lines_driver.c), which also writes the "
+           "planner's table of box-line counts (src/core/box_lines_table.c: the p95 column). "
+           "Suns (azimuth/elevation): "
            "117/25, 203/40, 251/15, 331/30; agreement: the share of cells whose cast shadow "
-           "equals an independent box-model ray march's (tests/box_march.c); SVF error: mean "
-           "|geometric SVF - the march's| over the same 16 directions, from 0 deg (four of them "
-           "along the diagonals, where rays run through cell corners) and from 5 deg. Times: "
-           "medians, "
-           "the C twin on this machine, kernel build excluded; the shadow is the first sun's.\n");
+           "equals an independent box-model ray march's (tests/box_march.c); SVF error: "
+           "|geometric SVF - the march's| over the same 16 directions, its mean over the cells "
+           "from 0 deg (four of them along the diagonals, where rays run through cell corners) "
+           "and from 5 deg, and its 95th percentile from 5 deg (what the planner chooses "
+           "`--box-lines` by, doc/planner.md). The rows per count take `--box-shadows lines` "
+           "(the families' walks); the last row, each cell's own ray, the default for shadows "
+           "since (its SVF takes the lines, as in the rows above). Times: medians, "
+           "the C twin on this machine, kernel build excluded; the shadow is the first sun's. "
+           "The machine is shared and was loaded by other work while this ran: times are noisy "
+           "(their ratios along a table hold better than their values).\n");
+    measured m[2];
+    int n = 0;
     ss_grid city = box_march_city(300);
-    table("A synthetic city: boxes of 4..45 m on 1 m cells", &city);
+    table("A synthetic city: boxes of 4..45 m on 1 m cells", &city, &m[n++]);
     ss_grid_free(&city);
-    if (argc > 1) {
+    if (dsm) {
         ss_ctx *ctx = ss_ctx_new();
         ss_dem dem;
-        const char *paths[] = {argv[1]};
+        const char *paths[] = {dsm};
         if (ss_dem_read(ctx, paths, 1, NULL, &dem) != SS_OK) {
             fprintf(stderr, "box_lines_driver: %s\n", ss_ctx_message(ctx));
             ss_ctx_free(ctx);
             return 1;
         }
         table("The Gothenburg 1 m DSM (`../shared/data/goteborg_kronenhuset_dsm_1m.tif`)",
-              &dem.grid);
+              &dem.grid, &m[n++]);
         ss_dem_free(&dem);
         ss_ctx_free(ctx);
     }
-    return 0;
+    return table_path ? write_table(table_path, m, n) : 0;
 }

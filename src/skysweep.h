@@ -899,7 +899,7 @@ typedef struct {
     int directions; /* 0: the planner chooses */
     ss_svf_definition svf_definition; /* the SVF product's (insolation uses the radiative) */
     ss_line_model lines;        /* SS_LINES_AUTO: the planner chooses */
-    int box_lines;              /* box lines per cell (0: SS_BOX_LINES_DEFAULT) */
+    int box_lines;              /* box lines per cell (0: the planner chooses, doc/planner.md) */
     ss_box_shadows box_shadows; /* box lines' cast shadows (ss_sweep_options') */
     double radius_m;            /* svf and openness: horizons within it (0: unlimited) */
     ss_shadow_mode shadow_mode;

@@ -60,7 +60,7 @@ typedef struct {
     double earth_radius_m;        /* 0: the ellipsoid's at the DEM's centre */
     double horizon_tolerance_deg, svf_tolerance, sun_tolerance_deg;
     int lines;                    /* "auto|interpolated|digital|box" (ss_line_model + 1) */
-    int box_lines;                /* box lines per cell across */
+    int box_lines;                /* box lines per cell across; 0: the planner chooses */
     int box_shadows;              /* "march|lines" (ss_box_shadows) */
 } ss_sweep_params;
 #define SS_NORTH_AUTO 0
@@ -100,12 +100,17 @@ SS_API void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_param
 /* The sweep options the parameters ask for before a plan decides (the
  * front ends' provisional options; ss_product_prepare then obeys the plan):
  * the directions asked (32 where the planner chooses), offset, lines
- * (interpolated for auto), box lines, curvature only where turned on
+ * (interpolated for auto), box lines (SS_BOX_LINES_DEFAULT where the
+ * planner chooses), curvature only where turned on
  * (the parameters' earth radius, else the place's, with their refraction)
  * and the place's grid north unless north is the grid's. place NULL: a
  * grid without a place (an array): the earth's mean radius, grid north. */
 SS_API void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,
                                     ss_sweep_options *opt);
+/* The most box lines per cell a plan of these parameters can take, for
+ * sizing memory before the plan is made: those given, else the larger of
+ * SS_BOX_LINES_DEFAULT and the sky view's choice from svf_tolerance. */
+SS_API int ss_sweep_params_box_lines_most(const ss_sweep_params *p);
 
 /* ---- sky-view factor ("svf") and openness ("openness") ------------------------ */
 

@@ -133,33 +133,52 @@ double box_march_agreement(const ss_grid *g, const ss_sweep_options *opt, double
     return share;
 }
 
-double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, char *err)
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, double *p95, char *err)
 {
     size_t n = (size_t)g->width * g->height;
     float *svf = malloc(n * sizeof(float));
+    double *errors = malloc(n * sizeof(double));
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
     double sum = 0, error = NAN;
-    size_t valid = 0;
-    if (svf && ss_svf(ctx, g, opt, SS_SVF_DEF_GEOMETRIC, svf) == SS_OK) {
-#pragma omp parallel for reduction(+ : sum, valid) schedule(dynamic, 4)
+    if (p95)
+        *p95 = NAN;
+    if (svf && errors && ss_svf(ctx, g, opt, SS_SVF_DEF_GEOMETRIC, svf) == SS_OK) {
+#pragma omp parallel for reduction(+ : sum) schedule(dynamic, 4)
         for (int r = 0; r < g->height; ++r)
             for (int c = 0; c < g->width; ++c) {
                 size_t i = (size_t)r * g->width + c;
+                errors[i] = NAN;
                 if (!isfinite(g->z[i]))
                     continue;
                 double blocked = 0;
                 for (int k = 0; k < opt->directions; ++k)
                     blocked += sin(box_march_horizon_deg(g, r, c, ss_direction_azimuth(opt, k)) *
                                    M_PI / 180);
-                sum += fabs(svf[i] - (1 - blocked / opt->directions));
-                valid++;
+                errors[i] = fabs(svf[i] - (1 - blocked / opt->directions));
+                sum += errors[i];
             }
+        size_t valid = 0;
+        for (size_t i = 0; i < n; ++i)
+            if (!isnan(errors[i]))
+                errors[valid++] = errors[i];
         error = sum / (double)valid;
+        if (p95) {
+            /* The nearest rank: the smallest error that 95 % of cells are within. */
+            qsort(errors, valid, sizeof *errors, by_value);
+            *p95 = errors[(size_t)ceil(0.95 * (double)valid) - 1];
+        }
     } else {
-        snprintf(err, 300, "%s", svf ? ss_ctx_message(ctx) : "out of memory");
+        snprintf(err, 300, "%s", svf && errors ? ss_ctx_message(ctx) : "out of memory");
     }
     ss_ctx_free(ctx);
+    free(errors);
     free(svf);
     return error;
 }

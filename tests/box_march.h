@@ -37,7 +37,10 @@ double box_march_agreement(const ss_grid *g, const ss_sweep_options *opt, double
                            char *err);
 
 /* The mean over valid cells of |geometric SVF - the box model's|, the
- * latter from box_march_horizon_deg over opt's directions (the C twin). */
-double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, char *err);
+ * latter from box_march_horizon_deg over opt's directions (the C twin),
+ * and in *p95 (may be NULL) its 95th percentile over the cells (nearest
+ * rank); NAN after a failure, whose message goes to err (300 bytes). */
+double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, double *p95,
+                           char *err);
 
 #endif

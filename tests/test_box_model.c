@@ -200,7 +200,7 @@ static void box_svf(const char *what, const ss_grid *g)
         ss_sweep_options opt = options(m ? SS_LINES_BOX : SS_LINES_DIGITAL, 0);
         opt.directions = 16;
         opt.offset_deg = 5;
-        error[m] = box_march_svf_error(g, &opt, err);
+        error[m] = box_march_svf_error(g, &opt, NULL, err);
     }
     tap_ok(error[1] <= 1e-3 && error[1] <= error[0] / 5,
            "%s: the geometric SVF of box lines is off the box model's by %.5f on average (at most "

@@ -208,9 +208,36 @@ static void insolation(void)
     ss_ctx_free(ctx);
 }
 
+/* Box lines not given (0): the provisional options take the default 32,
+ * and memory is sized for the most a plan can take, never fewer than it
+ * chooses (32 for horizons; more where a tight --svf-tolerance asks the
+ * sky view for more); a count given is taken as it is. */
+static void box_lines(void)
+{
+    ss_sweep_params p;
+    memset(&p, 0, sizeof p);
+    p.lines = SS_LINES_BOX + 1;
+    p.svf_tolerance = 0.01;
+    ss_sweep_options opt;
+    ss_sweep_params_options(&p, NULL, &opt);
+    int at_default = ss_sweep_params_box_lines_most(&p);
+    p.svf_tolerance = 1e-6;
+    int tight = ss_sweep_params_box_lines_most(&p);
+    tap_ok(opt.box_lines == SS_BOX_LINES_DEFAULT && at_default == SS_BOX_LINES_DEFAULT &&
+               tight == SS_BOX_LINES_MAX,
+           "box lines not given: %d in the provisional options, memory sized for %d at an SVF "
+           "tolerance of 0.01 and %d at 1e-6",
+           opt.box_lines, at_default, tight);
+    p.box_lines = 4;
+    ss_sweep_params_options(&p, NULL, &opt);
+    tap_ok(opt.box_lines == 4 && ss_sweep_params_box_lines_most(&p) == 4,
+           "box lines given: %d in the options and the memory sizing", opt.box_lines);
+}
+
 int main(void)
 {
     well_formed();
+    box_lines();
     choices();
     hillshade_check();
     sun();

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "accuracy_table.h"
+#include "box_lines_table.h"
 #include "box_march.h"
 #include "shadow_table.h"
 #include "tap.h"
@@ -395,6 +396,76 @@ static void lines(void)
     ss_grid_free(&hills);
 }
 
+/* The smallest tabulated box-line count whose SVF error meets `tolerance`
+ * on every row of the table, a count's error the larger of its own and
+ * the next larger count's (the largest count where none does). */
+static int box_lines_allowed(double tolerance)
+{
+    for (int i = 0; i < SS_BOX_LINES_N_COUNTS; ++i) {
+        int meets = 1;
+        for (int r = 0; r < ss_box_lines_n_rows; ++r)
+            for (int j = i; j <= i + 1 && j < SS_BOX_LINES_N_COUNTS; ++j)
+                meets &= ss_box_lines_rows[r].p95[j] <= tolerance;
+        if (meets)
+            return ss_box_lines_counts[i];
+    }
+    return ss_box_lines_counts[SS_BOX_LINES_N_COUNTS - 1];
+}
+
+/* Box lines per cell: for an SVF on a city, the fewest the measured table
+ * allows at --svf-tolerance (fewer than the former fixed 32 at the default
+ * 0.01), more for a tighter tolerance; a count asked for is kept; horizon
+ * angles, which no table measures by the count, keep 32. */
+static void box_line_counts(void)
+{
+    ss_grid city = box_march_city(120);
+    ss_place pc = place_of(&city, 0, 57);
+    ss_ctx *ctx = ss_ctx_new();
+    ss_plan_request r = request(SS_PLAN_SKY_VIEW);
+    r.lines = SS_LINES_AUTO;
+    ss_plan p;
+    int ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
+    const ss_plan_item *it = ok ? item(&p, "lines") : NULL;
+    int allowed = box_lines_allowed(0.01);
+    tap_ok(it && p.lines == SS_LINES_BOX && p.box_lines == allowed && allowed < 32 &&
+               strstr(it->reason, "fewest") && it->bound > 0 && it->bound <= 0.01,
+           "svf on a city at the default 0.01: %d box lines, the fewest the table allows (%d) "
+           "(%s) [%.3g]",
+           p.box_lines, allowed, it ? it->reason : "-", it ? it->bound : NAN);
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    if (ok)
+        ss_plan_sweep_options(&p, &pc, 0.13, &opt);
+    tap_ok(opt.box_lines == p.box_lines, "the sweep options obey the plan's box lines (%d)",
+           opt.box_lines);
+
+    int loose = p.box_lines;
+    r.svf_tolerance = 0.2 * (it ? it->bound : 0.01);
+    ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
+    it = ok ? item(&p, "lines") : NULL;
+    tap_ok(it && p.box_lines > loose && p.box_lines == box_lines_allowed(r.svf_tolerance) &&
+               it->bound > 0,
+           "a tighter SVF tolerance (%.3g) takes more box lines: %d (%s)", r.svf_tolerance,
+           p.box_lines, it ? it->reason : "-");
+
+    r.svf_tolerance = 0.01;
+    r.lines = SS_LINES_BOX;
+    r.box_lines = 2;
+    ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
+    it = ok ? item(&p, "lines") : NULL;
+    tap_ok(it && p.box_lines == 2 && strstr(it->reason, "as requested"),
+           "box lines asked for are kept: %d (%s)", p.box_lines, it ? it->reason : "-");
+
+    r = request(SS_PLAN_HORIZONS);
+    r.lines = SS_LINES_AUTO;
+    ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
+    it = ok ? item(&p, "lines") : NULL;
+    tap_ok(it && p.lines == SS_LINES_BOX && p.box_lines == 32 && strstr(it->reason, "no table"),
+           "horizon angles keep 32 box lines (%s)", it ? it->reason : "-");
+    ss_ctx_free(ctx);
+    ss_grid_free(&city);
+}
+
 /* A year of hourly weather records (instants only: the plan reads no
  * irradiance), for the shadow mode's choice. */
 #define YEAR_HOURS 8760
@@ -574,6 +645,7 @@ int main(void)
     shadow_modes();
     box_shadow_costs();
     lines();
+    box_line_counts();
     device_auto();
     directions();
     curvature();

@@ -505,10 +505,12 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     int radius_walk = may_band && (cost->halo_m > 0 || cost->halo_cells > 0);
     double cell_bytes =
         may_band ? cost->cell_bytes + ss_lines_extra_cell_bytes(run_lines_asked(common)) : 0.0;
-    /* Hulls are handed on per line: box lines have box_lines times as many. */
-    int hull_directions = (may_band && cost->directions ? cost->directions
-                                                        : common->sweep.directions) *
-                          (run_lines_asked(common) == SS_LINES_BOX ? common->sweep.box_lines : 1);
+    /* Hulls are handed on per line: box lines have box_lines times as many
+     * (the plan's count is not known yet: the most it can take). */
+    int hull_directions =
+        (may_band && cost->directions ? cost->directions : common->sweep.directions) *
+        (run_lines_asked(common) == SS_LINES_BOX ? ss_sweep_params_box_lines_most(&common->sweep)
+                                                 : 1);
     *source = NULL;
     *band_rows = 0;
     if (common->heightmap)

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "box_lines_table.h"
 #include "ctx_internal.h"
 #include "skysweep_params.h"
 #include "skysweep_sun.h"
@@ -45,9 +46,10 @@ static const ss_param sweep_params[] = {
      "through cell centres; box: cells as flat-topped columns, for city DSMs with vertical "
      "walls; auto: box where neighbouring cells step like walls, else interpolated "
      "(doc/model.md)"},
-    {"box-lines", SS_PARAM_INT, SWEEP(box_lines), "N", "32", 1, SS_BOX_LINES_MAX, NULL,
+    {"box-lines", SS_PARAM_INT, SWEEP(box_lines), "N", NULL, 1, SS_BOX_LINES_MAX, NULL,
      "box lines per cell across, a power of two: a cell's line runs at most 1/(2N) cell beside "
-     "its centre; time grows with N (doc/model.md)"},
+     "its centre; time grows with N (default: for the sky view the fewest whose measured SVF "
+     "error meets --svf-tolerance, doc/box_lines.md; else 32)"},
     {"box-shadows", SS_PARAM_CHOICE, SWEEP(box_shadows), NULL, "march", 0, 0, "march|lines",
      "box lines' cast shadows: march: each cell's own ray, exact, settled by proven bounds "
      "where it can be (the C twin, grid held whole); lines: the --box-lines walks "
@@ -284,9 +286,17 @@ void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,
     }
     ss_line_model asked = ss_sweep_params_lines(p);
     opt->lines = asked == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : asked;
-    opt->box_lines = p->box_lines;
+    opt->box_lines = p->box_lines ? p->box_lines : SS_BOX_LINES_DEFAULT;
     opt->box_shadows = (ss_box_shadows)p->box_shadows;
     opt->grid_north_deg = place && p->north != SS_NORTH_GRID ? place->grid_north_deg : 0.0;
+}
+
+int ss_sweep_params_box_lines_most(const ss_sweep_params *p)
+{
+    if (p->box_lines)
+        return p->box_lines;
+    int sky_view = ss_box_lines_for_tolerance(p->svf_tolerance, NULL);
+    return sky_view > SS_BOX_LINES_DEFAULT ? sky_view : SS_BOX_LINES_DEFAULT;
 }
 
 ss_sky_term ss_svf_params_term(const ss_svf_params *p)

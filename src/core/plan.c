@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "accuracy_table.h"
+#include "box_lines_table.h"
 #include "ctx_internal.h"
 #include "lines.h"
 #include "lit_levels.h"
@@ -160,21 +161,96 @@ static double wall_share(const ss_grid *g)
     return pairs ? (double)walls / (double)pairs : 0.0;
 }
 
+/* The SVF error of tabulated count i: the worst 95th percentile over the
+ * rows, the larger of its own and the next larger count's. */
+static double box_lines_error(int i)
+{
+    double error = 0;
+    for (int r = 0; r < ss_box_lines_n_rows; ++r)
+        for (int j = i; j <= i + 1 && j < SS_BOX_LINES_N_COUNTS; ++j)
+            error = fmax(error, ss_box_lines_rows[r].p95[j]);
+    return error;
+}
+
+int ss_box_lines_for_tolerance(double svf_tolerance, double *expected_error)
+{
+    int chosen = 0;
+    while (chosen + 1 < SS_BOX_LINES_N_COUNTS && box_lines_error(chosen) > svf_tolerance)
+        chosen++;
+    if (expected_error)
+        *expected_error = box_lines_error(chosen);
+    return ss_box_lines_counts[chosen];
+}
+
+/* The SVF error of `count` box lines from the table; 0 where it has none. */
+static double box_lines_count_error(int count)
+{
+    for (int i = 0; i < SS_BOX_LINES_N_COUNTS; ++i)
+        if (ss_box_lines_counts[i] == count)
+            return box_lines_error(i);
+    return 0;
+}
+
+/* Box lines per cell: as requested; for the sky view the fewest whose
+ * measured SVF error meets --svf-tolerance (doc/box_lines.md); else the
+ * default, as no table measures horizon angles' or shadows' error by the
+ * count. Insolation keeps the default too: the one count serves its
+ * shadows, which take the lines in the interpolated and cumulative modes,
+ * in bands and on OpenCL. Writes what the lines item says of it to `said`,
+ * and returns the SVF error expected (0: none measured). */
+static double plan_box_lines(ss_plan *p, const ss_plan_request *r, char *said, size_t size)
+{
+    if (r->box_lines > 0) {
+        p->box_lines = r->box_lines;
+        double error = r->kind == SS_PLAN_SKY_VIEW ? box_lines_count_error(r->box_lines) : 0;
+        if (error > 0)
+            snprintf(said, size,
+                     "%d per cell, as requested (SVF error %.2g, 95th percentile on city DSMs, "
+                     "doc/box_lines.md)",
+                     r->box_lines, error);
+        else
+            snprintf(said, size, "%d per cell, as requested", r->box_lines);
+        return error;
+    }
+    if (r->kind != SS_PLAN_SKY_VIEW) {
+        p->box_lines = SS_BOX_LINES_DEFAULT;
+        snprintf(said, size,
+                 "%d per cell, the default: no table measures the error of %s by the count",
+                 p->box_lines,
+                 r->kind == SS_PLAN_INSOLATION ? "insolation's shadows (which share its lines)"
+                 : r->kind == SS_PLAN_SHADOW   ? "shadows taken from the lines"
+                                               : "horizon angles");
+        return 0;
+    }
+    double error;
+    p->box_lines = ss_box_lines_for_tolerance(r->svf_tolerance, &error);
+    if (error <= r->svf_tolerance)
+        snprintf(said, size,
+                 "%d per cell, the fewest whose SVF error (95th percentile on city DSMs, "
+                 "doc/box_lines.md) is within the %.3g tolerance",
+                 p->box_lines, r->svf_tolerance);
+    else
+        snprintf(said, size,
+                 "%d per cell, the most: no count brings the SVF error (95th percentile on "
+                 "city DSMs, doc/box_lines.md) within the %.3g tolerance",
+                 p->box_lines, r->svf_tolerance);
+    return error;
+}
+
 /* Lines: as requested; otherwise box lines where the grid has walls (a
  * city DSM), interpolated lines on terrain. */
 static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid)
 {
-    p->box_lines = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
+    char per_cell[200];
+    double error = plan_box_lines(p, r, per_cell, sizeof per_cell);
     if (!uses_horizons(r->kind)) {
         p->lines = r->lines == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : r->lines;
         return;
     }
-    int per_cell = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
-    p->box_lines = per_cell;
     if (r->lines != SS_LINES_AUTO) {
         p->lines = r->lines;
         if (r->lines == SS_LINES_BOX)
-            add(p, "lines", 1, 0, "", "box lines, %d per cell, as requested", per_cell);
+            add(p, "lines", 1, error, "SVF", "box lines asked for: %s", per_cell);
         else
             add(p, "lines", 1, 0, "", "%s lines, as requested", ss_line_model_name(r->lines));
         return;
@@ -204,11 +280,10 @@ static void plan_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid
     }
     p->lines = share > SS_WALL_SHARE ? SS_LINES_BOX : SS_LINES_INTERPOLATED;
     if (p->lines == SS_LINES_BOX)
-        add(p, "lines", 1, 0, "",
-            "box lines, %d per cell: %.2f %% of neighbouring cells step by %.0f m or more, "
-            "steeper than %.0f deg: walls, so cells are taken as flat-topped columns "
-            "(doc/model.md)",
-            per_cell, 100 * share, SS_WALL_STEP_M, atan(SS_WALL_TAN) * DEG);
+        add(p, "lines", 1, error, "SVF",
+            "box lines: %.2f %% of neighbouring cells step by %.0f m or more, steeper than "
+            "%.0f deg: walls, so cells are taken as flat-topped columns (doc/model.md); %s",
+            100 * share, SS_WALL_STEP_M, atan(SS_WALL_TAN) * DEG, per_cell);
     else
         add(p, "lines", 1, 0, "",
             "interpolated lines: %.3f %% of neighbouring cells step like walls (%.0f m or more, "
