@@ -204,6 +204,10 @@ typedef struct {
      * the grid held whole; elsewhere, and for horizon angles, the lines),
      * or the box_lines families' walks (doc/box_lines.md). */
     ss_box_shadows box_shadows;
+    /* SS_LINES_BOX: lines per cell for insolation's sky view where its exact
+     * shadows take none from them (0: box_lines; the planner's choice,
+     * doc/planner.md). */
+    int sky_box_lines;
 } ss_sweep_options;
 
 #define SS_BOX_LINES_MAX 64
@@ -925,6 +929,7 @@ typedef struct {
     int directions;
     ss_line_model lines;
     int box_lines;
+    int sky_box_lines; /* insolation's sky view, where not box_lines (0) */
     int steps_total, steps_night, steps_high_sun;
     int sweeps;
     double cells, estimated_seconds;

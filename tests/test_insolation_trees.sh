@@ -96,10 +96,12 @@ tap_ok $? "weather: the PV yield falls in the crown's shade and nowhere rises"
 # and hours of sun (5) on cells two or more cells away from the crown (whose
 # slopes the burnt DSM changes) agree with the burnt DSM's, on the same
 # lines (the planner picks box lines for the burnt DSM, interpolated ones,
-# whose crowns go on digital lines, for the flat one).
-ins "${day[@]}" --lines box --canopy cyl.tif --transmissivity 0 --transmissivity-leaf-off 0 \
-    --trunk-ratio 0 flat.tif t0.tif
-ins "${day[@]}" --lines box solid.tif burnt.tif
+# whose crowns go on digital lines, for the flat one). The crowns are
+# crossed on the box lines' families, so the burnt DSM's shadows walk them
+# too (--box-shadows lines), not each cell's own ray.
+ins "${day[@]}" --lines box --box-shadows lines --canopy cyl.tif --transmissivity 0 \
+    --transmissivity-leaf-off 0 --trunk-ratio 0 flat.tif t0.tif
+ins "${day[@]}" --lines box --box-shadows lines solid.tif burnt.tif
 far='((x - 30) ^ 2 + (y - 30) ^ 2 > 49)'
 for b in 2 5; do
     paste <(band t0.tif $b) <(band burnt.tif $b) | awk -v b=$b '{

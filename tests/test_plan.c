@@ -540,6 +540,23 @@ static void box_shadow_costs(void)
            "an exact PV year on a city: %d sweeps modelled at %.3g s by each cell's own ray, "
            "%.3g s by %d box lines' walks",
            march.sweeps, march.estimated_seconds, lines.estimated_seconds, lines.box_lines);
+    /* Shadows by each cell's own ray leave the box lines to the sky view,
+     * which takes its count from the SVF table; the lines' shadows keep 32. */
+    int sky = ss_box_lines_for_tolerance(0.01, NULL);
+    const ss_plan_item *it = item(&march, "lines");
+    tap_ok(sky < SS_BOX_LINES_DEFAULT && march.sky_box_lines == sky &&
+               march.box_lines == SS_BOX_LINES_DEFAULT && lines.sky_box_lines == 0 && it &&
+               strstr(it->reason, "the sky view takes"),
+           "... its sky view on %d box lines per cell (the table's %d), its shadows' lines %d; "
+           "none of its own with the lines' shadows (%d): %s",
+           march.sky_box_lines, sky, march.box_lines, lines.sky_box_lines,
+           it ? it->reason : "no lines item");
+    r.box_shadows = SS_BOX_SHADOWS_MARCH;
+    r.box_lines = 16;
+    st = ss_plan_make(ctx, &city, &place, &r, &march);
+    tap_ok(st == SS_OK && march.box_lines == 16 && march.sky_box_lines == 0,
+           "... --box-lines 16 given: 16 for all, none of the sky view's own (%d)",
+           march.sky_box_lines);
     ss_grid_free(&city);
     ss_ctx_free(ctx);
 }

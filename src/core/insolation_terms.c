@@ -279,10 +279,10 @@ static ss_status band_seen_everywhere(ss_insolation_job *job)
     return st;
 }
 
-ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
+/* The sky view's terms (and the stored horizons, shadows not exact). */
+static ss_status sky_inputs(ss_insolation_job *job, int store)
 {
     int own = job->io->surface.kind == SS_SURFACE_CELL;
-    int store = job->io->shadow_mode != SS_SHADOW_EXACT;
     ss_status st = ss_cell_store_open(job->ctx, job->src, 2, sizeof(float), &job->cells);
     /* The cell's own surface: the radiative SVF product's tilted sky view. */
     ss_store_sink sky = {job->cells, 0};
@@ -295,5 +295,20 @@ ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
         return run_horizon_terms(job, !own, store);
     st = band_seen_everywhere(job);
     return st == SS_OK && store ? store_horizons(job) : st;
+}
+
+ss_status ss_insolation_cell_inputs(ss_insolation_job *job)
+{
+    int store = job->io->shadow_mode != SS_SHADOW_EXACT;
+    /* Exact shadows take nothing from these sweeps: the sky view's own
+     * box lines per cell, where the plan gave it some (sky_box_lines). */
+    const ss_sweep_options *given = job->opt;
+    ss_sweep_options sky = *given;
+    if (!store && sky.sky_box_lines > 0)
+        sky.box_lines = sky.sky_box_lines;
+    job->opt = &sky;
+    ss_status st = sky_inputs(job, store);
+    job->opt = given;
+    return st;
 }
 

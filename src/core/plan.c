@@ -382,10 +382,41 @@ static const char *shadow_table_gap(const ss_plan *p, const ss_plan_request *r)
 }
 
 /* A sweep's cost in interpolated sweeps: a box sweep walks box_lines
- * lines per cell. */
+ * lines per cell (the sky view's sky_box_lines where set). */
 static double box_sweep_cost(const ss_plan *p)
 {
-    return p->lines == SS_LINES_BOX ? COST_BOX_PER_LINE * p->box_lines : 1.0;
+    int lines = p->sky_box_lines > 0 ? p->sky_box_lines : p->box_lines;
+    return p->lines == SS_LINES_BOX ? COST_BOX_PER_LINE * lines : 1.0;
+}
+
+/* Insolation's exact shadows on box lines by each cell's own ray (the C
+ * twin, or a device chosen later that may be it, with the grid held whole)
+ * take nothing from its box lines but where they run in bands or on a
+ * device; the sky view then gets its own count, chosen from the SVF table
+ * as svf's is, and the shadows keep the default. */
+static void plan_sky_box_lines(const ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
+                               const ss_grid *grid)
+{
+    p->sky_box_lines = 0;
+    if (r->kind != SS_PLAN_INSOLATION || p->lines != SS_LINES_BOX || r->box_lines > 0 ||
+        p->shadow_mode != SS_SHADOW_EXACT || r->box_shadows != SS_BOX_SHADOWS_MARCH ||
+        !grid->z || !(ctx->use_reference || ctx->device_auto))
+        return;
+    double error;
+    int sky = ss_box_lines_for_tolerance(r->svf_tolerance, &error);
+    if (sky >= p->box_lines)
+        return;
+    p->sky_box_lines = sky;
+    for (int i = 0; i < p->n_items; ++i)
+        if (strcmp(p->items[i].key, "lines") == 0) {
+            size_t used = strlen(p->items[i].reason);
+            snprintf(p->items[i].reason + used, sizeof p->items[i].reason - used,
+                     "; the sky view takes %d, the fewest whose SVF error (95th percentile on "
+                     "city DSMs, doc/box_lines.md) is within the %.3g tolerance, where the "
+                     "exact shadows come from each cell's own ray",
+                     sky, r->svf_tolerance);
+            p->items[i].bound = error;
+        }
 }
 
 /* A cast shadow's: box lines' by each cell's own ray where asked for (the
@@ -731,6 +762,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     plan_directions(p, r);
     double shadow_error;
     choose_shadows(p, r, &shadow_error);
+    plan_sky_box_lines(ctx, p, r, grid);
     plan_sun(p, r, place);
 
     double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;
@@ -850,6 +882,7 @@ void ss_plan_sweep_options(const ss_plan *plan, const ss_place *place, double re
     opt->directions = plan->directions;
     opt->lines = plan->lines;
     opt->box_lines = plan->box_lines;
+    opt->sky_box_lines = plan->sky_box_lines;
     opt->earth_radius_m = plan->curvature ? place->earth_radius_m : 0.0;
     opt->refraction_k = plan->curvature ? refraction_k : 0.0;
     opt->grid_north_deg = plan->true_north ? place->grid_north_deg : 0.0;

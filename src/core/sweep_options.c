@@ -19,6 +19,7 @@ void ss_sweep_options_default(ss_sweep_options *opt)
     opt->grid_north_deg = 0.0;
     opt->box_lines = SS_BOX_LINES_DEFAULT;
     opt->box_shadows = SS_BOX_SHADOWS_MARCH;
+    opt->sky_box_lines = 0;
 }
 
 ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
@@ -44,6 +45,13 @@ ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
     if (opt->lines != SS_LINES_INTERPOLATED && opt->lines != SS_LINES_DIGITAL &&
         opt->lines != SS_LINES_BOX)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown line model %d", (int)opt->lines);
+    if (opt->lines == SS_LINES_BOX && opt->sky_box_lines != 0 &&
+        (opt->sky_box_lines < 1 || opt->sky_box_lines > SS_BOX_LINES_MAX ||
+         (opt->sky_box_lines & (opt->sky_box_lines - 1)) != 0))
+        return ss_fail(ctx, SS_ERR_ARGUMENT,
+                       "box lines for the sky view must be 0 or a power of two from 1 to %d, "
+                       "not %d",
+                       SS_BOX_LINES_MAX, opt->sky_box_lines);
     if (opt->box_shadows != SS_BOX_SHADOWS_MARCH && opt->box_shadows != SS_BOX_SHADOWS_LINES)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown way of box shadows %d",
                        (int)opt->box_shadows);
