@@ -77,7 +77,8 @@ for ((i = 1; i <= reps; i++)); do
     for job in $jobs; do
         for runner in $runners; do
             start=$(date +%s%N)
-            run_one "$job" "$runner" "$work/$job.$runner.tif" >"$work/log" 2>&1
+            run_one "$job" "$runner" "$work/$job.$runner.tif" >"$work/log" 2>&1 ||
+                { echo "umep_svf.sh: $runner on $job failed:" >&2 && cat "$work/log" >&2 && exit 5; }
             echo "$start $(date +%s%N)" | awk '{print ($2 - $1) / 1e9}' >>"$work/$job.$runner.wall"
             awk '/^svf_seconds/ {print $2}' "$work/log" >>"$work/$job.$runner.call"
         done
