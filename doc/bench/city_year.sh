@@ -44,10 +44,10 @@ if [ "$old" = 1 ]; then
     names+=("box lines' own walks (--box-shadows lines --box-lines 32)")
     args+=("--box-shadows lines --box-lines 32")
 fi
+commit=$(git -C "$top" rev-parse --short HEAD 2>/dev/null || echo '?')
 echo "Measured by \`doc/bench/city_year.sh --reps $reps$([ "$old" = 1 ] && echo " --old")\` on" \
-    "$(date -u '+%Y-%m-%d %H:%M') UTC, skysweep $(cd "$top" && git rev-parse --short HEAD" \
-    "2>/dev/null || echo '?'), OMP_WAIT_POLICY=$OMP_WAIT_POLICY; load average before:" \
-    "$(cut -d' ' -f1-3 /proc/loadavg)."
+    "$(date -u '+%Y-%m-%d %H:%M') UTC, skysweep $commit, OMP_WAIT_POLICY=$OMP_WAIT_POLICY;" \
+    "load average before: $(cut -d' ' -f1-3 /proc/loadavg)."
 echo
 echo "| run | wall s (median) | runs | sweeps s | the rest s | shadows |"
 echo "|---|---|---|---|---|---|"
