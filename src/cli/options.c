@@ -261,7 +261,7 @@ int opt_advanced(const char *name)
         "cell-size", "z-units", "overlap",
         /* the sweep's accuracy knobs and the earth's figure */
         "offset", "north", "curvature", "refraction", "earth-radius", "horizon-tolerance",
-        "svf-tolerance", "sun-tolerance", "lines", "box-lines",
+        "svf-tolerance", "sun-tolerance", "lines", "box-lines", "box-shadows",
         /* the sun's position: per cell, Delta T, the air's refraction */
         "sun-per-cell", "delta-t", "pressure", "temperature",
         /* insolation's accuracy knobs and constants, the inverter's fine print */
