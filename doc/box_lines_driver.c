@@ -152,8 +152,24 @@ static int write_table(const char *path, const measured *m, int n)
     return fclose(f) != 0;
 }
 
+/* The 1, 5 and 15 minute load averages, or "unknown". */
+static const char *load_average(char *buf, size_t size)
+{
+    FILE *f = fopen("/proc/loadavg", "r");
+    double a[3];
+    int ok = f && fscanf(f, "%lf %lf %lf", &a[0], &a[1], &a[2]) == 3;
+    if (f)
+        fclose(f);
+    if (ok)
+        snprintf(buf, size, "%.2f %.2f %.2f", a[0], a[1], a[2]);
+    else
+        snprintf(buf, size, "unknown");
+    return buf;
+}
+
 int main(int argc, char **argv)
 {
+    char load[64];
     const char *table_path = NULL, *dsm = NULL;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--table") == 0 && i + 1 < argc)
@@ -172,10 +188,11 @@ int main(int argc, char **argv)
            "and from 5 deg, and its 95th percentile from 5 deg (what the planner chooses "
            "`--box-lines` by, doc/planner.md). The rows per count take `--box-shadows lines` "
            "(the families' walks); the last row, each cell's own ray, the default for shadows "
-           "since (its SVF takes the lines, as in the rows above). Times: medians, "
+           "since issue 42 (its SVF takes the lines, as in the rows above). Times: medians, "
            "the C twin on this machine, kernel build excluded; the shadow is the first sun's. "
-           "The machine is shared and was loaded by other work while this ran: times are noisy "
-           "(their ratios along a table hold better than their values).\n");
+           "Load average when this began: %s (the machine is shared: under load times are "
+           "noisy, and their ratios along a table hold better than their values).\n",
+           load_average(load, sizeof load));
     measured m[2];
     int n = 0;
     ss_grid city = box_march_city(300);
