@@ -140,6 +140,10 @@ typedef struct {
      * march): the steps, their cells with a height, and of those the
      * cells the proven bounds left to the march. */
     uint64_t box_march_steps, box_march_cells, box_march_marched;
+    /* Crowns crossed on box lines by each cell's own ray (box_shadows
+     * march): the suns, their cells with a height, and of those the cells
+     * the proven bound left to the march. */
+    uint64_t crown_march_steps, crown_march_cells, crown_march_marched;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 

@@ -45,6 +45,38 @@ int box_march_lit_curved(const ss_grid *g, int r, int c, double az, double el, d
     }
 }
 
+int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_m, int r,
+                      int c, double az, double el, double z_max)
+{
+    double z0 = g->z[(size_t)r * g->width + c];
+    double tan_el = tan(el * M_PI / 180);
+    double dx = sin(az * M_PI / 180) / g->cell_x_m, dy = -cos(az * M_PI / 180) / g->cell_y_m;
+    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
+    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
+    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
+    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
+    double t_in = fmin(tx, ty); /* where the ray leaves its own square */
+    for (;;) {
+        if (tx < ty) {
+            ci += sx;
+            tx += step_x;
+        } else {
+            ri += sy;
+            ty += step_y;
+        }
+        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height || z0 + tan_el * t_in > z_max)
+            return 0;
+        double t_out = fmin(tx, ty);
+        size_t j = (size_t)ri * g->width + ci;
+        /* The ray rises from z0 + t_in tan(el) to z0 + t_out tan(el) over the square. */
+        if (isfinite(g->z[j]) && top_m[j] > bottom_m[j] &&
+            z0 + tan_el * t_in < g->z[j] + top_m[j] && z0 + tan_el * t_out > g->z[j] + bottom_m[j])
+            return 1;
+        t_in = t_out;
+    }
+}
+
 double box_march_horizon_deg(const ss_grid *g, int r, int c, double az)
 {
     double z0 = g->z[(size_t)r * g->width + c];

@@ -18,6 +18,14 @@ int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z
 int box_march_lit_curved(const ss_grid *g, int r, int c, double az, double el, double z_max,
                          double curv_k);
 
+/* 1 where the box-model ray from cell (r, c)'s centre toward the sun
+ * (0 < el < 90) passes strictly inside the crown of a square it crosses,
+ * its own not counted: cell j's crown is the open interval of heights
+ * (z_j + bottom_m[j], z_j + top_m[j]) over its square, none where top_m[j]
+ * <= bottom_m[j]. z_max: the highest crown top. */
+int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_m, int r,
+                      int c, double az, double el, double z_max);
+
 /* The box-model horizon (degrees) from cell (r, c) toward azimuth az: the
  * largest elevation of the column tops its ray crosses, the cell's own top
  * (0 deg) included. */

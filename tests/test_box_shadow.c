@@ -59,7 +59,7 @@ static void check_grid(const char *name, const ss_grid *g, double curv_k, int n_
     for (int a = 0; !failed && a < n_azimuths; ++a)
         for (size_t e = 0; !failed && e < sizeof elevations / sizeof elevations[0]; ++e) {
             double lo = elevations[e][0], hi = elevations[e][1];
-            ss_box_shadow_counts counts;
+            ss_box_ray_counts counts;
             if (!ss_box_shadow_horizons(g, azimuths[a], lo, hi, curv_k, NULL, angle, &counts)) {
                 failed = 1;
                 break;

@@ -36,6 +36,8 @@ static int library_classes(const ss_grid *g, const ss_canopy *cn, double az, dou
 {
     size_t n = (size_t)g->width * g->height;
     ss_ctx *ctx = ss_ctx_new();
+    /* The C twin: box shadows, as the crowns, by each cell's own ray. */
+    ss_ctx_use_device(ctx, "reference");
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.lines = box_model ? SS_LINES_BOX : SS_LINES_DIGITAL;

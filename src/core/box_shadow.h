@@ -29,14 +29,8 @@
 #define SS_BOX_SHADOW_H
 
 #include <signal.h>
-#include <stdint.h>
 
-#include "skysweep.h"
-
-typedef struct {
-    uint64_t cells;   /* cells with a height */
-    uint64_t marched; /* of them, those the bounds left to the march */
-} ss_box_shadow_counts;
+#include "box_ray.h"
 
 /* Each cell's horizon toward grid azimuth grid_azimuth_deg (clockwise from
  * the grid's north) as far as a sun between el_lo_deg and el_hi_deg
@@ -52,6 +46,6 @@ typedef struct {
 int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double el_lo_deg,
                            double el_hi_deg, double curv_k,
                            const volatile sig_atomic_t *cancel, float *angle,
-                           ss_box_shadow_counts *counts);
+                           ss_box_ray_counts *counts);
 
 #endif

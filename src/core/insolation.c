@@ -598,7 +598,7 @@ static ss_status march_step(steps_run *s, const ss_band_view *band, const ss_sun
     ss_insolation_job *job = s->job;
     ss_grid grid = {band->width, band->height, job->src->cell_x_m, job->src->cell_y_m, 0.0,
                     (float *)band->z};
-    ss_box_shadow_counts counts;
+    ss_box_ray_counts counts;
     if (!ss_box_shadow_horizons(&grid, sun->azimuth_deg - job->opt->grid_north_deg,
                                 sun->apparent_elevation_deg - sun->spread_deg,
                                 sun->apparent_elevation_deg + sun->spread_deg,

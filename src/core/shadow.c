@@ -64,7 +64,7 @@ static ss_status shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_
     /* The march only reads the heights. */
     ss_grid grid = {src->width, src->height, src->cell_x_m, src->cell_y_m, 0.0, (float *)src->z};
     float *angle = ss_malloc((size_t)src->width * src->height * sizeof(float));
-    ss_box_shadow_counts counts;
+    ss_box_ray_counts counts;
     ss_status st = angle && ss_box_shadow_horizons(&grid, azimuth_deg - opt->grid_north_deg,
                                                    el_lo_deg, el_hi_deg, ss_curvature_k(opt),
                                                    &ctx->cancel_requested, angle, &counts)

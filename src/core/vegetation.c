@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "box_crowns.h"
 #include "crown_union.h"
 #include "lines.h"
 #include "products_internal.h"
@@ -150,6 +151,21 @@ static int walk_box_line(const box_walk *b, int line, crown_union *u)
     return 0;
 }
 
+/* Box crowns by each cell's own ray (box_crowns.h). */
+static ss_status crossed_by_rays(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                 double sun_grid_azimuth_deg, double sun_elevation_deg,
+                                 unsigned char *crossed)
+{
+    ss_box_ray_counts counts;
+    if (!ss_box_crowns_crossed(grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg,
+                               &ctx->cancel_requested, crossed, &counts))
+        return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' rays");
+    ctx->counters.crown_march_steps++;
+    ctx->counters.crown_march_cells += counts.cells;
+    ctx->counters.crown_march_marched += counts.marched;
+    return ss_check_cancel(ctx, "the crowns' rays");
+}
+
 ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                             const ss_sweep_options *lines, double sun_grid_azimuth_deg,
                             double sun_elevation_deg, unsigned char *crossed)
@@ -164,6 +180,9 @@ ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *c
     if (fabs(sun_elevation_deg) >= 90.0) /* the ray rises straight up, past no cell */
         return SS_OK;
     int box = lines && lines->lines == SS_LINES_BOX;
+    if (box && lines->box_shadows == SS_BOX_SHADOWS_MARCH && sun_elevation_deg > 0.0)
+        return crossed_by_rays(ctx, grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg,
+                               crossed);
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
                             sun_grid_azimuth_deg,

@@ -1,0 +1,142 @@
+/* Box-model crowns crossed by each cell's own ray (box_crowns.h). */
+#include "config.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "box_crowns.h"
+#include "crown_union.h" /* trunk_of */
+#include "ctx_internal.h" /* ss_malloc */
+
+/* The bound's slope is clamped here, which keeps it a bound (a lower slope
+ * lifts the tops less) and keeps steep suns' tangents from swamping the
+ * heights' precision. */
+#define STEEPEST_BOUNDED_DEG 89.0
+
+typedef struct {
+    box_frame f;
+    const float *z;
+    const ss_canopy *canopy;
+    double tan_e;     /* the sun's slope */
+    double tan_bound; /* the bound's (tan_e, clamped) */
+} box_crowns;
+
+/* Cell i's crown as heights (*bottom, *top): 0 where it has none. */
+static inline int crown_of(const box_crowns *b, size_t i, double *bottom, double *top)
+{
+    float z = b->z[i];
+    double height = b->canopy->height_m[i], trunk = trunk_of(b->canopy, i);
+    if (!isfinite(z) || !(height > trunk))
+        return 0;
+    *bottom = z + trunk;
+    *top = z + height;
+    return 1;
+}
+
+/* The ray from the centre of cell (col, row) at height z0, square after
+ * square: 1 at the first crown whose open interval its span of heights
+ * over the square meets; 0 where it leaves the grid, or before a column
+ * whose line's bound (bound_before[p + 1 - first]) it passes above
+ * (threshold: z0 + tan_bound times the cell's distance along the walk). */
+static int march_crossed(const box_crowns *b, int col, int row, double z0,
+                         const double *bound_before, int first, double threshold)
+{
+    box_ray ray = box_ray_from(&b->f, col, row);
+    int last_position = -1;
+    double margin = box_rounding_margin(threshold);
+    while (box_ray_next(&b->f, &ray)) {
+        if (ray.position != last_position) {
+            last_position = ray.position;
+            if (bound_before[ray.position + 1 - first] < threshold - margin)
+                return 0;
+        }
+        double bottom, top;
+        if (crown_of(b, (size_t)ray.row * b->f.width + ray.col, &bottom, &top) &&
+            z0 + b->tan_e * ray.t_in < top && z0 + b->tan_e * ray.t_out > bottom)
+            return 1;
+    }
+    return 0;
+}
+
+/* The highest crown top of the three cells around a line at (major,
+ * minor); -INFINITY where none has a crown. */
+static inline double window_top(const box_crowns *b, int major, int minor)
+{
+    const box_frame *f = &b->f;
+    double hi = -INFINITY, bottom, top;
+    for (int m = minor - 1; m <= minor + 1; ++m)
+        if (m >= 0 && m < f->minor_len &&
+            crown_of(b, (size_t)(major * f->stride_major + m * f->stride_minor), &bottom, &top))
+            hi = top > hi ? top : hi;
+    return hi;
+}
+
+/* Line `line`'s cells, walked from the sun's side; bound_before is its
+ * work space (major_len + 1 values). */
+static void walk_line(const box_crowns *b, int line, double *bound_before,
+                      unsigned char *crossed, ss_box_ray_counts *counts)
+{
+    const box_frame *f = &b->f;
+    double upper = -INFINITY;
+    int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1);
+    bound_before[0] = -INFINITY;
+    for (int p = first; p < end; ++p) {
+        int major = box_walk_position(f, p);
+        int minor = line + f->shift[major];
+        double along = p * f->step_m;
+        if (minor >= 0 && minor < f->minor_len) {
+            ptrdiff_t cell = major * f->stride_major + minor * f->stride_minor;
+            float z0 = b->z[cell];
+            double threshold = z0 + b->tan_bound * along;
+            if (isfinite(z0)) {
+                counts->cells++;
+                if (!(upper < threshold - box_rounding_margin(threshold))) {
+                    counts->marched++;
+                    int col = f->stride_major == 1 ? major : minor;
+                    int row = f->stride_major == 1 ? minor : major;
+                    crossed[cell] = (unsigned char)march_crossed(b, col, row, z0, bound_before,
+                                                                 first, threshold);
+                }
+            }
+        }
+        /* A ray enters this column half a column nearer than its centre. */
+        double up = window_top(b, major, minor) + b->tan_bound * (along + 0.5 * f->step_m);
+        upper = up > upper ? up : upper;
+        bound_before[p + 1 - first] = upper;
+    }
+}
+
+int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy,
+                          double grid_azimuth_deg, double elevation_deg,
+                          const volatile sig_atomic_t *cancel, unsigned char *crossed,
+                          ss_box_ray_counts *counts)
+{
+    *counts = (ss_box_ray_counts){0, 0};
+    memset(crossed, 0, (size_t)grid->width * grid->height);
+    box_crowns b = {.z = grid->z, .canopy = canopy};
+    if (!box_frame_init(&b.f, grid, grid_azimuth_deg))
+        return 0;
+    b.tan_e = tan(elevation_deg * (M_PI / 180.0));
+    b.tan_bound = tan(fmin(elevation_deg, STEEPEST_BOUNDED_DEG) * (M_PI / 180.0));
+    int failed = 0;
+    uint64_t cells = 0, marched = 0;
+#pragma omp parallel reduction(+ : cells, marched, failed)
+    {
+        double *bound_before = ss_malloc(sizeof(double) * ((size_t)b.f.major_len + 1));
+        ss_box_ray_counts mine = {0, 0};
+        failed += !bound_before;
+#pragma omp for schedule(dynamic, 16)
+        for (int line = b.f.first_line; line <= b.f.last_line; ++line)
+            if (bound_before && !(cancel && *cancel))
+                walk_line(&b, line, bound_before, crossed, &mine);
+        cells += mine.cells;
+        marched += mine.marched;
+        free(bound_before);
+    }
+    box_frame_free(&b.f);
+    counts->cells = cells;
+    counts->marched = marched;
+    return !failed;
+}
