@@ -3,15 +3,18 @@
 # Gothenburg 1 m DSM with the Amsterdam IWEC year and --pv, default options
 # (exact box shadows by each cell's own ray, the plan's box lines for the
 # sky view), against the same with the box lines' own shadow walks (the way
-# before issue 42, --box-shadows lines --box-lines 32), digital lines, and
-# interpolated shadows. Whole-process wall time and the run's own phases and
+# before issue 42, --box-shadows lines --box-lines 32), digital lines,
+# interpolated shadows, and the default with the CDSM's trees (--canopy:
+# crowns met by each cell's own ray too; --old adds them on the families'
+# walks, --box-shadows lines). Whole-process wall time and the run's own phases and
 # shadow counts, medians of --reps alternated runs, as a markdown table on
 # stdout; the load average before and after. OMP_WAIT_POLICY is passive
 # unless set: on a shared machine a spinning OpenMP barrier costs a busy
 # core's time (doc/performance.md, "Several runs side by side").
 # usage: doc/bench/city_year.sh [--reps N] [--old]
 #   --reps N   runs per job (default 3)
-#   --old      also the box lines' own shadow walks (minutes a run, 1 run)
+#   --old      also the box lines' own walks, without and with trees (minutes
+#              a run, 1 run each)
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 top=$(cd "$here/../.." && pwd)
@@ -30,7 +33,8 @@ export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 SKYSWEEP=${SKYSWEEP:-$top/skysweep}
 data=$top/../shared/data
 dsm=$data/goteborg_kronenhuset_dsm_1m.tif epw=$data/weather/NLD_Amsterdam062400_IWEC.epw
-for f in "$dsm" "$epw"; do
+cdsm=$data/goteborg_kronenhuset_cdsm_1m.tif
+for f in "$dsm" "$epw" "$cdsm"; do
     [ -r "$f" ] || { echo "city_year.sh: $f is not here (../shared/data)" >&2 && exit 3; }
 done
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-city-year.XXXXXX")
@@ -38,11 +42,12 @@ trap 'rm -rf "$work"' EXIT
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR) print v[int((NR + 1) / 2)] }'; }
 
 names=("default (exact, each cell's own ray)" "digital lines, exact" \
-    "interpolated shadows, 32 directions")
-args=("" "--lines digital" "--shadow interpolated --directions 32")
+    "interpolated shadows, 32 directions" "default, with trees (--canopy)")
+args=("" "--lines digital" "--shadow interpolated --directions 32" "--canopy $cdsm")
 if [ "$old" = 1 ]; then
-    names+=("box lines' own walks (--box-shadows lines --box-lines 32)")
-    args+=("--box-shadows lines --box-lines 32")
+    names+=("box lines' own walks (--box-shadows lines --box-lines 32)"
+        "the same with trees (--canopy)")
+    args+=("--box-shadows lines --box-lines 32" "--box-shadows lines --box-lines 32 --canopy $cdsm")
 fi
 commit=$(git -C "$top" rev-parse --short HEAD 2>/dev/null || echo '?')
 echo "Measured by \`doc/bench/city_year.sh --reps $reps$([ "$old" = 1 ] && echo " --old")\` on" \
@@ -53,7 +58,7 @@ echo "| run | wall s (median) | runs | sweeps s | the rest s | shadows |"
 echo "|---|---|---|---|---|---|"
 for rep in $(seq "$reps"); do
     for i in "${!names[@]}"; do
-        [ "$rep" -gt 1 ] && [ "${args[$i]}" = "--box-shadows lines --box-lines 32" ] && continue
+        [ "$rep" -gt 1 ] && [ "$i" -ge $((${#names[@]} - 2)) ] && [ "$old" = 1 ] && continue
         start=$(date +%s.%N)
         # shellcheck disable=SC2086
         "$SKYSWEEP" insolation --weather "$epw" --weather-far-ok --pv ${args[$i]} "$dsm" \

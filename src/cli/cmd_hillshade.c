@@ -187,10 +187,10 @@ int cmd_hillshade(int argc, char **argv)
             char described[400];
             ss_grid ground = trees_ground(&job, &tr);
             trees_describe(&set.trees, &tr, described, sizeof described);
-            printf("trees   %s: the light crosses crowns at %.1f %% of cells (crowns swept on "
-                   "the host on %s lines, %.3f s)\n",
+            printf("trees   %s: the light crosses crowns at %.1f %% of cells (crowns met on "
+                   "the host: %s, %.3f s)\n",
                    described, 100.0 * crossed_share(crossed, &ground),
-                   job.opt.lines == SS_LINES_BOX ? "box" : "digital", trees_s);
+                   trees_crown_lines(&job.opt, 0), trees_s);
         }
         command_print_memory(&job, job.source ? "bands" : "whole grid");
         run_print_phases(&job.run);

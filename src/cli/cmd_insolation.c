@@ -739,7 +739,7 @@ static void describe_run(insolation_run *r, char *meta, size_t size)
         ss_writer_metadata(w, "YEARS", years);
     }
     if (set->trees.trees.canopy)
-        insolation_trees_metadata(w, &set->trees, &r->trees);
+        insolation_trees_metadata(w, &set->trees, &r->trees, &r->job.opt);
     name_bands(r);
 }
 
@@ -843,6 +843,12 @@ static void print_summary(insolation_run *r)
                (unsigned long long)c.box_march_steps, (unsigned long long)c.box_march_marched,
                (unsigned long long)c.box_march_cells,
                100.0 * (double)c.box_march_marched / (double)c.box_march_cells);
+    if (c.crown_march_steps)
+        printf("trees   %llu suns' crowns by each cell's own ray: %llu of %llu cell-steps "
+               "(%.1f %%) marched, the rest settled by a proven bound\n",
+               (unsigned long long)c.crown_march_steps, (unsigned long long)c.crown_march_marched,
+               (unsigned long long)c.crown_march_cells,
+               100.0 * (double)c.crown_march_marched / (double)c.crown_march_cells);
     uint64_t host_cells = c.cell_steps - c.cell_steps_on_device;
     if (c.cell_steps_on_device)
         printf("cells   %llu cell-steps on the device (the sun's terms per cell; the horizons "
@@ -863,7 +869,7 @@ static void print_summary(insolation_run *r)
                "this one's), sums added at rank 0\n",
                share_size());
     if (set->trees.trees.canopy)
-        insolation_trees_print(&set->trees, &r->trees, r->steps.n, r->shadows_forced,
+        insolation_trees_print(&set->trees, &r->trees, &r->job.opt, r->steps.n, r->shadows_forced,
                                c.sun_bins != 0);
     for (int b = 0; b < r->blocks; ++b)
         print_block_sums(r, b);

@@ -288,10 +288,9 @@ int cmd_shadow(int argc, char **argv)
         trees_describe(&set.trees, &tr, described, sizeof described);
         if (set.trees.canopy)
             printf("trees   %s: %.1f %% of cells in "
-                   "vegetation shadow (crowns swept on the host on %s lines, %.3f s)\n",
+                   "vegetation shadow (crowns met on the host: %s, %.3f s)\n",
                    described, valid ? 100.0 * shaded / valid : 0.0,
-                   job.opt.lines == SS_LINES_BOX && !set.light.beer_lambert ? "box" : "digital",
-                   trees_s);
+                   trees_crown_lines(&job.opt, set.light.beer_lambert), trees_s);
         if (set.trees.canopy && set.light.beer_lambert) {
             crown_light_describe(&set.light, set.trees.transmissivity, described,
                                  sizeof described);

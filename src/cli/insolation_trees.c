@@ -164,13 +164,14 @@ static void describe_light(const insolation_tree_settings *set, char *buf, size_
 }
 
 /* The lines each step's crowns are swept on. */
-static const char *crown_lines_of(const insolation_tree_settings *set)
+static const char *crown_lines_of(const insolation_tree_settings *set,
+                                  const ss_sweep_options *opt)
 {
-    return set->crown_lines || set->light.beer_lambert ? "digital" : "the solid sweep's";
+    return trees_crown_lines(opt, set->crown_lines || set->light.beer_lambert);
 }
 
 void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settings *set,
-                               const insolation_trees *it)
+                               const insolation_trees *it, const ss_sweep_options *opt)
 {
     trees_metadata(w, &set->trees, &it->t);
     char buf[600];
@@ -179,23 +180,23 @@ void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settin
     describe_season(set, it, buf, sizeof buf);
     ss_writer_metadata(w, "SEASON", buf);
     ss_writer_metadata(w, "TRUNK_GAPS", set->trees.trunk_gaps ? "open" : "ignore");
-    ss_writer_metadata(w, "CROWN_LINES", crown_lines_of(set));
+    ss_writer_metadata(w, "CROWN_LINES", crown_lines_of(set, opt));
     describe_light(set, buf, sizeof buf);
     crown_light_metadata(w, &set->light, buf);
 }
 
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
-                            int n_steps, int shadows_forced, int cumulative)
+                            const ss_sweep_options *opt, int n_steps, int shadows_forced,
+                            int cumulative)
 {
     char described[400], season[600];
     trees_describe(&set->trees, &it->t, described, sizeof described);
     describe_season(set, it, season, sizeof season);
-    printf("trees   %s (leaf off %.4g); crowns swept on the host: their sky %.3f s, %s on %s "
-           "lines\n",
+    printf("trees   %s (leaf off %.4g); crowns met on the host: their sky %.3f s, %s: %s\n",
            described, set->transmissivity_leaf_off, it->sky_seconds,
            cumulative ? "each sun bin's direction and elevation at its mean sun"
                       : "each step's sun after its solid shadow",
-           crown_lines_of(set));
+           crown_lines_of(set, opt));
     printf("season  %s; %d of %d steps leaf off\n", season, it->leaf_off_steps, n_steps);
     if (set->light.beer_lambert) {
         describe_light(set, season, sizeof season);

@@ -65,12 +65,14 @@ typedef struct {
 ss_status insolation_trees_open(sweep_job *job, const insolation_tree_settings *set,
                                 const double *mid_s, int n, insolation_trees *it);
 void insolation_trees_free(insolation_trees *it);
-/* CANOPY, TRUNK, TRANSMISSIVITY (both seasons), SEASON and CROWN_LIGHT. */
+/* CANOPY, TRUNK, TRANSMISSIVITY (both seasons), SEASON, CROWN_LINES (under
+ * the run's options opt) and CROWN_LIGHT. */
 void insolation_trees_metadata(ss_raster_writer *w, const insolation_tree_settings *set,
-                               const insolation_trees *it);
+                               const insolation_trees *it, const ss_sweep_options *opt);
 /* The summary's trees lines (cumulative: the crowns were swept per sun
  * bin, not per step). */
 void insolation_trees_print(const insolation_tree_settings *set, const insolation_trees *it,
-                            int n_steps, int shadows_forced, int cumulative);
+                            const ss_sweep_options *opt, int n_steps, int shadows_forced,
+                            int cumulative);
 
 #endif

@@ -167,6 +167,13 @@ void trees_metadata(ss_raster_writer *w, const tree_settings *set, const trees *
     ss_writer_metadata(w, "TRANSMISSIVITY", buf);
 }
 
+const char *trees_crown_lines(const ss_sweep_options *opt, int digital)
+{
+    if (digital || opt->lines != SS_LINES_BOX)
+        return "digital";
+    return opt->box_shadows == SS_BOX_SHADOWS_MARCH ? "box, each cell's own ray" : "box lines";
+}
+
 void trees_describe(const tree_settings *set, const trees *t, char *buf, size_t size)
 {
     snprintf(buf, size, "%s (heights %s%s), transmissivity %.4g", set->canopy,

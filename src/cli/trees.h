@@ -68,6 +68,10 @@ void trees_free(trees *t);
 ss_grid trees_ground(const sweep_job *job, const trees *t);
 /* CANOPY, TRUNK and TRANSMISSIVITY. */
 void trees_metadata(ss_raster_writer *w, const tree_settings *set, const trees *t);
+/* How ss_canopy_crossed meets the crowns under opt, for summaries and
+ * CROWN_LINES: "digital" (digital lines, or where digital says so), "box,
+ * each cell's own ray" (box_shadows march) or "box lines". */
+const char *trees_crown_lines(const ss_sweep_options *opt, int digital);
 /* "canopy.tif (heights above ground), transmissivity 0.03": the summary's. */
 void trees_describe(const tree_settings *set, const trees *t, char *buf, size_t size);
 
