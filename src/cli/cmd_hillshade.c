@@ -183,6 +183,7 @@ int cmd_hillshade(int argc, char **argv)
         else
             printf("shade   light %g/%g deg -> %s\n", set.hs.azimuth_deg, set.hs.altitude_deg,
                    job.output);
+        command_print_box_march(&job.run, "shade  ");
         if (set.trees.canopy) {
             char described[400];
             ss_grid ground = trees_ground(&job, &tr);

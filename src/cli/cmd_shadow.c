@@ -278,12 +278,7 @@ int cmd_shadow(int argc, char **argv)
                ss_sun_field_per_cell(&sun) ? "per cell" : "one sun", sun.spread_deg);
         printf("shadow  %.1f %% of cells sunlit -> %s\n", valid ? 100.0 * lit / valid : 0.0,
                job.output);
-        ss_counters c = ss_ctx_counters(job.run.ctx);
-        if (c.box_march_steps)
-            printf("shadow  box shadows from each cell's own ray: %llu of %llu cells (%.1f %%) "
-                   "marched, the rest settled by proven bounds\n",
-                   (unsigned long long)c.box_march_marched, (unsigned long long)c.box_march_cells,
-                   100.0 * (double)c.box_march_marched / (double)c.box_march_cells);
+        command_print_box_march(&job.run, "shadow ");
         char described[400];
         trees_describe(&set.trees, &tr, described, sizeof described);
         if (set.trees.canopy)

@@ -42,6 +42,17 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
                share_size(), (unsigned long long)c.sweeps);
 }
 
+void command_print_box_march(run_state *run, const char *label)
+{
+    ss_counters c = ss_ctx_counters(run->ctx);
+    if (c.box_march_steps)
+        printf("%s box shadows from each cell's own ray: %llu of %llu cells (%.1f %%) marched, "
+               "the rest settled by proven bounds\n",
+               label, (unsigned long long)c.box_march_marched,
+               (unsigned long long)c.box_march_cells,
+               100.0 * (double)c.box_march_marched / (double)c.box_march_cells);
+}
+
 /* Peak resident memory of the process so far (getrusage), MiB. */
 static double peak_resident_mib(void)
 {

@@ -27,6 +27,9 @@ int cmd_canopy(int argc, char **argv);
 int command_list_devices(void);
 /* One summary line about the sweep: directions, device, speed. */
 void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width, int height);
+/* The summary's line on box shadows by each cell's own ray (`label`, e.g.
+ * "shadow "), where the run marched any. */
+void command_print_box_march(run_state *run, const char *label);
 /* The sweep summary of a job that may be banded (with the rows per band
  * and the hulls handed on). */
 void command_print_job_sweep(sweep_job *job, const ss_band_stats *bands);

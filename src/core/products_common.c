@@ -3,8 +3,10 @@
 #include "config.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "box_shadow.h"
 #include "lines.h"
 #include "products_internal.h"
 #include "ss_terms.h"
@@ -27,6 +29,40 @@ int ss_box_shadows_marched(const ss_ctx *ctx, const ss_source *src,
 {
     return opt->lines == SS_LINES_BOX && opt->box_shadows == SS_BOX_SHADOWS_MARCH &&
            ctx->use_reference && src->z && ss_source_band_rows(src) >= src->height;
+}
+
+ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                              double azimuth_deg, double el_lo_deg, double el_hi_deg,
+                              ss_status (*direction)(void *, int, const ss_band_view *,
+                                                     const ss_dir_rows *, float *),
+                              void *user)
+{
+    /* The march only reads the heights. */
+    ss_grid grid = {src->width, src->height, src->cell_x_m, src->cell_y_m, 0.0, (float *)src->z};
+    float *angle = ss_malloc((size_t)src->width * src->height * sizeof(float));
+    ss_box_ray_counts counts;
+    ss_status st = angle && ss_box_shadow_horizons(&grid, azimuth_deg - opt->grid_north_deg,
+                                                   el_lo_deg, el_hi_deg, ss_curvature_k(opt),
+                                                   &ctx->cancel_requested, angle, &counts)
+                       ? ss_check_cancel(ctx, "the box shadows")
+                       : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the box shadows");
+    if (st == SS_OK) {
+        ctx->counters.box_march_steps++;
+        ctx->counters.box_march_cells += counts.cells;
+        ctx->counters.box_march_marched += counts.marched;
+        ss_band_view band = {.row0 = 0,
+                             .n_rows = src->height,
+                             .lo = 0,
+                             .held_rows = src->height,
+                             .width = src->width,
+                             .height = src->height,
+                             .z = src->z,
+                             .own_z = src->z};
+        ss_dir_rows rows = {angle, NULL, NULL, 0};
+        st = direction(user, 0, &band, &rows, NULL);
+    }
+    free(angle);
+    return st;
 }
 
 float ss_product_finish(int term, float sum, int directions)

@@ -13,6 +13,15 @@ float ss_curvature_k(const ss_sweep_options *opt);
  * grid held whole (a march reads columns anywhere upstream). */
 int ss_box_shadows_marched(const ss_ctx *ctx, const ss_source *src,
                            const ss_sweep_options *opt);
+/* Where ss_box_shadows_marched: the box shadows toward azimuth_deg (the
+ * options' frame) handed to direction as the one band of the grid held
+ * whole, each cell's horizon right for every sun from el_lo_deg to
+ * el_hi_deg (box_shadow.h), as a walk's would be. */
+ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                              double azimuth_deg, double el_lo_deg, double el_hi_deg,
+                              ss_status (*direction)(void *, int, const ss_band_view *,
+                                                     const ss_dir_rows *, float *),
+                              void *user);
 
 /* Line set of direction i; returns the direction's azimuth in the grid's
  * frame, radians (the frame the sweep and cell slopes live in). */

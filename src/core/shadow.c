@@ -10,7 +10,6 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "box_shadow.h"
 #include "products_internal.h"
 
 typedef struct {
@@ -50,43 +49,6 @@ static ss_status shadow_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
                          .user = s,
                          .what = "shadow"};
     return ss_engine_run(ctx, src, opt, &job);
-}
-
-/* Box shadows by each cell's own ray (ss_box_shadows_marched): the one
- * band of the grid held whole handed to direction, with horizons right for
- * every sun from el_lo_deg to el_hi_deg. */
-static ss_status shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
-                              double azimuth_deg, double el_lo_deg, double el_hi_deg,
-                              ss_status (*direction)(void *, int, const ss_band_view *,
-                                                     const ss_dir_rows *, float *),
-                              shadow_run *s)
-{
-    /* The march only reads the heights. */
-    ss_grid grid = {src->width, src->height, src->cell_x_m, src->cell_y_m, 0.0, (float *)src->z};
-    float *angle = ss_malloc((size_t)src->width * src->height * sizeof(float));
-    ss_box_ray_counts counts;
-    ss_status st = angle && ss_box_shadow_horizons(&grid, azimuth_deg - opt->grid_north_deg,
-                                                   el_lo_deg, el_hi_deg, ss_curvature_k(opt),
-                                                   &ctx->cancel_requested, angle, &counts)
-                       ? ss_check_cancel(ctx, "the box shadows")
-                       : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the box shadows");
-    if (st == SS_OK) {
-        ctx->counters.box_march_steps++;
-        ctx->counters.box_march_cells += counts.cells;
-        ctx->counters.box_march_marched += counts.marched;
-        ss_band_view band = {.row0 = 0,
-                             .n_rows = src->height,
-                             .lo = 0,
-                             .held_rows = src->height,
-                             .width = src->width,
-                             .height = src->height,
-                             .z = src->z,
-                             .own_z = src->z};
-        ss_dir_rows rows = {angle, NULL, NULL, 0};
-        st = direction(s, 0, &band, &rows, NULL);
-    }
-    free(angle);
-    return st;
 }
 
 /* The lowest and highest of a per-cell sun (where the grid has heights). */
@@ -150,7 +112,7 @@ ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_option
         double lo = sun_elevation_deg, hi = sun_elevation_deg;
         if (sun_elevation_per_cell_deg)
             sun_range(grid, sun_elevation_per_cell_deg, &lo, &hi);
-        return shadow_march(ctx, &src, opt, sun_azimuth_deg, lo, hi, cast_rows, &s);
+        return ss_box_shadow_march(ctx, &src, opt, sun_azimuth_deg, lo, hi, cast_rows, &s);
     }
     return shadow_walk(ctx, &src, opt, sun_azimuth_deg, cast_rows, &s);
 }
@@ -219,9 +181,10 @@ ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_optio
     if (!s.facing || !s.light)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of shadows");
     else if (ss_box_shadows_marched(ctx, src, opt))
-        st = shadow_march(ctx, src, opt, centre.azimuth_deg,
-                          centre.apparent_elevation_deg - centre.spread_deg,
-                          centre.apparent_elevation_deg + centre.spread_deg, shade_rows, &s);
+        st = ss_box_shadow_march(ctx, src, opt, centre.azimuth_deg,
+                                 centre.apparent_elevation_deg - centre.spread_deg,
+                                 centre.apparent_elevation_deg + centre.spread_deg, shade_rows,
+                                 &s);
     else
         st = shadow_walk(ctx, src, opt, centre.azimuth_deg, shade_rows, &s);
     free(s.facing);
