@@ -7,14 +7,17 @@
  * and a hundredth of a degree off them) and 7 elevations up to 89.5
  * degrees. A bound that failed would settle a cell the march finds
  * crossed; the families' walks (--box-shadows lines) differ from the march
- * on some cells, which shows the comparison can fail. */
+ * on some cells, which shows the comparison can fail. Asking only the cells
+ * the solid shadows may light (as insolation does) changes no answer. */
 #include "config.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "box_crowns.h"
 #include "box_march.h"
+#include "box_shadow.h"
 #include "tap.h"
 #include "testlib.h"
 #include "tree_scenes.h"
@@ -99,6 +102,33 @@ static void check_scene(const char *name, const ss_grid *g, const float *height,
     free(crossed);
 }
 
+/* Insolation asks only the cells its marched solid shadows may light: those
+ * are answered as when every cell is asked, the rest left 0. */
+static void solid_mask(const char *name, const ss_grid *g, const float *height,
+                       const float *trunk)
+{
+    size_t n = (size_t)g->width * g->height;
+    unsigned char *all = malloc(n), *asked = malloc(n);
+    float *angle = malloc(n * sizeof(float));
+    ss_canopy cn = {height, trunk, 0.0, 0.03};
+    ss_box_ray_counts c_all, c_asked, c_solid;
+    const double az = 203.0, lo = 19.5, hi = 21.5;
+    int ok = ss_box_shadow_horizons(g, az, lo, hi, 0.0, NULL, angle, &c_solid) &&
+             ss_box_crowns_crossed(g, &cn, az, 20.5, NULL, 0.0, NULL, all, &c_all) &&
+             ss_box_crowns_crossed(g, &cn, az, 20.5, angle, hi, NULL, asked, &c_asked);
+    size_t wrong = 0, shaded = 0;
+    for (size_t i = 0; ok && i < n; ++i) {
+        int solid_shade = angle[i] >= hi && isfinite(g->z[i]);
+        shaded += solid_shade;
+        wrong += asked[i] != (solid_shade ? 0 : all[i]);
+    }
+    tap_ok(ok && wrong == 0 && shaded > 0 && c_asked.cells + shaded == c_all.cells,
+           "%s: asking only the cells the solid may light answers them as before (%zu cells "
+           "left unasked, %zu differ)",
+           name, shaded, wrong);
+    free(all), free(asked), free(angle);
+}
+
 /* Trunks at `ratio` of each crown's height. */
 static float *trunks(const float *height, size_t n, double ratio)
 {
@@ -117,6 +147,7 @@ static void synthetic(void)
     tree_plant(&city, height, 11, 40);
     float *trunk = trunks(height, cells, 0.25);
     check_scene("a synthetic city with 40 trees", &city, height, trunk);
+    solid_mask("a synthetic city with 40 trees", &city, height, trunk);
     /* Nodata holes neither hold a crown nor receive; cells half as long
      * again north-south. */
     for (size_t i = 0; i < cells; i += 37)

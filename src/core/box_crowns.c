@@ -19,6 +19,8 @@ typedef struct {
     box_frame f;
     const float *z;
     const ss_canopy *canopy;
+    const float *solid_angle; /* cells at or above solid_el_hi are not asked */
+    double solid_el_hi;
     double tan_e;     /* the sun's slope */
     double tan_bound; /* the bound's (tan_e, clamped) */
 } box_crowns;
@@ -90,7 +92,7 @@ static void walk_line(const box_crowns *b, int line, double *bound_before,
             ptrdiff_t cell = major * f->stride_major + minor * f->stride_minor;
             float z0 = b->z[cell];
             double threshold = z0 + b->tan_bound * along;
-            if (isfinite(z0)) {
+            if (isfinite(z0) && !(b->solid_angle && b->solid_angle[cell] >= b->solid_el_hi)) {
                 counts->cells++;
                 if (!(upper < threshold - box_rounding_margin(threshold))) {
                     counts->marched++;
@@ -110,12 +112,16 @@ static void walk_line(const box_crowns *b, int line, double *bound_before,
 
 int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy,
                           double grid_azimuth_deg, double elevation_deg,
+                          const float *solid_angle, double solid_el_hi,
                           const volatile sig_atomic_t *cancel, unsigned char *crossed,
                           ss_box_ray_counts *counts)
 {
     *counts = (ss_box_ray_counts){0, 0};
     memset(crossed, 0, (size_t)grid->width * grid->height);
-    box_crowns b = {.z = grid->z, .canopy = canopy};
+    box_crowns b = {.z = grid->z,
+                    .canopy = canopy,
+                    .solid_angle = solid_angle,
+                    .solid_el_hi = solid_el_hi};
     if (!box_frame_init(&b.f, grid, grid_azimuth_deg))
         return 0;
     b.tan_e = tan(elevation_deg * (M_PI / 180.0));

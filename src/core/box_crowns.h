@@ -29,11 +29,15 @@
 /* crossed[c] = 1 where the box-model ray from cell c's centre toward the
  * sun at grid azimuth grid_azimuth_deg and elevation elevation_deg (0 <
  * elevation < 90) passes strictly inside a crown of a cell ahead (its own
- * not counted), else 0; 0 at nodata. Lines not yet walked are left once
+ * not counted), else 0; 0 at nodata. Cells whose solid horizon
+ * solid_angle[c] (NULL: none given) is at least solid_el_hi are left 0
+ * unasked: the solid columns shade them from every sun up to that, so no
+ * crown can change their light. Lines not yet walked are left once
  * *cancel (NULL: never) is set, for the caller to report. Returns 0 when
  * out of memory for the lines' work space. */
 int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy,
                           double grid_azimuth_deg, double elevation_deg,
+                          const float *solid_angle, double solid_el_hi,
                           const volatile sig_atomic_t *cancel, unsigned char *crossed,
                           ss_box_ray_counts *counts);
 

@@ -588,7 +588,10 @@ static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const
         return ss_insolation_trees_through(s->job->ctx, t, sun, s->through);
     }
     *crossed = s->crossed + at;
-    return ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun, s->crossed);
+    /* Cells the step's marched solid shadows shade need no crowns. */
+    return ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun,
+                                       s->kind[k] == STEP_MARCHED ? s->marched : NULL,
+                                       s->crossed);
 }
 
 /* A STEP_MARCHED step's horizons over the grid, held whole in the band:

@@ -111,12 +111,25 @@ ss_status ss_insolation_trees_band(ss_insolation_job *job)
     return st;
 }
 
+/* The lines the crowns are met on: the run's, or digital ones where the
+ * run asks for them or Beer-Lambert's paths must lie where crowns are
+ * crossed. */
+static ss_sweep_options crown_lines(const ss_insolation_trees *t, const ss_sweep_options *opt)
+{
+    ss_sweep_options lines = *opt;
+    if (t->digital_lines || t->leaf_area_density > 0.0)
+        lines.lines = SS_LINES_DIGITAL;
+    return lines;
+}
+
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
-                                      unsigned char *crossed)
+                                      const float *solid_angle, unsigned char *crossed)
 {
-    return ss_insolation_trees_crossed_at(ctx, t, opt, sun->grid_azimuth_deg,
-                                          sun->apparent_elevation_deg, crossed);
+    ss_sweep_options lines = crown_lines(t, opt);
+    return ss_canopy_crossed_where_lit(ctx, t->ground, t->canopy, &lines, sun->grid_azimuth_deg,
+                                       sun->apparent_elevation_deg, solid_angle,
+                                       sun->apparent_elevation_deg + sun->spread_deg, crossed);
 }
 
 int ss_insolation_trees_beer_lambert(const ss_insolation_trees *t, int k)
@@ -139,9 +152,7 @@ ss_status ss_insolation_trees_crossed_at(ss_ctx *ctx, const ss_insolation_trees 
                                          const ss_sweep_options *opt, double grid_azimuth_deg,
                                          double apparent_elevation_deg, unsigned char *crossed)
 {
-    ss_sweep_options lines = *opt;
-    if (t->digital_lines || t->leaf_area_density > 0.0)
-        lines.lines = SS_LINES_DIGITAL;
+    ss_sweep_options lines = crown_lines(t, opt);
     return ss_canopy_crossed(ctx, t->ground, t->canopy, &lines, grid_azimuth_deg,
                              apparent_elevation_deg, crossed);
 }

@@ -154,11 +154,13 @@ static int walk_box_line(const box_walk *b, int line, crown_union *u)
 /* Box crowns by each cell's own ray (box_crowns.h). */
 static ss_status crossed_by_rays(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                                  double sun_grid_azimuth_deg, double sun_elevation_deg,
+                                 const float *solid_angle, double solid_el_hi,
                                  unsigned char *crossed)
 {
     ss_box_ray_counts counts;
     if (!ss_box_crowns_crossed(grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg,
-                               &ctx->cancel_requested, crossed, &counts))
+                               solid_angle, solid_el_hi, &ctx->cancel_requested, crossed,
+                               &counts))
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' rays");
     ctx->counters.crown_march_steps++;
     ctx->counters.crown_march_cells += counts.cells;
@@ -169,6 +171,15 @@ static ss_status crossed_by_rays(ss_ctx *ctx, const ss_grid *grid, const ss_cano
 ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                             const ss_sweep_options *lines, double sun_grid_azimuth_deg,
                             double sun_elevation_deg, unsigned char *crossed)
+{
+    return ss_canopy_crossed_where_lit(ctx, grid, canopy, lines, sun_grid_azimuth_deg,
+                                       sun_elevation_deg, NULL, 0.0, crossed);
+}
+
+ss_status ss_canopy_crossed_where_lit(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
+                                      const ss_sweep_options *lines, double sun_grid_azimuth_deg,
+                                      double sun_elevation_deg, const float *solid_angle,
+                                      double solid_el_hi, unsigned char *crossed)
 {
     ss_call_begin(ctx);
     if (!isfinite(sun_grid_azimuth_deg) || !(fabs(sun_elevation_deg) <= 90.0))
@@ -182,7 +193,7 @@ ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *c
     int box = lines && lines->lines == SS_LINES_BOX;
     if (box && lines->box_shadows == SS_BOX_SHADOWS_MARCH && sun_elevation_deg > 0.0)
         return crossed_by_rays(ctx, grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg,
-                               crossed);
+                               solid_angle, solid_el_hi, crossed);
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
                             sun_grid_azimuth_deg,
