@@ -204,6 +204,9 @@ new_extra="--box-shadows lines"
 product "insolation, 5 days of exact shadows, box lines" insolation \
     --time 2026-06-19T00:00Z/P5D --step PT1H --directions 16 --shadow exact --lines box \
     --box-lines 4 "$dem" out.tif
+product "shadow, box lines" shadow --time "$t" --lines box --box-lines 4 "$dem" out.tif
+product "hillshade --cast-shadows, box lines" hillshade --cast-shadows --lines box \
+    --box-lines 4 "$dem" out.tif
 new_extra=
 # In bands, whose walks stop early too (since issue 42 item 1).
 same_rows insolation --time 2026-06-19T00:00Z/P5D --step PT1H --directions 16 --shadow exact \
