@@ -19,9 +19,9 @@ static const opt_spec season_table[] = {
     {"leaf-off", OPT_STRING, SET(leaf_off), "DAY", NULL, 0, 0, NULL,
      "the day the leaves fall, likewise: UMEP's lastdayleaf 300, half a year later in the south"},
     {"crown-lines", OPT_CHOICE, SET(crown_lines), NULL, "auto", 0, 0, "auto|digital",
-     "the lines each step's crowns are swept on: auto, the solid sweep's (box lines on city "
-     "DSMs); digital, about 30 times faster there, its beam classes' error in "
-     "doc/vegetation.md"},
+     "how each step's crowns are met: auto, on the solid sweep's line model (on city DSMs "
+     "box lines, by each cell's own ray under --box-shadows march); digital, on digital "
+     "lines whatever the solid's (its beam classes' error in doc/vegetation.md)"},
     OPT_END};
 #undef SET
 
