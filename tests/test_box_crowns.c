@@ -1,7 +1,8 @@
 /* Box-model crowns by each cell's own ray (src/core/box_crowns.c, through
  * ss_canopy_crossed on box lines) against the independent ray march of
  * tests/box_march.c, cell by cell: a synthetic city with trees, the same
- * with nodata holes and cells longer one way, crowns high on their trunks
+ * with nodata holes and cells longer one way, one column and one row of
+ * cells, crowns high on their trunks
  * over hills, and the Gothenburg DSM and CDSM where ../shared/data has
  * them. Suns in 40 azimuths (the axes, the diagonals, and others between
  * and a hundredth of a degree off them) and 7 elevations up to 89.5
@@ -48,9 +49,11 @@ static long disagreements(const ss_grid *g, const ss_canopy *cn, const float *tr
 }
 
 /* Every sun over grid g with crowns `height` on trunks `trunk` (metres
- * above each cell's surface); the march's own counts go to tap_diag. */
+ * above each cell's surface). On a grid one cell wide (one_wide) a ray
+ * crosses a square or two before it leaves, and the families' walks need
+ * not differ from the march: they are not compared there. */
 static void check_scene(const char *name, const ss_grid *g, const float *height,
-                        const float *trunk)
+                        const float *trunk, int one_wide)
 {
     size_t n = (size_t)g->width * g->height;
     unsigned char *crossed = malloc(n);
@@ -92,12 +95,13 @@ static void check_scene(const char *name, const ss_grid *g, const float *height,
      * lines: they differ somewhere, so the comparison above can fail. */
     opt.box_shadows = SS_BOX_SHADOWS_LINES;
     long lines_wrong = 0, lines_found = 0;
-    for (size_t a = 0; !failed && a < 4; ++a)
+    for (size_t a = 0; !failed && !one_wide && a < 4; ++a)
         if (ss_canopy_crossed(ctx, g, &cn, &opt, azimuths[4 * a + 2], 21.5, crossed) == SS_OK)
             lines_wrong += disagreements(g, &cn, trunk, crossed, azimuths[4 * a + 2], 21.5,
                                          z_max, &lines_found);
-    tap_ok(lines_wrong > 0, "%s: the box lines' families differ from the march on %ld cells "
-           "of 4 suns", name, lines_wrong);
+    if (!one_wide)
+        tap_ok(lines_wrong > 0, "%s: the box lines' families differ from the march on %ld "
+               "cells of 4 suns", name, lines_wrong);
     ss_ctx_free(ctx);
     free(crossed);
 }
@@ -146,14 +150,14 @@ static void synthetic(void)
     float *height = malloc(cells * sizeof(float));
     tree_plant(&city, height, 11, 40);
     float *trunk = trunks(height, cells, 0.25);
-    check_scene("a synthetic city with 40 trees", &city, height, trunk);
+    check_scene("a synthetic city with 40 trees", &city, height, trunk, 0);
     solid_mask("a synthetic city with 40 trees", &city, height, trunk);
     /* Nodata holes neither hold a crown nor receive; cells half as long
      * again north-south. */
     for (size_t i = 0; i < cells; i += 37)
         city.z[i] = NAN;
     city.cell_y_m = 1.5;
-    check_scene("a city with holes, 1 x 1.5 m cells", &city, height, trunk);
+    check_scene("a city with holes, 1 x 1.5 m cells", &city, height, trunk, 0);
     free(trunk);
     ss_grid_free(&city);
     /* Crowns high on their trunks over hills: light passes under them. */
@@ -161,10 +165,24 @@ static void synthetic(void)
     test_fill(&hills, TERRAIN_SMOOTH, 3, 6.0);
     tree_plant(&hills, height, 5, 30);
     trunk = trunks(height, cells, 0.6);
-    check_scene("high crowns (trunk 0.6) over 6 m hills", &hills, height, trunk);
+    check_scene("high crowns (trunk 0.6) over 6 m hills", &hills, height, trunk, 0);
     free(trunk);
     free(height);
     ss_grid_free(&hills);
+    /* One column and one row of cells, every third with a crown: the
+     * major axis of a grid one cell wide may be its rows with a stride of 1. */
+    for (int k = 0; k < 2; ++k) {
+        ss_grid line = test_grid(k ? 200 : 1, k ? 1 : 200, 1, 1);
+        float *h = malloc(200 * sizeof(float));
+        for (int i = 0; i < 200; ++i) {
+            line.z[i] = (float)((i * 7919) % 5);
+            h[i] = i % 3 ? 0.0f : (float)(3 + i % 7);
+        }
+        float *t = trunks(h, 200, 0.3);
+        check_scene(k ? "one row" : "one column", &line, h, t, 1);
+        free(t), free(h);
+        ss_grid_free(&line);
+    }
 }
 
 static void gothenburg(void)
@@ -178,7 +196,7 @@ static void gothenburg(void)
         return;
     size_t cells = (size_t)d.grid.width * d.grid.height;
     float *trunk = trunks(height, cells, 0.25);
-    check_scene("the Gothenburg DSM and CDSM", &d.grid, height, trunk);
+    check_scene("the Gothenburg DSM and CDSM", &d.grid, height, trunk, 0);
     free(trunk);
     free(height);
     ss_dem_free(&d);

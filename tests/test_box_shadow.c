@@ -1,7 +1,7 @@
 /* Box-model shadows by bounds and march (src/core/box_shadow.c) against
  * the independent box-model ray march of tests/box_march.c, cell by cell:
  * on a synthetic city, the same with nodata holes and cells longer one
- * way, a grid of one row, a tower seen from a plain, and the Gothenburg
+ * way, a grid of one row and one of one column, a tower seen from a plain, and the Gothenburg
  * DSM where ../shared/data has it. Suns in 40 azimuths (the axes, the
  * diagonals, and others between and a hundredth of a degree off them),
  * from the horizontal to overhead, each over a range of elevations (a
@@ -128,6 +128,12 @@ int main(void)
         row.z[c] = (float)((c * 7919) % 23);
     check_grid("one row", &row, 0.0, 40);
     ss_grid_free(&row);
+    /* One column: the major axis may be its rows with a stride of 1. */
+    ss_grid column = test_grid(1, 300, 1.0, 1.0);
+    for (int r = 0; r < 300; ++r)
+        column.z[r] = (float)((r * 7919) % 23);
+    check_grid("one column", &column, 0.0, 40);
+    ss_grid_free(&column);
     ss_grid tower = test_grid(90, 70, 2.0, 2.0);
     for (size_t i = 0; i < (size_t)90 * 70; ++i)
         tower.z[i] = 0.0f;

@@ -88,6 +88,9 @@ static void walk_line(const box_crowns *b, int line, double *bound_before,
         int major = box_walk_position(f, p);
         int minor = line + f->shift[major];
         double along = p * f->step_m;
+        /* A ray through a corner may step first into its own column,
+         * whose bound is made after it: there nothing stops its march. */
+        bound_before[p + 1 - first] = INFINITY;
         if (minor >= 0 && minor < f->minor_len) {
             ptrdiff_t cell = major * f->stride_major + minor * f->stride_minor;
             float z0 = b->z[cell];
@@ -96,8 +99,8 @@ static void walk_line(const box_crowns *b, int line, double *bound_before,
                 counts->cells++;
                 if (!(upper < threshold - box_rounding_margin(threshold))) {
                     counts->marched++;
-                    int col = f->stride_major == 1 ? major : minor;
-                    int row = f->stride_major == 1 ? minor : major;
+                    int col, row;
+                    box_cell_at(f, major, minor, &col, &row);
                     crossed[cell] = (unsigned char)march_crossed(b, col, row, z0, bound_before,
                                                                  first, threshold);
                 }

@@ -33,6 +33,7 @@ int box_frame_init(box_frame *f, const ss_grid *g, double grid_azimuth_deg)
     f->col_per_m = sin(az) / g->cell_x_m;
     f->row_per_m = -cos(az) / g->cell_y_m; /* rows run south */
     int major_is_col = fabs(f->col_per_m) >= fabs(f->row_per_m);
+    f->major_is_col = major_is_col;
     double major_per_m = major_is_col ? f->col_per_m : f->row_per_m;
     f->major_len = major_is_col ? g->width : g->height;
     f->minor_len = major_is_col ? g->height : g->width;

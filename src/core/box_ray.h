@@ -27,6 +27,8 @@ typedef struct {
 
 typedef struct {
     int width, height;
+    int major_is_col; /* the major axis is the columns (a grid one cell wide may have
+                         stride_major 1 either way) */
     int major_len, minor_len;
     ptrdiff_t stride_major, stride_minor;
     int sun_at_high_major; /* the sun lies toward increasing major index */
@@ -47,6 +49,13 @@ void box_frame_free(box_frame *f);
 static inline int box_walk_position(const box_frame *f, int major)
 {
     return f->sun_at_high_major ? f->major_len - 1 - major : major;
+}
+
+/* The column and row of the cell at (major, minor). */
+static inline void box_cell_at(const box_frame *f, int major, int minor, int *col, int *row)
+{
+    *col = f->major_is_col ? major : minor;
+    *row = f->major_is_col ? minor : major;
 }
 
 /* The first walk position whose cell of line `line` lies past its span's
@@ -102,7 +111,7 @@ static inline int box_ray_next(const box_frame *f, box_ray *r)
     if (r->col < 0 || r->row < 0 || r->col >= f->width || r->row >= f->height)
         return 0;
     r->t_out = r->tx < r->ty ? r->tx : r->ty;
-    r->position = box_walk_position(f, f->stride_major == 1 ? r->col : r->row);
+    r->position = box_walk_position(f, f->major_is_col ? r->col : r->row);
     return 1;
 }
 
