@@ -1,5 +1,5 @@
 /* Box-model crowns crossed by each cell's own ray (doc/vegetation.md,
- * "Crowns on box lines").
+ * "Crowns by each cell's own ray").
  *
  * On a city DSM every crown is a column over its cell's square, from its
  * trunk to its top (ss_canopy). The ray from a cell's centre toward a sun

@@ -8,7 +8,7 @@
  * major index; a cell's ray runs beside its line by less than half a cell,
  * so in every column it crosses it stays within the three cells around the
  * line there. That is what lets a running maximum along the line bound
- * what every ray of the line meets (doc/model.md, "Box shadows by each
+ * what every ray of the line meets (doc/model.md, "Cast shadows: each
  * cell's own ray"). */
 #ifndef SS_BOX_RAY_H
 #define SS_BOX_RAY_H

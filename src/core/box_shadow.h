@@ -1,5 +1,5 @@
-/* Box-model shadows by proven bounds and a march (doc/box_lines.md,
- * "Shadows by bounds and march").
+/* Box-model shadows by proven bounds and a march (doc/model.md, "Cast
+ * shadows: each cell's own ray"; measured in doc/box_lines.md).
  *
  * A cell of a city DSM is a flat-topped column. Whether the sun at
  * elevation e in one azimuth lights a cell's centre is then exact: no
