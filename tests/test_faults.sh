@@ -595,7 +595,7 @@ else
     tap_skip "an svf run opens no network socket" "strace cannot run here"
 fi
 
-# ---- --memory too small: the message names the least budget that works -----------------------
+# ---- --memory too small: the message names a budget that works, within 3 MiB of the least ------
 sample=$top/samples/kilauea_summit_30m.tif
 for cmd in "svf --directions 8" "horizon --directions 8"; do
     # shellcheck disable=SC2086
@@ -604,8 +604,11 @@ for cmd in "svf --directions 8" "horizon --directions 8"; do
     first_rc=$rc
     first_msg=$(head -c 200 "$work/stderr")
     if [ -n "$least" ]; then
+        # The budget named is the least rounded up to a MiB and 1 MiB more
+        # (what the process holds varies from run to run by a few hundred
+        # KiB): 3 MiB less is below the least on any run.
         # shellcheck disable=SC2086
-        run $cmd -q --device reference --memory "$((least - 1))M" "$sample" "$work/out/m.tif"
+        run $cmd -q --device reference --memory "$((least - 3))M" "$sample" "$work/out/m.tif"
         below=$rc
         # A sanitizer build's process grows by a MiB or so from run to run
         # (AddressSanitizer's quarantine): there the least budget and 4 MiB.
@@ -617,7 +620,7 @@ for cmd in "svf --directions 8" "horizon --directions 8"; do
     # Under the sanitizers the edge below is not exact either.
     [ "$first_rc" -eq 6 ] && [ -n "$least" ] && [ "$rc" -eq 0 ] &&
         { [ "${below:-0}" -eq 6 ] || "$SKYSWEEP" info | grep -q 'sanitizers yes'; }
-    tap_ok $? "${cmd%% *} --memory 40M: exit $first_rc (want 6) naming the least budget (${least:-none}M): $((least - 1))M is refused (${below:-?}), ${enough:-?}M runs ($rc): $first_msg"
+    tap_ok $? "${cmd%% *} --memory 40M: exit $first_rc (want 6) naming a budget (${least:-none}M): $((least - 3))M is refused (${below:-?}), ${enough:-?}M runs ($rc): $first_msg"
     rm -f "$work/out/"* "$work/out/".* 2>/dev/null
 done
 

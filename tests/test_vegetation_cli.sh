@@ -118,17 +118,13 @@ least_budget() {
         sed -n 's/.*at least --memory \([0-9]*M\).*/\1/p'
 }
 # at_least SUMMARY LEAST COMMAND ARGS...: runs skysweep COMMAND ARGS at the
-# least budget, or a MiB or two above it where the process's measured size
-# tips the run over at the edge (a few more and the whole grid may fit);
-# its summary into the file SUMMARY (not a pipe, which could end the run
-# before its output is written).
+# budget the refusal named (the least and a MiB of headroom for what the
+# process holds from run to run); its summary into the file SUMMARY (not a
+# pipe, which could end the run before its output is written).
 at_least() {
-    local summary=$1 least=$2 m
+    local summary=$1 least=$2
     shift 2
-    for m in 0 1 2; do
-        "$SKYSWEEP" "$@" --memory "$((${least%M} + m))M" >"$summary" 2>/dev/null && return 0
-    done
-    return 1
+    "$SKYSWEEP" "$@" --memory "$least" >"$summary" 2>/dev/null
 }
 if [ -r dsm4.tif ]; then
     g=(--lines interpolated --canopy cdsm4.tif dsm4.tif)

@@ -385,9 +385,18 @@ static int plan_keeps_dem(const sweep_job *job)
     return job->source ? rows >= 0 : rows == 0;
 }
 
-/* Refuses a budget too small for one band, naming the least that would do
- * and what the process holds (of it, what --device auto loaded to choose a
- * device: 0 where it loaded nothing). */
+/* The budget a refusal names for a least of least bytes: whole MiB, and
+ * 1 MiB more, because what the process holds varies by a few hundred KiB
+ * from run to run (its heap, GDAL's and the threads' pages), and a least
+ * named to the MiB was refused on the next run now and then. */
+static double named_budget(double least)
+{
+    return (ceil(least / 1048576.0) + 1.0) * 1048576.0;
+}
+
+/* Refuses a budget too small for one band, naming a budget that would do
+ * (named_budget) and what the process holds (of it, what --device auto
+ * loaded to choose a device: 0 where it loaded nothing). */
 static ss_status refuse_budget(const run_state *run, double least, double held,
                                double loaded_by_auto, int width)
 {
@@ -401,7 +410,7 @@ static ss_status refuse_budget(const run_state *run, double least, double held,
                         "%d cells with the hulls handed on, GDAL's cache and the device's "
                         "buffers; doc/scale.md)",
                         run->memory_asked ? run->memory_asked : "half this machine's memory",
-                        ceil(least / 1048576.0), held / 1048576.0, loaded, width);
+                        named_budget(least) / 1048576.0, held / 1048576.0, loaded, width);
 }
 
 /* The least budget with which a plan for need on the context's device
@@ -421,16 +430,14 @@ static double whole_least(ss_ctx *ctx, ss_memory_need need)
  * least_whole: of their whole grids'): with a budget that the C twin's
  * plan at the DEM's opening (first, made before choosing, on heights the
  * effects plan reads) sweeps whole, the DEM is read whole before the
- * device is chosen, and then only a whole grid keeps it. A budget is named
- * in whole MiB, and what the process holds varies by a few hundred KiB
- * from run to run: a least within 1 MiB of the first plan's whole grid is
- * taken whole. */
+ * device is chosen, and then only a whole grid keeps it: a least whose
+ * named budget (named_budget) reaches the first plan's whole grid is taken
+ * whole. */
 static double auto_least(run_state *run, const ss_memory_need *first, double least_bands,
                          double least_whole)
 {
     double whole_first = whole_least(run->ctx, *first);
-    double named = ceil(least_bands / 1048576.0) * 1048576.0;
-    return named + 1048576.0 < whole_first ? least_bands : fmax(whole_first, least_whole);
+    return named_budget(least_bands) < whole_first ? least_bands : fmax(whole_first, least_whole);
 }
 
 ss_status job_memory_replan(sweep_job *job, memory_mark before)
