@@ -45,8 +45,8 @@ int box_march_lit_curved(const ss_grid *g, int r, int c, double az, double el, d
     }
 }
 
-int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_m, int r,
-                      int c, double az, double el, double z_max)
+int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_m, int r, int c,
+                      double az, double el, double z_max)
 {
     double z0 = g->z[(size_t)r * g->width + c];
     double tan_el = tan(el * M_PI / 180);
@@ -214,3 +214,9 @@ double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, double
     free(svf);
     return error;
 }
+
+const double box_march_azimuths[BOX_MARCH_AZIMUTHS] = {
+    0.0,    0.01,   17.3,   44.99,  45.0,   45.01,  63.4,   89.99, 90.0,   90.01,
+    101.7,  134.99, 135.0,  152.2,  179.99, 180.0,  180.01, 197.6, 224.99, 225.0,
+    225.01, 243.3,  269.99, 270.0,  270.01, 288.8,  314.99, 315.0, 315.01, 333.1,
+    359.99, 7.7,    26.57,  116.57, 206.57, 296.57, 11.0,   191.0, 78.0,   258.0};

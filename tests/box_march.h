@@ -23,8 +23,14 @@ int box_march_lit_curved(const ss_grid *g, int r, int c, double az, double el, d
  * its own not counted: cell j's crown is the open interval of heights
  * (z_j + bottom_m[j], z_j + top_m[j]) over its square, none where top_m[j]
  * <= bottom_m[j]. z_max: the highest crown top. */
-int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_m, int r,
-                      int c, double az, double el, double z_max);
+int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_m, int r, int c,
+                      double az, double el, double z_max);
+
+/* Sun azimuths (degrees) that try each cell's own ray: the axes and the
+ * diagonals, a hundredth of a degree either side of them, and others
+ * between (tests/test_box_shadow.c, tests/test_box_crowns.c). */
+#define BOX_MARCH_AZIMUTHS 40
+extern const double box_march_azimuths[BOX_MARCH_AZIMUTHS];
 
 /* The box-model horizon (degrees) from cell (r, c) toward azimuth az: the
  * largest elevation of the column tops its ray crosses, the cell's own top
@@ -48,7 +54,6 @@ double box_march_agreement(const ss_grid *g, const ss_sweep_options *opt, double
  * latter from box_march_horizon_deg over opt's directions (the C twin),
  * and in *p95 (may be NULL) its 95th percentile over the cells (nearest
  * rank); NAN after a failure, whose message goes to err (300 bytes). */
-double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, double *p95,
-                           char *err);
+double box_march_svf_error(const ss_grid *g, const ss_sweep_options *opt, double *p95, char *err);
 
 #endif

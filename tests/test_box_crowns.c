@@ -23,11 +23,6 @@
 #include "testlib.h"
 #include "tree_scenes.h"
 
-static const double azimuths[] = {0.0,    0.01,   17.3,  44.99, 45.0,  45.01, 63.4,  89.99,
-                                  90.0,   90.01,  101.7, 134.99, 135.0, 152.2, 179.99, 180.0,
-                                  180.01, 197.6,  224.99, 225.0, 225.01, 243.3, 269.99, 270.0,
-                                  270.01, 288.8,  314.99, 315.0, 315.01, 333.1, 359.99, 7.7,
-                                  26.57,  116.57, 206.57, 296.57, 11.0,  191.0, 78.0,  258.0};
 static const double elevations[] = {0.5, 3.0, 9.0, 21.5, 33.0, 57.0, 89.5};
 
 /* Cells where the library's crossed differs from the march's. */
@@ -52,8 +47,8 @@ static long disagreements(const ss_grid *g, const ss_canopy *cn, const float *tr
  * above each cell's surface). On a grid one cell wide (one_wide) a ray
  * crosses a square or two before it leaves, and the families' walks need
  * not differ from the march: they are not compared there. */
-static void check_scene(const char *name, const ss_grid *g, const float *height,
-                        const float *trunk, int one_wide)
+static void check_scene(const char *name, const ss_grid *g, const float *height, const float *trunk,
+                        int one_wide)
 {
     size_t n = (size_t)g->width * g->height;
     unsigned char *crossed = malloc(n);
@@ -68,19 +63,19 @@ static void check_scene(const char *name, const ss_grid *g, const float *height,
             z_max = fmax(z_max, g->z[i] + height[i]);
     long wrong = 0, found = 0, suns = 0;
     int failed = !crossed;
-    for (size_t a = 0; !failed && a < sizeof azimuths / sizeof *azimuths; ++a)
+    for (size_t a = 0; !failed && a < BOX_MARCH_AZIMUTHS; ++a)
         for (size_t e = 0; !failed && e < sizeof elevations / sizeof *elevations; ++e, ++suns) {
-            if (ss_canopy_crossed(ctx, g, &cn, &opt, azimuths[a], elevations[e], crossed) !=
-                SS_OK) {
+            if (ss_canopy_crossed(ctx, g, &cn, &opt, box_march_azimuths[a], elevations[e],
+                                  crossed) != SS_OK) {
                 tap_diag("%s: %s", name, ss_ctx_message(ctx));
                 failed = 1;
                 break;
             }
-            long w = disagreements(g, &cn, trunk, crossed, azimuths[a], elevations[e], z_max,
-                                   &found);
+            long w = disagreements(g, &cn, trunk, crossed, box_march_azimuths[a], elevations[e],
+                                   z_max, &found);
             if (w && !wrong)
                 tap_diag("%s: %ld cells differ at azimuth %g, elevation %g", name, w,
-                         azimuths[a], elevations[e]);
+                         box_march_azimuths[a], elevations[e]);
             wrong += w;
         }
     ss_counters counts = ss_ctx_counters(ctx);
@@ -96,20 +91,22 @@ static void check_scene(const char *name, const ss_grid *g, const float *height,
     opt.box_shadows = SS_BOX_SHADOWS_LINES;
     long lines_wrong = 0, lines_found = 0;
     for (size_t a = 0; !failed && !one_wide && a < 4; ++a)
-        if (ss_canopy_crossed(ctx, g, &cn, &opt, azimuths[4 * a + 2], 21.5, crossed) == SS_OK)
-            lines_wrong += disagreements(g, &cn, trunk, crossed, azimuths[4 * a + 2], 21.5,
-                                         z_max, &lines_found);
+        if (ss_canopy_crossed(ctx, g, &cn, &opt, box_march_azimuths[4 * a + 2], 21.5, crossed) ==
+            SS_OK)
+            lines_wrong += disagreements(g, &cn, trunk, crossed, box_march_azimuths[4 * a + 2],
+                                         21.5, z_max, &lines_found);
     if (!one_wide)
-        tap_ok(lines_wrong > 0, "%s: the box lines' families differ from the march on %ld "
-               "cells of 4 suns", name, lines_wrong);
+        tap_ok(lines_wrong > 0,
+               "%s: the box lines' families differ from the march on %ld "
+               "cells of 4 suns",
+               name, lines_wrong);
     ss_ctx_free(ctx);
     free(crossed);
 }
 
 /* Insolation asks only the cells its marched solid shadows may light: those
  * are answered as when every cell is asked, the rest left 0. */
-static void solid_mask(const char *name, const ss_grid *g, const float *height,
-                       const float *trunk)
+static void solid_mask(const char *name, const ss_grid *g, const float *height, const float *trunk)
 {
     size_t n = (size_t)g->width * g->height;
     unsigned char *all = malloc(n), *asked = malloc(n);

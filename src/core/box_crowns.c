@@ -3,12 +3,10 @@
 
 #include <math.h>
 #include <stddef.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "box_crowns.h"
 #include "crown_union.h" /* trunk_of */
-#include "ctx_internal.h" /* ss_malloc */
 
 /* The bound's slope is clamped here, which keeps it a bound (a lower slope
  * lifts the tops less) and keeps steep suns' tangents from swamping the
@@ -21,8 +19,9 @@ typedef struct {
     const ss_canopy *canopy;
     const float *solid_angle; /* cells at or above solid_el_hi are not asked */
     double solid_el_hi;
-    double tan_e;     /* the sun's slope */
-    double tan_bound; /* the bound's (tan_e, clamped) */
+    double tan_e;           /* the sun's slope */
+    double tan_bound;       /* the bound's (tan_e, clamped) */
+    unsigned char *crossed; /* the answer per cell */
 } box_crowns;
 
 /* Cell i's crown as heights (*bottom, *top): 0 where it has none. */
@@ -77,9 +76,9 @@ static inline double window_top(const box_crowns *b, int major, int minor)
 
 /* Line `line`'s cells, walked from the sun's side; bound_before is its
  * work space (major_len + 1 values). */
-static void walk_line(const box_crowns *b, int line, double *bound_before,
-                      unsigned char *crossed, ss_box_ray_counts *counts)
+static void walk_line(const void *job, int line, double *bound_before, ss_box_ray_counts *counts)
 {
+    const box_crowns *b = job;
     const box_frame *f = &b->f;
     double upper = -INFINITY;
     int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1);
@@ -101,8 +100,8 @@ static void walk_line(const box_crowns *b, int line, double *bound_before,
                     counts->marched++;
                     int col, row;
                     box_cell_at(f, major, minor, &col, &row);
-                    crossed[cell] = (unsigned char)march_crossed(b, col, row, z0, bound_before,
-                                                                 first, threshold);
+                    b->crossed[cell] = (unsigned char)march_crossed(b, col, row, z0, bound_before,
+                                                                    first, threshold);
                 }
             }
         }
@@ -113,9 +112,8 @@ static void walk_line(const box_crowns *b, int line, double *bound_before,
     }
 }
 
-int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy,
-                          double grid_azimuth_deg, double elevation_deg,
-                          const float *solid_angle, double solid_el_hi,
+int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy, double grid_azimuth_deg,
+                          double elevation_deg, const float *solid_angle, double solid_el_hi,
                           const volatile sig_atomic_t *cancel, unsigned char *crossed,
                           ss_box_ray_counts *counts)
 {
@@ -124,28 +122,13 @@ int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy,
     box_crowns b = {.z = grid->z,
                     .canopy = canopy,
                     .solid_angle = solid_angle,
-                    .solid_el_hi = solid_el_hi};
+                    .solid_el_hi = solid_el_hi,
+                    .crossed = crossed};
     if (!box_frame_init(&b.f, grid, grid_azimuth_deg))
         return 0;
     b.tan_e = tan(elevation_deg * (M_PI / 180.0));
     b.tan_bound = tan(fmin(elevation_deg, STEEPEST_BOUNDED_DEG) * (M_PI / 180.0));
-    int failed = 0;
-    uint64_t cells = 0, marched = 0;
-#pragma omp parallel reduction(+ : cells, marched, failed)
-    {
-        double *bound_before = ss_malloc(sizeof(double) * ((size_t)b.f.major_len + 1));
-        ss_box_ray_counts mine = {0, 0};
-        failed += !bound_before;
-#pragma omp for schedule(dynamic, 16)
-        for (int line = b.f.first_line; line <= b.f.last_line; ++line)
-            if (bound_before && !(cancel && *cancel))
-                walk_line(&b, line, bound_before, crossed, &mine);
-        cells += mine.cells;
-        marched += mine.marched;
-        free(bound_before);
-    }
+    int done = box_frame_walk_lines(&b.f, walk_line, &b, cancel, counts);
     box_frame_free(&b.f);
-    counts->cells = cells;
-    counts->marched = marched;
-    return !failed;
+    return done;
 }

@@ -64,3 +64,26 @@ void box_frame_free(box_frame *f)
     free(f->shift);
     f->shift = NULL;
 }
+
+int box_frame_walk_lines(const box_frame *f, box_line_walk walk, const void *job,
+                         const volatile sig_atomic_t *cancel, ss_box_ray_counts *counts)
+{
+    int failed = 0;
+    uint64_t cells = 0, marched = 0;
+#pragma omp parallel reduction(+ : cells, marched, failed)
+    {
+        double *bound_before = ss_malloc(sizeof(double) * ((size_t)f->major_len + 1));
+        ss_box_ray_counts mine = {0, 0};
+        failed += !bound_before;
+#pragma omp for schedule(dynamic, 16)
+        for (int line = f->first_line; line <= f->last_line; ++line)
+            if (bound_before && !(cancel && *cancel))
+                walk(job, line, bound_before, &mine);
+        cells += mine.cells;
+        marched += mine.marched;
+        free(bound_before);
+    }
+    counts->cells = cells;
+    counts->marched = marched;
+    return !failed;
+}

@@ -14,6 +14,7 @@
 #define SS_BOX_RAY_H
 
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -31,10 +32,10 @@ typedef struct {
                          stride_major 1 either way) */
     int major_len, minor_len;
     ptrdiff_t stride_major, stride_minor;
-    int sun_at_high_major; /* the sun lies toward increasing major index */
-    double step_m;         /* metres along the ray per major column */
-    int *shift;            /* per major index: floor(slope * major + 1/2), in minor cells */
-    int shift_rising;      /* shift never falls along the walk */
+    int sun_at_high_major;       /* the sun lies toward increasing major index */
+    double step_m;               /* metres along the ray per major column */
+    int *shift;                  /* per major index: floor(slope * major + 1/2), in minor cells */
+    int shift_rising;            /* shift never falls along the walk */
     double col_per_m, row_per_m; /* the ray toward the sun, in cells per metre */
     int first_line, last_line;   /* the lines whose cells or neighbours lie in the grid */
 } box_frame;
@@ -58,6 +59,20 @@ static inline void box_cell_at(const box_frame *f, int major, int minor, int *co
     *row = f->major_is_col ? minor : major;
 }
 
+/* One line's walk (box_shadow.c's, box_crowns.c's): job is the walker's
+ * own state, bound_before a work space of major_len + 1 values, counts
+ * what the line's cells add. */
+typedef void (*box_line_walk)(const void *job, int line, double *bound_before,
+                              ss_box_ray_counts *counts);
+
+/* Walks every line of f with walk on OpenMP's threads, each thread with
+ * its own work space, the counts summed into *counts; lines not begun when
+ * *cancel (NULL: none) is set are skipped. Each cell belongs to exactly
+ * one line, so walkers write their cells without locks. Returns 0 when out
+ * of memory. */
+int box_frame_walk_lines(const box_frame *f, box_line_walk walk, const void *job,
+                         const volatile sig_atomic_t *cancel, ss_box_ray_counts *counts);
+
 /* The first walk position whose cell of line `line` lies past its span's
  * start (its_end 0) or past its end (its_end 1): the span being where the
  * line or a cell beside it lies in the grid, its minor index from -1 to
@@ -74,8 +89,8 @@ static inline double box_rounding_margin(double threshold)
 /* One ray from a cell's centre toward the sun, square after square. */
 typedef struct {
     int col, row;
-    int position;        /* the walk position of the square it is in */
-    double t_in, t_out;  /* metres from the centre where it enters and leaves it */
+    int position;       /* the walk position of the square it is in */
+    double t_in, t_out; /* metres from the centre where it enters and leaves it */
     double tx, ty, step_x, step_y;
     int sx, sy;
 } box_ray;

@@ -3,11 +3,9 @@
 
 #include <math.h>
 #include <stddef.h>
-#include <stdlib.h>
 
 #include "box_ray.h"
 #include "box_shadow.h"
-#include "ctx_internal.h" /* ss_malloc */
 
 /* Suns steeper than this are not bounded from below (their tangent would
  * swamp the heights' precision); their cells are marched instead. */
@@ -20,6 +18,7 @@ typedef struct {
     double tan_lit;   /* the lowest sun's slope (clamped to 0..STEEPEST_BOUNDED_DEG) */
     double tan_shade; /* the highest sun's slope; INFINITY: no lower bound */
     double curv_k, curv_margin_m;
+    float *angle; /* the answer per cell */
 } box_sun;
 
 /* The ray from the centre of cell (col, row), column boundary after column
@@ -29,8 +28,8 @@ typedef struct {
  * whose line's upper bound (bound_before[p + 1 - first]: every column of
  * the line's span up to walk position p) the lowest sun clears from this
  * cell (lit_threshold). */
-static double march_slope(const box_sun *b, int col, int row, double z0,
-                          const double *bound_before, int first, double lit_threshold)
+static double march_slope(const box_sun *b, int col, int row, double z0, const double *bound_before,
+                          int first, double lit_threshold)
 {
     box_ray ray = box_ray_from(&b->f, col, row);
     int last_position = -1;
@@ -63,9 +62,8 @@ static inline void window_tops(const box_sun *b, int major, int minor, double *t
     const box_frame *f = &b->f;
     double hi = -INFINITY, lo = INFINITY;
     for (int m = minor - 1; m <= minor + 1; ++m) {
-        float h = m >= 0 && m < f->minor_len
-                      ? b->z[major * f->stride_major + m * f->stride_minor]
-                      : NAN;
+        float h =
+            m >= 0 && m < f->minor_len ? b->z[major * f->stride_major + m * f->stride_minor] : NAN;
         if (isfinite(h)) {
             hi = h > hi ? h : hi;
             lo = h < lo ? h : lo;
@@ -79,9 +77,9 @@ static inline void window_tops(const box_sun *b, int major, int minor, double *t
 
 /* Line `line`'s cells (minor index line + shift[major]), walked from the
  * sun's side; bound_before is its work space (major_len + 1 values). */
-static void walk_line(const box_sun *b, int line, double *bound_before, float *angle,
-                      ss_box_ray_counts *counts)
+static void walk_line(const void *job, int line, double *bound_before, ss_box_ray_counts *counts)
 {
+    const box_sun *b = job;
     const box_frame *f = &b->f;
     double upper = -INFINITY, lower = -INFINITY;
     int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1);
@@ -97,22 +95,21 @@ static void walk_line(const box_sun *b, int line, double *bound_before, float *a
             ptrdiff_t cell = major * f->stride_major + minor * f->stride_minor;
             float z0 = b->z[cell];
             if (!isfinite(z0)) {
-                angle[cell] = 0.0f;
+                b->angle[cell] = 0.0f;
             } else {
                 counts->cells++;
                 double lit_threshold = z0 + b->tan_lit * along;
                 double shade_threshold = z0 + b->tan_shade * along + b->curv_margin_m;
                 if (upper < lit_threshold - box_rounding_margin(lit_threshold)) {
-                    angle[cell] = 0.0f;
+                    b->angle[cell] = 0.0f;
                 } else if (lower > shade_threshold + box_rounding_margin(shade_threshold)) {
-                    angle[cell] = 90.0f;
+                    b->angle[cell] = 90.0f;
                 } else {
                     counts->marched++;
                     int col, row;
                     box_cell_at(f, major, minor, &col, &row);
-                    double slope =
-                        march_slope(b, col, row, z0, bound_before, first, lit_threshold);
-                    angle[cell] = (float)(atan(slope) * (180.0 / M_PI));
+                    double slope = march_slope(b, col, row, z0, bound_before, first, lit_threshold);
+                    b->angle[cell] = (float)(atan(slope) * (180.0 / M_PI));
                 }
             }
         }
@@ -130,9 +127,8 @@ static void walk_line(const box_sun *b, int line, double *bound_before, float *a
 }
 
 int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double el_lo_deg,
-                           double el_hi_deg, double curv_k,
-                           const volatile sig_atomic_t *cancel, float *angle,
-                           ss_box_ray_counts *counts)
+                           double el_hi_deg, double curv_k, const volatile sig_atomic_t *cancel,
+                           float *angle, ss_box_ray_counts *counts)
 {
     size_t n = (size_t)grid->width * grid->height;
     *counts = (ss_box_ray_counts){0, 0};
@@ -142,7 +138,7 @@ int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double 
             angle[c] = 0.0f;
         return 1;
     }
-    box_sun b = {.z = grid->z, .curv_k = curv_k};
+    box_sun b = {.z = grid->z, .curv_k = curv_k, .angle = angle};
     if (!box_frame_init(&b.f, grid, grid_azimuth_deg))
         return 0;
     double lo = fmin(fmax(el_lo_deg, 0.0), STEEPEST_BOUNDED_DEG);
@@ -150,23 +146,7 @@ int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double 
     b.tan_shade = el_hi_deg < STEEPEST_BOUNDED_DEG ? tan(el_hi_deg * (M_PI / 180.0)) : INFINITY;
     double length_m = b.f.major_len * b.f.step_m;
     b.curv_margin_m = curv_k * length_m * length_m;
-    int failed = 0;
-    uint64_t cells = 0, marched = 0;
-#pragma omp parallel reduction(+ : cells, marched, failed)
-    {
-        double *bound_before = ss_malloc(sizeof(double) * ((size_t)b.f.major_len + 1));
-        ss_box_ray_counts mine = {0, 0};
-        failed += !bound_before;
-#pragma omp for schedule(dynamic, 16)
-        for (int line = b.f.first_line; line <= b.f.last_line; ++line)
-            if (bound_before && !(cancel && *cancel))
-                walk_line(&b, line, bound_before, angle, &mine);
-        cells += mine.cells;
-        marched += mine.marched;
-        free(bound_before);
-    }
+    int done = box_frame_walk_lines(&b.f, walk_line, &b, cancel, counts);
     box_frame_free(&b.f);
-    counts->cells = cells;
-    counts->marched = marched;
-    return !failed;
+    return done;
 }
