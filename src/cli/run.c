@@ -740,7 +740,8 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
                  opt->box_lines, 0.5 / opt->box_lines,
                  opt->box_shadows == SS_BOX_SHADOWS_MARCH
                      ? "; cast shadows from each cell's own ray (exact: proven bounds, else a "
-                       "march) where the C twin holds the grid whole, else from the lines"
+                       "march) where the grid is held whole (insolation's: on the C twin), "
+                       "else from the lines"
                      : "; cast shadows from the lines");
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
@@ -975,7 +976,10 @@ static int open_job(sweep_job *job, const char *command, const common_settings *
         } else {
             job->have_dem = 1; /* from here on job_close frees DEM, frame and source */
         }
-        job->run.phases.open_s = run_now() - job->run.started - job->run.phases.read_s;
+        /* The memory plan opens the device, whose kernel build, counted
+         * on its own, may fall in the opening. */
+        job->run.phases.open_s = run_now() - job->run.started - job->run.phases.read_s -
+                                 ss_ctx_counters(job->run.ctx).build_seconds;
     }
     if (st == SS_OK && common->projwin) {
         double w[4];
