@@ -181,6 +181,54 @@ static void hillshade_cast_exact(const char *what, const ss_grid *g)
     free(plain), free(cast), free(lines);
 }
 
+/* The march runs on the host whatever the device: ss_cast_shadow and
+ * hillshade's cast shadows on box lines give the C twin's answer on
+ * OpenCL, cell for cell, and march there (the counter moves). */
+static void marched_on_every_device(const char *what, const ss_grid *g)
+{
+    if (!test_have_pocl()) {
+        tap_skip("the box shadows' march on OpenCL", "no PoCL device");
+        return;
+    }
+    size_t n = (size_t)g->width * g->height;
+    const char *devices[] = {"reference", NULL};
+    float *lit[2], *shade[2];
+    ss_source src = test_source(g, NULL, NULL, 0, NULL);
+    src.z = g->z; /* held whole */
+    ss_sweep_options opt = options(SS_LINES_BOX, 0);
+    ss_hillshade_options ho = {
+        .azimuth_deg = 251, .altitude_deg = 15, .z_factor = 1, .cast_shadows = 1};
+    int ok = 1;
+    uint64_t marched = 0;
+    char err[300] = "";
+    for (int k = 0; k < 2; ++k) {
+        lit[k] = malloc(n * sizeof(float));
+        shade[k] = malloc(n * sizeof(float));
+        ss_ctx *ctx = ss_ctx_new();
+        ss_ctx_use_device(ctx, devices[k]);
+        shade_rows rows = {shade[k], g->width};
+        ok = ok && lit[k] && shade[k] &&
+             ss_cast_shadow(ctx, g, &opt, 117, 25, NULL, lit[k], NULL) == SS_OK &&
+             ss_hillshade_rows(ctx, &src, &opt, &ho, keep_shade, &rows) == SS_OK;
+        if (!ok && !err[0])
+            snprintf(err, sizeof err, "%s", ss_ctx_message(ctx));
+        if (k == 1)
+            marched = ss_ctx_counters(ctx).box_march_steps;
+        ss_ctx_free(ctx);
+    }
+    size_t lit_differ = 0, shade_differ = 0;
+    for (size_t i = 0; ok && i < n; ++i) {
+        lit_differ += memcmp(&lit[0][i], &lit[1][i], sizeof(float)) != 0;
+        shade_differ += memcmp(&shade[0][i], &shade[1][i], sizeof(float)) != 0;
+    }
+    tap_ok(ok && lit_differ == 0 && shade_differ == 0 && marched == 2,
+           "%s, box shadows on OpenCL: each cell's own ray (%llu marches), the C twin's "
+           "shadow on every cell (%zu differ) and hillshade's cast shade (%zu differ)%s%s",
+           what, (unsigned long long)marched, lit_differ, shade_differ, err[0] ? ": " : "", err);
+    for (int k = 0; k < 2; ++k)
+        free(lit[k]), free(shade[k]);
+}
+
 /* Suns along the axes: a line of slope 0 runs through the centres of the
  * cells it delivers to, so box lines are the march itself. (Along the
  * diagonals rays run through cell corners, where the march and the lines
@@ -325,6 +373,7 @@ int main(void)
     compare("a synthetic city (300 m, boxes of 4..45 m)", &g, city_floor);
     box_march_exact("a synthetic city", &g);
     hillshade_cast_exact("a synthetic city", &g);
+    marched_on_every_device("a synthetic city", &g);
     box_on_axes(&g);
     box_lines_converge(&g);
     box_devices_agree(&g);
@@ -345,6 +394,7 @@ int main(void)
         compare("the Gothenburg 1 m DSM", &dem.grid, goteborg_floor);
         box_march_exact("the Gothenburg 1 m DSM", &dem.grid);
         hillshade_cast_exact("the Gothenburg 1 m DSM", &dem.grid);
+        marched_on_every_device("the Gothenburg 1 m DSM", &dem.grid);
         box_svf("the Gothenburg 1 m DSM", &dem.grid);
         ss_dem_free(&dem);
     } else {

@@ -802,6 +802,9 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
     if (st != SS_OK)
         return st;
     plan->n_dirs = plan->n_swept = plan->n_marched = 0;
+    /* A device adds the steps' per-cell terms up in its own memory, where
+     * the host's marched horizons are not: the march is the C twin's. */
+    int marched = ctx->use_reference && ss_box_shadows_marched(job->src, job->opt);
     for (int k = 0; k < n_steps; ++k) {
         if (!ss_share_has(job->share, k))
             continue; /* another process's step */
@@ -832,7 +835,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
             all_lit |= unshaded;
             kind[k] = all_lit                                        ? STEP_LIT
                       : io->shadow_mode != SS_SHADOW_EXACT ? STEP_STORED
-                      : ss_box_shadows_marched(ctx, job->src, job->opt) ? STEP_MARCHED
+                      : marched                            ? STEP_MARCHED
                                                            : STEP_SWEPT;
             if ((job->want & SS_INSOLATION_PV) && sun.real_sky && io->pv.on &&
                 (isnan(sun.temp_air_c) || isnan(sun.wind_speed_m_s)))

@@ -24,11 +24,10 @@ float ss_curvature_k(const ss_sweep_options *opt)
     return (float)(0.5 / r_eff);
 }
 
-int ss_box_shadows_marched(const ss_ctx *ctx, const ss_source *src,
-                           const ss_sweep_options *opt)
+int ss_box_shadows_marched(const ss_source *src, const ss_sweep_options *opt)
 {
-    return opt->lines == SS_LINES_BOX && opt->box_shadows == SS_BOX_SHADOWS_MARCH &&
-           ctx->use_reference && src->z && ss_source_band_rows(src) >= src->height;
+    return opt->lines == SS_LINES_BOX && opt->box_shadows == SS_BOX_SHADOWS_MARCH && src->z &&
+           ss_source_band_rows(src) >= src->height;
 }
 
 ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,

@@ -9,10 +9,12 @@
 float ss_curvature_k(const ss_sweep_options *opt);
 
 /* Whether cast shadows on box lines are each cell's own ray by bounds and
- * march (box_shadow.h): asked for (box_shadows), on the C twin, with the
- * grid held whole (a march reads columns anywhere upstream). */
-int ss_box_shadows_marched(const ss_ctx *ctx, const ss_source *src,
-                           const ss_sweep_options *opt);
+ * march (box_shadow.h): asked for (box_shadows), with the grid held whole
+ * (a march reads columns anywhere upstream). The march runs on the host
+ * whatever the device, so shadow and hillshade, whose shade is made on the
+ * host, give the same answer on every device; insolation, whose per-cell
+ * terms a device adds up in its own memory, takes it on the C twin only. */
+int ss_box_shadows_marched(const ss_source *src, const ss_sweep_options *opt);
 /* Where ss_box_shadows_marched: the box shadows toward azimuth_deg (the
  * options' frame) handed to direction as the one band of the grid held
  * whole, each cell's horizon right for every sun from el_lo_deg to
