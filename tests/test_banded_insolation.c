@@ -605,6 +605,69 @@ static void march_against_lines(const ss_grid *g, int per_cell)
         free(rest[k]);
 }
 
+/* The march runs on the host on every device, and so do the steps that
+ * use it: on an OpenCL device asked to keep the steps in its memory (as a
+ * GPU does, SS_CELLS_DEVICE), a whole-grid exact run on box lines marches
+ * every daylight step and adds no cell-step there, and its hours of sun
+ * are the C twin's on every cell (the shadows are the same march), its
+ * global within what the device's sky-view walks move it. Skipped
+ * without a device. */
+static void march_on_device(const ss_grid *g)
+{
+    ss_ctx *dev = ss_ctx_new(), *twin = ss_ctx_new();
+    ss_ctx_use_device(twin, "reference");
+    if (ss_ctx_use_device(dev, NULL) != SS_OK || strstr(ss_ctx_device_name(dev), "reference") ||
+        strstr(ss_ctx_device_name(dev), "no device")) {
+        tap_skip("the box shadows' march in insolation on a device", "no OpenCL device opens here");
+        ss_ctx_free(dev);
+        ss_ctx_free(twin);
+        return;
+    }
+    ss_ctx_set_cells(dev, SS_CELLS_DEVICE);
+    size_t n = (size_t)g->width * g->height;
+    float *hours[2], *global[2];
+    sun_setup sun;
+    int ok = sun_init(&sun, g, 0);
+    ss_counters before = ss_ctx_counters(dev), after = before;
+    for (int k = 0; k < 2; ++k) {
+        hours[k] = malloc(n * sizeof(float));
+        global[k] = malloc(n * sizeof(float));
+        ok = ok && hours[k] && global[k];
+    }
+    for (int k = 0; ok && k < 2; ++k) {
+        ss_ctx *ctx = k ? dev : twin;
+        ss_sweep_options opt;
+        ss_sweep_options_default(&opt);
+        opt.lines = SS_LINES_BOX;
+        opt.directions = 12;
+        ss_insolation_options io = {.albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT};
+        ss_insolation_out out = {.global = global[k], .sun_hours = hours[k]};
+        ok = ss_insolation(ctx, g, &opt, &io, N_STEPS, sun_whole, &sun, NULL, NULL, &out) ==
+             SS_OK;
+        if (!ok)
+            tap_diag("insolation failed: %s", ss_ctx_message(ctx));
+    }
+    after = ss_ctx_counters(dev);
+    size_t nodata_mismatch = 0, hours_differ = 0;
+    for (size_t c = 0; ok && c < n; ++c)
+        hours_differ += memcmp(&hours[0][c], &hours[1][c], sizeof(float)) != 0;
+    double worst = ok ? worst_of(global[0], global[1], n, &nodata_mismatch) : INFINITY;
+    uint64_t marched = after.box_march_steps - before.box_march_steps;
+    uint64_t on_device = after.cell_steps_on_device - before.cell_steps_on_device;
+    tap_ok(ok && marched == N_STEPS - 1 && on_device == 0 && hours_differ == 0 &&
+               nodata_mismatch == 0 && worst <= 5e-5,
+           "box city, insolation on %s with the steps asked on the device: %llu marched steps "
+           "(want %d), %llu cell-steps on the device (want 0), hours of sun differing from the "
+           "C twin's on %zu cells, the global within %.2g relative (5e-5 allowed)",
+           ss_ctx_device_name(dev), (unsigned long long)marched, N_STEPS - 1,
+           (unsigned long long)on_device, hours_differ, worst);
+    sun_free(&sun);
+    for (int k = 0; k < 2; ++k)
+        free(hours[k]), free(global[k]);
+    ss_ctx_free(dev);
+    ss_ctx_free(twin);
+}
+
 /* The global of a whole-grid exact run with box lines (box_lines,
  * sky_box_lines) and shadows by each cell's own ray. */
 static int box_run(const ss_grid *g, sun_setup *sun, int box_lines, int sky_box_lines,
@@ -689,6 +752,7 @@ int main(void)
     ss_grid city = box_march_city(90);
     march_against_lines(&city, 0);
     march_against_lines(&city, 1);
+    march_on_device(&city);
     sky_box_lines_obeyed(&city);
     ss_grid_free(&city);
     lattice_against_arrays(&s, 0, band_rows, nb);

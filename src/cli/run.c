@@ -740,8 +740,8 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
                  opt->box_lines, 0.5 / opt->box_lines,
                  opt->box_shadows == SS_BOX_SHADOWS_MARCH
                      ? "; cast shadows from each cell's own ray (exact: proven bounds, else a "
-                       "march) where the grid is held whole (insolation's: on the C twin), "
-                       "else from the lines"
+                       "march) where the grid is held whole, on every device, else from the "
+                       "lines"
                      : "; cast shadows from the lines");
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL

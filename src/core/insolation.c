@@ -802,9 +802,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
     if (st != SS_OK)
         return st;
     plan->n_dirs = plan->n_swept = plan->n_marched = 0;
-    /* A device adds the steps' per-cell terms up in its own memory, where
-     * the host's marched horizons are not: the march is the C twin's. */
-    int marched = ctx->use_reference && ss_box_shadows_marched(job->src, job->opt);
+    int marched = ss_box_shadows_marched(job->src, job->opt);
     for (int k = 0; k < n_steps; ++k) {
         if (!ss_share_has(job->share, k))
             continue; /* another process's step */
@@ -940,7 +938,9 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
                             .visit = steps_visit,
                             .direction = steps_direction,
                             .finish = steps_finish,
-                            .device_cells = !trees, /* the crowns run on the host */
+                            /* The crowns and the box shadows' march run on
+                             * the host: so do the steps that use them. */
+                            .device_cells = !trees && !plan->n_marched,
                             .device_stored = job->horizons ? job->opt->directions : 0};
     ss_engine_job run = {.walk = {.term = SS_TERM_HORIZON,
                                   .none_deg = 0.0f,

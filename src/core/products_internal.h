@@ -11,9 +11,9 @@ float ss_curvature_k(const ss_sweep_options *opt);
 /* Whether cast shadows on box lines are each cell's own ray by bounds and
  * march (box_shadow.h): asked for (box_shadows), with the grid held whole
  * (a march reads columns anywhere upstream). The march runs on the host
- * whatever the device, so shadow and hillshade, whose shade is made on the
- * host, give the same answer on every device; insolation, whose per-cell
- * terms a device adds up in its own memory, takes it on the C twin only. */
+ * whatever the device, and so do the products' steps that use it (a GPU
+ * keeps insolation's per-cell terms on the host then), so every device
+ * gives the same box shadows. */
 int ss_box_shadows_marched(const ss_source *src, const ss_sweep_options *opt);
 /* Where ss_box_shadows_marched: the box shadows toward azimuth_deg (the
  * options' frame) handed to direction as the one band of the grid held
