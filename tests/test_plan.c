@@ -551,7 +551,18 @@ static void box_shadow_costs(void)
            "none of its own with the lines' shadows (%d): %s",
            march.sky_box_lines, sky, march.box_lines, lines.sky_box_lines,
            it ? it->reason : "no lines item");
+    /* The march runs on the host whatever the device: an OpenCL device's
+     * plan leaves the sky view the same lines (else its diffuse light
+     * would differ from the C twin's by the two counts' SVF error). */
+    ss_ctx *cl = ss_ctx_new();
+    ss_ctx_use_device(cl, "Portable");
+    ss_plan on_cl;
     r.box_shadows = SS_BOX_SHADOWS_MARCH;
+    st = ss_plan_make(cl, &city, &place, &r, &on_cl);
+    tap_ok(st == SS_OK && on_cl.sky_box_lines == sky && strcmp(on_cl.device, "opencl") == 0,
+           "... on an OpenCL device (%s): its sky view on %d box lines per cell too",
+           on_cl.device, on_cl.sky_box_lines);
+    ss_ctx_free(cl);
     r.box_lines = 16;
     st = ss_plan_make(ctx, &city, &place, &r, &march);
     tap_ok(st == SS_OK && march.box_lines == 16 && march.sky_box_lines == 0,

@@ -389,18 +389,15 @@ static double box_sweep_cost(const ss_plan *p)
     return p->lines == SS_LINES_BOX ? COST_BOX_PER_LINE * lines : 1.0;
 }
 
-/* Insolation's exact shadows on box lines by each cell's own ray (the C
- * twin, or a device chosen later that may be it, with the grid held whole)
- * take nothing from its box lines but where they run in bands or on a
- * device; the sky view then gets its own count, chosen from the SVF table
- * as svf's is, and the shadows keep the default. */
-static void plan_sky_box_lines(const ss_ctx *ctx, ss_plan *p, const ss_plan_request *r,
-                               const ss_grid *grid)
+/* Insolation's exact shadows on box lines by each cell's own ray (with the
+ * grid held whole, on every device) take nothing from its box lines but
+ * where they run in bands; the sky view then gets its own count, chosen
+ * from the SVF table as svf's is, and the shadows keep the default. */
+static void plan_sky_box_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid)
 {
     p->sky_box_lines = 0;
     if (r->kind != SS_PLAN_INSOLATION || p->lines != SS_LINES_BOX || r->box_lines > 0 ||
-        p->shadow_mode != SS_SHADOW_EXACT || r->box_shadows != SS_BOX_SHADOWS_MARCH ||
-        !grid->z || !(ctx->use_reference || ctx->device_auto))
+        p->shadow_mode != SS_SHADOW_EXACT || r->box_shadows != SS_BOX_SHADOWS_MARCH || !grid->z)
         return;
     double error;
     int sky = ss_box_lines_for_tolerance(r->svf_tolerance, &error);
@@ -762,7 +759,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     plan_directions(p, r);
     double shadow_error;
     choose_shadows(p, r, &shadow_error);
-    plan_sky_box_lines(ctx, p, r, grid);
+    plan_sky_box_lines(p, r, grid);
     plan_sun(p, r, place);
 
     double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;
