@@ -11,19 +11,22 @@
 # stdout; the load average before and after. OMP_WAIT_POLICY is passive
 # unless set: on a shared machine a spinning OpenMP barrier costs a busy
 # core's time (doc/performance.md, "Several runs side by side").
-# usage: doc/bench/city_year.sh [--reps N] [--old]
-#   --reps N   runs per job (default 3)
-#   --old      also the box lines' own walks, without and with trees (minutes
-#              a run, 1 run each)
+# usage: doc/bench/city_year.sh [--reps N] [--old] [--device NAME]
+#   --reps N       runs per job (default 3)
+#   --old          also the box lines' own walks, without and with trees
+#                  (minutes a run, 1 run each)
+#   --device NAME  every run on that device (skysweep's --device; default:
+#                  skysweep's own, the C twin unless SKYSWEEP_DEVICE says)
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 top=$(cd "$here/../.." && pwd)
-usage() { sed -n 's/^# \{0,1\}//; /^usage:/,/^  --old/p' "$0"; }
-reps=3 old=0
+usage() { sed -n 's/^# \{0,1\}//; /^usage:/,/SKYSWEEP_DEVICE says/p' "$0"; }
+reps=3 old=0 device=()
 while [ $# -gt 0 ]; do
     case $1 in
     --reps) reps=${2:?--reps needs a number} && shift ;;
     --old) old=1 ;;
+    --device) device=(--device "${2:?--device needs a name}") && shift ;;
     -h | --help) usage && exit 0 ;;
     *) usage >&2 && exit 2 ;;
     esac
@@ -50,7 +53,7 @@ if [ "$old" = 1 ]; then
     args+=("--box-shadows lines --box-lines 32" "--box-shadows lines --box-lines 32 --canopy $cdsm")
 fi
 commit=$(git -C "$top" rev-parse --short HEAD 2>/dev/null || echo '?')
-echo "Measured by \`doc/bench/city_year.sh --reps $reps$([ "$old" = 1 ] && echo " --old")\` on" \
+echo "Measured by \`doc/bench/city_year.sh --reps $reps$([ "$old" = 1 ] && echo " --old")${device[*]:+ ${device[*]}}\` on" \
     "$(date -u '+%Y-%m-%d %H:%M') UTC, skysweep $commit, OMP_WAIT_POLICY=$OMP_WAIT_POLICY;" \
     "load average before: $(cut -d' ' -f1-3 /proc/loadavg)."
 echo
@@ -61,7 +64,7 @@ for rep in $(seq "$reps"); do
         [ "$rep" -gt 1 ] && [ "$i" -ge $((${#names[@]} - 2)) ] && [ "$old" = 1 ] && continue
         start=$(date +%s.%N)
         # shellcheck disable=SC2086
-        "$SKYSWEEP" insolation --weather "$epw" --weather-far-ok --pv ${args[$i]} "$dsm" \
+        "$SKYSWEEP" insolation "${device[@]}" --weather "$epw" --weather-far-ok --pv ${args[$i]} "$dsm" \
             "$work/out.tif" >"$work/$i.$rep.txt" 2>&1
         awk -v a="$(date +%s.%N)" -v b="$start" 'BEGIN { print a - b }' >>"$work/$i.wall"
     done
