@@ -191,7 +191,7 @@ static void marched_on_every_device(const char *what, const ss_grid *g)
         return;
     }
     size_t n = (size_t)g->width * g->height;
-    const char *devices[] = {"reference", NULL};
+    const char *devices[] = {"reference", "Portable"};
     float *lit[2], *shade[2];
     ss_source src = test_source(g, NULL, NULL, 0, NULL);
     src.z = g->z; /* held whole */

@@ -562,6 +562,28 @@ static void box_shadow_costs(void)
     tap_ok(st == SS_OK && on_cl.sky_box_lines == sky && strcmp(on_cl.device, "opencl") == 0,
            "... on an OpenCL device (%s): its sky view on %d box lines per cell too",
            on_cl.device, on_cl.sky_box_lines);
+    /* The march is modelled on the host whatever the device: --device
+     * auto's modelled GPU (a set-up, a launch per sweep, its rate) does
+     * not grow with the daylight steps marched. */
+    ss_ctx *autoc = ss_ctx_new();
+    ss_ctx_use_device(autoc, "auto");
+    double gpu_s[2] = {NAN, NAN};
+    const char *why = "";
+    for (int half = 0; st == SS_OK && half < 2; ++half) {
+        ss_plan a;
+        r.n_steps = half ? YEAR_HOURS / 2 : YEAR_HOURS;
+        st = ss_plan_make(autoc, &city, &place, &r, &a);
+        const ss_plan_item *dev = st == SS_OK ? item(&a, "device") : NULL;
+        const char *at = dev ? strstr(dev->reason, "and a GPU ") : NULL;
+        if (!at || sscanf(at, "and a GPU %lf s", &gpu_s[half]) != 1)
+            why = dev ? "no GPU time in the device's reason" : "no device item";
+    }
+    r.n_steps = YEAR_HOURS;
+    tap_ok(st == SS_OK && !why[0] && gpu_s[0] == gpu_s[1],
+           "... --device auto's modelled GPU: %.3g s for the year's sweeps, %.3g s for half of "
+           "them (the march on the host either way)%s%s",
+           gpu_s[0], gpu_s[1], why[0] ? ": " : "", why);
+    ss_ctx_free(autoc);
     ss_ctx_free(cl);
     r.box_lines = 16;
     st = ss_plan_make(ctx, &city, &place, &r, &march);

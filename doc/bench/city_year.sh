@@ -64,7 +64,7 @@ for rep in $(seq "$reps"); do
         [ "$rep" -gt 1 ] && [ "$i" -ge $((${#names[@]} - 2)) ] && [ "$old" = 1 ] && continue
         start=$(date +%s.%N)
         # shellcheck disable=SC2086
-        "$SKYSWEEP" insolation "${device[@]}" --weather "$epw" --weather-far-ok --pv ${args[$i]} "$dsm" \
+        "$SKYSWEEP" insolation ${device[@]+"${device[@]}"} --weather "$epw" --weather-far-ok --pv ${args[$i]} "$dsm" \
             "$work/out.tif" >"$work/$i.$rep.txt" 2>&1
         awk -v a="$(date +%s.%N)" -v b="$start" 'BEGIN { print a - b }' >>"$work/$i.wall"
     done

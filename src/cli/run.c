@@ -431,13 +431,15 @@ static double whole_least(ss_ctx *ctx, ss_memory_need need)
  * plan at the DEM's opening (first, made before choosing, on heights the
  * effects plan reads) sweeps whole, the DEM is read whole before the
  * device is chosen, and then only a whole grid keeps it: a least whose
- * named budget (named_budget) reaches the first plan's whole grid is taken
+ * named budget (named_budget) comes within 1 MiB of the first plan's whole
+ * grid, which moves with the process's size from run to run too, is taken
  * whole. */
 static double auto_least(run_state *run, const ss_memory_need *first, double least_bands,
                          double least_whole)
 {
     double whole_first = whole_least(run->ctx, *first);
-    return named_budget(least_bands) < whole_first ? least_bands : fmax(whole_first, least_whole);
+    return named_budget(least_bands) + 1048576.0 < whole_first ? least_bands
+                                                                : fmax(whole_first, least_whole);
 }
 
 ss_status job_memory_replan(sweep_job *job, memory_mark before)

@@ -416,12 +416,19 @@ static void plan_sky_box_lines(ss_plan *p, const ss_plan_request *r, const ss_gr
         }
 }
 
-/* A cast shadow's: box lines' by each cell's own ray where asked for (the
- * C twin with the grid held whole runs them; the model takes it so). */
+/* Whether cast shadows on box lines are each cell's own ray: asked for,
+ * which the model takes as run (on the host, with the grid held whole,
+ * whatever the device). */
+static int shadows_marched(const ss_plan *p, const ss_plan_request *r)
+{
+    return p->lines == SS_LINES_BOX && r->box_shadows == SS_BOX_SHADOWS_MARCH;
+}
+
+/* A cast shadow's, in sweeps: by each cell's own ray where marched, else
+ * the lines' walks. */
 static double shadow_sweep_cost(const ss_plan *p, const ss_plan_request *r)
 {
-    return p->lines == SS_LINES_BOX && r->box_shadows == SS_BOX_SHADOWS_MARCH ? COST_BOX_MARCH
-                                                                            : box_sweep_cost(p);
+    return shadows_marched(p, r) ? COST_BOX_MARCH : box_sweep_cost(p);
 }
 
 /* The modelled seconds per cell of a year's shadows in a mode with
@@ -818,8 +825,12 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
         break;
     }
     p->sweeps = (int)(sky + shadows);
-    double sweeps = sky * box_sweep_cost(p) + shadows * shadow_sweep_cost(p, r);
-    double host_s = daylight * p->cells * PLAN_CELL_STEP_S;
+    /* The march runs on the host (at the C twin's rate) whatever device
+     * walks the rest. */
+    int marched = shadows_marched(p, r);
+    double sweeps = sky * box_sweep_cost(p) + (marched ? 0.0 : shadows * box_sweep_cost(p));
+    double host_s = daylight * p->cells * PLAN_CELL_STEP_S +
+                    (marched ? shadows * COST_BOX_MARCH * p->cells / COST_REF_RATE : 0.0);
     if (ctx->device_auto) {
         plan_device(p, sweeps, host_s);
     } else {
