@@ -274,7 +274,9 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
     plan = ffi.new("ss_memory_plan *")
     ctx.check(lib.ss_memory_plan_make(ctx.ptr, need, plan))
     if plan.band_rows < 0:
-        least = math.ceil((plan.least_budget - held) / _MIB)
+        # Whole MiB and 1 MiB more, as the CLI names it: what the process
+        # holds moves by a few hundred KiB from call to call.
+        least = math.ceil((plan.least_budget - held) / _MIB) + 1
         forget_plan(ctx)
         raise OutOfMemory(f"memory ({memory:.0f} bytes) is too small for this DEM and call: "
                           f"it needs at least memory='{least}M' (one band of {width} cells with "

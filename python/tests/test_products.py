@@ -81,13 +81,14 @@ def box_city():
     return z
 
 
-def test_box_shadows_by_each_cells_ray_equal_the_cli_and_the_lines(cli_run):
+@pytest.mark.parametrize("device", ["reference", "Portable"])
+def test_box_shadows_by_each_cells_ray_equal_the_cli_and_the_lines(cli_run, device):
     """Box lines' shadows default to each cell's own ray (--box-shadows
-    march): the CLI's, and the box lines' own walks' on all but a few cells
-    next to walls."""
+    march), on every device (the march runs on the host): the C twin's CLI,
+    and the box lines' own walks' on all but a few cells next to walls."""
     z = box_city()
     march = skysweep.shadow(z, 1, sun_azimuth=203, sun_elevation=25, lines="box",
-                            device="reference")
+                            device=device)
     theirs = cli_run("shadow", z, "--sun-azimuth", 203, "--sun-elevation", 25, "--lines", "box",
                      "--device", "reference", cell=1.0)[0]
     assert same(march, theirs)
