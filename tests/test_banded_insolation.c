@@ -446,6 +446,20 @@ static void lattice_against_arrays(const ss_grid *g, int weather, const int *ban
     grids_free(&out[1]);
 }
 
+/* A context on the default OpenCL device, or NULL after skipping what
+ * (one TAP skip) where none opens here. */
+static ss_ctx *opencl_or_skip(const char *what)
+{
+    ss_ctx *dev = ss_ctx_new();
+    if (ss_ctx_use_device(dev, NULL) != SS_OK || strstr(ss_ctx_device_name(dev), "reference") ||
+        strstr(ss_ctx_device_name(dev), "no device")) {
+        tap_skip(what, "no OpenCL device opens here");
+        ss_ctx_free(dev);
+        return NULL;
+    }
+    return dev;
+}
+
 /* Insolation's steps on an OpenCL device (ss_ctx_set_cells), each cell's
  * sun from the lattice there (kernels/ss_sun_lattice.h), its shadows from
  * the walk left there or from the stored horizons uploaded there
@@ -457,15 +471,12 @@ static void lattice_against_arrays(const ss_grid *g, int weather, const int *ban
 static void lattice_on_device(const ss_grid *g, int weather, ss_shadow_mode shadows, int steps,
                               const int *band_rows, int n_band_rows)
 {
-    ss_ctx *dev = ss_ctx_new(), *twin = ss_ctx_new();
-    ss_ctx_use_device(twin, "reference");
-    if (ss_ctx_use_device(dev, NULL) != SS_OK || strstr(ss_ctx_device_name(dev), "reference") ||
-        strstr(ss_ctx_device_name(dev), "no device")) {
-        tap_skip("insolation's steps on a device", "no OpenCL device opens here");
-        ss_ctx_free(dev);
+    ss_ctx *dev = opencl_or_skip("insolation's steps on a device"), *twin = ss_ctx_new();
+    if (!dev) {
         ss_ctx_free(twin);
         return;
     }
+    ss_ctx_use_device(twin, "reference");
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     opt.directions = 12;
@@ -614,15 +625,13 @@ static void march_against_lines(const ss_grid *g, int per_cell)
  * without a device. */
 static void march_on_device(const ss_grid *g)
 {
-    ss_ctx *dev = ss_ctx_new(), *twin = ss_ctx_new();
-    ss_ctx_use_device(twin, "reference");
-    if (ss_ctx_use_device(dev, NULL) != SS_OK || strstr(ss_ctx_device_name(dev), "reference") ||
-        strstr(ss_ctx_device_name(dev), "no device")) {
-        tap_skip("the box shadows' march in insolation on a device", "no OpenCL device opens here");
-        ss_ctx_free(dev);
+    ss_ctx *dev = opencl_or_skip("the box shadows' march in insolation on a device"),
+           *twin = ss_ctx_new();
+    if (!dev) {
         ss_ctx_free(twin);
         return;
     }
+    ss_ctx_use_device(twin, "reference");
     ss_ctx_set_cells(dev, SS_CELLS_DEVICE);
     size_t n = (size_t)g->width * g->height;
     float *hours[2], *global[2];
