@@ -14,7 +14,7 @@
  * walked steps or more stop their shadow walks by the cells' proven
  * bounds (src/core/lit_levels.h), in bands as on the whole grid: on box
  * lines of 32 families, each banded run leaves some of its walks' samples
- * unwalked. */
+ * unwalked. Box shadows by each cell's own ray run in every band too. */
 #include "config.h"
 
 #include <math.h>
@@ -197,20 +197,20 @@ static double worst_of(const float *a, const float *b, size_t n, size_t *nodata_
     return w;
 }
 
-/* Box lines of box_lines families (0: interpolated lines); want_skips:
- * every banded run must stop some walks by the bounds. */
+/* Box lines of box_lines families (0: interpolated lines), their cast
+ * shadows by the families' walks or (march) by each cell's own ray, which
+ * must then run in every band; want_skips: every banded run must stop
+ * some walks by the bounds. */
 static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, int curved,
                           int first, int n_steps, const int *band_rows, int n_band_rows,
-                          int box_lines, int want_skips)
+                          int box_lines, int march, int want_skips)
 {
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
     if (box_lines > 0) {
-        /* The families' walks, which run in bands too (each cell's own
-         * ray needs the grid whole: march_against_lines). */
         opt.lines = SS_LINES_BOX;
         opt.box_lines = box_lines;
-        opt.box_shadows = SS_BOX_SHADOWS_LINES;
+        opt.box_shadows = march ? SS_BOX_SHADOWS_MARCH : SS_BOX_SHADOWS_LINES;
     }
     opt.directions = 12;
     opt.earth_radius_m = curved ? 3e4 : 0;
@@ -236,12 +236,13 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
     }
     size_t n = (size_t)g->width * g->height, mismatch = 0;
     double worst[5] = {0}, worst_step = 0;
-    int rows_ok = 1, runs_skipping = 0;
+    int rows_ok = 1, runs_skipping = 0, runs_marching = 0;
     char why[300] = "";
     for (int b = 0; ok && b < n_band_rows; ++b) {
         memset(out.writes, 0, sizeof(int) * (size_t)(N_STEPS + 1) * g->height);
         ss_source src = test_source(g, read_rows, &out, band_rows[b], NULL);
         uint64_t skipped = ss_ctx_counters(ctx).shadow_steps_skipped;
+        uint64_t marched = ss_ctx_counters(ctx).box_march_cells;
         if (ss_insolation_rows(ctx, &src, &opt, &io, n_steps, sun_rows, &sun,
                                per_step ? SS_INSOLATION_STEPS : 0, NULL, write_rows,
                                &out) != SS_OK) {
@@ -250,6 +251,7 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
             break;
         }
         runs_skipping += ss_ctx_counters(ctx).shadow_steps_skipped > skipped;
+        runs_marching += ss_ctx_counters(ctx).box_march_cells > marched;
         for (int r = 0; r < (per_step ? n_steps + 1 : 1) * g->height; ++r)
             rows_ok &= out.writes[r] == 1;
         for (int k = 0; k < 5; ++k)
@@ -271,15 +273,18 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
     int bounded = want_skips;
     tap_ok(ok && rows_ok && !mismatch && worst[0] <= 1e-5 && worst[1] <= 1.2e-7 * n_steps &&
                worst[2] <= 1e-4 && worst[3] <= 1e-4 * long_run && worst[4] == 0 &&
-               worst_step <= 1e-5 && (!bounded || runs_skipping == n_band_rows),
+               worst_step <= 1e-5 && (!bounded || runs_skipping == n_band_rows) &&
+               (!march || runs_marching == n_band_rows),
            "%s, %s, curvature %s, %d steps: banded insolation == whole grid for %d band heights "
            "(worst relative: global %.2g, beam %.2g, diffuse %.2g, reflected %.2g, sun hours %.2g, "
            "steps %.2g; every "
-           "row written once: %s; %d banded runs left samples of their shadow walks unwalked%s)%s%s",
+           "row written once: %s; %d banded runs left samples of their shadow walks unwalked%s; "
+           "%d marched each cell's own ray%s)%s%s",
            terrain, per_cell ? "a sun per cell" : "one sun", curved ? "on" : "off", n_steps,
            n_band_rows, worst[0], worst[1], worst[2], worst[3], worst[4],
            worst_step,
-           rows_ok ? "yes" : "no", runs_skipping, bounded ? ", want all" : "", why[0] ? ": " : "", why);
+           rows_ok ? "yes" : "no", runs_skipping, bounded ? ", want all" : "", runs_marching,
+           march ? ", want all" : "", why[0] ? ": " : "", why);
     if (mismatch)
         tap_diag("%zu nodata mismatches", mismatch);
     sun_free(&sun);
@@ -731,7 +736,7 @@ static void sky_box_lines_obeyed(const ss_grid *g)
 static void compare(const ss_grid *g, const char *terrain, int per_cell, int curved, int first,
                     int n_steps, const int *band_rows, int n_band_rows)
 {
-    compare_lines(g, terrain, per_cell, curved, first, n_steps, band_rows, n_band_rows, 0, 0);
+    compare_lines(g, terrain, per_cell, curved, first, n_steps, band_rows, n_band_rows, 0, 0, 0);
 }
 
 int main(void)
@@ -755,10 +760,16 @@ int main(void)
     /* The same on box lines of 32 families, whose walks repay bounds per
      * sector (lit_levels.h): every banded run stops walks by them. */
     compare_lines(&s, "spikes 30x44, 150 steps, box lines x32", 1, 0, 0, 150, band_rows, nb, 32,
-                  1);
+                  0, 1);
     /* Only the night step: nothing swept, every row still written. */
     compare(&s, "spikes 30x44, night only", 0, 0, N_STEPS - 1, 1, band_rows, nb);
     ss_grid city = box_march_city(90);
+    /* Each cell's own ray in bands, from the heights held whole: the
+     * whole grid's shadows to the bit (the hours of sun exact). */
+    compare_lines(&city, "box city 90x90, box lines x8 marched", 0, 1, 0, N_STEPS, band_rows, nb,
+                  8, 1, 0);
+    compare_lines(&city, "box city 90x90, box lines x8 marched", 1, 0, 0, N_STEPS, band_rows, nb,
+                  8, 1, 0);
     march_against_lines(&city, 0);
     march_against_lines(&city, 1);
     march_on_device(&city);

@@ -114,7 +114,7 @@ static void solid_mask(const char *name, const ss_grid *g, const float *height, 
     ss_canopy cn = {height, trunk, 0.0, 0.03};
     ss_box_ray_counts c_all, c_asked, c_solid;
     const double az = 203.0, lo = 19.5, hi = 21.5;
-    int ok = ss_box_shadow_horizons(g, az, lo, hi, 0.0, NULL, angle, &c_solid) &&
+    int ok = ss_box_shadow_horizons(g, az, lo, hi, 0.0, 0, g->height, NULL, angle, &c_solid) &&
              ss_box_crowns_crossed(g, &cn, az, 20.5, NULL, 0.0, NULL, all, &c_all) &&
              ss_box_crowns_crossed(g, &cn, az, 20.5, angle, hi, NULL, asked, &c_asked);
     size_t wrong = 0, shaded = 0;

@@ -229,6 +229,91 @@ static void marched_on_every_device(const char *what, const ss_grid *g)
         free(lit[k]), free(shade[k]);
 }
 
+/* Rows of a grid for a source read in bands; rows from fail_at on fail. */
+typedef struct {
+    const ss_grid *g;
+    int fail_at;
+} grid_reader;
+
+static ss_status read_grid_rows(void *user, int row0, int n_rows, float *z)
+{
+    const grid_reader *r = user;
+    if (row0 + n_rows > r->fail_at)
+        return SS_ERR_INPUT;
+    memcpy(z, r->g->z + (size_t)row0 * r->g->width, sizeof(float) * n_rows * r->g->width);
+    return SS_OK;
+}
+
+/* One sun for every cell: azimuth 117, elevation 25 degrees. */
+static ss_status one_sun(ss_ctx *ctx, int index, int row0, int n_rows, ss_sun_step *step,
+                         void *user)
+{
+    (void)ctx, (void)index, (void)row0, (void)n_rows, (void)user;
+    memset(step, 0, sizeof *step);
+    step->azimuth_deg = step->grid_azimuth_deg = 117.0;
+    step->elevation_deg = step->apparent_elevation_deg = 25.0;
+    return SS_OK;
+}
+
+static ss_status keep_sunlit(void *user, int output, int index, int row0, int n_rows,
+                             const float *values)
+{
+    return output == SS_OUT_SUNLIT ? keep_shade(user, output, index, row0, n_rows, values)
+                                   : SS_OK;
+}
+
+/* Box shadows by each cell's own ray in bands (a DEM read band by band,
+ * its heights held whole for the march): the shadow product and
+ * hillshade's cast shade give the whole grid's answer bit for bit, for
+ * bands of 1, 7 and 64 rows, and march (the counter moves); a reader that
+ * fails stops the run with a message. */
+static void marched_in_bands(const char *what, const ss_grid *g)
+{
+    size_t n = (size_t)g->width * g->height;
+    float *lit = malloc(n * sizeof(float)), *shade = malloc(n * sizeof(float)),
+          *lit_b = malloc(n * sizeof(float)), *shade_b = malloc(n * sizeof(float));
+    ss_sweep_options opt = options(SS_LINES_BOX, 0);
+    ss_hillshade_options ho = {
+        .azimuth_deg = 251, .altitude_deg = 15, .z_factor = 1, .cast_shadows = 1};
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    ss_source whole = test_source(g, NULL, NULL, 0, NULL);
+    whole.z = g->z;
+    shade_rows whole_rows = {shade, g->width};
+    int ok = lit && shade && lit_b && shade_b &&
+             ss_cast_shadow(ctx, g, &opt, 117, 25, NULL, lit, NULL) == SS_OK &&
+             ss_hillshade_rows(ctx, &whole, &opt, &ho, keep_shade, &whole_rows) == SS_OK;
+    static const int band_rows[] = {1, 7, 64};
+    size_t differ = 0;
+    uint64_t before = ss_ctx_counters(ctx).box_march_steps;
+    grid_reader reader = {g, g->height};
+    for (int b = 0; ok && b < 3; ++b) {
+        ss_source src = test_source(g, read_grid_rows, &reader, band_rows[b], NULL);
+        shade_rows lit_rows = {lit_b, g->width}, shade_rows_b = {shade_b, g->width};
+        ok = ss_shadow_rows(ctx, &src, &opt, one_sun, NULL, keep_sunlit, &lit_rows) == SS_OK &&
+             ss_hillshade_rows(ctx, &src, &opt, &ho, keep_shade, &shade_rows_b) == SS_OK;
+        differ += ok && (memcmp(lit, lit_b, n * sizeof(float)) != 0 ||
+                         memcmp(shade, shade_b, n * sizeof(float)) != 0);
+    }
+    uint64_t marched = ss_ctx_counters(ctx).box_march_steps - before;
+    char err[300] = "";
+    if (!ok)
+        snprintf(err, sizeof err, "%s", ss_ctx_message(ctx));
+    reader.fail_at = g->height / 2;
+    ss_source failing = test_source(g, read_grid_rows, &reader, 16, NULL);
+    shade_rows sink = {lit_b, g->width};
+    int refused = ss_shadow_rows(ctx, &failing, &opt, one_sun, NULL, keep_sunlit, &sink) != SS_OK &&
+                  strstr(ss_ctx_message(ctx), "could not read DEM rows") != NULL;
+    tap_ok(ok && differ == 0 && marched == 6 && refused,
+           "%s, box shadows in bands of 1, 7 and 64 rows: shadow and hillshade's cast shade are "
+           "the whole grid's bit for bit (%zu of 3 band heights differ), by each cell's own ray "
+           "(%llu marches, want 6); a reader that fails is reported (%s)%s%s",
+           what, differ, (unsigned long long)marched, refused ? "yes" : "no", err[0] ? ": " : "",
+           err);
+    ss_ctx_free(ctx);
+    free(lit), free(shade), free(lit_b), free(shade_b);
+}
+
 /* Suns along the axes: a line of slope 0 runs through the centres of the
  * cells it delivers to, so box lines are the march itself. (Along the
  * diagonals rays run through cell corners, where the march and the lines
@@ -373,6 +458,7 @@ int main(void)
     compare("a synthetic city (300 m, boxes of 4..45 m)", &g, city_floor);
     box_march_exact("a synthetic city", &g);
     hillshade_cast_exact("a synthetic city", &g);
+    marched_in_bands("a synthetic city", &g);
     marched_on_every_device("a synthetic city", &g);
     box_on_axes(&g);
     box_lines_converge(&g);
@@ -394,6 +480,7 @@ int main(void)
         compare("the Gothenburg 1 m DSM", &dem.grid, goteborg_floor);
         box_march_exact("the Gothenburg 1 m DSM", &dem.grid);
         hillshade_cast_exact("the Gothenburg 1 m DSM", &dem.grid);
+        marched_in_bands("the Gothenburg 1 m DSM", &dem.grid);
         marched_on_every_device("the Gothenburg 1 m DSM", &dem.grid);
         box_svf("the Gothenburg 1 m DSM", &dem.grid);
         ss_dem_free(&dem);

@@ -8,12 +8,14 @@
  * step's suns over the cells) whose lowest, middle and highest must all
  * be lit exactly where the march lights them; with and without the
  * earth's curvature. A bound that failed would settle a cell the march
- * decides otherwise. */
+ * decides otherwise. The march of a band of rows (a run in bands) must
+ * give the whole grid's answer there bit for bit. */
 #include "config.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #ifdef SS_TEST_READS_DEMS
 #include "dem_io.h"
@@ -55,7 +57,7 @@ static void check_grid(const char *name, const ss_grid *g, double curv_k)
         for (size_t e = 0; !failed && e < sizeof elevations / sizeof elevations[0]; ++e) {
             double lo = elevations[e][0], hi = elevations[e][1];
             ss_box_ray_counts counts;
-            if (!ss_box_shadow_horizons(g, box_march_azimuths[a], lo, hi, curv_k, NULL, angle,
+            if (!ss_box_shadow_horizons(g, box_march_azimuths[a], lo, hi, curv_k, 0, g->height, NULL, angle,
                                         &counts)) {
                 failed = 1;
                 break;
@@ -81,6 +83,43 @@ static void check_grid(const char *name, const ss_grid *g, double curv_k)
         tap_ok(marched < cells / 2, "%s: the bounds settle %.1f %% of cells", name,
                cells ? 100.0 - 100.0 * (double)marched / (double)cells : 0.0);
     free(angle);
+}
+
+/* The march over a band of rows (a banded run's) gives the whole grid's
+ * horizons on those rows bit for bit, for every azimuth, bands of 1, 7
+ * and 33 rows covering the grid, their cells counted once. */
+static void check_bands(const char *name, const ss_grid *g, double curv_k)
+{
+    static const int band_rows[] = {1, 7, 33};
+    size_t n = (size_t)g->width * g->height;
+    float *whole = malloc(n * sizeof(float)), *band = malloc(n * sizeof(float));
+    long differ = 0, runs = 0;
+    int failed = !whole || !band;
+    for (int a = 0; !failed && a < BOX_MARCH_AZIMUTHS; ++a)
+        for (size_t e = 0; !failed && e < sizeof elevations / sizeof elevations[0]; e += 3) {
+            double az = box_march_azimuths[a], lo = elevations[e][0], hi = elevations[e][1];
+            ss_box_ray_counts all, part;
+            failed = !ss_box_shadow_horizons(g, az, lo, hi, curv_k, 0, g->height, NULL, whole,
+                                             &all);
+            for (size_t b = 0; !failed && b < sizeof band_rows / sizeof band_rows[0]; ++b) {
+                uint64_t cells = 0;
+                for (int r0 = 0; !failed && r0 < g->height; r0 += band_rows[b]) {
+                    int rows = g->height - r0 < band_rows[b] ? g->height - r0 : band_rows[b];
+                    failed = !ss_box_shadow_horizons(g, az, lo, hi, curv_k, r0, rows, NULL,
+                                                     band + (size_t)r0 * g->width, &part);
+                    cells += part.cells;
+                }
+                ++runs;
+                differ += !failed && (memcmp(whole, band, n * sizeof(float)) != 0 ||
+                                      cells != all.cells);
+            }
+        }
+    tap_ok(!failed && differ == 0,
+           "%s%s: the march by bands of 1, 7 and 33 rows gives the whole grid's horizons bit "
+           "for bit, each cell counted once (%ld of %ld runs differ)",
+           name, curv_k > 0 ? ", curvature" : "", differ, runs);
+    free(whole);
+    free(band);
 }
 
 static void check_shared(void)
@@ -112,12 +151,14 @@ int main(void)
     check_grid("a synthetic city", &city, 0.0);
     /* A radius of 2 km: curvature that matters across 120 m. */
     check_grid("a synthetic city", &city, 1.0 / (2.0 * 2000.0));
+    check_bands("a synthetic city", &city, 1.0 / (2.0 * 2000.0));
     /* Holes of nodata, which neither cast nor receive, and cells half as
      * long again north-south. */
     for (size_t i = 0; i < (size_t)120 * 120; i += 37)
         city.z[i] = NAN;
     city.cell_y_m = 1.5;
     check_grid("a city with holes, 1 x 1.5 m cells", &city, 0.0);
+    check_bands("a city with holes, 1 x 1.5 m cells", &city, 0.0);
     ss_grid_free(&city);
     ss_grid row = test_grid(300, 1, 1.0, 1.0);
     for (int c = 0; c < 300; ++c)
@@ -129,6 +170,7 @@ int main(void)
     for (int r = 0; r < 300; ++r)
         column.z[r] = (float)((r * 7919) % 23);
     check_grid("one column", &column, 0.0);
+    check_bands("one column", &column, 0.0);
     ss_grid_free(&column);
     ss_grid tower = test_grid(90, 70, 2.0, 2.0);
     for (size_t i = 0; i < (size_t)90 * 70; ++i)

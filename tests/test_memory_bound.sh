@@ -145,6 +145,29 @@ for device in $devices; do
     fi
     rm -f "$work/out.tif"
 done
+# Box shadows by each cell's own ray in bands: --lines box on the hills is
+# swept in bands at 200M on the C twin and 400M on PoCL (box lines' hulls
+# make one band dear: the whole grid needs 226M and 473M), the heights
+# held whole for the march (4 bytes a cell, counted); the peak keeps within
+# the bound and the shadow is the whole grid's (1024M) to the bit.
+for device in $devices; do
+    box="shadow --lines box --sun-azimuth 120 --sun-elevation 9"
+    budget=200
+    [ "$device" = reference ] || budget=400
+    read -r peak rc least < <(bounded "$box" "$device" "$budget")
+    mv "$work/out.tif" "$work/banded.tif" 2>/dev/null
+    summary=$(grep -E '^(sweep|memory|shadow  box)' "$work/out" | tr '\n' ' ')
+    [[ $summary == *"in bands"* && $summary == *"(bands)"* && $summary == *"from each cell's own ray"* ]]
+    marched_in_bands=$?
+    bounded "$box" "$device" 1024 >/dev/null
+    gdal_translate -q -of ENVI "$work/banded.tif" "$work/banded.raw" 2>/dev/null &&
+        gdal_translate -q -of ENVI "$work/out.tif" "$work/whole.raw" 2>/dev/null &&
+        cmp -s "$work/banded.raw" "$work/whole.raw"
+    same=$?
+    [ "$rc" -eq 0 ] && [ "$peak" -le "$budget" ] && [ "$marched_in_bands" -eq 0 ] && [ "$same" -eq 0 ]
+    tap_ok $? "shadow --lines box on $device, --memory ${budget}M: in bands by each cell's own ray, peak resident $peak MiB (exit $rc), the whole grid's shadow to the bit ($([ "$same" -eq 0 ] && echo yes || echo no)): $(head -c 300 <<<"$summary")"
+    rm -f "$work/out.tif" "$work/banded.tif" "$work"/*.raw "$work"/*.hdr "$work"/*.aux.xml
+done
 # A GPU's own memory is a second bound beside --memory (memory_plan.c),
 # simulated on PoCL by SKYSWEEP_TEST_DEVICE_MEMORY: at --memory 512M the
 # SVF is swept whole, with a device of 64 MiB in bands whose plan the

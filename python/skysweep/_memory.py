@@ -228,11 +228,15 @@ def chunk_rows(width):
 class BandCost:
     """What a band of the product holds (the CLI's band_cost): bytes per
     cell, per column and hull line carried between bands, the lines handing
-    hulls on, and the metres of terrain read beyond a band (radius walks)."""
+    hulls on, and the metres of terrain read beyond a band (radius walks).
+    marches: its cast shadows are each cell's own ray on box lines with
+    box_shadows 'march', which in bands holds the heights whole (a float a
+    cell of the whole grid, as the CLI's run_march_cell_bytes counts)."""
 
-    def __init__(self, cell_bytes, column_bytes=0.0, hull_lines=None, halo_m=0.0):
+    def __init__(self, cell_bytes, column_bytes=0.0, hull_lines=None, halo_m=0.0,
+                 marches=False):
         self.cell_bytes, self.column_bytes = cell_bytes, column_bytes
-        self.hull_lines, self.halo_m = hull_lines, halo_m
+        self.hull_lines, self.halo_m, self.marches = hull_lines, halo_m, marches
 
 
 def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
@@ -258,6 +262,8 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
     lines = cost.hull_lines if cost.hull_lines is not None else opt.directions
     if opt.lines == lib.SS_LINES_BOX:
         lines *= opt.box_lines
+    marched = (cost.marches and opt.lines == lib.SS_LINES_BOX
+               and opt.box_shadows == lib.SS_BOX_SHADOWS_MARCH)
     need = ffi.new("ss_memory_need *", {
         # What the process holds now, the device included; never less than
         # when the call began (memory freed since is not this call's to use:
@@ -270,6 +276,7 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
         "width": width, "height": height, "cell_bytes": cell_bytes,
         "whole_cell_bytes": cell_bytes, "column_bytes": cost.column_bytes,
         "hull_lines": max(lines, 1), "halo_rows": halo_rows,
+        "grid_cell_bytes": 4.0 if marched else 0.0,
         "cache_bytes": float(grid.cache_bytes)})
     plan = ffi.new("ss_memory_plan *")
     ctx.check(lib.ss_memory_plan_make(ctx.ptr, need, plan))

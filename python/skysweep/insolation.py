@@ -173,7 +173,8 @@ def _run_insolation(ctx, grid, opt, params, plan, n_steps, sun_at, planes, trees
     cost = BandCost(lib.ss_horizon_band_cell_bytes(0) +
                     lib.ss_insolation_band_cell_bytes(0, stored),
                     column_bytes=lib.ss_horizon_column_bytes(),
-                    hull_lines=max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"]))
+                    hull_lines=max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"]),
+                    marches=plan.shadow_mode == lib.SS_SHADOW_EXACT)
     run_banded(ctx, grid, opt, cost, kw["memory"], targets,
                lambda c, src, sink: run(c, src, opt, params, sun, 0, ffi.NULL, sink, ffi.NULL),
                progress=kw.get("progress"))

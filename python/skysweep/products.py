@@ -630,7 +630,7 @@ def _sunlit(ctx, grid, opt, sun_azimuth, sun_elevation, out, kw):
         return lib.SS_OK
 
     cost = _product_cost("shadow", None, column_bytes=lib.ss_horizon_column_bytes(),
-                         hull_lines=1)
+                         hull_lines=1, marches=True)
     sun = ffi.new("ss_product_sun *", {"n_steps": 1, "sun_rows": sun_rows})
     _run(ctx, grid, opt, "shadow", None, {(0, CONST["SS_OUT_SUNLIT"]): out}, kw, cost=cost,
          sun=sun)
@@ -655,7 +655,7 @@ def _shade(dem, cell_size, nodata, kw, given, radius=None):
     sweeps = params.blend or params.cast_shadows or params.sky_view > 0
     cost = _product_cost("hillshade", params, cell_m=cell_m,
                          column_bytes=lib.ss_horizon_column_bytes() if sweeps else 0.0,
-                         hull_lines=None if sweeps else 1)
+                         hull_lines=None if sweeps else 1, marches=bool(params.cast_shadows))
     _run(ctx, grid, opt, "hillshade", params, {CONST["SS_OUT_SHADE"]: out}, kw, cost=cost)
     return grid, opt, out, shading.radius_m
 

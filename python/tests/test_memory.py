@@ -29,6 +29,7 @@ TALL = rough_dem(4000, 60, seed=5)
 #: as the command line's DEM read in bands is not (rough_dem's steps look
 #: like walls to the planner, which would take box lines for the whole grid).
 SWEEP = {"device": "reference", "directions": 4, "lines": "interpolated"}
+BOX = dict(SWEEP, lines="box")
 SUN = {"time": "2026-06-21T00:00Z/P1D", "step": "PT3H", "latitude": 46.0, "longitude": 14.0}
 
 #: Each call with memory=, and the largest difference allowed from its
@@ -50,6 +51,13 @@ CALLS = {
                                         **kw), 2e-4),
     "vat": (lambda **kw: skysweep.vat(TALL, 10.0, radius=100.0, **SWEEP, **kw), 2e-6),
     "insolation": (lambda **kw: skysweep.insolation(TALL, 10.0, **SUN, **SWEEP, **kw), 2e-3),
+    # Box lines' cast shadows by each cell's own ray: in bands from the
+    # heights held whole (counted), the whole grid's shadows exactly. (On
+    # this DEM insolation's box-line hulls make one band dearer than the
+    # whole grid: tests/test_banded_insolation.c bands it.)
+    "shadow on box lines": (
+        lambda **kw: skysweep.shadow(TALL, 10.0, sun_azimuth=200.0, sun_elevation=12.0,
+                                     **BOX, **kw), 0.0),
 }
 
 

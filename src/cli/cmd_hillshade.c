@@ -111,7 +111,9 @@ int cmd_hillshade(int argc, char **argv)
                       .directions = sweeps ? 0 : 1,
                       .no_sweep = !sweeps,
                       .halo_cells = set.hs.blend ? set.hs.blend_radius_cells : 0.0,
-                      .grid_cell_bytes = set.trees.canopy ? TREES_HILLSHADE_CELL_BYTES : 0.0};
+                      .grid_cell_bytes = (set.trees.canopy ? TREES_HILLSHADE_CELL_BYTES : 0.0) +
+                                         (set.hs.cast_shadows ? run_march_cell_bytes(&set.common)
+                                                              : 0.0)};
     sweep_job job;
     if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
         return rc;

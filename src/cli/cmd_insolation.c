@@ -972,19 +972,23 @@ int cmd_insolation(int argc, char **argv)
         shadow = SS_SHADOW_EXACT;
     int stores = shadow == SS_SHADOW_INTERPOLATED || shadow == SS_SHADOW_CUMULATIVE ||
                  (shadow == SS_SHADOW_AUTO && set->weather && !set->ins.pv && !set->steps_path);
+    /* Exact shadows by each cell's own ray hold the heights whole. */
+    double march_bytes = shadow == SS_SHADOW_INTERPOLATED || shadow == SS_SHADOW_CUMULATIVE
+                             ? 0.0
+                             : run_march_cell_bytes(&set->common);
+    double trees_bytes =
+        !set->trees.trees.canopy ? 0.0
+        : shadow == SS_SHADOW_CUMULATIVE
+            ? INSOLATION_TREES_CELL_BYTES +
+                  insolation_cumulative_crown_bytes(directions, set->ins.elevation_step_deg)
+        : set->trees.light.beer_lambert
+            ? INSOLATION_TREES_CELL_BYTES + INSOLATION_BEER_LAMBERT_CELL_BYTES
+            : INSOLATION_TREES_CELL_BYTES;
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) +
                                     ss_insolation_band_cell_bytes(want, stores ? directions : 0),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = directions,
-                      .grid_cell_bytes =
-                          !set->trees.trees.canopy ? 0.0
-                          : shadow == SS_SHADOW_CUMULATIVE
-                              ? INSOLATION_TREES_CELL_BYTES +
-                                    insolation_cumulative_crown_bytes(
-                                        directions, set->ins.elevation_step_deg)
-                          : set->trees.light.beer_lambert
-                              ? INSOLATION_TREES_CELL_BYTES + INSOLATION_BEER_LAMBERT_CELL_BYTES
-                              : INSOLATION_TREES_CELL_BYTES};
+                      .grid_cell_bytes = march_bytes + trees_bytes};
     if (rc < 0)
         rc = job_open_banded(&r->job, "insolation", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) { /* --help, or the job failed and is closed */

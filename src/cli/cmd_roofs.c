@@ -958,7 +958,8 @@ int cmd_roofs(int argc, char **argv)
      * sweeps (with the job's bands). */
     band_cost cost = {.cell_bytes = (double)WINDOW_CELL_BYTES,
                       .no_sweep = !set->shade_table,
-                      .plans_late = 1};
+                      .plans_late = 1,
+                      .grid_cell_bytes = run_march_cell_bytes(&set->common)};
     if (rc < 0)
         rc = job_open_banded(&r->job, "roofs", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) {

@@ -193,7 +193,8 @@ int cmd_shadow(int argc, char **argv)
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = 1,
                       .grid_cell_bytes = (set.trees.canopy ? TREES_SHADOW_CELL_BYTES : 0.0) +
-                                         (set.light.beer_lambert ? CROWN_LIGHT_CELL_BYTES : 0.0)};
+                                         (set.light.beer_lambert ? CROWN_LIGHT_CELL_BYTES : 0.0) +
+                                         run_march_cell_bytes(&set.common)};
     sweep_job job;
     if ((rc = job_open_banded(&job, "shadow", &set.common, pos, n_pos, cost)))
         return rc;

@@ -683,6 +683,13 @@ ss_line_model run_lines_asked(const common_settings *common)
     return ss_sweep_params_lines(&common->sweep);
 }
 
+double run_march_cell_bytes(const common_settings *common)
+{
+    int marched = run_lines_asked(common) == SS_LINES_BOX &&
+                  common->sweep.box_shadows == SS_BOX_SHADOWS_MARCH;
+    return marched ? (double)sizeof(float) : 0.0;
+}
+
 ss_place run_place(const common_settings *common, const ss_dem_frame *f)
 {
     return (ss_place){f->georeferenced,      f->geographic,         f->centre_lon_deg,
@@ -742,8 +749,7 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
                  opt->box_lines, 0.5 / opt->box_lines,
                  opt->box_shadows == SS_BOX_SHADOWS_MARCH
                      ? "; cast shadows from each cell's own ray (exact: proven bounds, else a "
-                       "march) where the grid is held whole, on every device, else from the "
-                       "lines"
+                       "march), on every device and in bands"
                      : "; cast shadows from the lines");
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL

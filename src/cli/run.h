@@ -100,6 +100,12 @@ ss_status run_read_dem(run_state *run, const char *const *paths, int n_paths,
                        const common_settings *common, ss_dem *dem, ss_dem_frame *frame);
 /* The line model asked for: SS_LINES_AUTO leaves it to the planner. */
 ss_line_model run_lines_asked(const common_settings *common);
+/* Bytes per cell of the whole grid that cast shadows by each cell's own
+ * ray hold beside a run's bands (the heights, held whole: a ray reads
+ * columns anywhere toward the sun): box lines asked for (a banded DEM is
+ * not searched for walls, so only --lines box gives them there) without
+ * --box-shadows lines; else 0. A grid held whole holds them anyway. */
+double run_march_cell_bytes(const common_settings *common);
 /* The frame's place, for the planner (ss_place). */
 ss_place run_place(const common_settings *common, const ss_dem_frame *frame);
 /* The sweep options the parameters ask for before a plan decides

@@ -18,7 +18,8 @@ typedef struct {
     double tan_lit;   /* the lowest sun's slope (clamped to 0..STEEPEST_BOUNDED_DEG) */
     double tan_shade; /* the highest sun's slope; INFINITY: no lower bound */
     double curv_k, curv_margin_m;
-    float *angle; /* the answer per cell */
+    int row0, row1;    /* the rows answered */
+    float *angle;      /* the answer per cell of those rows */
 } box_sun;
 
 /* The ray from the centre of cell (col, row), column boundary after column
@@ -75,41 +76,63 @@ static inline void window_tops(const box_sun *b, int major, int minor, double *t
     *low = lo;
 }
 
+/* The row of line `line`'s cell at walk position p (beyond the grid's
+ * rows where the line is). */
+static int line_row(const box_frame *f, int line, int p)
+{
+    int major = box_walk_position(f, p);
+    return f->major_is_col ? line + f->shift[major] : major;
+}
+
 /* Line `line`'s cells (minor index line + shift[major]), walked from the
- * sun's side; bound_before is its work space (major_len + 1 values). */
+ * sun's side; bound_before is its work space (major_len + 1 values). Its
+ * cells outside the rows answered only feed the bounds, and the walk ends
+ * past those rows: a ray runs toward the sun, to earlier positions. */
 static void walk_line(const void *job, int line, double *bound_before, ss_box_ray_counts *counts)
 {
     const box_sun *b = job;
     const box_frame *f = &b->f;
     double upper = -INFINITY, lower = -INFINITY;
     int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1);
+    if (first >= end)
+        return;
+    /* Rows are monotonic along a line. */
+    int row_a = line_row(f, line, first), row_b = line_row(f, line, end - 1);
+    int row_lo = row_a < row_b ? row_a : row_b, row_hi = row_a < row_b ? row_b : row_a;
+    if (row_hi < b->row0 || row_lo >= b->row1)
+        return;
+    int rows_fall = row_b < row_a;
     bound_before[0] = -INFINITY;
     for (int p = first; p < end; ++p) {
         int major = box_walk_position(f, p); /* the same map both ways */
         int minor = line + f->shift[major];
+        int row_here = line_row(f, line, p);
+        if (rows_fall ? row_here < b->row0 : row_here >= b->row1)
+            break;
         double along = p * f->step_m;
         /* A ray through a corner may step first into its own column,
          * whose bound is made after it: there nothing stops its march. */
         bound_before[p + 1 - first] = INFINITY;
-        if (minor >= 0 && minor < f->minor_len) {
+        if (minor >= 0 && minor < f->minor_len && row_here >= b->row0 && row_here < b->row1) {
             ptrdiff_t cell = major * f->stride_major + minor * f->stride_minor;
             float z0 = b->z[cell];
+            float *angle = b->angle + (cell - (ptrdiff_t)b->row0 * f->width);
             if (!isfinite(z0)) {
-                b->angle[cell] = 0.0f;
+                *angle = 0.0f;
             } else {
                 counts->cells++;
                 double lit_threshold = z0 + b->tan_lit * along;
                 double shade_threshold = z0 + b->tan_shade * along + b->curv_margin_m;
                 if (upper < lit_threshold - box_rounding_margin(lit_threshold)) {
-                    b->angle[cell] = 0.0f;
+                    *angle = 0.0f;
                 } else if (lower > shade_threshold + box_rounding_margin(shade_threshold)) {
-                    b->angle[cell] = 90.0f;
+                    *angle = 90.0f;
                 } else {
                     counts->marched++;
                     int col, row;
                     box_cell_at(f, major, minor, &col, &row);
                     double slope = march_slope(b, col, row, z0, bound_before, first, lit_threshold);
-                    b->angle[cell] = (float)(atan(slope) * (180.0 / M_PI));
+                    *angle = (float)(atan(slope) * (180.0 / M_PI));
                 }
             }
         }
@@ -127,10 +150,11 @@ static void walk_line(const void *job, int line, double *bound_before, ss_box_ra
 }
 
 int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double el_lo_deg,
-                           double el_hi_deg, double curv_k, const volatile sig_atomic_t *cancel,
-                           float *angle, ss_box_ray_counts *counts)
+                           double el_hi_deg, double curv_k, int row0, int n_rows,
+                           const volatile sig_atomic_t *cancel, float *angle,
+                           ss_box_ray_counts *counts)
 {
-    size_t n = (size_t)grid->width * grid->height;
+    size_t n = (size_t)grid->width * n_rows;
     *counts = (ss_box_ray_counts){0, 0};
     if (!(el_hi_deg > 0.0)) {
         /* Below the horizontal every column's own top shades its centre. */
@@ -138,7 +162,11 @@ int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double 
             angle[c] = 0.0f;
         return 1;
     }
-    box_sun b = {.z = grid->z, .curv_k = curv_k, .angle = angle};
+    box_sun b = {.z = grid->z,
+                 .curv_k = curv_k,
+                 .row0 = row0,
+                 .row1 = row0 + n_rows,
+                 .angle = angle};
     if (!box_frame_init(&b.f, grid, grid_azimuth_deg))
         return 0;
     double lo = fmin(fmax(el_lo_deg, 0.0), STEEPEST_BOUNDED_DEG);

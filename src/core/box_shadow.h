@@ -32,9 +32,12 @@
 
 #include "box_ray.h"
 
-/* Each cell's horizon toward grid azimuth grid_azimuth_deg (clockwise from
- * the grid's north) as far as a sun between el_lo_deg and el_hi_deg
- * (apparent elevations) can tell it, in angle (degrees, width * height):
+/* Each cell's horizon of rows [row0, row0 + n_rows) toward grid azimuth
+ * grid_azimuth_deg (clockwise from the grid's north) as far as a sun
+ * between el_lo_deg and el_hi_deg (apparent elevations) can tell it, in
+ * angle (degrees, width * n_rows; the heights are the whole grid's, for a
+ * ray reads columns anywhere toward the sun, and any rows give the whole
+ * grid's answer on them, bit for bit):
  * for every sun elevation e in that range, e > angle[c] exactly where the
  * box model lights cell c. The box horizon is never below 0 degrees (a
  * column's own top reaches its edge); 90 marks cells no sun in the range
@@ -44,7 +47,7 @@
  * caller to report. Returns 0 when out of memory for the lines' work
  * space. */
 int ss_box_shadow_horizons(const ss_grid *grid, double grid_azimuth_deg, double el_lo_deg,
-                           double el_hi_deg, double curv_k,
+                           double el_hi_deg, double curv_k, int row0, int n_rows,
                            const volatile sig_atomic_t *cancel, float *angle,
                            ss_box_ray_counts *counts);
 

@@ -230,7 +230,9 @@ typedef struct {
     float terms_T;
     unsigned char *crossed;
     float *through;
-    float *marched; /* a STEP_MARCHED step's horizons over the grid */
+    float *marched; /* a STEP_MARCHED step's horizons over the band's own rows */
+    const float *heights; /* the grid's, held whole for the march (ss_box_march_heights) */
+    float *heights_owned;
 } steps_run;
 
 /* Where an azimuth (options' frame) falls between the stored directions:
@@ -588,27 +590,32 @@ static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const
         return ss_insolation_trees_through(s->job->ctx, t, sun, s->through);
     }
     *crossed = s->crossed + at;
-    /* Cells the step's marched solid shadows shade need no crowns. */
+    /* Cells the step's marched solid shadows shade need no crowns (a
+     * band's horizons leave every cell asked: the same answer, for those
+     * shaded cells' beam is 0 whatever their crowns). */
+    int whole = band->n_rows == band->height;
     return ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun,
-                                       s->kind[k] == STEP_MARCHED ? s->marched : NULL,
+                                       s->kind[k] == STEP_MARCHED && whole ? s->marched : NULL,
                                        s->crossed);
 }
 
-/* A STEP_MARCHED step's horizons over the grid, held whole in the band:
- * right for every sun between the step's lowest and highest over the cells. */
+/* A STEP_MARCHED step's horizons over the band's own rows, from the
+ * heights held whole: right for every sun between the step's lowest and
+ * highest over the cells. */
 static ss_status march_step(steps_run *s, const ss_band_view *band, const ss_sun_step *sun)
 {
     ss_insolation_job *job = s->job;
     ss_grid grid = {band->width, band->height, job->src->cell_x_m, job->src->cell_y_m, 0.0,
-                    (float *)band->z};
+                    (float *)s->heights};
     ss_box_ray_counts counts;
     if (!ss_box_shadow_horizons(&grid, sun->azimuth_deg - job->opt->grid_north_deg,
                                 sun->apparent_elevation_deg - sun->spread_deg,
                                 sun->apparent_elevation_deg + sun->spread_deg,
-                                ss_curvature_k(job->opt), &job->ctx->cancel_requested,
-                                s->marched, &counts))
+                                ss_curvature_k(job->opt), band->row0, band->n_rows,
+                                &job->ctx->cancel_requested, s->marched, &counts))
         return ss_fail(job->ctx, SS_ERR_MEMORY, "out of memory for the box shadows' lines");
-    job->ctx->counters.box_march_steps++;
+    /* A step counts once, at its first band. */
+    job->ctx->counters.box_march_steps += band->row0 == 0;
     job->ctx->counters.box_march_cells += counts.cells;
     job->ctx->counters.box_march_marched += counts.marched;
     return ss_check_cancel(job->ctx, "the box shadows");
@@ -925,8 +932,11 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     }
     if (beer_lambert)
         s.through = ss_malloc((size_t)src->width * src->height * sizeof(float));
-    if (plan->n_marched)
+    if (plan->n_marched) {
         s.marched = ss_malloc(n * sizeof(float));
+        if (st == SS_OK)
+            st = ss_box_march_heights(job->ctx, src, &s.heights_owned, &s.heights);
+    }
     if (st == SS_OK &&
         (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band) ||
          (trees && (!s.terms_trees || !s.crossed)) || (beer_lambert && !s.through) ||
@@ -963,6 +973,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     free(s.crossed);
     free(s.through);
     free(s.marched);
+    free(s.heights_owned);
     free(levels);
     ss_lit_bands_free(bands);
     return st;

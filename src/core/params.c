@@ -52,8 +52,8 @@ static const ss_param sweep_params[] = {
      "error meets --svf-tolerance, doc/box_lines.md; else 32)"},
     {"box-shadows", SS_PARAM_CHOICE, SWEEP(box_shadows), NULL, "march", 0, 0, "march|lines",
      "box lines' cast shadows and crowns: march: each cell's own ray, exact, settled by "
-     "proven bounds where it can be (shadows: the grid held whole; crowns: always), on the "
-     "host whatever the device; lines: the --box-lines walks (doc/box_lines.md)"},
+     "proven bounds where it can be, on the host whatever the device (in bands it holds the "
+     "heights whole, 4 bytes a cell); lines: the --box-lines walks (doc/box_lines.md)"},
     END};
 
 #define SUN(field) offsetof(ss_sun_params, field)

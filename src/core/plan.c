@@ -389,15 +389,15 @@ static double box_sweep_cost(const ss_plan *p)
     return p->lines == SS_LINES_BOX ? COST_BOX_PER_LINE * lines : 1.0;
 }
 
-/* Insolation's exact shadows on box lines by each cell's own ray (with the
- * grid held whole, on every device) take nothing from its box lines but
- * where they run in bands; the sky view then gets its own count, chosen
- * from the SVF table as svf's is, and the shadows keep the default. */
-static void plan_sky_box_lines(ss_plan *p, const ss_plan_request *r, const ss_grid *grid)
+/* Insolation's exact shadows on box lines by each cell's own ray (on
+ * every device and band height) take nothing from its box lines; the sky
+ * view then gets its own count, chosen from the SVF table as svf's is, and
+ * the shadows keep the default. */
+static void plan_sky_box_lines(ss_plan *p, const ss_plan_request *r)
 {
     p->sky_box_lines = 0;
     if (r->kind != SS_PLAN_INSOLATION || p->lines != SS_LINES_BOX || r->box_lines > 0 ||
-        p->shadow_mode != SS_SHADOW_EXACT || r->box_shadows != SS_BOX_SHADOWS_MARCH || !grid->z)
+        p->shadow_mode != SS_SHADOW_EXACT || r->box_shadows != SS_BOX_SHADOWS_MARCH)
         return;
     double error;
     int sky = ss_box_lines_for_tolerance(r->svf_tolerance, &error);
@@ -417,8 +417,7 @@ static void plan_sky_box_lines(ss_plan *p, const ss_plan_request *r, const ss_gr
 }
 
 /* Whether cast shadows on box lines are each cell's own ray: asked for,
- * which the model takes as run (on the host, with the grid held whole,
- * whatever the device). */
+ * which runs (on the host, whatever the device and the bands). */
 static int shadows_marched(const ss_plan *p, const ss_plan_request *r)
 {
     return p->lines == SS_LINES_BOX && r->box_shadows == SS_BOX_SHADOWS_MARCH;
@@ -766,7 +765,7 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     plan_directions(p, r);
     double shadow_error;
     choose_shadows(p, r, &shadow_error);
-    plan_sky_box_lines(p, r, grid);
+    plan_sky_box_lines(p, r);
     plan_sun(p, r, place);
 
     double spread = p->sun_per_cell ? 0.0 : place->diagonal_m / (2 * place->earth_radius_m) * DEG;

@@ -26,8 +26,46 @@ float ss_curvature_k(const ss_sweep_options *opt)
 
 int ss_box_shadows_marched(const ss_source *src, const ss_sweep_options *opt)
 {
-    return opt->lines == SS_LINES_BOX && opt->box_shadows == SS_BOX_SHADOWS_MARCH && src->z &&
-           ss_source_band_rows(src) >= src->height;
+    return opt->lines == SS_LINES_BOX && opt->box_shadows == SS_BOX_SHADOWS_MARCH &&
+           (src->z || src->read);
+}
+
+ss_status ss_box_march_heights(ss_ctx *ctx, const ss_source *src, float **owned,
+                               const float **z)
+{
+    *owned = NULL;
+    *z = src->z;
+    if (src->z)
+        return SS_OK;
+    size_t w = (size_t)src->width;
+    float *all = ss_malloc(w * src->height * sizeof(float));
+    if (!all)
+        return ss_fail(ctx, SS_ERR_MEMORY,
+                       "out of memory for the heights the box shadows' march holds whole "
+                       "(%.0f MiB; --box-shadows lines walks bands alone)",
+                       (double)(w * src->height * sizeof(float)) / 1048576.0);
+    /* Read as the bands are, so that the reader needs no more. */
+    int rows = ss_source_band_rows(src);
+    ss_status st = SS_OK;
+    for (int r = 0; r < src->height && st == SS_OK; r += rows) {
+        int n = src->height - r < rows ? src->height - r : rows;
+        unsigned long failures = ctx->failures;
+        st = src->read(src->read_user, r, n, all + (size_t)r * w);
+        if (st != SS_OK && ctx->failures == failures)
+            st = ss_fail(ctx, st, "could not read DEM rows %d..%d", r, r + n - 1);
+    }
+    int any_height = 0;
+    for (size_t c = 0; st == SS_OK && !any_height && c < w * src->height; ++c)
+        any_height = isfinite(all[c]);
+    if (st == SS_OK && !any_height)
+        st = ss_fail(ctx, SS_ERR_INPUT, "the DEM holds no valid height: every cell is nodata");
+    if (st != SS_OK) {
+        free(all);
+        return st;
+    }
+    *owned = all;
+    *z = all;
+    return SS_OK;
 }
 
 ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
@@ -36,31 +74,46 @@ ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_
                                                      const ss_dir_rows *, float *),
                               void *user)
 {
+    float *owned;
+    const float *z;
+    ss_status st = ss_box_march_heights(ctx, src, &owned, &z);
+    if (st != SS_OK)
+        return st;
     /* The march only reads the heights. */
-    ss_grid grid = {src->width, src->height, src->cell_x_m, src->cell_y_m, 0.0, (float *)src->z};
-    float *angle = ss_malloc((size_t)src->width * src->height * sizeof(float));
-    ss_box_ray_counts counts;
-    ss_status st = angle && ss_box_shadow_horizons(&grid, azimuth_deg - opt->grid_north_deg,
-                                                   el_lo_deg, el_hi_deg, ss_curvature_k(opt),
-                                                   &ctx->cancel_requested, angle, &counts)
-                       ? ss_check_cancel(ctx, "the box shadows")
-                       : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the box shadows");
-    if (st == SS_OK) {
-        ctx->counters.box_march_steps++;
+    ss_grid grid = {src->width, src->height, src->cell_x_m, src->cell_y_m, 0.0, (float *)z};
+    int rows = ss_source_band_rows(src);
+    float *angle = ss_malloc((size_t)src->width * rows * sizeof(float));
+    if (!angle)
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the box shadows");
+    /* A band's rows at a time, each handed on as the engine's bands are,
+     * with every row held (the heights are whole). */
+    for (int row0 = 0; row0 < src->height && st == SS_OK; row0 += rows) {
+        int n_rows = src->height - row0 < rows ? src->height - row0 : rows;
+        ss_box_ray_counts counts;
+        st = ss_box_shadow_horizons(&grid, azimuth_deg - opt->grid_north_deg, el_lo_deg,
+                                    el_hi_deg, ss_curvature_k(opt), row0, n_rows,
+                                    &ctx->cancel_requested, angle, &counts)
+                 ? ss_check_cancel(ctx, "the box shadows")
+                 : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the box shadows");
+        if (st != SS_OK)
+            break;
         ctx->counters.box_march_cells += counts.cells;
         ctx->counters.box_march_marched += counts.marched;
-        ss_band_view band = {.row0 = 0,
-                             .n_rows = src->height,
+        ss_band_view band = {.row0 = row0,
+                             .n_rows = n_rows,
                              .lo = 0,
                              .held_rows = src->height,
                              .width = src->width,
                              .height = src->height,
-                             .z = src->z,
-                             .own_z = src->z};
-        ss_dir_rows rows = {angle, NULL, NULL, 0};
-        st = direction(user, 0, &band, &rows, NULL);
+                             .z = z,
+                             .own_z = z + (size_t)row0 * src->width};
+        ss_dir_rows dir_rows = {angle, NULL, NULL, 0};
+        st = direction(user, 0, &band, &dir_rows, NULL);
     }
+    if (st == SS_OK)
+        ctx->counters.box_march_steps++;
     free(angle);
+    free(owned);
     return st;
 }
 

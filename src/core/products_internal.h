@@ -9,16 +9,24 @@
 float ss_curvature_k(const ss_sweep_options *opt);
 
 /* Whether cast shadows on box lines are each cell's own ray by bounds and
- * march (box_shadow.h): asked for (box_shadows), with the grid held whole
- * (a march reads columns anywhere upstream). The march runs on the host
- * whatever the device, and so do the products' steps that use it (a GPU
- * keeps insolation's per-cell terms on the host then), so every device
- * gives the same box shadows. */
+ * march (box_shadow.h): asked for (box_shadows), on a grid held whole or
+ * read in bands (a march reads columns anywhere upstream: a banded run
+ * holds the heights whole for it, ss_box_march_heights, 4 bytes a cell
+ * that the CLI's memory plan counts). The march runs on the host whatever
+ * the device, and so do the products' steps that use it (a GPU keeps
+ * insolation's per-cell terms on the host then), so every device and
+ * every band height gives the same box shadows. */
 int ss_box_shadows_marched(const ss_source *src, const ss_sweep_options *opt);
+/* The whole grid's heights for the march: the source's own where it holds
+ * them (*owned NULL), else read band by band into *owned, for the caller
+ * to free. */
+ss_status ss_box_march_heights(ss_ctx *ctx, const ss_source *src, float **owned,
+                               const float **z);
 /* Where ss_box_shadows_marched: the box shadows toward azimuth_deg (the
- * options' frame) handed to direction as the one band of the grid held
- * whole, each cell's horizon right for every sun from el_lo_deg to
- * el_hi_deg (box_shadow.h), as a walk's would be. */
+ * options' frame) handed to direction band by band (the source's band
+ * rows; one band of the grid held whole), each cell's horizon right for
+ * every sun from el_lo_deg to el_hi_deg (box_shadow.h), as a walk's would
+ * be; the views hold every row. */
 ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                               double azimuth_deg, double el_lo_deg, double el_hi_deg,
                               ss_status (*direction)(void *, int, const ss_band_view *,
