@@ -203,10 +203,11 @@ typedef struct {
      * SS_BOX_LINES_MAX); a cell takes the nearest, at most half a spacing
      * beside its centre (doc/model.md, "City DSMs"). */
     int box_lines;
-    /* SS_LINES_BOX's cast shadows (shadow, insolation's exact steps): each
-     * cell's own ray, settled by proven bounds or marched (the C twin with
-     * the grid held whole; elsewhere, and for horizon angles, the lines),
-     * or the box_lines families' walks (doc/box_lines.md). */
+    /* SS_LINES_BOX's cast shadows (shadow, hillshade's cast shadows,
+     * insolation's exact steps): each cell's own ray, settled by proven
+     * bounds or marched, on the host for every device and band height (in
+     * bands from the heights held whole, ss_source_heights; horizon angles
+     * take the lines), or the box_lines families' walks (doc/box_lines.md). */
     ss_box_shadows box_shadows;
     /* SS_LINES_BOX: lines per cell for insolation's sky view where its exact
      * shadows take none from them (0: box_lines; the planner's choice,
@@ -277,6 +278,14 @@ typedef struct {
     int band_rows;             /* rows per band; 0: the whole grid in one band */
     ss_band_stats *stats;      /* over the whole call, filled in as it runs; may be NULL */
 } ss_source;
+
+/* A source's heights, whole: its own where it holds them (*owned NULL),
+ * else read a band's rows at a time into *owned (width * height floats,
+ * NaN at nodata), which the caller frees. For work that reads rows
+ * anywhere (box shadows by each cell's own ray). Refuses a DEM without a
+ * valid height; Ctrl-C (ss_ctx_cancel) stops it between bands. */
+SS_API ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned,
+                                   const float **z);
 
 /* Receives finished rows [row0, row0 + n_rows) of one output of a row-wise
  * product: `output` says which (the product's SS_OUT_* values), `index`

@@ -266,7 +266,7 @@ static ss_status keep_sunlit(void *user, int output, int index, int row0, int n_
  * its heights held whole for the march): the shadow product and
  * hillshade's cast shade give the whole grid's answer bit for bit, for
  * bands of 1, 7 and 64 rows, and march (the counter moves); a reader that
- * fails stops the run with a message. */
+ * fails stops the run with a message, and so does a DEM of nodata alone. */
 static void marched_in_bands(const char *what, const ss_grid *g)
 {
     size_t n = (size_t)g->width * g->height;
@@ -290,6 +290,8 @@ static void marched_in_bands(const char *what, const ss_grid *g)
     for (int b = 0; ok && b < 3; ++b) {
         ss_source src = test_source(g, read_grid_rows, &reader, band_rows[b], NULL);
         shade_rows lit_rows = {lit_b, g->width}, shade_rows_b = {shade_b, g->width};
+        for (size_t i = 0; i < n; ++i)
+            lit_b[i] = shade_b[i] = NAN;
         ok = ss_shadow_rows(ctx, &src, &opt, one_sun, NULL, keep_sunlit, &lit_rows) == SS_OK &&
              ss_hillshade_rows(ctx, &src, &opt, &ho, keep_shade, &shade_rows_b) == SS_OK;
         differ += ok && (memcmp(lit, lit_b, n * sizeof(float)) != 0 ||
@@ -304,10 +306,21 @@ static void marched_in_bands(const char *what, const ss_grid *g)
     shade_rows sink = {lit_b, g->width};
     int refused = ss_shadow_rows(ctx, &failing, &opt, one_sun, NULL, keep_sunlit, &sink) != SS_OK &&
                   strstr(ss_ctx_message(ctx), "could not read DEM rows") != NULL;
+    /* A DEM read in bands with no valid height is refused, as the engine
+     * refuses one. */
+    ss_grid holes = test_grid(g->width, g->height, g->cell_x_m, g->cell_y_m);
+    for (size_t i = 0; i < n; ++i)
+        holes.z[i] = NAN;
+    grid_reader no_heights = {&holes, holes.height};
+    ss_source empty = test_source(&holes, read_grid_rows, &no_heights, 16, NULL);
+    refused = refused &&
+              ss_shadow_rows(ctx, &empty, &opt, one_sun, NULL, keep_sunlit, &sink) == SS_ERR_INPUT &&
+              strstr(ss_ctx_message(ctx), "no valid height") != NULL;
+    ss_grid_free(&holes);
     tap_ok(ok && differ == 0 && marched == 6 && refused,
            "%s, box shadows in bands of 1, 7 and 64 rows: shadow and hillshade's cast shade are "
            "the whole grid's bit for bit (%zu of 3 band heights differ), by each cell's own ray "
-           "(%llu marches, want 6); a reader that fails is reported (%s)%s%s",
+           "(%llu marches, want 6); a failing reader and a DEM of nodata are reported (%s)%s%s",
            what, differ, (unsigned long long)marched, refused ? "yes" : "no", err[0] ? ": " : "",
            err);
     ss_ctx_free(ctx);

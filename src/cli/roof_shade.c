@@ -111,6 +111,14 @@ ss_status roof_shade_sweep(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
     ss_status st = s->lit && lit ? SS_OK
                                  : ss_ctx_error(ctx, SS_ERR_MEMORY,
                                                 "out of memory for the planes' shade table");
+    /* Box shadows by each cell's own ray read the heights whole: once for
+     * every record, not once a record (a DSM read in bands; counted by
+     * run_march_cell_bytes). */
+    ss_source held = *src;
+    float *owned = NULL;
+    if (st == SS_OK && !src->z && opt->lines == SS_LINES_BOX &&
+        opt->box_shadows == SS_BOX_SHADOWS_MARCH)
+        st = ss_source_heights(ctx, src, &owned, &held.z);
     for (int i = 0; st == SS_OK && i < n_steps; ++i) {
         const ss_sun_step *step = &steps[i];
         int day, slot = slot_of(step->unix_s, utc_offset_h, &day);
@@ -130,11 +138,12 @@ ss_status roof_shade_sweep(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
                         .bit = (uint32_t)1 << (day - 1),
                         .width = src->width};
         memset(lit, 0, sizeof(int) * (s->n_planes + 1));
-        st = ss_shadow_rows(ctx, src, opt, step_sun, &t, keep_sunlit, &t);
+        st = ss_shadow_rows(ctx, &held, opt, step_sun, &t, keep_sunlit, &t);
         if (st == SS_OK)
             add_shares(s, step, sun_grid_az, lit, slot);
         s->sweeps++;
     }
+    free(owned);
     free(lit);
     return st;
 }

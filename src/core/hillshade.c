@@ -300,7 +300,7 @@ ss_status ss_hillshade_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_op
         .what = "hillshade"};
     /* Box shadows by each cell's own ray where they can be: the shade
      * needs only whether the light clears each cell's horizon. */
-    if (st == SS_OK && ho->cast_shadows && ss_box_shadows_marched(src, opt))
+    if (st == SS_OK && ho->cast_shadows && ss_box_shadows_marched(opt))
         st = ss_box_shadow_march(ctx, src, opt, light.azimuth_deg, ho->altitude_deg,
                                  ho->altitude_deg, shade_direction, &s);
     else if (st == SS_OK)

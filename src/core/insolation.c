@@ -231,7 +231,7 @@ typedef struct {
     unsigned char *crossed;
     float *through;
     float *marched; /* a STEP_MARCHED step's horizons over the band's own rows */
-    const float *heights; /* the grid's, held whole for the march (ss_box_march_heights) */
+    const float *heights; /* the grid's, held whole for the march (ss_source_heights) */
     float *heights_owned;
 } steps_run;
 
@@ -809,7 +809,7 @@ static ss_status classify_steps(ss_insolation_job *job, int n_steps, steps_plan 
     if (st != SS_OK)
         return st;
     plan->n_dirs = plan->n_swept = plan->n_marched = 0;
-    int marched = ss_box_shadows_marched(job->src, job->opt);
+    int marched = ss_box_shadows_marched(job->opt);
     for (int k = 0; k < n_steps; ++k) {
         if (!ss_share_has(job->share, k))
             continue; /* another process's step */
@@ -935,7 +935,7 @@ static ss_status run_steps(ss_insolation_job *job, const steps_plan *plan)
     if (plan->n_marched) {
         s.marched = ss_malloc(n * sizeof(float));
         if (st == SS_OK)
-            st = ss_box_march_heights(job->ctx, src, &s.heights_owned, &s.heights);
+            st = ss_source_heights(job->ctx, src, &s.heights_owned, &s.heights);
     }
     if (st == SS_OK &&
         (!s.terms || (steps_out && !s.step_global) || !s.sun || (read_stored && !s.stored_band) ||

@@ -195,8 +195,9 @@ static double box_lines_count_error(int count)
  * measured SVF error meets --svf-tolerance (doc/box_lines.md); else the
  * default, as no table measures horizon angles' or shadows' error by the
  * count. Insolation keeps the default too: the one count serves its
- * shadows, which take the lines in the interpolated and cumulative modes,
- * in bands and on OpenCL. Writes what the lines item says of it to `said`,
+ * shadows, which take the lines in the interpolated and cumulative modes
+ * and with --box-shadows lines (plan_sky_box_lines gives the sky view its
+ * own where they do not). Writes what the lines item says of it to `said`,
  * and returns the SVF error expected (0: none measured). */
 static double plan_box_lines(ss_plan *p, const ss_plan_request *r, char *said, size_t size)
 {

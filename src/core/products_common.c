@@ -24,48 +24,9 @@ float ss_curvature_k(const ss_sweep_options *opt)
     return (float)(0.5 / r_eff);
 }
 
-int ss_box_shadows_marched(const ss_source *src, const ss_sweep_options *opt)
+int ss_box_shadows_marched(const ss_sweep_options *opt)
 {
-    return opt->lines == SS_LINES_BOX && opt->box_shadows == SS_BOX_SHADOWS_MARCH &&
-           (src->z || src->read);
-}
-
-ss_status ss_box_march_heights(ss_ctx *ctx, const ss_source *src, float **owned,
-                               const float **z)
-{
-    *owned = NULL;
-    *z = src->z;
-    if (src->z)
-        return SS_OK;
-    size_t w = (size_t)src->width;
-    float *all = ss_malloc(w * src->height * sizeof(float));
-    if (!all)
-        return ss_fail(ctx, SS_ERR_MEMORY,
-                       "out of memory for the heights the box shadows' march holds whole "
-                       "(%.0f MiB; --box-shadows lines walks bands alone)",
-                       (double)(w * src->height * sizeof(float)) / 1048576.0);
-    /* Read as the bands are, so that the reader needs no more. */
-    int rows = ss_source_band_rows(src);
-    ss_status st = SS_OK;
-    for (int r = 0; r < src->height && st == SS_OK; r += rows) {
-        int n = src->height - r < rows ? src->height - r : rows;
-        unsigned long failures = ctx->failures;
-        st = src->read(src->read_user, r, n, all + (size_t)r * w);
-        if (st != SS_OK && ctx->failures == failures)
-            st = ss_fail(ctx, st, "could not read DEM rows %d..%d", r, r + n - 1);
-    }
-    int any_height = 0;
-    for (size_t c = 0; st == SS_OK && !any_height && c < w * src->height; ++c)
-        any_height = isfinite(all[c]);
-    if (st == SS_OK && !any_height)
-        st = ss_fail(ctx, SS_ERR_INPUT, "the DEM holds no valid height: every cell is nodata");
-    if (st != SS_OK) {
-        free(all);
-        return st;
-    }
-    *owned = all;
-    *z = all;
-    return SS_OK;
+    return opt->lines == SS_LINES_BOX && opt->box_shadows == SS_BOX_SHADOWS_MARCH;
 }
 
 ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
@@ -76,7 +37,7 @@ ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_
 {
     float *owned;
     const float *z;
-    ss_status st = ss_box_march_heights(ctx, src, &owned, &z);
+    ss_status st = ss_source_heights(ctx, src, &owned, &z);
     if (st != SS_OK)
         return st;
     /* The march only reads the heights. */
@@ -109,6 +70,8 @@ ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_
                              .own_z = z + (size_t)row0 * src->width};
         ss_dir_rows dir_rows = {angle, NULL, NULL, 0};
         st = direction(user, 0, &band, &dir_rows, NULL);
+        if (st == SS_OK)
+            st = ss_progress(ctx, (double)(row0 + n_rows) / src->height, "the box shadows");
     }
     if (st == SS_OK)
         ctx->counters.box_march_steps++;

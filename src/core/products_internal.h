@@ -11,17 +11,12 @@ float ss_curvature_k(const ss_sweep_options *opt);
 /* Whether cast shadows on box lines are each cell's own ray by bounds and
  * march (box_shadow.h): asked for (box_shadows), on a grid held whole or
  * read in bands (a march reads columns anywhere upstream: a banded run
- * holds the heights whole for it, ss_box_march_heights, 4 bytes a cell
- * that the CLI's memory plan counts). The march runs on the host whatever
- * the device, and so do the products' steps that use it (a GPU keeps
- * insolation's per-cell terms on the host then), so every device and
+ * holds the heights whole for it, ss_source_heights, 4 bytes a cell that
+ * the CLI's and Python's memory plans count). The march runs on the host
+ * whatever the device, and so do the products' steps that use it (a GPU
+ * keeps insolation's per-cell terms on the host then), so every device and
  * every band height gives the same box shadows. */
-int ss_box_shadows_marched(const ss_source *src, const ss_sweep_options *opt);
-/* The whole grid's heights for the march: the source's own where it holds
- * them (*owned NULL), else read band by band into *owned, for the caller
- * to free. */
-ss_status ss_box_march_heights(ss_ctx *ctx, const ss_source *src, float **owned,
-                               const float **z);
+int ss_box_shadows_marched(const ss_sweep_options *opt);
 /* Where ss_box_shadows_marched: the box shadows toward azimuth_deg (the
  * options' frame) handed to direction band by band (the source's band
  * rows; one band of the grid held whole), each cell's horizon right for

@@ -108,7 +108,7 @@ ss_status ss_cast_shadow(ss_ctx *ctx, const ss_grid *grid, const ss_sweep_option
                     .sunlit = sunlit,
                     .horizon = horizon_deg};
     /* The march's horizons tell lit from shaded, not the horizon's angle. */
-    if (!horizon_deg && ss_box_shadows_marched(&src, opt)) {
+    if (!horizon_deg && ss_box_shadows_marched(opt)) {
         double lo = sun_elevation_deg, hi = sun_elevation_deg;
         if (sun_elevation_per_cell_deg)
             sun_range(grid, sun_elevation_per_cell_deg, &lo, &hi);
@@ -180,7 +180,7 @@ ss_status ss_shadow_rows(ss_ctx *ctx, const ss_source *src, const ss_sweep_optio
                     .user = user};
     if (!s.facing || !s.light)
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of shadows");
-    else if (ss_box_shadows_marched(src, opt))
+    else if (ss_box_shadows_marched(opt))
         st = ss_box_shadow_march(ctx, src, opt, centre.azimuth_deg,
                                  centre.apparent_elevation_deg - centre.spread_deg,
                                  centre.apparent_elevation_deg + centre.spread_deg, shade_rows,

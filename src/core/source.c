@@ -3,6 +3,7 @@
 #include "config.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "engine.h"
 
@@ -48,5 +49,44 @@ ss_status ss_source_check(ss_ctx *ctx, const ss_source *src)
     if ((double)src->width * (double)src->height > 2147483647.0)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "a DEM of %d x %d cells is beyond 2^31 cells",
                        src->width, src->height);
+    return SS_OK;
+}
+
+ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned, const float **z)
+{
+    ss_call_begin(ctx);
+    *owned = NULL;
+    *z = src->z;
+    if (src->z)
+        return SS_OK;
+    size_t w = (size_t)src->width;
+    float *all = ss_malloc(w * src->height * sizeof(float));
+    if (!all)
+        return ss_fail(ctx, SS_ERR_MEMORY,
+                       "out of memory for the DEM's heights held whole (%.0f MiB)",
+                       (double)(w * src->height * sizeof(float)) / 1048576.0);
+    /* Read as the bands are, so that the reader needs no more. */
+    int rows = ss_source_band_rows(src);
+    ss_status st = SS_OK;
+    for (int r = 0; r < src->height && st == SS_OK; r += rows) {
+        int n = src->height - r < rows ? src->height - r : rows;
+        unsigned long failures = ctx->failures;
+        st = src->read(src->read_user, r, n, all + (size_t)r * w);
+        if (st != SS_OK && ctx->failures == failures)
+            st = ss_fail(ctx, st, "could not read DEM rows %d..%d", r, r + n - 1);
+        if (st == SS_OK)
+            st = ss_check_cancel(ctx, "reading the heights");
+    }
+    int any_height = 0;
+    for (size_t c = 0; st == SS_OK && !any_height && c < w * src->height; ++c)
+        any_height = isfinite(all[c]);
+    if (st == SS_OK && !any_height)
+        st = ss_fail(ctx, SS_ERR_INPUT, "the DEM holds no valid height: every cell is nodata");
+    if (st != SS_OK) {
+        free(all);
+        return st;
+    }
+    *owned = all;
+    *z = all;
     return SS_OK;
 }
