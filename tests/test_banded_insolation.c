@@ -197,13 +197,27 @@ static double worst_of(const float *a, const float *b, size_t n, size_t *nodata_
     return w;
 }
 
-/* Box lines of box_lines families (0: interpolated lines), their cast
+/* A context on the default OpenCL device, or NULL after skipping what
+ * (one TAP skip) where none opens here. */
+static ss_ctx *opencl_or_skip(const char *what)
+{
+    ss_ctx *dev = ss_ctx_new();
+    if (ss_ctx_use_device(dev, NULL) != SS_OK || strstr(ss_ctx_device_name(dev), "reference") ||
+        strstr(ss_ctx_device_name(dev), "no device")) {
+        tap_skip(what, "no OpenCL device opens here");
+        ss_ctx_free(dev);
+        return NULL;
+    }
+    return dev;
+}
+
+/* On the device of ctx (the caller's). Box lines of box_lines families (0: interpolated lines), their cast
  * shadows by the families' walks or (march) by each cell's own ray, which
  * must then run in every band; want_skips: every banded run must stop
  * some walks by the bounds. */
-static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, int curved,
-                          int first, int n_steps, const int *band_rows, int n_band_rows,
-                          int box_lines, int march, int want_skips)
+static void compare_lines(ss_ctx *ctx, const ss_grid *g, const char *terrain, int per_cell,
+                          int curved, int first, int n_steps, const int *band_rows,
+                          int n_band_rows, int box_lines, int march, int want_skips)
 {
     ss_sweep_options opt;
     ss_sweep_options_default(&opt);
@@ -220,8 +234,6 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
     grids ref, out;
     int ok = sun_init(&sun, g, per_cell) && grids_init(&ref, g, &sun) && grids_init(&out, g, &sun);
     sun.first = first;
-    ss_ctx *ctx = ss_ctx_new();
-    ss_ctx_use_device(ctx, "reference");
     ss_insolation_out whole = {.global = ref.out[0],
                                .beam = ref.out[1],
                                .diffuse = ref.out[2],
@@ -229,6 +241,7 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
                                .sun_hours = ref.out[4]};
     /* Runs longer than the table check the five outputs only. */
     int per_step = n_steps <= N_STEPS;
+    uint64_t marched_before = ss_ctx_counters(ctx).box_march_steps;
     if (ok && ss_insolation(ctx, g, &opt, &io, n_steps, sun_whole, &sun,
                             per_step ? whole_step : NULL, &ref, &whole) != SS_OK) {
         tap_diag("whole-grid run failed: %s", ss_ctx_message(ctx));
@@ -237,12 +250,14 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
     size_t n = (size_t)g->width * g->height, mismatch = 0;
     double worst[5] = {0}, worst_step = 0;
     int rows_ok = 1, runs_skipping = 0, runs_marching = 0;
+    /* Each daylight step is marched once however many bands it takes. */
+    uint64_t marched_whole = ss_ctx_counters(ctx).box_march_steps - marched_before;
     char why[300] = "";
     for (int b = 0; ok && b < n_band_rows; ++b) {
         memset(out.writes, 0, sizeof(int) * (size_t)(N_STEPS + 1) * g->height);
         ss_source src = test_source(g, read_rows, &out, band_rows[b], NULL);
         uint64_t skipped = ss_ctx_counters(ctx).shadow_steps_skipped;
-        uint64_t marched = ss_ctx_counters(ctx).box_march_cells;
+        uint64_t marched = ss_ctx_counters(ctx).box_march_steps;
         if (ss_insolation_rows(ctx, &src, &opt, &io, n_steps, sun_rows, &sun,
                                per_step ? SS_INSOLATION_STEPS : 0, NULL, write_rows,
                                &out) != SS_OK) {
@@ -251,7 +266,8 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
             break;
         }
         runs_skipping += ss_ctx_counters(ctx).shadow_steps_skipped > skipped;
-        runs_marching += ss_ctx_counters(ctx).box_march_cells > marched;
+        runs_marching += marched_whole > 0 &&
+                         ss_ctx_counters(ctx).box_march_steps - marched == marched_whole;
         for (int r = 0; r < (per_step ? n_steps + 1 : 1) * g->height; ++r)
             rows_ok &= out.writes[r] == 1;
         for (int k = 0; k < 5; ++k)
@@ -259,7 +275,6 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
         for (int k = 0; k < n_steps && per_step; ++k)
             worst_step = fmax(worst_step, worst_of(ref.steps[k], out.steps[k], n, &mismatch));
     }
-    ss_ctx_free(ctx);
     /* Relative to the value (or absolute below 1 Wh/m^2). The steps are
      * summed in another order (each pass's, then the passes and groups of
      * steps), which moves a sum of n float terms by up to about n 2^-24
@@ -275,12 +290,13 @@ static void compare_lines(const ss_grid *g, const char *terrain, int per_cell, i
                worst[2] <= 1e-4 && worst[3] <= 1e-4 * long_run && worst[4] == 0 &&
                worst_step <= 1e-5 && (!bounded || runs_skipping == n_band_rows) &&
                (!march || runs_marching == n_band_rows),
-           "%s, %s, curvature %s, %d steps: banded insolation == whole grid for %d band heights "
+           "%s, %s, %s, curvature %s, %d steps: banded insolation == whole grid for %d band heights "
            "(worst relative: global %.2g, beam %.2g, diffuse %.2g, reflected %.2g, sun hours %.2g, "
            "steps %.2g; every "
            "row written once: %s; %d banded runs left samples of their shadow walks unwalked%s; "
-           "%d marched each cell's own ray%s)%s%s",
-           terrain, per_cell ? "a sun per cell" : "one sun", curved ? "on" : "off", n_steps,
+           "%d marched each cell's own ray in every daylight step%s)%s%s",
+           ss_ctx_device_name(ctx), terrain, per_cell ? "a sun per cell" : "one sun",
+           curved ? "on" : "off", n_steps,
            n_band_rows, worst[0], worst[1], worst[2], worst[3], worst[4],
            worst_step,
            rows_ok ? "yes" : "no", runs_skipping, bounded ? ", want all" : "", runs_marching,
@@ -449,20 +465,6 @@ static void lattice_against_arrays(const ss_grid *g, int weather, const int *ban
     lattice_free(&sun);
     grids_free(&out[0]);
     grids_free(&out[1]);
-}
-
-/* A context on the default OpenCL device, or NULL after skipping what
- * (one TAP skip) where none opens here. */
-static ss_ctx *opencl_or_skip(const char *what)
-{
-    ss_ctx *dev = ss_ctx_new();
-    if (ss_ctx_use_device(dev, NULL) != SS_OK || strstr(ss_ctx_device_name(dev), "reference") ||
-        strstr(ss_ctx_device_name(dev), "no device")) {
-        tap_skip(what, "no OpenCL device opens here");
-        ss_ctx_free(dev);
-        return NULL;
-    }
-    return dev;
 }
 
 /* Insolation's steps on an OpenCL device (ss_ctx_set_cells), each cell's
@@ -733,42 +735,54 @@ static void sky_box_lines_obeyed(const ss_grid *g)
         free(global[k]);
 }
 
-static void compare(const ss_grid *g, const char *terrain, int per_cell, int curved, int first,
-                    int n_steps, const int *band_rows, int n_band_rows)
+static void compare(ss_ctx *ctx, const ss_grid *g, const char *terrain, int per_cell, int curved,
+                    int first, int n_steps, const int *band_rows, int n_band_rows)
 {
-    compare_lines(g, terrain, per_cell, curved, first, n_steps, band_rows, n_band_rows, 0, 0, 0);
+    compare_lines(ctx, g, terrain, per_cell, curved, first, n_steps, band_rows, n_band_rows, 0, 0,
+                  0);
 }
 
 int main(void)
 {
     static const int band_rows[] = {1, 2, 5, 16, 200};
+    ss_ctx *twin = ss_ctx_new();
+    ss_ctx_use_device(twin, "reference");
     ss_grid g = test_grid(41, 36, 25, 25);
     test_fill(&g, TERRAIN_SMOOTH, 17, 700);
     test_holes(&g, 6, 4, 5);
     g.z_origin_m = 1200.0; /* the air pressure sees heights above the datum */
     const int nb = (int)(sizeof band_rows / sizeof *band_rows);
-    compare(&g, "smooth hills 41x36", 0, 0, 0, N_STEPS, band_rows, nb);
-    compare(&g, "smooth hills 41x36", 1, 1, 0, N_STEPS, band_rows, nb);
+    compare(twin, &g, "smooth hills 41x36", 0, 0, 0, N_STEPS, band_rows, nb);
+    compare(twin, &g, "smooth hills 41x36", 1, 1, 0, N_STEPS, band_rows, nb);
     ss_grid_free(&g);
     ss_grid s = test_grid(30, 44, 10, 10);
     test_fill(&s, TERRAIN_SPIKES, 4, 250);
     test_holes(&s, 3, 3, 4);
-    compare(&s, "spikes 30x44", 1, 0, 0, N_STEPS, band_rows, nb);
+    compare(twin, &s, "spikes 30x44", 1, 0, 0, N_STEPS, band_rows, nb);
     /* 150 steps, 128 of them in daylight: two groups of 64 and one of 0
      * (SS_INSOLATION_STEPS_PER_RUN), their sums carried between runs. */
-    compare(&s, "spikes 30x44, 150 steps", 1, 0, 0, 150, band_rows, nb);
+    compare(twin, &s, "spikes 30x44, 150 steps", 1, 0, 0, 150, band_rows, nb);
     /* The same on box lines of 32 families, whose walks repay bounds per
      * sector (lit_levels.h): every banded run stops walks by them. */
-    compare_lines(&s, "spikes 30x44, 150 steps, box lines x32", 1, 0, 0, 150, band_rows, nb, 32,
+    compare_lines(twin, &s, "spikes 30x44, 150 steps, box lines x32", 1, 0, 0, 150, band_rows, nb, 32,
                   0, 1);
+    /* The same bounds on an OpenCL device in bands, each band's levels
+     * loaded with its heights: the whole grid's answer there. */
+    ss_ctx *dev = opencl_or_skip("banded insolation stopped by the bounds on a device");
+    if (dev) {
+        compare_lines(dev, &s, "spikes 30x44, 150 steps, box lines x32", 1, 0, 0, 150, band_rows,
+                      nb, 32, 0, 0);
+        compare(dev, &s, "spikes 30x44, 150 steps", 1, 0, 0, 150, band_rows, nb);
+        ss_ctx_free(dev);
+    }
     /* Only the night step: nothing swept, every row still written. */
-    compare(&s, "spikes 30x44, night only", 0, 0, N_STEPS - 1, 1, band_rows, nb);
+    compare(twin, &s, "spikes 30x44, night only", 0, 0, N_STEPS - 1, 1, band_rows, nb);
     ss_grid city = box_march_city(90);
     /* Each cell's own ray in bands, from the heights held whole: the
      * whole grid's shadows to the bit (the hours of sun exact). */
-    compare_lines(&city, "box city 90x90, box lines x8 marched", 0, 1, 0, N_STEPS, band_rows, nb,
+    compare_lines(twin, &city, "box city 90x90, box lines x8 marched", 0, 1, 0, N_STEPS, band_rows, nb,
                   8, 1, 0);
-    compare_lines(&city, "box city 90x90, box lines x8 marched", 1, 0, 0, N_STEPS, band_rows, nb,
+    compare_lines(twin, &city, "box city 90x90, box lines x8 marched", 1, 0, 0, N_STEPS, band_rows, nb,
                   8, 1, 0);
     march_against_lines(&city, 0);
     march_against_lines(&city, 1);
@@ -782,5 +796,6 @@ int main(void)
     lattice_on_device(&s, 0, SS_SHADOW_INTERPOLATED, 1, band_rows, nb);
     lattice_on_device(&s, 1, SS_SHADOW_INTERPOLATED, 0, band_rows, nb);
     ss_grid_free(&s);
+    ss_ctx_free(twin);
     return tap_done();
 }

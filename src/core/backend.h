@@ -32,7 +32,8 @@ typedef struct {
      * (ss_counters.shadow_steps_skipped). */
     const unsigned char *lit_levels;
     /* The same in bands (lit_levels.h): the driver reads each band's into
-     * lit_levels before its walks, on the C twin (a device walks whole). */
+     * lit_levels before its walks, and a device's load takes them with the
+     * band's heights. */
     struct ss_lit_bands *lit_bands;
 } ss_walk;
 

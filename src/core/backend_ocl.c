@@ -126,6 +126,9 @@ static ss_status ocl_load(ss_backend *b, const ss_band_run *run, const float *z,
     st = ocl_upload(b, q->z, run_cells(run) * sizeof(float), z);
     if (st == SS_OK && grad)
         st = ocl_upload(b, q->grad, 2 * run_cells(run) * sizeof(float), grad);
+    if (st == SS_OK && q->lit_levels_loaded && b->walk.lit_levels)
+        st = ocl_upload(b, q->lit_levels, ss_lit_bands_bytes(b->walk.lit_bands, run->held_rows),
+                        b->walk.lit_levels);
     return st;
 }
 
@@ -533,11 +536,17 @@ ss_status ss_backend_ocl_open(ss_backend *b)
      * plan gives the device (engine.c, cells_fit). */
     b->cells_max_bytes = (size_t)fmin((double)o->max_alloc,
                                       ss_memory_device_cells_bytes(b->ctx, (double)o->global_mem));
-    /* Shadow walks stop early on a whole grid only (engine.c sets lit_level
-     * -1 elsewhere). */
+    /* Shadow walks stop early by the cells' bounds: the whole grid's, or a
+     * band's at a time with its heights (ocl_load); else no direction reads
+     * them (engine.c sets lit_level -1). */
+    q->lit_levels_loaded = horizon && b->walk.lit_bands && !b->whole_z;
     if (horizon && b->walk.lit_levels && b->whole_z)
         q->lit_levels = ocl_new_buffer(b, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR,
                                        cells * SS_LIT_SECTORS, (void *)b->walk.lit_levels, &err);
+    else if (q->lit_levels_loaded)
+        q->lit_levels = ocl_new_buffer(b, CL_MEM_READ_ONLY,
+                                       ss_lit_bands_bytes(b->walk.lit_bands, b->max_held_rows),
+                                       NULL, &err);
     else
         q->lit_levels = ocl_new_buffer(b, CL_MEM_READ_ONLY, 1, NULL, &err);
     /* Valid (if empty) hull buffers, so every kernel argument is a buffer. */

@@ -500,9 +500,8 @@ static ss_status open_run(engine_run *e)
                              : h;
     size_t held = (size_t)max_held * (size_t)w;
     int whole_in_place = !e->banded && src->z && !job->walk.negate;
-    /* Bounds made band by band: read once for one band, else per band on
-     * the C twin (a device's band walks go whole). */
-    if (job->walk.lit_bands && (!e->banded || e->ctx->use_reference) &&
+    /* Bounds made band by band: read once for one band, else per band. */
+    if (job->walk.lit_bands &&
         !(e->lit_levels = ss_malloc(ss_lit_bands_bytes(job->walk.lit_bands, max_held))))
         return ss_fail(e->ctx, SS_ERR_MEMORY, "cannot allocate %zu MB for a band's bounds",
                        ss_lit_bands_bytes(job->walk.lit_bands, max_held) >> 20);

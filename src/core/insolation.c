@@ -884,9 +884,6 @@ static ss_status shadow_levels(const ss_insolation_job *job, const steps_plan *p
     if (!ss_lit_levels_used(plan->n_swept, job->opt->lines))
         return SS_OK;
     int banded = ss_source_band_rows(src) < src->height;
-    /* A device walks its bands whole (engine.c): no bounds to make for it. */
-    if (banded && !job->ctx->use_reference)
-        return SS_OK;
     /* In bands the levels are made a window at a time before the band's
      * buffers: where a window's making needs more than the band a memory
      * plan sized (narrow bands under a tight --memory), the walks go whole. */

@@ -37,6 +37,7 @@ typedef struct {
 typedef struct {
     cl_mem z, grad, stacks, sums, parts, outs, carry, dirs;
     cl_mem lit_levels; /* the walk's, or one byte no direction reads (lit_level -1) */
+    int lit_levels_loaded; /* in bands: each band's levels come with its heights */
     /* Hulls handed on (ss_band.h): in from the band before, out to the next. */
     cl_mem hull_in, hull_out, in_off, in_cnt, out_off, out_cnt, state, counters;
     size_t hull_cap_in, hull_cap_out; /* points */
