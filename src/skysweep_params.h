@@ -111,6 +111,11 @@ SS_API void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *pl
  * sizing memory before the plan is made: those given, else the larger of
  * SS_BOX_LINES_DEFAULT and the sky view's choice from svf_tolerance. */
 SS_API int ss_sweep_params_box_lines_most(const ss_sweep_params *p);
+/* The box lines per cell insolation's sky view takes where its exact
+ * shadows are each cell's own ray (the plan's sky_box_lines, else its box
+ * lines): those given, else the fewer of SS_BOX_LINES_DEFAULT and the
+ * count the SVF table gives svf_tolerance. */
+SS_API int ss_sweep_params_sky_box_lines(const ss_sweep_params *p);
 
 /* ---- sky-view factor ("svf") and openness ("openness") ------------------------ */
 

@@ -9,6 +9,7 @@
 # its buffers beside it (simulated on PoCL).
 set -u
 . "${TOP_SRCDIR:-.}/tests/tap.sh"
+. "${TOP_SRCDIR:-.}/tests/raster_compare.sh"
 SKYSWEEP=${SKYSWEEP:-./skysweep}
 work=$(mktemp -d "${TMPDIR:-/tmp}/ss-memory-bound.XXXXXX")
 trap 'rm -rf "$work"' EXIT
@@ -168,6 +169,23 @@ for device in $devices; do
     tap_ok $? "shadow --lines box on $device, --memory ${budget}M: in bands by each cell's own ray, peak resident $peak MiB (exit $rc), the whole grid's shadow to the bit ($([ "$same" -eq 0 ] && echo yes || echo no)): $(head -c 300 <<<"$summary")"
     rm -f "$work/out.tif" "$work/banded.tif" "$work"/*.raw "$work"/*.hdr "$work"/*.aux.xml
 done
+# Insolation with exact box shadows by each cell's own ray walks no line
+# for its shadows: only its sky view's hulls are counted (4 directions of 8
+# box lines here, not 64 steps of 32), so --lines box now bands at 200M
+# (the least was 611M). In bands the hours of sun and the beam are the
+# whole grid's to the bit, the global and the sky's terms within the sky
+# view's sums in another order (tests/test_banded_insolation.c's 1e-4).
+ins="insolation --lines box --directions 4 --time 2026-12-21T09:00-10:00/PT4H --step PT2H"
+read -r peak rc least < <(bounded "$ins" reference 200)
+mv "$work/out.tif" "$work/banded.tif" 2>/dev/null
+summary=$(grep -E '^(bands|memory|shadows)' "$work/out" | tr '\n' ' ')
+bounded "$ins" reference 1024 >/dev/null
+exact=$(worst_of "$work/banded.tif" "$work/out.tif" 2 5)
+sky=$(worst_of "$work/banded.tif" "$work/out.tif" 1 3 4)
+[ "$rc" -eq 0 ] && [ "$peak" -le 200 ] && [[ $summary == *"(bands)"* ]] &&
+    [[ $summary == *"by each cell's own ray"* ]] && [ "$exact" = 0 ] && worst_within "$sky" 0.05
+tap_ok $? "insolation --lines box, --memory 200M: in bands by each cell's own ray, peak resident $peak MiB (exit $rc); beam and hours of sun the whole grid's (worst $exact), global, diffuse and reflected within 0.05 Wh/m2 (worst $sky): $(head -c 260 <<<"$summary")"
+rm -f "$work/out.tif" "$work/banded.tif"
 # A GPU's own memory is a second bound beside --memory (memory_plan.c),
 # simulated on PoCL by SKYSWEEP_TEST_DEVICE_MEMORY: at --memory 512M the
 # SVF is swept whole, with a device of 64 MiB in bands whose plan the

@@ -229,14 +229,16 @@ class BandCost:
     """What a band of the product holds (the CLI's band_cost): bytes per
     cell, per column and hull line carried between bands, the lines handing
     hulls on, and the metres of terrain read beyond a band (radius walks).
+    box_lines: the box lines per cell of those lines (None: the options').
     marches: its cast shadows are each cell's own ray on box lines with
     box_shadows 'march', which in bands holds the heights whole (a float a
     cell of the whole grid, as the CLI's run_march_cell_bytes counts)."""
 
     def __init__(self, cell_bytes, column_bytes=0.0, hull_lines=None, halo_m=0.0,
-                 marches=False):
+                 box_lines=None, marches=False):
         self.cell_bytes, self.column_bytes = cell_bytes, column_bytes
-        self.hull_lines, self.halo_m, self.marches = hull_lines, halo_m, marches
+        self.hull_lines, self.halo_m = hull_lines, halo_m
+        self.box_lines, self.marches = box_lines, marches
 
 
 def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
@@ -261,7 +263,7 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
         halo_rows = min(math.ceil(cost.halo_m / cy), height)
     lines = cost.hull_lines if cost.hull_lines is not None else opt.directions
     if opt.lines == lib.SS_LINES_BOX:
-        lines *= opt.box_lines
+        lines *= cost.box_lines if cost.box_lines is not None else opt.box_lines
     marched = (cost.marches and opt.lines == lib.SS_LINES_BOX
                and opt.box_shadows == lib.SS_BOX_SHADOWS_MARCH)
     need = ffi.new("ss_memory_need *", {

@@ -170,11 +170,18 @@ def _run_insolation(ctx, grid, opt, params, plan, n_steps, sun_at, planes, trees
                 raise failed[0][1].with_traceback(failed[0][2])
         return
     stored = opt.directions if plan.shadow_mode == lib.SS_SHADOW_INTERPOLATED else 0
+    exact = plan.shadow_mode == lib.SS_SHADOW_EXACT
+    marched = (exact and opt.lines == lib.SS_LINES_BOX
+               and opt.box_shadows == lib.SS_BOX_SHADOWS_MARCH)
+    # Shadows by each cell's own ray walk no lines: only the sky view's
+    # directions hand hulls on, each with the sky view's box lines.
     cost = BandCost(lib.ss_horizon_band_cell_bytes(0) +
                     lib.ss_insolation_band_cell_bytes(0, stored),
                     column_bytes=lib.ss_horizon_column_bytes(),
-                    hull_lines=max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"]),
-                    marches=plan.shadow_mode == lib.SS_SHADOW_EXACT)
+                    hull_lines=(opt.directions if marched
+                                else max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"])),
+                    box_lines=opt.sky_box_lines if marched and opt.sky_box_lines > 0 else None,
+                    marches=exact)
     run_banded(ctx, grid, opt, cost, kw["memory"], targets,
                lambda c, src, sink: run(c, src, opt, params, sun, 0, ffi.NULL, sink, ffi.NULL),
                progress=kw.get("progress"))

@@ -52,12 +52,13 @@ CALLS = {
     "vat": (lambda **kw: skysweep.vat(TALL, 10.0, radius=100.0, **SWEEP, **kw), 2e-6),
     "insolation": (lambda **kw: skysweep.insolation(TALL, 10.0, **SUN, **SWEEP, **kw), 2e-3),
     # Box lines' cast shadows by each cell's own ray: in bands from the
-    # heights held whole (counted), the whole grid's shadows exactly. (On
-    # this DEM insolation's box-line hulls make one band dearer than the
-    # whole grid: tests/test_banded_insolation.c bands it.)
+    # heights held whole (counted), the whole grid's shadows exactly;
+    # insolation's then hand on only its sky view's hulls (counted so).
     "shadow on box lines": (
         lambda **kw: skysweep.shadow(TALL, 10.0, sun_azimuth=200.0, sun_elevation=12.0,
                                      **BOX, **kw), 0.0),
+    "insolation on box lines": (
+        lambda **kw: skysweep.insolation(TALL, 10.0, **SUN, **BOX, **kw), 2e-3),
 }
 
 

@@ -984,11 +984,19 @@ int cmd_insolation(int argc, char **argv)
         : set->trees.light.beer_lambert
             ? INSOLATION_TREES_CELL_BYTES + INSOLATION_BEER_LAMBERT_CELL_BYTES
             : INSOLATION_TREES_CELL_BYTES;
+    /* Exact shadows by each cell's own ray walk no lines: only the sky
+     * view's hand hulls on (its directions, 32 for box lines where the
+     * planner chooses, each of its box lines). */
+    int sky_directions = set->common.sweep.directions ? set->common.sweep.directions : 32;
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) +
                                     ss_insolation_band_cell_bytes(want, stores ? directions : 0),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = directions,
-                      .grid_cell_bytes = march_bytes + trees_bytes};
+                      .grid_cell_bytes = march_bytes + trees_bytes,
+                      .hull_lines = march_bytes > 0 && !stores
+                                        ? sky_directions *
+                                              ss_sweep_params_sky_box_lines(&set->common.sweep)
+                                        : 0};
     if (rc < 0)
         rc = job_open_banded(&r->job, "insolation", &set->common, pos, n_pos, cost);
     if (rc != 0 || !r->job.run.ctx) { /* --help, or the job failed and is closed */

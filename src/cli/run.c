@@ -517,9 +517,12 @@ static ss_status open_dem_file(run_state *run, const char *const *paths, int n_p
     /* Hulls are handed on per line: box lines have box_lines times as many
      * (the plan's count is not known yet: the most it can take). */
     int hull_directions =
-        (may_band && cost->directions ? cost->directions : common->sweep.directions) *
-        (run_lines_asked(common) == SS_LINES_BOX ? ss_sweep_params_box_lines_most(&common->sweep)
-                                                 : 1);
+        may_band && cost->hull_lines > 0
+            ? cost->hull_lines
+            : (may_band && cost->directions ? cost->directions : common->sweep.directions) *
+                  (run_lines_asked(common) == SS_LINES_BOX
+                       ? ss_sweep_params_box_lines_most(&common->sweep)
+                       : 1);
     *source = NULL;
     *band_rows = 0;
     if (common->heightmap)

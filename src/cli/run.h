@@ -146,6 +146,9 @@ typedef struct {
     int plans_late;
     /* Held per cell of the whole grid beside the bands (svf's trees). */
     double grid_cell_bytes;
+    /* Lines per column whose hulls are handed on between bands; 0: the
+     * directions swept at once times the most box lines per cell asked. */
+    int hull_lines;
 } band_cost;
 
 /* A sweeping command's input side: the output named last, the DEM tiles

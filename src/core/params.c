@@ -299,6 +299,14 @@ int ss_sweep_params_box_lines_most(const ss_sweep_params *p)
     return sky_view > SS_BOX_LINES_DEFAULT ? sky_view : SS_BOX_LINES_DEFAULT;
 }
 
+int ss_sweep_params_sky_box_lines(const ss_sweep_params *p)
+{
+    if (p->box_lines)
+        return p->box_lines;
+    int sky_view = ss_box_lines_for_tolerance(p->svf_tolerance, NULL);
+    return sky_view < SS_BOX_LINES_DEFAULT ? sky_view : SS_BOX_LINES_DEFAULT;
+}
+
 ss_sky_term ss_svf_params_term(const ss_svf_params *p)
 {
     /* In the choices' order. */
