@@ -186,6 +186,21 @@ sky=$(worst_of "$work/banded.tif" "$work/out.tif" 1 3 4)
     [[ $summary == *"by each cell's own ray"* ]] && [ "$exact" = 0 ] && worst_within "$sky" 0.05
 tap_ok $? "insolation --lines box, --memory 200M: in bands by each cell's own ray, peak resident $peak MiB (exit $rc); beam and hours of sun the whole grid's (worst $exact), global, diffuse and reflected within 0.05 Wh/m2 (worst $sky): $(head -c 260 <<<"$summary")"
 rm -f "$work/out.tif" "$work/banded.tif"
+# The same with the forest's crowns (--canopy, held whole): in bands each
+# step's crowns are met by each cell's own ray for the band's rows alone,
+# past the band's marched solid shade, once per sun (the summary's count),
+# and the answer is the whole grid's as above.
+read -r peak rc least < <(bounded "$ins --canopy $work/canopy.tif" reference 400)
+mv "$work/out.tif" "$work/banded.tif" 2>/dev/null
+summary=$(grep -E '^(bands|memory|trees  *[0-9])' "$work/out" | tr '\n' ' ')
+bounded "$ins --canopy $work/canopy.tif" reference 2048 >/dev/null
+exact=$(worst_of "$work/banded.tif" "$work/out.tif" 2 5)
+sky=$(worst_of "$work/banded.tif" "$work/out.tif" 1 3 4)
+[ "$rc" -eq 0 ] && [ "$peak" -le 400 ] && [[ $summary == *"(bands)"* ]] &&
+    [[ $summary == *"2 suns' crowns by each cell's own ray"* ]] && [ "$exact" = 0 ] &&
+    worst_within "$sky" 0.05
+tap_ok $? "insolation --lines box --canopy, --memory 400M: in bands, peak resident $peak MiB (exit $rc); beam and hours of sun the whole grid's (worst $exact), the rest within 0.05 Wh/m2 (worst $sky): $(head -c 300 <<<"$summary")"
+rm -f "$work/out.tif" "$work/banded.tif"
 # A GPU's own memory is a second bound beside --memory (memory_plan.c),
 # simulated on PoCL by SKYSWEEP_TEST_DEVICE_MEMORY: at --memory 512M the
 # SVF is swept whole, with a device of 64 MiB in bands whose plan the

@@ -17,11 +17,12 @@ typedef struct {
     box_frame f;
     const float *z;
     const ss_canopy *canopy;
-    const float *solid_angle; /* cells at or above solid_el_hi are not asked */
+    const float *solid_angle; /* of the rows answered; cells at or above solid_el_hi are not asked */
     double solid_el_hi;
     double tan_e;           /* the sun's slope */
     double tan_bound;       /* the bound's (tan_e, clamped) */
-    unsigned char *crossed; /* the answer per cell */
+    int row0, row1;         /* the rows answered */
+    unsigned char *crossed; /* the answer per cell of the grid (those rows' alone written) */
 } box_crowns;
 
 /* Cell i's crown as heights (*bottom, *top): 0 where it has none. */
@@ -75,26 +76,33 @@ static inline double window_top(const box_crowns *b, int major, int minor)
 }
 
 /* Line `line`'s cells, walked from the sun's side; bound_before is its
- * work space (major_len + 1 values). */
+ * work space (major_len + 1 values). Its cells outside the rows answered
+ * only feed the bound (box_line_meets_rows). */
 static void walk_line(const void *job, int line, double *bound_before, ss_box_ray_counts *counts)
 {
     const box_crowns *b = job;
     const box_frame *f = &b->f;
     double upper = -INFINITY;
-    int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1);
+    int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1), rows_fall;
+    if (!box_line_meets_rows(f, line, first, end, b->row0, b->row1, &rows_fall))
+        return;
     bound_before[0] = -INFINITY;
     for (int p = first; p < end; ++p) {
         int major = box_walk_position(f, p);
         int minor = line + f->shift[major];
+        int row_here = box_line_row(f, line, p);
+        if (box_past_rows(row_here, rows_fall, b->row0, b->row1))
+            break;
         double along = p * f->step_m;
         /* A ray through a corner may step first into its own column,
          * whose bound is made after it: there nothing stops its march. */
         bound_before[p + 1 - first] = INFINITY;
-        if (minor >= 0 && minor < f->minor_len) {
+        if (minor >= 0 && minor < f->minor_len && row_here >= b->row0 && row_here < b->row1) {
             ptrdiff_t cell = major * f->stride_major + minor * f->stride_minor;
             float z0 = b->z[cell];
             double threshold = z0 + b->tan_bound * along;
-            if (isfinite(z0) && !(b->solid_angle && b->solid_angle[cell] >= b->solid_el_hi)) {
+            ptrdiff_t own = cell - (ptrdiff_t)b->row0 * f->width;
+            if (isfinite(z0) && !(b->solid_angle && b->solid_angle[own] >= b->solid_el_hi)) {
                 counts->cells++;
                 if (!(upper < threshold - box_rounding_margin(threshold))) {
                     counts->marched++;
@@ -113,16 +121,18 @@ static void walk_line(const void *job, int line, double *bound_before, ss_box_ra
 }
 
 int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy, double grid_azimuth_deg,
-                          double elevation_deg, const float *solid_angle, double solid_el_hi,
-                          const volatile sig_atomic_t *cancel, unsigned char *crossed,
-                          ss_box_ray_counts *counts)
+                          double elevation_deg, int row0, int n_rows, const float *solid_angle,
+                          double solid_el_hi, const volatile sig_atomic_t *cancel,
+                          unsigned char *crossed, ss_box_ray_counts *counts)
 {
     *counts = (ss_box_ray_counts){0, 0};
-    memset(crossed, 0, (size_t)grid->width * grid->height);
+    memset(crossed + (size_t)row0 * grid->width, 0, (size_t)grid->width * n_rows);
     box_crowns b = {.z = grid->z,
                     .canopy = canopy,
                     .solid_angle = solid_angle,
                     .solid_el_hi = solid_el_hi,
+                    .row0 = row0,
+                    .row1 = row0 + n_rows,
                     .crossed = crossed};
     if (!box_frame_init(&b.f, grid, grid_azimuth_deg))
         return 0;

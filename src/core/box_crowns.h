@@ -26,17 +26,21 @@
 
 #include "box_ray.h"
 
-/* crossed[c] = 1 where the box-model ray from cell c's centre toward the
- * sun at grid azimuth grid_azimuth_deg and elevation elevation_deg (0 <
- * elevation < 90) passes strictly inside a crown of a cell ahead (its own
- * not counted), else 0; 0 at nodata. Cells whose solid horizon
- * solid_angle[c] (NULL: none given) is at least solid_el_hi are left 0
- * unasked: the solid columns shade them from every sun up to that, so no
- * crown can change their light. Lines not yet walked are left once
- * *cancel (NULL: never) is set, for the caller to report. Returns 0 when
- * out of memory for the lines' work space. */
+/* For the cells c of rows [row0, row0 + n_rows) (a band's; the whole
+ * grid's heights and crowns are read): crossed[c] = 1 where the box-model
+ * ray from cell c's centre toward the sun at grid azimuth
+ * grid_azimuth_deg and elevation elevation_deg (0 < elevation < 90)
+ * passes strictly inside a crown of a cell ahead (its own not counted),
+ * else 0; 0 at nodata. crossed is indexed over the whole grid, its other
+ * rows untouched; any rows give the whole grid's answer on them. Cells
+ * whose solid horizon (solid_angle, over those rows alone from row0;
+ * NULL: none given) is at least solid_el_hi are left 0 unasked: the solid
+ * columns shade them from every sun up to that, so no crown can change
+ * their light. Lines not yet walked are left once *cancel (NULL: never)
+ * is set, for the caller to report. Returns 0 when out of memory for the
+ * lines' work space. */
 int ss_box_crowns_crossed(const ss_grid *grid, const ss_canopy *canopy,
-                          double grid_azimuth_deg, double elevation_deg,
+                          double grid_azimuth_deg, double elevation_deg, int row0, int n_rows,
                           const float *solid_angle, double solid_el_hi,
                           const volatile sig_atomic_t *cancel, unsigned char *crossed,
                           ss_box_ray_counts *counts);

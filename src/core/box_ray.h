@@ -52,6 +52,34 @@ static inline int box_walk_position(const box_frame *f, int major)
     return f->sun_at_high_major ? f->major_len - 1 - major : major;
 }
 
+/* The row of line `line`'s cell at walk position p (beyond the grid's
+ * rows where the line is). Rows are monotonic along a line. */
+static inline int box_line_row(const box_frame *f, int line, int p)
+{
+    int major = box_walk_position(f, p);
+    return f->major_is_col ? line + f->shift[major] : major;
+}
+
+/* Work over rows [row0, row1) alone (a band's): whether line `line`'s
+ * positions [first, end) meet those rows, and *rows_fall, whether its rows
+ * fall along the walk; box_past_rows then says where the walk may end, for
+ * a ray runs toward the sun, to earlier positions. */
+static inline int box_line_meets_rows(const box_frame *f, int line, int first, int end,
+                                      int row0, int row1, int *rows_fall)
+{
+    if (first >= end)
+        return 0;
+    int row_a = box_line_row(f, line, first), row_b = box_line_row(f, line, end - 1);
+    *rows_fall = row_b < row_a;
+    int lo = row_a < row_b ? row_a : row_b, hi = row_a < row_b ? row_b : row_a;
+    return hi >= row0 && lo < row1;
+}
+
+static inline int box_past_rows(int row, int rows_fall, int row0, int row1)
+{
+    return rows_fall ? row < row0 : row >= row1;
+}
+
 /* The column and row of the cell at (major, minor). */
 static inline void box_cell_at(const box_frame *f, int major, int minor, int *col, int *row)
 {

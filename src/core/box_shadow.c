@@ -76,14 +76,6 @@ static inline void window_tops(const box_sun *b, int major, int minor, double *t
     *low = lo;
 }
 
-/* The row of line `line`'s cell at walk position p (beyond the grid's
- * rows where the line is). */
-static int line_row(const box_frame *f, int line, int p)
-{
-    int major = box_walk_position(f, p);
-    return f->major_is_col ? line + f->shift[major] : major;
-}
-
 /* Line `line`'s cells (minor index line + shift[major]), walked from the
  * sun's side; bound_before is its work space (major_len + 1 values). Its
  * cells outside the rows answered only feed the bounds, and the walk ends
@@ -93,21 +85,15 @@ static void walk_line(const void *job, int line, double *bound_before, ss_box_ra
     const box_sun *b = job;
     const box_frame *f = &b->f;
     double upper = -INFINITY, lower = -INFINITY;
-    int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1);
-    if (first >= end)
+    int first = box_first_past(f, line, 0), end = box_first_past(f, line, 1), rows_fall;
+    if (!box_line_meets_rows(f, line, first, end, b->row0, b->row1, &rows_fall))
         return;
-    /* Rows are monotonic along a line. */
-    int row_a = line_row(f, line, first), row_b = line_row(f, line, end - 1);
-    int row_lo = row_a < row_b ? row_a : row_b, row_hi = row_a < row_b ? row_b : row_a;
-    if (row_hi < b->row0 || row_lo >= b->row1)
-        return;
-    int rows_fall = row_b < row_a;
     bound_before[0] = -INFINITY;
     for (int p = first; p < end; ++p) {
         int major = box_walk_position(f, p); /* the same map both ways */
         int minor = line + f->shift[major];
-        int row_here = line_row(f, line, p);
-        if (rows_fall ? row_here < b->row0 : row_here >= b->row1)
+        int row_here = box_line_row(f, line, p);
+        if (box_past_rows(row_here, rows_fall, b->row0, b->row1))
             break;
         double along = p * f->step_m;
         /* A ray through a corner may step first into its own column,

@@ -590,13 +590,11 @@ static ss_status step_trees(steps_run *s, int k, const ss_band_view *band, const
         return ss_insolation_trees_through(s->job->ctx, t, sun, s->through);
     }
     *crossed = s->crossed + at;
-    /* Cells the step's marched solid shadows shade need no crowns (a
-     * band's horizons leave every cell asked: the same answer, for those
-     * shaded cells' beam is 0 whatever their crowns). */
-    int whole = band->n_rows == band->height;
-    return ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun,
-                                       s->kind[k] == STEP_MARCHED && whole ? s->marched : NULL,
-                                       s->crossed);
+    /* The band's rows; cells the step's marched solid shadows shade need
+     * no crowns. */
+    return ss_insolation_trees_crossed(s->job->ctx, t, s->job->opt, sun, band->row0,
+                                       band->n_rows,
+                                       s->kind[k] == STEP_MARCHED ? s->marched : NULL, s->crossed);
 }
 
 /* A STEP_MARCHED step's horizons over the band's own rows, from the

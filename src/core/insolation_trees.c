@@ -124,11 +124,12 @@ static ss_sweep_options crown_lines(const ss_insolation_trees *t, const ss_sweep
 
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
-                                      const float *solid_angle, unsigned char *crossed)
+                                      int row0, int n_rows, const float *solid_angle,
+                                      unsigned char *crossed)
 {
     ss_sweep_options lines = crown_lines(t, opt);
     return ss_canopy_crossed_where_lit(ctx, t->ground, t->canopy, &lines, sun->grid_azimuth_deg,
-                                       sun->apparent_elevation_deg, solid_angle,
+                                       sun->apparent_elevation_deg, row0, n_rows, solid_angle,
                                        sun->apparent_elevation_deg + sun->spread_deg, crossed);
 }
 

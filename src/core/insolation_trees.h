@@ -28,14 +28,16 @@ ss_status ss_insolation_trees_sky(ss_insolation_job *job);
  * trees_band_hidden x (1 - T) (NULL: none), each at least 0. */
 void ss_insolation_trees_terms(const ss_insolation_job *job, const ss_band_view *band, float T,
                                int beer_lambert, const ss_cell_terms *in, ss_cell_terms *out);
-/* crossed[c] over the whole grid for the step's sun at the grid's centre:
- * 1 where the ray toward it crosses a crown (ss_canopy_crossed). With the
- * step's box shadows by each cell's own ray (solid_angle, NULL: none),
- * the cells they shade from every sun of the step may be left 0: no crown
- * changes their light. */
+/* crossed[c] (indexed over the whole grid) for at least rows [row0, row0 +
+ * n_rows), for the step's sun at the grid's centre: 1 where the ray toward
+ * it crosses a crown (ss_canopy_crossed_where_lit). With the step's box
+ * shadows by each cell's own ray over those rows (solid_angle, from row0;
+ * NULL: none), the cells they shade from every sun of the step may be
+ * left 0: no crown changes their light. */
 ss_status ss_insolation_trees_crossed(ss_ctx *ctx, const ss_insolation_trees *t,
                                       const ss_sweep_options *opt, const ss_sun_step *sun,
-                                      const float *solid_angle, unsigned char *crossed);
+                                      int row0, int n_rows, const float *solid_angle,
+                                      unsigned char *crossed);
 /* Whether step k's beam crosses crowns by Beer-Lambert (leaf on, and a
  * leaf area density given). */
 int ss_insolation_trees_beer_lambert(const ss_insolation_trees *t, int k);

@@ -28,14 +28,17 @@ ss_status ss_box_shadow_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_
                                                      const ss_dir_rows *, float *),
                               void *user);
 
-/* ss_canopy_crossed, where by each cell's own ray leaving 0 unasked the
- * cells whose solid horizon solid_angle[c] (NULL: none given) is at least
- * solid_el_hi: the solid shades them from every sun of the step
- * (box_crowns.h). */
+/* ss_canopy_crossed for rows [row0, row0 + n_rows) at least (a band's;
+ * crossed is the whole grid's: by each cell's own ray those rows alone are
+ * written, the lines' walks write every row), where by each cell's own ray
+ * leaving 0 unasked the cells whose solid horizon (solid_angle, over those
+ * rows from row0; NULL: none given) is at least solid_el_hi: the solid
+ * shades them from every sun of the step (box_crowns.h). */
 ss_status ss_canopy_crossed_where_lit(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                                       const ss_sweep_options *lines, double sun_grid_azimuth_deg,
-                                      double sun_elevation_deg, const float *solid_angle,
-                                      double solid_el_hi, unsigned char *crossed);
+                                      double sun_elevation_deg, int row0, int n_rows,
+                                      const float *solid_angle, double solid_el_hi,
+                                      unsigned char *crossed);
 
 /* Line set of direction i; returns the direction's azimuth in the grid's
  * frame, radians (the frame the sweep and cell slopes live in). */

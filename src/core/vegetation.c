@@ -153,16 +153,16 @@ static int walk_box_line(const box_walk *b, int line, crown_union *u)
 
 /* Box crowns by each cell's own ray (box_crowns.h). */
 static ss_status crossed_by_rays(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
-                                 double sun_grid_azimuth_deg, double sun_elevation_deg,
-                                 const float *solid_angle, double solid_el_hi,
+                                 double sun_grid_azimuth_deg, double sun_elevation_deg, int row0,
+                                 int n_rows, const float *solid_angle, double solid_el_hi,
                                  unsigned char *crossed)
 {
     ss_box_ray_counts counts;
-    if (!ss_box_crowns_crossed(grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg,
-                               solid_angle, solid_el_hi, &ctx->cancel_requested, crossed,
+    if (!ss_box_crowns_crossed(grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg, row0,
+                               n_rows, solid_angle, solid_el_hi, &ctx->cancel_requested, crossed,
                                &counts))
         return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the crowns' rays");
-    ctx->counters.crown_march_steps++;
+    ctx->counters.crown_march_steps += row0 == 0; /* a sun counts once, at its first band */
     ctx->counters.crown_march_cells += counts.cells;
     ctx->counters.crown_march_marched += counts.marched;
     return ss_check_cancel(ctx, "the crowns' rays");
@@ -173,13 +173,14 @@ ss_status ss_canopy_crossed(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *c
                             double sun_elevation_deg, unsigned char *crossed)
 {
     return ss_canopy_crossed_where_lit(ctx, grid, canopy, lines, sun_grid_azimuth_deg,
-                                       sun_elevation_deg, NULL, 0.0, crossed);
+                                       sun_elevation_deg, 0, grid->height, NULL, 0.0, crossed);
 }
 
 ss_status ss_canopy_crossed_where_lit(ss_ctx *ctx, const ss_grid *grid, const ss_canopy *canopy,
                                       const ss_sweep_options *lines, double sun_grid_azimuth_deg,
-                                      double sun_elevation_deg, const float *solid_angle,
-                                      double solid_el_hi, unsigned char *crossed)
+                                      double sun_elevation_deg, int row0, int n_rows,
+                                      const float *solid_angle, double solid_el_hi,
+                                      unsigned char *crossed)
 {
     ss_call_begin(ctx);
     if (!isfinite(sun_grid_azimuth_deg) || !(fabs(sun_elevation_deg) <= 90.0))
@@ -187,13 +188,16 @@ ss_status ss_canopy_crossed_where_lit(ss_ctx *ctx, const ss_grid *grid, const ss
                        "sun azimuth %g / elevation %g degrees is not a sun position",
                        sun_grid_azimuth_deg, sun_elevation_deg);
     size_t n = (size_t)grid->width * (size_t)grid->height;
+    int box = lines && lines->lines == SS_LINES_BOX;
+    /* The rays answer the rows asked for (and clear them) ... */
+    if (box && lines->box_shadows == SS_BOX_SHADOWS_MARCH && sun_elevation_deg > 0.0 &&
+        sun_elevation_deg < 90.0)
+        return crossed_by_rays(ctx, grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg, row0,
+                               n_rows, solid_angle, solid_el_hi, crossed);
+    /* ... the lines' walks every row. */
     memset(crossed, 0, n);
     if (fabs(sun_elevation_deg) >= 90.0) /* the ray rises straight up, past no cell */
         return SS_OK;
-    int box = lines && lines->lines == SS_LINES_BOX;
-    if (box && lines->box_shadows == SS_BOX_SHADOWS_MARCH && sun_elevation_deg > 0.0)
-        return crossed_by_rays(ctx, grid, canopy, sun_grid_azimuth_deg, sun_elevation_deg,
-                               solid_angle, solid_el_hi, crossed);
     ss_line_set ls;
     ss_line_set_for_azimuth(&ls, grid->width, grid->height, grid->cell_x_m, grid->cell_y_m,
                             sun_grid_azimuth_deg,
