@@ -778,6 +778,11 @@ SS_API ss_status ss_insolation_rows(ss_ctx *ctx, const ss_source *src, const ss_
  * (SS_INSOLATION_* bits) and the directions whose horizons it stores
  * (interpolated shadows, the cumulative sky; 0 with exact shadows). */
 SS_API double ss_insolation_band_cell_bytes(int want, int stored_directions);
+/* Bytes per cell of the whole grid that insolation's exact shadow walks
+ * hold beside its bands: their bounds' largest level per block of cells
+ * and sector (lit_levels.h), in the bounds, in a band's copy and in a
+ * device's. */
+SS_API double ss_insolation_grid_cell_bytes(void);
 
 /* Irradiation (Wh/m^2 over the steps, into global_wh_m2[0..n_planes)) on
  * open planes of the given tilts (0..90) and azimuths (degrees clockwise

@@ -230,15 +230,16 @@ class BandCost:
     cell, per column and hull line carried between bands, the lines handing
     hulls on, and the metres of terrain read beyond a band (radius walks).
     box_lines: the box lines per cell of those lines (None: the options').
+    grid_cell_bytes: held per cell of the whole grid beside the bands.
     marches: its cast shadows are each cell's own ray on box lines with
     box_shadows 'march', which in bands holds the heights whole (a float a
-    cell of the whole grid, as the CLI's run_march_cell_bytes counts)."""
+    cell of the whole grid more, as the CLI's run_march_cell_bytes counts)."""
 
     def __init__(self, cell_bytes, column_bytes=0.0, hull_lines=None, halo_m=0.0,
-                 box_lines=None, marches=False):
+                 box_lines=None, grid_cell_bytes=0.0, marches=False):
         self.cell_bytes, self.column_bytes = cell_bytes, column_bytes
         self.hull_lines, self.halo_m = hull_lines, halo_m
-        self.box_lines, self.marches = box_lines, marches
+        self.box_lines, self.grid_cell_bytes, self.marches = box_lines, grid_cell_bytes, marches
 
 
 def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
@@ -278,7 +279,7 @@ def plan_bands(ctx, grid, opt, cost, memory, result_bytes):
         "width": width, "height": height, "cell_bytes": cell_bytes,
         "whole_cell_bytes": cell_bytes, "column_bytes": cost.column_bytes,
         "hull_lines": max(lines, 1), "halo_rows": halo_rows,
-        "grid_cell_bytes": 4.0 if marched else 0.0,
+        "grid_cell_bytes": cost.grid_cell_bytes + (4.0 if marched else 0.0),
         "cache_bytes": float(grid.cache_bytes)})
     plan = ffi.new("ss_memory_plan *")
     ctx.check(lib.ss_memory_plan_make(ctx.ptr, need, plan))

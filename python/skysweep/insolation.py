@@ -181,6 +181,9 @@ def _run_insolation(ctx, grid, opt, params, plan, n_steps, sun_at, planes, trees
                     hull_lines=(opt.directions if marched
                                 else max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"])),
                     box_lines=opt.sky_box_lines if marched and opt.sky_box_lines > 0 else None,
+                    # walked exact shadows' bounds keep their blocks whole
+                    grid_cell_bytes=(lib.ss_insolation_grid_cell_bytes() if exact and not marched
+                                     else 0.0),
                     marches=exact)
     run_banded(ctx, grid, opt, cost, kw["memory"], targets,
                lambda c, src, sink: run(c, src, opt, params, sun, 0, ffi.NULL, sink, ffi.NULL),

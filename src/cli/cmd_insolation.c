@@ -970,12 +970,15 @@ int cmd_insolation(int argc, char **argv)
     r->shadows_forced = set->trees.trees.canopy && shadow == SS_SHADOW_AUTO;
     if (r->shadows_forced)
         shadow = SS_SHADOW_EXACT;
+    /* Auto may choose interpolated shadows for a weather file (with --pv
+     * too) without --steps (doc/planner.md). */
     int stores = shadow == SS_SHADOW_INTERPOLATED || shadow == SS_SHADOW_CUMULATIVE ||
-                 (shadow == SS_SHADOW_AUTO && set->weather && !set->ins.pv && !set->steps_path);
-    /* Exact shadows by each cell's own ray hold the heights whole. */
-    double march_bytes = shadow == SS_SHADOW_INTERPOLATED || shadow == SS_SHADOW_CUMULATIVE
-                             ? 0.0
-                             : run_march_cell_bytes(&set->common);
+                 (shadow == SS_SHADOW_AUTO && set->weather && !set->steps_path);
+    /* Exact shadows by each cell's own ray hold the heights whole; those
+     * walked, their bounds' blocks. */
+    int exact = shadow != SS_SHADOW_INTERPOLATED && shadow != SS_SHADOW_CUMULATIVE;
+    double march_bytes = exact ? run_march_cell_bytes(&set->common) : 0.0;
+    double bounds_bytes = exact && march_bytes == 0.0 ? ss_insolation_grid_cell_bytes() : 0.0;
     double trees_bytes =
         !set->trees.trees.canopy ? 0.0
         : shadow == SS_SHADOW_CUMULATIVE
@@ -992,7 +995,7 @@ int cmd_insolation(int argc, char **argv)
                                     ss_insolation_band_cell_bytes(want, stores ? directions : 0),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = directions,
-                      .grid_cell_bytes = march_bytes + trees_bytes,
+                      .grid_cell_bytes = march_bytes + bounds_bytes + trees_bytes,
                       .hull_lines = march_bytes > 0 && !stores
                                         ? sky_directions *
                                               ss_sweep_params_sky_box_lines(&set->common.sweep)

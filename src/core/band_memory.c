@@ -71,6 +71,11 @@ double ss_insolation_band_cell_bytes(int want, int stored_directions)
            (want & SS_INSOLATION_STEPS ? 4.0 : 0.0) + 2.0 * stored_directions + SS_LIT_SECTORS;
 }
 
+double ss_insolation_grid_cell_bytes(void)
+{
+    return 3.0 * SS_LIT_SECTORS / (double)(1 << (2 * SS_LIT_BLOCK_SHIFT));
+}
+
 /* Without a measured process: 16 MiB stand for the program and 16 for
  * GDAL's cache, which with the run's own 16 make the 48 MiB of fixed
  * buffers these sizes have always counted. */

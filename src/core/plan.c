@@ -584,7 +584,7 @@ static void plan_sun(ss_plan *p, const ss_plan_request *r, const ss_place *place
 
 /* Whether insolation's shadow walks will stop early (insolation.c,
  * lit_levels.h): exact shadows with interpolated or box lines, with walks
- * enough (in bands, on the C twin alone). */
+ * enough (whole or in bands, on every device). */
 static int stops_shadow_walks(const ss_plan *p, const ss_plan_request *r)
 {
     int walked = r->n_steps - p->steps_night - p->steps_high_sun;

@@ -56,6 +56,10 @@ ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned, co
 {
     ss_call_begin(ctx);
     *owned = NULL;
+    *z = NULL;
+    ss_status st = ss_source_check(ctx, src); /* heights held: at least one valid */
+    if (st != SS_OK)
+        return st;
     *z = src->z;
     if (src->z)
         return SS_OK;
@@ -67,7 +71,6 @@ ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned, co
                        (double)(w * src->height * sizeof(float)) / 1048576.0);
     /* Read as the bands are, so that the reader needs no more. */
     int rows = ss_source_band_rows(src);
-    ss_status st = SS_OK;
     for (int r = 0; r < src->height && st == SS_OK; r += rows) {
         int n = src->height - r < rows ? src->height - r : rows;
         unsigned long failures = ctx->failures;
