@@ -176,31 +176,30 @@ done
 # whole grid's to the bit, the global and the sky's terms within the sky
 # view's sums in another order (tests/test_banded_insolation.c's 1e-4).
 ins="insolation --lines box --directions 4 --time 2026-12-21T09:00-10:00/PT4H --step PT2H"
-read -r peak rc least < <(bounded "$ins" reference 200)
-mv "$work/out.tif" "$work/banded.tif" 2>/dev/null
-summary=$(grep -E '^(bands|memory|shadows)' "$work/out" | tr '\n' ' ')
-bounded "$ins" reference 1024 >/dev/null
-exact=$(worst_of "$work/banded.tif" "$work/out.tif" 2 5)
-sky=$(worst_of "$work/banded.tif" "$work/out.tif" 1 3 4)
-[ "$rc" -eq 0 ] && [ "$peak" -le 200 ] && [[ $summary == *"(bands)"* ]] &&
-    [[ $summary == *"by each cell's own ray"* ]] && [ "$exact" = 0 ] && worst_within "$sky" 0.05
-tap_ok $? "insolation --lines box, --memory 200M: in bands by each cell's own ray, peak resident $peak MiB (exit $rc); beam and hours of sun the whole grid's (worst $exact), global, diffuse and reflected within 0.05 Wh/m2 (worst $sky): $(head -c 260 <<<"$summary")"
-rm -f "$work/out.tif" "$work/banded.tif"
+# banded_as_whole NAME COMMAND BUDGET_MIB WANT: COMMAND on the C twin within
+# BUDGET_MIB must run in bands, its summary holding WANT, within the
+# bound; beam and hours of sun the whole grid's (2048M) to the bit, the
+# global and the sky's terms within 0.05 Wh/m2.
+banded_as_whole() {
+    local peak rc least summary exact sky
+    read -r peak rc least < <(bounded "$2" reference "$3")
+    mv "$work/out.tif" "$work/banded.tif" 2>/dev/null
+    summary=$(grep -E '^(bands|memory|shadows|trees  *[0-9])' "$work/out" | tr '\n' ' ')
+    bounded "$2" reference 2048 >/dev/null
+    exact=$(worst_of "$work/banded.tif" "$work/out.tif" 2 5)
+    sky=$(worst_of "$work/banded.tif" "$work/out.tif" 1 3 4)
+    [ "$rc" -eq 0 ] && [ "$peak" -le "$3" ] && [[ $summary == *"(bands)"* ]] &&
+        [[ $summary == *"$4"* ]] && [ "$exact" = 0 ] && worst_within "$sky" 0.05
+    tap_ok $? "$1, --memory $3M: in bands, peak resident $peak MiB (exit $rc); beam and hours of sun the whole grid's (worst $exact), global, diffuse and reflected within 0.05 Wh/m2 (worst $sky): $(head -c 300 <<<"$summary")"
+    rm -f "$work/out.tif" "$work/banded.tif"
+}
+banded_as_whole "insolation --lines box" "$ins" 200 "box shadows by each cell's own ray"
 # The same with the forest's crowns (--canopy, held whole): in bands each
 # step's crowns are met by each cell's own ray for the band's rows alone,
 # past the band's marched solid shade, once per sun (the summary's count),
 # and the answer is the whole grid's as above.
-read -r peak rc least < <(bounded "$ins --canopy $work/canopy.tif" reference 400)
-mv "$work/out.tif" "$work/banded.tif" 2>/dev/null
-summary=$(grep -E '^(bands|memory|trees  *[0-9])' "$work/out" | tr '\n' ' ')
-bounded "$ins --canopy $work/canopy.tif" reference 2048 >/dev/null
-exact=$(worst_of "$work/banded.tif" "$work/out.tif" 2 5)
-sky=$(worst_of "$work/banded.tif" "$work/out.tif" 1 3 4)
-[ "$rc" -eq 0 ] && [ "$peak" -le 400 ] && [[ $summary == *"(bands)"* ]] &&
-    [[ $summary == *"2 suns' crowns by each cell's own ray"* ]] && [ "$exact" = 0 ] &&
-    worst_within "$sky" 0.05
-tap_ok $? "insolation --lines box --canopy, --memory 400M: in bands, peak resident $peak MiB (exit $rc); beam and hours of sun the whole grid's (worst $exact), the rest within 0.05 Wh/m2 (worst $sky): $(head -c 300 <<<"$summary")"
-rm -f "$work/out.tif" "$work/banded.tif"
+banded_as_whole "insolation --lines box --canopy" "$ins --canopy $work/canopy.tif" 400 \
+    "2 suns' crowns by each cell's own ray"
 # A GPU's own memory is a second bound beside --memory (memory_plan.c),
 # simulated on PoCL by SKYSWEEP_TEST_DEVICE_MEMORY: at --memory 512M the
 # SVF is swept whole, with a device of 64 MiB in bands whose plan the
