@@ -596,20 +596,29 @@ else
 fi
 
 # ---- --memory too small: the message names a budget that works, within 3 MiB of the least ------
+# The least sits on what the process holds when it plans, and that moves
+# between runs: by a few hundred KiB of heap and threads' pages here, and
+# by more where the kernel reclaims the process's file pages under the
+# memory pressure of tests running beside it (a CI run saw 85M run right
+# after 88M was named). The budget named carries a MiB for the first; for
+# the second the "3 MiB less is refused" check asks again, three times at
+# most, while a name that is really too high fails all three.
 sample=$top/samples/kilauea_summit_30m.tif
 for cmd in "svf --directions 8" "horizon --directions 8"; do
-    # shellcheck disable=SC2086
-    run $cmd -q --device reference --memory 40M "$sample" "$work/out/m.tif"
-    least=$(sed -n 's/.*needs at least --memory \([0-9]*\)M.*/\1/p' "$work/stderr")
-    first_rc=$rc
-    first_msg=$(head -c 200 "$work/stderr")
-    if [ -n "$least" ]; then
-        # The budget named is the least rounded up to a MiB and 1 MiB more
-        # (what the process holds varies from run to run by a few hundred
-        # KiB): 3 MiB less is below the least on any run.
+    below=
+    for try in 1 2 3; do
+        # shellcheck disable=SC2086
+        run $cmd -q --device reference --memory 40M "$sample" "$work/out/m.tif"
+        least=$(sed -n 's/.*needs at least --memory \([0-9]*\)M.*/\1/p' "$work/stderr")
+        first_rc=$rc
+        first_msg=$(head -c 200 "$work/stderr")
+        [ -n "$least" ] || break
         # shellcheck disable=SC2086
         run $cmd -q --device reference --memory "$((least - 3))M" "$sample" "$work/out/m.tif"
         below=$rc
+        [ "$below" -eq 6 ] && break
+    done
+    if [ -n "$least" ]; then
         # A sanitizer build's process grows by a MiB or so from run to run
         # (AddressSanitizer's quarantine): there the least budget and 4 MiB.
         enough=$least
@@ -620,7 +629,7 @@ for cmd in "svf --directions 8" "horizon --directions 8"; do
     # Under the sanitizers the edge below is not exact either.
     [ "$first_rc" -eq 6 ] && [ -n "$least" ] && [ "$rc" -eq 0 ] &&
         { [ "${below:-0}" -eq 6 ] || "$SKYSWEEP" info | grep -q 'sanitizers yes'; }
-    tap_ok $? "${cmd%% *} --memory 40M: exit $first_rc (want 6) naming a budget (${least:-none}M): $((least - 3))M is refused (${below:-?}), ${enough:-?}M runs ($rc): $first_msg"
+    tap_ok $? "${cmd%% *} --memory 40M: exit $first_rc (want 6) naming a budget (${least:-none}M): $((least - 3))M is refused (${below:-?}, try ${try}), ${enough:-?}M runs ($rc): $first_msg"
     rm -f "$work/out/"* "$work/out/".* 2>/dev/null
 done
 
