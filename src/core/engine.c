@@ -81,17 +81,9 @@ static ss_status read_band(engine_run *e, int lo, int n)
 {
     const ss_source *src = e->src;
     size_t w = (size_t)src->width, cells = (size_t)n * w;
-    ss_status st = SS_OK;
-    if (src->z) {
-        memcpy(e->z, src->z + (size_t)lo * w, cells * sizeof(float));
-    } else {
-        unsigned long failures = e->ctx->failures;
-        st = src->read(src->read_user, lo, n, e->z);
-        if (st != SS_OK) /* the reader's own message, where it gave one */
-            return e->ctx->failures != failures
-                       ? st
-                       : ss_fail(e->ctx, st, "could not read DEM rows %d..%d", lo, lo + n - 1);
-    }
+    ss_status st = ss_source_read_rows(e->ctx, src, lo, n, e->z);
+    if (st != SS_OK)
+        return st;
     for (size_t c = 0; !e->any_height && c < cells; ++c)
         e->any_height = SS_ISFINITE(e->z[c]);
     if (e->job->walk.negate)

@@ -107,6 +107,9 @@ ss_status ss_engine_run(ss_ctx *ctx, const ss_source *src, const ss_sweep_option
 
 /* The rows of a source's bands: band_rows, or its height for one band. */
 int ss_source_band_rows(const ss_source *src);
+/* Rows [lo, lo + n) of a source's heights into out (NaN at nodata), held
+ * or read; a reader that fails without a message of its own gets one. */
+ss_status ss_source_read_rows(ss_ctx *ctx, const ss_source *src, int lo, int n, float *out);
 /* The height of a source's stored zero, metres. */
 double ss_source_origin(const ss_source *src);
 

@@ -671,21 +671,6 @@ struct ss_lit_bands {
     int width, height, nbx, nby;
 };
 
-/* Rows [lo, lo + n) of the DEM into out (NaN at nodata). */
-static ss_status read_rows(ss_ctx *ctx, const ss_source *src, int lo, int n, float *out)
-{
-    size_t w = (size_t)src->width;
-    if (src->z) {
-        memcpy(out, src->z + (size_t)lo * w, (size_t)n * w * sizeof(float));
-        return SS_OK;
-    }
-    unsigned long failures = ctx->failures;
-    ss_status st = src->read(src->read_user, lo, n, out);
-    if (st != SS_OK && ctx->failures == failures)
-        st = ss_fail(ctx, st, "could not read DEM rows %d..%d", lo, lo + n - 1);
-    return st;
-}
-
 static void far_free(far_pyramid *f)
 {
     for (int i = 0; i < f->n; ++i)
@@ -713,7 +698,7 @@ static ss_status far_pyramid_of(ss_ctx *ctx, const ss_source *src, int rows, flo
         first[b] = -INFINITY;
     for (int r0 = 0; r0 < h; r0 += rows) {
         int n = r0 + rows < h ? rows : h - r0;
-        ss_status st = read_rows(ctx, src, r0, n, buf);
+        ss_status st = ss_source_read_rows(ctx, src, r0, n, buf);
         if (st != SS_OK) {
             far_free(f);
             return st;
@@ -750,7 +735,7 @@ static ss_status band_levels(ss_lit_bands *lb, const ss_source *src, const line_
     int w = src->width, h = src->height;
     int lo = r0 - LOCAL_REACH > 0 ? r0 - LOCAL_REACH : 0;
     int hi = r1 + LOCAL_REACH < h ? r1 + LOCAL_REACH : h;
-    ss_status st = read_rows(lb->ctx, src, lo, hi - lo, buf);
+    ss_status st = ss_source_read_rows(lb->ctx, src, lo, hi - lo, buf);
     if (st != SS_OK)
         return st;
     window win = {lo, far};

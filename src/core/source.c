@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "engine.h"
 
@@ -52,6 +53,20 @@ ss_status ss_source_check(ss_ctx *ctx, const ss_source *src)
     return SS_OK;
 }
 
+ss_status ss_source_read_rows(ss_ctx *ctx, const ss_source *src, int lo, int n, float *out)
+{
+    size_t w = (size_t)src->width;
+    if (src->z) {
+        memcpy(out, src->z + (size_t)lo * w, (size_t)n * w * sizeof(float));
+        return SS_OK;
+    }
+    unsigned long failures = ctx->failures;
+    ss_status st = src->read(src->read_user, lo, n, out);
+    if (st != SS_OK && ctx->failures == failures) /* else the reader's own message */
+        st = ss_fail(ctx, st, "could not read DEM rows %d..%d", lo, lo + n - 1);
+    return st;
+}
+
 ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned, const float **z)
 {
     ss_call_begin(ctx);
@@ -73,10 +88,7 @@ ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned, co
     int rows = ss_source_band_rows(src);
     for (int r = 0; r < src->height && st == SS_OK; r += rows) {
         int n = src->height - r < rows ? src->height - r : rows;
-        unsigned long failures = ctx->failures;
-        st = src->read(src->read_user, r, n, all + (size_t)r * w);
-        if (st != SS_OK && ctx->failures == failures)
-            st = ss_fail(ctx, st, "could not read DEM rows %d..%d", r, r + n - 1);
+        st = ss_source_read_rows(ctx, src, r, n, all + (size_t)r * w);
         if (st == SS_OK)
             st = ss_check_cancel(ctx, "reading the heights");
     }
