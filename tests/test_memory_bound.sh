@@ -103,10 +103,17 @@ if [[ $devices == *Portable* ]]; then
         rm -f "$work/out.tif"
         # 6 MiB less: where one band's budget named would come within 1 MiB
         # of the whole grid's, auto names the whole grid's (run.c,
-        # auto_least), up to 3 MiB above one band's least.
-        read -r peak rc3 least3 < <(SKYSWEEP_TEST_AUTO_DEVICE=0:0 bounded "svf --directions 4" auto $((least - 6)))
+        # auto_least), up to 3 MiB above one band's least. Asked up to
+        # three times: what the process holds can drop by MiBs where the
+        # kernel reclaims its file pages under the memory pressure of tests
+        # beside it (test_faults.sh's budget named has the same check).
+        for try in 1 2 3; do
+            rm -f "$work/out.tif"
+            read -r peak rc3 least3 < <(SKYSWEEP_TEST_AUTO_DEVICE=0:0 bounded "svf --directions 4" auto $((least - 6)))
+            [ "$rc3" -eq 6 ] && [ "$least3" -ge $((least - 1)) ] && [ ! -e "$work/out.tif" ] && break
+        done
         [ "$rc3" -eq 6 ] && [ "$least3" -ge $((least - 1)) ] && [ ! -e "$work/out.tif" ]
-        tap_ok $? "svf --device auto (picking 0:0) at $((least - 6))M, 6 MiB less: refused (exit $rc3), naming $least3 MiB"
+        tap_ok $? "svf --device auto (picking 0:0) at $((least - 6))M, 6 MiB less: refused (exit $rc3, try $try), naming $least3 MiB"
     fi
     rm -f "$work/out.tif"
 fi
