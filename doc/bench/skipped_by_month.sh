@@ -4,7 +4,8 @@
 # table on stdout:
 # - terrain: the whole Kilauea DEM, a month of hourly clear sky with exact
 #   shadows (interpolated lines): the share of the shadow walks' samples
-#   not walked, from the run's own `shadows` line;
+#   not walked, from the run's own `shadows` line (the C twin counts them:
+#   "-" on an OpenCL device, or where the plan made no bounds);
 # - a city: the Gothenburg 1 m DSM with the Amsterdam IWEC year and --pv,
 #   the month's records (exact box shadows by each cell's own ray): the
 #   share of cell-steps marched, the rest settled by the bounds.
@@ -57,14 +58,15 @@ echo "Measured by \`doc/bench/skipped_by_month.sh${device[*]:+ ${device[*]}}\` o
     "load average before: $(cut -d' ' -f1-3 /proc/loadavg). One run each."
 echo
 echo "| month | Kīlauea: daylight steps | samples not walked | sweeps s | wall s |" \
-    "Gothenburg: steps marched | cell-steps marched | sweeps s | wall s |"
+    "Gothenburg: steps by each cell's ray | cell-steps marched | sweeps s | wall s |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for m in 01 02 03 04 05 06 07 08 09 10 11 12; do
     t=$(timed "$work/k.txt" --time "2026-$m-01T00:00Z/P1M" --step PT1H --shadow exact "$dem" "$work/k.tif")
     walked=$(sed -n 's/^shadows [0-9]* of .* samples (\([0-9.]*\) %) not walked.*/\1 %/p' "$work/k.txt")
-    row="| $m | $(daylight "$work/k.txt") | ${walked:-none (no walk repaid the bounds)} | $(sweeps "$work/k.txt") | $t |"
+    row="| $m | $(daylight "$work/k.txt") | ${walked:--} | $(sweeps "$work/k.txt") | $t |"
     # A typical year's months come from different years: the month's own.
     year=$(awk -F, -v m=$((10#$m)) 'NR > 8 && $2 == m { print $1; exit }' "$epw")
+    [ -n "$year" ] || { echo "skipped_by_month.sh: $epw has no record in month $m" >&2 && exit 3; }
     t=$(timed "$work/c.txt" --weather "$epw" --weather-far-ok --pv --time "$year-$m-01/P1M" "$dsm" "$work/c.tif")
     marched=$(sed -n 's/^shadows \([0-9]*\) steps of box shadows.*(\([0-9.]*\) %) marched.*/\1 | \2 %/p' "$work/c.txt")
     echo "$row ${marched:-0 | none} | $(sweeps "$work/c.txt") | $t |"
