@@ -107,18 +107,21 @@ static void table(const char *name, const ss_grid *g, measured *m)
     opt.lines = SS_LINES_DIGITAL;
     row("digital", "-", g, &opt, 1, NULL);
     opt.lines = SS_LINES_BOX;
-    /* The rows per count measure the families' walks, shadows included. */
+    /* The rows per count measure the families' walks, shadows and SVF. */
     opt.box_shadows = SS_BOX_SHADOWS_LINES;
+    opt.box_sky = SS_BOX_SKY_LINES;
     for (int k = 0; k < N_COUNTS; ++k) {
         char per_cell[16];
         snprintf(per_cell, sizeof per_cell, "%d", counts[k]);
         opt.box_lines = counts[k];
         row("box", per_cell, g, &opt, 1, &m->p95[k]);
     }
-    /* The default since: each cell's own ray; the SVF still takes the lines. */
+    /* The defaults since: each cell's own ray, for shadows and the SVF. */
     opt.box_lines = SS_BOX_LINES_DEFAULT;
     opt.box_shadows = SS_BOX_SHADOWS_MARCH;
-    row("box, each cell's own ray (--box-shadows march, the default)", "-", g, &opt, 0, NULL);
+    opt.box_sky = SS_BOX_SKY_MARCH;
+    row("box, each cell's own ray (--box-shadows march, --box-sky march: the defaults)", "-", g,
+        &opt, 1, NULL);
     snprintf(m->name, sizeof m->name, "%s (%d x %d cells)", name, g->width, g->height);
 }
 
@@ -186,9 +189,10 @@ int main(int argc, char **argv)
            "|geometric SVF - the march's| over the same 16 directions, its mean over the cells "
            "from 0 deg (four of them along the diagonals, where rays run through cell corners) "
            "and from 5 deg, and its 95th percentile from 5 deg (what the planner chooses "
-           "`--box-lines` by, doc/planner.md). The rows per count take `--box-shadows lines` "
-           "(the families' walks); the last row, each cell's own ray, the default for shadows "
-           "since issue 42 (its SVF takes the lines, as in the rows above). Times: medians, "
+           "`--box-lines` by where `--box-sky lines` asks for them, doc/planner.md). The rows "
+           "per count take `--box-shadows lines --box-sky lines` (the families' walks); the "
+           "last row, each cell's own ray, the default for shadows and for the sky view since "
+           "issue 42 (src/core/box_shadow.c, src/core/box_sky.c). Times: medians, "
            "the C twin on this machine, kernel build excluded; the shadow is the first sun's. "
            "Load average when this began: %s (the machine is shared: under load times are "
            "noisy, and their ratios along a table hold better than their values).\n",

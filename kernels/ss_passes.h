@@ -21,16 +21,12 @@ SS_FN float ss_svf_term_for(int definition, const ss_line_set *ls, int major, in
                             float d, float dz, float sin_az, float cos_az,
                             SS_GLOBAL const float *grad)
 {
-    if (definition == SS_SVF_GEOMETRIC)
-        return ss_svf_geometric_term(d, dz);
-    if (definition == SS_SVF_HORIZONTAL)
-        return ss_svf_horizontal_term(d, dz);
-    if (definition == SS_TERM_ELEVATION)
-        return d > 0.0f ? ss_horizon_deg(d, dz) : 0.0f;
+    if (definition != SS_SVF_TILTED)
+        return ss_sky_walk_term(definition, d, dz, sin_az, cos_az, 0.0f, 0.0f);
     if (minor < 0 || minor >= ls->minor_len)
         return 0.0f; /* no such cell: it receives nothing */
     int cell = ss_line_cell(ls, major, minor);
-    return ss_svf_tilted_term(d, dz, sin_az, cos_az, grad[2 * cell], grad[2 * cell + 1]);
+    return ss_sky_walk_term(definition, d, dz, sin_az, cos_az, grad[2 * cell], grad[2 * cell + 1]);
 }
 
 /* Adds one direction's SVF term to acc for the cells that steps [s_lo,

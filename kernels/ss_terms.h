@@ -95,6 +95,22 @@ SS_FN float ss_svf_tilted_term(float d, float dz, float sin_az, float cos_az, fl
     return t_term / SS_SQRT(1.0f + dz_de * dz_de + dz_dn * dz_dn);
 }
 
+/* One direction's term of a summed sky walk (SS_SVF_* or SS_TERM_ELEVATION)
+ * for a cell whose horizon in it is the tangent (d, dz), d = 0 where no
+ * terrain lies ahead; dz_de, dz_dn: the cell's surface gradient, which only
+ * the radiative SVF of a tilted cell reads. */
+SS_FN float ss_sky_walk_term(int definition, float d, float dz, float sin_az, float cos_az,
+                             float dz_de, float dz_dn)
+{
+    if (definition == SS_SVF_GEOMETRIC)
+        return ss_svf_geometric_term(d, dz);
+    if (definition == SS_SVF_HORIZONTAL)
+        return ss_svf_horizontal_term(d, dz);
+    if (definition == SS_TERM_ELEVATION)
+        return d > 0.0f ? ss_horizon_deg(d, dz) : 0.0f;
+    return ss_svf_tilted_term(d, dz, sin_az, cos_az, dz_de, dz_dn);
+}
+
 /* Height of neighbour (col + dc, row + dr) of cell (col, row) for the
  * gradient, as gdaldem -compute_edges takes it (GDALGeneric3x3Processing),
  * so that a plane's slope is exact on the grid's edge too:

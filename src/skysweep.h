@@ -144,6 +144,9 @@ typedef struct {
      * march): the suns, their cells with a height, and of those the cells
      * the proven bound left to the march. */
     uint64_t crown_march_steps, crown_march_cells, crown_march_marched;
+    /* Directions of the box model's sky view by each cell's own ray
+     * (box_sky march), on the host; cells_swept counts their cells. */
+    uint64_t box_sky_directions;
 } ss_counters;
 SS_API ss_counters ss_ctx_counters(const ss_ctx *ctx);
 
@@ -188,6 +191,7 @@ typedef enum {
 } ss_line_model;
 
 typedef enum { SS_BOX_SHADOWS_MARCH = 0, SS_BOX_SHADOWS_LINES = 1 } ss_box_shadows;
+typedef enum { SS_BOX_SKY_MARCH = 0, SS_BOX_SKY_LINES = 1 } ss_box_sky;
 
 typedef struct {
     int directions;        /* D >= 1, evenly spaced */
@@ -213,6 +217,13 @@ typedef struct {
      * shadows take none from them (0: box_lines; the planner's choice,
      * doc/planner.md). */
     int sky_box_lines;
+    /* SS_LINES_BOX's sky view (SVF, openness, and the sky terms of
+     * hillshade and insolation; not radius-limited): each cell's own ray,
+     * the box model exactly, on the host for every device and band height
+     * (in bands from the heights held whole), or the box_lines (or
+     * sky_box_lines) families' walks (doc/model.md, "The sky view: each
+     * cell's own ray"). Horizon angles and stored horizons take the lines. */
+    ss_box_sky box_sky;
 } ss_sweep_options;
 
 #define SS_BOX_LINES_MAX 64
@@ -923,6 +934,7 @@ typedef struct {
     ss_line_model lines;        /* SS_LINES_AUTO: the planner chooses */
     int box_lines;              /* box lines per cell (0: the planner chooses, doc/planner.md) */
     ss_box_shadows box_shadows; /* box lines' cast shadows (ss_sweep_options') */
+    ss_box_sky box_sky;         /* box lines' sky view (ss_sweep_options') */
     double radius_m;            /* svf and openness: horizons within it (0: unlimited) */
     ss_shadow_mode shadow_mode;
     int n_steps;                /* time steps (shadow, insolation) ... */

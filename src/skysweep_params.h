@@ -62,6 +62,7 @@ typedef struct {
     int lines;                    /* "auto|interpolated|digital|box" (ss_line_model + 1) */
     int box_lines;                /* box lines per cell across; 0: the planner chooses */
     int box_shadows;              /* "march|lines" (ss_box_shadows) */
+    int box_sky;                  /* "march|lines" (ss_box_sky) */
 } ss_sweep_params;
 #define SS_NORTH_AUTO 0
 #define SS_NORTH_TRUE 1

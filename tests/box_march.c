@@ -79,6 +79,11 @@ int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_
 
 double box_march_horizon_deg(const ss_grid *g, int r, int c, double az)
 {
+    return box_march_horizon_curved_deg(g, r, c, az, 0.0);
+}
+
+double box_march_horizon_curved_deg(const ss_grid *g, int r, int c, double az, double curv_k)
+{
     double z0 = g->z[(size_t)r * g->width + c];
     double dx = sin(az * M_PI / 180) / g->cell_x_m, dy = -cos(az * M_PI / 180) / g->cell_y_m;
     int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
@@ -101,8 +106,10 @@ double box_march_horizon_deg(const ss_grid *g, int r, int c, double az)
         double t_out = fmin(tx, ty);
         float h = g->z[(size_t)ri * g->width + ci];
         /* A column above the eye shows its near edge, one below its far edge. */
-        if (isfinite(h))
-            best = fmax(best, atan((h - z0) / (h > z0 ? t_in : t_out)) * 180 / M_PI);
+        if (isfinite(h)) {
+            double t = h > z0 ? t_in : t_out;
+            best = fmax(best, atan((h - z0 - curv_k * t * t) / t) * 180 / M_PI);
+        }
         t_in = t_out;
     }
 }

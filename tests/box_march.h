@@ -36,6 +36,9 @@ extern const double box_march_azimuths[BOX_MARCH_AZIMUTHS];
  * largest elevation of the column tops its ray crosses, the cell's own top
  * (0 deg) included. */
 double box_march_horizon_deg(const ss_grid *g, int r, int c, double az);
+/* The same with the earth's curvature: a column's top lowered by curv_k
+ * t^2 at the distance t it shows at. */
+double box_march_horizon_curved_deg(const ss_grid *g, int r, int c, double az, double curv_k);
 
 /* The grid's highest finite height. */
 double box_march_top(const ss_grid *g);

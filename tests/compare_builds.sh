@@ -198,9 +198,12 @@ product "insolation, bands" insolation --time 2026-06-21T16:00Z/PT6H --step PT1H
 product "insolation, 5 days of exact shadows" insolation --time 2026-06-19T00:00Z/P5D \
     --step PT1H --directions 16 --shadow exact "$dem" out.tif
 # The same on box lines, whose walks stop early too (since issue 42).
-# Box lines' shadows are each cell's own ray since issue 42 (doc/model.md);
-# --box-shadows lines runs the families' walks the old build ran.
-new_extra="--box-shadows lines"
+# Box lines' shadows and sky view are each cell's own ray since issue 42
+# (doc/model.md); --box-shadows lines --box-sky lines runs the families'
+# walks the old build ran.
+new_extra="--box-shadows lines --box-sky lines"
+product "svf, box lines" svf --directions 16 --lines box --box-lines 4 "$dem" out.tif
+product "openness, box lines" openness --directions 16 --lines box --box-lines 4 "$dem" out.tif
 product "insolation, 5 days of exact shadows, box lines" insolation \
     --time 2026-06-19T00:00Z/P5D --step PT1H --directions 16 --shadow exact --lines box \
     --box-lines 4 "$dem" out.tif

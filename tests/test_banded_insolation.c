@@ -685,7 +685,8 @@ static void march_on_device(const ss_grid *g)
 }
 
 /* The global of a whole-grid exact run with box lines (box_lines,
- * sky_box_lines) and shadows by each cell's own ray. */
+ * sky_box_lines; the sky view on them, --box-sky lines) and shadows by
+ * each cell's own ray. */
 static int box_run(const ss_grid *g, sun_setup *sun, int box_lines, int sky_box_lines,
                    float *global)
 {
@@ -696,6 +697,7 @@ static int box_run(const ss_grid *g, sun_setup *sun, int box_lines, int sky_box_
     opt.lines = SS_LINES_BOX;
     opt.box_lines = box_lines;
     opt.sky_box_lines = sky_box_lines;
+    opt.box_sky = SS_BOX_SKY_LINES; /* the sky view on the lines, not each cell's own ray */
     opt.directions = 12;
     ss_insolation_options io = {.albedo = 0.25, .shadow_mode = SS_SHADOW_EXACT};
     ss_insolation_out out = {.global = global,

@@ -424,12 +424,22 @@ static void box_line_counts(void)
     ss_plan_request r = request(SS_PLAN_SKY_VIEW);
     r.lines = SS_LINES_AUTO;
     ss_plan p;
+    /* The default: the sky view by each cell's own ray takes no lines. */
     int ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
     const ss_plan_item *it = ok ? item(&p, "lines") : NULL;
+    tap_ok(it && p.lines == SS_LINES_BOX && it->bound == 0 &&
+               strstr(it->reason, "none for the sky view: each cell's own ray"),
+           "svf on a city, --box-sky march (the default): no box lines for the sky view, no "
+           "error expected (%s) [%.3g]",
+           it ? it->reason : "-", it ? it->bound : NAN);
+    r.box_sky = SS_BOX_SKY_LINES;
+    ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
+    it = ok ? item(&p, "lines") : NULL;
     int allowed = box_lines_allowed(0.01);
     tap_ok(it && p.lines == SS_LINES_BOX && p.box_lines == allowed && allowed < 32 &&
                strstr(it->reason, "fewest") && it->bound > 0 && it->bound <= 0.01,
-           "svf on a city at the default 0.01: %d box lines, the fewest the table allows (%d) "
+           "svf on a city, --box-sky lines, at the default 0.01: %d box lines, the fewest the "
+           "table allows (%d) "
            "(%s) [%.3g]",
            p.box_lines, allowed, it ? it->reason : "-", it ? it->bound : NAN);
     ss_sweep_options opt;
@@ -531,7 +541,9 @@ static void box_shadow_costs(void)
     ss_place place = place_of(&city, 0, 57.7);
     ss_plan march, lines;
     ss_plan_request r = weather_year(0.001, 1);
+    r.box_sky = SS_BOX_SKY_LINES; /* below: the sky view on lines; at the end, by rays */
     ss_status st = ss_plan_make(ctx, &city, &place, &r, &march);
+    double sky_lines_s = march.estimated_seconds;
     r.box_shadows = SS_BOX_SHADOWS_LINES;
     if (st == SS_OK)
         st = ss_plan_make(ctx, &city, &place, &r, &lines);
@@ -590,6 +602,19 @@ static void box_shadow_costs(void)
     tap_ok(st == SS_OK && march.box_lines == 16 && march.sky_box_lines == 0,
            "... --box-lines 16 given: 16 for all, none of the sky view's own (%d)",
            march.sky_box_lines);
+    /* --box-sky march (the default): the sky view is each cell's own ray,
+     * modelled below the lines' cost; the horizons it takes besides (Perez's
+     * band) keep the table's count. */
+    r.box_lines = 0;
+    r.box_sky = SS_BOX_SKY_MARCH;
+    ss_plan rays;
+    st = ss_plan_make(ctx, &city, &place, &r, &rays);
+    it = st == SS_OK ? item(&rays, "lines") : NULL;
+    tap_ok(it && rays.sky_box_lines == sky && rays.estimated_seconds < sky_lines_s &&
+               strstr(it->reason, "the sky view is each cell's own ray"),
+           "... --box-sky march (the default): the sky view by each cell's own ray, modelled at "
+           "%.3g s against %.3g s on its lines, Perez's band on %d box lines: %s",
+           rays.estimated_seconds, sky_lines_s, rays.sky_box_lines, it ? it->reason : "-");
     ss_grid_free(&city);
     ss_ctx_free(ctx);
 }

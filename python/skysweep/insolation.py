@@ -10,7 +10,7 @@ from ._grid import out_buffer
 from ._lib import CONST, PRODUCTS, default, ffi, lib
 from ._memory import BandCost, BandedGrid, rows_sink, run_banded
 from .products import (SWEEP_OPTIONS, _begin, _crowns_sky, _doc_options, _numpydoc, _params,
-                       _renamed, _stated, _sweep, _trees, _value)
+                       _renamed, _stated, _sweep, _trees, _value, sky_rays)
 from .sun import iso_duration, unix_seconds
 
 #: The library's parts (ss_insolation_out's fields, the CLI's bands, in order)
@@ -174,7 +174,10 @@ def _run_insolation(ctx, grid, opt, params, plan, n_steps, sun_at, planes, trees
     marched = (exact and opt.lines == lib.SS_LINES_BOX
                and opt.box_shadows == lib.SS_BOX_SHADOWS_MARCH)
     # Shadows by each cell's own ray walk no lines: only the sky view's
-    # directions hand hulls on, each with the sky view's box lines.
+    # directions hand hulls on (Perez's band), each with the sky view's box
+    # lines. The sky view by each cell's own ray holds the heights whole
+    # before the shadows' march does (marches counts those).
+    rays = sky_rays(opt)
     cost = BandCost(lib.ss_horizon_band_cell_bytes(0) +
                     lib.ss_insolation_band_cell_bytes(0, stored),
                     column_bytes=lib.ss_horizon_column_bytes(),
@@ -182,8 +185,8 @@ def _run_insolation(ctx, grid, opt, params, plan, n_steps, sun_at, planes, trees
                                 else max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"])),
                     box_lines=opt.sky_box_lines if marched and opt.sky_box_lines > 0 else None,
                     # walked exact shadows' bounds keep their blocks whole
-                    grid_cell_bytes=(lib.ss_insolation_grid_cell_bytes() if exact and not marched
-                                     else 0.0),
+                    grid_cell_bytes=((lib.ss_insolation_grid_cell_bytes() if exact and not marched
+                                      else 0.0) + (4.0 if rays and not marched else 0.0)),
                     marches=exact)
     run_banded(ctx, grid, opt, cost, kw["memory"], targets,
                lambda c, src, sink: run(c, src, opt, params, sun, 0, ffi.NULL, sink, ffi.NULL),

@@ -77,7 +77,7 @@ def _sweep_params(command, kw):
 
 #: Each sweeping function's options shared with every sweeping command.
 SWEEP_OPTIONS = ("directions", "offset", "curvature", "refraction", "earth_radius", "lines",
-                 "box_lines", "box_shadows", "horizon_tolerance", "svf_tolerance")
+                 "box_lines", "box_shadows", "box_sky", "horizon_tolerance", "svf_tolerance")
 
 
 def _checked(command, name, value):
@@ -158,6 +158,19 @@ def _product_cost(name, params, outputs=0, cell_m=math.nan, **more):
     params = ffi.NULL if params is None else params
     return BandCost(product.cell_bytes(params, outputs), halo_m=product.halo_m(params, cell_m),
                     **more)
+
+
+def sky_rays(opt, radius=0.0):
+    """Whether the sky view is each cell's own ray (box lines with box_sky
+    'march', no radius): it hands no hull on, and in bands it holds the
+    heights whole (a float a cell of the whole grid, as the CLI's
+    run_box_sky_cell_bytes counts)."""
+    return (opt.lines == lib.SS_LINES_BOX and opt.box_sky == lib.SS_BOX_SKY_MARCH
+            and not radius > 0)
+
+
+#: A band's cost beside the product's own where the sky view is each cell's own ray.
+SKY_RAYS_COST = {"hull_lines": 1, "box_lines": 1, "grid_cell_bytes": 4.0}
 
 
 def _run(ctx, grid, opt, name, params, targets, kw, cost=None, sun=ffi.NULL, outputs=0):
@@ -264,7 +277,8 @@ def svf(dem, cell_size=None, *, definition=default("svf", "definition"),
     code = lib.ss_svf_params_term(params)
     opt = _sweep(ctx, grid, "svf", params, kw)
     out = grid.new_plane()
-    _run(ctx, grid, opt, "svf", params, {0: out}, kw)
+    cost = _product_cost("svf", params, **(SKY_RAYS_COST if sky_rays(opt, radius) else {}))
+    _run(ctx, grid, opt, "svf", params, {0: out}, kw, cost=cost)
     attrs = {"long_name": "sky-view factor", "units": "1", "definition": definition,
              "directions": opt.directions}
     if trees is None:
@@ -464,7 +478,8 @@ def openness(dem, cell_size=None, *, kind=default("openness", "kind"),
     params = _params("openness", "openness", {"kind": kind, "radius": radius})
     opt = _sweep(ctx, grid, "openness", params, kw)
     out = grid.new_plane()
-    _run(ctx, grid, opt, "openness", params, {0: out}, kw)
+    cost = _product_cost("openness", params, **(SKY_RAYS_COST if sky_rays(opt, radius) else {}))
+    _run(ctx, grid, opt, "openness", params, {0: out}, kw, cost=cost)
     return grid.finish(out, name or f"{kind} openness",
                        {"long_name": f"{kind} openness", "units": "degree",
                         "directions": opt.directions})
@@ -653,9 +668,14 @@ def _shade(dem, cell_size, nodata, kw, given, radius=None):
     opt = _sweep(ctx, grid, "hillshade", params, kw)
     out = grid.new_plane()
     sweeps = params.blend or params.cast_shadows or params.sky_view > 0
+    # The sky layers by each cell's own ray hold the heights whole before
+    # the cast shadows' march holds them (marches counts those).
+    sky_held = params.sky_view > 0 and sky_rays(opt) and not (
+        params.cast_shadows and opt.box_shadows == lib.SS_BOX_SHADOWS_MARCH)
     cost = _product_cost("hillshade", params, cell_m=cell_m,
                          column_bytes=lib.ss_horizon_column_bytes() if sweeps else 0.0,
-                         hull_lines=None if sweeps else 1, marches=bool(params.cast_shadows))
+                         hull_lines=None if sweeps else 1, marches=bool(params.cast_shadows),
+                         grid_cell_bytes=4.0 if sky_held else 0.0)
     _run(ctx, grid, opt, "hillshade", params, {CONST["SS_OUT_SHADE"]: out}, kw, cost=cost)
     return grid, opt, out, shading.radius_m
 

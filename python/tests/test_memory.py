@@ -59,6 +59,13 @@ CALLS = {
                                      **BOX, **kw), 0.0),
     "insolation on box lines": (
         lambda **kw: skysweep.insolation(TALL, 10.0, **SUN, **BOX, **kw), 2e-3),
+    # The box model's sky view by each cell's own ray: in bands from the
+    # heights held whole (counted), the whole grid's exactly, the radiative
+    # SVF's slopes from the rows around each band included.
+    "svf on box lines": (
+        lambda **kw: skysweep.svf(TALL, 10.0, definition="radiative", **BOX, **kw), 0.0),
+    "openness on box lines": (
+        lambda **kw: skysweep.openness(TALL, 10.0, kind="negative", **BOX, **kw), 0.0),
 }
 
 

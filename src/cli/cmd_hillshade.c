@@ -112,8 +112,12 @@ int cmd_hillshade(int argc, char **argv)
                       .no_sweep = !sweeps,
                       .halo_cells = set.hs.blend ? set.hs.blend_radius_cells : 0.0,
                       .grid_cell_bytes = (set.trees.canopy ? TREES_HILLSHADE_CELL_BYTES : 0.0) +
-                                         (set.hs.cast_shadows ? run_march_cell_bytes(&set.common)
-                                                              : 0.0)};
+                                         fmax(set.hs.cast_shadows
+                                                  ? run_march_cell_bytes(&set.common)
+                                                  : 0.0,
+                                              set.hs.sky_view > 0
+                                                  ? run_box_sky_cell_bytes(&set.common)
+                                                  : 0.0)};
     sweep_job job;
     if ((rc = job_open_banded(&job, "hillshade", &set.common, pos, n_pos, cost)))
         return rc;

@@ -978,6 +978,9 @@ int cmd_insolation(int argc, char **argv)
      * walked, their bounds' blocks. */
     int exact = shadow != SS_SHADOW_INTERPOLATED && shadow != SS_SHADOW_CUMULATIVE;
     double march_bytes = exact ? run_march_cell_bytes(&set->common) : 0.0;
+    /* The sky view by each cell's own ray holds them too, before the steps
+     * (the horizons it takes besides, Perez's band, still hand hulls on). */
+    double sky_bytes = run_box_sky_cell_bytes(&set->common);
     double bounds_bytes = exact && march_bytes == 0.0 ? ss_insolation_grid_cell_bytes() : 0.0;
     double trees_bytes =
         !set->trees.trees.canopy ? 0.0
@@ -995,7 +998,9 @@ int cmd_insolation(int argc, char **argv)
                                     ss_insolation_band_cell_bytes(want, stores ? directions : 0),
                       .column_bytes = ss_horizon_column_bytes(),
                       .directions = directions,
-                      .grid_cell_bytes = march_bytes + bounds_bytes + trees_bytes,
+                      .grid_cell_bytes =
+                          (march_bytes > sky_bytes ? march_bytes : sky_bytes) + bounds_bytes +
+                          trees_bytes,
                       .hull_lines = march_bytes > 0 && !stores
                                         ? sky_directions *
                                               ss_sweep_params_sky_box_lines(&set->common.sweep)

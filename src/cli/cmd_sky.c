@@ -200,9 +200,13 @@ int cmd_sky(int argc, char **argv)
     if (rc >= 0)
         return rc;
     sweep_job job;
+    int radius_free = !(product->halo_m(&set.sky, NAN) > 0.0);
     band_cost cost = {.cell_bytes = product->cell_bytes(&set.sky, 0),
                       .halo_m = product->halo_m(&set.sky, NAN),
-                      .grid_cell_bytes = set.trees.canopy ? TREES_SKY_CELL_BYTES : 0.0};
+                      .grid_cell_bytes = (set.trees.canopy ? TREES_SKY_CELL_BYTES : 0.0) +
+                                         (radius_free ? run_box_sky_cell_bytes(&set.common) : 0.0),
+                      /* each cell's own ray hands no hull on */
+                      .hull_lines = radius_free && run_box_sky_cell_bytes(&set.common) > 0};
     if ((rc = job_open_banded(&job, product->name, &set.common, pos, n_pos, cost)))
         return rc;
     if ((rc = job_plan(&job, &set.common, product, &set.sky, 0, NULL)) >= 0) {

@@ -36,6 +36,10 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
     printf("time    sweep %.3f s (%.0f M cell-directions/s over %d x %d cells), kernel build "
            "%.3f s\n",
            c.sweep_seconds, rate, width, height, c.build_seconds);
+    if (c.box_sky_directions)
+        printf("sky     %llu directions of the box model's sky view from each cell's own ray "
+               "(exact), on the host\n",
+               (unsigned long long)c.box_sky_directions);
     if (share_size() > 1)
         printf("share   %d MPI processes, directions dealt round-robin (this one swept %llu), "
                "sums added at rank 0\n",

@@ -693,6 +693,13 @@ double run_march_cell_bytes(const common_settings *common)
     return marched ? (double)sizeof(float) : 0.0;
 }
 
+double run_box_sky_cell_bytes(const common_settings *common)
+{
+    int marched = run_lines_asked(common) == SS_LINES_BOX &&
+                  common->sweep.box_sky == SS_BOX_SKY_MARCH;
+    return marched ? (double)sizeof(float) : 0.0;
+}
+
 ss_place run_place(const common_settings *common, const ss_dem_frame *f)
 {
     return (ss_place){f->georeferenced,      f->geographic,         f->centre_lon_deg,
@@ -717,7 +724,7 @@ ss_status run_check_output(run_state *run, const char *output)
 void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
                          const ss_dem_frame *frame)
 {
-    char buf[400];
+    char buf[512];
     ss_writer_metadata(w, "SKYSWEEP_VERSION", ss_version());
     ss_writer_metadata(w, "SKYSWEEP_COMMAND", run->command);
     snprintf(buf, sizeof buf, "%d", opt->directions);
@@ -748,12 +755,16 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     if (opt->lines == SS_LINES_BOX)
         snprintf(buf, sizeof buf,
                  "box: cells as flat-topped columns, %d lines per cell, each cell's horizon from "
-                 "the nearest (at most %.3g cell beside its centre)%s",
+                 "the nearest (at most %.3g cell beside its centre)%s%s",
                  opt->box_lines, 0.5 / opt->box_lines,
                  opt->box_shadows == SS_BOX_SHADOWS_MARCH
                      ? "; cast shadows from each cell's own ray (exact: proven bounds, else a "
                        "march), on every device and in bands"
-                     : "; cast shadows from the lines");
+                     : "; cast shadows from the lines",
+                 opt->box_sky == SS_BOX_SKY_MARCH
+                     ? "; sky view (SVF, openness) from each cell's own ray (the box model "
+                       "exactly), on every device and in bands"
+                     : "; sky view from the lines");
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
                            ? "digital: lines through cell centres, distance projected on the "
@@ -770,8 +781,11 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     ss_writer_metadata(w, "EARTH_CURVATURE", buf);
     /* Asking for the device's name opens it (OpenCL set-up, ~0.2 s on
      * PoCL): a run that swept nothing (plain hillshade) names none. */
-    ss_writer_metadata(w, "DEVICE", ss_ctx_counters(run->ctx).sweeps > 0
-                                        ? ss_ctx_device_name(run->ctx)
+    ss_counters c = ss_ctx_counters(run->ctx);
+    ss_writer_metadata(w, "DEVICE", c.sweeps > 0 ? ss_ctx_device_name(run->ctx)
+                                    : c.box_sky_directions > 0
+                                        ? "the host: the box model's sky view by each cell's "
+                                          "own ray"
                                         : "none: no sweep was needed");
 }
 

@@ -106,6 +106,10 @@ ss_line_model run_lines_asked(const common_settings *common);
  * not searched for walls, so only --lines box gives them there) without
  * --box-shadows lines; else 0. A grid held whole holds them anyway. */
 double run_march_cell_bytes(const common_settings *common);
+/* The same for the box model's sky view by each cell's own ray (svf,
+ * openness, and the sky terms of hillshade and insolation): --lines box
+ * without --box-sky lines; else 0. */
+double run_box_sky_cell_bytes(const common_settings *common);
 /* The frame's place, for the planner (ss_place). */
 ss_place run_place(const common_settings *common, const ss_dem_frame *frame);
 /* The sweep options the parameters ask for before a plan decides

@@ -54,6 +54,11 @@ static const ss_param sweep_params[] = {
      "box lines' cast shadows and crowns: march: each cell's own ray, exact, settled by "
      "proven bounds where it can be, on the host whatever the device (in bands it holds the "
      "heights whole, 4 bytes a cell); lines: the --box-lines walks (doc/box_lines.md)"},
+    {"box-sky", SS_PARAM_CHOICE, SWEEP(box_sky), NULL, "march", 0, 0, "march|lines",
+     "box lines' sky view (SVF, openness, the sky terms of hillshade and insolation): march: "
+     "each cell's own ray, the box model exactly, on the host whatever the device (in bands it "
+     "holds the heights whole, 4 bytes a cell); lines: the --box-lines walks "
+     "(doc/box_lines.md)"},
     END};
 
 #define SUN(field) offsetof(ss_sun_params, field)
@@ -270,6 +275,7 @@ void ss_sweep_params_request(const ss_sweep_params *p, const ss_sun_params *sun,
     req->lines = ss_sweep_params_lines(p);
     req->box_lines = p->box_lines;
     req->box_shadows = (ss_box_shadows)p->box_shadows;
+    req->box_sky = (ss_box_sky)p->box_sky;
 }
 
 void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,
@@ -288,6 +294,7 @@ void ss_sweep_params_options(const ss_sweep_params *p, const ss_place *place,
     opt->lines = asked == SS_LINES_AUTO ? SS_LINES_INTERPOLATED : asked;
     opt->box_lines = p->box_lines ? p->box_lines : SS_BOX_LINES_DEFAULT;
     opt->box_shadows = (ss_box_shadows)p->box_shadows;
+    opt->box_sky = (ss_box_sky)p->box_sky;
     opt->grid_north_deg = place && p->north != SS_NORTH_GRID ? place->grid_north_deg : 0.0;
 }
 

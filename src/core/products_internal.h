@@ -52,6 +52,14 @@ double ss_product_lines_at(const ss_grid *grid, const ss_sweep_options *opt,
  * definitions (SS_SVF_*) or openness (SS_TERM_ELEVATION: 90 - mean). */
 float ss_product_finish(int term, float sum, int directions);
 
+/* Whether a sky walk (ss_sky_walk) of radius radius_m (0: none) takes
+ * each cell's own ray (box_sky.h) on box lines: asked for (box_sky), on a
+ * grid held whole or read in bands (a ray reads columns anywhere: a banded
+ * run holds the heights whole, ss_source_heights, 4 bytes a cell that the
+ * CLI's and Python's memory plans count), on the host whatever the device.
+ * Radius-limited horizons take no box lines. */
+int ss_box_sky_marched(const ss_sweep_options *opt, double radius_m);
+
 /* ss_sky_rows on arguments its caller has checked (sky_walk.c; ss_rows_begin, or a
  * product of its own that needs the sky view). */
 ss_status ss_sky_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,

@@ -19,6 +19,7 @@ void ss_sweep_options_default(ss_sweep_options *opt)
     opt->grid_north_deg = 0.0;
     opt->box_lines = SS_BOX_LINES_DEFAULT;
     opt->box_shadows = SS_BOX_SHADOWS_MARCH;
+    opt->box_sky = SS_BOX_SKY_MARCH;
     opt->sky_box_lines = 0;
 }
 
@@ -55,6 +56,9 @@ ss_status ss_sweep_options_check(ss_ctx *ctx, const ss_sweep_options *opt)
     if (opt->box_shadows != SS_BOX_SHADOWS_MARCH && opt->box_shadows != SS_BOX_SHADOWS_LINES)
         return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown way of box shadows %d",
                        (int)opt->box_shadows);
+    if (opt->box_sky != SS_BOX_SKY_MARCH && opt->box_sky != SS_BOX_SKY_LINES)
+        return ss_fail(ctx, SS_ERR_ARGUMENT, "unknown way of the box sky view %d",
+                       (int)opt->box_sky);
     if (opt->lines == SS_LINES_BOX &&
         (opt->box_lines < 1 || opt->box_lines > SS_BOX_LINES_MAX ||
          (opt->box_lines & (opt->box_lines - 1)) != 0))

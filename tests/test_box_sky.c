@@ -1,0 +1,279 @@
+/* The box model's sky view by each cell's own ray (src/core/box_sky.c,
+ * the default on box lines) against the independent box-model march of
+ * tests/box_march.c, cell by cell: every SVF definition and both
+ * opennesses, with and without the earth's curvature, on a synthetic
+ * city, the same with nodata holes and cells longer one way, a grid of
+ * one row and one of one column, a tower on a plain, and the Gothenburg
+ * DSM where ../shared/data has it. Directions along the axes and the
+ * diagonals (where a ray meets the cells' corners) and off them. In bands
+ * of any height the answer is the whole grid's bit for bit, the radiative
+ * SVF's slopes included; OpenCL gives the C twin's; --box-sky lines still
+ * walks the lines. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef SS_TEST_READS_DEMS
+#include "dem_io.h"
+#endif
+#include "box_march.h"
+#include "ss_terms.h"
+#include "tap.h"
+#include "testlib.h"
+
+/* The library's sky product of term on the C twin (or device), whole grid. */
+static int library_sky(const char *device, const ss_grid *g, const ss_sweep_options *opt,
+                       ss_sky_term term, float *out, char *err)
+{
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, device);
+    ss_status st = term <= SS_SKY_SVF_RADIATIVE
+                       ? ss_svf(ctx, g, opt, (ss_svf_definition)term, out)
+                       : ss_openness(ctx, g, opt, term == SS_SKY_OPENNESS_NEGATIVE, 0.0, out);
+    if (st != SS_OK)
+        snprintf(err, 300, "%s", ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    return st == SS_OK;
+}
+
+/* The march's value of term at cell (r, c): its horizons in opt's
+ * directions (the grid's frame), on heights negated for negative openness
+ * (flipped, the same grid negated), finished as the products define it
+ * (doc/model.md). */
+static double reference(const ss_grid *g, const ss_grid *flipped, const ss_sweep_options *opt,
+                        ss_sky_term term, double curv_k, int r, int c)
+{
+    float de = 0.0f, dn = 0.0f;
+    if (term == SS_SKY_SVF_RADIATIVE)
+        ss_gradient_horn(g->z, g->width, g->height, c, r, (float)g->cell_x_m,
+                         (float)g->cell_y_m, &de, &dn);
+    double sum = 0.0;
+    for (int k = 0; k < opt->directions; ++k) {
+        double az = ss_direction_azimuth(opt, k);
+        double h = box_march_horizon_curved_deg(term == SS_SKY_OPENNESS_NEGATIVE ? flipped : g,
+                                                r, c, az, curv_k);
+        double rad = h * M_PI / 180;
+        sum += term == SS_SKY_SVF_GEOMETRIC    ? sin(rad)
+               : term == SS_SKY_SVF_HORIZONTAL ? cos(rad) * cos(rad)
+               : term == SS_SKY_SVF_RADIATIVE
+                   ? ss_svf_tilted_term((float)cos(rad), (float)sin(rad),
+                                        (float)sin(az * M_PI / 180),
+                                        (float)cos(az * M_PI / 180), de, dn)
+                   : h;
+    }
+    double mean = sum / opt->directions;
+    if (term >= SS_SKY_OPENNESS_POSITIVE)
+        return 90.0 - mean;
+    double v = term == SS_SKY_SVF_GEOMETRIC ? 1.0 - mean : mean;
+    return fmin(fmax(v, 0.0), 1.0);
+}
+
+static const char *term_names[] = {"geometric SVF", "horizontal SVF", "radiative SVF",
+                                   "positive openness", "negative openness"};
+
+static ss_sweep_options box_options(int directions, double offset_deg, double curv_k)
+{
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.lines = SS_LINES_BOX;
+    opt.directions = directions;
+    opt.offset_deg = offset_deg;
+    if (curv_k > 0) { /* curv_k = (1 - k) / (2 R) with k = 0 */
+        opt.earth_radius_m = 1.0 / (2.0 * curv_k);
+        opt.refraction_k = 0.0;
+    }
+    return opt;
+}
+
+/* Every term against the march on every cell: SVF within 1e-5, openness
+ * within 1e-4 degrees (the library sums floats; the march, doubles). */
+static void check_grid(const char *what, const ss_grid *g, double curv_k)
+{
+    size_t n = (size_t)g->width * g->height;
+    float *out = malloc(n * sizeof(float));
+    ss_grid flipped = *g;
+    flipped.z = malloc(n * sizeof(float));
+    for (size_t i = 0; i < n; ++i)
+        flipped.z[i] = -g->z[i];
+    /* 8 directions from 0: the axes and diagonals; 12 from 3.7 deg: off them. */
+    static const struct {
+        int directions;
+        double offset;
+    } sets[] = {{8, 0.0}, {12, 3.7}};
+    for (int term = SS_SKY_SVF_GEOMETRIC; term <= SS_SKY_OPENNESS_NEGATIVE; ++term) {
+        double worst = 0.0;
+        char err[300] = "";
+        int ok = out != NULL && flipped.z != NULL;
+        for (int s = 0; ok && s < 2; ++s) {
+            ss_sweep_options opt = box_options(sets[s].directions, sets[s].offset, curv_k);
+            ok = library_sky("reference", g, &opt, (ss_sky_term)term, out, err);
+            for (int r = 0; ok && r < g->height; ++r)
+                for (int c = 0; c < g->width; ++c) {
+                    size_t i = (size_t)r * g->width + c;
+                    if (!isfinite(g->z[i]))
+                        continue;
+                    double want = reference(g, &flipped, &opt, (ss_sky_term)term, curv_k, r, c);
+                    worst = fmax(worst, fabs(out[i] - want));
+                }
+        }
+        double allowed = term >= SS_SKY_OPENNESS_POSITIVE ? 1e-4 : 1e-5;
+        tap_ok(ok && worst <= allowed,
+               "%s%s: the %s by each cell's own ray is the box-model march's on every cell, "
+               "along the axes and diagonals and off them (worst %.2g, at most %g)%s%s",
+               what, curv_k > 0 ? ", curved" : "", term_names[term], worst, allowed,
+               err[0] ? ": " : "", err);
+    }
+    free(flipped.z);
+    free(out);
+}
+
+typedef struct {
+    float *out;
+    int width;
+} keep_rows;
+
+static ss_status keep(void *user, int output, int index, int row0, int n_rows,
+                      const float *values)
+{
+    (void)output, (void)index;
+    keep_rows *k = user;
+    memcpy(k->out + (size_t)row0 * k->width, values, sizeof(float) * n_rows * k->width);
+    return SS_OK;
+}
+
+static ss_status read_rows(void *user, int row0, int n_rows, float *z)
+{
+    const ss_grid *g = user;
+    memcpy(z, g->z + (size_t)row0 * g->width, sizeof(float) * n_rows * g->width);
+    return SS_OK;
+}
+
+/* A DEM read in bands of 1, 7 and 33 rows gives the whole grid's sky bit
+ * for bit, the radiative SVF (slopes from the rows around a band) too. */
+static void check_bands(const char *what, const ss_grid *g)
+{
+    size_t n = (size_t)g->width * g->height;
+    float *whole = malloc(n * sizeof(float)), *banded = malloc(n * sizeof(float));
+    ss_sweep_options opt = box_options(12, 3.7, 0.0);
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    static const int band_rows[] = {1, 7, 33};
+    size_t differ = 0;
+    int ok = whole && banded;
+    for (int term = SS_SKY_SVF_GEOMETRIC; ok && term <= SS_SKY_OPENNESS_NEGATIVE; ++term) {
+        ss_source src = test_source(g, NULL, NULL, 0, NULL);
+        src.z = g->z;
+        keep_rows all = {whole, g->width};
+        ok = ss_sky_rows(ctx, &src, &opt, (ss_sky_term)term, 0.0, NULL, keep, &all) == SS_OK;
+        for (int b = 0; ok && b < 3; ++b) {
+            ss_source bands = test_source(g, read_rows, (void *)g, band_rows[b], NULL);
+            keep_rows part = {banded, g->width};
+            for (size_t i = 0; i < n; ++i)
+                banded[i] = NAN;
+            ok = ss_sky_rows(ctx, &bands, &opt, (ss_sky_term)term, 0.0, NULL, keep, &part) ==
+                 SS_OK;
+            differ += ok && memcmp(whole, banded, n * sizeof(float)) != 0;
+        }
+    }
+    tap_ok(ok && differ == 0,
+           "%s: every sky term by each cell's own ray in bands of 1, 7 and 33 rows is the whole "
+           "grid's bit for bit (%zu of 15 differ)%s%s",
+           what, differ, ok ? "" : ": ", ok ? "" : ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    free(whole);
+    free(banded);
+}
+
+/* OpenCL gives the C twin's answer (the rays run on the host), and
+ * --box-sky lines walks the lines, whose answer differs. */
+static void check_devices_and_lines(const char *what, const ss_grid *g)
+{
+    size_t n = (size_t)g->width * g->height;
+    float *twin = malloc(n * sizeof(float)), *other = malloc(n * sizeof(float));
+    ss_sweep_options opt = box_options(12, 3.7, 0.0);
+    char err[300] = "";
+    int ok = twin && other && library_sky("reference", g, &opt, SS_SKY_SVF_RADIATIVE, twin, err);
+    if (!test_have_pocl()) {
+        tap_skip("the box sky view on OpenCL", "no PoCL device is listed");
+    } else {
+        int same = ok && library_sky(NULL, g, &opt, SS_SKY_SVF_RADIATIVE, other, err) &&
+                   memcmp(twin, other, n * sizeof(float)) == 0;
+        tap_ok(same, "%s: the radiative SVF by each cell's own ray is the same on OpenCL as on "
+                     "the C twin, bit for bit%s%s",
+               what, err[0] ? ": " : "", err);
+    }
+    opt.box_sky = SS_BOX_SKY_LINES;
+    ok = ok && library_sky("reference", g, &opt, SS_SKY_SVF_RADIATIVE, other, err);
+    double most = 0.0;
+    for (size_t i = 0; ok && i < n; ++i)
+        if (isfinite(g->z[i]))
+            most = fmax(most, fabs(twin[i] - other[i]));
+    tap_ok(ok && most > 1e-4,
+           "%s: --box-sky lines walks the box lines instead, off the rays by up to %.4f%s%s",
+           what, most, err[0] ? ": " : "", err);
+    free(twin);
+    free(other);
+}
+
+static void check_shared(void)
+{
+#ifndef SS_TEST_READS_DEMS
+    tap_skip("the Gothenburg DSM", "a build without GDAL reads no GeoTIFF");
+#else
+    const char *path = test_shared_data("goteborg_kronenhuset_dsm_1m.tif");
+    if (!path) {
+        tap_skip("the Gothenburg DSM", "../shared/data is not here");
+        return;
+    }
+    ss_ctx *ctx = ss_ctx_new();
+    ss_dem dem;
+    const char *paths[] = {path};
+    if (ss_dem_read(ctx, paths, 1, NULL, &dem) == SS_OK) {
+        check_grid("the Gothenburg DSM", &dem.grid, 0.0);
+        ss_dem_free(&dem);
+    } else {
+        tap_ok(0, "cannot read %s: %s", path, ss_ctx_message(ctx));
+    }
+    ss_ctx_free(ctx);
+#endif
+}
+
+int main(void)
+{
+    ss_grid city = box_march_city(90);
+    check_grid("a synthetic city", &city, 0.0);
+    /* A radius of 2 km: curvature that matters across 90 m. */
+    check_grid("a synthetic city", &city, 1.0 / (2.0 * 2000.0));
+    check_bands("a synthetic city", &city);
+    check_devices_and_lines("a synthetic city", &city);
+    /* Holes of nodata, which neither cast nor receive, and cells half as
+     * long again north-south. */
+    for (size_t i = 0; i < (size_t)90 * 90; i += 37)
+        city.z[i] = NAN;
+    city.cell_y_m = 1.5;
+    check_grid("a city with holes, 1 x 1.5 m cells", &city, 0.0);
+    check_bands("a city with holes, 1 x 1.5 m cells", &city);
+    ss_grid_free(&city);
+    ss_grid row = test_grid(300, 1, 1.0, 1.0);
+    for (int c = 0; c < 300; ++c)
+        row.z[c] = (float)((c * 7919) % 23);
+    check_grid("one row", &row, 0.0);
+    ss_grid_free(&row);
+    ss_grid column = test_grid(1, 300, 1.0, 1.0);
+    for (int r = 0; r < 300; ++r)
+        column.z[r] = (float)((r * 7919) % 23);
+    check_grid("one column", &column, 0.0);
+    ss_grid_free(&column);
+    ss_grid tower = test_grid(90, 70, 2.0, 2.0);
+    for (size_t i = 0; i < (size_t)90 * 70; ++i)
+        tower.z[i] = 0.0f;
+    tower.z[(size_t)35 * 90 + 45] = 80.0f;
+    check_grid("one tower on a plain", &tower, 0.0);
+    check_bands("one tower on a plain", &tower);
+    ss_grid_free(&tower);
+    check_shared();
+    return tap_done();
+}
