@@ -94,14 +94,18 @@ static double box_tangent(const ss_grid *g, const sky_ray *ray, int col, int row
     const float *z = g->z + (size_t)row * g->width + col;
     const sky_square *sq = ray->sq;
     double eye = sign * z[0], room = top - eye, best = 0.0;
-    /* No top ahead can rise above best once room <= best * t_in: the
-     * squares' t_in grow, and a top shows at t_in or beyond. */
-    for (int k = 0; k < n && room > best * sq[k].t_in; ++k) {
+    /* No top ahead can rise above best once room <= best * t_in, that is
+     * past t_in = room / best: the squares' t_in grow, and a top shows at
+     * t_in or beyond. */
+    double stop = room > 0.0 ? INFINITY : 0.0;
+    for (int k = 0; k < n && sq[k].t_in < stop; ++k) {
         double rise = sign * z[sq[k].offset] - eye, t = sq[k].t_in; /* NaN at nodata: no rise */
         if (rise > 0.0) {
             rise -= curv_k * t * t;
-            if (rise > best * t)
+            if (rise > best * t) {
                 best = rise / t;
+                stop = room / best;
+            }
         }
     }
     return best;
