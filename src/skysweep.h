@@ -935,6 +935,10 @@ typedef struct {
     int box_lines;              /* box lines per cell (0: the planner chooses, doc/planner.md) */
     ss_box_shadows box_shadows; /* box lines' cast shadows (ss_sweep_options') */
     ss_box_sky box_sky;         /* box lines' sky view (ss_sweep_options') */
+    /* The product's sky view is a sky walk (svf, openness, hillshade's sky
+     * layers, insolation's own surface): on box lines with box_sky march,
+     * each cell's own ray, which takes no box lines. */
+    int sky_walk;
     double radius_m;            /* svf and openness: horizons within it (0: unlimited) */
     ss_shadow_mode shadow_mode;
     int n_steps;                /* time steps (shadow, insolation) ... */

@@ -12,6 +12,7 @@
 #include "box_lines_table.h"
 #include "box_march.h"
 #include "shadow_table.h"
+#include "skysweep_products.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -423,6 +424,7 @@ static void box_line_counts(void)
     ss_ctx *ctx = ss_ctx_new();
     ss_plan_request r = request(SS_PLAN_SKY_VIEW);
     r.lines = SS_LINES_AUTO;
+    r.sky_walk = 1; /* svf's, as its registry entry asks */
     ss_plan p;
     /* The default: the sky view by each cell's own ray takes no lines. */
     int ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
@@ -472,6 +474,16 @@ static void box_line_counts(void)
     it = ok ? item(&p, "lines") : NULL;
     tap_ok(it && p.lines == SS_LINES_BOX && p.box_lines == 32 && strstr(it->reason, "no table"),
            "horizon angles keep 32 box lines (%s)", it ? it->reason : "-");
+    /* Openness plans as horizons, yet its horizons are a sky walk: by each
+     * cell's own ray it takes no box lines either (its registry entry says so). */
+    double params[32] = {0}; /* the openness parameters' zeros: positive, no radius */
+    r = request(SS_PLAN_HORIZONS);
+    ss_product_named("openness")->request(params, 1.0, &r);
+    r.lines = SS_LINES_AUTO;
+    ok = r.sky_walk && ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
+    it = ok ? item(&p, "lines") : NULL;
+    tap_ok(it && p.lines == SS_LINES_BOX && strstr(it->reason, "none for the sky view"),
+           "openness on a city: each cell's own ray, no box lines (%s)", it ? it->reason : "-");
     ss_ctx_free(ctx);
     ss_grid_free(&city);
 }
@@ -541,6 +553,7 @@ static void box_shadow_costs(void)
     ss_place place = place_of(&city, 0, 57.7);
     ss_plan march, lines;
     ss_plan_request r = weather_year(0.001, 1);
+    r.sky_walk = 1;               /* insolation's, as its registry entry asks */
     r.box_sky = SS_BOX_SKY_LINES; /* below: the sky view on lines; at the end, by rays */
     ss_status st = ss_plan_make(ctx, &city, &place, &r, &march);
     double sky_lines_s = march.estimated_seconds;

@@ -670,7 +670,7 @@ def _shade(dem, cell_size, nodata, kw, given, radius=None):
     sweeps = params.blend or params.cast_shadows or params.sky_view > 0
     # The sky layers by each cell's own ray hold the heights whole before
     # the cast shadows' march holds them (marches counts those).
-    sky_held = params.sky_view > 0 and sky_rays(opt) and not (
+    sky_held = (params.sky_view > 0 or params.blend) and sky_rays(opt) and not (
         params.cast_shadows and opt.box_shadows == lib.SS_BOX_SHADOWS_MARCH)
     cost = _product_cost("hillshade", params, cell_m=cell_m,
                          column_bytes=lib.ss_horizon_column_bytes() if sweeps else 0.0,

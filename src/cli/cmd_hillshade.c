@@ -115,7 +115,7 @@ int cmd_hillshade(int argc, char **argv)
                                          fmax(set.hs.cast_shadows
                                                   ? run_march_cell_bytes(&set.common)
                                                   : 0.0,
-                                              set.hs.sky_view > 0
+                                              set.hs.sky_view > 0 || set.hs.blend
                                                   ? run_box_sky_cell_bytes(&set.common)
                                                   : 0.0)};
     sweep_job job;

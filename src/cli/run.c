@@ -761,10 +761,10 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
                      ? "; cast shadows from each cell's own ray (exact: proven bounds, else a "
                        "march), on every device and in bands"
                      : "; cast shadows from the lines",
-                 opt->box_sky == SS_BOX_SKY_MARCH
-                     ? "; sky view (SVF, openness) from each cell's own ray (the box model "
-                       "exactly), on every device and in bands"
-                     : "; sky view from the lines");
+                 ss_ctx_counters(run->ctx).box_sky_directions > 0
+                     ? "; the sky view (SVF, openness, sky terms) from each cell's own ray (the "
+                       "box model exactly), on every device and in bands"
+                     : "");
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
                            ? "digital: lines through cell centres, distance projected on the "

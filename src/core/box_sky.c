@@ -27,7 +27,7 @@ typedef struct {
  * first min(within_x[m], within_y[m']) of them in the grid. */
 typedef struct {
     sky_square *sq;
-    int n, sx, sy;
+    int sx, sy;
     int *within_x, *within_y;
     float sin_az, cos_az;
 } sky_ray;
@@ -71,7 +71,6 @@ static int sky_ray_init(sky_ray *ray, const ss_grid *g, double az_rad)
         ray->within_x[m] = n;
     for (int m = abs(dr); m < g->height; ++m)
         ray->within_y[m] = n;
-    ray->n = n;
     return 1;
 }
 
@@ -115,8 +114,8 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
                    int definition, float sign, double top, double curv_k, int row0, int n_rows,
                    const float *grad, const volatile sig_atomic_t *cancel, float *sums)
 {
-    /* Every direction's squares at once, so that each cell's rays run
-     * together over the heights around it. */
+    /* The directions' squares listed once for all the rows, so that each
+     * cell's rays run together over the heights around it. */
     sky_ray *rays = ss_calloc((size_t)n_dirs, sizeof *rays);
     int ok = rays != NULL;
     for (int d = 0; ok && d < n_dirs; ++d)

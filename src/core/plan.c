@@ -41,9 +41,11 @@
  * one core against 1.1 ms for a digital shadow walk. */
 #define COST_BOX_MARCH 1.0
 /* The box model's sky view by each cell's own ray (box_sky.h), per
- * direction in sweeps: 0.19 s for 32 directions on Gothenburg's DSM on
- * two cores, where its 32 digital sweeps take 0.031 s. */
-#define COST_BOX_SKY_MARCH 6.0
+ * direction in sweeps: 0.14 s for 32 directions on Gothenburg's DSM on
+ * two cores, where its 32 digital sweeps take 0.031 s. A ray stops where
+ * the grid's highest top could no longer rise above its best angle: far
+ * below that top (open water, parks) it walks farther. */
+#define COST_BOX_SKY_MARCH 4.5
 #define PLAN_CELL_STEP_S 2e-8
 #define PLAN_MAX_CANDIDATES 8
 
@@ -205,7 +207,9 @@ static double box_lines_count_error(int count)
  * and returns the SVF error expected (0: none measured). */
 static double plan_box_lines(ss_plan *p, const ss_plan_request *r, char *said, size_t size)
 {
-    if (r->kind == SS_PLAN_SKY_VIEW && r->box_sky == SS_BOX_SKY_MARCH && !(r->radius_m > 0)) {
+    /* A product whose only horizons are its sky walk's, by each cell's own ray. */
+    if (r->sky_walk && (r->kind == SS_PLAN_SKY_VIEW || r->kind == SS_PLAN_HORIZONS) &&
+        r->box_sky == SS_BOX_SKY_MARCH && !(r->radius_m > 0)) {
         p->box_lines = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
         snprintf(said, size,
                  "none for the sky view: each cell's own ray, the box model exactly "
@@ -401,14 +405,13 @@ static double box_sweep_cost(const ss_plan *p)
     return p->lines == SS_LINES_BOX ? COST_BOX_PER_LINE * lines : 1.0;
 }
 
-/* Whether the sky view is each cell's own ray (box_sky.h): box lines with
- * --box-sky march and no radius; for insolation only where no horizons are
- * stored (exact shadows), its sky view then a sky walk of its own. */
+/* Whether the product's sky walk is each cell's own ray (box_sky.h), as
+ * ss_box_sky_marched decides it: box lines with --box-sky march and no
+ * radius. */
 static int sky_marched(const ss_plan *p, const ss_plan_request *r)
 {
-    return p->lines == SS_LINES_BOX && r->box_sky == SS_BOX_SKY_MARCH && !(r->radius_m > 0) &&
-           (r->kind == SS_PLAN_SKY_VIEW ||
-            (r->kind == SS_PLAN_INSOLATION && p->shadow_mode == SS_SHADOW_EXACT));
+    return r->sky_walk && p->lines == SS_LINES_BOX && r->box_sky == SS_BOX_SKY_MARCH &&
+           !(r->radius_m > 0);
 }
 
 /* Insolation's exact shadows on box lines by each cell's own ray (on
@@ -853,7 +856,10 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     /* The march runs on the host (at the C twin's rate) whatever device
      * walks the rest. */
     int marched = shadows_marched(p, r);
-    double sky_rays = sky_marched(p, r) ? p->directions : 0.0;
+    /* The sky walk's directions, where it is each cell's own ray (the first
+     * of a sky view's sweeps; hillshade's with cast shadows are not
+     * modelled). */
+    double sky_rays = sky_marched(p, r) ? fmin(sky, p->directions) : 0.0;
     double sweeps = (sky - sky_rays) * box_sweep_cost(p) +
                     (marched ? 0.0 : shadows * box_sweep_cost(p));
     double host_s = daylight * p->cells * PLAN_CELL_STEP_S +

@@ -18,6 +18,7 @@ static void svf_request(const void *params, double cell_size_m, ss_plan_request 
     req->kind = SS_PLAN_SKY_VIEW;
     req->svf_definition = (ss_svf_definition)ss_svf_params_term(p);
     req->radius_m = p->radius_m;
+    req->sky_walk = 1;
 }
 
 static double svf_cell_bytes(const void *params, unsigned outputs)
@@ -47,6 +48,7 @@ static void openness_request(const void *params, double cell_size_m, ss_plan_req
     (void)cell_size_m;
     req->kind = SS_PLAN_HORIZONS;
     req->radius_m = ((const ss_openness_params *)params)->radius_m;
+    req->sky_walk = 1;
 }
 
 static double openness_cell_bytes(const void *params, unsigned outputs)
@@ -99,6 +101,7 @@ static void hillshade_request(const void *params, double cell_size_m, ss_plan_re
     req->kind = ss_hillshade_params_plan_kind(p);
     if (p->blend != SS_HILLSHADE_BLEND_NONE)
         req->radius_m = p->blend_radius_cells * cell_size_m;
+    req->sky_walk = p->sky_view > 0 || p->blend == SS_HILLSHADE_BLEND_VAT;
 }
 
 static int hillshade_sweeps(const ss_hillshade_params *p)
@@ -174,6 +177,7 @@ static void insolation_request(const void *params, double cell_size_m, ss_plan_r
     (void)cell_size_m;
     req->kind = SS_PLAN_INSOLATION;
     req->shadow_mode = ss_insolation_params_shadow(params);
+    req->sky_walk = 1; /* a cell's own surface's sky view, in every shadow mode */
 }
 
 /* Output 1 is the steps' (SS_INSOLATION_STEPS); weather's monthly sums and
