@@ -3,8 +3,9 @@
  * tests/box_march.c, cell by cell: every SVF definition and both
  * opennesses, with and without the earth's curvature, on a synthetic
  * city, the same with nodata holes and cells longer one way, a grid of
- * one row and one of one column, a tower on a plain, and the Gothenburg
- * DSM where ../shared/data has it. Directions along the axes and the
+ * one row and one of one column, a tower on a plain, rolling hills (where
+ * a walk passes over most blocks of the grid, and walks far uphill), and
+ * the Gothenburg DSM where ../shared/data has it. Directions along the axes and the
  * diagonals (where a ray meets the cells' corners) and off them. In bands
  * of any height the answer is the whole grid's bit for bit, the radiative
  * SVF's slopes included; OpenCL gives the C twin's; --box-sky lines still
@@ -285,6 +286,18 @@ int main(void)
     check_grid("one tower on a plain", &tower, 0.0);
     check_bands("one tower on a plain", &tower);
     ss_grid_free(&tower);
+    /* Rolling hills on a slope, 3 blocks by 3 and parts of them: low
+     * horizons, so the walks pass over the blocks that cannot rise above
+     * them, and walk on far up the slope and to the ridge. */
+    ss_grid hills = test_grid(120, 100, 2.0, 2.0);
+    for (int r = 0; r < 100; ++r)
+        for (int c = 0; c < 120; ++c)
+            hills.z[(size_t)r * 120 + c] = (float)(12.0 * sin(c / 9.0) * cos(r / 13.0) +
+                                                   0.15 * c + 30.0 * exp(-pow((r - 70) / 6.0, 2)));
+    check_grid("rolling hills", &hills, 0.0);
+    check_grid("rolling hills", &hills, 1.0 / (2.0 * 3000.0));
+    check_bands("rolling hills", &hills);
+    ss_grid_free(&hills);
     check_shared();
     return tap_done();
 }

@@ -81,10 +81,76 @@ static void sky_ray_free(sky_ray *ray)
     free(ray->within_y);
 }
 
+struct ss_box_sky_tops {
+    double top;       /* the highest of sign * height over the grid */
+    int across, down; /* blocks */
+    float *block_top; /* across * down, -INFINITY where no heights */
+};
+
+#define SKY_BLOCK 32
+
+/* The highest of sign * z over columns [c0, c1] of one row. */
+static float row_top(const float *z, int c0, int c1, float sign)
+{
+    float top = -INFINITY;
+    for (int c = c0; c <= c1; ++c)
+        if (sign * z[c] > top) /* false at NaN */
+            top = sign * z[c];
+    return top;
+}
+
+ss_box_sky_tops *ss_box_sky_tops_new(const ss_grid *g, float sign)
+{
+    int w = g->width, h = g->height;
+    ss_box_sky_tops *tops = ss_calloc(1, sizeof *tops);
+    if (!tops)
+        return NULL;
+    tops->across = (w + SKY_BLOCK - 1) / SKY_BLOCK;
+    tops->down = (h + SKY_BLOCK - 1) / SKY_BLOCK;
+    /* Each row's highest over each block's columns. */
+    float *rows = ss_malloc(sizeof(float) * (size_t)h * (size_t)tops->across);
+    tops->block_top = ss_malloc(sizeof(float) * (size_t)tops->across * (size_t)tops->down);
+    if (!rows || !tops->block_top) {
+        free(rows);
+        ss_box_sky_tops_free(tops);
+        return NULL;
+    }
+    for (int r = 0; r < h; ++r)
+        for (int b = 0; b < tops->across; ++b) {
+            int c0 = b * SKY_BLOCK, c1 = c0 + SKY_BLOCK - 1;
+            rows[(size_t)r * tops->across + b] =
+                row_top(g->z + (size_t)r * w, c0, c1 < w - 1 ? c1 : w - 1, sign);
+        }
+    tops->top = -INFINITY;
+    for (int by = 0; by < tops->down; ++by)
+        for (int b = 0; b < tops->across; ++b) {
+            int r0 = by * SKY_BLOCK, r1 = r0 + SKY_BLOCK - 1;
+            float top = -INFINITY;
+            for (int r = r0; r <= r1 && r < h; ++r)
+                top = fmaxf(top, rows[(size_t)r * tops->across + b]);
+            tops->block_top[(size_t)by * tops->across + b] = top;
+            tops->top = fmax(tops->top, top);
+        }
+    free(rows);
+    return tops;
+}
+
+void ss_box_sky_tops_free(ss_box_sky_tops *tops)
+{
+    if (tops)
+        free(tops->block_top);
+    free(tops);
+}
+
 /* The tangent of cell (col, row)'s box horizon along the ray, never below
- * 0 (its own top reaches its edge). */
-static double box_tangent(const ss_grid *g, const sky_ray *ray, int col, int row, float sign,
-                          double top, double curv_k)
+ * 0 (its own top reaches its edge). The walk goes block by block: the
+ * squares of the list from where the ray crosses into a block to where it
+ * crosses out are that block's, so where the block's highest top does not
+ * rise above best at the first of them, none does. The blocks only pass
+ * over squares that could not change best: the answer is the whole
+ * walk's, bit for bit. */
+static double box_tangent(const ss_grid *g, const sky_ray *ray, const ss_box_sky_tops *tops,
+                          int col, int row, float sign, double curv_k)
 {
     int ahead_x = ray->sx > 0 ? g->width - 1 - col : col;
     int ahead_y = ray->sy > 0 ? g->height - 1 - row : row;
@@ -92,27 +158,54 @@ static double box_tangent(const ss_grid *g, const sky_ray *ray, int col, int row
                                                              : ray->within_y[ahead_y];
     const float *z = g->z + (size_t)row * g->width + col;
     const sky_square *sq = ray->sq;
-    double eye = sign * z[0], room = top - eye, best = 0.0;
+    double eye = sign * z[0], room = tops->top - eye, best = 0.0;
     /* No top ahead can rise above best once room <= best * t_in, that is
      * past t_in = room / best: the squares' t_in grow, and a top shows at
      * t_in or beyond. */
     double stop = room > 0.0 ? INFINITY : 0.0;
-    for (int k = 0; k < n && sq[k].t_in < stop; ++k) {
-        double rise = sign * z[sq[k].offset] - eye, t = sq[k].t_in; /* NaN at nodata: no rise */
-        if (rise > 0.0) {
-            rise -= curv_k * t * t;
-            if (rise > best * t) {
-                best = rise / t;
-                stop = room / best;
+    /* The ray's block, and the columns and rows it leaves the block by, as
+     * counted from its cell (within_x's and within_y's m). */
+    int bx = col / SKY_BLOCK, by = row / SKY_BLOCK;
+    int last_x = ray->sx > 0 ? SKY_BLOCK - 1 - (col - bx * SKY_BLOCK) : col - bx * SKY_BLOCK;
+    int last_y = ray->sy > 0 ? SKY_BLOCK - 1 - (row - by * SKY_BLOCK) : row - by * SKY_BLOCK;
+    for (int k = 0; k < n && sq[k].t_in < stop;) {
+        /* The block's squares end where the list first crosses out of its
+         * last column or its last row (n past the grid's). */
+        int end_x = last_x < g->width ? ray->within_x[last_x] : n;
+        int end_y = last_y < g->height ? ray->within_y[last_y] : n;
+        int by_x = end_x < end_y, end = by_x ? end_x : end_y;
+        end = end < n ? end : n;
+        if (tops->block_top[(size_t)by * tops->across + bx] - eye <= best * sq[k].t_in) {
+            k = end > k ? end : k;
+        } else {
+            for (; k < end && sq[k].t_in < stop; ++k) {
+                double rise = sign * z[sq[k].offset] - eye, t = sq[k].t_in; /* NaN: no rise */
+                if (rise > 0.0) {
+                    rise -= curv_k * t * t;
+                    if (rise > best * t) {
+                        best = rise / t;
+                        stop = room / best;
+                    }
+                }
             }
         }
+        if (by_x) {
+            bx += ray->sx;
+            last_x += SKY_BLOCK;
+        } else {
+            by += ray->sy;
+            last_y += SKY_BLOCK;
+        }
+        if (bx < 0 || bx >= tops->across || by < 0 || by >= tops->down)
+            break; /* the ray has left the grid: k == n */
     }
     return best;
 }
 
 int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_deg,
-                   int definition, float sign, double top, double curv_k, int row0, int n_rows,
-                   const float *grad, const volatile sig_atomic_t *cancel, float *sums)
+                   int definition, float sign, const ss_box_sky_tops *tops, double curv_k,
+                   int row0, int n_rows, const float *grad, const volatile sig_atomic_t *cancel,
+                   float *sums)
 {
     /* The directions' squares listed once for all the rows, so that each
      * cell's rays run together over the heights around it. */
@@ -130,7 +223,7 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
             float de = grad ? grad[2 * own] : 0.0f, dn = grad ? grad[2 * own + 1] : 0.0f;
             float sum = sums[own];
             for (int d = 0; d < n_dirs; ++d) {
-                double t = box_tangent(grid, &rays[d], c, r, sign, top, curv_k);
+                double t = box_tangent(grid, &rays[d], tops, c, r, sign, curv_k);
                 sum += ss_sky_walk_term(definition, 1.0f, (float)t, rays[d].sin_az,
                                         rays[d].cos_az, de, dn);
             }

@@ -16,7 +16,10 @@
  *     column and a row boundary settled once, and each cell walks the list
  *     with no stepping arithmetic.
  *   - A walk ends where the ray leaves the grid, or where even the grid's
- *     highest top could not rise above the best angle found so far.
+ *     highest top could not rise above the best angle found so far; on
+ *     the way it passes over every block of 32 x 32 cells whose highest
+ *     top could not rise above that angle where the ray enters the block
+ *     (on terrain, every block downhill).
  *
  * Each cell's answer depends on the heights alone, not on which rows are
  * asked, so any band height gives the whole grid's answer bit for bit. */
@@ -27,19 +30,28 @@
 
 #include "skysweep.h"
 
+/* The tops a walk can stop by: the highest of sign * height (sign 1, or
+ * -1 for negative openness) over the grid, and over each block. */
+typedef struct ss_box_sky_tops ss_box_sky_tops;
+
+/* The tops of the grid's heights times sign; NULL when out of memory. */
+ss_box_sky_tops *ss_box_sky_tops_new(const ss_grid *grid, float sign);
+void ss_box_sky_tops_free(ss_box_sky_tops *tops);
+
 /* Adds, for each cell of rows [row0, row0 + n_rows) with a height, its
  * terms (ss_sky_walk_term's definition: SS_SVF_* or SS_TERM_ELEVATION)
  * toward the n_dirs grid azimuths grid_azimuth_deg (clockwise from the
  * grid's north), in their order, into sums (width * n_rows, from row0).
  * The heights are the whole grid's, multiplied by sign (1, or -1 for
  * negative openness) and lowered by curv_k t^2 at distance t (curv_k = 1 /
- * (2 R_eff), 0 for none); top is the highest of sign * height. grad: the
+ * (2 R_eff), 0 for none); tops are theirs (ss_box_sky_tops_new). grad: the
  * rows' surface gradients (2 floats a cell from row0, ss_gradient_grid's)
  * for SS_SVF_TILTED, else NULL. Cells not yet begun are left once *cancel
  * (NULL: never) is set, for the caller to report. Returns 0 when out of
  * memory for the directions' lists. */
 int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_deg,
-                   int definition, float sign, double top, double curv_k, int row0, int n_rows,
-                   const float *grad, const volatile sig_atomic_t *cancel, float *sums);
+                   int definition, float sign, const ss_box_sky_tops *tops, double curv_k,
+                   int row0, int n_rows, const float *grad, const volatile sig_atomic_t *cancel,
+                   float *sums);
 
 #endif

@@ -52,16 +52,6 @@ int ss_box_sky_marched(const ss_sweep_options *opt, double radius_m)
     return opt->lines == SS_LINES_BOX && opt->box_sky == SS_BOX_SKY_MARCH && radius_m == 0.0;
 }
 
-/* The highest of sign * z over the grid's n cells. */
-static double highest(const float *z, size_t n, float sign)
-{
-    double top = -INFINITY;
-    for (size_t c = 0; c < n; ++c)
-        if (isfinite(z[c]) && sign * z[c] > top)
-            top = sign * z[c];
-    return top;
-}
-
 /* Directions of the sky view's rays between progress reports. */
 #define SKY_RAYS_AT_ONCE 8
 
@@ -80,12 +70,13 @@ static ss_status sky_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
     int tilted = job->walk.term == SS_SVF_TILTED;
     ss_grid grid = {w, h, src->cell_x_m, src->cell_y_m, 0.0, (float *)z}; /* only read */
     float sign = job->walk.negate ? -1.0f : 1.0f;
-    double top = highest(z, (size_t)w * h, sign), curv_k = ss_curvature_k(opt);
+    double curv_k = ss_curvature_k(opt);
+    ss_box_sky_tops *tops = ss_box_sky_tops_new(&grid, sign);
     float *sums = ss_malloc((size_t)w * rows * sizeof(float));
     double *azimuths = ss_malloc(sizeof(double) * (size_t)(job->n_dirs > 0 ? job->n_dirs : 1));
     /* A band's gradients with a row either side, as the engine's held rows give them. */
     float *grad = tilted ? ss_malloc(2 * (size_t)w * ((size_t)rows + 2) * sizeof(float)) : NULL;
-    if (!sums || !azimuths || (tilted && !grad))
+    if (!tops || !sums || !azimuths || (tilted && !grad))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of the sky view");
     for (int d = 0; azimuths && d < job->n_dirs; ++d)
         azimuths[d] = job->dirs[d].azimuth_deg - opt->grid_north_deg;
@@ -105,7 +96,7 @@ static ss_status sky_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
         for (int d0 = 0; d0 < job->n_dirs && st == SS_OK; d0 += SKY_RAYS_AT_ONCE) {
             int n = job->n_dirs - d0 < SKY_RAYS_AT_ONCE ? job->n_dirs - d0 : SKY_RAYS_AT_ONCE;
             double t0 = ss_seconds_now();
-            st = ss_box_sky_add(&grid, n, azimuths + d0, job->walk.term, sign, top, curv_k,
+            st = ss_box_sky_add(&grid, n, azimuths + d0, job->walk.term, sign, tops, curv_k,
                                 row0, n_rows, own_grad, &ctx->cancel_requested, sums)
                      ? ss_check_cancel(ctx, job->what)
                      : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the sky view's rays");
@@ -129,6 +120,7 @@ static ss_status sky_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
         ctx->counters.box_sky_directions += (uint64_t)job->n_dirs;
         ctx->counters.cells_swept += (uint64_t)job->n_dirs * (uint64_t)w * (uint64_t)h;
     }
+    ss_box_sky_tops_free(tops);
     free(azimuths);
     free(grad);
     free(sums);
