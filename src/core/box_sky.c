@@ -178,14 +178,13 @@ static double box_tangent(const ss_grid *g, const sky_ray *ray, const ss_box_sky
         if (tops->block_top[(size_t)by * tops->across + bx] - eye <= best * sq[k].t_in) {
             k = end > k ? end : k;
         } else {
+            /* A top at or below the eye cannot pass best * t >= 0, nor can
+             * nodata (NaN): no branch on them. */
             for (; k < end && sq[k].t_in < stop; ++k) {
-                double rise = sign * z[sq[k].offset] - eye, t = sq[k].t_in; /* NaN: no rise */
-                if (rise > 0.0) {
-                    rise -= curv_k * t * t;
-                    if (rise > best * t) {
-                        best = rise / t;
-                        stop = room / best;
-                    }
+                double t = sq[k].t_in, rise = sign * z[sq[k].offset] - eye - curv_k * t * t;
+                if (rise > best * t) {
+                    best = rise / t;
+                    stop = room / best;
                 }
             }
         }
