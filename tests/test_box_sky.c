@@ -9,7 +9,8 @@
  * diagonals (where a ray meets the cells' corners) and off them. In bands
  * of any height the answer is the whole grid's bit for bit, the radiative
  * SVF's slopes included; OpenCL gives the C twin's; --box-sky lines still
- * walks the lines. */
+ * walks the lines. Four cells in AVX2's lanes give the one-cell walk's
+ * tangents bit for bit. */
 #include "config.h"
 
 #include <math.h>
@@ -21,6 +22,7 @@
 #include "dem_io.h"
 #endif
 #include "box_march.h"
+#include "box_sky_walk.h"
 #include "ss_terms.h"
 #include "tap.h"
 #include "testlib.h"
@@ -230,6 +232,55 @@ static void check_devices_and_lines(const char *what, const ss_grid *g)
     free(other);
 }
 
+/* The AVX2 lanes' tangents against the one-cell walk's, bit for bit, for
+ * every group of four cells the lanes take, in 28 directions (the axes
+ * and diagonals, and off them), heights and negated heights, with and
+ * without curvature. */
+static void check_lanes(const char *what, const ss_grid *g)
+{
+#if SS_SKY_LANES_AVX2
+    if (!__builtin_cpu_supports("avx2")) {
+        tap_skip(what, "this CPU has no AVX2");
+        return;
+    }
+    size_t groups = 0, differ = 0;
+    int ok = 1;
+    for (int flip = 0; ok && flip < 2; ++flip) {
+        float sign = flip ? -1.0f : 1.0f;
+        ss_box_sky_tops *tops = ss_box_sky_tops_new(g, sign);
+        ok = tops != NULL;
+        for (int d = 0; ok && d < 28; ++d) {
+            double az = d < 8 ? 45.0 * d : 3.7 + 18.0 * (d - 8);
+            ss_sky_ray ray = {0};
+            ok = ss_sky_ray_init(&ray, g, az * M_PI / 180.0);
+            for (int bent = 0; ok && bent < 2; ++bent) {
+                double curv_k = bent ? 1.0 / (2.0 * 2000.0) : 0.0;
+                for (int r = 0; r < g->height; ++r)
+                    for (int c = 0; c + SS_SKY_LANES <= g->width; c += SS_SKY_LANES) {
+                        double lanes[SS_SKY_LANES];
+                        ss_sky_tangents_avx2(g, &ray, tops, c, r, sign, curv_k, lanes);
+                        for (int i = 0; i < SS_SKY_LANES; ++i) {
+                            double one = ss_sky_tangent(g, &ray, tops, c + i, r, sign, curv_k);
+                            differ += isfinite(g->z[(size_t)r * g->width + c + i]) &&
+                                      memcmp(&one, &lanes[i], sizeof one) != 0;
+                        }
+                        ++groups;
+                    }
+            }
+            ss_sky_ray_free(&ray);
+        }
+        ss_box_sky_tops_free(tops);
+    }
+    tap_ok(ok && groups > 0 && differ == 0,
+           "%s: four cells in AVX2's lanes give the one-cell walk's tangents bit for bit "
+           "(%zu groups of 4 in 28 directions, heights and negated, with and without "
+           "curvature: %zu cells differ)",
+           what, groups, differ);
+#else
+    tap_skip(what, "no AVX2 copy in this build (x86-64 GCC builds it)");
+#endif
+}
+
 static void check_shared(void)
 {
 #ifndef SS_TEST_READS_DEMS
@@ -245,6 +296,7 @@ static void check_shared(void)
     const char *paths[] = {path};
     if (ss_dem_read(ctx, paths, 1, NULL, &dem) == SS_OK) {
         check_grid("the Gothenburg DSM", &dem.grid, 0.0);
+        check_lanes("the Gothenburg DSM", &dem.grid);
         ss_dem_free(&dem);
     } else {
         tap_ok(0, "cannot read %s: %s", path, ss_ctx_message(ctx));
@@ -261,6 +313,7 @@ int main(void)
     check_grid("a synthetic city", &city, 1.0 / (2.0 * 2000.0));
     check_bands("a synthetic city", &city);
     check_devices_and_lines("a synthetic city", &city);
+    check_lanes("a synthetic city", &city);
     /* Holes of nodata, which neither cast nor receive, and cells half as
      * long again north-south. */
     for (size_t i = 0; i < (size_t)90 * 90; i += 37)
@@ -268,6 +321,7 @@ int main(void)
     city.cell_y_m = 1.5;
     check_grid("a city with holes, 1 x 1.5 m cells", &city, 0.0);
     check_bands("a city with holes, 1 x 1.5 m cells", &city);
+    check_lanes("a city with holes, 1 x 1.5 m cells", &city);
     ss_grid_free(&city);
     ss_grid row = test_grid(300, 1, 1.0, 1.0);
     for (int c = 0; c < 300; ++c)
@@ -285,6 +339,7 @@ int main(void)
     tower.z[(size_t)35 * 90 + 45] = 80.0f;
     check_grid("one tower on a plain", &tower, 0.0);
     check_bands("one tower on a plain", &tower);
+    check_lanes("one tower on a plain", &tower);
     ss_grid_free(&tower);
     /* Rolling hills on a slope, 3 blocks by 3 and parts of them: low
      * horizons, so the walks pass over the blocks that cannot rise above
@@ -297,6 +352,7 @@ int main(void)
     check_grid("rolling hills", &hills, 0.0);
     check_grid("rolling hills", &hills, 1.0 / (2.0 * 3000.0));
     check_bands("rolling hills", &hills);
+    check_lanes("rolling hills", &hills);
     ss_grid_free(&hills);
     check_shared();
     return tap_done();

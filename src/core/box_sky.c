@@ -5,36 +5,11 @@
 #include <stddef.h>
 #include <stdlib.h>
 
-#include "box_sky.h"
+#include "box_sky_walk.h"
 #include "ctx_internal.h" /* ss_malloc */
 #include "ss_terms.h"
 
-/* A square a ray crosses: its place from the ray's cell in the heights,
- * and the metres from the cell's centre where the ray enters it. (A top
- * below the eye would show where the ray leaves its square, but never
- * above the eye's own top, at 0 degrees: only tops above the eye count.) */
-typedef struct {
-    ptrdiff_t offset;
-    double t_in;
-} sky_square;
-
-/* The squares every ray toward one azimuth crosses, in order, until it is
- * a grid's width or height away from its cell (no ray of the grid goes
- * farther): at most width + height of them. The offsets' columns and rows
- * move by sx and sy, never back: within_x[m] squares lie at most m
- * columns from the cell (m < width), within_y[m] at most m rows, so a ray
- * from a cell m columns and m' rows from the grid's edge ahead crosses the
- * first min(within_x[m], within_y[m']) of them in the grid. */
-typedef struct {
-    sky_square *sq;
-    int sx, sy;
-    int *within_x, *within_y;
-    float sin_az, cos_az;
-} sky_ray;
-
-/* The squares of a ray toward grid azimuth az_rad (ss_box_sky_add's
- * traversal). Returns 0 when out of memory. */
-static int sky_ray_init(sky_ray *ray, const ss_grid *g, double az_rad)
+int ss_sky_ray_init(ss_sky_ray *ray, const ss_grid *g, double az_rad)
 {
     double col_per_m = sin(az_rad) / g->cell_x_m, row_per_m = -cos(az_rad) / g->cell_y_m;
     double step_x = col_per_m != 0.0 ? 1.0 / fabs(col_per_m) : INFINITY;
@@ -63,7 +38,7 @@ static int sky_ray_init(sky_ray *ray, const ss_grid *g, double az_rad)
         }
         if (abs(dc) >= g->width || abs(dr) >= g->height)
             break;
-        ray->sq[n++] = (sky_square){(ptrdiff_t)dr * g->width + dc, t_in};
+        ray->sq[n++] = (ss_sky_square){(ptrdiff_t)dr * g->width + dc, t_in};
         t_in = fmin(tx, ty);
     }
     /* Columns (rows) the ray never reaches hold every square. */
@@ -74,20 +49,12 @@ static int sky_ray_init(sky_ray *ray, const ss_grid *g, double az_rad)
     return 1;
 }
 
-static void sky_ray_free(sky_ray *ray)
+void ss_sky_ray_free(ss_sky_ray *ray)
 {
     free(ray->sq);
     free(ray->within_x);
     free(ray->within_y);
 }
-
-struct ss_box_sky_tops {
-    double top;       /* the highest of sign * height over the grid */
-    int across, down; /* blocks */
-    float *block_top; /* across * down, -INFINITY where no heights */
-};
-
-#define SKY_BLOCK 32
 
 /* The highest of sign * z over columns [c0, c1] of one row. */
 static float row_top(const float *z, int c0, int c1, float sign)
@@ -105,8 +72,8 @@ ss_box_sky_tops *ss_box_sky_tops_new(const ss_grid *g, float sign)
     ss_box_sky_tops *tops = ss_calloc(1, sizeof *tops);
     if (!tops)
         return NULL;
-    tops->across = (w + SKY_BLOCK - 1) / SKY_BLOCK;
-    tops->down = (h + SKY_BLOCK - 1) / SKY_BLOCK;
+    tops->across = (w + SS_SKY_BLOCK - 1) / SS_SKY_BLOCK;
+    tops->down = (h + SS_SKY_BLOCK - 1) / SS_SKY_BLOCK;
     /* Each row's highest over each block's columns. */
     float *rows = ss_malloc(sizeof(float) * (size_t)h * (size_t)tops->across);
     tops->block_top = ss_malloc(sizeof(float) * (size_t)tops->across * (size_t)tops->down);
@@ -117,14 +84,14 @@ ss_box_sky_tops *ss_box_sky_tops_new(const ss_grid *g, float sign)
     }
     for (int r = 0; r < h; ++r)
         for (int b = 0; b < tops->across; ++b) {
-            int c0 = b * SKY_BLOCK, c1 = c0 + SKY_BLOCK - 1;
+            int c0 = b * SS_SKY_BLOCK, c1 = c0 + SS_SKY_BLOCK - 1;
             rows[(size_t)r * tops->across + b] =
                 row_top(g->z + (size_t)r * w, c0, c1 < w - 1 ? c1 : w - 1, sign);
         }
     tops->top = -INFINITY;
     for (int by = 0; by < tops->down; ++by)
         for (int b = 0; b < tops->across; ++b) {
-            int r0 = by * SKY_BLOCK, r1 = r0 + SKY_BLOCK - 1;
+            int r0 = by * SS_SKY_BLOCK, r1 = r0 + SS_SKY_BLOCK - 1;
             float top = -INFINITY;
             for (int r = r0; r <= r1 && r < h; ++r)
                 top = fmaxf(top, rows[(size_t)r * tops->across + b]);
@@ -142,22 +109,17 @@ void ss_box_sky_tops_free(ss_box_sky_tops *tops)
     free(tops);
 }
 
-/* The tangent of cell (col, row)'s box horizon along the ray, never below
- * 0 (its own top reaches its edge). The walk goes block by block: the
- * squares of the list from where the ray crosses into a block to where it
- * crosses out are that block's, so where the block's highest top does not
- * rise above best at the first of them, none does. The blocks only pass
- * over squares that could not change best: the answer is the whole
- * walk's, bit for bit. */
-static double box_tangent(const ss_grid *g, const sky_ray *ray, const ss_box_sky_tops *tops,
-                          int col, int row, float sign, double curv_k)
+/* The walk goes block by block: the squares of the list from where the
+ * ray crosses into a block to where it crosses out are that block's, so
+ * where the block's highest top does not rise above best at the first of
+ * them, none does. The blocks only pass over squares that could not change
+ * best: the answer is the whole walk's, bit for bit. */
+double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops,
+                      int col, int row, float sign, double curv_k)
 {
-    int ahead_x = ray->sx > 0 ? g->width - 1 - col : col;
-    int ahead_y = ray->sy > 0 ? g->height - 1 - row : row;
-    int n = ray->within_x[ahead_x] < ray->within_y[ahead_y] ? ray->within_x[ahead_x]
-                                                             : ray->within_y[ahead_y];
+    int n = ss_sky_ray_squares(g, ray, col, row);
     const float *z = g->z + (size_t)row * g->width + col;
-    const sky_square *sq = ray->sq;
+    const ss_sky_square *sq = ray->sq;
     double eye = sign * z[0], room = tops->top - eye, best = 0.0;
     /* No top ahead can rise above best once room <= best * t_in, that is
      * past t_in = room / best: the squares' t_in grow, and a top shows at
@@ -165,9 +127,10 @@ static double box_tangent(const ss_grid *g, const sky_ray *ray, const ss_box_sky
     double stop = room > 0.0 ? INFINITY : 0.0;
     /* The ray's block, and the columns and rows it leaves the block by, as
      * counted from its cell (within_x's and within_y's m). */
-    int bx = col / SKY_BLOCK, by = row / SKY_BLOCK;
-    int last_x = ray->sx > 0 ? SKY_BLOCK - 1 - (col - bx * SKY_BLOCK) : col - bx * SKY_BLOCK;
-    int last_y = ray->sy > 0 ? SKY_BLOCK - 1 - (row - by * SKY_BLOCK) : row - by * SKY_BLOCK;
+    int bx = col / SS_SKY_BLOCK, by = row / SS_SKY_BLOCK;
+    int in_x = col - bx * SS_SKY_BLOCK, in_y = row - by * SS_SKY_BLOCK;
+    int last_x = ray->sx > 0 ? SS_SKY_BLOCK - 1 - in_x : in_x;
+    int last_y = ray->sy > 0 ? SS_SKY_BLOCK - 1 - in_y : in_y;
     for (int k = 0; k < n && sq[k].t_in < stop;) {
         /* The block's squares end where the list first crosses out of its
          * last column or its last row (n past the grid's). */
@@ -175,30 +138,31 @@ static double box_tangent(const ss_grid *g, const sky_ray *ray, const ss_box_sky
         int end_y = last_y < g->height ? ray->within_y[last_y] : n;
         int by_x = end_x < end_y, end = by_x ? end_x : end_y;
         end = end < n ? end : n;
-        if (tops->block_top[(size_t)by * tops->across + bx] - eye <= best * sq[k].t_in) {
+        if (tops->block_top[(size_t)by * tops->across + bx] - eye <= best * sq[k].t_in)
             k = end > k ? end : k;
-        } else {
-            /* A top at or below the eye cannot pass best * t >= 0, nor can
-             * nodata (NaN): no branch on them. */
-            for (; k < end && sq[k].t_in < stop; ++k) {
-                double t = sq[k].t_in, rise = sign * z[sq[k].offset] - eye - curv_k * t * t;
-                if (rise > best * t) {
-                    best = rise / t;
-                    stop = room / best;
-                }
-            }
-        }
+        else
+            k = ss_sky_walk(sq, k, end, z, sign, eye, room, curv_k, &best, &stop);
         if (by_x) {
             bx += ray->sx;
-            last_x += SKY_BLOCK;
+            last_x += SS_SKY_BLOCK;
         } else {
             by += ray->sy;
-            last_y += SKY_BLOCK;
+            last_y += SS_SKY_BLOCK;
         }
         if (bx < 0 || bx >= tops->across || by < 0 || by >= tops->down)
             break; /* the ray has left the grid: k == n */
     }
     return best;
+}
+
+/* Whether this CPU walks four cells at a time (ss_sky_tangents_avx2). */
+static int lanes_here(void)
+{
+#if SS_SKY_LANES_AVX2
+    return __builtin_cpu_supports("avx2");
+#else
+    return 0;
+#endif
 }
 
 int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_deg,
@@ -208,29 +172,48 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
 {
     /* The directions' squares listed once for all the rows, so that each
      * cell's rays run together over the heights around it. */
-    sky_ray *rays = ss_calloc((size_t)n_dirs, sizeof *rays);
-    int ok = rays != NULL;
+    ss_sky_ray *rays = ss_calloc((size_t)n_dirs, sizeof *rays);
+    int ok = rays != NULL, w = grid->width, lanes_ok = lanes_here();
     for (int d = 0; ok && d < n_dirs; ++d)
-        ok = sky_ray_init(&rays[d], grid, grid_azimuth_deg[d] * (M_PI / 180.0));
-    int w = grid->width;
+        ok = ss_sky_ray_init(&rays[d], grid, grid_azimuth_deg[d] * (M_PI / 180.0));
 #pragma omp parallel for schedule(dynamic, 4) if (ok)
     for (int r = row0; r < row0 + n_rows; ++r) {
-        for (int c = 0; ok && c < w && !(cancel && *cancel); ++c) {
-            if (!isfinite(grid->z[(size_t)r * w + c]))
-                continue;
+        /* Four cells at a time where the CPU can and four lie ahead in the
+         * row (from a multiple of four), else one. */
+        int lanes = 1;
+        for (int c = 0; ok && c < w && !(cancel && *cancel); c += lanes) {
+            lanes = lanes_ok && c % SS_SKY_LANES == 0 && c + SS_SKY_LANES <= w ? SS_SKY_LANES : 1;
+            const float *z = grid->z + (size_t)r * w + c;
             size_t own = (size_t)(r - row0) * w + c;
-            float de = grad ? grad[2 * own] : 0.0f, dn = grad ? grad[2 * own + 1] : 0.0f;
-            float sum = sums[own];
-            for (int d = 0; d < n_dirs; ++d) {
-                double t = box_tangent(grid, &rays[d], tops, c, r, sign, curv_k);
-                sum += ss_sky_walk_term(definition, 1.0f, (float)t, rays[d].sin_az,
-                                        rays[d].cos_az, de, dn);
+            int any = 0;
+            float sum[SS_SKY_LANES], de[SS_SKY_LANES], dn[SS_SKY_LANES];
+            for (int i = 0; i < lanes; ++i) {
+                any |= isfinite(z[i]);
+                sum[i] = sums[own + i];
+                de[i] = grad ? grad[2 * (own + i)] : 0.0f;
+                dn[i] = grad ? grad[2 * (own + i) + 1] : 0.0f;
             }
-            sums[own] = sum;
+            if (!any)
+                continue;
+            for (int d = 0; d < n_dirs; ++d) {
+                double t[SS_SKY_LANES];
+#if SS_SKY_LANES_AVX2
+                if (lanes == SS_SKY_LANES)
+                    ss_sky_tangents_avx2(grid, &rays[d], tops, c, r, sign, curv_k, t);
+                else
+#endif
+                    t[0] = ss_sky_tangent(grid, &rays[d], tops, c, r, sign, curv_k);
+                for (int i = 0; i < lanes; ++i)
+                    sum[i] += ss_sky_walk_term(definition, 1.0f, (float)t[i], rays[d].sin_az,
+                                               rays[d].cos_az, de[i], dn[i]);
+            }
+            for (int i = 0; i < lanes; ++i)
+                if (isfinite(z[i]))
+                    sums[own + i] = sum[i];
         }
     }
     for (int d = 0; rays && d < n_dirs; ++d)
-        sky_ray_free(&rays[d]);
+        ss_sky_ray_free(&rays[d]);
     free(rays);
     return ok;
 }

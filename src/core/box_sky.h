@@ -20,6 +20,9 @@
  *     the way it passes over every block of 32 x 32 cells whose highest
  *     top could not rise above that angle where the ray enters the block
  *     (on terrain, every block downhill).
+ *   - Where the CPU has AVX2, four cells side by side walk together, one
+ *     load of four heights a square (box_sky_lanes.c), with the same
+ *     answer bit for bit.
  *
  * Each cell's answer depends on the heights alone, not on which rows are
  * asked, so any band height gives the whole grid's answer bit for bit. */

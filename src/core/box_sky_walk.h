@@ -1,0 +1,101 @@
+/* What the box model's sky view by each cell's own ray (box_sky.h) shares
+ * between its two walks: one cell at a time (box_sky.c), and four cells
+ * side by side in SIMD lanes where the CPU has AVX2 (box_sky_lanes.c),
+ * which give the same answer bit for bit. */
+#ifndef SS_BOX_SKY_WALK_H
+#define SS_BOX_SKY_WALK_H
+
+#include <stddef.h>
+
+#include "box_sky.h"
+
+/* A square a ray crosses: its place from the ray's cell in the heights,
+ * and the metres from the cell's centre where the ray enters it. (A top
+ * below the eye would show where the ray leaves its square, but never
+ * above the eye's own top, at 0 degrees: only tops above the eye count.) */
+typedef struct {
+    ptrdiff_t offset;
+    double t_in;
+} ss_sky_square;
+
+/* The squares every ray toward one azimuth crosses, in order, until it is
+ * a grid's width or height away from its cell (no ray of the grid goes
+ * farther): at most width + height of them. The offsets' columns and rows
+ * move by sx and sy, never back: within_x[m] squares lie at most m
+ * columns from the cell (m < width), within_y[m] at most m rows, so a ray
+ * from a cell m columns and m' rows from the grid's edge ahead crosses the
+ * first min(within_x[m], within_y[m']) of them in the grid. */
+typedef struct {
+    ss_sky_square *sq;
+    int sx, sy;
+    int *within_x, *within_y;
+    float sin_az, cos_az;
+} ss_sky_ray;
+
+struct ss_box_sky_tops {
+    double top;       /* the highest of sign * height over the grid */
+    int across, down; /* blocks */
+    float *block_top; /* across * down, -INFINITY where no heights */
+};
+
+/* Blocks are SS_SKY_BLOCK cells square: on Gothenburg's DSM and on a
+ * 2048 x 2048 Kilauea, 32 was faster than 4, 8, 16, 48 and 64. */
+#define SS_SKY_BLOCK 32
+#define SS_SKY_LANES 4
+
+/* The squares of the list toward grid azimuth az_rad (ss_box_sky_add's
+ * traversal). Returns 0 when out of memory, the ray to be freed still. */
+int ss_sky_ray_init(ss_sky_ray *ray, const ss_grid *grid, double az_rad);
+void ss_sky_ray_free(ss_sky_ray *ray);
+
+/* How many squares of the list the ray from cell (col, row) crosses in
+ * the grid. */
+static inline int ss_sky_ray_squares(const ss_grid *g, const ss_sky_ray *ray, int col, int row)
+{
+    int ahead_x = ray->sx > 0 ? g->width - 1 - col : col;
+    int ahead_y = ray->sy > 0 ? g->height - 1 - row : row;
+    return ray->within_x[ahead_x] < ray->within_y[ahead_y] ? ray->within_x[ahead_x]
+                                                           : ray->within_y[ahead_y];
+}
+
+/* One cell's walk over squares [k, end) of the list from its heights z
+ * (the cell's own first) while short of *stop, raising *best, the
+ * tangent, where a top rises above it: room is the grid's highest top
+ * above the eye, so that no top past room / best can rise above best.
+ * A top at or below the eye cannot pass best * t >= 0, nor can nodata
+ * (NaN): no branch on them. Returns where it stopped. */
+static inline int ss_sky_walk(const ss_sky_square *sq, int k, int end, const float *z, float sign,
+                              double eye, double room, double curv_k, double *best, double *stop)
+{
+    double b = *best, s = *stop;
+    for (; k < end && sq[k].t_in < s; ++k) {
+        double t = sq[k].t_in, rise = sign * z[sq[k].offset] - eye - curv_k * t * t;
+        if (rise > b * t) {
+            b = rise / t;
+            s = room / b;
+        }
+    }
+    *best = b;
+    *stop = s;
+    return k;
+}
+
+/* The tangent of cell (col, row)'s box horizon along the ray, never below
+ * 0 (its own top reaches its edge), for heights times sign lowered by
+ * curv_k t^2. */
+double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops, int col,
+                      int row, float sign, double curv_k);
+
+/* The AVX2 copy, built by GCC on x86-64 (box_sky_lanes.c repeats the
+ * condition): ss_sky_tangent of the SS_SKY_LANES cells from (col, row),
+ * col a multiple of SS_SKY_LANES and col + SS_SKY_LANES <= width, into
+ * tangent. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SS_SKY_LANES_AVX2 1
+void ss_sky_tangents_avx2(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops,
+                          int col, int row, float sign, double curv_k, double *tangent);
+#else
+#define SS_SKY_LANES_AVX2 0
+#endif
+
+#endif
