@@ -11,17 +11,21 @@
 #include <immintrin.h>
 #include <limits.h>
 #include <math.h>
-#include <string.h>
 
 #include "box_sky_walk.h"
 
 typedef double lanes_d __attribute__((vector_size(SS_SKY_LANES * sizeof(double))));
-typedef float lanes_f __attribute__((vector_size(SS_SKY_LANES * sizeof(float))));
 typedef long long lanes_m __attribute__((vector_size(SS_SKY_LANES * sizeof(long long))));
 
 static int lanes_any(lanes_m m)
 {
     return _mm256_movemask_pd((__m256d)m) != 0;
+}
+
+/* The lanes of a where in is set, else of b. */
+static lanes_d lanes_pick(lanes_m in, lanes_d a, lanes_d b)
+{
+    return (lanes_d)(((lanes_m)a & in) | ((lanes_m)b & ~in));
 }
 
 /* ss_sky_walk for the four lanes at once over squares [k, end): the four
@@ -30,25 +34,28 @@ static int lanes_any(lanes_m m)
  * squares' t_in grow, and a stop only falls). Returns where the walk
  * ended: end, or before it where every lane is past its stop. */
 static int lanes_walk(const ss_sky_square *sq, int k, int end, const float *z, float sign,
-                      lanes_d eye, lanes_d room, double curv_k, lanes_d *best, lanes_d *stop)
+                      lanes_d eye, lanes_d room, double curv_k, lanes_d *best_io,
+                      lanes_d *stop_io)
 {
+    lanes_d best = *best_io, stop = *stop_io;
+    __m128 signs = _mm_set1_ps(sign);
     for (; k < end; ++k) {
         double t = sq[k].t_in;
         lanes_d tv = {t, t, t, t};
-        lanes_m going = tv < *stop;
+        lanes_m going = tv < stop;
         if (!lanes_any(going))
             break;
-        lanes_f top;
-        memcpy(&top, z + sq[k].offset, sizeof top);
-        lanes_d rise = __builtin_convertvector(top * sign, lanes_d) - eye - curv_k * t * t;
-        lanes_m higher = (rise > *best * tv) & going;
-        if (lanes_any(higher))
-            for (int i = 0; i < SS_SKY_LANES; ++i)
-                if (higher[i]) {
-                    (*best)[i] = rise[i] / t;
-                    (*stop)[i] = room[i] / (*best)[i];
-                }
+        __m128 top = _mm_mul_ps(_mm_loadu_ps(z + sq[k].offset), signs);
+        lanes_d rise = (lanes_d)_mm256_cvtps_pd(top) - eye - curv_k * t * t;
+        lanes_m higher = (rise > best * tv) & going;
+        if (lanes_any(higher)) {
+            lanes_d raised = rise / tv;
+            stop = lanes_pick(higher, room / raised, stop);
+            best = lanes_pick(higher, raised, best);
+        }
     }
+    *best_io = best;
+    *stop_io = stop;
     return k;
 }
 
