@@ -74,31 +74,24 @@ ss_box_sky_tops *ss_box_sky_tops_new(const ss_grid *g, float sign)
         return NULL;
     tops->across = (w + SS_SKY_BLOCK - 1) / SS_SKY_BLOCK;
     tops->down = (h + SS_SKY_BLOCK - 1) / SS_SKY_BLOCK;
-    /* Each row's highest over each block's columns. */
-    float *rows = ss_malloc(sizeof(float) * (size_t)h * (size_t)tops->across);
-    tops->block_top = ss_malloc(sizeof(float) * (size_t)tops->across * (size_t)tops->down);
-    if (!rows || !tops->block_top) {
-        free(rows);
+    size_t n = (size_t)tops->across * (size_t)tops->down;
+    tops->block_top = ss_malloc(sizeof(float) * n);
+    if (!tops->block_top) {
         ss_box_sky_tops_free(tops);
         return NULL;
     }
-    for (int r = 0; r < h; ++r)
+    for (size_t i = 0; i < n; ++i)
+        tops->block_top[i] = -INFINITY;
+    tops->top = -INFINITY;
+    for (int r = 0; r < h; ++r) {
+        float *block_top = tops->block_top + (size_t)(r / SS_SKY_BLOCK) * tops->across;
         for (int b = 0; b < tops->across; ++b) {
             int c0 = b * SS_SKY_BLOCK, c1 = c0 + SS_SKY_BLOCK - 1;
-            rows[(size_t)r * tops->across + b] =
-                row_top(g->z + (size_t)r * w, c0, c1 < w - 1 ? c1 : w - 1, sign);
-        }
-    tops->top = -INFINITY;
-    for (int by = 0; by < tops->down; ++by)
-        for (int b = 0; b < tops->across; ++b) {
-            int r0 = by * SS_SKY_BLOCK, r1 = r0 + SS_SKY_BLOCK - 1;
-            float top = -INFINITY;
-            for (int r = r0; r <= r1 && r < h; ++r)
-                top = fmaxf(top, rows[(size_t)r * tops->across + b]);
-            tops->block_top[(size_t)by * tops->across + b] = top;
+            float top = row_top(g->z + (size_t)r * w, c0, c1 < w - 1 ? c1 : w - 1, sign);
+            block_top[b] = fmaxf(block_top[b], top);
             tops->top = fmax(tops->top, top);
         }
-    free(rows);
+    }
     return tops;
 }
 
