@@ -252,7 +252,7 @@ static void check_lanes(const char *what, const ss_grid *g)
         for (int d = 0; ok && d < 28; ++d) {
             double az = d < 8 ? 45.0 * d : 3.7 + 18.0 * (d - 8);
             ss_sky_ray ray = {0};
-            ok = ss_sky_ray_init(&ray, g, az * M_PI / 180.0);
+            ok = ss_sky_ray_init(&ray, g, az);
             for (int bent = 0; ok && bent < 2; ++bent) {
                 double curv_k = bent ? 1.0 / (2.0 * 2000.0) : 0.0;
                 for (int r = 0; r < g->height; ++r)

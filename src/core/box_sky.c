@@ -5,47 +5,47 @@
 #include <stddef.h>
 #include <stdlib.h>
 
+#include "box_ray.h"
 #include "box_sky_walk.h"
 #include "ctx_internal.h" /* ss_malloc */
 #include "ss_terms.h"
 
-int ss_sky_ray_init(ss_sky_ray *ray, const ss_grid *g, double az_rad)
+int ss_sky_ray_init(ss_sky_ray *ray, const ss_grid *g, double grid_azimuth_deg)
 {
-    double col_per_m = sin(az_rad) / g->cell_x_m, row_per_m = -cos(az_rad) / g->cell_y_m;
-    double step_x = col_per_m != 0.0 ? 1.0 / fabs(col_per_m) : INFINITY;
-    double step_y = row_per_m != 0.0 ? 1.0 / fabs(row_per_m) : INFINITY;
-    double tx = 0.5 * step_x, ty = 0.5 * step_y;
-    ray->sx = col_per_m > 0.0 ? 1 : -1;
-    ray->sy = row_per_m > 0.0 ? 1 : -1;
-    ray->sin_az = (float)sin(az_rad);
-    ray->cos_az = (float)cos(az_rad);
+    double az = grid_azimuth_deg * (M_PI / 180.0);
+    ray->sin_az = (float)sin(az);
+    ray->cos_az = (float)cos(az);
     ray->sq = ss_malloc(sizeof *ray->sq * ((size_t)g->width + (size_t)g->height));
     ray->within_x = ss_malloc(sizeof(int) * (size_t)g->width);
     ray->within_y = ss_malloc(sizeof(int) * (size_t)g->height);
-    if (!ray->sq || !ray->within_x || !ray->within_y)
+    box_frame f;
+    if (!ray->sq || !ray->within_x || !ray->within_y || !box_frame_init(&f, g, grid_azimuth_deg))
         return 0;
-    int n = 0, dc = 0, dr = 0;
-    double t_in = fmin(tx, ty); /* where the ray leaves its own square */
-    for (;;) {
-        if (tx < ty) {
-            ray->within_x[abs(dc)] = n;
-            dc += ray->sx;
-            tx += step_x;
-        } else {
-            ray->within_y[abs(dr)] = n;
-            dr += ray->sy;
-            ty += step_y;
-        }
-        if (abs(dc) >= g->width || abs(dr) >= g->height)
-            break;
-        ray->sq[n++] = (ss_sky_square){(ptrdiff_t)dr * g->width + dc, t_in};
-        t_in = fmin(tx, ty);
+    /* The box shadows' traversal (box_ray.h), from the corner the ray
+     * crosses the whole grid from: it leaves the grid where it is the
+     * grid's width or height from its cell. */
+    box_ray r = box_ray_from(&f, f.col_per_m > 0.0 ? 0 : g->width - 1,
+                             f.row_per_m > 0.0 ? 0 : g->height - 1);
+    int col0 = r.col, row0 = r.row, n = 0, in_grid = 1;
+    ray->sx = r.sx;
+    ray->sy = r.sy;
+    while (in_grid) {
+        int dc = abs(r.col - col0), dr = abs(r.row - row0);
+        in_grid = box_ray_next(&f, &r);
+        if (abs(r.col - col0) != dc)
+            ray->within_x[dc] = n;
+        else
+            ray->within_y[dr] = n;
+        if (in_grid)
+            ray->sq[n++] = (ss_sky_square){(ptrdiff_t)(r.row - row0) * g->width + (r.col - col0),
+                                           r.t_in};
     }
     /* Columns (rows) the ray never reaches hold every square. */
-    for (int m = abs(dc); m < g->width; ++m)
+    for (int m = abs(r.col - col0); m < g->width; ++m)
         ray->within_x[m] = n;
-    for (int m = abs(dr); m < g->height; ++m)
+    for (int m = abs(r.row - row0); m < g->height; ++m)
         ray->within_y[m] = n;
+    box_frame_free(&f);
     return 1;
 }
 
@@ -168,7 +168,7 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
     ss_sky_ray *rays = ss_calloc((size_t)n_dirs, sizeof *rays);
     int ok = rays != NULL, w = grid->width, lanes_ok = lanes_here();
     for (int d = 0; ok && d < n_dirs; ++d)
-        ok = ss_sky_ray_init(&rays[d], grid, grid_azimuth_deg[d] * (M_PI / 180.0));
+        ok = ss_sky_ray_init(&rays[d], grid, grid_azimuth_deg[d]);
 #pragma omp parallel for schedule(dynamic, 4) if (ok)
     for (int r = row0; r < row0 + n_rows; ++r) {
         /* Four cells at a time where the CPU can and four lie ahead in the

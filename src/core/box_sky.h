@@ -11,7 +11,7 @@
  *
  *   - Every ray of one azimuth crosses the same squares, as offsets from
  *     its cell, at the same distances from its centre: the traversal
- *     (Amanatides & Woo 1987, as box_ray.h's) does not depend on where it
+ *     (Amanatides & Woo 1987, box_ray.h's, which lists them) does not depend on where it
  *     starts. So each direction's squares are listed once, ties between a
  *     column and a row boundary settled once, and each cell walks the list
  *     with no stepping arithmetic.

@@ -44,9 +44,9 @@ struct ss_box_sky_tops {
 #define SS_SKY_BLOCK 32
 #define SS_SKY_LANES 4
 
-/* The squares of the list toward grid azimuth az_rad (ss_box_sky_add's
- * traversal). Returns 0 when out of memory, the ray to be freed still. */
-int ss_sky_ray_init(ss_sky_ray *ray, const ss_grid *grid, double az_rad);
+/* The squares of the list toward grid_azimuth_deg (clockwise from the
+ * grid's north). Returns 0 when out of memory, the ray to be freed still. */
+int ss_sky_ray_init(ss_sky_ray *ray, const ss_grid *grid, double grid_azimuth_deg);
 void ss_sky_ray_free(ss_sky_ray *ray);
 
 /* How many squares of the list the ray from cell (col, row) crosses in
