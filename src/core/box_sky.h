@@ -11,10 +11,10 @@
  *
  *   - Every ray of one azimuth crosses the same squares, as offsets from
  *     its cell, at the same distances from its centre: the traversal
- *     (Amanatides & Woo 1987, box_ray.h's, which lists them) does not depend on where it
- *     starts. So each direction's squares are listed once, ties between a
- *     column and a row boundary settled once, and each cell walks the list
- *     with no stepping arithmetic.
+ *     (Amanatides & Woo 1987, box_ray.h's, which lists them) does not
+ *     depend on where it starts. So each direction's squares are listed
+ *     once, ties between a column and a row boundary settled once, and
+ *     each cell walks the list with no stepping arithmetic.
  *   - A walk ends where the ray leaves the grid, or where even the grid's
  *     highest top could not rise above the best angle found so far; on
  *     the way it passes over every block of 32 x 32 cells whose highest
