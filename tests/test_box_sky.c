@@ -18,11 +18,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifdef SS_TEST_READS_DEMS
-#include "dem_io.h"
-#endif
 #include "box_march.h"
 #include "box_sky_walk.h"
+#include "shared_dem.h"
 #include "ss_terms.h"
 #include "tap.h"
 #include "testlib.h"
@@ -281,28 +279,11 @@ static void check_lanes(const char *what, const ss_grid *g)
 #endif
 }
 
-static void check_shared(void)
+static void check_dsm(const char *name, const ss_grid *g, void *user)
 {
-#ifndef SS_TEST_READS_DEMS
-    tap_skip("the Gothenburg DSM", "a build without GDAL reads no GeoTIFF");
-#else
-    const char *path = test_shared_data("goteborg_kronenhuset_dsm_1m.tif");
-    if (!path) {
-        tap_skip("the Gothenburg DSM", "../shared/data is not here");
-        return;
-    }
-    ss_ctx *ctx = ss_ctx_new();
-    ss_dem dem;
-    const char *paths[] = {path};
-    if (ss_dem_read(ctx, paths, 1, NULL, &dem) == SS_OK) {
-        check_grid("the Gothenburg DSM", &dem.grid, 0.0);
-        check_lanes("the Gothenburg DSM", &dem.grid);
-        ss_dem_free(&dem);
-    } else {
-        tap_ok(0, "cannot read %s: %s", path, ss_ctx_message(ctx));
-    }
-    ss_ctx_free(ctx);
-#endif
+    (void)user;
+    check_grid(name, g, 0.0);
+    check_lanes(name, g);
 }
 
 int main(void)
@@ -354,6 +335,6 @@ int main(void)
     check_bands("rolling hills", &hills);
     check_lanes("rolling hills", &hills);
     ss_grid_free(&hills);
-    check_shared();
+    shared_dem_run("goteborg_kronenhuset_dsm_1m.tif", "the Gothenburg DSM", check_dsm, NULL);
     return tap_done();
 }

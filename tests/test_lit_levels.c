@@ -19,12 +19,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifdef SS_TEST_READS_DEMS
-#include "dem_io.h"
-#endif
 #include "lines.h"
 #include "lit_levels.h"
 #include "products_internal.h"
+#include "shared_dem.h"
 #include "tap.h"
 #include "testlib.h"
 
@@ -311,30 +309,23 @@ static ss_grid city_blocks(void)
     return g;
 }
 
-/* Bounds against walks on a DEM of ../shared/data, skipped without it. */
+typedef struct {
+    int directions;
+    line_kind kind;
+} shared_case;
+
+/* Bounds against walks on a DEM of ../shared/data (shared_dem_run). */
+static void check_dem(const char *name, const ss_grid *g, void *user)
+{
+    const shared_case *k = user;
+    check_grid(name, g, k->directions, 0.0, 0.0, k->kind);
+    check_grid(name, g, k->directions / 2, 0.01, 6371000.0, k->kind);
+}
+
 static void check_shared(const char *file, const char *name, int directions, line_kind k)
 {
-#ifndef SS_TEST_READS_DEMS
-    (void)file, (void)directions, (void)k;
-    tap_skip(name, "a build without GDAL reads no GeoTIFF");
-#else
-    const char *path = test_shared_data(file);
-    if (!path) {
-        tap_skip(name, "../shared/data is not here");
-        return;
-    }
-    ss_ctx *ctx = ss_ctx_new();
-    ss_dem dem;
-    const char *paths[] = {path};
-    if (ss_dem_read(ctx, paths, 1, NULL, &dem) == SS_OK) {
-        check_grid(name, &dem.grid, directions, 0.0, 0.0, k);
-        check_grid(name, &dem.grid, directions / 2, 0.01, 6371000.0, k);
-        ss_dem_free(&dem);
-    } else {
-        tap_ok(0, "cannot read %s: %s", path, ss_ctx_message(ctx));
-    }
-    ss_ctx_free(ctx);
-#endif
+    shared_case c = {directions, k};
+    shared_dem_run(file, name, check_dem, &c);
 }
 
 int main(void)

@@ -2,8 +2,9 @@
  * in AVX2's lanes (box_sky_walk.h), which ss_box_sky_add takes where the
  * CPU has AVX2. The condition is SS_SKY_LANES_AVX2's, tested before any
  * header so that the pragma covers the inline walk this copy takes in;
- * elsewhere this file compiles to nothing. AVX2 without FMA: GCC fuses no
- * product into a sum, so each lane rounds as ss_sky_tangent does. */
+ * elsewhere this file compiles to nothing. AVX2 without FMA, and the
+ * build's -ffp-contract=off: no product is fused into a sum, so each lane
+ * rounds as ss_sky_tangent does. */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #pragma GCC target("avx2")
 #include "config.h"
