@@ -56,13 +56,21 @@ void ss_sky_ray_free(ss_sky_ray *ray)
     free(ray->within_y);
 }
 
-/* The highest of sign * z over columns [c0, c1] of one row. */
-static float row_top(const float *z, int c0, int c1, float sign)
+/* The highest of sign * z over columns [c0, c1] of one row, and the
+ * highest finite one into *finite_top: an infinite height, which
+ * ss_grid_check counts as nodata, still stops no walk early (room stays
+ * finite, as it was before the blocks), and no block that holds one is
+ * passed over, so the walk meets it as the whole walk would. */
+static float row_top(const float *z, int c0, int c1, float sign, float *finite_top)
 {
     float top = -INFINITY;
-    for (int c = c0; c <= c1; ++c)
-        if (sign * z[c] > top) /* false at NaN */
-            top = sign * z[c];
+    for (int c = c0; c <= c1; ++c) {
+        float v = sign * z[c];
+        if (v > top) /* false at NaN */
+            top = v;
+        if (v > *finite_top && v < INFINITY)
+            *finite_top = v;
+    }
     return top;
 }
 
@@ -82,16 +90,17 @@ ss_box_sky_tops *ss_box_sky_tops_new(const ss_grid *g, float sign)
     }
     for (size_t i = 0; i < n; ++i)
         tops->block_top[i] = -INFINITY;
-    tops->top = -INFINITY;
+    float finite_top = -INFINITY;
     for (int r = 0; r < h; ++r) {
         float *block_top = tops->block_top + (size_t)(r / SS_SKY_BLOCK) * tops->across;
         for (int b = 0; b < tops->across; ++b) {
             int c0 = b * SS_SKY_BLOCK, c1 = c0 + SS_SKY_BLOCK - 1;
-            float top = row_top(g->z + (size_t)r * w, c0, c1 < w - 1 ? c1 : w - 1, sign);
+            float top = row_top(g->z + (size_t)r * w, c0, c1 < w - 1 ? c1 : w - 1, sign,
+                                &finite_top);
             block_top[b] = fmaxf(block_top[b], top);
-            tops->top = fmax(tops->top, top);
         }
     }
+    tops->top = finite_top;
     return tops;
 }
 
@@ -132,7 +141,7 @@ double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_
         int by_x = end_x < end_y, end = by_x ? end_x : end_y;
         end = end < n ? end : n;
         if (tops->block_top[(size_t)by * tops->across + bx] - eye <= best * sq[k].t_in)
-            k = end > k ? end : k;
+            k = end;
         else
             k = ss_sky_walk(sq, k, end, z, sign, eye, room, curv_k, &best, &stop);
         if (by_x) {
@@ -143,7 +152,7 @@ double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_
             last_y += SS_SKY_BLOCK;
         }
         if (bx < 0 || bx >= tops->across || by < 0 || by >= tops->down)
-            break; /* the ray has left the grid: k == n */
+            break; /* the ray has left the grid */
     }
     return best;
 }

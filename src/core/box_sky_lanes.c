@@ -2,9 +2,10 @@
  * in AVX2's lanes (box_sky_walk.h), which ss_box_sky_add takes where the
  * CPU has AVX2. The condition is SS_SKY_LANES_AVX2's, tested before any
  * header so that the pragma covers the inline walk this copy takes in;
- * elsewhere this file compiles to nothing. AVX2 without FMA, and the
- * build's -ffp-contract=off: no product is fused into a sum, so each lane
- * rounds as ss_sky_tangent does. */
+ * elsewhere this file compiles to nothing. Each lane rounds as
+ * ss_sky_tangent does because the build fuses no product into a sum
+ * (Makefile.am's -ffp-contract=off, which box_sky.c needs as much: with
+ * FMA and contraction on, its walk would round differently). */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #pragma GCC target("avx2")
 #include "config.h"
@@ -101,7 +102,7 @@ void ss_sky_tangents_avx2(const ss_grid *g, const ss_sky_ray *ray, const ss_box_
         double t = sq[k].t_in;
         lanes_d tv = {t, t, t, t};
         if (!lanes_any((top - eye > best * tv) & (tv < stop)))
-            k = end > k ? end : k;
+            k = end;
         else if ((k = lanes_walk(sq, k, end, z, sign, eye, room, curv_k, &best, &stop)) < end)
             break; /* every lane is past its stop */
         if (by_y) {
