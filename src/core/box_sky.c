@@ -130,16 +130,13 @@ double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_
     /* The ray's block, and the columns and rows it leaves the block by, as
      * counted from its cell (within_x's and within_y's m). */
     int bx = col / SS_SKY_BLOCK, by = row / SS_SKY_BLOCK;
-    int in_x = col - bx * SS_SKY_BLOCK, in_y = row - by * SS_SKY_BLOCK;
-    int last_x = ray->sx > 0 ? SS_SKY_BLOCK - 1 - in_x : in_x;
-    int last_y = ray->sy > 0 ? SS_SKY_BLOCK - 1 - in_y : in_y;
+    int last_x = ss_sky_block_exit(col, ray->sx), last_y = ss_sky_block_exit(row, ray->sy);
     for (int k = 0; k < n && sq[k].t_in < stop;) {
         /* The block's squares end where the list first crosses out of its
-         * last column or its last row (n past the grid's). */
-        int end_x = last_x < g->width ? ray->within_x[last_x] : n;
-        int end_y = last_y < g->height ? ray->within_y[last_y] : n;
+         * last column or its last row. */
+        int end_x = ss_sky_block_end(ray->within_x, g->width, last_x, n);
+        int end_y = ss_sky_block_end(ray->within_y, g->height, last_y, n);
         int by_x = end_x < end_y, end = by_x ? end_x : end_y;
-        end = end < n ? end : n;
         if (tops->block_top[(size_t)by * tops->across + bx] - eye <= best * sq[k].t_in)
             k = end;
         else

@@ -81,20 +81,17 @@ void ss_sky_tangents_avx2(const ss_grid *g, const ss_sky_ray *ray, const ss_box_
         stop[i] = room[i] > 0.0 ? INFINITY : 0.0;
     }
     const ss_sky_square *sq = ray->sq;
-    int bx = col / SS_SKY_BLOCK, by = row / SS_SKY_BLOCK, in_x = col - bx * SS_SKY_BLOCK;
-    /* The first and the last lane to leave the block: their last columns,
-     * and the lanes' last row (within_x's and within_y's m). */
-    int first_x = ray->sx > 0 ? SS_SKY_BLOCK - SS_SKY_LANES - in_x : in_x;
-    int last_x = first_x + SS_SKY_LANES - 1;
-    int last_y =
-        ray->sy > 0 ? SS_SKY_BLOCK - 1 - (row - by * SS_SKY_BLOCK) : row - by * SS_SKY_BLOCK;
+    int bx = col / SS_SKY_BLOCK, by = row / SS_SKY_BLOCK;
+    /* The first and the last lane to leave the block: their last columns
+     * (the lane ahead leaves first), and the lanes' last row. */
+    int first_x = ss_sky_block_exit(ray->sx > 0 ? col + SS_SKY_LANES - 1 : col, ray->sx);
+    int last_x = first_x + SS_SKY_LANES - 1, last_y = ss_sky_block_exit(row, ray->sy);
     int astride = 0, k = 0;
     while (k < n_min) {
         int lane_x = astride ? last_x : first_x;
-        int end_x = lane_x < g->width ? ray->within_x[lane_x] : n_min;
-        int end_y = last_y < g->height ? ray->within_y[last_y] : n_min;
+        int end_x = ss_sky_block_end(ray->within_x, g->width, lane_x, n_min);
+        int end_y = ss_sky_block_end(ray->within_y, g->height, last_y, n_min);
         int by_y = end_y < end_x, end = by_y ? end_y : end_x;
-        end = end < n_min ? end : n_min;
         const float *block_top = tops->block_top + (size_t)by * tops->across;
         float top = block_top[bx];
         if (astride && bx + ray->sx >= 0 && bx + ray->sx < tops->across)

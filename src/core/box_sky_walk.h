@@ -59,6 +59,22 @@ static inline int ss_sky_ray_squares(const ss_grid *g, const ss_sky_ray *ray, in
                                                            : ray->within_y[ahead_y];
 }
 
+/* The column (row) index m of within_x (within_y) at which the ray from a
+ * cell at column (row) pos, stepping by step, leaves the cell's block. */
+static inline int ss_sky_block_exit(int pos, int step)
+{
+    int in_block = pos % SS_SKY_BLOCK;
+    return step > 0 ? SS_SKY_BLOCK - 1 - in_block : in_block;
+}
+
+/* Where the list first crosses out of column (row) m, given within_x
+ * (within_y) of size entries, at most n: n where m lies past the grid. */
+static inline int ss_sky_block_end(const int *within, int size, int m, int n)
+{
+    int end = m < size ? within[m] : n;
+    return end < n ? end : n;
+}
+
 /* One cell's walk over squares [k, end) of the list from its heights z
  * (the cell's own first) while short of *stop, raising *best, the
  * tangent, where a top rises above it: room is the grid's highest top
