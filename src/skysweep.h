@@ -211,18 +211,19 @@ typedef struct {
      * insolation's exact steps): each cell's own ray, settled by proven
      * bounds or marched, on the host for every device and band height (in
      * bands from the heights held whole, ss_source_heights; horizon angles
-     * take the lines), or the box_lines families' walks (doc/box_lines.md). */
+     * follow box_sky), or the box_lines families' walks (doc/box_lines.md). */
     ss_box_shadows box_shadows;
     /* SS_LINES_BOX: lines per cell for insolation's sky view where its exact
      * shadows take none from them (0: box_lines; the planner's choice,
      * doc/planner.md). */
     int sky_box_lines;
-    /* SS_LINES_BOX's sky view (SVF, openness, and the sky terms of
-     * hillshade and insolation; not radius-limited): each cell's own ray,
-     * the box model exactly, on the host for every device and band height
-     * (in bands from the heights held whole), or the box_lines (or
-     * sky_box_lines) families' walks (doc/model.md, "The sky view: each
-     * cell's own ray"). Horizon angles and stored horizons take the lines. */
+    /* SS_LINES_BOX's sky view and horizons (SVF, openness, horizon angles,
+     * the sky terms of hillshade and insolation, Perez's band and stored
+     * horizons; not radius-limited): each cell's own ray, the box model
+     * exactly, on the host for every device and band height (in bands from
+     * the heights held whole), or the box_lines (or sky_box_lines)
+     * families' walks (doc/model.md, "The sky view: each cell's own ray",
+     * "The horizons: each cell's own ray"). */
     ss_box_sky box_sky;
 } ss_sweep_options;
 
@@ -935,9 +936,10 @@ typedef struct {
     int box_lines;              /* box lines per cell (0: the planner chooses, doc/planner.md) */
     ss_box_shadows box_shadows; /* box lines' cast shadows (ss_sweep_options') */
     ss_box_sky box_sky;         /* box lines' sky view (ss_sweep_options') */
-    /* The product's sky view is a sky walk (svf, openness, hillshade's sky
-     * layers, insolation's own surface): on box lines with box_sky march,
-     * each cell's own ray, which takes no box lines. */
+    /* The product's sky view or horizons are a sky or horizon walk (svf,
+     * openness, the horizon rasters, hillshade's sky layers, insolation's
+     * own surface): on box lines with box_sky march, each cell's own ray,
+     * which takes no box lines. */
     int sky_walk;
     double radius_m;            /* svf and openness: horizons within it (0: unlimited) */
     ss_shadow_mode shadow_mode;

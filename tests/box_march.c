@@ -114,6 +114,44 @@ double box_march_horizon_curved_deg(const ss_grid *g, int r, int c, double az, d
     }
 }
 
+void box_march_point_near(const ss_grid *g, int r, int c, double az, double curv_k,
+                          double dist_m, double height_m, box_march_point *p)
+{
+    double z0 = g->z[(size_t)r * g->width + c];
+    double dx = sin(az * M_PI / 180) / g->cell_x_m, dy = -cos(az * M_PI / 180) / g->cell_y_m;
+    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
+    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
+    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
+    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
+    double t_in = fmin(tx, ty);
+    /* The cell's own top, at 0 deg where it ends. */
+    *p = (box_march_point){t_in, z0, 0.0};
+    for (;;) {
+        if (tx < ty) {
+            ci += sx;
+            tx += step_x;
+        } else {
+            ri += sy;
+            ty += step_y;
+        }
+        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height)
+            return;
+        float h = g->z[(size_t)ri * g->width + ci];
+        /* Only a column above the eye rises above 0 deg, at its near edge. */
+        /* Where the ray passes at or near a corner, two columns show at
+         * distances a float (dist_m's) cannot tell apart. */
+        double off = fabs(t_in - dist_m) - fabs(p->dist_m - dist_m), tie = 1e-6 * fmax(1.0, dist_m);
+        int nearer = off < -tie || (off <= tie && fabs(h - height_m) < fabs(p->height_m - height_m));
+        if (isfinite(h) && h > z0 && nearer)
+            *p = (box_march_point){t_in, h,
+                                   atan((h - z0 - curv_k * t_in * t_in) / t_in) * 180 / M_PI};
+        t_in = fmin(tx, ty);
+        if (t_in > 2.0 * dist_m + 2.0 * (g->cell_x_m + g->cell_y_m))
+            return;
+    }
+}
+
 double box_march_top(const ss_grid *g)
 {
     double z_max = -INFINITY;

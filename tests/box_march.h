@@ -40,6 +40,19 @@ double box_march_horizon_deg(const ss_grid *g, int r, int c, double az);
  * t^2 at the distance t it shows at. */
 double box_march_horizon_curved_deg(const ss_grid *g, int r, int c, double az, double curv_k);
 
+/* A point a box-model ray shows a column top at: the cell's own edge
+ * (0 deg), or the near edge of a column above the eye. */
+typedef struct {
+    double dist_m, height_m, elevation_deg;
+} box_march_point;
+
+/* The point of the ray from cell (r, c) toward azimuth az (curved as
+ * box_march_horizon_curved_deg) nearest to dist_m from the cell's centre,
+ * of two a float cannot tell apart (at a corner) the one nearer height_m, into *p
+ * (looking no farther than twice dist_m and two cells). */
+void box_march_point_near(const ss_grid *g, int r, int c, double az, double curv_k,
+                          double dist_m, double height_m, box_march_point *p);
+
 /* The grid's highest finite height. */
 double box_march_top(const ss_grid *g);
 

@@ -258,7 +258,9 @@ static void check_lanes(const char *what, const ss_grid *g)
                         double lanes[SS_SKY_LANES];
                         ss_sky_tangents_avx2(g, &ray, tops, c, r, sign, curv_k, lanes);
                         for (int i = 0; i < SS_SKY_LANES; ++i) {
-                            double one = ss_sky_tangent(g, &ray, tops, c + i, r, sign, curv_k);
+                            int at;
+                            double one =
+                                ss_sky_tangent(g, &ray, tops, c + i, r, sign, curv_k, &at);
                             differ += isfinite(g->z[(size_t)r * g->width + c + i]) &&
                                       memcmp(&one, &lanes[i], sizeof one) != 0;
                         }

@@ -430,7 +430,7 @@ static void box_line_counts(void)
     int ok = ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
     const ss_plan_item *it = ok ? item(&p, "lines") : NULL;
     tap_ok(it && p.lines == SS_LINES_BOX && it->bound == 0 &&
-               strstr(it->reason, "none for the sky view: each cell's own ray"),
+               strstr(it->reason, "none for the sky view and horizons: each cell's own ray"),
            "svf on a city, --box-sky march (the default): no box lines for the sky view, no "
            "error expected (%s) [%.3g]",
            it ? it->reason : "-", it ? it->bound : NAN);
@@ -484,6 +484,14 @@ static void box_line_counts(void)
     it = ok ? item(&p, "lines") : NULL;
     tap_ok(it && p.lines == SS_LINES_BOX && strstr(it->reason, "none for the sky view"),
            "openness on a city: each cell's own ray, no box lines (%s)", it ? it->reason : "-");
+    /* The horizon rasters are a horizon walk by each cell's own ray too. */
+    r = request(SS_PLAN_HORIZONS);
+    ss_product_named("horizon")->request(NULL, 1.0, &r);
+    r.lines = SS_LINES_AUTO;
+    ok = r.sky_walk && ss_plan_make(ctx, &city, &pc, &r, &p) == SS_OK;
+    it = ok ? item(&p, "lines") : NULL;
+    tap_ok(it && p.lines == SS_LINES_BOX && strstr(it->reason, "and horizons: each cell's own ray"),
+           "horizon on a city: each cell's own ray, no box lines (%s)", it ? it->reason : "-");
     ss_ctx_free(ctx);
     ss_grid_free(&city);
 }

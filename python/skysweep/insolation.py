@@ -173,17 +173,20 @@ def _run_insolation(ctx, grid, opt, params, plan, n_steps, sun_at, planes, trees
     exact = plan.shadow_mode == lib.SS_SHADOW_EXACT
     marched = (exact and opt.lines == lib.SS_LINES_BOX
                and opt.box_shadows == lib.SS_BOX_SHADOWS_MARCH)
-    # Shadows by each cell's own ray walk no lines: only the sky view's
-    # directions hand hulls on (Perez's band), each with the sky view's box
-    # lines. The sky view by each cell's own ray holds the heights whole
-    # before the shadows' march does (marches counts those).
+    # Shadows by each cell's own ray walk no lines, nor do stored shadows:
+    # with the sky view's horizons by each cell's own ray too (Perez's band,
+    # the stored horizons) no hull is handed on; else only the sky view's
+    # directions hand hulls on, each with its box lines. The rays hold the
+    # heights whole before the shadows' march does (marches counts those).
     rays = sky_rays(opt)
+    no_lines = rays and (marched or not exact) and trees is None  # trees' sky walks lines
     cost = BandCost(lib.ss_horizon_band_cell_bytes(0) +
                     lib.ss_insolation_band_cell_bytes(0, stored),
                     column_bytes=lib.ss_horizon_column_bytes(),
-                    hull_lines=(opt.directions if marched
+                    hull_lines=(1 if no_lines else opt.directions if marched
                                 else max(opt.directions, CONST["SS_INSOLATION_STEPS_PER_RUN"])),
-                    box_lines=opt.sky_box_lines if marched and opt.sky_box_lines > 0 else None,
+                    box_lines=(1 if no_lines else opt.sky_box_lines
+                               if marched and opt.sky_box_lines > 0 else None),
                     # walked exact shadows' bounds keep their blocks whole
                     grid_cell_bytes=((lib.ss_insolation_grid_cell_bytes() if exact and not marched
                                       else 0.0) + (4.0 if rays and not marched else 0.0)),

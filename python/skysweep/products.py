@@ -530,7 +530,8 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
     cubes = {i: c for i, c in enumerate((angle, dist, height)) if c is not None}
     _run(ctx, grid, opt, "horizon", None, cubes, kw, outputs=want << 1,
          cost=_product_cost("horizon", None, want << 1,
-                            column_bytes=lib.ss_horizon_column_bytes()))
+                            column_bytes=lib.ss_horizon_column_bytes(),
+                            **(SKY_RAYS_COST if sky_rays(opt) else {})))
     lead = {"azimuth": ("azimuth", azimuth, {"long_name": "azimuth clockwise from north",
                                              "units": "degree"})}
     cubes = Horizons(azimuth, grid.wrap(angle, "elevation", {"long_name": "horizon elevation",

@@ -191,7 +191,10 @@ int cmd_horizon(int argc, char **argv)
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(want),
                       .column_bytes = ss_horizon_column_bytes(),
                       .output_bytes = 4.0 * (outputs + (set.trees.canopy != NULL)) * directions,
-                      .grid_cell_bytes = set.trees.canopy ? TREES_HORIZON_CELL_BYTES : 0.0};
+                      .grid_cell_bytes = (set.trees.canopy ? TREES_HORIZON_CELL_BYTES : 0.0) +
+                                         run_box_sky_cell_bytes(&set.common),
+                      /* each cell's own ray hands no hull on */
+                      .hull_lines = run_box_sky_cell_bytes(&set.common) > 0};
     sweep_job job;
     if ((rc = job_open_banded(&job, "horizon", &set.common, pos, n_pos, cost)))
         return rc;

@@ -978,8 +978,8 @@ int cmd_insolation(int argc, char **argv)
      * walked, their bounds' blocks. */
     int exact = shadow != SS_SHADOW_INTERPOLATED && shadow != SS_SHADOW_CUMULATIVE;
     double march_bytes = exact ? run_march_cell_bytes(&set->common) : 0.0;
-    /* The sky view by each cell's own ray holds them too, before the steps
-     * (the horizons it takes besides, Perez's band, still hand hulls on). */
+    /* The sky view by each cell's own ray holds them too, before the steps,
+     * and so do Perez's band and the stored horizons (horizon_walk.c). */
     double sky_bytes = run_box_sky_cell_bytes(&set->common);
     double bounds_bytes = exact && march_bytes == 0.0 ? ss_insolation_grid_cell_bytes() : 0.0;
     double trees_bytes =
@@ -990,9 +990,11 @@ int cmd_insolation(int argc, char **argv)
         : set->trees.light.beer_lambert
             ? INSOLATION_TREES_CELL_BYTES + INSOLATION_BEER_LAMBERT_CELL_BYTES
             : INSOLATION_TREES_CELL_BYTES;
-    /* Exact shadows by each cell's own ray walk no lines: only the sky
-     * view's hand hulls on (its directions, 32 for box lines where the
-     * planner chooses, each of its box lines). */
+    /* Exact shadows by each cell's own ray walk no lines, nor do stored
+     * shadows: with the sky view's horizons by each cell's own ray too and
+     * no trees (whose sky view walks lines) no hull is handed on; else only the sky view's (its directions, 32 for
+     * box lines where the planner chooses, each of its box lines). */
+    int no_lines = sky_bytes > 0 && (march_bytes > 0 || !exact) && !set->trees.trees.canopy;
     int sky_directions = set->common.sweep.directions ? set->common.sweep.directions : 32;
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) +
                                     ss_insolation_band_cell_bytes(want, stores ? directions : 0),
@@ -1001,7 +1003,8 @@ int cmd_insolation(int argc, char **argv)
                       .grid_cell_bytes =
                           (march_bytes > sky_bytes ? march_bytes : sky_bytes) + bounds_bytes +
                           trees_bytes,
-                      .hull_lines = march_bytes > 0 && !stores
+                      .hull_lines = no_lines ? 1
+                                    : march_bytes > 0 && !stores
                                         ? sky_directions *
                                               ss_sweep_params_sky_box_lines(&set->common.sweep)
                                         : 0};

@@ -37,8 +37,8 @@ void command_print_sweep(run_state *run, const ss_sweep_options *opt, int width,
            "%.3f s\n",
            c.sweep_seconds, rate, width, height, c.build_seconds);
     if (c.box_sky_directions)
-        printf("sky     %llu directions of the box model's sky view from each cell's own ray "
-               "(exact), on the host\n",
+        printf("sky     %llu directions of the box model's sky view or horizons from each cell's "
+               "own ray (exact), on the host\n",
                (unsigned long long)c.box_sky_directions);
     if (share_size() > 1)
         printf("share   %d MPI processes, directions dealt round-robin (this one swept %llu), "

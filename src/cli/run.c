@@ -762,8 +762,9 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
                        "march), on every device and in bands"
                      : "; cast shadows from the lines",
                  ss_ctx_counters(run->ctx).box_sky_directions > 0
-                     ? "; the sky view (SVF, openness, sky terms) from each cell's own ray (the "
-                       "box model exactly), on every device and in bands"
+                     ? "; the sky view and horizons (SVF, openness, horizon rasters, sky terms, "
+                       "Perez's band) from each cell's own ray (the box model exactly), on every "
+                       "device and in bands"
                      : "");
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
@@ -784,8 +785,8 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     ss_counters c = ss_ctx_counters(run->ctx);
     ss_writer_metadata(w, "DEVICE", c.sweeps > 0 ? ss_ctx_device_name(run->ctx)
                                     : c.box_sky_directions > 0
-                                        ? "the host: the box model's sky view by each cell's "
-                                          "own ray"
+                                        ? "the host: the box model's sky view or horizons by "
+                                          "each cell's own ray"
                                         : "none: no sweep was needed");
 }
 

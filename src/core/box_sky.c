@@ -27,6 +27,7 @@ int ss_sky_ray_init(ss_sky_ray *ray, const ss_grid *g, double grid_azimuth_deg)
     box_ray r = box_ray_from(&f, f.col_per_m > 0.0 ? 0 : g->width - 1,
                              f.row_per_m > 0.0 ? 0 : g->height - 1);
     int col0 = r.col, row0 = r.row, n = 0, in_grid = 1;
+    ray->t_own = r.tx < r.ty ? r.tx : r.ty;
     ray->sx = r.sx;
     ray->sy = r.sy;
     while (in_grid) {
@@ -117,8 +118,9 @@ void ss_box_sky_tops_free(ss_box_sky_tops *tops)
  * them, none does. The blocks only pass over squares that could not change
  * best: the answer is the whole walk's, bit for bit. */
 double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops,
-                      int col, int row, float sign, double curv_k)
+                      int col, int row, float sign, double curv_k, int *at)
 {
+    *at = -1;
     int n = ss_sky_ray_squares(g, ray, col, row);
     const float *z = g->z + (size_t)row * g->width + col;
     const ss_sky_square *sq = ray->sq;
@@ -140,7 +142,7 @@ double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_
         if (tops->block_top[(size_t)by * tops->across + bx] - eye <= best * sq[k].t_in)
             k = end;
         else
-            k = ss_sky_walk(sq, k, end, z, sign, eye, room, curv_k, &best, &stop);
+            k = ss_sky_walk(sq, k, end, z, sign, eye, room, curv_k, &best, &stop, at);
         if (by_x) {
             bx += ray->sx;
             last_x += SS_SKY_BLOCK;
@@ -154,8 +156,7 @@ double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_
     return best;
 }
 
-/* Whether this CPU walks four cells at a time (ss_sky_tangents_avx2). */
-static int lanes_here(void)
+int ss_sky_lanes_here(void)
 {
 #if SS_SKY_LANES_AVX2
     return __builtin_cpu_supports("avx2");
@@ -172,7 +173,7 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
     /* The directions' squares listed once for all the rows, so that each
      * cell's rays run together over the heights around it. */
     ss_sky_ray *rays = ss_calloc((size_t)n_dirs, sizeof *rays);
-    int ok = rays != NULL, w = grid->width, lanes_ok = lanes_here();
+    int ok = rays != NULL, w = grid->width, lanes_ok = ss_sky_lanes_here();
     for (int d = 0; ok && d < n_dirs; ++d)
         ok = ss_sky_ray_init(&rays[d], grid, grid_azimuth_deg[d]);
 #pragma omp parallel for schedule(dynamic, 4) if (ok)
@@ -196,12 +197,13 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
                 continue;
             for (int d = 0; d < n_dirs; ++d) {
                 double t[SS_SKY_LANES];
+                int at; /* the sky view takes the tangent alone */
 #if SS_SKY_LANES_AVX2
                 if (lanes == SS_SKY_LANES)
                     ss_sky_tangents_avx2(grid, &rays[d], tops, c, r, sign, curv_k, t);
                 else
 #endif
-                    t[0] = ss_sky_tangent(grid, &rays[d], tops, c, r, sign, curv_k);
+                    t[0] = ss_sky_tangent(grid, &rays[d], tops, c, r, sign, curv_k, &at);
                 for (int i = 0; i < lanes; ++i)
                     sum[i] += ss_sky_walk_term(definition, 1.0f, (float)t[i], rays[d].sin_az,
                                                rays[d].cos_az, de[i], dn[i]);

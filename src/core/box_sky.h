@@ -57,4 +57,19 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
                    int row0, int n_rows, const float *grad, const volatile sig_atomic_t *cancel,
                    float *sums);
 
+/* Each cell's box horizon toward grid azimuth grid_azimuth_deg (clockwise
+ * from the grid's north) for rows [row0, row0 + n_rows) of the whole grid's
+ * heights lowered by curv_k t^2 (tops: ss_box_sky_tops_new's, sign 1),
+ * into width * n_rows floats from row0 each: angle, degrees above the
+ * horizontal (never below 0: the cell's own top reaches its edge; NaN
+ * without a height); where not NULL, dist, the metres from the cell's
+ * centre to where the ray enters the nearest square whose top sets it
+ * (the cell's own edge for its own top), and cast, that top's height.
+ * Cells not yet begun are left once *cancel (NULL: never) is set. Returns
+ * 0 when out of memory for the direction's list. */
+int ss_box_horizon_rows(const ss_grid *grid, double grid_azimuth_deg,
+                        const ss_box_sky_tops *tops, double curv_k, int row0, int n_rows,
+                        const volatile sig_atomic_t *cancel, float *angle, float *dist,
+                        float *cast);
+
 #endif

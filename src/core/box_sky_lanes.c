@@ -118,7 +118,8 @@ void ss_sky_tangents_avx2(const ss_grid *g, const ss_sky_ray *ray, const ss_box_
     }
     for (int i = 0; i < SS_SKY_LANES; ++i) {
         double b = best[i], s = stop[i];
-        ss_sky_walk(sq, k, n[i], z + i, sign, eye[i], room[i], curv_k, &b, &s);
+        int at; /* not asked of the lanes */
+        ss_sky_walk(sq, k, n[i], z + i, sign, eye[i], room[i], curv_k, &b, &s, &at);
         tangent[i] = b;
     }
 }

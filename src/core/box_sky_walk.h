@@ -30,6 +30,7 @@ typedef struct {
     int sx, sy;
     int *within_x, *within_y;
     float sin_az, cos_az;
+    double t_own; /* where every ray leaves its own cell's square */
 } ss_sky_ray;
 
 struct ss_box_sky_tops {
@@ -77,12 +78,14 @@ static inline int ss_sky_block_end(const int *within, int size, int m, int n)
 
 /* One cell's walk over squares [k, end) of the list from its heights z
  * (the cell's own first) while short of *stop, raising *best, the
- * tangent, where a top rises above it: room is the grid's highest top
- * above the eye, so that no top past room / best can rise above best.
- * A top at or below the eye cannot pass best * t >= 0, nor can nodata
- * (NaN): no branch on them. Returns where it stopped. */
+ * tangent, where a top rises above it, and setting *at to that square:
+ * room is the grid's highest top above the eye, so that no top past
+ * room / best can rise above best. A top at or below the eye cannot pass
+ * best * t >= 0, nor can nodata (NaN): no branch on them. Returns where it
+ * stopped. */
 static inline int ss_sky_walk(const ss_sky_square *sq, int k, int end, const float *z, float sign,
-                              double eye, double room, double curv_k, double *best, double *stop)
+                              double eye, double room, double curv_k, double *best, double *stop,
+                              int *at)
 {
     double b = *best, s = *stop;
     for (; k < end && sq[k].t_in < s; ++k) {
@@ -90,6 +93,7 @@ static inline int ss_sky_walk(const ss_sky_square *sq, int k, int end, const flo
         if (rise > b * t) {
             b = rise / t;
             s = room / b;
+            *at = k;
         }
     }
     *best = b;
@@ -99,14 +103,20 @@ static inline int ss_sky_walk(const ss_sky_square *sq, int k, int end, const flo
 
 /* The tangent of cell (col, row)'s box horizon along the ray, never below
  * 0 (its own top reaches its edge), for heights times sign lowered by
- * curv_k t^2. */
+ * curv_k t^2; *at: the list's index of the nearest square whose top sets
+ * it, -1 for the cell's own. Only a square that rises strictly above all
+ * before it moves *at, and the blocks passed over and the squares past
+ * the stop hold none that could, so *at is the whole walk's too. */
 double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops, int col,
-                      int row, float sign, double curv_k);
+                      int row, float sign, double curv_k, int *at);
 
 /* The AVX2 copy, built by GCC on x86-64 (box_sky_lanes.c repeats the
  * condition): ss_sky_tangent of the SS_SKY_LANES cells from (col, row),
  * col a multiple of SS_SKY_LANES and col + SS_SKY_LANES <= width, into
  * tangent. */
+/* Whether this CPU walks four cells at a time (ss_sky_tangents_avx2). */
+int ss_sky_lanes_here(void);
+
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define SS_SKY_LANES_AVX2 1
 void ss_sky_tangents_avx2(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops,

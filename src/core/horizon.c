@@ -83,7 +83,7 @@ static ss_status run_horizon(ss_ctx *ctx, const ss_source *src, const ss_sweep_o
         .consumer = &consumer,
         .user = h,
         .what = "horizon"};
-    ss_status st = ss_engine_run(ctx, src, opt, &job);
+    ss_status st = ss_horizon_walk(ctx, src, opt, &job);
     free(dirs);
     free(azimuths);
     return st;

@@ -149,7 +149,7 @@ static ss_status store_horizons(ss_insolation_job *job)
                          .user = &s,
                          .what = "horizon"};
     if (st == SS_OK)
-        st = ss_engine_run(job->ctx, src, opt, &run);
+        st = ss_horizon_walk(job->ctx, src, opt, &run);
     free(s.rows);
     free(dirs);
     return st;
@@ -254,7 +254,7 @@ static ss_status run_horizon_terms(ss_insolation_job *job, int with_sky, int sto
                          .user = &h,
                          .what = "horizon"};
     if (st == SS_OK)
-        st = ss_engine_run(job->ctx, src, opt, &run);
+        st = ss_horizon_walk(job->ctx, src, opt, &run);
     free(dirs);
     free(azimuths);
     free(h.de);

@@ -55,7 +55,8 @@ static const ss_param sweep_params[] = {
      "proven bounds where it can be, on the host whatever the device (in bands it holds the "
      "heights whole, 4 bytes a cell); lines: the --box-lines walks (doc/box_lines.md)"},
     {"box-sky", SS_PARAM_CHOICE, SWEEP(box_sky), NULL, "march", 0, 0, "march|lines",
-     "box lines' sky view (SVF, openness, the sky terms of hillshade and insolation): march: "
+     "box lines' sky view and horizons (SVF, openness, horizon rasters, the sky terms of "
+     "hillshade and insolation, Perez's band, stored horizons): march: "
      "each cell's own ray, the box model exactly, on the host whatever the device (in bands it "
      "holds the heights whole, 4 bytes a cell); lines: the --box-lines walks "
      "(doc/box_lines.md)"},

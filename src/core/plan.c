@@ -214,7 +214,7 @@ static double plan_box_lines(ss_plan *p, const ss_plan_request *r, char *said, s
         r->box_sky == SS_BOX_SKY_MARCH && !(r->radius_m > 0)) {
         p->box_lines = r->box_lines > 0 ? r->box_lines : SS_BOX_LINES_DEFAULT;
         snprintf(said, size,
-                 "none for the sky view: each cell's own ray, the box model exactly "
+                 "none for the sky view and horizons: each cell's own ray, the box model exactly "
                  "(--box-sky march, doc/box_lines.md)");
         return 0;
     }
@@ -858,10 +858,10 @@ ss_status ss_plan_make(ss_ctx *ctx, const ss_grid *grid, const ss_place *place,
     /* The march runs on the host (at the C twin's rate) whatever device
      * walks the rest. */
     int marched = shadows_marched(p, r);
-    /* The sky walk's directions, where it is each cell's own ray (the first
-     * of a sky view's sweeps; hillshade's with cast shadows are not
-     * modelled). */
-    double sky_rays = sky_marched(p, r) ? fmin(sky, p->directions) : 0.0;
+    /* The sky's and the horizons' directions, where they are each cell's
+     * own ray (horizon_walk.c: the sky view, Perez's band and the stored
+     * horizons alike). */
+    double sky_rays = sky_marched(p, r) ? sky : 0.0;
     double sweeps = (sky - sky_rays) * box_sweep_cost(p) +
                     (marched ? 0.0 : shadows * box_sweep_cost(p));
     double host_s = daylight * p->cells * PLAN_CELL_STEP_S +

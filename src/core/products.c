@@ -76,6 +76,7 @@ static void horizon_request(const void *params, double cell_size_m, ss_plan_requ
 {
     (void)params, (void)cell_size_m;
     req->kind = SS_PLAN_HORIZONS;
+    req->sky_walk = 1; /* a horizon walk (horizon_walk.c) */
 }
 
 /* The optional outputs' bits (1 << SS_OUT_HORIZON_DISTANCE, ...) are

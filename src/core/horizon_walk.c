@@ -1,0 +1,96 @@
+/* A horizon walk (an SS_TERM_HORIZON job of engine.h): on box lines with
+ * --box-sky march each cell's own ray (box_sky.h), the box model exactly,
+ * on the host whatever the device; else the engine's sweeps. The horizon
+ * rasters and insolation's horizon terms and stored horizons take it. */
+#include "config.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "box_sky.h"
+#include "products_internal.h"
+
+/* The job's directions by each cell's own ray, band by band (the source's
+ * band rows) from the heights held whole, handed to the consumer as the
+ * engine hands a walk's: a visit, each direction's rows in turn, the
+ * finish of the band's planes. */
+static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                               const ss_engine_job *job)
+{
+    float *owned;
+    const float *z;
+    ss_status st = ss_source_heights(ctx, src, &owned, &z);
+    if (st != SS_OK)
+        return st;
+    const ss_consumer *consumer = job->consumer;
+    int w = src->width, h = src->height, rows = ss_source_band_rows(src);
+    size_t n = (size_t)w * rows;
+    int want_cast = (job->walk.want & SS_HORIZON_WANT_CAST) != 0;
+    int want_dist = want_cast || (job->walk.want & SS_HORIZON_WANT_DIST);
+    ss_grid grid = {w, h, src->cell_x_m, src->cell_y_m, 0.0, (float *)z}; /* only read */
+    ss_box_sky_tops *tops = ss_box_sky_tops_new(&grid, 1.0f);
+    float *angle = ss_malloc(n * sizeof(float));
+    float *dist = want_dist ? ss_malloc(n * sizeof(float)) : NULL;
+    float *cast = want_cast ? ss_malloc(n * sizeof(float)) : NULL;
+    float *planes = consumer->planes ? ss_malloc(consumer->planes * n * sizeof(float)) : NULL;
+    if (!tops || !angle || (want_dist && !dist) || (want_cast && !cast) ||
+        (consumer->planes && !planes))
+        st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of horizons");
+    double curv_k = ss_curvature_k(opt);
+    uint64_t walked = 0;
+    for (int row0 = 0; row0 < h && st == SS_OK; row0 += rows) {
+        int n_rows = h - row0 < rows ? h - row0 : rows;
+        ss_band_view band = {.row0 = row0,
+                             .n_rows = n_rows,
+                             .lo = 0,
+                             .held_rows = h,
+                             .width = w,
+                             .height = h,
+                             .z = z,
+                             .own_z = z + (size_t)row0 * w};
+        if (planes)
+            memset(planes, 0, consumer->planes * (size_t)n_rows * w * sizeof(float));
+        if (consumer->visit)
+            st = consumer->visit(job->user, &band);
+        for (int d = 0; d < job->n_dirs && st == SS_OK; ++d) {
+            const ss_engine_dir *dir = &job->dirs[d];
+            ss_dir_rows walk_rows = {angle, dist, cast, 0};
+            if (dir->walk) {
+                double t0 = ss_seconds_now();
+                st = ss_box_horizon_rows(&grid, dir->azimuth_deg - opt->grid_north_deg, tops,
+                                         curv_k, row0, n_rows, &ctx->cancel_requested, angle,
+                                         dist, cast)
+                         ? ss_check_cancel(ctx, job->what)
+                         : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the horizons' rays");
+                ctx->counters.sweep_seconds += ss_seconds_now() - t0;
+                walked += (uint64_t)n_rows * w;
+            }
+            if (st == SS_OK)
+                st = consumer->direction(job->user, dir->index, &band,
+                                         dir->walk ? &walk_rows : NULL, planes);
+            if (st == SS_OK)
+                st = ss_progress(ctx, (row0 + n_rows * (double)(d + 1) / job->n_dirs) / h,
+                                 job->what);
+        }
+        if (st == SS_OK && consumer->finish)
+            st = consumer->finish(job->user, &band, planes);
+    }
+    if (st == SS_OK) {
+        ctx->counters.box_sky_directions += (uint64_t)job->n_dirs;
+        ctx->counters.cells_swept += walked;
+    }
+    ss_box_sky_tops_free(tops);
+    free(angle);
+    free(dist);
+    free(cast);
+    free(planes);
+    free(owned);
+    return st;
+}
+
+ss_status ss_horizon_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
+                          const ss_engine_job *job)
+{
+    return ss_box_sky_marched(opt, 0.0) ? horizon_march(ctx, src, opt, job)
+                                        : ss_engine_run(ctx, src, opt, job);
+}
