@@ -292,10 +292,12 @@ typedef struct {
 } ss_source;
 
 /* A source's heights, whole: its own where it holds them (*owned NULL),
- * else read a band's rows at a time into *owned (width * height floats,
- * NaN at nodata), which the caller frees. For work that reads rows
- * anywhere (box shadows by each cell's own ray). Refuses a DEM without a
- * valid height; Ctrl-C (ss_ctx_cancel) stops it between bands. */
+ * else read a band's rows at a time into *owned (width * height floats),
+ * which the caller frees; NaN at nodata, an infinite height included (a
+ * copy into *owned where the source's own hold one). For work that reads
+ * rows anywhere (box shadows and sky view by each cell's own ray, whose
+ * comparisons would meet an infinite top as a wall). Refuses a DEM without
+ * a valid height; Ctrl-C (ss_ctx_cancel) stops it between bands. */
 SS_API ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned,
                                    const float **z);
 

@@ -8,7 +8,8 @@
  * rolling hills and the Gothenburg DSM where ../shared/data has it. The
  * angles alone (four cells at a time in AVX2's lanes) are those given
  * with the distances bit for bit; bands of any height give the whole
- * grid's; OpenCL gives the C twin's; --box-sky lines walks the lines. */
+ * grid's; OpenCL gives the C twin's; --box-sky lines walks the lines; an
+ * infinite height is nodata, not a wall. */
 #include "config.h"
 
 #include <math.h>
@@ -258,6 +259,44 @@ static void check_devices_and_lines(const char *what, const ss_grid *g)
     horizons_free(&other);
 }
 
+/* Infinite heights are nodata (ss_grid_check counts them so), not walls:
+ * the horizons, distances, casting heights and SVF by each cell's own ray
+ * of a grid with +-Inf in some cells are those with NaN there, bit for
+ * bit. */
+static void check_infinities(const char *what, ss_grid *g)
+{
+    ss_sweep_options opt = box_options(12, 3.7, 0.0, 0.0);
+    size_t n = (size_t)g->width * g->height;
+    horizons with_inf, with_nan;
+    float *svf_inf = malloc(n * sizeof(float)), *svf_nan = malloc(n * sizeof(float));
+    char err[300] = "";
+    int want = SS_HORIZON_DISTANCE | SS_HORIZON_CAST_HEIGHT;
+    int ok = svf_inf && svf_nan && horizons_new(&with_inf, g, opt.directions) &&
+             horizons_new(&with_nan, g, opt.directions);
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    for (int pass = 0; ok && pass < 2; ++pass) {
+        for (size_t i = 0; i < n; i += 53)
+            g->z[i] = pass ? NAN : i % 2 ? INFINITY : -INFINITY;
+        ok = library_horizons("reference", g, &opt, want, pass ? &with_nan : &with_inf, err) &&
+             ss_svf(ctx, g, &opt, SS_SVF_DEF_GEOMETRIC, pass ? svf_nan : svf_inf) == SS_OK;
+    }
+    size_t bytes = with_inf.cells * opt.directions * sizeof(float);
+    int same = ok && memcmp(with_inf.angle, with_nan.angle, bytes) == 0 &&
+               memcmp(with_inf.dist, with_nan.dist, bytes) == 0 &&
+               memcmp(with_inf.cast, with_nan.cast, bytes) == 0 &&
+               memcmp(svf_inf, svf_nan, n * sizeof(float)) == 0;
+    tap_ok(same,
+           "%s: +-Inf heights are nodata to each cell's own ray, not walls: the horizons, "
+           "distances, casting heights and SVF are those with NaN there, bit for bit%s%s",
+           what, err[0] ? ": " : "", err[0] ? err : ok ? "" : ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    free(svf_inf);
+    free(svf_nan);
+    horizons_free(&with_inf);
+    horizons_free(&with_nan);
+}
+
 static void check_dsm(const char *name, const ss_grid *g, void *user)
 {
     (void)user;
@@ -279,6 +318,7 @@ int main(void)
     city.cell_y_m = 1.5;
     check_grid("a city with holes, 1 x 1.5 m cells", &city, 0.0);
     check_bands("a city with holes, 1 x 1.5 m cells", &city);
+    check_infinities("a city with holes, 1 x 1.5 m cells", &city);
     ss_grid_free(&city);
     ss_grid row = test_grid(300, 1, 1.0, 1.0);
     for (int c = 0; c < 300; ++c)

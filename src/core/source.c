@@ -67,6 +67,23 @@ ss_status ss_source_read_rows(ss_ctx *ctx, const ss_source *src, int lo, int n, 
     return st;
 }
 
+/* Infinite heights as nodata, as ss_grid_check counts them: a ray's
+ * comparisons would meet an infinite top as a wall. */
+static void infinities_to_nodata(float *z, size_t n)
+{
+    for (size_t c = 0; c < n; ++c)
+        if (isinf(z[c]))
+            z[c] = NAN;
+}
+
+static int any_infinite(const float *z, size_t n)
+{
+    for (size_t c = 0; c < n; ++c)
+        if (isinf(z[c]))
+            return 1;
+    return 0;
+}
+
 ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned, const float **z)
 {
     ss_call_begin(ctx);
@@ -75,23 +92,27 @@ ss_status ss_source_heights(ss_ctx *ctx, const ss_source *src, float **owned, co
     ss_status st = ss_source_check(ctx, src); /* heights held: at least one valid */
     if (st != SS_OK)
         return st;
-    *z = src->z;
-    if (src->z)
-        return SS_OK;
     size_t w = (size_t)src->width;
+    *z = src->z;
+    if (src->z && !any_infinite(src->z, w * src->height))
+        return SS_OK;
     float *all = ss_malloc(w * src->height * sizeof(float));
     if (!all)
         return ss_fail(ctx, SS_ERR_MEMORY,
                        "out of memory for the DEM's heights held whole (%.0f MiB)",
                        (double)(w * src->height * sizeof(float)) / 1048576.0);
-    /* Read as the bands are, so that the reader needs no more. */
-    int rows = ss_source_band_rows(src);
-    for (int r = 0; r < src->height && st == SS_OK; r += rows) {
-        int n = src->height - r < rows ? src->height - r : rows;
-        st = ss_source_read_rows(ctx, src, r, n, all + (size_t)r * w);
-        if (st == SS_OK)
-            st = ss_check_cancel(ctx, "reading the heights");
+    if (src->z) {
+        memcpy(all, src->z, w * src->height * sizeof(float));
+    } else { /* read as the bands are, so that the reader needs no more */
+        int rows = ss_source_band_rows(src);
+        for (int r = 0; r < src->height && st == SS_OK; r += rows) {
+            int n = src->height - r < rows ? src->height - r : rows;
+            st = ss_source_read_rows(ctx, src, r, n, all + (size_t)r * w);
+            if (st == SS_OK)
+                st = ss_check_cancel(ctx, "reading the heights");
+        }
     }
+    infinities_to_nodata(all, w * src->height);
     int any_height = 0;
     for (size_t c = 0; st == SS_OK && !any_height && c < w * src->height; ++c)
         any_height = isfinite(all[c]);
