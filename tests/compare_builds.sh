@@ -210,6 +210,9 @@ product "insolation, 5 days of exact shadows, box lines" insolation \
 product "shadow, box lines" shadow --time "$t" --lines box --box-lines 4 "$dem" out.tif
 product "hillshade --cast-shadows, box lines" hillshade --cast-shadows --lines box \
     --box-lines 4 "$dem" out.tif
+# Box lines' horizon rasters follow --box-sky since 2026-12-07.
+product "horizon, box lines" horizon --directions 8 --lines box --box-lines 4 --distance d.tif \
+    --cast-height c.tif "$dem" out.tif
 new_extra=
 # In bands, whose walks stop early too (since issue 42 item 1).
 same_rows insolation --time 2026-06-19T00:00Z/P5D --step PT1H --directions 16 --shadow exact \
