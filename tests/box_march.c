@@ -141,8 +141,10 @@ void box_march_point_near(const ss_grid *g, int r, int c, double az, double curv
         /* Only a column above the eye rises above 0 deg, at its near edge. */
         /* Where the ray passes at or near a corner, two columns show at
          * distances a float (dist_m's) cannot tell apart. */
-        double off = fabs(t_in - dist_m) - fabs(p->dist_m - dist_m), tie = 1e-6 * fmax(1.0, dist_m);
-        int nearer = off < -tie || (off <= tie && fabs(h - height_m) < fabs(p->height_m - height_m));
+        double off = fabs(t_in - dist_m) - fabs(p->dist_m - dist_m);
+        double tie = 1e-6 * fmax(1.0, dist_m);
+        int nearer =
+            off < -tie || (off <= tie && fabs(h - height_m) < fabs(p->height_m - height_m));
         if (isfinite(h) && h > z0 && nearer)
             *p = (box_march_point){t_in, h,
                                    atan((h - z0 - curv_k * t_in * t_in) / t_in) * 180 / M_PI};

@@ -2,10 +2,11 @@
  * box_horizon.c through horizon_walk.c, the default on box lines) against
  * the independent box-model march of tests/box_march.c, cell by cell: the
  * angle, and the distance and height of a point that casts it (the cell's
- * own edge where nothing rises above it), with and without the earth's curvature, along the axes and the
- * diagonals and off them, on a synthetic city, the same with nodata holes
- * and cells longer one way, one row, one column, a tower on a plain,
- * rolling hills and the Gothenburg DSM where ../shared/data has it. The
+ * own edge where nothing rises above it), with and without the earth's
+ * curvature, along the axes and the diagonals and off them, on a
+ * synthetic city, the same with nodata holes and cells longer one way,
+ * one row, one column, a tower on a plain, rolling hills and the
+ * Gothenburg DSM where ../shared/data has it. The
  * angles alone (four cells at a time in AVX2's lanes) are those given
  * with the distances bit for bit; bands of any height give the whole
  * grid's; OpenCL gives the C twin's; --box-sky lines walks the lines; an
@@ -110,8 +111,8 @@ static void check_cell(const ss_grid *g, const ss_sweep_options *opt, double cur
 {
     size_t i = (size_t)r * g->width + c, at = (size_t)k * h->cells + i;
     if (!isfinite(g->z[i])) {
-        w->nodata += h->angle[at] != SS_NODATA || h->dist[at] != SS_NODATA ||
-                     h->cast[at] != SS_NODATA;
+        w->nodata +=
+            h->angle[at] != SS_NODATA || h->dist[at] != SS_NODATA || h->cast[at] != SS_NODATA;
         return;
     }
     w->nodata += h->angle[at] == SS_NODATA || h->cast[at] == SS_NODATA;
@@ -152,8 +153,8 @@ static void check_grid(const char *what, const ss_grid *g, double curv_k)
             for (int r = 0; r < g->height; ++r)
                 for (int c = 0; c < g->width; ++c)
                     check_cell(g, &opt, curv_k, &all, k, r, c, &w);
-        alone_differ += ok && memcmp(all.angle, alone.angle,
-                                     all.cells * opt.directions * sizeof(float)) != 0;
+        alone_differ +=
+            ok && memcmp(all.angle, alone.angle, all.cells * opt.directions * sizeof(float)) != 0;
         horizons_free(&all);
         horizons_free(&alone);
     }
@@ -176,8 +177,7 @@ typedef struct {
     int width, height;
 } keep_rows;
 
-static ss_status keep(void *user, int output, int index, int row0, int n_rows,
-                      const float *values)
+static ss_status keep(void *user, int output, int index, int row0, int n_rows, const float *values)
 {
     keep_rows *k = user;
     size_t at = ((size_t)index * k->height + row0) * k->width;
@@ -242,8 +242,9 @@ static void check_devices_and_lines(const char *what, const ss_grid *g)
         int same = ok && library_horizons(NULL, g, &opt, want, &other, err) &&
                    memcmp(twin.angle, other.angle, n) == 0 &&
                    memcmp(twin.dist, other.dist, n) == 0 && memcmp(twin.cast, other.cast, n) == 0;
-        tap_ok(same, "%s: the horizons by each cell's own ray are the same on OpenCL as on the "
-                     "C twin, bit for bit%s%s",
+        tap_ok(same,
+               "%s: the horizons by each cell's own ray are the same on OpenCL as on the "
+               "C twin, bit for bit%s%s",
                what, err[0] ? ": " : "", err);
     }
     opt.box_sky = SS_BOX_SKY_LINES;
@@ -289,7 +290,10 @@ static void check_infinities(const char *what, ss_grid *g)
     tap_ok(same,
            "%s: +-Inf heights are nodata to each cell's own ray, not walls: the horizons, "
            "distances, casting heights and SVF are those with NaN there, bit for bit%s%s",
-           what, err[0] ? ": " : "", err[0] ? err : ok ? "" : ss_ctx_message(ctx));
+           what, err[0] ? ": " : "",
+           err[0] ? err
+           : ok   ? ""
+                  : ss_ctx_message(ctx));
     ss_ctx_free(ctx);
     free(svf_inf);
     free(svf_nan);
@@ -341,8 +345,8 @@ int main(void)
     ss_grid hills = test_grid(120, 100, 2.0, 2.0);
     for (int r = 0; r < 100; ++r)
         for (int c = 0; c < 120; ++c)
-            hills.z[(size_t)r * 120 + c] = (float)(12.0 * sin(c / 9.0) * cos(r / 13.0) +
-                                                   0.15 * c + 30.0 * exp(-pow((r - 70) / 6.0, 2)));
+            hills.z[(size_t)r * 120 + c] = (float)(12.0 * sin(c / 9.0) * cos(r / 13.0) + 0.15 * c +
+                                                   30.0 * exp(-pow((r - 70) / 6.0, 2)));
     check_grid("rolling hills", &hills, 1.0 / (2.0 * 3000.0));
     check_bands("rolling hills", &hills);
     ss_grid_free(&hills);

@@ -623,18 +623,19 @@ static void box_shadow_costs(void)
     tap_ok(st == SS_OK && march.box_lines == 16 && march.sky_box_lines == 0,
            "... --box-lines 16 given: 16 for all, none of the sky view's own (%d)",
            march.sky_box_lines);
-    /* --box-sky march (the default): the sky view is each cell's own ray,
-     * modelled below the lines' cost; the horizons it takes besides (Perez's
-     * band) keep the table's count. */
+    /* --box-sky march (the default): the sky view and its horizons (Perez's
+     * band) are each cell's own ray, modelled below the lines' cost; a
+     * canopy's sky view keeps the table's count. */
     r.box_lines = 0;
     r.box_sky = SS_BOX_SKY_MARCH;
     ss_plan rays;
     st = ss_plan_make(ctx, &city, &place, &r, &rays);
     it = st == SS_OK ? item(&rays, "lines") : NULL;
     tap_ok(it && rays.sky_box_lines == sky && rays.estimated_seconds < sky_lines_s &&
-               strstr(it->reason, "the sky view is each cell's own ray"),
-           "... --box-sky march (the default): the sky view by each cell's own ray, modelled at "
-           "%.3g s against %.3g s on its lines, Perez's band on %d box lines: %s",
+               strstr(it->reason, "the sky view and Perez's band are each cell's own ray"),
+           "... --box-sky march (the default): the sky view and Perez's band by each cell's own "
+           "ray, modelled at %.3g s against %.3g s on their lines, a canopy's sky view on %d box "
+           "lines: %s",
            rays.estimated_seconds, sky_lines_s, rays.sky_box_lines, it ? it->reason : "-");
     ss_grid_free(&city);
     ss_ctx_free(ctx);

@@ -992,8 +992,9 @@ int cmd_insolation(int argc, char **argv)
             : INSOLATION_TREES_CELL_BYTES;
     /* Exact shadows by each cell's own ray walk no lines, nor do stored
      * shadows: with the sky view's horizons by each cell's own ray too and
-     * no trees (whose sky view walks lines) no hull is handed on; else only the sky view's (its directions, 32 for
-     * box lines where the planner chooses, each of its box lines). */
+     * no trees (whose sky view walks lines) no hull is handed on; else only
+     * the sky view's (its directions, 32 for box lines where the planner
+     * chooses, each of its box lines). */
     int no_lines = sky_bytes > 0 && (march_bytes > 0 || !exact) && !set->trees.trees.canopy;
     int sky_directions = set->common.sweep.directions ? set->common.sweep.directions : 32;
     band_cost cost = {.cell_bytes = ss_horizon_band_cell_bytes(0) +

@@ -9,10 +9,9 @@
 
 #include "box_sky_walk.h"
 
-int ss_box_horizon_rows(const ss_grid *grid, double grid_azimuth_deg,
-                        const ss_box_sky_tops *tops, double curv_k, int row0, int n_rows,
-                        const volatile sig_atomic_t *cancel, float *angle, float *dist,
-                        float *cast)
+int ss_box_horizon_rows(const ss_grid *grid, double grid_azimuth_deg, const ss_box_sky_tops *tops,
+                        double curv_k, int row0, int n_rows, const volatile sig_atomic_t *cancel,
+                        float *angle, float *dist, float *cast)
 {
     ss_sky_ray ray = {0};
     int ok = ss_sky_ray_init(&ray, grid, grid_azimuth_deg), w = grid->width;

@@ -105,18 +105,20 @@ static inline int ss_sky_walk(const ss_sky_square *sq, int k, int end, const flo
  * 0 (its own top reaches its edge), for heights times sign lowered by
  * curv_k t^2; *at: the list's index of the nearest square whose top sets
  * it, -1 for the cell's own. Only a square that rises strictly above all
- * before it moves *at, and the blocks passed over and the squares past
- * the stop hold none that could, so *at is the whole walk's too. */
+ * before it moves *at, and the blocks passed over hold none that could.
+ * The stop (a rounded room / best) may end the walk before a farther top
+ * whose tangent ties the best exactly and rounds a unit above it: the
+ * nearer of the two is kept, as the definition asks. */
 double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops, int col,
                       int row, float sign, double curv_k, int *at);
+
+/* Whether this CPU walks four cells at a time (ss_sky_tangents_avx2). */
+int ss_sky_lanes_here(void);
 
 /* The AVX2 copy, built by GCC on x86-64 (box_sky_lanes.c repeats the
  * condition): ss_sky_tangent of the SS_SKY_LANES cells from (col, row),
  * col a multiple of SS_SKY_LANES and col + SS_SKY_LANES <= width, into
  * tangent. */
-/* Whether this CPU walks four cells at a time (ss_sky_tangents_avx2). */
-int ss_sky_lanes_here(void);
-
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define SS_SKY_LANES_AVX2 1
 void ss_sky_tangents_avx2(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_tops *tops,

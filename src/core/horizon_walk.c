@@ -37,7 +37,7 @@ static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep
         (consumer->planes && !planes))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of horizons");
     double curv_k = ss_curvature_k(opt);
-    uint64_t walked = 0;
+    uint64_t walked = 0, walked_dirs = 0;
     for (int row0 = 0; row0 < h && st == SS_OK; row0 += rows) {
         int n_rows = h - row0 < rows ? h - row0 : rows;
         ss_band_view band = {.row0 = row0,
@@ -57,15 +57,16 @@ static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep
             ss_dir_rows walk_rows = {angle, dist, cast, 0};
             if (dir->walk) {
                 double t0 = ss_seconds_now();
-                st = ss_box_horizon_rows(&grid, dir->azimuth_deg - opt->grid_north_deg, tops,
-                                         curv_k, row0, n_rows, &ctx->cancel_requested, angle,
-                                         dist, cast)
-                         ? ss_check_cancel(ctx, job->what)
-                         : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the horizons' rays");
+                st =
+                    ss_box_horizon_rows(&grid, dir->azimuth_deg - opt->grid_north_deg, tops, curv_k,
+                                        row0, n_rows, &ctx->cancel_requested, angle, dist, cast)
+                        ? ss_check_cancel(ctx, job->what)
+                        : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the horizons' rays");
                 ctx->counters.sweep_seconds += ss_seconds_now() - t0;
                 walked += (uint64_t)n_rows * w;
+                walked_dirs += row0 == 0;
             }
-            if (st == SS_OK)
+            if (st == SS_OK && consumer->direction)
                 st = consumer->direction(job->user, dir->index, &band,
                                          dir->walk ? &walk_rows : NULL, planes);
             if (st == SS_OK)
@@ -75,10 +76,8 @@ static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep
         if (st == SS_OK && consumer->finish)
             st = consumer->finish(job->user, &band, planes);
     }
-    if (st == SS_OK) {
-        ctx->counters.box_sky_directions += (uint64_t)job->n_dirs;
-        ctx->counters.cells_swept += walked;
-    }
+    ctx->counters.box_sky_directions += walked_dirs;
+    ctx->counters.cells_swept += walked;
     ss_box_sky_tops_free(tops);
     free(angle);
     free(dist);
@@ -91,6 +90,8 @@ static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep
 ss_status ss_horizon_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                           const ss_engine_job *job)
 {
-    return ss_box_sky_marched(opt, 0.0) ? horizon_march(ctx, src, opt, job)
-                                        : ss_engine_run(ctx, src, opt, job);
+    /* A radius or negated heights (no horizon walk asks for them) go to the
+     * engine, which says what it does with them. */
+    int marched = ss_box_sky_marched(opt, job->walk.radius_m) && !job->walk.negate;
+    return marched ? horizon_march(ctx, src, opt, job) : ss_engine_run(ctx, src, opt, job);
 }

@@ -435,13 +435,10 @@ static void plan_sky_box_lines(ss_plan *p, const ss_plan_request *r)
         if (strcmp(p->items[i].key, "lines") == 0) {
             size_t used = strlen(p->items[i].reason);
             snprintf(p->items[i].reason + used, sizeof p->items[i].reason - used,
-                     "; the sky view %s %d, the fewest whose SVF error (95th percentile on "
-                     "city DSMs, doc/box_lines.md) is within the %.3g tolerance, where the "
-                     "exact shadows come from each cell's own ray",
-                     sky_marched(p, r) ? "is each cell's own ray (--box-sky march), and the "
-                                         "horizons it takes besides (Perez's band, a tilted "
-                                         "surface's) take"
-                                       : "takes",
+                     "; %s %d, the fewest within the %.3g SVF tolerance",
+                     sky_marched(p, r) ? "the sky view and Perez's band are each cell's own ray; "
+                                         "a canopy's sky view takes"
+                                       : "the sky view takes",
                      sky, r->svf_tolerance);
             p->items[i].bound = error;
         }
@@ -461,9 +458,17 @@ static double shadow_sweep_cost(const ss_plan *p, const ss_plan_request *r)
     return shadows_marched(p, r) ? COST_BOX_MARCH : box_sweep_cost(p);
 }
 
+/* A direction of the sky view's or the stored horizons' walk, in sweeps:
+ * by each cell's own ray where marched, else the lines' walks. */
+static double sky_sweep_cost(const ss_plan *p, const ss_plan_request *r)
+{
+    return sky_marched(p, r) ? COST_BOX_SKY_MARCH : box_sweep_cost(p);
+}
+
 /* The modelled seconds per cell of a year's shadows in a mode with
  * `directions` (the sky's too), on the C twin: the sweeps (box sweeps
- * walking box_lines lines per cell) and the per-cell work per record, or,
+ * walking box_lines lines per cell, or each cell's own ray) and the
+ * per-cell work per record, or,
  * for the cumulative sky, per bin of suns, at most directions x 90 (the
  * default 1 degree bins). Daylight records are taken as half the records
  * (a year's share; the plan's own count comes after the choice). */
@@ -471,9 +476,9 @@ static double shadow_seconds(const ss_plan *p, const ss_plan_request *r, ss_shad
                              int directions, int n_steps)
 {
     double daylight = 0.5 * n_steps;
-    double sweeps = directions * box_sweep_cost(p) +
+    double sweeps = directions * sky_sweep_cost(p, r) +
                     (mode == SS_SHADOW_EXACT ? daylight * shadow_sweep_cost(p, r)
-                                             : directions * box_sweep_cost(p));
+                                             : directions * sky_sweep_cost(p, r));
     double steps = mode == SS_SHADOW_CUMULATIVE ? fmin(daylight, 90.0 * directions) : daylight;
     return sweeps / COST_REF_RATE + steps * PLAN_CELL_STEP_S;
 }

@@ -61,10 +61,10 @@ float ss_product_finish(int term, float sum, int directions);
 int ss_box_sky_marched(const ss_sweep_options *opt, double radius_m);
 
 /* Runs a horizon walk (job's term SS_TERM_HORIZON): where
- * ss_box_sky_marched (no radius), each cell's own ray, the box model
- * exactly, handed to the consumer band by band as the engine hands its
- * walks (the views hold every row; the heights held whole as for the sky
- * view); else ss_engine_run. */
+ * ss_box_sky_marched (no radius, heights not negated), each cell's own
+ * ray, the box model exactly, handed to the consumer band by band as the
+ * engine hands its walks (the views hold every row; the heights held whole
+ * as for the sky view); else ss_engine_run. */
 ss_status ss_horizon_walk(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                           const ss_engine_job *job);
 
