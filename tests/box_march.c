@@ -8,6 +8,50 @@
 #include "box_march.h"
 #include "testlib.h"
 
+/* One ray's exact cell traversal (Amanatides & Woo 1987) from cell (r, c)
+ * toward azimuth az (clockwise from the grid's north): the square it is
+ * in, (ci, ri), and the metres from the start where it entered (t_in) and
+ * leaves (t_out) it. */
+typedef struct {
+    int ci, ri, sx, sy;
+    double tx, ty, step_x, step_y; /* the next column and row boundaries, and between them */
+    double t_in, t_out;
+} march_ray;
+
+static march_ray march_ray_from(const ss_grid *g, int r, int c, double az)
+{
+    double dx = sin(az * M_PI / 180) / g->cell_x_m;  /* columns per metre */
+    double dy = -cos(az * M_PI / 180) / g->cell_y_m; /* rows per metre (north: up) */
+    march_ray m = {.ci = c, .ri = r, .sx = dx > 0 ? 1 : -1, .sy = dy > 0 ? 1 : -1};
+    m.tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
+    m.ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
+    m.step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
+    m.step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
+    m.t_in = 0.0;
+    m.t_out = fmin(m.tx, m.ty); /* where the ray leaves its own square */
+    return m;
+}
+
+/* Into the next square: 0 where the ray has left the grid. */
+static int march_ray_next(const ss_grid *g, march_ray *m)
+{
+    m->t_in = m->t_out;
+    if (m->tx < m->ty) {
+        m->ci += m->sx;
+        m->tx += m->step_x;
+    } else {
+        m->ri += m->sy;
+        m->ty += m->step_y;
+    }
+    m->t_out = fmin(m->tx, m->ty);
+    return m->ci >= 0 && m->ri >= 0 && m->ci < g->width && m->ri < g->height;
+}
+
+static float march_ray_height(const ss_grid *g, const march_ray *m)
+{
+    return g->z[(size_t)m->ri * g->width + m->ci];
+}
+
 int box_march_lit(const ss_grid *g, int r, int c, double az, double el, double z_max)
 {
     return box_march_lit_curved(g, r, c, az, el, z_max, 0.0);
@@ -18,31 +62,13 @@ int box_march_lit_curved(const ss_grid *g, int r, int c, double az, double el, d
 {
     double z0 = g->z[(size_t)r * g->width + c];
     double tan_el = tan(el * M_PI / 180);
-    double dx = sin(az * M_PI / 180) / g->cell_x_m;  /* columns per metre */
-    double dy = -cos(az * M_PI / 180) / g->cell_y_m; /* rows per metre (north: up) */
-    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
-    /* Distances (metres) to the next column and row boundaries, and between them. */
-    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
-    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
-    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
-    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
-    for (;;) {
-        double t;
-        if (tx < ty) {
-            t = tx;
-            ci += sx;
-            tx += step_x;
-        } else {
-            t = ty;
-            ri += sy;
-            ty += step_y;
-        }
-        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height || z0 + tan_el * t > z_max)
-            return 1;
-        float h = g->z[(size_t)ri * g->width + ci];
-        if (isfinite(h) && h - z0 - curv_k * t * t > tan_el * t)
+    march_ray m = march_ray_from(g, r, c, az);
+    while (march_ray_next(g, &m) && z0 + tan_el * m.t_in <= z_max) {
+        float h = march_ray_height(g, &m);
+        if (isfinite(h) && h - z0 - curv_k * m.t_in * m.t_in > tan_el * m.t_in)
             return 0;
     }
+    return 1;
 }
 
 int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_m, int r, int c,
@@ -50,31 +76,16 @@ int box_march_crossed(const ss_grid *g, const float *top_m, const float *bottom_
 {
     double z0 = g->z[(size_t)r * g->width + c];
     double tan_el = tan(el * M_PI / 180);
-    double dx = sin(az * M_PI / 180) / g->cell_x_m, dy = -cos(az * M_PI / 180) / g->cell_y_m;
-    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
-    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
-    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
-    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
-    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
-    double t_in = fmin(tx, ty); /* where the ray leaves its own square */
-    for (;;) {
-        if (tx < ty) {
-            ci += sx;
-            tx += step_x;
-        } else {
-            ri += sy;
-            ty += step_y;
-        }
-        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height || z0 + tan_el * t_in > z_max)
-            return 0;
-        double t_out = fmin(tx, ty);
-        size_t j = (size_t)ri * g->width + ci;
+    march_ray m = march_ray_from(g, r, c, az);
+    while (march_ray_next(g, &m) && z0 + tan_el * m.t_in <= z_max) {
+        size_t j = (size_t)m.ri * g->width + m.ci;
         /* The ray rises from z0 + t_in tan(el) to z0 + t_out tan(el) over the square. */
         if (isfinite(g->z[j]) && top_m[j] > bottom_m[j] &&
-            z0 + tan_el * t_in < g->z[j] + top_m[j] && z0 + tan_el * t_out > g->z[j] + bottom_m[j])
+            z0 + tan_el * m.t_in < g->z[j] + top_m[j] &&
+            z0 + tan_el * m.t_out > g->z[j] + bottom_m[j])
             return 1;
-        t_in = t_out;
     }
+    return 0;
 }
 
 double box_march_horizon_deg(const ss_grid *g, int r, int c, double az)
@@ -85,73 +96,72 @@ double box_march_horizon_deg(const ss_grid *g, int r, int c, double az)
 double box_march_horizon_curved_deg(const ss_grid *g, int r, int c, double az, double curv_k)
 {
     double z0 = g->z[(size_t)r * g->width + c];
-    double dx = sin(az * M_PI / 180) / g->cell_x_m, dy = -cos(az * M_PI / 180) / g->cell_y_m;
-    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
-    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
-    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
-    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
-    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
-    /* The cell's own top reaches to its edge: 0 deg there. */
-    double best = 0.0, t_in = fmin(tx, ty);
-    for (;;) {
-        if (tx < ty) {
-            ci += sx;
-            tx += step_x;
-        } else {
-            ri += sy;
-            ty += step_y;
-        }
-        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height)
-            return best;
-        double t_out = fmin(tx, ty);
-        float h = g->z[(size_t)ri * g->width + ci];
+    march_ray m = march_ray_from(g, r, c, az);
+    double best = 0.0; /* the cell's own top reaches to its edge: 0 deg there */
+    while (march_ray_next(g, &m)) {
+        float h = march_ray_height(g, &m);
         /* A column above the eye shows its near edge, one below its far edge. */
         if (isfinite(h)) {
-            double t = h > z0 ? t_in : t_out;
+            double t = h > z0 ? m.t_in : m.t_out;
             best = fmax(best, atan((h - z0 - curv_k * t * t) / t) * 180 / M_PI);
         }
-        t_in = t_out;
     }
+    return best;
 }
 
 void box_march_point_near(const ss_grid *g, int r, int c, double az, double curv_k,
                           double dist_m, double height_m, box_march_point *p)
 {
     double z0 = g->z[(size_t)r * g->width + c];
-    double dx = sin(az * M_PI / 180) / g->cell_x_m, dy = -cos(az * M_PI / 180) / g->cell_y_m;
-    int ci = c, ri = r, sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
-    double tx = fabs(dx) > 1e-12 ? 0.5 / fabs(dx) : INFINITY;
-    double ty = fabs(dy) > 1e-12 ? 0.5 / fabs(dy) : INFINITY;
-    double step_x = fabs(dx) > 1e-12 ? 1.0 / fabs(dx) : INFINITY;
-    double step_y = fabs(dy) > 1e-12 ? 1.0 / fabs(dy) : INFINITY;
-    double t_in = fmin(tx, ty);
+    march_ray m = march_ray_from(g, r, c, az);
     /* The cell's own top, at 0 deg where it ends. */
-    *p = (box_march_point){t_in, z0, 0.0};
-    for (;;) {
-        if (tx < ty) {
-            ci += sx;
-            tx += step_x;
-        } else {
-            ri += sy;
-            ty += step_y;
-        }
-        if (ci < 0 || ri < 0 || ci >= g->width || ri >= g->height)
-            return;
-        float h = g->z[(size_t)ri * g->width + ci];
-        /* Only a column above the eye rises above 0 deg, at its near edge. */
-        /* Where the ray passes at or near a corner, two columns show at
+    *p = (box_march_point){m.t_out, z0, 0.0};
+    while (march_ray_next(g, &m) && m.t_in <= 2.0 * dist_m + 2.0 * (g->cell_x_m + g->cell_y_m)) {
+        float h = march_ray_height(g, &m);
+        /* Only a column above the eye rises above 0 deg, at its near edge.
+         * Where the ray passes at or near a corner, two columns show at
          * distances a float (dist_m's) cannot tell apart. */
-        double off = fabs(t_in - dist_m) - fabs(p->dist_m - dist_m);
+        double t = m.t_in, off = fabs(t - dist_m) - fabs(p->dist_m - dist_m);
         double tie = 1e-6 * fmax(1.0, dist_m);
         int nearer =
             off < -tie || (off <= tie && fabs(h - height_m) < fabs(p->height_m - height_m));
         if (isfinite(h) && h > z0 && nearer)
-            *p = (box_march_point){t_in, h,
-                                   atan((h - z0 - curv_k * t_in * t_in) / t_in) * 180 / M_PI};
-        t_in = fmin(tx, ty);
-        if (t_in > 2.0 * dist_m + 2.0 * (g->cell_x_m + g->cell_y_m))
-            return;
+            *p = (box_march_point){t, h, atan((h - z0 - curv_k * t * t) / t) * 180 / M_PI};
     }
+}
+
+void box_march_holes(ss_grid *g)
+{
+    for (size_t i = 0; i < (size_t)g->width * g->height; i += 37)
+        g->z[i] = NAN;
+    g->cell_y_m = 1.5;
+}
+
+ss_grid box_march_strip(int width, int height)
+{
+    ss_grid g = test_grid(width, height, 1.0, 1.0);
+    for (int i = 0; i < width * height; ++i)
+        g.z[i] = (float)((i * 7919) % 23);
+    return g;
+}
+
+ss_grid box_march_tower(void)
+{
+    ss_grid g = test_grid(90, 70, 2.0, 2.0);
+    for (size_t i = 0; i < (size_t)90 * 70; ++i)
+        g.z[i] = 0.0f;
+    g.z[(size_t)35 * 90 + 45] = 80.0f;
+    return g;
+}
+
+ss_grid box_march_hills(void)
+{
+    ss_grid g = test_grid(120, 100, 2.0, 2.0);
+    for (int r = 0; r < 100; ++r)
+        for (int c = 0; c < 120; ++c)
+            g.z[(size_t)r * 120 + c] = (float)(12.0 * sin(c / 9.0) * cos(r / 13.0) + 0.15 * c +
+                                               30.0 * exp(-pow((r - 70) / 6.0, 2)));
+    return g;
 }
 
 double box_march_top(const ss_grid *g)

@@ -59,6 +59,18 @@ double box_march_top(const ss_grid *g);
 /* A synthetic city of n x n 1 m cells: flat ground at 0 with boxes of
  * 6..40 m sides and 4..45 m heights. */
 ss_grid box_march_city(int n);
+/* Holes of nodata in every 37th cell of g, which neither cast nor
+ * receive, and its cells half as long again north-south (1.5 m). */
+void box_march_holes(ss_grid *g);
+/* One row or one column (width or height 1) of 1 m cells, heights 0..22 m
+ * in no order. */
+ss_grid box_march_strip(int width, int height);
+/* One 80 m tower on a plain of 90 x 70 cells of 2 m. */
+ss_grid box_march_tower(void);
+/* Rolling hills on a slope, 120 x 100 cells of 2 m, with a ridge: low
+ * horizons, so the rays pass over the blocks that cannot rise above them,
+ * and walk on far up the slope. */
+ss_grid box_march_hills(void);
 
 /* The share of valid cells where ss_cast_shadow with opt on the C twin
  * equals the march, for a sun at (az, el); NAN after a failure, whose

@@ -143,30 +143,19 @@ int main(void)
     /* A radius of 2 km: curvature that matters across 120 m. */
     check_grid("a synthetic city", &city, 1.0 / (2.0 * 2000.0));
     check_bands("a synthetic city", &city, 1.0 / (2.0 * 2000.0));
-    /* Holes of nodata, which neither cast nor receive, and cells half as
-     * long again north-south. */
-    for (size_t i = 0; i < (size_t)120 * 120; i += 37)
-        city.z[i] = NAN;
-    city.cell_y_m = 1.5;
+    box_march_holes(&city);
     check_grid("a city with holes, 1 x 1.5 m cells", &city, 0.0);
     check_bands("a city with holes, 1 x 1.5 m cells", &city, 0.0);
     ss_grid_free(&city);
-    ss_grid row = test_grid(300, 1, 1.0, 1.0);
-    for (int c = 0; c < 300; ++c)
-        row.z[c] = (float)((c * 7919) % 23);
+    ss_grid row = box_march_strip(300, 1);
     check_grid("one row", &row, 0.0);
     ss_grid_free(&row);
     /* One column: the major axis may be its rows with a stride of 1. */
-    ss_grid column = test_grid(1, 300, 1.0, 1.0);
-    for (int r = 0; r < 300; ++r)
-        column.z[r] = (float)((r * 7919) % 23);
+    ss_grid column = box_march_strip(1, 300);
     check_grid("one column", &column, 0.0);
     check_bands("one column", &column, 0.0);
     ss_grid_free(&column);
-    ss_grid tower = test_grid(90, 70, 2.0, 2.0);
-    for (size_t i = 0; i < (size_t)90 * 70; ++i)
-        tower.z[i] = 0.0f;
-    tower.z[(size_t)35 * 90 + 45] = 80.0f;
+    ss_grid tower = box_march_tower();
     check_grid("one tower on a plain", &tower, 0.0);
     check_bands("one tower on a plain", &tower, 0.0);
     ss_grid_free(&tower);

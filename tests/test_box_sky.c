@@ -297,29 +297,18 @@ int main(void)
     check_bands("a synthetic city", &city);
     check_devices_and_lines("a synthetic city", &city);
     check_lanes("a synthetic city", &city);
-    /* Holes of nodata, which neither cast nor receive, and cells half as
-     * long again north-south. */
-    for (size_t i = 0; i < (size_t)90 * 90; i += 37)
-        city.z[i] = NAN;
-    city.cell_y_m = 1.5;
+    box_march_holes(&city);
     check_grid("a city with holes, 1 x 1.5 m cells", &city, 0.0);
     check_bands("a city with holes, 1 x 1.5 m cells", &city);
     check_lanes("a city with holes, 1 x 1.5 m cells", &city);
     ss_grid_free(&city);
-    ss_grid row = test_grid(300, 1, 1.0, 1.0);
-    for (int c = 0; c < 300; ++c)
-        row.z[c] = (float)((c * 7919) % 23);
+    ss_grid row = box_march_strip(300, 1);
     check_grid("one row", &row, 0.0);
     ss_grid_free(&row);
-    ss_grid column = test_grid(1, 300, 1.0, 1.0);
-    for (int r = 0; r < 300; ++r)
-        column.z[r] = (float)((r * 7919) % 23);
+    ss_grid column = box_march_strip(1, 300);
     check_grid("one column", &column, 0.0);
     ss_grid_free(&column);
-    ss_grid tower = test_grid(90, 70, 2.0, 2.0);
-    for (size_t i = 0; i < (size_t)90 * 70; ++i)
-        tower.z[i] = 0.0f;
-    tower.z[(size_t)35 * 90 + 45] = 80.0f;
+    ss_grid tower = box_march_tower();
     check_grid("one tower on a plain", &tower, 0.0);
     check_bands("one tower on a plain", &tower);
     check_lanes("one tower on a plain", &tower);
@@ -327,11 +316,7 @@ int main(void)
     /* Rolling hills on a slope, 3 blocks by 3 and parts of them: low
      * horizons, so the walks pass over the blocks that cannot rise above
      * them, and walk on far up the slope and to the ridge. */
-    ss_grid hills = test_grid(120, 100, 2.0, 2.0);
-    for (int r = 0; r < 100; ++r)
-        for (int c = 0; c < 120; ++c)
-            hills.z[(size_t)r * 120 + c] = (float)(12.0 * sin(c / 9.0) * cos(r / 13.0) +
-                                                   0.15 * c + 30.0 * exp(-pow((r - 70) / 6.0, 2)));
+    ss_grid hills = box_march_hills();
     check_grid("rolling hills", &hills, 0.0);
     check_grid("rolling hills", &hills, 1.0 / (2.0 * 3000.0));
     check_bands("rolling hills", &hills);

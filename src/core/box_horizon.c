@@ -23,7 +23,7 @@ int ss_box_horizon_rows(const ss_grid *grid, double grid_azimuth_deg, const ss_b
     for (int r = row0; r < row0 + n_rows; ++r) {
         int lanes = 1;
         for (int c = 0; ok && c < w && !(cancel && *cancel); c += lanes) {
-            lanes = lanes_ok && c % SS_SKY_LANES == 0 && c + SS_SKY_LANES <= w ? SS_SKY_LANES : 1;
+            lanes = ss_sky_lanes_at(lanes_ok, c, w);
             const float *z = grid->z + (size_t)r * w + c;
             size_t own = (size_t)(r - row0) * w + c;
             double tangent[SS_SKY_LANES];

@@ -182,7 +182,7 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
          * row (from a multiple of four), else one. */
         int lanes = 1;
         for (int c = 0; ok && c < w && !(cancel && *cancel); c += lanes) {
-            lanes = lanes_ok && c % SS_SKY_LANES == 0 && c + SS_SKY_LANES <= w ? SS_SKY_LANES : 1;
+            lanes = ss_sky_lanes_at(lanes_ok, c, w);
             const float *z = grid->z + (size_t)r * w + c;
             size_t own = (size_t)(r - row0) * w + c;
             int any = 0;

@@ -115,6 +115,14 @@ double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_
 /* Whether this CPU walks four cells at a time (ss_sky_tangents_avx2). */
 int ss_sky_lanes_here(void);
 
+/* How many cells from column c of a row width cells long walk together:
+ * SS_SKY_LANES where the lanes are on (lanes_on) and that many lie ahead
+ * from a multiple of it, else one. */
+static inline int ss_sky_lanes_at(int lanes_on, int c, int width)
+{
+    return lanes_on && c % SS_SKY_LANES == 0 && c + SS_SKY_LANES <= width ? SS_SKY_LANES : 1;
+}
+
 /* The AVX2 copy, built by GCC on x86-64 (box_sky_lanes.c repeats the
  * condition): ss_sky_tangent of the SS_SKY_LANES cells from (col, row),
  * col a multiple of SS_SKY_LANES and col + SS_SKY_LANES <= width, into
