@@ -80,7 +80,9 @@ def _north_up(dem, cell_size, whole=True):
     flips = []
     sizes = []
     for axis, dim in ((1, dem.dims[1]), (0, dem.dims[0])):
-        coord = dem.coords.get(dim)
+        # Not coords.get: for a dimension without coordinates it gives the
+        # positions 0, 1, 2 ..., which would read as 1 m cells.
+        coord = dem.coords[dim] if dim in dem.coords else None
         if coord is None or coord.size < 2:
             sizes.append(None)
             continue

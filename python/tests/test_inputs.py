@@ -96,6 +96,15 @@ def test_rioxarray_nodata_of_an_int16_dem_is_nodata(tmp_path):
         assert same(out.values, theirs.values[0])
 
 
+def test_a_dataarray_without_coordinates_needs_a_cell_size():
+    xr = pytest.importorskip("xarray")
+    da = xr.DataArray(rough_dem(30, 20), dims=("y", "x"))
+    with pytest.raises(TypeError, match="cell_size is needed"):
+        skysweep.horizon(da, directions=4)
+    # The caller's cell size is the caller's word.
+    assert np.isfinite(skysweep.horizon(da, 10.0, directions=4).elevation.values).any()
+
+
 def test_a_geographic_dataarray_is_refused_not_taken_as_metres():
     rioxarray = pytest.importorskip("rioxarray")
     da = rioxarray.open_rasterio(SAMPLES / "oetztal_srtm3_crop.tif").squeeze("band", drop=True)
