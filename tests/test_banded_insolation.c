@@ -33,6 +33,7 @@
 typedef struct {
     const ss_grid *g;
     int per_cell;
+    int weather;                                     /* the steps are weather records */
     int first;                                       /* run step k is the table's step first + k */
     float *az[N_STEPS], *el[N_STEPS], *app[N_STEPS]; /* whole-grid fields */
 } sun_setup;
@@ -87,10 +88,23 @@ static void table_step(int k, double spread_deg, ss_sun_step *step)
     step->spread_deg = spread_deg;
 }
 
+/* A weather record of light enough to cast shadows, in June. */
+static void weather_step(ss_sun_step *step)
+{
+    step->real_sky = 1;
+    step->ghi_w_m2 = 600.0;
+    step->dni_w_m2 = 500.0;
+    step->dhi_w_m2 = 150.0;
+    step->albedo = step->temp_air_c = step->wind_speed_m_s = NAN;
+    step->month = 6;
+}
+
 static void fill_step(const sun_setup *s, int k, size_t offset, ss_sun_step *step)
 {
     k = (k + s->first) % N_STEPS; /* long runs repeat the table */
     table_step(k, s->per_cell ? 2.5 : 0.0, step);
+    if (s->weather)
+        weather_step(step);
     if (s->per_cell && offset != (size_t)-1) {
         step->grid_azimuth_per_cell = s->az[k] + offset;
         step->elevation_per_cell = s->el[k] + offset;
@@ -375,14 +389,8 @@ static ss_status lattice_sun(ss_ctx *ctx, int k, int row0, int n_rows, ss_sun_st
     (void)ctx;
     const lattice_setup *s = user;
     table_step(k, 2.5, step);
-    if (s->weather) {
-        step->real_sky = 1;
-        step->ghi_w_m2 = 600.0;
-        step->dni_w_m2 = 500.0;
-        step->dhi_w_m2 = 150.0;
-        step->albedo = step->temp_air_c = step->wind_speed_m_s = NAN;
-        step->month = 6;
-    }
+    if (s->weather)
+        weather_step(step);
     size_t at = (size_t)row0 * s->g->width;
     if (n_rows > 0 && s->use_lattice)
         step->lattice = &s->lattice[k];
@@ -737,6 +745,70 @@ static void sky_box_lines_obeyed(const ss_grid *g)
         free(global[k]);
 }
 
+/* The box model's horizons by each cell's own ray in bands (horizon_walk.c):
+ * the stored horizons of interpolated shadows, and under weather records
+ * Perez's horizon band, which takes each cell's horizons too. A cell's
+ * ray reads the heights held whole and its own cell alone, so each step's
+ * global is the whole grid's to the bit in every band height, and so are
+ * the summed outputs from one band height to the next. Against the whole
+ * grid the sums differ in their order alone (a run of several bands sums
+ * each pass's steps, then the passes: compare_lines), by a rounding per
+ * step; band_rows[0] must be under the grid's height. */
+static void rays_in_bands(const ss_grid *g, int weather, ss_shadow_mode shadows,
+                          const int *band_rows, int n_band_rows)
+{
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.lines = SS_LINES_BOX;
+    opt.box_lines = 8;
+    opt.directions = 12;
+    ss_insolation_options io = {.albedo = 0.25,
+                                .shadow_mode = shadows,
+                                .sky_model = weather ? SS_SKY_MODEL_PEREZ : SS_SKY_MODEL_ISOTROPIC};
+    sun_setup sun;
+    grids whole, first, banded;
+    int ok = sun_init(&sun, g, 1) && grids_init(&whole, g, &sun) && grids_init(&first, g, &sun) &&
+             grids_init(&banded, g, &sun);
+    sun.weather = weather;
+    size_t n = (size_t)g->width * g->height, mismatch = 0;
+    ss_ctx *ctx = ss_ctx_new();
+    ss_ctx_use_device(ctx, "reference");
+    int steps_same = 1, sums_same = 1, runs = 0, rays = 0;
+    double worst = 0;
+    for (int b = -1; ok && b < n_band_rows; ++b) {
+        grids *o = b < 0 ? &whole : b == 0 ? &first : &banded;
+        ss_source src = test_source(g, read_rows, o, b < 0 ? 0 : band_rows[b], NULL);
+        uint64_t before = ss_ctx_counters(ctx).box_sky_directions;
+        ok = ss_insolation_rows(ctx, &src, &opt, &io, N_STEPS, sun_rows, &sun,
+                                SS_INSOLATION_STEPS, NULL, write_rows, o) == SS_OK;
+        runs += ok;
+        rays += ok && ss_ctx_counters(ctx).box_sky_directions > before;
+        for (int k = 0; ok && b >= 0 && k < N_STEPS; ++k)
+            steps_same &= same_floats(whole.steps[k], o->steps[k], n);
+        for (int k = 0; ok && b >= 0 && k < 5; ++k) {
+            worst = fmax(worst, worst_of(whole.out[k], o->out[k], n, &mismatch));
+            /* A band of the whole grid's height sums as the whole grid. */
+            sums_same &= same_floats(band_rows[b] >= g->height ? whole.out[k] : first.out[k],
+                                     o->out[k], n);
+        }
+    }
+    tap_ok(ok && steps_same && sums_same && !mismatch && worst <= 1.2e-7 * N_STEPS &&
+               rays == n_band_rows + 1,
+           "box city, %s, %s shadows, the horizons by each cell's own ray: %d band heights give "
+           "the whole grid's steps to the bit (%s) and each other's sums to the bit (%s), within "
+           "%.2g of the whole grid's (want <= %.2g: the order of the sums; %zu nodata "
+           "mismatches; %d runs, %d by the rays)%s%s",
+           weather ? "weather records under Perez's sky" : "clear sky",
+           shadows == SS_SHADOW_EXACT ? "exact" : "interpolated", n_band_rows,
+           steps_same ? "yes" : "no", sums_same ? "yes" : "no", worst, 1.2e-7 * N_STEPS, mismatch,
+           runs, rays, ok ? "" : ": ", ok ? "" : ss_ctx_message(ctx));
+    ss_ctx_free(ctx);
+    sun_free(&sun);
+    grids_free(&whole);
+    grids_free(&first);
+    grids_free(&banded);
+}
+
 static void compare(ss_ctx *ctx, const ss_grid *g, const char *terrain, int per_cell, int curved,
                     int first, int n_steps, const int *band_rows, int n_band_rows)
 {
@@ -790,6 +862,9 @@ int main(void)
     march_against_lines(&city, 1);
     march_on_device(&city);
     sky_box_lines_obeyed(&city);
+    rays_in_bands(&city, 1, SS_SHADOW_EXACT, band_rows, nb);
+    rays_in_bands(&city, 1, SS_SHADOW_INTERPOLATED, band_rows, nb);
+    rays_in_bands(&city, 0, SS_SHADOW_INTERPOLATED, band_rows, nb);
     ss_grid_free(&city);
     lattice_against_arrays(&s, 0, band_rows, nb);
     lattice_against_arrays(&s, 1, band_rows, nb);

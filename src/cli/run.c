@@ -724,7 +724,7 @@ ss_status run_check_output(run_state *run, const char *output)
 void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_options *opt,
                          const ss_dem_frame *frame)
 {
-    char buf[512];
+    char buf[768];
     ss_writer_metadata(w, "SKYSWEEP_VERSION", ss_version());
     ss_writer_metadata(w, "SKYSWEEP_COMMAND", run->command);
     snprintf(buf, sizeof buf, "%d", opt->directions);
@@ -752,20 +752,28 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
              !frame->georeferenced ? "given" : frame->geographic ? "geodesic" : "projected / scale",
              frame->cell_variation);
     ss_writer_metadata(w, "CELL_SIZE_USED", buf);
-    if (opt->lines == SS_LINES_BOX)
-        snprintf(buf, sizeof buf,
-                 "box: cells as flat-topped columns, %d lines per cell, each cell's horizon from "
-                 "the nearest (at most %.3g cell beside its centre)%s%s",
-                 opt->box_lines, 0.5 / opt->box_lines,
-                 opt->box_shadows == SS_BOX_SHADOWS_MARCH
-                     ? "; cast shadows from each cell's own ray (exact: proven bounds, else a "
-                       "march), on every device and in bands"
-                     : "; cast shadows from the lines",
-                 ss_ctx_counters(run->ctx).box_sky_directions > 0
+    /* What the box model took, as the run did it: the rays where they ran,
+     * the lines where anything was swept on them. */
+    ss_counters done = ss_ctx_counters(run->ctx);
+    if (opt->lines == SS_LINES_BOX) {
+        char lines[160] = "";
+        if (done.sweeps > 0)
+            snprintf(lines, sizeof lines,
+                     "; the lines swept, %d per cell, give each cell the horizon of the nearest "
+                     "(at most %.3g cell beside its centre)",
+                     opt->box_lines, 0.5 / opt->box_lines);
+        snprintf(buf, sizeof buf, "box: cells as flat-topped columns%s%s%s",
+                 done.box_sky_directions > 0
                      ? "; the sky view and horizons (SVF, openness, horizon rasters, sky terms, "
-                       "Perez's band) from each cell's own ray (the box model exactly), on every "
+                       "Perez's band) by each cell's own ray (the box model exactly), on every "
                        "device and in bands"
-                     : "");
+                     : "",
+                 lines,
+                 opt->box_shadows == SS_BOX_SHADOWS_MARCH
+                     ? "; cast shadows by each cell's own ray (exact: proven bounds, else a "
+                       "march), on every device and in bands"
+                     : "; cast shadows from the lines");
+    }
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
                            ? "digital: lines through cell centres, distance projected on the "
@@ -782,9 +790,8 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     ss_writer_metadata(w, "EARTH_CURVATURE", buf);
     /* Asking for the device's name opens it (OpenCL set-up, ~0.2 s on
      * PoCL): a run that swept nothing (plain hillshade) names none. */
-    ss_counters c = ss_ctx_counters(run->ctx);
-    ss_writer_metadata(w, "DEVICE", c.sweeps > 0 ? ss_ctx_device_name(run->ctx)
-                                    : c.box_sky_directions > 0
+    ss_writer_metadata(w, "DEVICE", done.sweeps > 0 ? ss_ctx_device_name(run->ctx)
+                                    : done.box_sky_directions > 0
                                         ? "the host: the box model's sky view or horizons by "
                                           "each cell's own ray"
                                         : "none: no sweep was needed");
