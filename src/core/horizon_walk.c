@@ -7,8 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "box_sky.h"
-#include "products_internal.h"
+#include "box_rays_run.h"
 
 /* The job's directions by each cell's own ray, band by band (the source's
  * band rows) from the heights held whole, handed to the consumer as the
@@ -17,37 +16,26 @@
 static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                                const ss_engine_job *job)
 {
-    float *owned;
-    const float *z;
-    ss_status st = ss_source_heights(ctx, src, &owned, &z);
+    ss_box_rays_run run;
+    ss_status st = ss_box_rays_begin(ctx, src, 1.0f, &run);
     if (st != SS_OK)
         return st;
     const ss_consumer *consumer = job->consumer;
-    int w = src->width, h = src->height, rows = ss_source_band_rows(src);
-    size_t n = (size_t)w * rows;
+    int w = src->width, h = src->height;
+    size_t n = (size_t)w * run.band_rows;
     int want_cast = (job->walk.want & SS_HORIZON_WANT_CAST) != 0;
     int want_dist = want_cast || (job->walk.want & SS_HORIZON_WANT_DIST);
-    ss_grid grid = {w, h, src->cell_x_m, src->cell_y_m, 0.0, (float *)z}; /* only read */
-    ss_box_sky_tops *tops = ss_box_sky_tops_new(&grid, 1.0f);
     float *angle = ss_malloc(n * sizeof(float));
     float *dist = want_dist ? ss_malloc(n * sizeof(float)) : NULL;
     float *cast = want_cast ? ss_malloc(n * sizeof(float)) : NULL;
     float *planes = consumer->planes ? ss_malloc(consumer->planes * n * sizeof(float)) : NULL;
-    if (!tops || !angle || (want_dist && !dist) || (want_cast && !cast) ||
-        (consumer->planes && !planes))
+    if (!angle || (want_dist && !dist) || (want_cast && !cast) || (consumer->planes && !planes))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of horizons");
     double curv_k = ss_curvature_k(opt);
     uint64_t walked = 0, walked_dirs = 0;
-    for (int row0 = 0; row0 < h && st == SS_OK; row0 += rows) {
-        int n_rows = h - row0 < rows ? h - row0 : rows;
-        ss_band_view band = {.row0 = row0,
-                             .n_rows = n_rows,
-                             .lo = 0,
-                             .held_rows = h,
-                             .width = w,
-                             .height = h,
-                             .z = z,
-                             .own_z = z + (size_t)row0 * w};
+    for (int row0 = 0; row0 < h && st == SS_OK; row0 += run.band_rows) {
+        ss_band_view band = ss_box_rays_band(&run, row0);
+        int n_rows = band.n_rows;
         if (planes)
             memset(planes, 0, consumer->planes * (size_t)n_rows * w * sizeof(float));
         if (consumer->visit)
@@ -57,11 +45,11 @@ static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep
             ss_dir_rows walk_rows = {angle, dist, cast, 0};
             if (dir->walk) {
                 double t0 = ss_seconds_now();
-                st =
-                    ss_box_horizon_rows(&grid, dir->azimuth_deg - opt->grid_north_deg, tops, curv_k,
-                                        row0, n_rows, &ctx->cancel_requested, angle, dist, cast)
-                        ? ss_check_cancel(ctx, job->what)
-                        : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the horizons' rays");
+                st = ss_box_horizon_rows(&run.grid, dir->azimuth_deg - opt->grid_north_deg,
+                                         run.tops, curv_k, row0, n_rows,
+                                         &ctx->cancel_requested, angle, dist, cast)
+                         ? ss_check_cancel(ctx, job->what)
+                         : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the horizons' rays");
                 ctx->counters.sweep_seconds += ss_seconds_now() - t0;
                 walked += (uint64_t)n_rows * w;
                 walked_dirs += row0 == 0;
@@ -78,12 +66,11 @@ static ss_status horizon_march(ss_ctx *ctx, const ss_source *src, const ss_sweep
     }
     ctx->counters.box_sky_directions += walked_dirs;
     ctx->counters.cells_swept += walked;
-    ss_box_sky_tops_free(tops);
     free(angle);
     free(dist);
     free(cast);
     free(planes);
-    free(owned);
+    ss_box_rays_end(&run);
     return st;
 }
 

@@ -9,8 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "box_sky.h"
-#include "products_internal.h"
+#include "box_rays_run.h"
 #include "ss_terms.h"
 
 /* The kernels' term for a sky product. */
@@ -61,27 +60,26 @@ int ss_box_sky_marched(const ss_sweep_options *opt, double radius_m)
 static ss_status sky_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_options *opt,
                            const ss_engine_job *job)
 {
-    float *owned;
-    const float *z;
-    ss_status st = ss_source_heights(ctx, src, &owned, &z);
+    float sign = job->walk.negate ? -1.0f : 1.0f;
+    ss_box_rays_run run;
+    ss_status st = ss_box_rays_begin(ctx, src, sign, &run);
     if (st != SS_OK)
         return st;
-    int w = src->width, h = src->height, rows = ss_source_band_rows(src);
+    int w = src->width, h = src->height, rows = run.band_rows;
     int tilted = job->walk.term == SS_SVF_TILTED;
-    ss_grid grid = {w, h, src->cell_x_m, src->cell_y_m, 0.0, (float *)z}; /* only read */
-    float sign = job->walk.negate ? -1.0f : 1.0f;
+    const float *z = run.grid.z;
     double curv_k = ss_curvature_k(opt);
-    ss_box_sky_tops *tops = ss_box_sky_tops_new(&grid, sign);
     float *sums = ss_malloc((size_t)w * rows * sizeof(float));
     double *azimuths = ss_malloc(sizeof(double) * (size_t)(job->n_dirs > 0 ? job->n_dirs : 1));
     /* A band's gradients with a row either side, as the engine's held rows give them. */
     float *grad = tilted ? ss_malloc(2 * (size_t)w * ((size_t)rows + 2) * sizeof(float)) : NULL;
-    if (!tops || !sums || !azimuths || (tilted && !grad))
+    if (!sums || !azimuths || (tilted && !grad))
         st = ss_fail(ctx, SS_ERR_MEMORY, "out of memory for a band of the sky view");
     for (int d = 0; azimuths && d < job->n_dirs; ++d)
         azimuths[d] = job->dirs[d].azimuth_deg - opt->grid_north_deg;
     for (int row0 = 0; row0 < h && st == SS_OK; row0 += rows) {
-        int n_rows = h - row0 < rows ? h - row0 : rows;
+        ss_band_view band = ss_box_rays_band(&run, row0);
+        int n_rows = band.n_rows;
         memset(sums, 0, (size_t)w * n_rows * sizeof(float));
         const float *own_grad = NULL;
         if (tilted) {
@@ -96,8 +94,8 @@ static ss_status sky_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
         for (int d0 = 0; d0 < job->n_dirs && st == SS_OK; d0 += SKY_RAYS_AT_ONCE) {
             int n = job->n_dirs - d0 < SKY_RAYS_AT_ONCE ? job->n_dirs - d0 : SKY_RAYS_AT_ONCE;
             double t0 = ss_seconds_now();
-            st = ss_box_sky_add(&grid, n, azimuths + d0, job->walk.term, sign, tops, curv_k,
-                                row0, n_rows, own_grad, &ctx->cancel_requested, sums)
+            st = ss_box_sky_add(&run.grid, n, azimuths + d0, job->walk.term, sign, run.tops,
+                                curv_k, row0, n_rows, own_grad, &ctx->cancel_requested, sums)
                      ? ss_check_cancel(ctx, job->what)
                      : ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the sky view's rays");
             ctx->counters.sweep_seconds += ss_seconds_now() - t0;
@@ -105,14 +103,6 @@ static ss_status sky_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
                 st = ss_progress(ctx, (row0 + n_rows * (double)(d0 + n) / job->n_dirs) / h,
                                  job->what);
         }
-        ss_band_view band = {.row0 = row0,
-                             .n_rows = n_rows,
-                             .lo = 0,
-                             .held_rows = h,
-                             .width = w,
-                             .height = h,
-                             .z = z,
-                             .own_z = z + (size_t)row0 * w};
         if (st == SS_OK)
             st = job->consumer->finish(job->user, &band, sums);
     }
@@ -120,11 +110,10 @@ static ss_status sky_march(ss_ctx *ctx, const ss_source *src, const ss_sweep_opt
         ctx->counters.box_sky_directions += (uint64_t)job->n_dirs;
         ctx->counters.cells_swept += (uint64_t)job->n_dirs * (uint64_t)w * (uint64_t)h;
     }
-    ss_box_sky_tops_free(tops);
     free(azimuths);
     free(grad);
     free(sums);
-    free(owned);
+    ss_box_rays_end(&run);
     return st;
 }
 
