@@ -753,7 +753,8 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
              frame->cell_variation);
     ss_writer_metadata(w, "CELL_SIZE_USED", buf);
     /* What the box model took, as the run did it: the rays where they ran,
-     * the lines where anything was swept on them. */
+     * the lines where anything was swept on them, the exact shadows' rays
+     * where any step or sun was marched. */
     ss_counters done = ss_ctx_counters(run->ctx);
     if (opt->lines == SS_LINES_BOX) {
         char lines[160] = "";
@@ -765,14 +766,15 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
         snprintf(buf, sizeof buf, "box: cells as flat-topped columns%s%s%s",
                  done.box_sky_directions > 0
                      ? "; the sky view and horizons (SVF, openness, horizon rasters, sky terms, "
-                       "Perez's band) by each cell's own ray (the box model exactly), on every "
-                       "device and in bands"
+                       "Perez's band, stored horizons) by each cell's own ray (the box model "
+                       "exactly), on every device and in bands"
                      : "",
                  lines,
-                 opt->box_shadows == SS_BOX_SHADOWS_MARCH
-                     ? "; cast shadows by each cell's own ray (exact: proven bounds, else a "
+                 done.box_march_steps > 0
+                     ? "; exact cast shadows by each cell's own ray (proven bounds, else a "
                        "march), on every device and in bands"
-                     : "; cast shadows from the lines");
+                 : opt->box_shadows == SS_BOX_SHADOWS_LINES ? "; exact cast shadows from the lines"
+                                                            : "");
     }
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL

@@ -202,10 +202,11 @@ static double box_lines_count_error(int count)
 /* Box lines per cell: as requested; for the sky view the fewest whose
  * measured SVF error meets --svf-tolerance (doc/box_lines.md); else the
  * default, as no table measures horizon angles' or shadows' error by the
- * count. Insolation keeps the default too: the one count serves its
- * shadows, which take the lines in the interpolated and cumulative modes
- * and with --box-shadows lines (plan_sky_box_lines gives the sky view its
- * own where they do not). Writes what the lines item says of it to `said`,
+ * count. Insolation keeps the default too: with --box-sky lines its
+ * sky view, horizons and shadows share the one count; with --box-sky march
+ * they are each cell's own ray, and the count serves the exact shadows of
+ * --box-shadows lines and a canopy's sky view (plan_sky_box_lines gives
+ * the sky view its own where the shadows take none). Writes what the lines item says of it to `said`,
  * and returns the SVF error expected (0: none measured). */
 static double plan_box_lines(ss_plan *p, const ss_plan_request *r, char *said, size_t size)
 {
@@ -230,14 +231,26 @@ static double plan_box_lines(ss_plan *p, const ss_plan_request *r, char *said, s
             snprintf(said, size, "%d per cell, as requested", r->box_lines);
         return error;
     }
+    /* Insolation's sky view, horizons and stored horizons by each cell's own
+     * ray, and its exact shadows too unless --box-shadows lines. */
+    int insolation_rays = r->kind == SS_PLAN_INSOLATION && r->box_sky == SS_BOX_SKY_MARCH;
+    if (insolation_rays && r->box_shadows == SS_BOX_SHADOWS_MARCH) {
+        p->box_lines = SS_BOX_LINES_DEFAULT;
+        snprintf(said, size,
+                 "%d per cell, the default, for a canopy's sky view: the sky view, horizons "
+                 "and shadows are each cell's own ray",
+                 p->box_lines);
+        return 0;
+    }
     if (r->kind != SS_PLAN_SKY_VIEW) {
         p->box_lines = SS_BOX_LINES_DEFAULT;
         snprintf(said, size,
                  "%d per cell, the default: no table measures the error of %s by the count",
                  p->box_lines,
-                 r->kind == SS_PLAN_INSOLATION ? "insolation's shadows (which share its lines)"
-                 : r->kind == SS_PLAN_SHADOW   ? "shadows taken from the lines"
-                                               : "horizon angles");
+                 insolation_rays ? "exact shadows taken from the lines (--box-shadows lines)"
+                 : r->kind == SS_PLAN_INSOLATION ? "insolation's shadows (which share its lines)"
+                 : r->kind == SS_PLAN_SHADOW     ? "shadows taken from the lines"
+                                                 : "horizon angles");
         return 0;
     }
     double error;
@@ -434,13 +447,19 @@ static void plan_sky_box_lines(ss_plan *p, const ss_plan_request *r)
     for (int i = 0; i < p->n_items; ++i)
         if (strcmp(p->items[i].key, "lines") == 0) {
             size_t used = strlen(p->items[i].reason);
-            snprintf(p->items[i].reason + used, sizeof p->items[i].reason - used,
-                     "; %s %d, the fewest within the %.3g SVF tolerance",
-                     sky_marched(p, r) ? "the sky view and Perez's band are each cell's own ray; "
-                                         "a canopy's sky view takes"
-                                       : "the sky view takes",
-                     sky, r->svf_tolerance);
-            p->items[i].bound = error;
+            /* Marched, the count serves a canopy's sky view alone, which the
+             * request does not know of: its error is said, not bound. */
+            if (sky_marched(p, r))
+                snprintf(p->items[i].reason + used, sizeof p->items[i].reason - used,
+                         "; with exact shadows a canopy's sky view takes %d, the fewest within "
+                         "the %.3g SVF tolerance (error %.2g)",
+                         sky, r->svf_tolerance, error);
+            else {
+                snprintf(p->items[i].reason + used, sizeof p->items[i].reason - used,
+                         "; the sky view takes %d, the fewest within the %.3g SVF tolerance", sky,
+                         r->svf_tolerance);
+                p->items[i].bound = error;
+            }
         }
 }
 
