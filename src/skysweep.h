@@ -144,7 +144,8 @@ typedef struct {
      * march): the suns, their cells with a height, and of those the cells
      * the proven bound left to the march. */
     uint64_t crown_march_steps, crown_march_cells, crown_march_marched;
-    /* Directions of the box model's sky view by each cell's own ray
+    /* Directions of the box model's sky view or horizons (horizon
+     * rasters, Perez's band, stored horizons) by each cell's own ray
      * (box_sky march), on the host; cells_swept counts their cells. */
     uint64_t box_sky_directions;
 } ss_counters;

@@ -490,7 +490,10 @@ Horizons.__doc__ = """Horizons in every direction: azimuth (degrees clockwise fr
 per direction), elevation (degrees above the horizontal, directions x rows x
 columns; -90 where no terrain lies ahead inside the grid), and where asked for
 distance (metres to the casting point, 0: none) and cast_height (that point's
-ground height, metres; NaN: none)."""
+ground height, metres; NaN: none). On box lines by each cell's own ray
+(lines="box", box_sky="march") a cell's own flat top is its horizon where
+nothing rises above it: elevation 0, distance to the cell's own edge,
+cast_height the cell's own height."""
 
 
 def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=None, **kw):
@@ -500,7 +503,8 @@ def horizon(dem, cell_size=None, *, distance=False, cast_height=False, nodata=No
     ----------
     {dem}
     distance : bool, default False
-        Also the distance (metres) to the terrain that casts each horizon (0: none).
+        Also the distance (metres) to the terrain that casts each horizon (0: none;
+        see Horizons for box lines).
     cast_height : bool, default False
         Also that terrain's ground height (metres; NaN: none).
     {nodata}

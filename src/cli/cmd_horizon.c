@@ -28,10 +28,13 @@ typedef struct {
 #define PTS(field) offsetof(horizon_settings, pts.field)
 static const opt_spec horizon_options[] = {
     {"distance", OPT_OUTPUT, offsetof(horizon_settings, distance_path), "FILE", NULL, 0, 0,
-     NULL, "also write the distance (m) to the horizon-casting point, one band per azimuth"},
+     NULL, "also write the distance (m) to the horizon-casting point, one band per azimuth; 0 "
+           "where no terrain lies ahead (box lines by each cell's own ray: the cell's own edge "
+           "where nothing rises above its top)"},
     {"cast-height", OPT_OUTPUT, offsetof(horizon_settings, cast_height_path), "FILE", NULL, 0, 0,
      NULL, "also write the ground height (m, the DEM's datum) of the horizon-casting point, one "
-           "band per azimuth; nodata where no terrain lies ahead"},
+           "band per azimuth; nodata where no terrain lies ahead (box lines by each cell's own "
+           "ray: the cell's own height where nothing rises above its top)"},
     {"canopy-horizon", OPT_OUTPUT, offsetof(horizon_settings, canopy_horizon_path), "FILE", NULL,
      0, 0, NULL,
      "with --canopy: also write the canopy horizon, the higher of the solid horizon and the "
@@ -243,12 +246,23 @@ int cmd_horizon(int argc, char **argv)
         "lies ahead",
         "ground height of the horizon-casting point, metres in the DEM's vertical datum; "
         "nodata where no terrain lies ahead"};
+    /* Each cell's own ray (doc/model.md): a cell's own flat top is its
+     * horizon where nothing rises above it, so none is ever -90. */
+    static const char *const quantity_rays[3] = {
+        "horizon elevation angle, degrees above the horizontal; 0 where nothing rises above "
+        "the cell's own flat top",
+        "distance along the azimuth to the horizon-casting point (where the ray enters the "
+        "casting column), metres; where nothing rises above the cell's own top, the distance "
+        "to its own edge",
+        "ground height of the horizon-casting point, metres in the DEM's vertical datum; "
+        "where nothing rises above the cell's own top, the cell's own height"};
+    int rays = ss_ctx_counters(job.run.ctx).box_sky_directions > 0;
     for (int k = 0; k < 3 && st == SS_OK; ++k)
         if (hw.out[k]) {
             run_common_metadata(&job.run, hw.out[k], &job.opt, &job.frame);
             if (k == 0)
                 job_plan_metadata(&job, hw.out[k]);
-            ss_writer_metadata(hw.out[k], "QUANTITY", quantity[k]);
+            ss_writer_metadata(hw.out[k], "QUANTITY", rays ? quantity_rays[k] : quantity[k]);
         }
     if (st == SS_OK && hw.canopy_out) {
         run_common_metadata(&job.run, hw.canopy_out, &job.opt, &job.frame);

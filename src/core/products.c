@@ -268,7 +268,8 @@ static const ss_product_output insolation_outputs[] = {
 
 static const ss_product_info products[] = {
     {"horizon", "horizon elevation angle per azimuth (one band each)", "Horizon angles", "Terrain",
-     "Horizon elevation angle (degrees above the horizontal; -90 where no terrain lies ahead)\n"
+     "Horizon elevation angle (degrees above the horizontal; -90 where no terrain lies ahead,\n"
+     "0 on box lines, whose cells see their own flat tops)\n"
      "of every cell, one band per azimuth, exact at unlimited distance; or the horizon "
      "profiles of sites.",
      NULL, sweep_only, 0, horizon_outputs, SS_PLAN_HORIZONS, 0, horizon_request,
