@@ -176,12 +176,13 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
     int ok = rays != NULL, w = grid->width, lanes_ok = ss_sky_lanes_here();
     for (int d = 0; ok && d < n_dirs; ++d)
         ok = ss_sky_ray_init(&rays[d], grid, grid_azimuth_deg[d]);
+    long pieces = (long)n_rows * ss_sky_pieces(w);
 #pragma omp parallel for schedule(dynamic, 4) if (ok)
-    for (int r = row0; r < row0 + n_rows; ++r) {
+    for (long piece = 0; piece < pieces; ++piece) {
         /* Four cells at a time where the CPU can and four lie ahead in the
          * row (from a multiple of four), else one. */
-        int lanes = 1;
-        for (int c = 0; ok && c < w && !(cancel && *cancel); c += lanes) {
+        int r = ss_sky_piece_row(piece, row0, w), end = ss_sky_piece_end(piece, w), lanes = 1;
+        for (int c = ss_sky_piece_col(piece, w); ok && c < end && !(cancel && *cancel); c += lanes) {
             lanes = ss_sky_lanes_at(lanes_ok, c, w);
             const float *z = grid->z + (size_t)r * w + c;
             size_t own = (size_t)(r - row0) * w + c;

@@ -115,6 +115,30 @@ double ss_sky_tangent(const ss_grid *g, const ss_sky_ray *ray, const ss_box_sky_
 /* Whether this CPU walks four cells at a time (ss_sky_tangents_avx2). */
 int ss_sky_lanes_here(void);
 
+/* The threads share a band's rows cut into pieces of SS_SKY_PIECE columns,
+ * so that a band of one row still runs on every core: piece t of a band of
+ * rows from row0 is row ss_sky_piece_row and columns [ss_sky_piece_col,
+ * ss_sky_piece_end). A piece starts at a multiple of SS_SKY_LANES, so the
+ * lanes group the cells as whole rows would. */
+#define SS_SKY_PIECE 256
+static inline int ss_sky_pieces(int width)
+{
+    return (width + SS_SKY_PIECE - 1) / SS_SKY_PIECE;
+}
+static inline int ss_sky_piece_row(long t, int row0, int width)
+{
+    return row0 + (int)(t / ss_sky_pieces(width));
+}
+static inline int ss_sky_piece_col(long t, int width)
+{
+    return (int)(t % ss_sky_pieces(width)) * SS_SKY_PIECE;
+}
+static inline int ss_sky_piece_end(long t, int width)
+{
+    int end = ss_sky_piece_col(t, width) + SS_SKY_PIECE;
+    return end < width ? end : width;
+}
+
 /* How many cells from column c of a row width cells long walk together:
  * SS_SKY_LANES where the lanes are on (lanes_on) and that many lie ahead
  * from a multiple of it, else one. */
