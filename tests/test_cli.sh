@@ -130,6 +130,31 @@ tap_ok $? "casting height east of the foot is on the hill ($foot m); east edge n
 gdalinfo "$work/cast.tif" | grep -q 'QUANTITY=ground height of the horizon-casting point' &&
     [ "$(gdalinfo "$work/cast.tif" | grep -c '^Band ')" -eq 8 ]
 tap_ok $? "casting heights: 8 bands, quantity stated"
+# On box lines each cell's own ray gives the horizons (--box-sky march, the
+# default): from the east edge nothing rises above the cell's own flat top,
+# so its horizon is 0 deg, cast at its own edge (half of a 30 m cell) at its
+# own height; the metadata say so, and what the run took.
+run horizon --lines box --directions 8 --cast-height "$work/bcast.tif" --distance "$work/bdist.tif" \
+    "$dem" "$work/bh.tif"
+angle=$(gdallocationinfo -valonly -b 3 "$work/bh.tif" 59 25)
+dist=$(gdallocationinfo -valonly -b 3 "$work/bdist.tif" 59 25)
+cast=$(gdallocationinfo -valonly -b 3 "$work/bcast.tif" 59 25)
+own=$(gdallocationinfo -valonly "$dem" 59 25)
+meta=$(gdalinfo "$work/bh.tif"; gdalinfo "$work/bdist.tif"; gdalinfo "$work/bcast.tif")
+[ $rc -eq 0 ] &&
+    awk -v a="$angle" -v d="$dist" -v c="$cast" -v z="$own" \
+        'BEGIN { exit !(a == 0 && d > 14.9 && d < 15.1 && c - z < 1e-3 && z - c < 1e-3) }' &&
+    grep -q "LINE_MODEL=.*horizons.*by each cell's own ray" <<<"$meta" &&
+    ! grep -q "lines swept" <<<"$meta" &&
+    grep -q "QUANTITY=distance.*the distance to its own edge" <<<"$meta" &&
+    grep -q "QUANTITY=ground height.*the cell's own height" <<<"$meta" &&
+    grep -q "DEVICE=the host: the box model by each cell's own ray" <<<"$meta"
+tap_ok $? "horizon on box lines: the east edge's own top, 0 deg ($angle) at its own edge ($dist m) and height ($cast m of $own), and LINE_MODEL, QUANTITY and DEVICE say each cell's own ray"
+run horizon --lines box --box-sky lines --directions 8 "$dem" "$work/bh2.tif"
+meta=$(gdalinfo "$work/bh2.tif")
+[ $rc -eq 0 ] && grep -q "LINE_MODEL=.*the lines swept, 32 per cell" <<<"$meta" &&
+    ! grep -q "own ray" <<<"$meta"
+tap_ok $? "horizon on box lines with --box-sky lines: LINE_MODEL names the 32 lines swept and no ray ($(grep LINE_MODEL <<<"$meta" | head -c 200))"
 run horizon --directions 8 --cast-height "$work/h3.tif" "$dem" "$work/h3.tif"
 [ $rc -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ]
 tap_ok $? "--cast-height naming OUTPUT: exit 2, one line"

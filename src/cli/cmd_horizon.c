@@ -256,20 +256,34 @@ int cmd_horizon(int argc, char **argv)
         "to its own edge",
         "ground height of the horizon-casting point, metres in the DEM's vertical datum; "
         "where nothing rises above the cell's own top, the cell's own height"};
+    /* Box lines' horizons are never below a cell's own top either
+     * (doc/model.md); their distances and casting heights are the lines'. */
+    static const char *const angle_box_lines =
+        "horizon elevation angle, degrees above the horizontal; 0 where nothing rises above "
+        "the cell's own flat top";
     int rays = ss_ctx_counters(job.run.ctx).box_sky_directions > 0;
+    int box = job.opt.lines == SS_LINES_BOX;
     for (int k = 0; k < 3 && st == SS_OK; ++k)
         if (hw.out[k]) {
             run_common_metadata(&job.run, hw.out[k], &job.opt, &job.frame);
             if (k == 0)
                 job_plan_metadata(&job, hw.out[k]);
-            ss_writer_metadata(hw.out[k], "QUANTITY", rays ? quantity_rays[k] : quantity[k]);
+            ss_writer_metadata(hw.out[k], "QUANTITY",
+                               rays                ? quantity_rays[k]
+                               : box && k == 0 ? angle_box_lines
+                                                   : quantity[k]);
         }
     if (st == SS_OK && hw.canopy_out) {
         run_common_metadata(&job.run, hw.canopy_out, &job.opt, &job.frame);
         ss_writer_metadata(hw.canopy_out, "QUANTITY",
-                           "canopy horizon elevation angle, degrees above the horizontal: the "
-                           "higher of the solid horizon and the crowns' tops (digital lines, "
-                           "the earth flat); -90 where nothing lies ahead");
+                           job.opt.lines == SS_LINES_BOX
+                               ? "canopy horizon elevation angle, degrees above the horizontal: "
+                                 "the higher of the solid horizon (box lines: 0 at least, a "
+                                 "cell's own flat top) and the crowns' tops (digital lines, the "
+                                 "earth flat)"
+                               : "canopy horizon elevation angle, degrees above the horizontal: "
+                                 "the higher of the solid horizon and the crowns' tops (digital "
+                                 "lines, the earth flat); -90 where nothing lies ahead");
         trees_metadata(hw.canopy_out, &set.trees, &tr);
     }
     /* Committed (closed, renamed into place) in turn; a file that fails

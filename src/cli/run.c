@@ -753,16 +753,26 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
              frame->cell_variation);
     ss_writer_metadata(w, "CELL_SIZE_USED", buf);
     /* What the box model took, as the run did it: the rays where they ran,
-     * the lines where anything was swept on them, the exact shadows' rays
-     * where any step or sun was marched. */
+     * the lines where anything was swept on them (the sky view's own count
+     * where the plan gave it one), the exact shadows' rays where any step
+     * or sun was marched. */
     ss_counters done = ss_ctx_counters(run->ctx);
     if (opt->lines == SS_LINES_BOX) {
-        char lines[160] = "";
-        if (done.sweeps > 0)
+        int sky = opt->sky_box_lines > 0 ? opt->sky_box_lines : opt->box_lines;
+        int shadow_lines = opt->box_shadows == SS_BOX_SHADOWS_LINES;
+        char lines[256] = "";
+        if (done.sweeps > 0 && shadow_lines && sky != opt->box_lines)
+            snprintf(lines, sizeof lines,
+                     "; the lines swept give each cell the horizon of the nearest: %d per cell "
+                     "for the sky view (at most %.3g cell beside its centre), %d for cast "
+                     "shadows where the run casts any (%.3g)",
+                     sky, 0.5 / sky, opt->box_lines, 0.5 / opt->box_lines);
+        else if (done.sweeps > 0)
             snprintf(lines, sizeof lines,
                      "; the lines swept, %d per cell, give each cell the horizon of the nearest "
-                     "(at most %.3g cell beside its centre)",
-                     opt->box_lines, 0.5 / opt->box_lines);
+                     "(at most %.3g cell beside its centre)%s",
+                     sky, 0.5 / sky,
+                     shadow_lines ? ", cast shadows too where the run casts any" : "");
         snprintf(buf, sizeof buf, "box: cells as flat-topped columns%s%s%s",
                  done.box_sky_directions > 0
                      ? "; the sky view and horizons (SVF, openness, horizon rasters, sky terms, "
@@ -773,8 +783,7 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
                  done.box_march_steps > 0
                      ? "; exact cast shadows by each cell's own ray (proven bounds, else a "
                        "march), on every device and in bands"
-                 : opt->box_shadows == SS_BOX_SHADOWS_LINES ? "; exact cast shadows from the lines"
-                                                            : "");
+                     : "");
     }
     ss_writer_metadata(w, "LINE_MODEL",
                        opt->lines == SS_LINES_DIGITAL
@@ -793,9 +802,9 @@ void run_common_metadata(run_state *run, ss_raster_writer *w, const ss_sweep_opt
     /* Asking for the device's name opens it (OpenCL set-up, ~0.2 s on
      * PoCL): a run that swept nothing (plain hillshade) names none. */
     ss_writer_metadata(w, "DEVICE", done.sweeps > 0 ? ss_ctx_device_name(run->ctx)
-                                    : done.box_sky_directions > 0
-                                        ? "the host: the box model's sky view or horizons by "
-                                          "each cell's own ray"
+                                    : done.box_sky_directions > 0 || done.box_march_steps > 0
+                                        ? "the host: the box model by each cell's own ray (sky "
+                                          "view, horizons or shadows)"
                                         : "none: no sweep was needed");
 }
 
