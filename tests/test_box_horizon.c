@@ -331,6 +331,11 @@ int main(void)
     ss_grid row = box_march_strip(300, 1);
     check_grid("one row", &row, 0.0);
     ss_grid_free(&row);
+    /* Rows of three pieces (box_sky_walk.h's SS_SKY_PIECE), the last
+     * ending on a group of three cells and one alone. */
+    ss_grid strip = box_march_strip(531, 7);
+    check_grid("a strip of 531 x 7", &strip, 0.0);
+    ss_grid_free(&strip);
     ss_grid column = box_march_strip(1, 300);
     check_grid("one column", &column, 0.0);
     ss_grid_free(&column);

@@ -16,6 +16,7 @@ ss_status ss_box_rays_begin(ss_ctx *ctx, const ss_source *src, float sign, ss_bo
     if (run->tops)
         return SS_OK;
     free(run->owned);
+    run->owned = NULL;
     return ss_fail(ctx, SS_ERR_MEMORY, "out of memory for the tops of %d x %d cells", src->width,
                    src->height);
 }

@@ -121,6 +121,7 @@ int ss_sky_lanes_here(void);
  * ss_sky_piece_end). A piece starts at a multiple of SS_SKY_LANES, so the
  * lanes group the cells as whole rows would. */
 #define SS_SKY_PIECE 256
+_Static_assert(SS_SKY_PIECE % SS_SKY_LANES == 0, "a piece starts where a group of lanes may");
 static inline int ss_sky_pieces(int width)
 {
     return (width + SS_SKY_PIECE - 1) / SS_SKY_PIECE;
