@@ -277,3 +277,19 @@ const double box_march_azimuths[BOX_MARCH_AZIMUTHS] = {
     101.7,  134.99, 135.0,  152.2,  179.99, 180.0,  180.01, 197.6, 224.99, 225.0,
     225.01, 243.3,  269.99, 270.0,  270.01, 288.8,  314.99, 315.0, 315.01, 333.1,
     359.99, 7.7,    26.57,  116.57, 206.57, 296.57, 11.0,   191.0, 78.0,   258.0};
+
+ss_sweep_options box_march_options(int directions, double offset_deg, double grid_north_deg,
+                                   double curv_k)
+{
+    ss_sweep_options opt;
+    ss_sweep_options_default(&opt);
+    opt.lines = SS_LINES_BOX;
+    opt.directions = directions;
+    opt.offset_deg = offset_deg;
+    opt.grid_north_deg = grid_north_deg;
+    if (curv_k > 0) { /* curv_k = (1 - k) / (2 R) with k = 0 */
+        opt.earth_radius_m = 1.0 / (2.0 * curv_k);
+        opt.refraction_k = 0.0;
+    }
+    return opt;
+}

@@ -53,6 +53,12 @@ typedef struct {
 void box_march_point_near(const ss_grid *g, int r, int c, double az, double curv_k,
                           double dist_m, double height_m, box_march_point *p);
 
+/* Box lines, each cell's own ray by default, in `directions` directions
+ * from offset_deg, on a grid whose north is grid_north_deg from true
+ * north, its heights lowered by curv_k t^2 (k = 0; curv_k 0: flat). */
+ss_sweep_options box_march_options(int directions, double offset_deg, double grid_north_deg,
+                                   double curv_k);
+
 /* The grid's highest finite height. */
 double box_march_top(const ss_grid *g);
 
@@ -62,8 +68,8 @@ ss_grid box_march_city(int n);
 /* Holes of nodata in every 37th cell of g, which neither cast nor
  * receive, and its cells half as long again north-south (1.5 m). */
 void box_march_holes(ss_grid *g);
-/* One row or one column (width or height 1) of 1 m cells, heights 0..22 m
- * in no order. */
+/* A strip of width x height 1 m cells (one row or one column, or a few
+ * rows), heights 0..22 m in no order. */
 ss_grid box_march_strip(int width, int height);
 /* One 80 m tower on a plain of 90 x 70 cells of 2 m. */
 ss_grid box_march_tower(void);

@@ -74,22 +74,6 @@ static int library_horizons(const char *device, const ss_grid *g, const ss_sweep
     return st == SS_OK;
 }
 
-static ss_sweep_options box_options(int directions, double offset_deg, double grid_north_deg,
-                                    double curv_k)
-{
-    ss_sweep_options opt;
-    ss_sweep_options_default(&opt);
-    opt.lines = SS_LINES_BOX;
-    opt.directions = directions;
-    opt.offset_deg = offset_deg;
-    opt.grid_north_deg = grid_north_deg;
-    if (curv_k > 0) { /* curv_k = (1 - k) / (2 R) with k = 0 */
-        opt.earth_radius_m = 1.0 / (2.0 * curv_k);
-        opt.refraction_k = 0.0;
-    }
-    return opt;
-}
-
 /* What the cells' horizons got wrong, worst over the cells. */
 typedef struct {
     double angle, dist, cast;
@@ -145,7 +129,7 @@ static void check_grid(const char *what, const ss_grid *g, double curv_k)
     int ok = 1;
     for (int s = 0; ok && s < 3; ++s) {
         ss_sweep_options opt =
-            box_options(sets[s].directions, sets[s].offset, sets[s].north, curv_k);
+            box_march_options(sets[s].directions, sets[s].offset, sets[s].north, curv_k);
         horizons all, alone;
         ok = horizons_new(&all, g, opt.directions) && horizons_new(&alone, g, opt.directions) &&
              library_horizons("reference", g, &opt, SS_HORIZON_DISTANCE | SS_HORIZON_CAST_HEIGHT,
@@ -200,7 +184,7 @@ static ss_status read_rows(void *user, int row0, int n_rows, float *z)
  * distances and casting heights bit for bit, with the earth's curvature. */
 static void check_bands(const char *what, const ss_grid *g)
 {
-    ss_sweep_options opt = box_options(12, 3.7, 0.0, 1.0 / (2.0 * 2000.0));
+    ss_sweep_options opt = box_march_options(12, 3.7, 0.0, 1.0 / (2.0 * 2000.0));
     size_t n = (size_t)g->width * g->height * opt.directions;
     float *whole = malloc(3 * n * sizeof(float)), *banded = malloc(3 * n * sizeof(float));
     ss_ctx *ctx = ss_ctx_new();
@@ -233,7 +217,7 @@ static void check_bands(const char *what, const ss_grid *g)
  * --box-sky lines walks the lines, whose horizons differ. */
 static void check_devices_and_lines(const char *what, const ss_grid *g)
 {
-    ss_sweep_options opt = box_options(12, 3.7, 0.0, 0.0);
+    ss_sweep_options opt = box_march_options(12, 3.7, 0.0, 0.0);
     horizons twin, other;
     char err[300] = "";
     int want = SS_HORIZON_DISTANCE | SS_HORIZON_CAST_HEIGHT;
@@ -270,7 +254,7 @@ static void check_devices_and_lines(const char *what, const ss_grid *g)
  * +-Inf in some cells are those with NaN there, bit for bit. */
 static void check_infinities(const char *what, ss_grid *g, ss_line_model lines)
 {
-    ss_sweep_options opt = box_options(12, 3.7, 0.0, 0.0);
+    ss_sweep_options opt = box_march_options(12, 3.7, 0.0, 0.0);
     opt.lines = lines;
     size_t n = (size_t)g->width * g->height;
     horizons with_inf, with_nan;

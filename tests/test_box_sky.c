@@ -75,22 +75,6 @@ static double reference(const ss_grid *g, const ss_grid *flipped, const ss_sweep
 static const char *term_names[] = {"geometric SVF", "horizontal SVF", "radiative SVF",
                                    "positive openness", "negative openness"};
 
-static ss_sweep_options box_options(int directions, double offset_deg, double grid_north_deg,
-                                    double curv_k)
-{
-    ss_sweep_options opt;
-    ss_sweep_options_default(&opt);
-    opt.lines = SS_LINES_BOX;
-    opt.directions = directions;
-    opt.offset_deg = offset_deg;
-    opt.grid_north_deg = grid_north_deg;
-    if (curv_k > 0) { /* curv_k = (1 - k) / (2 R) with k = 0 */
-        opt.earth_radius_m = 1.0 / (2.0 * curv_k);
-        opt.refraction_k = 0.0;
-    }
-    return opt;
-}
-
 /* Every term against the march on every cell with a height: SVF within
  * 1e-6, openness within 1e-4 degrees (the library sums floats; the march,
  * doubles); nodata where the cell has none. */
@@ -115,7 +99,7 @@ static void check_grid(const char *what, const ss_grid *g, double curv_k)
         size_t wrong_nodata = 0;
         for (int s = 0; ok && s < 3; ++s) {
             ss_sweep_options opt =
-                box_options(sets[s].directions, sets[s].offset, sets[s].north, curv_k);
+                box_march_options(sets[s].directions, sets[s].offset, sets[s].north, curv_k);
             ok = library_sky("reference", g, &opt, (ss_sky_term)term, out, err);
             for (int r = 0; ok && r < g->height; ++r)
                 for (int c = 0; c < g->width; ++c) {
@@ -169,7 +153,7 @@ static void check_bands(const char *what, const ss_grid *g)
 {
     size_t n = (size_t)g->width * g->height;
     float *whole = malloc(n * sizeof(float)), *banded = malloc(n * sizeof(float));
-    ss_sweep_options opt = box_options(12, 3.7, 0.0, 1.0 / (2.0 * 2000.0));
+    ss_sweep_options opt = box_march_options(12, 3.7, 0.0, 1.0 / (2.0 * 2000.0));
     ss_ctx *ctx = ss_ctx_new();
     ss_ctx_use_device(ctx, "reference");
     static const int band_rows[] = {1, 7, 33};
@@ -205,7 +189,7 @@ static void check_devices_and_lines(const char *what, const ss_grid *g)
 {
     size_t n = (size_t)g->width * g->height;
     float *twin = malloc(n * sizeof(float)), *other = malloc(n * sizeof(float));
-    ss_sweep_options opt = box_options(12, 3.7, 0.0, 0.0);
+    ss_sweep_options opt = box_march_options(12, 3.7, 0.0, 0.0);
     char err[300] = "";
     int ok = twin && other && library_sky("reference", g, &opt, SS_SKY_SVF_RADIATIVE, twin, err);
     if (!test_have_pocl()) {

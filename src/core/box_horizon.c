@@ -22,8 +22,9 @@ int ss_box_horizon_rows(const ss_grid *grid, double grid_azimuth_deg, const ss_b
     long pieces = (long)n_rows * ss_sky_pieces(w);
 #pragma omp parallel for schedule(dynamic, 4) if (ok)
     for (long piece = 0; piece < pieces; ++piece) {
-        int r = ss_sky_piece_row(piece, row0, w), end = ss_sky_piece_end(piece, w), lanes = 1;
-        for (int c = ss_sky_piece_col(piece, w); ok && c < end && !(cancel && *cancel); c += lanes) {
+        ss_sky_piece span = ss_sky_piece_at(piece, row0, w);
+        int r = span.row, lanes = 1;
+        for (int c = span.col; ok && c < span.end && !(cancel && *cancel); c += lanes) {
             lanes = ss_sky_lanes_at(lanes_ok, c, w);
             const float *z = grid->z + (size_t)r * w + c;
             size_t own = (size_t)(r - row0) * w + c;

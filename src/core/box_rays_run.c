@@ -27,7 +27,7 @@ void ss_box_rays_end(ss_box_rays_run *run)
     free(run->owned);
 }
 
-int ss_box_rays_band_rows(const ss_box_rays_run *run, int row0)
+static int band_rows_at(const ss_box_rays_run *run, int row0)
 {
     int left = run->grid.height - row0;
     return left < run->band_rows ? left : run->band_rows;
@@ -37,7 +37,7 @@ ss_band_view ss_box_rays_band(const ss_box_rays_run *run, int row0)
 {
     const ss_grid *g = &run->grid;
     return (ss_band_view){.row0 = row0,
-                          .n_rows = ss_box_rays_band_rows(run, row0),
+                          .n_rows = band_rows_at(run, row0),
                           .lo = 0,
                           .held_rows = g->height,
                           .width = g->width,

@@ -19,10 +19,8 @@ typedef struct {
 ss_status ss_box_rays_begin(ss_ctx *ctx, const ss_source *src, float sign, ss_box_rays_run *run);
 void ss_box_rays_end(ss_box_rays_run *run);
 
-/* The rows of the band that starts at row0 (at most band_rows). */
-int ss_box_rays_band_rows(const ss_box_rays_run *run, int row0);
-
-/* The band at row0 as a consumer sees it: every row held. */
+/* The band at row0 (band_rows rows, fewer at the grid's end) as a
+ * consumer sees it: every row held. */
 ss_band_view ss_box_rays_band(const ss_box_rays_run *run, int row0);
 
 #endif

@@ -181,8 +181,9 @@ int ss_box_sky_add(const ss_grid *grid, int n_dirs, const double *grid_azimuth_d
     for (long piece = 0; piece < pieces; ++piece) {
         /* Four cells at a time where the CPU can and four lie ahead in the
          * row (from a multiple of four), else one. */
-        int r = ss_sky_piece_row(piece, row0, w), end = ss_sky_piece_end(piece, w), lanes = 1;
-        for (int c = ss_sky_piece_col(piece, w); ok && c < end && !(cancel && *cancel); c += lanes) {
+        ss_sky_piece span = ss_sky_piece_at(piece, row0, w);
+        int r = span.row, lanes = 1;
+        for (int c = span.col; ok && c < span.end && !(cancel && *cancel); c += lanes) {
             lanes = ss_sky_lanes_at(lanes_ok, c, w);
             const float *z = grid->z + (size_t)r * w + c;
             size_t own = (size_t)(r - row0) * w + c;

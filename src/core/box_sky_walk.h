@@ -117,27 +117,24 @@ int ss_sky_lanes_here(void);
 
 /* The threads share a band's rows cut into pieces of SS_SKY_PIECE columns,
  * so that a band of one row still runs on every core: piece t of a band of
- * rows from row0 is row ss_sky_piece_row and columns [ss_sky_piece_col,
- * ss_sky_piece_end). A piece starts at a multiple of SS_SKY_LANES, so the
- * lanes group the cells as whole rows would. */
+ * rows from row0 is its row and columns [col, end). A piece starts at a
+ * multiple of SS_SKY_LANES, so the lanes group the cells as whole rows
+ * would. */
 #define SS_SKY_PIECE 256
 _Static_assert(SS_SKY_PIECE % SS_SKY_LANES == 0, "a piece starts where a group of lanes may");
+typedef struct {
+    int row, col, end;
+} ss_sky_piece;
 static inline int ss_sky_pieces(int width)
 {
     return (width + SS_SKY_PIECE - 1) / SS_SKY_PIECE;
 }
-static inline int ss_sky_piece_row(long t, int row0, int width)
+static inline ss_sky_piece ss_sky_piece_at(long t, int row0, int width)
 {
-    return row0 + (int)(t / ss_sky_pieces(width));
-}
-static inline int ss_sky_piece_col(long t, int width)
-{
-    return (int)(t % ss_sky_pieces(width)) * SS_SKY_PIECE;
-}
-static inline int ss_sky_piece_end(long t, int width)
-{
-    int end = ss_sky_piece_col(t, width) + SS_SKY_PIECE;
-    return end < width ? end : width;
+    int col = (int)(t % ss_sky_pieces(width)) * SS_SKY_PIECE;
+    ss_sky_piece p = {row0 + (int)(t / ss_sky_pieces(width)), col,
+                      col + SS_SKY_PIECE < width ? col + SS_SKY_PIECE : width};
+    return p;
 }
 
 /* How many cells from column c of a row width cells long walk together:
